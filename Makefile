@@ -1,0 +1,43 @@
+# shadelab: the two commands of the README's quick start are `make demo` and `make test`.
+# Each installs the Debian/Ubuntu packages it needs when missing (scripts/install-deps.sh).
+CARGO ?= cargo
+BIN := target/release/shadelab
+# Real-world meshes for the tests: ../shared/models when present (never copied into the repo).
+SHADELAB_MODELS ?= $(if $(wildcard ../shared/models/*.obj),$(abspath ../shared/models),)
+export SHADELAB_MODELS
+
+.PHONY: demo test build deps spirv scenes bench clean
+
+deps:
+	scripts/install-deps.sh run build test
+
+build:
+	scripts/install-deps.sh run build
+	$(CARGO) build --release --locked
+
+## The main job on the embedded default scenes: renders into out/.
+demo: build
+	$(BIN) demo --scenes scenes --out out
+
+## The whole test suite (unit, GPU under the validation layer, CLI, real-world models).
+test:
+	scripts/install-deps.sh run build test
+	$(CARGO) build --release --locked
+	$(CARGO) test --release --locked
+
+## Regenerate spirv/ from glsl/ with shaderc (a test fails when spirv/ is stale).
+spirv: build
+	$(BIN) shaders --glsl glsl --spirv spirv
+	$(CARGO) build --release --locked
+
+## Regenerate the shipped meshes of scenes/ (a test fails when they are stale).
+scenes: build
+	$(BIN) mesh --shipped scenes
+
+## Benchmarks of README "Performance" (not part of the tests).
+bench: build
+	scripts/bench.sh
+
+clean:
+	$(CARGO) clean
+	rm -rf out

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Installs the Debian/Ubuntu packages shadelab needs, only when one is missing.
+#   run time : libvulkan1 (the loader), mesa-vulkan-drivers (lavapipe)
+#   build    : libshaderc-dev (+ glslang-dev, spirv-tools: static libs shaderc-sys links)
+#   tests    : vulkan-validationlayers (Khronos validation), spirv-tools (spirv-val)
+# Usage: scripts/install-deps.sh [run|build|test]...   (default: all three)
+set -euo pipefail
+
+want=()
+for set in "${@:-run build test}"; do
+  for s in $set; do
+    case "$s" in
+      run) want+=(libvulkan1 mesa-vulkan-drivers) ;;
+      build) want+=(libshaderc-dev glslang-dev spirv-tools pkg-config) ;;
+      test) want+=(vulkan-validationlayers spirv-tools) ;;
+      *) echo "install-deps: unknown set '$s' (expected run, build or test)" >&2; exit 2 ;;
+    esac
+  done
+done
+
+missing=()
+for p in "${want[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    case " ${missing[*]-} " in *" $p "*) ;; *) missing+=("$p") ;; esac
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+if ! command -v apt-get >/dev/null 2>&1; then
+  echo "install-deps: missing packages: ${missing[*]}" >&2
+  echo "install-deps: no apt-get here; install the equivalents of these Debian packages by hand" >&2
+  exit 2
+fi
+if [ "$(id -u)" -eq 0 ]; then
+  sudo=()
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+  sudo=(sudo -n)
+elif command -v sudo >/dev/null 2>&1 && [ -t 0 ]; then
+  sudo=(sudo)
+else
+  echo "install-deps: missing packages: ${missing[*]}" >&2
+  echo "install-deps: not root and no usable sudo; run as root: apt-get install ${missing[*]}" >&2
+  exit 2
+fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,105 @@
+//! The library's one error type. Every variant maps to exit code 2 (usage, input or runtime
+//! error); exit code 1 (a threshold exceeded) is not an error and never travels through here.
+use std::path::PathBuf;
+
+use ash::vk;
+
+/// Result alias used across the library.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Everything that can go wrong, with enough context to say what, where and how to fix it.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Bad input file (scene, OBJ, ...): names the file and, where known, the 1-based line.
+    #[error("{}: {message}", location(path, *line))]
+    Input {
+        path: PathBuf,
+        line: Option<usize>,
+        message: String,
+    },
+    /// A file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// A command-line value that makes no sense (bad size, unknown method, ...).
+    #[error("{0}")]
+    Usage(String),
+    /// A Vulkan call returned an error; `call` names the entry point.
+    #[error("Vulkan call {call} failed: {result:?}")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+    /// No usable Vulkan loader / device / layer, with a hint how to get one.
+    #[error("{0}")]
+    Device(String),
+    /// Shader compilation or SPIR-V problems.
+    #[error("{0}")]
+    Shader(String),
+}
+
+fn location(path: &std::path::Path, line: Option<usize>) -> String {
+    match line {
+        Some(l) => format!("{}:{l}", path.display()),
+        None => path.display().to_string(),
+    }
+}
+
+impl Error {
+    /// An input error at `path`, optionally at a 1-based `line`.
+    pub fn input(
+        path: impl Into<PathBuf>,
+        line: Option<usize>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::Input {
+            path: path.into(),
+            line,
+            message: message.into(),
+        }
+    }
+
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+/// Attaches the name of the Vulkan entry point to an `ash` result.
+pub(crate) trait VkContext<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn input_error_names_file_and_line() {
+        let e = Error::input("a/b.obj", Some(12), "bad vertex");
+        assert_eq!(e.to_string(), "a/b.obj:12: bad vertex");
+        let e = Error::input("a/b.obj", None, "empty mesh");
+        assert_eq!(e.to_string(), "a/b.obj: empty mesh");
+    }
+
+    #[test]
+    fn vulkan_error_names_the_call() {
+        let r: std::result::Result<(), vk::Result> = Err(vk::Result::ERROR_OUT_OF_HOST_MEMORY);
+        let e = r.vk("vkCreateImage").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "Vulkan call vkCreateImage failed: ERROR_OUT_OF_HOST_MEMORY"
+        );
+    }
+}
