@@ -1,0 +1,320 @@
+//! One-shot command buffers: record, submit, wait. [`OneShot::submit`] blocks on a fence, which
+//! is the invariant the whole `vk` module relies on (see `vk/mod.rs`).
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use ash::vk;
+
+use super::{Buffer, Context, DescriptorSet, GraphicsPipeline, Image};
+use crate::error::{Error, Result, VkContext};
+
+/// A primary command buffer being recorded; consumed by [`OneShot::submit`].
+pub struct OneShot {
+    ctx: Arc<Context>,
+    cb: vk::CommandBuffer,
+}
+
+/// A colour attachment for [`OneShot::begin_rendering`] and its clear value.
+pub struct ColorTarget<'a> {
+    pub image: &'a Image,
+    pub clear: vk::ClearColorValue,
+}
+
+impl OneShot {
+    /// Allocates a command buffer from the context's pool and begins recording.
+    pub fn begin(ctx: &Arc<Context>) -> Result<Self> {
+        let info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(ctx.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        let _q = ctx
+            .queue_lock
+            .lock()
+            .map_err(|_| Error::Device("queue lock poisoned".into()))?;
+        // SAFETY: the pool is only used under queue_lock (command pools are externally synchronised).
+        let cb = unsafe { ctx.device.allocate_command_buffers(&info) }
+            .vk("vkAllocateCommandBuffers")?[0];
+        let this = OneShot {
+            ctx: ctx.clone(),
+            cb,
+        };
+        // Not ONE_TIME_SUBMIT: benchmarks submit the same buffer repeatedly.
+        let begin = vk::CommandBufferBeginInfo::default();
+        // SAFETY: fresh command buffer.
+        unsafe { ctx.device.begin_command_buffer(cb, &begin) }.vk("vkBeginCommandBuffer")?;
+        Ok(this)
+    }
+
+    fn image_barrier(&self, image: &Image, from: vk::ImageLayout, to: vk::ImageLayout) {
+        let (src_stage, src_access) = stage_access(from, true);
+        let (dst_stage, dst_access) = stage_access(to, false);
+        let barrier = [vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(src_stage)
+            .src_access_mask(src_access)
+            .dst_stage_mask(dst_stage)
+            .dst_access_mask(dst_access)
+            .old_layout(from)
+            .new_layout(to)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(image.raw)
+            .subresource_range(Image::range(&image.desc))];
+        let dep = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+        // SAFETY: recording state; image alive until submit returns.
+        unsafe { self.ctx.device.cmd_pipeline_barrier2(self.cb, &dep) };
+    }
+
+    /// Transitions the targets (contents discarded), begins dynamic rendering with clears, and
+    /// sets a full-image viewport and scissor.
+    pub fn begin_rendering(&mut self, colors: &[ColorTarget], depth: Option<&Image>) {
+        let (w, h) = match (colors.first(), depth) {
+            (Some(c), _) => (c.image.desc.width, c.image.desc.height),
+            (None, Some(d)) => (d.desc.width, d.desc.height),
+            (None, None) => (1, 1),
+        };
+        for c in colors {
+            self.image_barrier(
+                c.image,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            );
+        }
+        if let Some(d) = depth {
+            self.image_barrier(
+                d,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            );
+        }
+        let color_infos: Vec<_> = colors
+            .iter()
+            .map(|c| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(c.image.view)
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue { color: c.clear })
+            })
+            .collect();
+        let depth_info = depth.map(|d| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(d.view)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                })
+        });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D {
+                width: w,
+                height: h,
+            },
+        };
+        let mut info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_infos);
+        if let Some(di) = depth_info.as_ref() {
+            info = info.depth_attachment(di);
+        }
+        let d = &self.ctx.device;
+        // SAFETY: recording state; attachments transitioned above and alive until submit returns.
+        unsafe {
+            d.cmd_begin_rendering(self.cb, &info);
+            d.cmd_set_viewport(
+                self.cb,
+                0,
+                &[vk::Viewport {
+                    x: 0.0,
+                    y: 0.0,
+                    width: w as f32,
+                    height: h as f32,
+                    min_depth: 0.0,
+                    max_depth: 1.0,
+                }],
+            );
+            d.cmd_set_scissor(self.cb, 0, &[area]);
+        }
+    }
+
+    /// Binds `pipeline`, its descriptor set and one vertex buffer per stream (binding i = buffers[i]),
+    /// then draws `vertex_count` vertices.
+    pub fn draw(
+        &mut self,
+        pipeline: &GraphicsPipeline,
+        set: Option<&DescriptorSet>,
+        buffers: &[(u32, &Buffer)],
+        vertex_count: u32,
+    ) {
+        let d = &self.ctx.device;
+        // SAFETY: recording inside a rendering scope; all objects alive until submit returns.
+        unsafe {
+            d.cmd_bind_pipeline(self.cb, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            if let Some(s) = set {
+                d.cmd_bind_descriptor_sets(
+                    self.cb,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    pipeline.layout,
+                    0,
+                    &[s.raw],
+                    &[],
+                );
+            }
+            for &(binding, buf) in buffers {
+                d.cmd_bind_vertex_buffers(self.cb, binding, &[buf.raw], &[0]);
+            }
+            d.cmd_draw(self.cb, vertex_count, 1, 0, 0);
+        }
+    }
+
+    /// Ends the rendering scope begun by [`begin_rendering`](Self::begin_rendering).
+    pub fn end_rendering(&mut self) {
+        // SAFETY: a rendering scope is open.
+        unsafe { self.ctx.device.cmd_end_rendering(self.cb) };
+    }
+
+    /// Copies a colour target (after rendering) into `dst`, tightly packed, and makes the copy
+    /// visible to the host.
+    pub fn copy_image_to_buffer(&mut self, image: &Image, dst: &Buffer) {
+        self.image_barrier(
+            image,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        );
+        let region = vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: image.desc.width,
+                height: image.desc.height,
+                depth: 1,
+            },
+        };
+        let host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        let dep = vk::DependencyInfo::default().memory_barriers(&host);
+        let d = &self.ctx.device;
+        // SAFETY: image in TRANSFER_SRC layout, dst large enough (caller sizes it by byte_size).
+        unsafe {
+            d.cmd_copy_image_to_buffer(
+                self.cb,
+                image.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst.raw,
+                &[region],
+            );
+            d.cmd_pipeline_barrier2(self.cb, &dep);
+        }
+    }
+
+    /// Ends recording, submits, and waits for completion. Returns the submit-to-fence wall time.
+    pub fn submit(self) -> Result<Duration> {
+        Ok(self.submit_repeated(1)?[0])
+    }
+
+    /// Ends recording and submits the same command buffer `n` times (at least once), each time
+    /// waiting for completion before the next. Returns each submit-to-fence wall time.
+    pub fn submit_repeated(self, n: usize) -> Result<Vec<Duration>> {
+        let d = &self.ctx.device;
+        // SAFETY: recording state.
+        unsafe { d.end_command_buffer(self.cb) }.vk("vkEndCommandBuffer")?;
+        let mut times = Vec::with_capacity(n.max(1));
+        for _ in 0..n.max(1) {
+            times.push(self.submit_once()?);
+        }
+        Ok(times)
+    }
+
+    fn submit_once(&self) -> Result<Duration> {
+        let d = &self.ctx.device;
+        // SAFETY: valid device.
+        let fence =
+            unsafe { d.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
+        let cbs = [self.cb];
+        let submit = vk::SubmitInfo::default().command_buffers(&cbs);
+        let result = {
+            let _q = self
+                .ctx
+                .queue_lock
+                .lock()
+                .map_err(|_| Error::Device("queue lock poisoned".into()));
+            let start = Instant::now();
+            // SAFETY: the queue is used under queue_lock; we wait on the fence before anything
+            // referenced by the command buffer can be dropped.
+            unsafe { d.queue_submit(self.ctx.queue, &[submit], fence) }
+                .vk("vkQueueSubmit")
+                .and_then(|_| {
+                    unsafe { d.wait_for_fences(&[fence], true, u64::MAX) }.vk("vkWaitForFences")
+                })
+                .map(|_| start.elapsed())
+        };
+        // SAFETY: the fence is signalled (or the submit failed and it was never used).
+        unsafe { d.destroy_fence(fence, None) };
+        result
+    }
+}
+
+impl Drop for OneShot {
+    fn drop(&mut self) {
+        if let Ok(_q) = self.ctx.queue_lock.lock() {
+            // SAFETY: submit() waited for completion (or the buffer was never submitted).
+            unsafe {
+                self.ctx
+                    .device
+                    .free_command_buffers(self.ctx.command_pool, &[self.cb])
+            };
+        }
+    }
+}
+
+/// Stage and access masks for a layout on the source (`src = true`) or destination side.
+fn stage_access(layout: vk::ImageLayout, src: bool) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
+    match layout {
+        // Contents are discarded, but the previous pass (or the previous submission of a
+        // repeated benchmark buffer) may still write the image: wait for all of it.
+        vk::ImageLayout::UNDEFINED if src => (
+            vk::PipelineStageFlags2::ALL_COMMANDS,
+            vk::AccessFlags2::MEMORY_WRITE,
+        ),
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL => (
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            if src {
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE
+            } else {
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ
+            },
+        ),
+        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL => (
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
+        ),
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL => (
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+        ),
+        _ => (
+            vk::PipelineStageFlags2::ALL_COMMANDS,
+            vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
+        ),
+    }
+}

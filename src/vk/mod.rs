@@ -1,0 +1,25 @@
+//! The only code in shadelab that touches `ash`. Everything outside `vk` speaks in project types.
+//!
+//! Objects are RAII wrappers: each owns its raw handle plus an `Arc<Context>` and destroys the
+//! handle in `Drop`, so the device outlives every object made from it.
+//!
+//! **Synchronisation invariant:** every submission ([`commands::OneShot::submit`]) waits on its
+//! fence before returning. No GPU work is ever in flight when control returns to the caller, so
+//! any wrapper may be dropped at any time without further synchronisation. (kajiya and wgpu-hal
+//! defer destruction because they keep frames in flight; an offscreen tool does not need to.)
+//!
+//! Module map: [`context`] instance/device/queue selection and validation messages;
+//! [`memory`] buffers and memory-type choice; [`image`] render targets and readback;
+//! [`pipeline`] shader modules, descriptor sets and graphics pipelines (dynamic rendering);
+//! [`commands`] one-shot command buffers, synchronous submit, timestamp queries.
+pub mod commands;
+pub mod context;
+pub mod image;
+pub mod memory;
+pub mod pipeline;
+
+pub use commands::OneShot;
+pub use context::{Context, ContextDesc, DeviceInfo};
+pub use image::{Image, ImageDesc};
+pub use memory::{Buffer, BufferDesc};
+pub use pipeline::{DescriptorSet, GraphicsPipeline, PipelineDesc, ShaderModule, VertexStream};

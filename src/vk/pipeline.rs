@@ -1,0 +1,292 @@
+//! Shader modules, descriptor sets and graphics pipelines for dynamic rendering (no render-pass
+//! objects). A pipeline is built from a plain [`PipelineDesc`]; everything a method does not
+//! need (vertex streams, targets) is simply absent from its description.
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::{Buffer, Context};
+use crate::error::{Error, Result, VkContext};
+
+/// A SPIR-V module.
+pub struct ShaderModule {
+    ctx: Arc<Context>,
+    pub(crate) raw: vk::ShaderModule,
+}
+
+impl ShaderModule {
+    /// Creates a module from SPIR-V bytes (any alignment; length must be a multiple of 4).
+    pub fn new(ctx: &Arc<Context>, name: &str, bytes: &[u8]) -> Result<Self> {
+        let words = ash::util::read_spv(&mut std::io::Cursor::new(bytes))
+            .map_err(|e| Error::Shader(format!("{name}: not a SPIR-V module: {e}")))?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: words is a complete SPIR-V module (magic checked by read_spv).
+        let raw =
+            unsafe { ctx.device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        Ok(ShaderModule {
+            ctx: ctx.clone(),
+            raw,
+        })
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        // SAFETY: modules are only referenced during pipeline creation.
+        unsafe { self.ctx.device.destroy_shader_module(self.raw, None) };
+    }
+}
+
+/// One descriptor set with its own layout and pool; bindings are visible to vertex and
+/// fragment stages.
+pub struct DescriptorSet {
+    ctx: Arc<Context>,
+    pub(crate) layout: vk::DescriptorSetLayout,
+    pool: vk::DescriptorPool,
+    pub(crate) raw: vk::DescriptorSet,
+}
+
+impl DescriptorSet {
+    /// `bindings`: (binding number, descriptor type, buffer bound whole).
+    pub fn new(
+        ctx: &Arc<Context>,
+        bindings: &[(u32, vk::DescriptorType, &Buffer)],
+    ) -> Result<Self> {
+        let d = &ctx.device;
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let layout_bindings: Vec<_> = bindings
+            .iter()
+            .map(|&(b, ty, _)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b)
+                    .descriptor_type(ty)
+                    .descriptor_count(1)
+                    .stage_flags(stages)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
+        // SAFETY: valid create info.
+        let layout = unsafe { d.create_descriptor_set_layout(&info, None) }
+            .vk("vkCreateDescriptorSetLayout")?;
+        let mut this = DescriptorSet {
+            ctx: ctx.clone(),
+            layout,
+            pool: vk::DescriptorPool::null(),
+            raw: vk::DescriptorSet::null(),
+        };
+        let sizes: Vec<_> = bindings
+            .iter()
+            .map(|&(_, ty, _)| vk::DescriptorPoolSize {
+                ty,
+                descriptor_count: 1,
+            })
+            .collect();
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
+        // SAFETY: valid create info.
+        this.pool =
+            unsafe { d.create_descriptor_pool(&pool_info, None) }.vk("vkCreateDescriptorPool")?;
+        let layouts = [layout];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(this.pool)
+            .set_layouts(&layouts);
+        // SAFETY: pool sized for exactly this set.
+        this.raw = unsafe { d.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
+            .iter()
+            .map(|&(_, _, buf)| {
+                [vk::DescriptorBufferInfo {
+                    buffer: buf.raw,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }]
+            })
+            .collect();
+        let writes: Vec<_> = bindings
+            .iter()
+            .zip(&infos)
+            .map(|(&(b, ty, _), info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(this.raw)
+                    .dst_binding(b)
+                    .descriptor_type(ty)
+                    .buffer_info(info)
+            })
+            .collect();
+        // SAFETY: writes reference live buffers and the set allocated above.
+        unsafe { d.update_descriptor_sets(&writes, &[]) };
+        Ok(this)
+    }
+}
+
+impl Drop for DescriptorSet {
+    fn drop(&mut self) {
+        // SAFETY: no work in flight; destroying the pool frees the set.
+        unsafe {
+            if self.pool != vk::DescriptorPool::null() {
+                self.ctx.device.destroy_descriptor_pool(self.pool, None);
+            }
+            self.ctx
+                .device
+                .destroy_descriptor_set_layout(self.layout, None);
+        }
+    }
+}
+
+/// One vertex stream: a tightly packed buffer bound at `location` (binding = location).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VertexStream {
+    pub location: u32,
+    pub format: vk::Format,
+    pub stride: u32,
+}
+
+/// Everything that defines a graphics pipeline.
+pub struct PipelineDesc<'a> {
+    pub vertex: &'a ShaderModule,
+    pub fragment: &'a ShaderModule,
+    pub streams: &'a [VertexStream],
+    pub color_formats: &'a [vk::Format],
+    pub depth_format: Option<vk::Format>,
+    pub descriptors: Option<&'a DescriptorSet>,
+    /// Fragment-stage specialization constants: (constant id, u32 value).
+    pub specialization: &'a [(u32, u32)],
+}
+
+/// A graphics pipeline with its layout (triangle list, no culling, depth test LESS).
+pub struct GraphicsPipeline {
+    ctx: Arc<Context>,
+    pub(crate) raw: vk::Pipeline,
+    pub(crate) layout: vk::PipelineLayout,
+}
+
+impl GraphicsPipeline {
+    pub fn new(ctx: &Arc<Context>, desc: &PipelineDesc) -> Result<Self> {
+        let d = &ctx.device;
+        let set_layouts: Vec<_> = desc.descriptors.iter().map(|s| s.layout).collect();
+        let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        // SAFETY: valid create info.
+        let layout =
+            unsafe { d.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
+        let mut this = GraphicsPipeline {
+            ctx: ctx.clone(),
+            raw: vk::Pipeline::null(),
+            layout,
+        };
+
+        let spec_entries: Vec<_> = desc
+            .specialization
+            .iter()
+            .enumerate()
+            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+                constant_id: id,
+                offset: 4 * i as u32,
+                size: 4,
+            })
+            .collect();
+        let spec_data: Vec<u32> = desc.specialization.iter().map(|&(_, v)| v).collect();
+        let spec_bytes: &[u8] = bytemuck::cast_slice(&spec_data);
+        let spec = vk::SpecializationInfo::default()
+            .map_entries(&spec_entries)
+            .data(spec_bytes);
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(desc.vertex.raw)
+                .name(c"main")
+                .specialization_info(&spec),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(desc.fragment.raw)
+                .name(c"main")
+                .specialization_info(&spec),
+        ];
+        let bindings: Vec<_> = desc
+            .streams
+            .iter()
+            .map(|s| vk::VertexInputBindingDescription {
+                binding: s.location,
+                stride: s.stride,
+                input_rate: vk::VertexInputRate::VERTEX,
+            })
+            .collect();
+        let attributes: Vec<_> = desc
+            .streams
+            .iter()
+            .map(|s| vk::VertexInputAttributeDescription {
+                location: s.location,
+                binding: s.location,
+                format: s.format,
+                offset: 0,
+            })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&bindings)
+            .vertex_attribute_descriptions(&attributes);
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_format.is_some())
+            .depth_write_enable(desc.depth_format.is_some())
+            .depth_compare_op(vk::CompareOp::LESS);
+        let blend_attachments: Vec<_> = desc
+            .color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(desc.color_formats)
+            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout)
+            .push_next(&mut rendering);
+        // SAFETY: every pointer in `info` refers to locals alive for the call.
+        let pipelines =
+            unsafe { d.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+                .map_err(|(_, r)| Error::Vulkan {
+                    call: "vkCreateGraphicsPipelines",
+                    result: r,
+                })?;
+        this.raw = pipelines[0];
+        Ok(this)
+    }
+}
+
+impl Drop for GraphicsPipeline {
+    fn drop(&mut self) {
+        // SAFETY: no work in flight; handles owned by self.
+        unsafe {
+            if self.raw != vk::Pipeline::null() {
+                self.ctx.device.destroy_pipeline(self.raw, None);
+            }
+            self.ctx.device.destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}
