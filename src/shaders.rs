@@ -1,0 +1,293 @@
+//! Shader programs: which GLSL each program compiles from, the shaderc compile (`shadelab
+//! shaders`, `make spirv`), the freshness manifest of spirv/, and the SPIR-V embedded in the
+//! binary by build.rs.
+//!
+//! A *program* is a vertex + fragment pair named `<name>.<interpolation>`; its files are
+//! `spirv/<program>.vert.spv` and `spirv/<program>.frag.spv`. Every method of
+//! [`crate::methods::METHODS`] gets one program per interpolation mode, plus the internal `ids`
+//! program (triangle index and weights for the f64 truth) and `constant` (the cost floor).
+//!
+//! Freshness: spirv/manifest.json records a SHA-256 over every file of glsl/ and the program
+//! table (names + defines), and the SHA-256 of each .spv. [`check_fresh`] recomputes both, so a
+//! GLSL edit without `make spirv`, or a hand-edited .spv, fails the test suite.
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use sha2::{Digest, Sha256};
+
+use crate::error::{Error, Result};
+use crate::methods::METHODS;
+use crate::scene::Interpolation;
+
+include!(concat!(env!("OUT_DIR"), "/spirv_table.rs"));
+
+/// The command that regenerates spirv/.
+pub const REGENERATE: &str = "make spirv";
+
+/// One vertex + fragment program and how to compile it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Program {
+    /// `<name>.<interpolation>`.
+    pub name: String,
+    /// Fragment shader source under glsl/.
+    pub fragment: &'static str,
+    /// The file under glsl/ that `#include "method.glsl"` resolves to, for method programs.
+    pub method_file: Option<&'static str>,
+    /// Preprocessor defines for both stages (name, value).
+    pub defines: Vec<(String, String)>,
+}
+
+/// The file-name tag and GLSL qualifier of an interpolation mode.
+pub fn interpolation_tag(i: Interpolation) -> (&'static str, &'static str) {
+    match i {
+        Interpolation::ScreenLinear => ("screen_linear", "noperspective"),
+        Interpolation::Perspective => ("perspective", "smooth"),
+    }
+}
+
+const MODES: [Interpolation; 2] = [Interpolation::ScreenLinear, Interpolation::Perspective];
+
+/// The program name of a method or internal program (`ids`, `constant`) in a mode.
+pub fn program_name(base: &str, interp: Interpolation) -> String {
+    format!("{base}.{}", interpolation_tag(interp).0)
+}
+
+/// Every program, in a stable order.
+pub fn programs() -> Vec<Program> {
+    let mut out = Vec::new();
+    for mode in MODES {
+        let qualifier = interpolation_tag(mode).1.to_string();
+        let with = |extra: &[(&str, &str)]| {
+            let mut d = vec![("INTERP".to_string(), qualifier.clone())];
+            d.extend(extra.iter().map(|(k, v)| (k.to_string(), v.to_string())));
+            d
+        };
+        for m in METHODS {
+            let mut defines = with(&[]);
+            defines.extend(
+                m.inputs
+                    .iter()
+                    .map(|i| (i.define().to_string(), "1".to_string())),
+            );
+            out.push(Program {
+                name: program_name(m.name, mode),
+                fragment: "shade.frag",
+                method_file: Some(m.glsl),
+                defines,
+            });
+        }
+        out.push(Program {
+            name: program_name("ids", mode),
+            fragment: "ids.frag",
+            method_file: None,
+            defines: with(&[("IN_BARY", "1"), ("IN_PRIM", "1")]),
+        });
+        out.push(Program {
+            name: program_name("constant", mode),
+            fragment: "constant.frag",
+            method_file: None,
+            defines: with(&[]),
+        });
+    }
+    out
+}
+
+/// Compiles every program from `glsl_dir`: returns (file name, SPIR-V bytes), sorted by name.
+pub fn compile_all(glsl_dir: &Path) -> Result<Vec<(String, Vec<u8>)>> {
+    let compiler = shaderc::Compiler::new()
+        .map_err(|e| Error::Shader(format!("cannot start the shaderc compiler: {e}")))?;
+    let mut out = Vec::new();
+    for p in programs() {
+        for (stage, file, kind) in [
+            ("vert", "shade.vert", shaderc::ShaderKind::Vertex),
+            ("frag", p.fragment, shaderc::ShaderKind::Fragment),
+        ] {
+            let path = glsl_dir.join(file);
+            let source = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+            let mut opts = shaderc::CompileOptions::new()
+                .map_err(|e| Error::Shader(format!("shaderc options: {e}")))?;
+            opts.set_target_env(
+                shaderc::TargetEnv::Vulkan,
+                shaderc::EnvVersion::Vulkan1_3 as u32,
+            );
+            opts.set_optimization_level(shaderc::OptimizationLevel::Performance);
+            for (k, v) in &p.defines {
+                opts.add_macro_definition(k, Some(v));
+            }
+            let dir = glsl_dir.to_path_buf();
+            let method_file = p.method_file;
+            opts.set_include_callback(move |name, _ty, _from, _depth| {
+                let path = match (name, method_file) {
+                    ("method.glsl", Some(m)) => dir.join(m),
+                    _ => dir.join(name),
+                };
+                std::fs::read_to_string(&path)
+                    .map(|content| shaderc::ResolvedInclude {
+                        resolved_name: path.display().to_string(),
+                        content,
+                    })
+                    .map_err(|e| format!("{}: {e}", path.display()))
+            });
+            let artifact = compiler
+                .compile_into_spirv(
+                    &source,
+                    kind,
+                    &path.display().to_string(),
+                    "main",
+                    Some(&opts),
+                )
+                .map_err(|e| Error::Shader(format!("{} ({}): {e}", p.name, path.display())))?;
+            out.push((
+                format!("{}.{stage}.spv", p.name),
+                artifact.as_binary_u8().to_vec(),
+            ));
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// SHA-256 over every file of `glsl_dir` (sorted relative paths + contents) and the program table.
+pub fn source_hash(glsl_dir: &Path) -> Result<String> {
+    let mut files = Vec::new();
+    collect_files(glsl_dir, glsl_dir, &mut files)?;
+    files.sort();
+    let mut h = Sha256::new();
+    for rel in &files {
+        let path = glsl_dir.join(rel);
+        let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
+        h.update(rel.as_bytes());
+        h.update((bytes.len() as u64).to_le_bytes());
+        h.update(&bytes);
+    }
+    for p in programs() {
+        h.update(format!("{p:?}\n").as_bytes());
+    }
+    Ok(hex(&h.finalize()))
+}
+
+fn collect_files(root: &Path, dir: &Path, out: &mut Vec<String>) -> Result<()> {
+    let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+    for entry in rd {
+        let entry = entry.map_err(|e| Error::io(dir, e))?;
+        let path = entry.path();
+        if path.is_dir() {
+            collect_files(root, &path, out)?;
+        } else if let Ok(rel) = path.strip_prefix(root) {
+            out.push(rel.to_string_lossy().replace('\\', "/"));
+        }
+    }
+    Ok(())
+}
+
+/// The manifest written beside the .spv files.
+#[derive(Debug, serde::Serialize, serde::Deserialize, PartialEq)]
+pub struct Manifest {
+    /// [`source_hash`] of glsl/ when the files were generated.
+    pub source_hash: String,
+    /// SHA-256 of each .spv file.
+    pub files: BTreeMap<String, String>,
+}
+
+/// Compiles everything and writes `spirv_dir` (stale .spv files removed) and its manifest.
+pub fn write_spirv(glsl_dir: &Path, spirv_dir: &Path) -> Result<usize> {
+    let compiled = compile_all(glsl_dir)?;
+    std::fs::create_dir_all(spirv_dir).map_err(|e| Error::io(spirv_dir, e))?;
+    let mut files = BTreeMap::new();
+    for (name, bytes) in &compiled {
+        crate::output::write_bytes_atomic(&spirv_dir.join(name), bytes)?;
+        files.insert(name.clone(), hex(&Sha256::digest(bytes)));
+    }
+    let rd = std::fs::read_dir(spirv_dir).map_err(|e| Error::io(spirv_dir, e))?;
+    for entry in rd.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".spv") && !files.contains_key(&name) {
+            std::fs::remove_file(entry.path()).map_err(|e| Error::io(entry.path(), e))?;
+        }
+    }
+    let manifest = Manifest {
+        source_hash: source_hash(glsl_dir)?,
+        files,
+    };
+    let json =
+        serde_json::to_string_pretty(&manifest).map_err(|e| Error::Shader(e.to_string()))? + "\n";
+    crate::output::write_bytes_atomic(&spirv_dir.join("manifest.json"), json.as_bytes())?;
+    Ok(compiled.len())
+}
+
+/// Checks that `spirv_dir` was generated from the current `glsl_dir` and program table and that
+/// no .spv was edited, added or removed since. The error says what is stale and to run
+/// [`REGENERATE`].
+pub fn check_fresh(glsl_dir: &Path, spirv_dir: &Path) -> Result<()> {
+    let stale = |why: String| Error::Shader(format!("spirv/ is stale: {why}; run `{REGENERATE}`"));
+    let path = spirv_dir.join("manifest.json");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|_| stale("spirv/manifest.json is missing".into()))?;
+    let manifest: Manifest = serde_json::from_str(&text)
+        .map_err(|e| stale(format!("spirv/manifest.json is unreadable ({e})")))?;
+    if manifest.source_hash != source_hash(glsl_dir)? {
+        return Err(stale(
+            "glsl/ or the program table changed since spirv/ was generated".into(),
+        ));
+    }
+    let mut expected = Vec::new();
+    for p in programs() {
+        expected.push(format!("{}.vert.spv", p.name));
+        expected.push(format!("{}.frag.spv", p.name));
+    }
+    for name in &expected {
+        let Some(hash) = manifest.files.get(name) else {
+            return Err(stale(format!("{name} is not in the manifest")));
+        };
+        let bytes = std::fs::read(spirv_dir.join(name))
+            .map_err(|_| stale(format!("spirv/{name} is missing")))?;
+        if &hex(&Sha256::digest(&bytes)) != hash {
+            return Err(stale(format!(
+                "spirv/{name} differs from the generated file"
+            )));
+        }
+    }
+    if manifest.files.len() != expected.len() {
+        return Err(stale(
+            "the manifest lists programs that no longer exist".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The embedded SPIR-V of `<program>.<stage>.spv` (stage `vert` or `frag`).
+pub fn embedded(program: &str, stage: &str) -> Result<&'static [u8]> {
+    let file = format!("{program}.{stage}.spv");
+    EMBEDDED_SPIRV
+        .iter()
+        .find(|(n, _)| *n == file)
+        .map(|(_, b)| *b)
+        .ok_or_else(|| {
+            Error::Shader(format!(
+                "spirv/{file} was not built into this binary; run `{REGENERATE}` and rebuild"
+            ))
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn program_names_are_unique() {
+        let ps = programs();
+        for (i, p) in ps.iter().enumerate() {
+            assert!(
+                ps[..i].iter().all(|o| o.name != p.name),
+                "duplicate program {}",
+                p.name
+            );
+        }
+        assert!(ps.iter().any(|p| p.name == "phong_exact.screen_linear"));
+        assert!(ps.iter().any(|p| p.name == "ids.perspective"));
+    }
+}
