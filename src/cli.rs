@@ -1,0 +1,516 @@
+//! The command line: argument parsing (clap) and one function per command. `main.rs` only calls
+//! [`run`] and maps its result to an exit code.
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Instant;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::error::{Error, Result};
+use crate::methods::{self, Method, METHODS};
+use crate::render::{Renderer, Shading};
+use crate::scene::{self, Interpolation, Scene};
+use crate::vk::{Context, ContextDesc};
+use crate::{mesh, output, shaders, truth};
+
+/// Exit code: a threshold was exceeded (results were still written).
+pub const EXIT_THRESHOLD: u8 = 1;
+/// Exit code: usage, input or runtime error.
+pub const EXIT_ERROR: u8 = 2;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "shadelab",
+    version,
+    about = "Fast Phong-shading methods against exact Phong, on software Vulkan"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Args, Debug, Clone)]
+struct SceneArgs {
+    /// Scene file (TOML; see README "Scene format").
+    #[arg(
+        long,
+        value_name = "FILE",
+        required_unless_present = "mesh",
+        conflicts_with = "mesh"
+    )]
+    scene: Option<PathBuf>,
+    /// OBJ mesh instead of a scene: camera fitted to its bounds, default light and material.
+    #[arg(long, value_name = "FILE.obj")]
+    mesh: Option<PathBuf>,
+    /// Image size, overriding the scene's.
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    size: Option<(u32, u32)>,
+    /// Interpolation of the varyings, overriding the scene's.
+    #[arg(long, value_enum)]
+    interpolation: Option<InterpArg>,
+}
+
+#[derive(Args, Debug, Clone)]
+struct DeviceArgs {
+    /// Case-insensitive substring of the Vulkan device name (default: lavapipe / llvmpipe).
+    #[arg(long, value_name = "SUBSTRING")]
+    device: Option<String>,
+    /// Run under the Khronos validation layer; any message makes the command fail (exit 2).
+    #[arg(long)]
+    validate: bool,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy)]
+enum InterpArg {
+    ScreenLinear,
+    Perspective,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render one method to an 8-bit PNG (and optionally the float images as .npy).
+    Render {
+        #[command(flatten)]
+        scene: SceneArgs,
+        #[command(flatten)]
+        device: DeviceArgs,
+        /// Method identifier (see `shadelab list`).
+        #[arg(long, default_value = "phong_exact")]
+        method: String,
+        /// Output PNG (sRGB, alpha 0 on the background).
+        #[arg(long, value_name = "FILE.png")]
+        out: PathBuf,
+        /// Also write the linear float colour as .npy, shape (H, W, 4), float32.
+        #[arg(long, value_name = "FILE.npy")]
+        float: Option<PathBuf>,
+        /// Also write the shading normal as .npy, shape (H, W, 4), float32 (w 1 where defined).
+        #[arg(long, value_name = "FILE.npy")]
+        normals: Option<PathBuf>,
+    },
+    /// Check GPU methods against their own formula evaluated in f64 at the rasterizer's weights.
+    Verify {
+        #[command(flatten)]
+        scene: SceneArgs,
+        #[command(flatten)]
+        device: DeviceArgs,
+        /// Comma-separated method identifiers, or `all`.
+        #[arg(long, default_value = "all")]
+        methods: String,
+        /// Judge every method against this method's f64 formula instead of its own (teeth checks).
+        #[arg(long, value_name = "METHOD")]
+        against: Option<String>,
+    },
+    /// Time the draw of methods against the constant-colour floor (wall clock, submit to fence).
+    Bench {
+        #[command(flatten)]
+        scene: SceneArgs,
+        #[command(flatten)]
+        device: DeviceArgs,
+        /// Comma-separated method identifiers, or `all`.
+        #[arg(long, default_value = "phong_exact")]
+        methods: String,
+        /// Timed submissions per method.
+        #[arg(long, default_value_t = 30)]
+        repeat: usize,
+        /// Discarded submissions per method (the first includes the shader JIT).
+        #[arg(long, default_value_t = 3)]
+        warmup: usize,
+    },
+    /// List the methods (`--json` for machines).
+    List {
+        #[arg(long)]
+        json: bool,
+    },
+    /// Generate a procedural mesh as OBJ, or regenerate the shipped meshes of scenes/.
+    Mesh {
+        /// Generator: uv_sphere, icosphere, torus or cube.
+        #[arg(required_unless_present = "shipped")]
+        generator: Option<String>,
+        /// Generator parameters as key=value.
+        params: Vec<String>,
+        /// Output OBJ file.
+        #[arg(long, value_name = "FILE.obj", required_unless_present = "shipped")]
+        out: Option<PathBuf>,
+        /// Write every shipped mesh into DIR instead.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["generator", "out"])]
+        shipped: Option<PathBuf>,
+    },
+    /// Compile glsl/ into spirv/ with shaderc (`--check`: only verify spirv/ is fresh).
+    Shaders {
+        #[arg(long)]
+        check: bool,
+        #[arg(long, default_value = "glsl")]
+        glsl: PathBuf,
+        #[arg(long, default_value = "spirv")]
+        spirv: PathBuf,
+    },
+    /// The main job on the shipped scenes: render every scene of DIR with exact Phong into OUT.
+    Demo {
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
+    /// List the Vulkan devices the loader reports.
+    Devices,
+}
+
+fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT such as 512x512, got {s:?}"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("expected WIDTHxHEIGHT such as 512x512, got {s:?}"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// Parses the command line and runs it. Errors are printed once by the caller.
+pub fn run() -> Result<ExitCode> {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Render {
+            scene,
+            device,
+            method,
+            out,
+            float,
+            normals,
+        } => cmd_render(
+            &scene,
+            &device,
+            &method,
+            &out,
+            float.as_deref(),
+            normals.as_deref(),
+        ),
+        Command::Verify {
+            scene,
+            device,
+            methods,
+            against,
+        } => cmd_verify(&scene, &device, &methods, against.as_deref()),
+        Command::Bench {
+            scene,
+            device,
+            methods,
+            repeat,
+            warmup,
+        } => cmd_bench(&scene, &device, &methods, repeat, warmup),
+        Command::List { json } => cmd_list(json),
+        Command::Mesh {
+            generator,
+            params,
+            out,
+            shipped,
+        } => cmd_mesh(generator, &params, out, shipped),
+        Command::Shaders { check, glsl, spirv } => cmd_shaders(check, &glsl, &spirv),
+        Command::Demo {
+            scenes,
+            out,
+            device,
+        } => cmd_demo(&scenes, &out, &device),
+        Command::Devices => {
+            for d in Context::list_devices()? {
+                println!("{d}");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+fn load_scene(args: &SceneArgs) -> Result<Scene> {
+    let mut scene = match (&args.scene, &args.mesh) {
+        (Some(s), _) => scene::load_scene(s)?,
+        (None, Some(m)) => scene::scene_for_mesh(m)?,
+        (None, None) => return Err(Error::Usage("give --scene FILE or --mesh FILE".into())),
+    };
+    if let Some((w, h)) = args.size {
+        scene.width = w;
+        scene.height = h;
+    }
+    if let Some(i) = args.interpolation {
+        scene.interpolation = match i {
+            InterpArg::ScreenLinear => Interpolation::ScreenLinear,
+            InterpArg::Perspective => Interpolation::Perspective,
+        };
+    }
+    if let Some(report) = &scene.mesh_report {
+        for w in &report.warnings {
+            eprintln!("shadelab: warning: {}: {w}", scene.mesh.source);
+        }
+    }
+    Ok(scene)
+}
+
+fn renderer(args: &DeviceArgs) -> Result<Renderer> {
+    let ctx = Context::new(&ContextDesc {
+        device: args.device.clone(),
+        validate: args.validate,
+    })?;
+    Ok(Renderer::new(ctx))
+}
+
+/// With `--validate`, any collected message is an error (exit 2), printed in full.
+fn check_validation(ctx: &Arc<Context>) -> Result<()> {
+    let msgs = ctx.validation_messages();
+    if msgs.is_empty() {
+        return Ok(());
+    }
+    for m in &msgs {
+        eprintln!("validation: {m}");
+    }
+    Err(Error::Device(format!(
+        "the validation layer reported {} message(s) (printed above)",
+        msgs.len()
+    )))
+}
+
+fn select_methods(list: &str) -> Result<Vec<&'static Method>> {
+    if list == "all" {
+        return Ok(METHODS.iter().collect());
+    }
+    list.split(',')
+        .filter(|s| !s.is_empty())
+        .map(|s| methods::find(s.trim()))
+        .collect()
+}
+
+fn cmd_render(
+    scene_args: &SceneArgs,
+    dev: &DeviceArgs,
+    method: &str,
+    out: &Path,
+    float: Option<&Path>,
+    normals: Option<&Path>,
+) -> Result<ExitCode> {
+    let method = methods::find(method)?;
+    let scene = load_scene(scene_args)?;
+    let r = renderer(dev)?;
+    let gpu = r.upload(&scene)?;
+    let (frame, _) = r.render(&gpu, Shading::Method(method), false)?;
+    output::write_png_srgb(out, frame.width, frame.height, &frame.color)?;
+    if let Some(f) = float {
+        output::write_npy_rgba(f, frame.width, frame.height, &frame.color)?;
+    }
+    if let Some(n) = normals {
+        output::write_npy_rgba(n, frame.width, frame.height, &frame.normal)?;
+    }
+    check_validation(r.context())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cmd_verify(
+    scene_args: &SceneArgs,
+    dev: &DeviceArgs,
+    list: &str,
+    against: Option<&str>,
+) -> Result<ExitCode> {
+    let methods = select_methods(list)?;
+    let against = against.map(methods::find).transpose()?;
+    let scene = load_scene(scene_args)?;
+    let r = renderer(dev)?;
+    let gpu = r.upload(&scene)?;
+    println!(
+        "{:<22} {:>8} {:>12} {:>12} {:>10} {:>10}  verdict",
+        "method", "pixels", "max|dI|", "max|dN|", "dI/bound", "dN/bound"
+    );
+    let mut failed = false;
+    for m in methods {
+        let (frame, ids) = r.render(&gpu, Shading::Method(m), true)?;
+        let ids = ids.ok_or_else(|| Error::Device("the id pass returned nothing".into()))?;
+        let t = truth::evaluate(&gpu.inputs, &ids, against.unwrap_or(m));
+        let a = truth::agreement(&frame, &t);
+        let ok = a.within_bound();
+        failed |= !ok;
+        println!(
+            "{:<22} {:>8} {:>12.3e} {:>12.3e} {:>10.3} {:>10.3}  {}",
+            m.name,
+            a.covered,
+            a.max_color_error,
+            a.max_normal_error,
+            a.max_color_ratio,
+            a.max_normal_ratio,
+            if ok {
+                "within the float32 bound".to_string()
+            } else {
+                format!(
+                    "OUTSIDE the bound (worst pixel {:?}, coverage mismatches {}, non-finite {})",
+                    a.worst_pixel, a.coverage_mismatch, a.non_finite
+                )
+            }
+        );
+    }
+    check_validation(r.context())?;
+    Ok(if failed {
+        ExitCode::from(EXIT_THRESHOLD)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Median of a sorted-in-place slice of milliseconds.
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn cmd_bench(
+    scene_args: &SceneArgs,
+    dev: &DeviceArgs,
+    list: &str,
+    repeat: usize,
+    warmup: usize,
+) -> Result<ExitCode> {
+    if repeat == 0 {
+        return Err(Error::Usage("--repeat must be at least 1".into()));
+    }
+    let methods = select_methods(list)?;
+    let scene = load_scene(scene_args)?;
+    let r = renderer(dev)?;
+    let gpu = r.upload(&scene)?;
+    let (probe, _) = r.render(&gpu, Shading::Method(methods::find("phong_exact")?), false)?;
+    let covered = probe.covered();
+    let mut shadings = vec![Shading::Constant];
+    shadings.extend(methods.iter().map(|m| Shading::Method(m)));
+    // Interleave rounds so that drift on a shared machine hits every variant alike.
+    let rounds = 5.min(repeat);
+    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); shadings.len()];
+    for round in 0..rounds {
+        let n = repeat / rounds + usize::from(round < repeat % rounds);
+        for (i, s) in shadings.iter().enumerate() {
+            let t = r.time_draw(&gpu, *s, if round == 0 { warmup } else { 1 }, n)?;
+            samples[i].extend(t.iter().map(|d| d.as_secs_f64() * 1e3));
+        }
+    }
+    println!(
+        "scene {} at {}x{}, {} triangles, {} covered pixels; clock: wall (submit to fence), LP_NUM_THREADS={}",
+        scene.name,
+        scene.width,
+        scene.height,
+        gpu.inputs.triangle_count(),
+        covered,
+        std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
+    );
+    println!(
+        "{:<22} {:>10} {:>10} {:>10} {:>12}",
+        "program", "median ms", "min ms", "samples", "above floor"
+    );
+    let floor = median(&mut samples[0].clone());
+    for (s, v) in shadings.iter().zip(samples.iter_mut()) {
+        let m = median(v);
+        println!(
+            "{:<22} {:>10.3} {:>10.3} {:>10} {:>11.3}ms",
+            s.name(),
+            m,
+            v[0],
+            v.len(),
+            m - floor
+        );
+    }
+    check_validation(r.context())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cmd_list(json: bool) -> Result<ExitCode> {
+    if json {
+        let text =
+            serde_json::to_string_pretty(&serde_json::json!({ "version": 1, "methods": METHODS }))
+                .map_err(|e| Error::Usage(e.to_string()))?;
+        println!("{text}");
+    } else {
+        for m in METHODS {
+            println!("{:<22} {}", m.name, m.description);
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cmd_mesh(
+    generator: Option<String>,
+    params: &[String],
+    out: Option<PathBuf>,
+    shipped: Option<PathBuf>,
+) -> Result<ExitCode> {
+    if let Some(dir) = shipped {
+        for p in mesh::write_shipped(&dir)? {
+            eprintln!("wrote {}", p.display());
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let (Some(name), Some(out)) = (generator, out) else {
+        return Err(Error::Usage(
+            "give a generator and --out FILE.obj, or --shipped DIR".into(),
+        ));
+    };
+    let g = mesh::parse_generator_args(&name, params)?;
+    let m = g.build()?;
+    mesh::write_obj(&m, &out)?;
+    eprintln!("wrote {} ({} triangles)", out.display(), m.triangle_count());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cmd_shaders(check: bool, glsl: &Path, spirv: &Path) -> Result<ExitCode> {
+    if check {
+        shaders::check_fresh(glsl, spirv)?;
+        println!("{} is fresh", spirv.display());
+    } else {
+        let n = shaders::write_spirv(glsl, spirv)?;
+        println!("wrote {n} SPIR-V modules to {}", spirv.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cmd_demo(scenes_dir: &Path, out: &Path, dev: &DeviceArgs) -> Result<ExitCode> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(scenes_dir)
+        .map_err(|e| Error::io(scenes_dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(Error::Usage(format!(
+            "no scene files (*.toml) in {}",
+            scenes_dir.display()
+        )));
+    }
+    let r = renderer(dev)?;
+    let method = methods::find("phong_exact")?;
+    for (i, f) in files.iter().enumerate() {
+        let start = Instant::now();
+        let scene = scene::load_scene(f)?;
+        let gpu = r.upload(&scene)?;
+        let (frame, _) = r.render(&gpu, Shading::Method(method), false)?;
+        let stem = f
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let png = out.join(format!("{stem}.png"));
+        output::write_png_srgb(&png, frame.width, frame.height, &frame.color)?;
+        eprintln!(
+            "[{}/{}] {} -> {} ({}x{}, {} triangles, {:.0} ms)",
+            i + 1,
+            files.len(),
+            f.display(),
+            png.display(),
+            frame.width,
+            frame.height,
+            gpu.inputs.triangle_count(),
+            start.elapsed().as_secs_f64() * 1e3
+        );
+    }
+    check_validation(r.context())?;
+    Ok(ExitCode::SUCCESS)
+}

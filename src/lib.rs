@@ -1,0 +1,13 @@
+pub mod cli;
+pub mod error;
+pub mod formulas;
+pub mod mesh;
+pub mod methods;
+pub mod output;
+pub mod render;
+pub mod scene;
+pub mod shaders;
+pub mod spirv;
+pub mod truth;
+pub mod vk;
+pub use error::{Error, Result};

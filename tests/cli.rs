@@ -1,0 +1,192 @@
+//! The built binary: exit codes 0 and 2 with their exact error texts, and the files it writes.
+use crate::support::*;
+
+#[test]
+fn list_prints_methods_and_json() {
+    let (code, out, _) = run(&["list"]);
+    assert_eq!(code, 0);
+    assert!(out.lines().any(|l| l.starts_with("phong_exact ")), "{out}");
+    let (code, out, _) = run(&["list", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).expect("list --json is JSON");
+    assert_eq!(v["version"], 1);
+    let names: Vec<_> = v["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"phong_exact") && names.contains(&"phong_unnormalized"),
+        "{names:?}"
+    );
+    assert!(v["methods"][0]["citation"].is_string() && v["methods"][0]["inputs"].is_array());
+}
+
+#[test]
+fn render_writes_png_and_npy() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("a.png");
+    let npy = dir.path().join("a.npy");
+    let (code, _, err) = run(&[
+        "render",
+        "--scene",
+        "scenes/sphere_coarse.toml",
+        "--size",
+        "48x32",
+        "--validate",
+        "--out",
+        png.to_str().unwrap(),
+        "--float",
+        npy.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (48, 32));
+    let bytes = std::fs::read(&npy).unwrap();
+    assert_eq!(
+        bytes.len(),
+        128 + 48 * 32 * 4 * 4,
+        "npy = 128-byte header + float32 payload"
+    );
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        leftovers.len(),
+        2,
+        "temporary files left behind: {leftovers:?}"
+    );
+}
+
+#[test]
+fn render_mesh_instead_of_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("m.png");
+    let (code, _, err) = run(&[
+        "render",
+        "--mesh",
+        "scenes/torus.obj",
+        "--size",
+        "40x40",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(png.is_file());
+}
+
+/// Each bad input: exit 2 and exactly one line on stderr, the error.
+fn fails_with(args: &[&str], expected: &str) {
+    let (code, out, err) = run(args);
+    assert_eq!(code, 2, "args {args:?}: stdout {out} stderr {err}");
+    assert!(
+        err.contains(expected),
+        "args {args:?}: expected {expected:?} in stderr:\n{err}"
+    );
+}
+
+#[test]
+fn bad_inputs_exit_2_with_clear_messages() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let out = out.to_str().unwrap();
+    fails_with(
+        &["render", "--scene", "nosuch.toml", "--out", out],
+        "shadelab: error: nosuch.toml: No such file or directory (os error 2)",
+    );
+    fails_with(
+        &[
+            "render",
+            "--scene",
+            "scenes/cube.toml",
+            "--method",
+            "phong_exakt",
+            "--out",
+            out,
+        ],
+        "shadelab: error: unknown method \"phong_exakt\"; valid methods: phong_exact,",
+    );
+    fails_with(
+        &[
+            "render",
+            "--scene",
+            "scenes/cube.toml",
+            "--size",
+            "0x10",
+            "--out",
+            out,
+        ],
+        "shadelab: error: image size 0x10 is empty: width and height must be at least 1",
+    );
+    fails_with(
+        &[
+            "render",
+            "--scene",
+            "scenes/cube.toml",
+            "--size",
+            "100000x10",
+            "--out",
+            out,
+        ],
+        "exceeds the device's maxImageDimension2D",
+    );
+    fails_with(
+        &[
+            "render",
+            "--scene",
+            "scenes/cube.toml",
+            "--size",
+            "big",
+            "--out",
+            out,
+        ],
+        "expected WIDTHxHEIGHT such as 512x512, got \"big\"",
+    );
+    fails_with(
+        &[
+            "render",
+            "--scene",
+            "scenes/cube.toml",
+            "--device",
+            "no-such-gpu",
+            "--out",
+            out,
+        ],
+        "shadelab: error: no Vulkan device name contains \"no-such-gpu\"; devices found: llvmpipe",
+    );
+    fails_with(&["render", "--out", out], "--scene <FILE>");
+    let obj = dir.path().join("nan.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n").unwrap();
+    fails_with(
+        &["render", "--mesh", obj.to_str().unwrap(), "--out", out],
+        &format!("{}:3:", obj.display()),
+    );
+    assert!(
+        !std::path::Path::new(out).exists(),
+        "a failed run wrote its output"
+    );
+}
+
+#[test]
+fn unwritable_output_is_an_error_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let blocker = dir.path().join("file");
+    std::fs::write(&blocker, "not a directory").unwrap();
+    let out = blocker.join("x.png");
+    let (code, _, err) = run(&[
+        "render",
+        "--scene",
+        "scenes/cube.toml",
+        "--size",
+        "16x16",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.starts_with("shadelab: error: ") && err.contains("file"),
+        "{err}"
+    );
+}

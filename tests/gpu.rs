@@ -1,0 +1,189 @@
+//! Rendering on lavapipe under validation, and the f64 truth agreement with its teeth.
+use shadelab::methods;
+use shadelab::render::Shading;
+use shadelab::scene::Interpolation;
+use shadelab::truth;
+
+use crate::support::*;
+
+/// GPU `phong_exact` agrees with the f64 evaluation at the rasterizer's weights on every
+/// covered pixel, within the float32 bound derived in src/truth.rs (per pixel).
+fn exact_phong_agrees(scene_name: &str, size: u32, interpolation: Interpolation) {
+    let r = validated_renderer();
+    let mut scene = shipped_scene(scene_name, size);
+    scene.interpolation = interpolation;
+    let gpu = r.upload(&scene).unwrap();
+    let m = methods::find("phong_exact").unwrap();
+    let (frame, ids) = r.render(&gpu, Shading::Method(m), true).unwrap();
+    let t = truth::evaluate(&gpu.inputs, &ids.unwrap(), m);
+    let a = truth::agreement(&frame, &t);
+    eprintln!("{scene_name} {size}px {interpolation:?}: {a:?}");
+    assert!(
+        a.covered > (size * size / 8) as usize,
+        "too few covered pixels: {a:?}"
+    );
+    assert!(
+        a.within_bound(),
+        "{scene_name}: GPU phong_exact outside the float32 bound: {a:?}"
+    );
+    // The bound must be informative almost everywhere, not vacuous: ill-conditioned pixels
+    // (edge-on slivers at the silhouette) stay under 1% of the covered ones.
+    assert!(
+        a.ill_conditioned * 100 < a.covered,
+        "{scene_name}: bound too weak on too many pixels: {a:?}"
+    );
+    assert_validation_clean(r.context());
+}
+
+#[test]
+fn phong_exact_agrees_with_f64_on_fine_sphere() {
+    exact_phong_agrees("sphere_fine", 128, Interpolation::ScreenLinear);
+}
+
+#[test]
+fn phong_exact_agrees_with_f64_on_coarse_sphere() {
+    exact_phong_agrees("sphere_coarse", 128, Interpolation::ScreenLinear);
+}
+
+#[test]
+fn phong_exact_agrees_with_f64_with_perspective_interpolation() {
+    exact_phong_agrees("sphere_coarse", 96, Interpolation::Perspective);
+}
+
+#[test]
+fn phong_exact_agrees_with_f64_on_every_shipped_scene() {
+    for name in ["torus", "icosphere", "cube"] {
+        exact_phong_agrees(name, 64, Interpolation::ScreenLinear);
+    }
+}
+
+/// Teeth: a render with normalization removed must fail the f64 agreement check, by far.
+#[test]
+fn unnormalized_render_fails_the_exact_truth() {
+    let r = validated_renderer();
+    let scene = shipped_scene("sphere_coarse", 96);
+    let gpu = r.upload(&scene).unwrap();
+    let wrong = methods::find("phong_unnormalized").unwrap();
+    let exact = methods::find("phong_exact").unwrap();
+    let (frame, ids) = r.render(&gpu, Shading::Method(wrong), true).unwrap();
+    let ids = ids.unwrap();
+    let a = truth::agreement(&frame, &truth::evaluate(&gpu.inputs, &ids, exact));
+    assert!(!a.within_bound(), "unnormalized passed as exact: {a:?}");
+    assert!(
+        a.max_color_ratio > 100.0,
+        "the check barely notices missing normalization: {a:?}"
+    );
+    // ... while it does agree with its own f64 formula.
+    let own = truth::agreement(&frame, &truth::evaluate(&gpu.inputs, &ids, wrong));
+    assert!(
+        own.within_bound(),
+        "phong_unnormalized vs its own f64 twin: {own:?}"
+    );
+    assert_validation_clean(r.context());
+}
+
+/// The id pass covers exactly the pixels the method pass covers, and rendering is deterministic.
+#[test]
+fn id_pass_coverage_matches_and_renders_are_deterministic() {
+    let r = validated_renderer();
+    let gpu = r.upload(&shipped_scene("torus", 80)).unwrap();
+    let m = methods::find("phong_exact").unwrap();
+    let (a, ids) = r.render(&gpu, Shading::Method(m), true).unwrap();
+    let (b, _) = r.render(&gpu, Shading::Method(m), false).unwrap();
+    let ids = ids.unwrap();
+    let covered_ids = ids.prim.iter().filter(|&&p| p != 0).count();
+    assert_eq!(a.covered(), covered_ids);
+    assert!(ids
+        .prim
+        .iter()
+        .all(|&p| (p as usize) <= gpu.inputs.triangle_count()));
+    assert_eq!(
+        bytemuck::cast_slice::<_, u8>(&a.color),
+        bytemuck::cast_slice::<_, u8>(&b.color)
+    );
+    // Weights sum to 1 within the interpolation error of src/truth.rs (three varyings, each off
+    // by at most K_INTERP * U * amplification). They may be slightly negative: lavapipe
+    // rasterizes vertices snapped to 1/256 pixel (subPixelPrecisionBits = 8) but interpolates on
+    // the float plane, so a covered pixel centre can lie just outside the float triangle.
+    let t = truth::evaluate(&gpu.inputs, &ids, m);
+    let mut outside = 0;
+    for ((w, &p), tp) in ids.weights.iter().zip(&ids.prim).zip(&t.pixels) {
+        if p != 0 {
+            let amp = tp.as_ref().unwrap().amplification;
+            let sum = (w[0] + w[1] + w[2]) as f64;
+            assert!(
+                (sum - 1.0).abs() <= 3.0 * truth::K_INTERP * truth::U * amp,
+                "weights {w:?} (amplification {amp})"
+            );
+            outside += usize::from(w[..3].iter().any(|&x| x < 0.0));
+        }
+    }
+    assert!(
+        outside * 20 < a.covered(),
+        "{outside} of {} pixels outside their triangle",
+        a.covered()
+    );
+    assert_validation_clean(r.context());
+}
+
+/// The constant-colour floor covers the same pixels and writes its colour there.
+#[test]
+fn constant_floor_covers_the_same_pixels() {
+    let r = validated_renderer();
+    let gpu = r.upload(&shipped_scene("icosphere", 64)).unwrap();
+    let (c, _) = r.render(&gpu, Shading::Constant, false).unwrap();
+    let (p, _) = r
+        .render(
+            &gpu,
+            Shading::Method(methods::find("phong_exact").unwrap()),
+            false,
+        )
+        .unwrap();
+    assert_eq!(c.covered(), p.covered());
+    let want = gpu.inputs.params.const_color;
+    assert!(c
+        .color
+        .iter()
+        .filter(|px| px[3] > 0.0)
+        .all(|px| *px == want));
+    let times = r.time_draw(&gpu, Shading::Constant, 1, 3).unwrap();
+    assert_eq!(times.len(), 3);
+    assert_validation_clean(r.context());
+}
+
+/// Image sizes above the device limit or empty are usage errors naming the limit.
+#[test]
+fn absurd_image_sizes_are_rejected() {
+    let r = validated_renderer();
+    let max = r.context().info().max_image_dimension_2d;
+    let mut s = shipped_scene("icosphere", 8);
+    s.width = max + 1;
+    let e = r.upload(&s).err().expect("too large must fail").to_string();
+    assert!(
+        e.contains(&format!("exceeds the device's maxImageDimension2D ({max})")),
+        "{e}"
+    );
+    s.width = 0;
+    let e = r.upload(&s).err().expect("empty must fail").to_string();
+    assert!(e.contains("is empty"), "{e}");
+}
+
+/// Teeth for the validation check itself: a deliberately invalid call is reported.
+#[test]
+fn validation_layer_messages_are_collected() {
+    use ash::vk as avk;
+    use shadelab::vk::{Image, ImageDesc};
+    let r = validated_renderer();
+    // A colour image with a depth-only usage: VUID-VkImageCreateInfo-usage-00964 / format features.
+    let desc = ImageDesc {
+        width: 4,
+        height: 4,
+        format: avk::Format::R32G32B32A32_SFLOAT,
+        usage: avk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+    };
+    let _ = Image::new(r.context(), desc);
+    assert!(
+        !r.context().validation_messages().is_empty(),
+        "the validation layer stayed silent"
+    );
+}

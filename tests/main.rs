@@ -1,0 +1,13 @@
+//! Integration tests, one crate (ripgrep-style hub). Every GPU test runs under the Khronos
+//! validation layer and fails on any message.
+//!
+//! - `support`: shared helpers (validated renderer, scene loading, models folder, the binary).
+//! - `gpu`: rendering, the f64 truth agreement and its teeth.
+//! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
+//! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
+//! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
+mod cli;
+mod gpu;
+mod models;
+mod shaders;
+mod support;

@@ -1,0 +1,77 @@
+//! Helpers shared by the integration tests.
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use shadelab::render::Renderer;
+use shadelab::scene::{self, Scene};
+use shadelab::vk::{Context, ContextDesc};
+
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A renderer on lavapipe with the validation layer on.
+pub fn validated_renderer() -> Renderer {
+    let ctx = Context::new(&ContextDesc {
+        device: None,
+        validate: true,
+    })
+    .expect("lavapipe with validation");
+    assert!(ctx.validating());
+    Renderer::new(ctx)
+}
+
+/// Fails the test if the validation layer said anything.
+pub fn assert_validation_clean(ctx: &Arc<Context>) {
+    let msgs = ctx.validation_messages();
+    assert!(
+        msgs.is_empty(),
+        "{} validation message(s):\n{}",
+        msgs.len(),
+        msgs.join("\n")
+    );
+}
+
+/// A shipped scene at a small size.
+pub fn shipped_scene(name: &str, size: u32) -> Scene {
+    let mut s = scene::load_scene(&root().join("scenes").join(format!("{name}.toml")))
+        .expect("shipped scene loads");
+    s.width = size;
+    s.height = size;
+    s
+}
+
+/// The real-world models folder: `SHADELAB_MODELS`, else ../shared/models when present.
+/// `None` (with a message) when absent, so the caller skips.
+pub fn models_dir() -> Option<PathBuf> {
+    let dir = match std::env::var_os("SHADELAB_MODELS") {
+        Some(d) if !d.is_empty() => PathBuf::from(d),
+        _ => root().join("../shared/models"),
+    };
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "skipping: no models folder at {} (set SHADELAB_MODELS)",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// The built binary.
+pub fn bin() -> std::process::Command {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_shadelab"));
+    c.current_dir(root());
+    c
+}
+
+/// Runs the binary; returns (exit code, stdout, stderr).
+pub fn run(args: &[&str]) -> (i32, String, String) {
+    let out = bin().args(args).output().expect("run shadelab");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
