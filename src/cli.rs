@@ -233,6 +233,10 @@ fn load_scene(args: &SceneArgs) -> Result<Scene> {
     if let Some((w, h)) = args.size {
         scene.width = w;
         scene.height = h;
+        if args.scene.is_none() && h > 0 {
+            // --mesh: the camera was fitted for the default aspect; refit it for this one.
+            scene.camera = scene::fit_camera(scene.camera.fov_y_deg, w as f64 / h as f64);
+        }
     }
     if let Some(i) = args.interpolation {
         scene.interpolation = match i {

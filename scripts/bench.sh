@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Benchmarks of README "Performance" (never run by the tests). Usage: scripts/bench.sh [RUNS]
+#  1. process start to PNG written: `shadelab render` of the fine sphere at 1024x1024, warm
+#     (one untimed run first fills Mesa's shader cache), median and range of RUNS runs;
+#  2. per-frame draw time of phong_exact against the constant-colour floor (`shadelab bench`).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-15}
+bin=target/release/shadelab
+[ -x "$bin" ] || { echo "bench: build first (make build)" >&2; exit 2; }
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+cmd=("$bin" render --scene scenes/sphere_fine.toml --size 1024x1024 --out "$tmp/f.png")
+echo "== process start to PNG written: ${cmd[*]/$tmp/TMP}"
+"${cmd[@]}"
+times=()
+for _ in $(seq "$runs"); do
+  s=$(date +%s%N); "${cmd[@]}"; e=$(date +%s%N)
+  times+=($(( (e - s) / 1000000 )))
+done
+sorted=($(printf '%s\n' "${times[@]}" | sort -n))
+echo "runs $runs: median ${sorted[$((runs / 2))]} ms, min ${sorted[0]} ms, max ${sorted[$((runs - 1))]} ms"
+echo
+echo "== per-frame draw time: $bin bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact"
+"$bin" bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact
