@@ -3,8 +3,28 @@
 #include "common.glsl"
 
 layout(location = 0) in vec3 inPosition;   // model space (fitted to the unit sphere)
-#ifdef IN_NORMAL
+#ifdef ATTR_NORMAL
 layout(location = 1) in vec3 inNormal;     // view space, unit (transformed in f64 on the CPU)
+#endif
+#ifdef ATTR_FLAT
+layout(location = 2) in vec3 inFlat;       // the triangle's unit flat normal, view space
+#endif
+#ifdef ATTR_CORNERS
+layout(location = 3) in vec3 inN0;         // the triangle's three vertex normals, on every corner
+layout(location = 4) in vec3 inN1;
+layout(location = 5) in vec3 inN2;
+#endif
+#ifdef ATTR_PN
+layout(location = 6) in vec3 inPn01;       // PN mid-edge normals (set up on the CPU in f64)
+layout(location = 7) in vec3 inPn12;
+layout(location = 8) in vec3 inPn20;
+#endif
+
+#ifdef IN_COLOR
+#include "shading.glsl"
+#endif
+#ifdef IN_QUAT
+#include "quaternion.glsl"
 #endif
 
 // The id pass and every method pass must rasterize identically: they share this code, and
@@ -23,5 +43,30 @@ void main() {
 #endif
 #ifdef IN_PRIM
     vPrim = uint(gl_VertexIndex / 3);
+#endif
+#ifdef IN_FLAT
+    vFlat = inFlat;
+#endif
+#ifdef IN_CORNERS
+    vN0 = inN0;
+    vN1 = inN1;
+    vN2 = inN2;
+#endif
+#ifdef IN_PN
+    vPn01 = inPn01;
+    vPn12 = inPn12;
+    vPn20 = inPn20;
+#endif
+#ifdef IN_COLOR
+    vColor = shade(inNormal);                  // Gouraud: light the vertex (FORMULAS.md 2.2)
+#endif
+#ifdef IN_QUAT
+#ifdef QUAT_LOCAL
+    vec3 t, b;                                 // per-triangle frame whose +Z is the flat normal
+    onb(inFlat, t, b);
+    vQuat = quatFromNormal(vec3(dot(inNormal, t), dot(inNormal, b), dot(inNormal, inFlat)));
+#else
+    vQuat = quatFromNormal(inNormal);          // view space
+#endif
 #endif
 }

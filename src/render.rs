@@ -10,9 +10,10 @@ use std::time::Duration;
 use ash::vk as avk;
 use glam::{DMat3, DVec3};
 
-use crate::error::Result;
-use crate::formulas::Lighting;
-use crate::methods::{Input, Method};
+use crate::error::{Error, Result};
+use crate::formulas::{self, Lighting};
+use crate::mesh::Mesh;
+use crate::methods::{specular_table, Fragment, Geometry, Method};
 use crate::scene::{Interpolation, Scene, MAX_LIGHTS};
 use crate::shaders;
 use crate::vk::commands::ColorTarget;
@@ -51,23 +52,22 @@ impl Shading<'_> {
             Shading::Constant => "constant",
         }
     }
-    fn needs(&self, input: Input) -> bool {
-        match self {
-            Shading::Method(m) => m.inputs.contains(&input),
-            Shading::Constant => false,
-        }
-    }
 }
 
-/// Everything the GPU receives for a scene, as f32, computed once in f64.
+/// Everything the GPU may receive for a scene, as f32, computed once in f64.
 pub struct SceneInputs {
     pub width: u32,
     pub height: u32,
     pub interpolation: Interpolation,
+    pub geometry: Geometry,
     /// Model-space positions, 3 corners per triangle.
     pub positions: Vec<[f32; 3]>,
     /// Unit view-space vertex normals per corner.
     pub view_normals: Vec<[f32; 3]>,
+    /// Unit view-space flat normal per triangle, oriented like the sum of its vertex normals.
+    pub flat_normals: Vec<[f32; 3]>,
+    /// PN mid-edge normals (n110, n011, n101) per triangle, view space.
+    pub pn_mids: Vec<[[f32; 3]; 3]>,
     pub params: Params,
     pub light_count: u32,
 }
@@ -76,15 +76,44 @@ fn f4(v: DVec3, w: f64) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, w as f32]
 }
 
+fn f3(v: DVec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+fn d3(v: [f32; 3]) -> DVec3 {
+    DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
+}
+
 fn widen(v: [f32; 4]) -> DVec3 {
     DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
 }
 
+/// The PN-tessellated version of a mesh (model space): `level^2` sub-triangles per triangle.
+fn tessellate(mesh: &Mesh, level: u32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    let cap = mesh.positions.len() * (level * level) as usize;
+    let (mut positions, mut normals) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
+    for (p, n) in mesh
+        .positions
+        .chunks_exact(3)
+        .zip(mesh.normals.chunks_exact(3))
+    {
+        let p = [d3(p[0]), d3(p[1]), d3(p[2])];
+        let n = [d3(n[0]), d3(n[1]), d3(n[2])];
+        for (sp, sn) in formulas::pn_tessellate(p, n, level) {
+            positions.extend(sp.map(f3));
+            normals.extend(sn.map(f3));
+        }
+    }
+    (positions, normals)
+}
+
 impl SceneInputs {
     /// Transforms the scene in f64: MVP, view-space normals (normal matrix = inverse transpose
-    /// of the view's upper 3x3; the mesh is already in its fitted model space), light directions
-    /// and half vectors with the viewer at infinity (V = +Z in view space, FORMULAS.md 1.2).
-    pub fn new(scene: &Scene) -> Self {
+    /// of the view's upper 3x3; the mesh is already in its fitted model space), flat and PN
+    /// mid-edge normals from view-space positions, light directions and half vectors with the
+    /// viewer at infinity (V = +Z in view space, FORMULAS.md 1.2). `geometry` selects the
+    /// scene's triangles or their PN tessellation.
+    pub fn new(scene: &Scene, geometry: Geometry) -> Self {
         let view = scene.camera.view();
         let proj = scene
             .camera
@@ -92,16 +121,30 @@ impl SceneInputs {
         let mvp = (proj * view).to_cols_array_2d();
         let rot = DMat3::from_mat4(view);
         let normal_matrix = rot.inverse().transpose();
-        let view_normals = scene
-            .mesh
-            .normals
+        let (positions, model_normals) = match geometry {
+            Geometry::Mesh => (scene.mesh.positions.clone(), scene.mesh.normals.clone()),
+            Geometry::PnTessellated(level) => tessellate(&scene.mesh, level),
+        };
+        let view_n: Vec<DVec3> = model_normals
             .iter()
-            .map(|n| {
-                let v = (normal_matrix * DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64))
-                    .normalize_or_zero();
-                [v.x as f32, v.y as f32, v.z as f32]
-            })
+            .map(|&n| (normal_matrix * d3(n)).normalize_or_zero())
             .collect();
+        let view_p: Vec<DVec3> = positions
+            .iter()
+            .map(|&p| view.transform_point3(d3(p)))
+            .collect();
+        let mut flat_normals = Vec::with_capacity(positions.len() / 3);
+        let mut pn_mids = Vec::with_capacity(positions.len() / 3);
+        for (p, n) in view_p.chunks_exact(3).zip(view_n.chunks_exact(3)) {
+            let p = [p[0], p[1], p[2]];
+            let n = [n[0], n[1], n[2]];
+            let mut flat = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            if flat.dot(n[0] + n[1] + n[2]) < 0.0 {
+                flat = -flat;
+            }
+            flat_normals.push(f3(flat));
+            pn_mids.push(formulas::pn_mid_normals(p, n).map(f3));
+        }
         let mut params = Params {
             mvp: mvp.map(|c| c.map(|x| x as f32)),
             ambient: f4(scene.material.ambient, 0.0),
@@ -123,8 +166,11 @@ impl SceneInputs {
             width: scene.width,
             height: scene.height,
             interpolation: scene.interpolation,
-            positions: scene.mesh.positions.clone(),
-            view_normals,
+            geometry,
+            positions,
+            view_normals: view_n.into_iter().map(f3).collect(),
+            flat_normals,
+            pn_mids,
             params,
             light_count: scene.lights.len().min(MAX_LIGHTS) as u32,
         }
@@ -150,10 +196,81 @@ impl SceneInputs {
         }
     }
 
+    /// What the f64 twin of a method sees in triangle `t` at `weights`.
+    pub fn fragment(&self, t: usize, weights: DVec3) -> Fragment {
+        Fragment {
+            weights,
+            corner_normals: [0, 1, 2].map(|k| d3(self.view_normals[3 * t + k])),
+            flat_normal: d3(self.flat_normals[t]),
+            pn_mids: self.pn_mids[t].map(d3),
+        }
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.positions.len() / 3
     }
+
+    /// Per-corner data of a stream, ready to upload.
+    fn stream(&self, s: Stream) -> Vec<[f32; 3]> {
+        let per_triangle = |f: &dyn Fn(usize) -> [f32; 3]| -> Vec<[f32; 3]> {
+            (0..self.positions.len()).map(|i| f(i / 3)).collect()
+        };
+        match s {
+            Stream::Normal => self.view_normals.clone(),
+            Stream::Flat => per_triangle(&|t| self.flat_normals[t]),
+            Stream::Corner(k) => per_triangle(&|t| self.view_normals[3 * t + k]),
+            Stream::PnMid(k) => per_triangle(&|t| self.pn_mids[t][k]),
+        }
+    }
+}
+
+/// A vertex stream beyond the positions (location 0); see glsl/shade.vert.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stream {
+    /// location 1, ATTR_NORMAL
+    Normal,
+    /// location 2, ATTR_FLAT
+    Flat,
+    /// locations 3..=5, ATTR_CORNERS
+    Corner(usize),
+    /// locations 6..=8, ATTR_PN
+    PnMid(usize),
+}
+
+impl Stream {
+    fn location(self) -> u32 {
+        match self {
+            Stream::Normal => 1,
+            Stream::Flat => 2,
+            Stream::Corner(k) => 3 + k as u32,
+            Stream::PnMid(k) => 6 + k as u32,
+        }
+    }
+
+    /// The streams a set of GLSL defines reads.
+    fn for_defines(defines: &[&str]) -> Vec<Stream> {
+        let mut out = Vec::new();
+        for d in defines {
+            match *d {
+                "ATTR_NORMAL" => out.push(Stream::Normal),
+                "ATTR_FLAT" => out.push(Stream::Flat),
+                "ATTR_CORNERS" => out.extend((0..3).map(Stream::Corner)),
+                "ATTR_PN" => out.extend((0..3).map(Stream::PnMid)),
+                _ => {}
+            }
+        }
+        out.sort_by_key(|s| s.location());
+        out.dedup();
+        out
+    }
+}
+
+fn method_defines(m: &Method) -> Vec<&'static str> {
+    m.inputs
+        .iter()
+        .flat_map(|i| i.defines().iter().copied())
+        .collect()
 }
 
 /// A float image read back from the GPU, row-major from the top-left pixel.
@@ -184,13 +301,76 @@ pub struct IdFrame {
     pub weights: Vec<[f32; 4]>,
 }
 
-/// The uploaded scene: vertex streams and the uniform block.
+/// The uploaded scene for one geometry: positions, the streams its methods need, the uniform
+/// block and (when a method needs it) the specular table.
 pub struct GpuScene {
     pub inputs: SceneInputs,
     positions: Buffer,
-    normals: Buffer,
+    streams: Vec<(Stream, Buffer)>,
     _ubo: Buffer,
+    _lut: Option<Buffer>,
     set: DescriptorSet,
+}
+
+type Bindings<'a> = (Vec<VertexStream>, Vec<(u32, &'a Buffer)>);
+
+impl GpuScene {
+    /// The vertex streams and buffers a draw with `shading` binds; an error when the method
+    /// draws another geometry or a stream it reads was not uploaded.
+    fn buffers(&self, shading: Shading) -> Result<Bindings<'_>> {
+        let f3 = |location| VertexStream {
+            location,
+            format: avk::Format::R32G32B32_SFLOAT,
+            stride: 12,
+        };
+        let mut streams = vec![f3(0)];
+        let mut buffers = vec![(0, &self.positions)];
+        if let Shading::Method(m) = shading {
+            if m.geometry != self.inputs.geometry {
+                return Err(Error::Usage(format!(
+                    "{} draws {:?}, this upload holds {:?}",
+                    m.name, m.geometry, self.inputs.geometry
+                )));
+            }
+            for s in Stream::for_defines(&method_defines(m)) {
+                let buf = self
+                    .streams
+                    .iter()
+                    .find(|(k, _)| *k == s)
+                    .map(|(_, b)| b)
+                    .ok_or_else(|| {
+                        Error::Usage(format!(
+                            "{}: vertex stream {s:?} was not uploaded (prepare with this method)",
+                            m.name
+                        ))
+                    })?;
+                streams.push(f3(s.location()));
+                buffers.push((s.location(), buf));
+            }
+        }
+        Ok((streams, buffers))
+    }
+}
+
+/// The uploads one run needs: one [`GpuScene`] per geometry its methods draw, the scene's own
+/// triangles first.
+pub struct Prepared {
+    scenes: Vec<GpuScene>,
+}
+
+impl Prepared {
+    /// The upload a method draws from.
+    pub fn for_method(&self, m: &Method) -> &GpuScene {
+        self.scenes
+            .iter()
+            .find(|g| g.inputs.geometry == m.geometry)
+            .unwrap_or(&self.scenes[0])
+    }
+
+    /// The upload of the scene's own triangles (the reference geometry).
+    pub fn base(&self) -> &GpuScene {
+        &self.scenes[0]
+    }
 }
 
 /// Renders scenes offscreen on one device.
@@ -210,24 +390,65 @@ impl Renderer {
         &self.ctx
     }
 
-    /// Uploads a scene. Checks the image size against the device limit first.
-    pub fn upload(&self, scene: &Scene) -> Result<GpuScene> {
+    /// Uploads a scene for `methods`: the scene's own triangles always (the reference and the
+    /// id pass need them), a PN tessellation when a method draws one, and on each only the
+    /// vertex streams those methods read. Checks the image size against the device limit.
+    pub fn prepare(&self, scene: &Scene, methods: &[&Method]) -> Result<Prepared> {
         self.ctx.check_image_size(scene.width, scene.height)?;
-        let inputs = SceneInputs::new(scene);
+        let mut geometries = vec![Geometry::Mesh];
+        for m in methods {
+            if !geometries.contains(&m.geometry) {
+                geometries.push(m.geometry);
+            }
+        }
+        let scenes = geometries
+            .into_iter()
+            .map(|g| {
+                let ms: Vec<&Method> = methods
+                    .iter()
+                    .copied()
+                    .filter(|m| m.geometry == g)
+                    .collect();
+                self.upload(SceneInputs::new(scene, g), &ms)
+            })
+            .collect::<Result<_>>()?;
+        Ok(Prepared { scenes })
+    }
+
+    /// Uploads one geometry with the streams `methods` read.
+    fn upload(&self, inputs: SceneInputs, methods: &[&Method]) -> Result<GpuScene> {
+        let defines: Vec<&str> = methods.iter().flat_map(|m| method_defines(m)).collect();
         let usage = avk::BufferUsageFlags::VERTEX_BUFFER;
         let positions = Buffer::with_data(&self.ctx, usage, &inputs.positions)?;
-        let normals = Buffer::with_data(&self.ctx, usage, &inputs.view_normals)?;
+        let streams = Stream::for_defines(&defines)
+            .into_iter()
+            .map(|s| Ok((s, Buffer::with_data(&self.ctx, usage, &inputs.stream(s))?)))
+            .collect::<Result<Vec<_>>>()?;
         let ubo = Buffer::with_data(
             &self.ctx,
             avk::BufferUsageFlags::UNIFORM_BUFFER,
             &[inputs.params],
         )?;
-        let set = DescriptorSet::new(&self.ctx, &[(0, avk::DescriptorType::UNIFORM_BUFFER, &ubo)])?;
+        let lut = if defines.contains(&"USE_LUT") {
+            Some(Buffer::with_data(
+                &self.ctx,
+                avk::BufferUsageFlags::STORAGE_BUFFER,
+                specular_table(),
+            )?)
+        } else {
+            None
+        };
+        let mut bindings = vec![(0, avk::DescriptorType::UNIFORM_BUFFER, &ubo)];
+        if let Some(l) = &lut {
+            bindings.push((1, avk::DescriptorType::STORAGE_BUFFER, l));
+        }
+        let set = DescriptorSet::new(&self.ctx, &bindings)?;
         Ok(GpuScene {
             inputs,
             positions,
-            normals,
+            streams,
             _ubo: ubo,
+            _lut: lut,
             set,
         })
     }
@@ -255,25 +476,6 @@ impl Renderer {
         )
     }
 
-    fn streams<'a>(
-        &self,
-        gpu: &'a GpuScene,
-        shading: Shading,
-    ) -> (Vec<VertexStream>, Vec<(u32, &'a Buffer)>) {
-        let f3 = |location| VertexStream {
-            location,
-            format: avk::Format::R32G32B32_SFLOAT,
-            stride: 12,
-        };
-        let mut streams = vec![f3(0)];
-        let mut buffers = vec![(0, &gpu.positions)];
-        if shading.needs(Input::InterpolatedNormal) {
-            streams.push(f3(1));
-            buffers.push((1, &gpu.normals));
-        }
-        (streams, buffers)
-    }
-
     fn program(&self, gpu: &GpuScene, shading: Shading) -> String {
         let base = match shading {
             Shading::Method(m) => m.name,
@@ -292,7 +494,7 @@ impl Renderer {
     ) -> Result<(Frame, Option<IdFrame>)> {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
         let n = gpu.inputs.positions.len() as u32;
-        let (streams, buffers) = self.streams(gpu, shading);
+        let (streams, buffers) = gpu.buffers(shading)?;
         let pipeline =
             self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
         let color = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
@@ -332,7 +534,7 @@ impl Renderer {
 
         let mut id_objects = None;
         if with_ids {
-            let (id_streams, id_buffers) = self.streams(gpu, Shading::Constant);
+            let (id_streams, id_buffers) = gpu.buffers(Shading::Constant)?;
             let id_pipeline = self.pipeline(
                 gpu,
                 &shaders::program_name("ids", gpu.inputs.interpolation),
@@ -392,7 +594,7 @@ impl Renderer {
         repeats: usize,
     ) -> Result<Vec<Duration>> {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
-        let (streams, buffers) = self.streams(gpu, shading);
+        let (streams, buffers) = gpu.buffers(shading)?;
         let pipeline =
             self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
         let color = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;

@@ -64,11 +64,13 @@ pub fn programs() -> Vec<Program> {
         };
         for m in METHODS {
             let mut defines = with(&[]);
-            defines.extend(
-                m.inputs
-                    .iter()
-                    .map(|i| (i.define().to_string(), "1".to_string())),
-            );
+            for input in m.inputs {
+                for d in input.defines() {
+                    if !defines.iter().any(|(k, _)| k == d) {
+                        defines.push((d.to_string(), "1".to_string()));
+                    }
+                }
+            }
             out.push(Program {
                 name: program_name(m.name, mode),
                 fragment: "shade.frag",
