@@ -3,46 +3,59 @@
 //! at those weights from the exact f32 inputs the GPU received.
 //!
 //! # The float32 bound (why GPU and f64 may differ, and by how much)
-//! Let `u = 2^-24` (f32 unit roundoff) and, per triangle, `g = sum_j |grad w_j| * |N_j|` the
-//! screen-space gradient size of the interpolated normal (per pixel; from the window-space
-//! corners in f64), and `r = x + y + 2` the pixel's distance from the window origin in pixels.
+//! Let `u = 2^-24` (f32 unit roundoff) and, per triangle, `g = sum_j |grad w_j|` the size of the
+//! weights' screen-space gradient (per pixel; from the window-space corners in f64), and
+//! `r = x + y + 2` the pixel's distance from the window origin in pixels.
 //! 1. Interpolation. The rasterizer evaluates each varying as a plane equation
 //!    `a0 + dadx * x + dady * y` in f32. With `a0` set up from a corner and the evaluation each
-//!    costing at most two roundings on terms no larger than `1 + g * r` (|N_j| = 1), a varying
-//!    component is off by at most `K_INTERP * u * (1 + g * r)`. The weights of the id pass are
-//!    varyings too, so the f64 normal built from them carries the same-size error; together
-//!    `|dN|_inf <= 2 * K_INTERP * u * (1 + g * r)`.
-//! 2. Normalization divides by `|N|` (>= `N_MIN`, the smallest interpolated length over the
-//!    frame) and rounds a few times: `|dN'| <= sqrt(3) * |dN|_inf / |N| + K_NORM * u`.
-//! 3. Lighting. `N'.L` and `N'.H` move by at most `|dN'| + 3u`; the diffuse term is linear in
-//!    it; `s^n` moves by at most `n * ds` (as s <= 1) plus the relative error of `pow`, which
-//!    lavapipe evaluates as `exp2(n * log2(s))` with polynomial approximations:
-//!    `POW_REL` covers them. Summed over lights with the colour weights:
-//!    `|dI| <= sum_l I_L (k_d * dd + k_s * (n * ds + POW_REL * s^n)) + 8u`.
+//!    costing at most two roundings on terms no larger than `(1 + g * r)` times the largest corner
+//!    value, a varying is off by at most what an error of `dw = K_INTERP * u * (1 + g * r)` in
+//!    each weight would cause. This holds for the weights of the id pass (varyings too) and for
+//!    every varying the method interpolates (normal, quaternion, colour, weights), which are
+//!    linear in the weights. So GPU and f64 each see the fragment as if its weights were off by
+//!    up to `dw` per corner, and first-order propagation through the method's f64 formula gives
+//!    `2 * dw * sum_j |dC/dw_j|`, the derivatives taken by central differences in f64.
+//!    Perspective-correct interpolation divides by an interpolated 1/w: one more plane equation
+//!    and a division, bounded like the others (`dw` doubled).
+//! 2. Arithmetic. The method's own f32 formula (normalization, polynomial, quaternion, ...)
+//!    rounds its shading normal by at most `K_FORMULA * u * max(1, |N'|)`; the lighting then moves
+//!    by the diffuse factor times that, the specular factor `n s^(n-1)` times it, the relative
+//!    error `POW_REL` of lavapipe's `pow` (= exp2(n log2 s), polynomial approximations), and 8u
+//!    for the sums.
 //!
-//! The constants are deliberately few and each is stated below with its reason.
+//! The constants are few and each is stated below with its reason. The measured error/bound
+//! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
 use crate::formulas::Lighting;
-use crate::methods::{Fragment, Method};
+use crate::methods::{Fragment, Method, Shaded};
 use crate::render::{Frame, IdFrame, SceneInputs};
+use crate::scene::Interpolation;
 
 /// f32 unit roundoff.
 pub const U: f64 = 1.0 / 16_777_216.0;
 /// Roundings per plane-equation evaluation and set-up (2 for a0 + dadx x + dady y, 2 for a0).
 pub const K_INTERP: f64 = 4.0;
-/// Roundings in `normalize` (dot: 3, inversesqrt: 2, multiply: 1, plus margin).
-pub const K_NORM: f64 = 8.0;
+/// Roundings a method's f32 formula may accumulate on its normal (the longest formulas here,
+/// the quadratic triangles and the PN field, have about 30 operations; errors add in quadrature
+/// in practice, linearly in the worst case of this budget).
+pub const K_FORMULA: f64 = 32.0;
 /// Relative error budget of lavapipe's `pow` = exp2(n log2 s); Mesa's gallivm approximations
-/// are minimax polynomials good to a few 1e-7 relative (checked by the measured ratio in the
-/// tests, which stays well below 1).
+/// are minimax polynomials good to a few 1e-7 relative.
 pub const POW_REL: f64 = 2e-6;
+/// Central-difference step in the weights (f64: truncation ~h^2, cancellation ~1e-16/h).
+const FD_STEP: f64 = 1e-7;
+/// Weight uncertainty (`K_INTERP * U * amplification`) above which a pixel counts as
+/// ill-conditioned: its triangle is so thin on screen (typically a silhouette triangle seen
+/// edge-on) that the rasterizer's float32 weights are uncertain by more than 1e-3, and the
+/// agreement check is weak there.
+pub const ILL_CONDITIONED: f64 = 1e-3;
 
 /// The f64 evaluation of one method over a frame.
 pub struct Truth {
     pub width: u32,
     pub height: u32,
-    /// Per pixel: `None` on the background, else (colour, shading normal, bound on |colour error|).
+    /// Per pixel: `None` on the background.
     pub pixels: Vec<Option<TruthPixel>>,
 }
 
@@ -50,21 +63,30 @@ pub struct Truth {
 #[derive(Debug, Clone, Copy)]
 pub struct TruthPixel {
     pub color: DVec3,
-    pub normal: DVec3,
+    /// The shading normal, for methods that have one.
+    pub normal: Option<DVec3>,
     /// The float32 bound on |GPU colour - f64 colour| (any channel) derived in the module doc.
     pub color_bound: f64,
     /// The bound on |GPU normal - f64 normal| (any component).
     pub normal_bound: f64,
-    /// `1 + g * r` of the module doc: how much this pixel's triangle amplifies interpolation
-    /// rounding. Any varying (the weights too) is off by at most `K_INTERP * U * amplification`.
+    /// `1 + g * r` of the module doc (doubled for perspective): how much this pixel's triangle
+    /// amplifies interpolation rounding. Any weight is off by at most `K_INTERP * U * amplification`.
     pub amplification: f64,
 }
 
-/// Weight uncertainty (`K_INTERP * U * amplification`) above which a pixel counts as
-/// ill-conditioned: its triangle is so thin on screen (typically a silhouette triangle seen
-/// edge-on) that the rasterizer's float32 weights are uncertain by more than 1e-3, and the
-/// agreement check is weak there.
-pub const ILL_CONDITIONED: f64 = 1e-3;
+impl TruthPixel {
+    /// Whether the rasterizer's weights at this pixel are uncertain by more than
+    /// [`ILL_CONDITIONED`].
+    pub fn ill_conditioned(&self) -> bool {
+        K_INTERP * U * self.amplification > ILL_CONDITIONED
+    }
+
+    /// Whether the f64 colour or normal lies outside the range of f32.
+    pub fn exceeds_f32(&self) -> bool {
+        let big = |v: DVec3| !v.is_finite() || v.abs().max_element() > f32::MAX as f64;
+        big(self.color) || self.normal.is_some_and(big)
+    }
+}
 
 /// Window-space corners of every triangle, from the uploaded positions and MVP (in f64).
 fn window_corners(inputs: &SceneInputs) -> Vec<DVec2> {
@@ -80,27 +102,38 @@ fn window_corners(inputs: &SceneInputs) -> Vec<DVec2> {
         .collect()
 }
 
-/// `g` of the module doc for one triangle: sum of |grad w_j| |N_j| in 1/pixels.
-fn normal_gradient(s: [DVec2; 3]) -> f64 {
+/// `g` of the module doc for one triangle: sum of |grad w_j| in 1/pixels.
+fn weight_gradient(s: [DVec2; 3]) -> f64 {
     let area2 = (s[1] - s[0]).perp_dot(s[2] - s[0]).abs();
     if area2 <= 0.0 {
         return f64::INFINITY;
     }
-    // |grad w_j| = |opposite edge| / (2 * area); |N_j| = 1.
+    // |grad w_j| = |opposite edge| / (2 * area).
     (0..3)
         .map(|j| (s[(j + 2) % 3] - s[(j + 1) % 3]).length() / area2)
         .sum()
 }
 
-/// Evaluates `method` in f64 at every covered pixel of `ids`.
+/// Largest channel / component of |a - b|.
+fn max_diff(a: DVec3, b: DVec3) -> f64 {
+    (a - b).abs().max_element()
+}
+
+/// `n s^(n-1)`: how much the specular term moves per unit change of `s = N.H`.
+fn specular_slope(n: f64, s: f64) -> f64 {
+    if n >= 1.0 {
+        n * s.powf(n - 1.0)
+    } else {
+        n * s.max(1e-6).powf(n - 1.0)
+    }
+}
+
+/// Evaluates `method` in f64 at every covered pixel of `ids`, with the per-pixel bound.
 pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
     let lighting = inputs.lighting();
     let corners = window_corners(inputs);
-    let perspective = matches!(
-        inputs.interpolation,
-        crate::scene::Interpolation::Perspective
-    );
-    let widen = |v: [f32; 3]| DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);
+    let perspective = inputs.interpolation == Interpolation::Perspective;
+    let eval = |frag: &Fragment| (method.eval_f64)(frag, &lighting);
     let pixels = ids
         .prim
         .iter()
@@ -111,24 +144,16 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
                 return None;
             }
             let t = (prim - 1) as usize;
-            let frag = Fragment {
-                weights: DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64),
-                corner_normals: [0, 1, 2].map(|k| widen(inputs.view_normals[3 * t + k])),
-            };
-            let normal = (method.normal_f64)(&frag);
-            let color = lighting.shade(normal);
+            let frag = inputs.fragment(t, DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64));
+            let shaded = eval(&frag);
             let (x, y) = ((i as u32 % ids.width) as f64, (i as u32 / ids.width) as f64);
-            let mut g = normal_gradient([corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]]);
-            if perspective {
-                // Perspective-correct interpolation divides by an interpolated 1/w: one more
-                // plane equation and a division, bounded like the others (factor 2).
-                g *= 2.0;
-            }
-            let amplification = 1.0 + g * (x + y + 2.0);
-            let (color_bound, normal_bound) = bound(&lighting, &frag, amplification);
+            let g = weight_gradient([corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]]);
+            let amplification = (1.0 + g * (x + y + 2.0)) * if perspective { 2.0 } else { 1.0 };
+            let (color_bound, normal_bound) =
+                bound(&eval, &frag, &shaded, &lighting, amplification);
             Some(TruthPixel {
-                color,
-                normal,
+                color: shaded.color,
+                normal: shaded.normal,
                 color_bound,
                 normal_bound,
                 amplification,
@@ -142,22 +167,47 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
     }
 }
 
-/// The bounds of the module doc at one pixel, for exact normalization.
-fn bound(lighting: &Lighting, frag: &Fragment, amplification: f64) -> (f64, f64) {
-    let dn_inf = 2.0 * K_INTERP * U * amplification;
-    let len = frag.interpolated_normal().length().max(1e-6);
-    let dn_unit = 3f64.sqrt() * dn_inf / len + K_NORM * U;
-    let dd = dn_unit + 3.0 * U;
-    let n = lighting.shininess;
-    let unit = crate::formulas::normalize_exact(frag.interpolated_normal());
-    let mut di = 8.0 * U;
-    for &(_, color, h) in &lighting.lights {
-        let s = unit.dot(h).max(0.0);
-        let spec = n * dd + POW_REL * s.powf(n).min(1.0);
-        let per_channel = lighting.diffuse * dd + lighting.specular * spec;
-        di += (color * per_channel).max_element();
+/// The bounds of the module doc at one pixel.
+fn bound(
+    eval: &dyn Fn(&Fragment) -> Shaded,
+    frag: &Fragment,
+    shaded: &Shaded,
+    lighting: &Lighting,
+    amplification: f64,
+) -> (f64, f64) {
+    // 1. interpolation: sum_j |dC/dw_j| and |dN/dw_j| by central differences
+    let (mut jc, mut jn) = (0.0, 0.0);
+    for j in 0..3 {
+        let mut step = DVec3::ZERO;
+        step[j] = FD_STEP;
+        let plus = eval(&Fragment {
+            weights: frag.weights + step,
+            ..*frag
+        });
+        let minus = eval(&Fragment {
+            weights: frag.weights - step,
+            ..*frag
+        });
+        jc += max_diff(plus.color, minus.color) / (2.0 * FD_STEP);
+        if let (Some(a), Some(b)) = (plus.normal, minus.normal) {
+            jn += max_diff(a, b) / (2.0 * FD_STEP);
+        }
     }
-    (di, dn_unit)
+    let dw = K_INTERP * U * amplification;
+    // 2. arithmetic of the method's formula and of the lighting
+    let (rn, s_of) = match shaded.normal {
+        Some(n) => (K_FORMULA * U * n.length().max(1.0), Some(n)),
+        None => (K_FORMULA * U, None),
+    };
+    let mut dc = 8.0 * U;
+    for &(_, color, h) in &lighting.lights {
+        // colour-only methods light unit vertex normals somewhere: take the worst s = 1
+        let s = s_of.map(|n| n.dot(h).clamp(0.0, 1.0)).unwrap_or(1.0);
+        let spec =
+            specular_slope(lighting.shininess, s) * rn + POW_REL * s.powf(lighting.shininess);
+        dc += (color * (lighting.diffuse * rn + lighting.specular * spec)).max_element();
+    }
+    (2.0 * dw * jc + dc, 2.0 * dw * jn + rn)
 }
 
 /// How a GPU frame agrees with its f64 truth.
@@ -169,18 +219,24 @@ pub struct Agreement {
     pub coverage_mismatch: usize,
     /// Max |GPU - f64| over covered pixels and colour channels.
     pub max_color_error: f64,
-    /// Max |GPU - f64| over covered pixels and normal components.
+    /// Max |GPU - f64| over covered pixels and normal components (0 without normals).
     pub max_normal_error: f64,
     /// Max of (error / bound) over pixels: <= 1 means within the derived float32 bound.
     pub max_color_ratio: f64,
     pub max_normal_ratio: f64,
     /// Pixel (x, y) of the largest colour ratio.
     pub worst_pixel: (u32, u32),
-    /// Pixels where the GPU produced NaN or Inf.
+    /// Well-conditioned pixels where the GPU produced NaN or Inf although the f64 value is
+    /// finite and within the f32 range: a failure.
     pub non_finite: usize,
+    /// Pixels where the f64 value itself exceeds the f32 range (the GPU's Inf or NaN is then the
+    /// expected f32 outcome): counted, not a failure.
+    pub overflow: usize,
     /// Covered pixels whose weight uncertainty exceeds [`ILL_CONDITIONED`] (screen-space
     /// slivers): the check is weak there, so they are counted.
     pub ill_conditioned: usize,
+    /// Ill-conditioned pixels where the GPU produced NaN or Inf: reported, not a failure.
+    pub non_finite_ill_conditioned: usize,
 }
 
 impl Agreement {
@@ -191,6 +247,10 @@ impl Agreement {
             && self.max_color_ratio <= 1.0
             && self.max_normal_ratio <= 1.0
     }
+}
+
+fn finite(v: &[f32; 4]) -> bool {
+    v.iter().all(|x| x.is_finite())
 }
 
 /// Compares a GPU frame with its truth, pixel by pixel.
@@ -204,7 +264,9 @@ pub fn agreement(frame: &Frame, truth: &Truth) -> Agreement {
         max_normal_ratio: 0.0,
         worst_pixel: (0, 0),
         non_finite: 0,
+        overflow: 0,
         ill_conditioned: 0,
+        non_finite_ill_conditioned: 0,
     };
     for (i, t) in truth.pixels.iter().enumerate() {
         let gc = frame.color[i];
@@ -218,26 +280,127 @@ pub fn agreement(frame: &Frame, truth: &Truth) -> Agreement {
             continue;
         }
         a.covered += 1;
-        a.ill_conditioned += usize::from(K_INTERP * U * t.amplification > ILL_CONDITIONED);
+        let ill = t.ill_conditioned();
+        a.ill_conditioned += usize::from(ill);
         let gn = frame.normal[i];
-        if gc.iter().chain(gn.iter()).any(|v| !v.is_finite()) {
-            a.non_finite += 1;
+        if !finite(&gc) || !finite(&gn) {
+            if t.exceeds_f32() {
+                a.overflow += 1;
+            } else if ill {
+                a.non_finite_ill_conditioned += 1;
+            } else {
+                a.non_finite += 1;
+            }
             continue;
         }
-        let ce = (0..3)
-            .map(|k| (gc[k] as f64 - t.color[k]).abs())
-            .fold(0.0, f64::max);
-        let ne = (0..3)
-            .map(|k| (gn[k] as f64 - t.normal[k]).abs())
-            .fold(0.0, f64::max);
+        let ce = max_diff(
+            DVec3::new(gc[0] as f64, gc[1] as f64, gc[2] as f64),
+            t.color,
+        );
         a.max_color_error = a.max_color_error.max(ce);
-        a.max_normal_error = a.max_normal_error.max(ne);
         let cr = ce / t.color_bound;
         if cr > a.max_color_ratio {
             a.max_color_ratio = cr;
             a.worst_pixel = (i as u32 % frame.width, i as u32 / frame.width);
         }
-        a.max_normal_ratio = a.max_normal_ratio.max(ne / t.normal_bound);
+        if let Some(n) = t.normal {
+            let ne = max_diff(DVec3::new(gn[0] as f64, gn[1] as f64, gn[2] as f64), n);
+            a.max_normal_error = a.max_normal_error.max(ne);
+            a.max_normal_ratio = a.max_normal_ratio.max(ne / t.normal_bound);
+        }
     }
     a
+}
+
+/// A method's error against a reference truth (normally f64 exact Phong), over the pixels
+/// covered in both. Ill-conditioned pixels (screen-space slivers whose weights the rasterizer
+/// extrapolated, see [`ILL_CONDITIONED`]) are counted and left out of the statistics: the
+/// reference itself is not meaningful there.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ErrorStats {
+    /// Pixels in the statistics.
+    pub covered: usize,
+    /// Pixels covered by only one of the two (different geometry, e.g. `trueform`).
+    pub coverage_mismatch: usize,
+    /// Ill-conditioned pixels left out of the statistics.
+    pub ill_conditioned: usize,
+    /// Well-conditioned pixels with NaN or Inf in the method's colour or normal (not in the
+    /// statistics).
+    pub non_finite: usize,
+    /// Ill-conditioned pixels with NaN or Inf.
+    pub non_finite_ill_conditioned: usize,
+    /// Max and mean over pixels of the largest |colour - reference| channel.
+    pub max_abs_error: f64,
+    pub mean_abs_error: f64,
+    /// Angle between the method's shading normal and the reference's, degrees (`None`
+    /// for methods without a per-pixel normal).
+    pub max_normal_angle_deg: Option<f64>,
+    pub mean_normal_angle_deg: Option<f64>,
+    /// Max ||N'| - 1| of the method's normal.
+    pub max_normal_length_error: Option<f64>,
+}
+
+/// Statistics of `frame` (a method's GPU output, `has_normal` telling whether its normal
+/// target is meaningful) against `reference`.
+pub fn error_stats(frame: &Frame, has_normal: bool, reference: &Truth) -> ErrorStats {
+    let (mut covered, mut mismatch, mut non_finite) = (0usize, 0usize, 0usize);
+    let (mut ill, mut non_finite_ill) = (0usize, 0usize);
+    let (mut max_e, mut sum_e, mut max_a, mut sum_a, mut max_l) =
+        (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (i, t) in reference.pixels.iter().enumerate() {
+        let gc = frame.color[i];
+        let here = gc[3] > 0.0;
+        let Some(t) = t else {
+            mismatch += usize::from(here);
+            continue;
+        };
+        if !here {
+            mismatch += 1;
+            continue;
+        }
+        let gn = frame.normal[i];
+        let bad = !finite(&gc) || (has_normal && !finite(&gn));
+        if t.ill_conditioned() {
+            ill += 1;
+            non_finite_ill += usize::from(bad);
+            continue;
+        }
+        if bad {
+            non_finite += 1;
+            continue;
+        }
+        covered += 1;
+        let e = max_diff(
+            DVec3::new(gc[0] as f64, gc[1] as f64, gc[2] as f64),
+            t.color,
+        );
+        max_e = max_e.max(e);
+        sum_e += e;
+        if let (true, Some(rn)) = (has_normal, t.normal) {
+            let n = DVec3::new(gn[0] as f64, gn[1] as f64, gn[2] as f64);
+            let len = n.length();
+            let cos = if len > 0.0 {
+                (n.dot(rn) / (len * rn.length())).clamp(-1.0, 1.0)
+            } else {
+                -1.0
+            };
+            let angle = cos.acos().to_degrees();
+            max_a = max_a.max(angle);
+            sum_a += angle;
+            max_l = max_l.max((len - 1.0).abs());
+        }
+    }
+    let mean = |s: f64| if covered > 0 { s / covered as f64 } else { 0.0 };
+    ErrorStats {
+        covered,
+        coverage_mismatch: mismatch,
+        ill_conditioned: ill,
+        non_finite,
+        non_finite_ill_conditioned: non_finite_ill,
+        max_abs_error: max_e,
+        mean_abs_error: mean(sum_e),
+        max_normal_angle_deg: has_normal.then_some(max_a),
+        mean_normal_angle_deg: has_normal.then(|| mean(sum_a)),
+        max_normal_length_error: has_normal.then_some(max_l),
+    }
 }

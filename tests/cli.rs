@@ -106,7 +106,7 @@ fn bad_inputs_exit_2_with_clear_messages() {
             "--out",
             out,
         ],
-        "shadelab: error: unknown method \"phong_exakt\"; valid methods: phong_exact,",
+        "shadelab: error: unknown method \"phong_exakt\"; valid methods: flat, gouraud, phong_exact,",
     );
     fails_with(
         &[

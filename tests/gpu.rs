@@ -1,5 +1,6 @@
 //! Rendering on lavapipe under validation, and the f64 truth agreement with its teeth.
 use shadelab::methods;
+use shadelab::methods::METHODS;
 use shadelab::render::Shading;
 use shadelab::scene::Interpolation;
 use shadelab::truth;
@@ -12,9 +13,12 @@ fn exact_phong_agrees(scene_name: &str, size: u32, interpolation: Interpolation)
     let r = validated_renderer();
     let mut scene = shipped_scene(scene_name, size);
     scene.interpolation = interpolation;
-    let gpu = r.upload(&scene).unwrap();
+    let prepared = r
+        .prepare(&scene, &METHODS.iter().collect::<Vec<_>>())
+        .unwrap();
+    let gpu = prepared.base();
     let m = methods::find("phong_exact").unwrap();
-    let (frame, ids) = r.render(&gpu, Shading::Method(m), true).unwrap();
+    let (frame, ids) = r.render(gpu, Shading::Method(m), true).unwrap();
     let t = truth::evaluate(&gpu.inputs, &ids.unwrap(), m);
     let a = truth::agreement(&frame, &t);
     eprintln!("{scene_name} {size}px {interpolation:?}: {a:?}");
@@ -62,10 +66,13 @@ fn phong_exact_agrees_with_f64_on_every_shipped_scene() {
 fn unnormalized_render_fails_the_exact_truth() {
     let r = validated_renderer();
     let scene = shipped_scene("sphere_coarse", 96);
-    let gpu = r.upload(&scene).unwrap();
+    let prepared = r
+        .prepare(&scene, &METHODS.iter().collect::<Vec<_>>())
+        .unwrap();
+    let gpu = prepared.base();
     let wrong = methods::find("phong_unnormalized").unwrap();
     let exact = methods::find("phong_exact").unwrap();
-    let (frame, ids) = r.render(&gpu, Shading::Method(wrong), true).unwrap();
+    let (frame, ids) = r.render(gpu, Shading::Method(wrong), true).unwrap();
     let ids = ids.unwrap();
     let a = truth::agreement(&frame, &truth::evaluate(&gpu.inputs, &ids, exact));
     assert!(!a.within_bound(), "unnormalized passed as exact: {a:?}");
@@ -86,10 +93,16 @@ fn unnormalized_render_fails_the_exact_truth() {
 #[test]
 fn id_pass_coverage_matches_and_renders_are_deterministic() {
     let r = validated_renderer();
-    let gpu = r.upload(&shipped_scene("torus", 80)).unwrap();
+    let prepared = r
+        .prepare(
+            &shipped_scene("torus", 80),
+            &METHODS.iter().collect::<Vec<_>>(),
+        )
+        .unwrap();
+    let gpu = prepared.base();
     let m = methods::find("phong_exact").unwrap();
-    let (a, ids) = r.render(&gpu, Shading::Method(m), true).unwrap();
-    let (b, _) = r.render(&gpu, Shading::Method(m), false).unwrap();
+    let (a, ids) = r.render(gpu, Shading::Method(m), true).unwrap();
+    let (b, _) = r.render(gpu, Shading::Method(m), false).unwrap();
     let ids = ids.unwrap();
     let covered_ids = ids.prim.iter().filter(|&&p| p != 0).count();
     assert_eq!(a.covered(), covered_ids);
@@ -130,11 +143,17 @@ fn id_pass_coverage_matches_and_renders_are_deterministic() {
 #[test]
 fn constant_floor_covers_the_same_pixels() {
     let r = validated_renderer();
-    let gpu = r.upload(&shipped_scene("icosphere", 64)).unwrap();
-    let (c, _) = r.render(&gpu, Shading::Constant, false).unwrap();
+    let prepared = r
+        .prepare(
+            &shipped_scene("icosphere", 64),
+            &METHODS.iter().collect::<Vec<_>>(),
+        )
+        .unwrap();
+    let gpu = prepared.base();
+    let (c, _) = r.render(gpu, Shading::Constant, false).unwrap();
     let (p, _) = r
         .render(
-            &gpu,
+            gpu,
             Shading::Method(methods::find("phong_exact").unwrap()),
             false,
         )
@@ -146,7 +165,7 @@ fn constant_floor_covers_the_same_pixels() {
         .iter()
         .filter(|px| px[3] > 0.0)
         .all(|px| *px == want));
-    let times = r.time_draw(&gpu, Shading::Constant, 1, 3).unwrap();
+    let times = r.time_draw(gpu, Shading::Constant, 1, 3).unwrap();
     assert_eq!(times.len(), 3);
     assert_validation_clean(r.context());
 }
@@ -158,13 +177,21 @@ fn absurd_image_sizes_are_rejected() {
     let max = r.context().info().max_image_dimension_2d;
     let mut s = shipped_scene("icosphere", 8);
     s.width = max + 1;
-    let e = r.upload(&s).err().expect("too large must fail").to_string();
+    let e = r
+        .prepare(&s, &[])
+        .err()
+        .expect("too large must fail")
+        .to_string();
     assert!(
         e.contains(&format!("exceeds the device's maxImageDimension2D ({max})")),
         "{e}"
     );
     s.width = 0;
-    let e = r.upload(&s).err().expect("empty must fail").to_string();
+    let e = r
+        .prepare(&s, &[])
+        .err()
+        .expect("empty must fail")
+        .to_string();
     assert!(e.contains("is empty"), "{e}");
 }
 

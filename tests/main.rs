@@ -3,11 +3,13 @@
 //!
 //! - `support`: shared helpers (validated renderer, scene loading, models folder, the binary).
 //! - `gpu`: rendering, the f64 truth agreement and its teeth.
+//! - `methods`: every method against its own f64 formula, swapped-shader teeth, paper bounds.
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod cli;
 mod gpu;
+mod methods;
 mod models;
 mod shaders;
 mod support;

@@ -1,5 +1,6 @@
 //! The real-world meshes of ../shared/models (quads, missing normals, creases, slivers, 70k
 //! triangles) all load, render without NaN/Inf under validation, and agree with the f64 truth.
+use shadelab::methods::METHODS;
 use shadelab::render::Shading;
 use shadelab::{methods, scene, truth};
 
@@ -25,8 +26,9 @@ fn every_shared_model_renders_and_matches_f64() {
         let mut s = scene::scene_for_mesh(&f).unwrap_or_else(|e| panic!("{e}"));
         s.width = 96;
         s.height = 96;
-        let gpu = r.upload(&s).unwrap();
-        let (frame, ids) = r.render(&gpu, Shading::Method(m), true).unwrap();
+        let prepared = r.prepare(&s, &METHODS.iter().collect::<Vec<_>>()).unwrap();
+        let gpu = prepared.base();
+        let (frame, ids) = r.render(gpu, Shading::Method(m), true).unwrap();
         let a = truth::agreement(&frame, &truth::evaluate(&gpu.inputs, &ids.unwrap(), m));
         eprintln!(
             "{}: {} triangles, {a:?}",
