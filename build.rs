@@ -3,6 +3,7 @@
 //! 1. shaderc-sys with `prefer-static-linking` links `libshaderc_combined.a`, which on Debian holds
 //!    only shaderc's own objects; the glslang and SPIRV-Tools archives must follow it
 //!    (measured in ../shared/TOOLCHAIN.md: dynamic linking and the combined archive alone both fail).
+//! 3. The git revision (`SHADELAB_GIT_REVISION`, "unknown" outside a git checkout) for reports.
 //! 2. Every `spirv/*.spv` file is embedded with `include_bytes!` through a generated table, so the
 //!    binary is self-contained and `make spirv` is the only step that changes shaders.
 use std::{env, fs, path::Path};
@@ -48,6 +49,23 @@ fn main() {
         ));
     }
     table.push_str("];\n");
+    let rev = std::process::Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .current_dir(&root)
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_else(|| "unknown".into());
+    println!("cargo:rustc-env=SHADELAB_GIT_REVISION={rev}");
+    let git = Path::new(&root).join(".git");
+    println!("cargo:rerun-if-changed={}", git.join("HEAD").display());
+    if let Ok(head) = fs::read_to_string(git.join("HEAD")) {
+        if let Some(r) = head.trim().strip_prefix("ref: ") {
+            println!("cargo:rerun-if-changed={}", git.join(r).display());
+        }
+    }
+
     let out = Path::new(&env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("spirv_table.rs");
     fs::write(out, table).expect("write spirv_table.rs");
 }

@@ -1,0 +1,338 @@
+//! Heatmaps with colorbars: a per-pixel scalar field -> an RGB figure whose right-hand panel is
+//! a colorbar with numbered ticks and the quantity's units. Colormaps come from `colorous`
+//! (matplotlib's magma, ColorBrewer's RdBu); ticks and labels are drawn by `plotters` with the
+//! DejaVu Sans font embedded in the binary (no system fonts needed).
+use std::sync::Once;
+
+use plotters::prelude::*;
+
+use crate::error::{Error, Result};
+
+/// How values map to the colormap.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Scale {
+    /// `lo..hi` linearly.
+    Linear { lo: f64, hi: f64 },
+    /// `lo..hi` on a log10 axis (values below `lo` take the bottom colour).
+    Log { lo: f64, hi: f64 },
+}
+
+impl Scale {
+    /// Position of `v` on the colormap, clamped to [0, 1].
+    pub fn t(&self, v: f64) -> f64 {
+        let t = match *self {
+            Scale::Linear { lo, hi } => (v - lo) / (hi - lo),
+            Scale::Log { lo, hi } => (v.max(lo).log10() - lo.log10()) / (hi.log10() - lo.log10()),
+        };
+        if t.is_nan() {
+            0.0
+        } else {
+            t.clamp(0.0, 1.0)
+        }
+    }
+
+    /// The value at colormap position `t`.
+    pub fn value(&self, t: f64) -> f64 {
+        match *self {
+            Scale::Linear { lo, hi } => lo + t * (hi - lo),
+            Scale::Log { lo, hi } => 10f64.powf(lo.log10() + t * (hi.log10() - lo.log10())),
+        }
+    }
+
+    /// The (lo, hi) range.
+    pub fn range(&self) -> (f64, f64) {
+        match *self {
+            Scale::Linear { lo, hi } | Scale::Log { lo, hi } => (lo, hi),
+        }
+    }
+}
+
+/// Everything that describes one heatmap.
+#[derive(Debug, Clone, Copy)]
+pub struct HeatmapDesc<'a> {
+    /// Colorbar label with units, e.g. "|dI| (linear intensity)".
+    pub label: &'a str,
+    pub gradient: colorous::Gradient,
+    pub scale: Scale,
+}
+
+/// A rendered figure: RGB8 pixels, and where the colorbar's gradient was drawn.
+pub struct Figure {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+    /// Pixel rectangle (x0, y0, x1, y1), exclusive ends, of the colorbar gradient: bottom = `lo`.
+    pub bar: (u32, u32, u32, u32),
+}
+
+/// Colour of pixels outside the field (background, or covered by only one of two images).
+pub const NO_DATA: [u8; 3] = [128, 128, 128];
+/// Width of the colorbar panel in pixels.
+const PANEL: u32 = 130;
+
+/// The colour `gradient` gives at `t` in [0, 1].
+pub fn color_at(gradient: &colorous::Gradient, t: f64) -> [u8; 3] {
+    let c = gradient.eval_continuous(t.clamp(0.0, 1.0));
+    [c.r, c.g, c.b]
+}
+
+fn register_font() -> Result<()> {
+    static ONCE: Once = Once::new();
+    let mut result = Ok(());
+    ONCE.call_once(|| {
+        result = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        )
+        .map_err(|_| Error::Shader("the embedded DejaVu Sans font could not be registered".into()));
+    });
+    result
+}
+
+fn plot_err<E: std::fmt::Display>(e: E) -> Error {
+    Error::Shader(format!("drawing a heatmap failed: {e}"))
+}
+
+/// Draws `values` (row-major, `None` = no data) as a heatmap of `width` x `height` with a
+/// colorbar panel on the right.
+pub fn render(
+    values: &[Option<f64>],
+    width: u32,
+    height: u32,
+    desc: &HeatmapDesc,
+) -> Result<Figure> {
+    register_font()?;
+    let fig_w = width + PANEL;
+    let fig_h = height.max(200);
+    let mut rgb = vec![255u8; (fig_w * fig_h * 3) as usize];
+    // The field itself, pixel for pixel.
+    for y in 0..height {
+        for x in 0..width {
+            let c = match values[(y * width + x) as usize] {
+                Some(v) if v.is_finite() => color_at(&desc.gradient, desc.scale.t(v)),
+                _ => NO_DATA,
+            };
+            let o = ((y * fig_w + x) * 3) as usize;
+            rgb[o..o + 3].copy_from_slice(&c);
+        }
+    }
+    let mut bar = (0, 0, 0, 0);
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (fig_w, fig_h)).into_drawing_area();
+        let (_, panel) = root.split_horizontally(width);
+        let (lo, hi) = desc.scale.range();
+        let font = ("sans-serif", 12).into_font();
+        let mut builder = ChartBuilder::on(&panel);
+        builder
+            .margin_top(14)
+            .margin_bottom(14)
+            .margin_right(8)
+            .y_label_area_size(62);
+        let steps = 256;
+        let mut draw = |bar: &mut (u32, u32, u32, u32), log: bool| -> Result<()> {
+            // Draw the gradient as `steps` bands in colormap space, then the axis over it.
+            let bands = |t0: f64, t1: f64| (desc.scale.value(t0), desc.scale.value(t1));
+            if log {
+                let mut chart = builder
+                    .build_cartesian_2d(0f64..1f64, (lo..hi).log_scale())
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series((0..steps).map(|i| {
+                        let (t0, t1) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
+                        let (v0, v1) = bands(t0, t1);
+                        let c = color_at(&desc.gradient, (t0 + t1) / 2.0);
+                        Rectangle::new([(0.0, v0), (1.0, v1)], RGBColor(c[0], c[1], c[2]).filled())
+                    }))
+                    .map_err(plot_err)?;
+                chart
+                    .configure_mesh()
+                    .disable_mesh()
+                    .x_labels(0)
+                    .y_labels(6)
+                    .y_label_style(font.clone())
+                    .y_label_formatter(&|v| format!("{v:.0e}"))
+                    .y_desc(desc.label)
+                    .axis_desc_style(font.clone())
+                    .draw()
+                    .map_err(plot_err)?;
+                let (xr, yr) = chart.plotting_area().get_pixel_range();
+                *bar = (
+                    xr.start as u32,
+                    yr.start as u32,
+                    xr.end as u32,
+                    yr.end as u32,
+                );
+            } else {
+                let mut chart = builder
+                    .build_cartesian_2d(0f64..1f64, lo..hi)
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series((0..steps).map(|i| {
+                        let (t0, t1) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
+                        let (v0, v1) = bands(t0, t1);
+                        let c = color_at(&desc.gradient, (t0 + t1) / 2.0);
+                        Rectangle::new([(0.0, v0), (1.0, v1)], RGBColor(c[0], c[1], c[2]).filled())
+                    }))
+                    .map_err(plot_err)?;
+                chart
+                    .configure_mesh()
+                    .disable_mesh()
+                    .x_labels(0)
+                    .y_labels(7)
+                    .y_label_style(font.clone())
+                    .y_label_formatter(&|v| format_tick(*v, hi - lo))
+                    .y_desc(desc.label)
+                    .axis_desc_style(font.clone())
+                    .draw()
+                    .map_err(plot_err)?;
+                let (xr, yr) = chart.plotting_area().get_pixel_range();
+                *bar = (
+                    xr.start as u32,
+                    yr.start as u32,
+                    xr.end as u32,
+                    yr.end as u32,
+                );
+            }
+            Ok(())
+        };
+        draw(&mut bar, matches!(desc.scale, Scale::Log { .. }))?;
+        root.present().map_err(plot_err)?;
+    }
+    // plotters reports the plotting area in the root's (figure) coordinates.
+    Ok(Figure {
+        width: fig_w,
+        height: fig_h,
+        rgb,
+        bar,
+    })
+}
+
+/// A tick label with as many decimals as the span needs.
+fn format_tick(v: f64, span: f64) -> String {
+    if span.abs() >= 10.0 {
+        format!("{v:.0}")
+    } else if span.abs() >= 1.0 {
+        format!("{v:.1}")
+    } else if span.abs() >= 0.01 {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// Writes a figure as PNG (fast compression: these are large and written often).
+pub fn write_png(path: &std::path::Path, fig: &Figure) -> Result<()> {
+    use image::ImageEncoder;
+    crate::output::write_atomic(path, |w| {
+        image::codecs::png::PngEncoder::new_with_quality(
+            w,
+            image::codecs::png::CompressionType::Fast,
+            image::codecs::png::FilterType::Adaptive,
+        )
+        .write_image(
+            &fig.rgb,
+            fig.width,
+            fig.height,
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(std::io::Error::other)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colormap_endpoints_are_magma_and_rdbu_ends() {
+        // matplotlib's magma starts near black and ends pale yellow; RdBu runs red -> blue.
+        let m0 = color_at(&colorous::MAGMA, 0.0);
+        let m1 = color_at(&colorous::MAGMA, 1.0);
+        assert!(m0.iter().all(|&c| c < 10), "{m0:?}");
+        assert!(m1[0] > 240 && m1[1] > 240 && m1[2] > 150, "{m1:?}");
+        let r0 = color_at(&colorous::RED_BLUE, 0.0);
+        let r1 = color_at(&colorous::RED_BLUE, 1.0);
+        assert!(r0[0] > r0[2] && r1[2] > r1[0], "{r0:?} {r1:?}");
+        // clamped outside [0, 1]
+        assert_eq!(color_at(&colorous::MAGMA, -3.0), m0);
+        assert_eq!(color_at(&colorous::MAGMA, 7.0), m1);
+    }
+
+    #[test]
+    fn scales_map_ends_and_clamp() {
+        let lin = Scale::Linear { lo: -0.1, hi: 0.1 };
+        assert_eq!(lin.t(0.0), 0.5);
+        assert_eq!(lin.t(-1.0), 0.0);
+        assert_eq!(lin.t(1.0), 1.0);
+        let log = Scale::Log { lo: 1e-5, hi: 1.0 };
+        assert!((log.t(1e-3) - 0.4).abs() < 1e-12);
+        assert_eq!(log.t(0.0), 0.0);
+        assert!((log.value(0.4) - 1e-3).abs() < 1e-15);
+        assert_eq!(lin.t(f64::NAN), 0.0);
+    }
+
+    /// The colorbar is there: down its centre column the pixels follow the colormap from the
+    /// top (hi) to the bottom (lo), and the field pixels use the same map.
+    #[test]
+    fn colorbar_pixels_match_the_colormap() {
+        for scale in [
+            Scale::Linear { lo: 0.0, hi: 10.0 },
+            Scale::Log { lo: 1e-4, hi: 1.0 },
+        ] {
+            let (w, h) = (64u32, 220u32);
+            let values: Vec<Option<f64>> = (0..w * h)
+                .map(|i| {
+                    if i % w < 32 {
+                        Some(scale.value((i / w) as f64 / h as f64))
+                    } else {
+                        None
+                    }
+                })
+                .collect();
+            let desc = HeatmapDesc {
+                label: "error (deg)",
+                gradient: colorous::MAGMA,
+                scale,
+            };
+            let fig = render(&values, w, h, &desc).unwrap();
+            let (x0, y0, x1, y1) = fig.bar;
+            assert!(
+                x0 >= w && x1 <= fig.width && y1 > y0 + 100,
+                "bar rectangle {:?}",
+                fig.bar
+            );
+            let px = |x: u32, y: u32| {
+                let o = ((y * fig.width + x) * 3) as usize;
+                [fig.rgb[o], fig.rgb[o + 1], fig.rgb[o + 2]]
+            };
+            let xc = (x0 + x1) / 2;
+            for k in 1..10 {
+                let y = y0 + (y1 - y0) * k / 10;
+                let t = 1.0 - (y - y0) as f64 / (y1 - y0) as f64;
+                let want = color_at(&colorous::MAGMA, t);
+                let got = px(xc, y);
+                let d = (0..3)
+                    .map(|c| (got[c] as i32 - want[c] as i32).abs())
+                    .max()
+                    .unwrap();
+                assert!(
+                    d <= 12,
+                    "{scale:?}: bar at t = {t:.2}: {got:?} vs magma {want:?}"
+                );
+            }
+            // outside the bar (left of the axis labels' area) stays white: the panel is drawn
+            assert_eq!(px(w + 2, y0 + 5), [255, 255, 255]);
+            // field pixels: coloured where there is data, NO_DATA elsewhere
+            assert_eq!(px(40, 10), NO_DATA);
+            assert_eq!(px(0, 0), color_at(&colorous::MAGMA, 0.0));
+            // labels were drawn: some dark text pixels left of the bar
+            let dark = (y0..y1)
+                .flat_map(|y| (w..x0).map(move |x| (x, y)))
+                .filter(|&(x, y)| px(x, y)[0] < 100)
+                .count();
+            assert!(dark > 50, "no tick labels drawn ({dark} dark pixels)");
+        }
+    }
+}
