@@ -2,7 +2,8 @@
 # Benchmarks of README "Performance" (never run by the tests). Usage: scripts/bench.sh [RUNS]
 #  1. process start to PNG written: `shadelab render` of the fine sphere at 1024x1024, warm
 #     (one untimed run first fills Mesa's shader cache), median and range of RUNS runs;
-#  2. per-frame draw time of phong_exact against the constant-colour floor (`shadelab bench`).
+#  2. per-frame draw time of phong_exact against the constant-colour floor (`shadelab bench`);
+#  3. `shadelab compare` of all methods at 1024x1024 (renders, statistics, FLIP, every PNG).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-15}
@@ -22,3 +23,12 @@ echo "runs $runs: median ${sorted[$((runs / 2))]} ms, min ${sorted[0]} ms, max $
 echo
 echo "== per-frame draw time: $bin bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact"
 "$bin" bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact
+
+echo
+ccmd=("$bin" compare --scene scenes/sphere_coarse.toml --size 1024x1024 --out "$tmp/cmp")
+echo "== compare, all methods, 1024x1024 (3 runs): ${ccmd[*]/$tmp/TMP}"
+for _ in 1 2 3; do
+  rm -rf "$tmp/cmp"
+  s=$(date +%s%N); "${ccmd[@]}" >/dev/null 2>&1; e=$(date +%s%N)
+  echo "wall $(( (e - s) / 1000000 )) ms; $(python3 -c "import json,sys; t=json.load(open(sys.argv[1]))['timing']; print(', '.join(f'{k} {v:.0f}' for k,v in t.items()))" "$tmp/cmp/summary.json")"
+done

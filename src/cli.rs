@@ -101,6 +101,28 @@ enum Command {
         #[arg(long, value_name = "METHOD")]
         against: Option<String>,
     },
+    /// Compare methods against the f64 exact-Phong truth: statistics, heatmaps, JSON/CSV.
+    Compare {
+        #[command(flatten)]
+        scene: SceneArgs,
+        #[command(flatten)]
+        device: DeviceArgs,
+        /// Comma-separated method identifiers, or `all`.
+        #[arg(long, default_value = "all")]
+        methods: String,
+        /// Output directory (summary.json, summary.csv, reference.png, <method>/*.png).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Exit 1 when any method's METRIC (a summary.json name) is above VALUE; repeatable.
+        #[arg(long = "fail-above", value_name = "METRIC=VALUE")]
+        fail_above: Vec<String>,
+        /// Heatmap scales: `fixed` (shared by all methods) or `auto` (per image).
+        #[arg(long, value_enum, default_value = "fixed")]
+        scale: crate::compare::ScaleMode,
+        /// Luminance error above which a pixel counts in pixels_above_threshold.
+        #[arg(long, default_value_t = 1.0 / 255.0)]
+        threshold: f64,
+    },
     /// Time the draw of methods against the constant-colour floor (wall clock, submit to fence).
     Bench {
         #[command(flatten)]
@@ -174,6 +196,23 @@ fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
 pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
     match cli.command {
+        Command::Compare {
+            scene,
+            device,
+            methods,
+            out,
+            fail_above,
+            scale,
+            threshold,
+        } => cmd_compare(
+            &scene,
+            &device,
+            &methods,
+            &out,
+            &fail_above,
+            scale,
+            threshold,
+        ),
         Command::Render {
             scene,
             device,
@@ -398,6 +437,54 @@ fn cmd_verify(
         );
         Ok(ExitCode::from(EXIT_THRESHOLD))
     }
+}
+
+fn cmd_compare(
+    scene_args: &SceneArgs,
+    dev: &DeviceArgs,
+    list: &str,
+    out: &Path,
+    fail_above: &[String],
+    scale: crate::compare::ScaleMode,
+    threshold: f64,
+) -> Result<ExitCode> {
+    use crate::compare;
+    let limits = fail_above
+        .iter()
+        .map(|s| compare::parse_limit(s))
+        .collect::<Result<Vec<_>>>()?;
+    if !(threshold.is_finite() && threshold >= 0.0) {
+        return Err(Error::Usage(format!(
+            "--threshold must be a finite number >= 0, got {threshold}"
+        )));
+    }
+    let methods = select_methods(list)?;
+    let scene = load_scene(scene_args)?;
+    let r = renderer(dev)?;
+    let opts = compare::CompareOptions {
+        scale,
+        threshold,
+        progress: true,
+    };
+    let summary = compare::compare(&r, &scene, &methods, out, &opts)?;
+    print!("{}", compare::table(&summary));
+    eprintln!(
+        "wrote {} ({} methods, {:.1} s; metrics {:.0} Mpixel/s, FLIP {:.1} Mpixel/s)",
+        out.join("summary.json").display(),
+        summary.methods.len(),
+        summary.timing.total_ms / 1e3,
+        summary.timing.metric_pixels_per_second / 1e6,
+        summary.timing.flip_pixels_per_second / 1e6
+    );
+    check_validation(r.context())?;
+    let over = compare::exceeded(&summary, &limits);
+    if over.is_empty() {
+        return Ok(ExitCode::SUCCESS);
+    }
+    for (m, k, v, limit) in &over {
+        eprintln!("threshold exceeded: {m} {k} = {v:.6e} > {limit:e}");
+    }
+    Ok(ExitCode::from(EXIT_THRESHOLD))
 }
 
 /// Median of a sorted-in-place slice of milliseconds.

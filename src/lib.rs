@@ -1,6 +1,8 @@
 pub mod cli;
+pub mod compare;
 pub mod error;
 pub mod formulas;
+pub mod heatmap;
 pub mod mesh;
 pub mod methods;
 pub mod output;

@@ -5,9 +5,11 @@
 //! - `gpu`: rendering, the f64 truth agreement and its teeth.
 //! - `methods`: every method against its own f64 formula, swapped-shader teeth, paper bounds.
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
+//! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod cli;
+mod compare;
 mod gpu;
 mod methods;
 mod models;

@@ -1,0 +1,157 @@
+//! `shadelab compare`: outputs, schema, statistics against the f64 truth, and --fail-above.
+use std::path::Path;
+
+use crate::support::*;
+
+fn schema() -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(root().join("docs/summary.schema.json")).unwrap())
+        .unwrap()
+}
+
+fn compare(out: &Path, extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec![
+        "compare",
+        "--scene",
+        "scenes/sphere_coarse.toml",
+        "--size",
+        "64x64",
+        "--validate",
+        "--methods",
+        "phong_exact,phong_unnormalized,flat,gouraud,newton_raphson,trueform",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
+#[test]
+fn compare_writes_a_valid_summary_heatmaps_and_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stdout, stderr) = compare(dir.path(), &[]);
+    assert_eq!(code, 0, "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
+            .unwrap();
+    let validator = jsonschema::validator_for(&schema()).unwrap();
+    let errors: Vec<String> = validator
+        .iter_errors(&summary)
+        .map(|e| format!("{e} at {}", e.instance_path()))
+        .collect();
+    assert!(
+        errors.is_empty(),
+        "summary.json does not match docs/summary.schema.json:\n{}",
+        errors.join("\n")
+    );
+    // teeth for the schema check: a summary missing a field is rejected
+    let mut broken = summary.clone();
+    broken["methods"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("p99_abs_error");
+    assert!(!validator.is_valid(&broken));
+
+    let methods = summary["methods"].as_array().unwrap();
+    let get = |n: &str| methods.iter().find(|m| m["name"] == n).unwrap().clone();
+    // exact Phong against its own f64 truth: the float32 level (bound: tests/gpu.rs)
+    assert!(get("phong_exact")["max_abs_error"].as_f64().unwrap() < 1e-4);
+    // teeth: without normalization the error is far above it
+    assert!(get("phong_unnormalized")["max_abs_error"].as_f64().unwrap() > 1e-2);
+    // methods without a per-pixel normal report null normal metrics, not 0
+    assert!(get("gouraud")["max_normal_angle_deg"].is_null());
+    assert_eq!(
+        get("flat")["max_normal_length_error"].as_f64(),
+        Some(get("flat")["max_normal_length_error"].as_f64().unwrap())
+    );
+    // trueform changes the silhouette: pixels covered by only one are counted
+    assert!(
+        get("trueform")["coverage_mismatch_pixels"]
+            .as_u64()
+            .unwrap()
+            > 0
+    );
+    assert_eq!(
+        get("phong_exact")["coverage_mismatch_pixels"].as_u64(),
+        Some(0)
+    );
+    assert!(summary["background_pixels"].as_u64().unwrap() > 0);
+    for m in methods {
+        for f in m["files"].as_array().unwrap() {
+            assert!(
+                dir.path().join(f.as_str().unwrap()).is_file(),
+                "missing {f}"
+            );
+        }
+    }
+    assert!(dir.path().join("gouraud/error_abs.png").is_file());
+    assert!(
+        !dir.path().join("gouraud/error_angle.png").exists(),
+        "no angle map without normals"
+    );
+    // CSV: header + one row per method, same columns
+    let csv = std::fs::read_to_string(dir.path().join("summary.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 1 + methods.len());
+    let cols = lines[0].split(',').count();
+    assert!(lines.iter().all(|l| l.split(',').count() == cols));
+    assert!(lines[0].starts_with("name,reference,covered_pixels"));
+    // stdout: the table sorted by error, phong_exact first
+    let first = stdout.lines().nth(1).unwrap();
+    assert!(first.starts_with("phong_exact "), "{stdout}");
+}
+
+#[test]
+fn fail_above_exits_1_exactly_when_a_metric_exceeds_its_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, _, err) = compare(dir.path(), &[]);
+    assert_eq!(code, 0, "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
+            .unwrap();
+    let worst = summary["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["max_abs_error"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    // equal to the largest value: nothing is above it
+    let at = format!("max_abs_error={worst:e}");
+    let (code, _, err) = compare(dir.path(), &["--fail-above", &at]);
+    assert_eq!(code, 0, "{err}");
+    // just below it: exit 1, naming the method and metric; images still written
+    std::fs::remove_dir_all(dir.path()).unwrap();
+    let below = format!("max_abs_error={:e}", worst * 0.999);
+    let (code, _, err) = compare(
+        dir.path(),
+        &[
+            "--fail-above",
+            &below,
+            "--fail-above",
+            "max_normal_angle_deg=1000",
+        ],
+    );
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("threshold exceeded: ") && err.contains(" max_abs_error = "),
+        "{err}"
+    );
+    assert_eq!(err.matches("threshold exceeded").count(), 1, "{err}");
+    assert!(
+        dir.path().join("summary.json").is_file()
+            && dir.path().join("flat/error_abs.png").is_file()
+    );
+    // every method over the limit is named
+    let (code, _, err) = compare(dir.path(), &["--fail-above", "max_abs_error=1e-3"]);
+    assert_eq!(code, 1);
+    for m in ["phong_unnormalized", "flat", "gouraud", "newton_raphson"] {
+        assert!(
+            err.contains(&format!("threshold exceeded: {m} max_abs_error")),
+            "{m} not named:\n{err}"
+        );
+    }
+    assert!(!err.contains("threshold exceeded: phong_exact "), "{err}");
+    // a bad limit is a usage error before any work
+    let (code, _, err) = compare(dir.path(), &["--fail-above", "max_error=1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unknown metric \"max_error\""), "{err}");
+}
