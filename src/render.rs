@@ -5,7 +5,6 @@
 //! for upload. The same rounded values, widened back to f64, are what the truth evaluator
 //! (src/truth.rs) uses, so GPU and CPU start from bit-identical inputs.
 use std::sync::Arc;
-use std::time::Duration;
 
 use ash::vk as avk;
 use glam::{DMat3, DVec3};
@@ -17,9 +16,10 @@ use crate::methods::{specular_table, Fragment, Geometry, Method};
 use crate::scene::{Interpolation, Scene, MAX_LIGHTS};
 use crate::shaders;
 use crate::vk::commands::ColorTarget;
+use crate::vk::queries::timestamp_delta_ns;
 use crate::vk::{
     Buffer, BufferDesc, Context, DescriptorSet, GraphicsPipeline, Image, ImageDesc, OneShot,
-    PipelineDesc, ShaderModule, VertexStream,
+    PipelineDesc, QueryPool, Recorded, ShaderModule, VertexStream,
 };
 
 /// The uniform block of every program; twin of `Params` in glsl/common.glsl (std140).
@@ -42,14 +42,26 @@ pub enum Shading<'a> {
     Method(&'a Method),
     /// The same draw with a constant colour: the cost floor.
     Constant,
+    /// A method's exact program under another name (`<method>_control`): a benchmark control
+    /// that must time like the method itself.
+    Control(&'a Method),
 }
 
 impl Shading<'_> {
-    /// Name used in reports (`constant` for the floor).
-    pub fn name(&self) -> &str {
+    /// Name used in reports (`constant` for the floor, `<method>_control` for a control).
+    pub fn name(&self) -> String {
         match self {
-            Shading::Method(m) => m.name,
-            Shading::Constant => "constant",
+            Shading::Method(m) => m.name.to_string(),
+            Shading::Constant => "constant".to_string(),
+            Shading::Control(m) => format!("{}_control", m.name),
+        }
+    }
+
+    /// The method whose program and inputs this draw uses, if any.
+    pub fn method(&self) -> Option<&Method> {
+        match *self {
+            Shading::Method(m) | Shading::Control(m) => Some(m),
+            Shading::Constant => None,
         }
     }
 }
@@ -325,7 +337,7 @@ impl GpuScene {
         };
         let mut streams = vec![f3(0)];
         let mut buffers = vec![(0, &self.positions)];
-        if let Shading::Method(m) = shading {
+        if let Some(m) = shading.method() {
             if m.geometry != self.inputs.geometry {
                 return Err(Error::Usage(format!(
                     "{} draws {:?}, this upload holds {:?}",
@@ -477,10 +489,7 @@ impl Renderer {
     }
 
     fn program(&self, gpu: &GpuScene, shading: Shading) -> String {
-        let base = match shading {
-            Shading::Method(m) => m.name,
-            Shading::Constant => "constant",
-        };
+        let base = shading.method().map(|m| m.name).unwrap_or("constant");
         shaders::program_name(base, gpu.inputs.interpolation)
     }
 
@@ -583,46 +592,101 @@ impl Renderer {
         Ok((frame, ids))
     }
 
-    /// Times the draw alone (clear + draw into the colour and normal targets, no readback):
-    /// `warmup` submissions are discarded (the first includes lavapipe's shader JIT), then
-    /// `repeats` submit-to-fence wall times are returned.
-    pub fn time_draw(
-        &self,
-        gpu: &GpuScene,
-        shading: Shading,
-        warmup: usize,
-        repeats: usize,
-    ) -> Result<Vec<Duration>> {
+    /// Records, once, the draw of every shading into shared targets (clear + draw into the
+    /// colour and normal targets, no readback), each bracketed by timestamps, for repeated
+    /// submission by a benchmark. All shadings must draw the same geometry as `gpu`.
+    ///
+    /// Timestamp placement (measured in ../shared/TOOLCHAIN.md on Mesa 22.3): a
+    /// TOP_OF_PIPE/BOTTOM_OF_PIPE pair around the draw reports ~0.2 ms for ~20 ms of work,
+    /// because a timestamp's value is latched when the *next* flush runs. Two BOTTOM_OF_PIPE
+    /// writes before the rendering and two after it, reading the first of each pair, track the
+    /// submit-to-fence wall clock; `bench` re-checks that on every run.
+    pub fn timed_draws(&self, gpu: &GpuScene, shadings: &[Shading]) -> Result<TimedDraws> {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
-        let (streams, buffers) = gpu.buffers(shading)?;
-        let pipeline =
-            self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
         let color = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
         let normal = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
         let depth = Image::new(&self.ctx, ImageDesc::depth(w, h))?;
         let clear = avk::ClearColorValue { float32: [0.0; 4] };
-        let mut cmd = OneShot::begin(&self.ctx)?;
-        cmd.begin_rendering(
-            &[
-                ColorTarget {
-                    image: &color,
-                    clear,
-                },
-                ColorTarget {
-                    image: &normal,
-                    clear,
-                },
-            ],
-            Some(&depth),
-        );
-        cmd.draw(
-            &pipeline,
-            Some(&gpu.set),
-            &buffers,
-            gpu.inputs.positions.len() as u32,
-        );
-        cmd.end_rendering();
-        let mut times = cmd.submit_repeated(warmup + repeats)?;
-        Ok(times.split_off(warmup.min(times.len())))
+        let bottom = avk::PipelineStageFlags2::BOTTOM_OF_PIPE;
+        let mut draws = Vec::new();
+        for s in shadings {
+            let (streams, buffers) = gpu.buffers(*s)?;
+            let pipeline = self.pipeline(gpu, &self.program(gpu, *s), &streams, &[COLOR, COLOR])?;
+            let pool = QueryPool::timestamps(&self.ctx, 4)?;
+            let mut cmd = OneShot::begin(&self.ctx)?;
+            cmd.reset_queries(&pool);
+            cmd.timestamp(&pool, 0, bottom);
+            cmd.timestamp(&pool, 1, bottom);
+            cmd.begin_rendering(
+                &[
+                    ColorTarget {
+                        image: &color,
+                        clear,
+                    },
+                    ColorTarget {
+                        image: &normal,
+                        clear,
+                    },
+                ],
+                Some(&depth),
+            );
+            cmd.draw(
+                &pipeline,
+                Some(&gpu.set),
+                &buffers,
+                gpu.inputs.positions.len() as u32,
+            );
+            cmd.end_rendering();
+            cmd.timestamp(&pool, 2, bottom);
+            cmd.timestamp(&pool, 3, bottom);
+            draws.push((cmd.finish()?, pool, pipeline));
+        }
+        let info = self.ctx.info();
+        Ok(TimedDraws {
+            draws,
+            _targets: [color, normal, depth],
+            valid_bits: info.timestamp_valid_bits,
+            period_ns: info.timestamp_period_ns,
+        })
+    }
+}
+
+/// One timed submission: the submit-to-fence wall time and the timestamp interval.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub wall_ms: f64,
+    /// `None` when the queue has no timestamps.
+    pub timestamp_ms: Option<f64>,
+}
+
+/// Draws recorded by [`Renderer::timed_draws`], ready to be submitted in any order.
+pub struct TimedDraws {
+    draws: Vec<(Recorded, QueryPool, GraphicsPipeline)>,
+    _targets: [Image; 3],
+    valid_bits: u32,
+    period_ns: f32,
+}
+
+impl TimedDraws {
+    /// Submits draw `i` once and waits for it.
+    pub fn run(&self, i: usize) -> Result<Sample> {
+        let (cmd, pool, _) = &self.draws[i];
+        let wall = cmd.submit()?;
+        let t = pool.results()?;
+        Ok(Sample {
+            wall_ms: wall.as_secs_f64() * 1e3,
+            timestamp_ms: timestamp_delta_ns(t[0], t[2], self.valid_bits, self.period_ns)
+                .map(|ns| ns / 1e6),
+        })
+    }
+
+    /// Number of recorded draws.
+    pub fn len(&self) -> usize {
+        self.draws.len()
+    }
+
+    /// Whether nothing was recorded.
+    pub fn is_empty(&self) -> bool {
+        self.draws.is_empty()
     }
 }

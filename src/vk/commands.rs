@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use ash::vk;
 
-use super::{Buffer, Context, DescriptorSet, GraphicsPipeline, Image};
+use super::{Buffer, Context, DescriptorSet, GraphicsPipeline, Image, QueryPool};
 use crate::error::{Error, Result, VkContext};
 
 /// A primary command buffer being recorded; consumed by [`OneShot::submit`].
@@ -180,6 +180,26 @@ impl OneShot {
         unsafe { self.ctx.device.cmd_end_rendering(self.cb) };
     }
 
+    /// Resets every query of `pool` (outside a rendering scope).
+    pub fn reset_queries(&mut self, pool: &QueryPool) {
+        // SAFETY: recording state, outside rendering; the pool outlives the submission.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_reset_query_pool(self.cb, pool.raw, 0, pool.count)
+        };
+    }
+
+    /// Writes a timestamp into query `index` of `pool` at `stage`.
+    pub fn timestamp(&mut self, pool: &QueryPool, index: u32, stage: vk::PipelineStageFlags2) {
+        // SAFETY: recording state; the query was reset earlier in this command buffer.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_write_timestamp2(self.cb, stage, pool.raw, index)
+        };
+    }
+
     /// Copies a colour target (after rendering) into `dst`, tightly packed, and makes the copy
     /// visible to the host.
     pub fn copy_image_to_buffer(&mut self, image: &Image, dst: &Buffer) {
@@ -241,6 +261,13 @@ impl OneShot {
             times.push(self.submit_once()?);
         }
         Ok(times)
+    }
+
+    /// Ends recording and keeps the command buffer for repeated submission.
+    pub fn finish(self) -> Result<Recorded> {
+        // SAFETY: recording state.
+        unsafe { self.ctx.device.end_command_buffer(self.cb) }.vk("vkEndCommandBuffer")?;
+        Ok(Recorded { inner: self })
     }
 
     fn submit_once(&self) -> Result<Duration> {
@@ -316,5 +343,18 @@ fn stage_access(layout: vk::ImageLayout, src: bool) -> (vk::PipelineStageFlags2,
             vk::PipelineStageFlags2::ALL_COMMANDS,
             vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
         ),
+    }
+}
+
+/// A finished command buffer that can be submitted any number of times (each submission waits
+/// for completion before returning, like every submit here).
+pub struct Recorded {
+    inner: OneShot,
+}
+
+impl Recorded {
+    /// Submits and waits; returns the submit-to-fence wall time.
+    pub fn submit(&self) -> Result<Duration> {
+        self.inner.submit_once()
     }
 }

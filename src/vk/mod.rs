@@ -11,15 +11,18 @@
 //! Module map: [`context`] instance/device/queue selection and validation messages;
 //! [`memory`] buffers and memory-type choice; [`image`] render targets and readback;
 //! [`pipeline`] shader modules, descriptor sets and graphics pipelines (dynamic rendering);
-//! [`commands`] one-shot command buffers, synchronous submit, timestamp queries.
+//! [`commands`] one-shot and reusable command buffers, synchronous submit;
+//! [`queries`] timestamp query pools and their arithmetic.
 pub mod commands;
 pub mod context;
 pub mod image;
 pub mod memory;
 pub mod pipeline;
+pub mod queries;
 
-pub use commands::OneShot;
+pub use commands::{OneShot, Recorded};
 pub use context::{Context, ContextDesc, DeviceInfo};
 pub use image::{Image, ImageDesc};
 pub use memory::{Buffer, BufferDesc};
 pub use pipeline::{DescriptorSet, GraphicsPipeline, PipelineDesc, ShaderModule, VertexStream};
+pub use queries::QueryPool;
