@@ -21,8 +21,8 @@ done
 sorted=($(printf '%s\n' "${times[@]}" | sort -n))
 echo "runs $runs: median ${sorted[$((runs / 2))]} ms, min ${sorted[0]} ms, max ${sorted[$((runs - 1))]} ms"
 echo
-echo "== per-frame draw time: $bin bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact"
-"$bin" bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact
+echo "== per-frame draw time: $bin bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact --out TMP/bench"
+"$bin" bench --scene scenes/sphere_fine.toml --size 1024x1024 --methods phong_exact --out "$tmp/bench" 2>/dev/null
 
 echo
 ccmd=("$bin" compare --scene scenes/sphere_coarse.toml --size 1024x1024 --out "$tmp/cmp")

@@ -123,21 +123,33 @@ enum Command {
         #[arg(long, default_value_t = 1.0 / 255.0)]
         threshold: f64,
     },
-    /// Time the draw of methods against the constant-colour floor (wall clock, submit to fence).
+    /// Run time against error: validated timing, Pareto chart, the papers' claims, sweeps.
     Bench {
         #[command(flatten)]
         scene: SceneArgs,
         #[command(flatten)]
         device: DeviceArgs,
         /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "phong_exact")]
+        #[arg(long, default_value = "all")]
         methods: String,
-        /// Timed submissions per method.
-        #[arg(long, default_value_t = 30)]
+        /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Timed submissions per program (interleaved rounds).
+        #[arg(long, default_value_t = 40)]
         repeat: usize,
-        /// Discarded submissions per method (the first includes the shader JIT).
+        /// Discarded submissions per program (the first includes lavapipe's shader JIT).
         #[arg(long, default_value_t = 3)]
         warmup: usize,
+        /// The compare metric on the Pareto chart's y axis.
+        #[arg(long, default_value = "p99_abs_error")]
+        error_metric: String,
+        /// Also time phong_exact's program under a second name (a precision control).
+        #[arg(long)]
+        control: bool,
+        /// Also sweep image size (128..2048) or triangle count (~100..~1,000,000); repeatable.
+        #[arg(long, value_enum)]
+        sweep: Vec<crate::bench::Sweep>,
     },
     /// List the methods (`--json` for machines).
     List {
@@ -238,9 +250,22 @@ pub fn run() -> Result<ExitCode> {
             scene,
             device,
             methods,
+            out,
             repeat,
             warmup,
-        } => cmd_bench(&scene, &device, &methods, repeat, warmup),
+            error_metric,
+            control,
+            sweep,
+        } => {
+            let opts = crate::bench::BenchOptions {
+                repeat,
+                warmup,
+                error_metric,
+                control,
+                sweeps: sweep,
+            };
+            cmd_bench(&scene, &device, &methods, &out, &opts)
+        }
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,
@@ -465,6 +490,7 @@ fn cmd_compare(
         scale,
         threshold,
         progress: true,
+        images: true,
     };
     let summary = compare::compare(&r, &scene, &methods, out, &opts)?;
     print!("{}", compare::table(&summary));
@@ -487,77 +513,70 @@ fn cmd_compare(
     Ok(ExitCode::from(EXIT_THRESHOLD))
 }
 
-/// Median of a sorted-in-place slice of milliseconds.
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n == 0 {
-        f64::NAN
-    } else if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 fn cmd_bench(
     scene_args: &SceneArgs,
     dev: &DeviceArgs,
     list: &str,
-    repeat: usize,
-    warmup: usize,
+    out: &Path,
+    opts: &crate::bench::BenchOptions,
 ) -> Result<ExitCode> {
-    if repeat == 0 {
-        return Err(Error::Usage("--repeat must be at least 1".into()));
-    }
     let methods = select_methods(list)?;
     let scene = load_scene(scene_args)?;
     let r = renderer(dev)?;
-    let prepared = r.prepare(&scene, &methods)?;
-    let gpu = prepared.base();
-    let (probe, _) = r.render(gpu, Shading::Method(methods::find("phong_exact")?), false)?;
-    let covered = probe.covered();
-    let mut shadings = vec![Shading::Constant];
-    shadings.extend(methods.iter().map(|m| Shading::Method(m)));
-    // Interleave rounds so that drift on a shared machine hits every variant alike.
-    let rounds = 5.min(repeat);
-    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); shadings.len()];
-    for round in 0..rounds {
-        let n = repeat / rounds + usize::from(round < repeat % rounds);
-        for (i, s) in shadings.iter().enumerate() {
-            let g = match s {
-                Shading::Method(m) => prepared.for_method(m),
-                Shading::Constant => gpu,
-            };
-            let t = r.time_draw(g, *s, if round == 0 { warmup } else { 1 }, n)?;
-            samples[i].extend(t.iter().map(|d| d.as_secs_f64() * 1e3));
-        }
-    }
+    let report = crate::bench::bench(&r, &scene, &methods, out, opts)?;
     println!(
-        "scene {} at {}x{}, {} triangles, {} covered pixels; clock: wall (submit to fence), LP_NUM_THREADS={}",
-        scene.name,
-        scene.width,
-        scene.height,
-        gpu.inputs.triangle_count(),
-        covered,
-        std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
+        "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} repetitions",
+        report.scene,
+        report.width,
+        report.height,
+        report.triangles,
+        report.clock.clock,
+        report.lp_num_threads.as_deref().unwrap_or("unset"),
+        report.repeat
     );
     println!(
-        "{:<22} {:>10} {:>10} {:>10} {:>12}",
-        "program", "median ms", "min ms", "samples", "above floor"
+        "{:<32} {:>9} {:>19} {:>8} {:>9} {:>8} {:>12}",
+        "program", "median ms", "95% CI ms", "ns/px", "x phong", "floor+ms", report.error_metric
     );
-    let floor = median(&mut samples[0].clone());
-    for (s, v) in shadings.iter().zip(samples.iter_mut()) {
-        let m = median(v);
+    let mut rows: Vec<&crate::bench::MethodTiming> = std::iter::once(&report.floor)
+        .chain(&report.methods)
+        .collect();
+    rows[1..].sort_by(|a, b| a.median_ms.total_cmp(&b.median_ms));
+    for m in rows {
+        let err = m
+            .error
+            .as_ref()
+            .and_then(|e| e.metric(&report.error_metric));
         println!(
-            "{:<22} {:>10.3} {:>10.3} {:>10} {:>11.3}ms",
-            s.name(),
-            m,
-            v[0],
-            v.len(),
-            m - floor
+            "{:<32} {:>9.3} {:>19} {:>8.2} {:>9.3} {:>8.3} {:>12}{}",
+            m.name,
+            m.median_ms,
+            format!("[{:.3}, {:.3}]", m.ci95_low_ms, m.ci95_high_ms),
+            m.ns_per_pixel,
+            m.ratio_to_phong_exact,
+            m.above_floor_ms,
+            err.map(|e| format!("{e:.3e}"))
+                .unwrap_or_else(|| "-".into()),
+            if report.pareto_front.contains(&m.name) {
+                "  pareto"
+            } else {
+                ""
+            }
         );
     }
+    for s in &report.sweeps {
+        for (name, per_m, loglog) in &s.slopes {
+            println!(
+                "sweep {:?}: {name}: {per_m:.4} ms per million {}, log-log slope {loglog:.3}",
+                s.sweep, s.work
+            );
+        }
+    }
+    eprintln!(
+        "wrote {} ({:.1} s)",
+        out.join("bench.json").display(),
+        report.total_s
+    );
     check_validation(r.context())?;
     Ok(ExitCode::SUCCESS)
 }

@@ -45,6 +45,8 @@ pub struct CompareOptions {
     pub threshold: f64,
     /// Show a progress bar on stderr (only drawn when stderr is a terminal).
     pub progress: bool,
+    /// Write render.png and the heatmaps (`bench` needs only the statistics).
+    pub images: bool,
 }
 
 impl Default for CompareOptions {
@@ -53,6 +55,7 @@ impl Default for CompareOptions {
             scale: ScaleMode::Fixed,
             threshold: 1.0 / 255.0,
             progress: false,
+            images: true,
         }
     }
 }
@@ -377,7 +380,14 @@ fn rel(dir: &str, file: &str) -> String {
 }
 
 /// One heatmap to draw: file, values, colorbar label, colormap, scale, and whether it applies.
-type MapSpec<'a> = (&'static str, &'a [Option<f64>], &'static str, colorous::Gradient, Scale, bool);
+type MapSpec<'a> = (
+    &'static str,
+    &'a [Option<f64>],
+    &'static str,
+    colorous::Gradient,
+    Scale,
+    bool,
+);
 
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
@@ -428,8 +438,11 @@ impl Analysis<'_> {
 
         let t = Instant::now();
         let dir = self.out.join(m.name);
-        let mut files = vec![rel(m.name, "render.png")];
-        output::write_png_srgb(&dir.join("render.png"), w, h, &frame.color)?;
+        let mut files = Vec::new();
+        if self.opts.images {
+            files.push(rel(m.name, "render.png"));
+            output::write_png_srgb(&dir.join("render.png"), w, h, &frame.color)?;
+        }
         let (abs_scale, signed_scale, angle_scale) = match self.opts.scale {
             ScaleMode::Fixed => (FIXED_ABS, FIXED_SIGNED, FIXED_ANGLE),
             ScaleMode::Auto => {
@@ -474,7 +487,7 @@ impl Analysis<'_> {
             ),
         ];
         for (file, values, label, gradient, scale, wanted) in maps {
-            if !wanted {
+            if !wanted || !self.opts.images {
                 continue;
             }
             let fig = heatmap::render(
@@ -558,7 +571,9 @@ pub fn compare(
                 .unwrap_or([0.0; 4])
         })
         .collect();
-    output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)?;
+    if opts.images {
+        output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)?;
+    }
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
 
     let bar = progress_bar(opts.progress, methods_.len() as u64);
@@ -650,7 +665,9 @@ pub fn compare(
         },
         methods: reports,
     };
-    write_summary(out, &summary)?;
+    if opts.images {
+        write_summary(out, &summary)?;
+    }
     Ok(summary)
 }
 

@@ -77,7 +77,7 @@ pub fn color_at(gradient: &colorous::Gradient, t: f64) -> [u8; 3] {
     [c.r, c.g, c.b]
 }
 
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     static ONCE: Once = Once::new();
     let mut result = Ok(());
     ONCE.call_once(|| {

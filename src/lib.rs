@@ -1,3 +1,5 @@
+pub mod bench;
+pub mod chart;
 pub mod cli;
 pub mod compare;
 pub mod error;

@@ -4,10 +4,12 @@
 //! - `support`: shared helpers (validated renderer, scene loading, models folder, the binary).
 //! - `gpu`: rendering, the f64 truth agreement and its teeth.
 //! - `methods`: every method against its own f64 formula, swapped-shader teeth, paper bounds.
+//! - `bench`: bench.json against its schema, CSV, charts, claims (structure only, no speeds).
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
+mod bench;
 mod cli;
 mod compare;
 mod gpu;

@@ -1,0 +1,254 @@
+//! Charts of `bench`: the Pareto chart (run time against error, log scale, 95% intervals,
+//! non-dominated methods marked and labelled) and the sweep charts (time against work),
+//! each written as SVG and PNG with plotters.
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::bench::{BenchReport, SweepResult};
+use crate::error::{Error, Result};
+use crate::heatmap::{self, Figure};
+
+const SIZE: (u32, u32) = (960, 640);
+/// Errors below this are drawn at this value on the log axis (exact zero has no logarithm).
+pub const ERROR_FLOOR: f64 = 1e-9;
+
+fn plot_err<E: std::fmt::Display>(e: E) -> Error {
+    Error::Shader(format!("drawing a chart failed: {e}"))
+}
+
+/// Draws with `draw` into an SVG and a PNG of the same chart: DIR/<stem>.svg and .png.
+fn both(
+    out: &Path,
+    stem: &str,
+    draw: &dyn Fn(&DrawingArea<SVGBackend, Shift>) -> Result<()>,
+    draw_png: &dyn Fn(&DrawingArea<BitMapBackend, Shift>) -> Result<()>,
+) -> Result<()> {
+    heatmap::register_font()?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        draw(&root)?;
+        root.present().map_err(plot_err)?;
+    }
+    crate::output::write_bytes_atomic(&out.join(format!("{stem}.svg")), svg.as_bytes())?;
+    let mut rgb = vec![255u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        draw_png(&root)?;
+        root.present().map_err(plot_err)?;
+    }
+    heatmap::write_png(
+        &out.join(format!("{stem}.png")),
+        &Figure {
+            width: SIZE.0,
+            height: SIZE.1,
+            rgb,
+            bar: (0, 0, 0, 0),
+        },
+    )
+}
+
+struct Point {
+    name: String,
+    t: f64,
+    lo: f64,
+    hi: f64,
+    e: f64,
+    front: bool,
+}
+
+fn pareto_points(r: &BenchReport) -> Vec<Point> {
+    r.methods
+        .iter()
+        .filter_map(|m| {
+            let e = m.error.as_ref()?.metric(&r.error_metric)?;
+            Some(Point {
+                name: m.name.clone(),
+                t: m.median_ms,
+                lo: m.ci95_low_ms,
+                hi: m.ci95_high_ms,
+                e: e.max(ERROR_FLOOR),
+                front: r.pareto_front.contains(&m.name),
+            })
+        })
+        .collect()
+}
+
+fn draw_pareto<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &BenchReport) -> Result<()> {
+    area.fill(&WHITE).map_err(plot_err)?;
+    let pts = pareto_points(r);
+    let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in &pts {
+        x0 = x0.min(p.lo);
+        x1 = x1.max(p.hi);
+        y0 = y0.min(p.e);
+        y1 = y1.max(p.e);
+    }
+    if pts.is_empty() {
+        (x0, x1, y0, y1) = (0.0, 1.0, 1e-6, 1.0);
+    }
+    let pad = ((x1 - x0) * 0.08).max(0.05);
+    let (x0, x1) = ((x0 - pad).max(0.0), x1 + pad * 3.0);
+    let (y0, y1) = (y0 / 3.0, y1 * 3.0);
+    let title = format!(
+        "{} {}x{}: run time ({} clock, median, 95% CI) vs {}",
+        r.scene, r.width, r.height, r.clock.clock, r.error_metric
+    );
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(76)
+        .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("draw time per frame (ms)")
+        .y_desc(format!("{} (log)", r.error_metric))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(plot_err)?;
+    let blue = RGBColor(31, 119, 180);
+    let grey = RGBColor(150, 150, 150);
+    // confidence bars
+    chart
+        .draw_series(pts.iter().map(|p| {
+            PathElement::new(
+                vec![(p.lo, p.e), (p.hi, p.e)],
+                if p.front {
+                    blue.stroke_width(2)
+                } else {
+                    grey.stroke_width(1)
+                },
+            )
+        }))
+        .map_err(plot_err)?;
+    // the front as a step line
+    let mut front: Vec<&Point> = pts.iter().filter(|p| p.front).collect();
+    front.sort_by(|a, b| a.t.total_cmp(&b.t));
+    chart
+        .draw_series(std::iter::once(PathElement::new(
+            front.iter().map(|p| (p.t, p.e)).collect::<Vec<_>>(),
+            blue.mix(0.5).stroke_width(1),
+        )))
+        .map_err(plot_err)?;
+    chart
+        .draw_series(pts.iter().map(|p| {
+            let style = if p.front {
+                blue.filled()
+            } else {
+                grey.stroke_width(1)
+            };
+            Circle::new((p.t, p.e), if p.front { 5 } else { 4 }, style)
+        }))
+        .map_err(plot_err)?;
+    // Labels beside the markers: the front's in black, the others small and grey.
+    chart
+        .draw_series(pts.iter().map(|p| {
+            let style = if p.front {
+                ("sans-serif", 13).into_font().color(&BLACK)
+            } else {
+                ("sans-serif", 10).into_font().color(&grey)
+            };
+            EmptyElement::at((p.t, p.e))
+                + Text::new(p.name.clone(), (7, if p.front { -16 } else { 3 }), style)
+        }))
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// DIR/pareto.svg and DIR/pareto.png.
+pub fn pareto(out: &Path, r: &BenchReport) -> Result<()> {
+    both(out, "pareto", &|a| draw_pareto(a, r), &|a| {
+        draw_pareto(a, r)
+    })
+}
+
+fn draw_sweep<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, s: &SweepResult) -> Result<()> {
+    area.fill(&WHITE).map_err(plot_err)?;
+    let xs = s.points.iter().map(|p| p.work.max(1.0));
+    let (x0, x1) = xs
+        .clone()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    let (y0, y1) = s.points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+        (a.min(p.ci95_low_ms.max(1e-3)), b.max(p.ci95_high_ms))
+    });
+    let slopes: Vec<String> = s
+        .slopes
+        .iter()
+        .map(|(n, ms, ll)| format!("{n}: {ms:.3} ms/M, log-log {ll:.2}"))
+        .collect();
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            format!("time vs {} ({})", s.work, slopes.join("; ")),
+            ("sans-serif", 14),
+        )
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            (x0 / 1.5..x1 * 1.5).log_scale(),
+            (y0 / 1.5..y1 * 1.5).log_scale(),
+        )
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc(s.work.clone())
+        .y_desc("median draw time (ms, wall clock)")
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .draw()
+        .map_err(plot_err)?;
+    let colors = [
+        RGBColor(120, 120, 120),
+        RGBColor(214, 39, 40),
+        RGBColor(31, 119, 180),
+    ];
+    for (k, (name, _, _)) in s.slopes.iter().enumerate() {
+        let c = colors[k % colors.len()];
+        let pts: Vec<_> = s.points.iter().filter(|p| &p.program == name).collect();
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|p| (p.work.max(1.0), p.median_ms)),
+                c.stroke_width(2),
+            ))
+            .map_err(plot_err)?
+            .label(name.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+        chart
+            .draw_series(pts.iter().map(|p| {
+                PathElement::new(
+                    vec![
+                        (p.work.max(1.0), p.ci95_low_ms),
+                        (p.work.max(1.0), p.ci95_high_ms),
+                    ],
+                    c,
+                )
+            }))
+            .map_err(plot_err)?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// DIR/sweep_<size|triangles>.svg and .png.
+pub fn sweep(out: &Path, s: &SweepResult) -> Result<()> {
+    let stem = match s.sweep {
+        crate::bench::Sweep::Size => "sweep_size",
+        crate::bench::Sweep::Triangles => "sweep_triangles",
+    };
+    both(out, stem, &|a| draw_sweep(a, s), &|a| draw_sweep(a, s))
+}
