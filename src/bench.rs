@@ -166,6 +166,11 @@ pub struct MethodTiming {
     pub timestamp_median_ms: Option<f64>,
     /// Covered pixels, counted in the method's own image.
     pub covered_pixels: usize,
+    /// Fragment-shader invocations from a pipeline-statistics query, and whether they equal
+    /// the covered pixels (only then are they an exact per-fragment count; Mesa 22.3 counts
+    /// whole pixel blocks). `None` without pipeline statistics.
+    pub fragment_invocations: Option<u64>,
+    pub invocations_exact: Option<bool>,
     pub ns_per_pixel: f64,
     /// Median minus the constant-colour floor's median (same run).
     pub above_floor_ms: f64,
@@ -413,6 +418,7 @@ pub fn bench(
         let (frame, _) = renderer.render(gpu, *s, false)?;
         let (e, wall, ts) = estimate(smp, &clock.clock);
         let covered = frame.covered();
+        let invocations = smp.iter().filter_map(|x| x.fragment_invocations).max();
         let error = s
             .method()
             .and_then(|m| summary.methods.iter().find(|r| r.name == m.name).cloned());
@@ -437,6 +443,8 @@ pub fn bench(
             wall_median_ms: wall,
             timestamp_median_ms: ts,
             covered_pixels: covered,
+            fragment_invocations: invocations,
+            invocations_exact: invocations.map(|n| n as usize == covered),
             ns_per_pixel: e.median * 1e6 / covered.max(1) as f64,
             above_floor_ms: 0.0,
             ratio_to_phong_exact: 0.0,

@@ -613,8 +613,12 @@ impl Renderer {
             let (streams, buffers) = gpu.buffers(*s)?;
             let pipeline = self.pipeline(gpu, &self.program(gpu, *s), &streams, &[COLOR, COLOR])?;
             let pool = QueryPool::timestamps(&self.ctx, 4)?;
+            let stats = QueryPool::fragment_invocations(&self.ctx)?;
             let mut cmd = OneShot::begin(&self.ctx)?;
             cmd.reset_queries(&pool);
+            if let Some(q) = &stats {
+                cmd.reset_queries(q);
+            }
             cmd.timestamp(&pool, 0, bottom);
             cmd.timestamp(&pool, 1, bottom);
             cmd.begin_rendering(
@@ -630,16 +634,22 @@ impl Renderer {
                 ],
                 Some(&depth),
             );
+            if let Some(q) = &stats {
+                cmd.begin_query(q);
+            }
             cmd.draw(
                 &pipeline,
                 Some(&gpu.set),
                 &buffers,
                 gpu.inputs.positions.len() as u32,
             );
+            if let Some(q) = &stats {
+                cmd.end_query(q);
+            }
             cmd.end_rendering();
             cmd.timestamp(&pool, 2, bottom);
             cmd.timestamp(&pool, 3, bottom);
-            draws.push((cmd.finish()?, pool, pipeline));
+            draws.push((cmd.finish()?, pool, stats, pipeline));
         }
         let info = self.ctx.info();
         Ok(TimedDraws {
@@ -657,11 +667,14 @@ pub struct Sample {
     pub wall_ms: f64,
     /// `None` when the queue has no timestamps.
     pub timestamp_ms: Option<f64>,
+    /// Fragment-shader invocations reported by a pipeline-statistics query (`None` when the
+    /// device has none). Not necessarily the covered pixels: Mesa 22.3 counts whole blocks.
+    pub fragment_invocations: Option<u64>,
 }
 
 /// Draws recorded by [`Renderer::timed_draws`], ready to be submitted in any order.
 pub struct TimedDraws {
-    draws: Vec<(Recorded, QueryPool, GraphicsPipeline)>,
+    draws: Vec<(Recorded, QueryPool, Option<QueryPool>, GraphicsPipeline)>,
     _targets: [Image; 3],
     valid_bits: u32,
     period_ns: f32,
@@ -670,13 +683,18 @@ pub struct TimedDraws {
 impl TimedDraws {
     /// Submits draw `i` once and waits for it.
     pub fn run(&self, i: usize) -> Result<Sample> {
-        let (cmd, pool, _) = &self.draws[i];
+        let (cmd, pool, stats, _) = &self.draws[i];
         let wall = cmd.submit()?;
         let t = pool.results()?;
+        let fragment_invocations = match stats {
+            Some(q) => q.results()?.first().copied(),
+            None => None,
+        };
         Ok(Sample {
             wall_ms: wall.as_secs_f64() * 1e3,
             timestamp_ms: timestamp_delta_ns(t[0], t[2], self.valid_bits, self.period_ns)
                 .map(|ns| ns / 1e6),
+            fragment_invocations,
         })
     }
 

@@ -200,6 +200,22 @@ impl OneShot {
         };
     }
 
+    /// Begins query 0 of `pool` (inside the rendering scope, ended before it closes).
+    pub fn begin_query(&mut self, pool: &QueryPool) {
+        // SAFETY: recording state; the query was reset earlier in this command buffer.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_begin_query(self.cb, pool.raw, 0, vk::QueryControlFlags::empty())
+        };
+    }
+
+    /// Ends query 0 of `pool`.
+    pub fn end_query(&mut self, pool: &QueryPool) {
+        // SAFETY: the query is active in this command buffer.
+        unsafe { self.ctx.device.cmd_end_query(self.cb, pool.raw, 0) };
+    }
+
     /// Copies a colour target (after rendering) into `dst`, tightly packed, and makes the copy
     /// visible to the host.
     pub fn copy_image_to_buffer(&mut self, image: &Image, dst: &Buffer) {

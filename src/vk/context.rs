@@ -33,6 +33,8 @@ pub struct DeviceInfo {
     pub max_image_dimension_2d: u32,
     pub timestamp_period_ns: f32,
     pub timestamp_valid_bits: u32,
+    /// Whether pipeline-statistics queries are supported (and enabled on the device).
+    pub pipeline_statistics: bool,
 }
 
 /// Messages the validation layer reported, shared with the debug callback.
@@ -163,8 +165,11 @@ impl Context {
             .dynamic_rendering(true)
             .synchronization2(true)
             .maintenance4(true);
+        let core = vk::PhysicalDeviceFeatures::default()
+            .pipeline_statistics_query(info.pipeline_statistics);
         let device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
+            .enabled_features(&core)
             .push_next(&mut f13);
         let instance = guard.get();
         // SAFETY: physical belongs to instance; the create info references locals only.
@@ -387,6 +392,10 @@ fn select_device(
         max_image_dimension_2d: props.limits.max_image_dimension2_d,
         timestamp_period_ns: props.limits.timestamp_period,
         timestamp_valid_bits: families[queue_family as usize].timestamp_valid_bits,
+        // SAFETY: plain query.
+        pipeline_statistics: unsafe { instance.get_physical_device_features(physical) }
+            .pipeline_statistics_query
+            == vk::TRUE,
     };
     if vk::api_version_minor(v) < 3 && vk::api_version_major(v) == 1 {
         return Err(Error::Device(format!(

@@ -18,6 +18,24 @@ impl QueryPool {
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(count);
+        Self::new(ctx, info)
+    }
+
+    /// One pipeline-statistics query counting fragment-shader invocations. `None` when the
+    /// device does not support pipeline statistics.
+    pub fn fragment_invocations(ctx: &Arc<Context>) -> Result<Option<Self>> {
+        if !ctx.info().pipeline_statistics {
+            return Ok(None);
+        }
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::PIPELINE_STATISTICS)
+            .pipeline_statistics(vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS)
+            .query_count(1);
+        Self::new(ctx, info).map(Some)
+    }
+
+    fn new(ctx: &Arc<Context>, info: vk::QueryPoolCreateInfo) -> Result<Self> {
+        let count = info.query_count;
         // SAFETY: valid device and create info.
         let raw = unsafe { ctx.device.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
         Ok(QueryPool {
