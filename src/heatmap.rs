@@ -118,7 +118,7 @@ pub fn render(
             rgb[o..o + 3].copy_from_slice(&c);
         }
     }
-    let mut bar = (0, 0, 0, 0);
+    let bar;
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (fig_w, fig_h)).into_drawing_area();
         let (_, panel) = root.split_horizontally(width);
@@ -131,73 +131,48 @@ pub fn render(
             .margin_right(8)
             .y_label_area_size(62);
         let steps = 256;
-        let mut draw = |bar: &mut (u32, u32, u32, u32), log: bool| -> Result<()> {
-            // Draw the gradient as `steps` bands in colormap space, then the axis over it.
-            let bands = |t0: f64, t1: f64| (desc.scale.value(t0), desc.scale.value(t1));
-            if log {
-                let mut chart = builder
-                    .build_cartesian_2d(0f64..1f64, (lo..hi).log_scale())
-                    .map_err(plot_err)?;
-                chart
-                    .draw_series((0..steps).map(|i| {
-                        let (t0, t1) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
-                        let (v0, v1) = bands(t0, t1);
-                        let c = color_at(&desc.gradient, (t0 + t1) / 2.0);
-                        Rectangle::new([(0.0, v0), (1.0, v1)], RGBColor(c[0], c[1], c[2]).filled())
-                    }))
-                    .map_err(plot_err)?;
-                chart
-                    .configure_mesh()
-                    .disable_mesh()
-                    .x_labels(0)
-                    .y_labels(6)
-                    .y_label_style(font.clone())
-                    .y_label_formatter(&|v| format!("{v:.0e}"))
-                    .y_desc(desc.label)
-                    .axis_desc_style(font.clone())
-                    .draw()
-                    .map_err(plot_err)?;
-                let (xr, yr) = chart.plotting_area().get_pixel_range();
-                *bar = (
-                    xr.start as u32,
-                    yr.start as u32,
-                    xr.end as u32,
-                    yr.end as u32,
-                );
-            } else {
-                let mut chart = builder
-                    .build_cartesian_2d(0f64..1f64, lo..hi)
-                    .map_err(plot_err)?;
-                chart
-                    .draw_series((0..steps).map(|i| {
-                        let (t0, t1) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
-                        let (v0, v1) = bands(t0, t1);
-                        let c = color_at(&desc.gradient, (t0 + t1) / 2.0);
-                        Rectangle::new([(0.0, v0), (1.0, v1)], RGBColor(c[0], c[1], c[2]).filled())
-                    }))
-                    .map_err(plot_err)?;
-                chart
-                    .configure_mesh()
-                    .disable_mesh()
-                    .x_labels(0)
-                    .y_labels(7)
-                    .y_label_style(font.clone())
-                    .y_label_formatter(&|v| format_tick(*v, hi - lo))
-                    .y_desc(desc.label)
-                    .axis_desc_style(font.clone())
-                    .draw()
-                    .map_err(plot_err)?;
-                let (xr, yr) = chart.plotting_area().get_pixel_range();
-                *bar = (
-                    xr.start as u32,
-                    yr.start as u32,
-                    xr.end as u32,
-                    yr.end as u32,
-                );
+        // The bar is drawn in colormap space (t from 0 at the bottom to 1 at the top, linear),
+        // as `steps` bands; tick labels show the scale's value at t. With the fixed log scale
+        // (five decades) the ticks at t = 0, 0.2, ... 1 fall on whole decades.
+        let mut chart = builder
+            .build_cartesian_2d(0f64..1f64, 0f64..1f64)
+            .map_err(plot_err)?;
+        chart
+            .draw_series((0..steps).map(|i| {
+                let (t0, t1) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
+                let c = color_at(&desc.gradient, (t0 + t1) / 2.0);
+                Rectangle::new([(0.0, t0), (1.0, t1)], RGBColor(c[0], c[1], c[2]).filled())
+            }))
+            .map_err(plot_err)?;
+        let label = |t: &f64| {
+            let v = desc.scale.value(*t);
+            match desc.scale {
+                // whole decades as 1e-3, anything else with one more digit (2.5e-4)
+                Scale::Log { .. } if (v.log10() - v.log10().round()).abs() < 1e-9 => {
+                    format!("{v:.0e}")
+                }
+                Scale::Log { .. } => format!("{v:.1e}"),
+                Scale::Linear { .. } => format_tick(v, hi - lo),
             }
-            Ok(())
         };
-        draw(&mut bar, matches!(desc.scale, Scale::Log { .. }))?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(6)
+            .y_label_style(font.clone())
+            .y_label_formatter(&label)
+            .y_desc(desc.label)
+            .axis_desc_style(font)
+            .draw()
+            .map_err(plot_err)?;
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        bar = (
+            xr.start as u32,
+            yr.start as u32,
+            xr.end as u32,
+            yr.end as u32,
+        );
         root.present().map_err(plot_err)?;
     }
     // plotters reports the plotting area in the root's (figure) coordinates.

@@ -8,17 +8,10 @@ use crate::support::*;
 
 #[test]
 fn every_shared_model_renders_and_matches_f64() {
-    let Some(dir) = models_dir() else { return };
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
-        .collect();
-    files.sort();
+    let Some(files) = model_files() else { return };
     assert!(
         files.len() >= 5,
-        "expected the 5 models of the README in {}",
-        dir.display()
+        "expected the 5 models of the README, found {files:?}"
     );
     let r = validated_renderer();
     let m = methods::find("phong_exact").unwrap();
