@@ -385,6 +385,41 @@ impl Prepared {
     }
 }
 
+/// The targets of a method pass: RGBA32F colour, RGBA32F shading normal, D32 depth.
+struct Targets {
+    color: Image,
+    normal: Image,
+    depth: Image,
+}
+
+impl Targets {
+    fn new(ctx: &Arc<Context>, w: u32, h: u32) -> Result<Self> {
+        Ok(Targets {
+            color: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
+            normal: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
+            depth: Image::new(ctx, ImageDesc::depth(w, h))?,
+        })
+    }
+
+    /// Begins a rendering scope that clears all three targets to zero (far depth).
+    fn begin(&self, cmd: &mut OneShot) {
+        let clear = avk::ClearColorValue { float32: [0.0; 4] };
+        cmd.begin_rendering(
+            &[
+                ColorTarget {
+                    image: &self.color,
+                    clear,
+                },
+                ColorTarget {
+                    image: &self.normal,
+                    clear,
+                },
+            ],
+            Some(&self.depth),
+        );
+    }
+}
+
 /// Renders scenes offscreen on one device.
 pub struct Renderer {
     ctx: Arc<Context>,
@@ -506,9 +541,8 @@ impl Renderer {
         let (streams, buffers) = gpu.buffers(shading)?;
         let pipeline =
             self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
-        let color = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
-        let normal = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
-        let depth = Image::new(&self.ctx, ImageDesc::depth(w, h))?;
+        let targets = Targets::new(&self.ctx, w, h)?;
+        let (color, normal, depth) = (&targets.color, &targets.normal, &targets.depth);
         let readback = |img: &Image| {
             Buffer::new(
                 &self.ctx,
@@ -518,28 +552,16 @@ impl Renderer {
                 },
             )
         };
-        let color_buf = readback(&color)?;
-        let normal_buf = readback(&normal)?;
+        let color_buf = readback(color)?;
+        let normal_buf = readback(normal)?;
         let clear = avk::ClearColorValue { float32: [0.0; 4] };
 
         let mut cmd = OneShot::begin(&self.ctx)?;
-        cmd.begin_rendering(
-            &[
-                ColorTarget {
-                    image: &color,
-                    clear,
-                },
-                ColorTarget {
-                    image: &normal,
-                    clear,
-                },
-            ],
-            Some(&depth),
-        );
+        targets.begin(&mut cmd);
         cmd.draw(&pipeline, Some(&gpu.set), &buffers, n);
         cmd.end_rendering();
-        cmd.copy_image_to_buffer(&color, &color_buf);
-        cmd.copy_image_to_buffer(&normal, &normal_buf);
+        cmd.copy_image_to_buffer(color, &color_buf);
+        cmd.copy_image_to_buffer(normal, &normal_buf);
 
         let mut id_objects = None;
         if with_ids {
@@ -565,7 +587,7 @@ impl Renderer {
                         clear: avk::ClearColorValue { uint32: [0; 4] },
                     },
                 ],
-                Some(&depth),
+                Some(depth),
             );
             cmd.draw(&id_pipeline, Some(&gpu.set), &id_buffers, n);
             cmd.end_rendering();
@@ -603,10 +625,7 @@ impl Renderer {
     /// submit-to-fence wall clock; `bench` re-checks that on every run.
     pub fn timed_draws(&self, gpu: &GpuScene, shadings: &[Shading]) -> Result<TimedDraws> {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
-        let color = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
-        let normal = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
-        let depth = Image::new(&self.ctx, ImageDesc::depth(w, h))?;
-        let clear = avk::ClearColorValue { float32: [0.0; 4] };
+        let targets = Targets::new(&self.ctx, w, h)?;
         let bottom = avk::PipelineStageFlags2::BOTTOM_OF_PIPE;
         let mut draws = Vec::new();
         for s in shadings {
@@ -621,19 +640,7 @@ impl Renderer {
             }
             cmd.timestamp(&pool, 0, bottom);
             cmd.timestamp(&pool, 1, bottom);
-            cmd.begin_rendering(
-                &[
-                    ColorTarget {
-                        image: &color,
-                        clear,
-                    },
-                    ColorTarget {
-                        image: &normal,
-                        clear,
-                    },
-                ],
-                Some(&depth),
-            );
+            targets.begin(&mut cmd);
             if let Some(q) = &stats {
                 cmd.begin_query(q);
             }
@@ -654,7 +661,7 @@ impl Renderer {
         let info = self.ctx.info();
         Ok(TimedDraws {
             draws,
-            _targets: [color, normal, depth],
+            _targets: targets,
             valid_bits: info.timestamp_valid_bits,
             period_ns: info.timestamp_period_ns,
         })
@@ -675,7 +682,7 @@ pub struct Sample {
 /// Draws recorded by [`Renderer::timed_draws`], ready to be submitted in any order.
 pub struct TimedDraws {
     draws: Vec<(Recorded, QueryPool, Option<QueryPool>, GraphicsPipeline)>,
-    _targets: [Image; 3],
+    _targets: Targets,
     valid_bits: u32,
     period_ns: f32,
 }
