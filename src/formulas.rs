@@ -336,6 +336,7 @@ pub fn lut_lookup(table: &[f32], rows: usize, samples: usize, n: f64, s: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testutil::assert_close;
 
     #[test]
     fn normalize_exact_gives_unit_length_and_keeps_zero() {
@@ -367,16 +368,6 @@ mod tests {
     }
 
     // ---- helpers -----------------------------------------------------------------------------
-
-    /// Approx-eq that prints both sides (glam tests/support/macros.rs style).
-    #[track_caller]
-    fn assert_close(what: &str, actual: f64, expected: f64, tol: f64) {
-        let diff = (actual - expected).abs();
-        assert!(
-            diff <= tol,
-            "{what}: actual {actual:.12}, expected {expected:.12}, |diff| {diff:.3e} > tol {tol:.1e}"
-        );
-    }
 
     #[track_caller]
     fn assert_vec_close(what: &str, actual: DVec3, expected: DVec3, tol: f64) {

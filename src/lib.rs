@@ -12,6 +12,8 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod spirv;
+#[cfg(test)]
+mod testutil;
 pub mod truth;
 pub mod vk;
 pub use error::{Error, Result};

@@ -1199,17 +1199,8 @@ pub fn write_shipped(dir: &Path) -> Result<Vec<PathBuf>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testutil::assert_close;
     use std::collections::BTreeMap;
-
-    /// Asserts `|a - b| <= tol`, printing both sides and the context.
-    #[track_caller]
-    fn assert_close(a: f64, b: f64, tol: f64, what: &str) {
-        assert!(
-            (a - b).abs() <= tol,
-            "{what}: left = {a}, right = {b}, |diff| = {} > tol {tol}",
-            (a - b).abs()
-        );
-    }
 
     /// Writes `text` to `name` in a fresh temp dir, keeping the dir alive with the path.
     fn temp_obj(name: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
@@ -1301,10 +1292,10 @@ f 2 3 7 6
             for k in 0..3 {
                 let expected = p[k].signum() as f64 * inv;
                 assert_close(
+                    &format!("normal {n:?} at corner {p:?}, axis {k}"),
                     n[k] as f64,
                     expected,
                     1e-6,
-                    &format!("normal {n:?} at corner {p:?}, axis {k}"),
                 );
             }
         }
@@ -1439,16 +1430,16 @@ f 2 3 7 6
         // (0,0,0), (1,0,0), (0,2,0): bbox centre (0.5, 1, 0), radius |(0.5, 1)| = sqrt(1.25).
         let r = 1.25f64.sqrt();
         assert_close(
+            "x of the weighted vertex",
             mesh.positions[1][0] as f64,
             0.5 / r,
             1e-6,
-            "x of the weighted vertex",
         );
         assert_close(
+            "y of the weighted vertex",
             mesh.positions[2][1] as f64,
             1.0 / r,
             1e-6,
-            "y of the weighted vertex",
         );
     }
 
@@ -1571,10 +1562,10 @@ f 1 3 5
         let (lo, hi) = mesh.bounds();
         for k in 0..3 {
             assert_close(
+                &format!("bbox centre axis {k}"),
                 (lo[k] + hi[k]) as f64,
                 0.0,
                 1e-6,
-                &format!("bbox centre axis {k}"),
             );
         }
         let r = mesh
@@ -1582,7 +1573,7 @@ f 1 3 5
             .iter()
             .map(|&p| dvec(p).length())
             .fold(0.0, f64::max);
-        assert_close(r, 1.0, 1e-6, "bounding sphere radius");
+        assert_close("bounding sphere radius", r, 1.0, 1e-6);
         // Single point: moved to the origin, not scaled to infinity.
         let mut point = Mesh {
             positions: vec![[3.0, 3.0, 3.0]; 3],
@@ -1652,10 +1643,10 @@ f 1 3 5
                 for k in 0..3 {
                     let n = dvec(ns[k]);
                     assert_close(
+                        &format!("{}: |normal| at triangle {t}", g.describe()),
                         n.length(),
                         1.0,
                         1e-6,
-                        &format!("{}: |normal| at triangle {t}", g.describe()),
                     );
                     let out = n.dot(p[k] - inner_point(&g, p[k]));
                     assert!(
@@ -1686,10 +1677,10 @@ f 1 3 5
             let mesh = g.build().unwrap();
             for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
                 assert_close(
+                    &format!("{}: normal {n:?} vs position {p:?}", g.describe()),
                     (dvec(*p) - dvec(*n)).length(),
                     0.0,
                     1e-7,
-                    &format!("{}: normal {n:?} vs position {p:?}", g.describe()),
                 );
             }
         }
@@ -1736,7 +1727,7 @@ f 1 3 5
             .collect();
         assert_eq!(meridian.len(), 50, "10 segments x 5 rings meridian edges");
         for a in &meridian {
-            assert_close(*a, 36.0, 1e-3, "coarse sphere meridian neighbour angle");
+            assert_close("coarse sphere meridian neighbour angle", *a, 36.0, 1e-3);
         }
         let widest_parallel = parallel.iter().copied().fold(0.0, f64::max);
         assert!(
@@ -1757,10 +1748,10 @@ f 1 3 5
         for (_, _, a) in &ico {
             assert!(*a > 60.0, "icosahedron neighbour angle {a}");
             assert_close(
+                "icosahedron neighbour angle",
                 *a,
                 (1.0 / 5f64.sqrt()).acos().to_degrees(),
                 1e-4,
-                "icosahedron neighbour angle",
             );
         }
 
@@ -1775,10 +1766,10 @@ f 1 3 5
         assert_eq!(along.len(), 12, "12 cube edges");
         for a in &along {
             assert_close(
+                "cube adjacent-corner angle",
                 *a,
                 (1.0f64 / 3.0).acos().to_degrees(),
                 1e-4,
-                "cube adjacent-corner angle",
             );
         }
         for (a, b, ang) in cube
@@ -1786,10 +1777,10 @@ f 1 3 5
             .filter(|(a, b, _)| ((*a - *b).length() - 2.0).abs() >= 1e-9)
         {
             assert_close(
+                &format!("cube diagonal {a} - {b}"),
                 *ang,
                 (-1.0f64 / 3.0).acos().to_degrees(),
                 1e-4,
-                &format!("cube diagonal {a} - {b}"),
             );
         }
     }
@@ -1826,16 +1817,16 @@ f 1 3 5
                 .enumerate()
             {
                 assert_close(
+                    &format!("{}: position {i}", g.describe()),
                     (dvec(*pa) - dvec(*pb)).length(),
                     0.0,
                     1e-6,
-                    &format!("{}: position {i}", g.describe()),
                 );
                 assert_close(
+                    &format!("{}: normal {i}", g.describe()),
                     (dvec(*na) - dvec(*nb)).length(),
                     0.0,
                     1e-6,
-                    &format!("{}: normal {i}", g.describe()),
                 );
             }
         }
@@ -2084,10 +2075,10 @@ f 1 3 5
                     "{name}: normal {i} = {n:?}"
                 );
                 assert_close(
+                    &format!("{name}: |normal {i}|"),
                     dvec(*n).length(),
                     1.0,
                     1e-6,
-                    &format!("{name}: |normal {i}|"),
                 );
             }
             let r = mesh
@@ -2095,7 +2086,7 @@ f 1 3 5
                 .iter()
                 .map(|&p| dvec(p).length())
                 .fold(0.0, f64::max);
-            assert_close(r, 1.0, 1e-6, &format!("{name}: fitted radius"));
+            assert_close(&format!("{name}: fitted radius"), r, 1.0, 1e-6);
             eprintln!(
                 "{name}: {} triangles, {} dropped, warnings {:?}",
                 report.triangles, report.dropped_zero_area, report.warnings

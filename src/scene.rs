@@ -702,16 +702,8 @@ fn material(src: &Source, m: Option<&MaterialFile>) -> Result<Material> {
 mod tests {
     use super::*;
     use crate::mesh::{write_obj, SHIPPED};
+    use crate::testutil::assert_close;
     use std::path::PathBuf;
-
-    #[track_caller]
-    fn assert_close(a: f64, b: f64, tol: f64, what: &str) {
-        assert!(
-            (a - b).abs() <= tol,
-            "{what}: left = {a}, right = {b}, |diff| = {} > tol {tol}",
-            (a - b).abs()
-        );
-    }
 
     /// Clip -> window coordinates (x, y in pixels, y down; depth) for a `w` x `h` viewport.
     fn to_window(clip: DVec4, w: f64, h: f64) -> DVec3 {
@@ -739,8 +731,8 @@ mod tests {
         };
         let (w, h) = (640.0, 480.0);
         let c = to_window(project(&cam, w / h, cam.target), w, h);
-        assert_close(c.x, w / 2.0, 1e-9, "target window x");
-        assert_close(c.y, h / 2.0, 1e-9, "target window y");
+        assert_close("target window x", c.x, w / 2.0, 1e-9);
+        assert_close("target window y", c.y, h / 2.0, 1e-9);
         let above = to_window(project(&cam, w / h, cam.target + DVec3::Y * 0.1), w, h);
         assert!(
             above.y < c.y,
@@ -774,8 +766,8 @@ mod tests {
             let dir = (cam.target - cam.eye).normalize();
             let dn = to_window(project(&cam, 1.0, cam.eye + dir * n), 1.0, 1.0).z;
             let df = to_window(project(&cam, 1.0, cam.eye + dir * f), 1.0, 1.0).z;
-            assert_close(dn, 0.0, 1e-12, &format!("depth at near = {n}"));
-            assert_close(df, 1.0, 1e-12, &format!("depth at far = {f}"));
+            assert_close(&format!("depth at near = {n}"), dn, 0.0, 1e-12);
+            assert_close(&format!("depth at far = {f}"), df, 1.0, 1e-12);
         }
         let cam = fit_camera(35.0, 1.0);
         let d = cam.distance();
@@ -787,11 +779,11 @@ mod tests {
         let cam = fit_camera(35.0, 1.0);
         let v = cam.view();
         let eye = v.transform_point3(cam.eye);
-        assert_close(eye.length(), 0.0, 1e-12, "eye in view space");
+        assert_close("eye in view space", eye.length(), 0.0, 1e-12);
         let t = v.transform_point3(cam.target);
-        assert_close(t.x, 0.0, 1e-12, "target x");
-        assert_close(t.y, 0.0, 1e-12, "target y");
-        assert_close(t.z, -cam.distance(), 1e-12, "target z");
+        assert_close("target x", t.x, 0.0, 1e-12);
+        assert_close("target y", t.y, 0.0, 1e-12);
+        assert_close("target z", t.z, -cam.distance(), 1e-12);
     }
 
     #[test]
@@ -799,12 +791,12 @@ mod tests {
         for aspect in [1.0, 2.0, 0.5] {
             let cam = fit_camera(35.0, aspect);
             assert_close(
+                "eye direction",
                 cam.eye
                     .normalize()
                     .dot(DVec3::new(0.0, 0.3, 1.0).normalize()),
                 1.0,
                 1e-12,
-                "eye direction",
             );
             // Tangent points of the silhouette: in view space, the sphere (centre at distance
             // d on -z) touches the cone at half-angle asin(1/d); measure its extent in NDC.
@@ -820,10 +812,10 @@ mod tests {
             let ry = -ndc(DVec3::new(0.0, half.sin(), -half.cos()) * (d * half.cos())).y;
             let fill = rx.max(ry);
             assert_close(
+                &format!("silhouette extent in the narrower axis, aspect {aspect}"),
                 fill,
                 1.0 / 1.05,
                 1e-9,
-                &format!("silhouette extent in the narrower axis, aspect {aspect}"),
             );
             assert!(
                 rx <= 1.0 / 1.05 + 1e-9 && ry <= 1.0 / 1.05 + 1e-9,
@@ -867,7 +859,7 @@ mod tests {
                     .iter()
                     .map(|p| dvec(p.map(|x| x as f64)).length())
                     .fold(0.0, f64::max);
-                assert_close(r, 1.0, 1e-6, &format!("{}: fitted radius", path.display()));
+                assert_close(&format!("{}: fitted radius", path.display()), r, 1.0, 1e-6);
                 assert!(
                     near < scene.camera.distance() - 1.0 && far > scene.camera.distance() + 1.0,
                     "{}: clip range",
@@ -932,10 +924,10 @@ mod tests {
         for (i, (p, q)) in a.mesh.positions.iter().zip(&b.mesh.positions).enumerate() {
             for k in 0..3 {
                 assert_close(
+                    &format!("torus corner {i} axis {k}"),
                     p[k] as f64,
                     q[k] as f64,
                     1e-6,
-                    &format!("torus corner {i} axis {k}"),
                 );
             }
         }
