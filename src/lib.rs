@@ -1,19 +1,46 @@
+//! shadelab: fast-Phong shading methods rendered through Vulkan, diffed against an f64 truth.
+//!
+//! # Layers
+//! Each layer uses only the layers below it (checked by `layers_point_one_way` in tests/layout.rs):
+//!
+//! | layer | modules | owns |
+//! |---|---|---|
+//! | command line | [`cli`] | clap types, one file per command, exit codes |
+//! | jobs | [`compare`], [`bench`] | a run over methods: statistics, heatmaps, timing, claims |
+//! | judgement | [`analysis`], [`truth`] | per-pixel error (one definition), statistics; f64 truth and bound |
+//! | device | [`gpu`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws |
+//! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
+//! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
+//! | base | [`output`], [`error`] | atomic files, PNG/NPY, figures, provenance; the error type |
+//!
+//! # Data flow
+//! scene file -> [`scene::Scene`] -> [`scene::SceneInputs`] (f64, rounded to f32 once) ->
+//! [`gpu::Renderer`] -> [`frame::Frame`] + [`frame::IdFrame`] -> [`truth::evaluate`] (the same
+//! inputs in f64 at the rasterizer's weights) -> [`analysis::pixel`] -> [`compare`] / [`bench`]
+//! -> files in the output folder.
+//!
+//! # Where things go
+//! - a method: a GLSL file in glsl/methods/, a row in [`method::table`], its f64 formula in
+//!   [`method::formulas`] and twin in [`method::twins`] (README "How to add a method");
+//! - a metric: [`analysis`] computes it, [`compare::summary`] reports it;
+//! - a command: a file in src/cli/, calling a job of the layer below.
+//!
+//! # Lifetimes and synchronisation
+//! Vulkan objects own an `Arc` of their [`gpu::vk::Context`]; every submission waits on its fence,
+//! so nothing is in flight when a call returns (see [`gpu::vk`]).
+pub mod analysis;
 pub mod bench;
-pub mod chart;
 pub mod cli;
 pub mod compare;
 pub mod error;
-pub mod formulas;
-pub mod heatmap;
-pub mod mesh;
-pub mod methods;
+pub mod frame;
+pub mod geometry;
+pub mod gpu;
+pub mod method;
 pub mod output;
-pub mod render;
 pub mod scene;
-pub mod shaders;
-pub mod spirv;
 #[cfg(test)]
 mod testutil;
 pub mod truth;
-pub mod vk;
+
 pub use error::{Error, Result};

@@ -1,7 +1,7 @@
 //! Rendering on lavapipe under validation, and the f64 truth agreement with its teeth.
-use shadelab::methods;
-use shadelab::methods::METHODS;
-use shadelab::render::Shading;
+use shadelab::gpu::Shading;
+use shadelab::method;
+use shadelab::method::METHODS;
 use shadelab::scene::Interpolation;
 use shadelab::truth;
 
@@ -17,7 +17,7 @@ fn exact_phong_agrees(scene_name: &str, size: u32, interpolation: Interpolation)
         .prepare(&scene, &METHODS.iter().collect::<Vec<_>>())
         .unwrap();
     let gpu = prepared.base();
-    let m = methods::find("phong_exact").unwrap();
+    let m = method::find("phong_exact").unwrap();
     let (frame, ids) = r.render(gpu, Shading::Method(m), true).unwrap();
     let t = truth::evaluate(&gpu.inputs, &ids.unwrap(), m);
     let a = truth::agreement(&frame, &t);
@@ -70,8 +70,8 @@ fn unnormalized_render_fails_the_exact_truth() {
         .prepare(&scene, &METHODS.iter().collect::<Vec<_>>())
         .unwrap();
     let gpu = prepared.base();
-    let wrong = methods::find("phong_unnormalized").unwrap();
-    let exact = methods::find("phong_exact").unwrap();
+    let wrong = method::find("phong_unnormalized").unwrap();
+    let exact = method::find("phong_exact").unwrap();
     let (frame, ids) = r.render(gpu, Shading::Method(wrong), true).unwrap();
     let ids = ids.unwrap();
     let a = truth::agreement(&frame, &truth::evaluate(&gpu.inputs, &ids, exact));
@@ -100,7 +100,7 @@ fn id_pass_coverage_matches_and_renders_are_deterministic() {
         )
         .unwrap();
     let gpu = prepared.base();
-    let m = methods::find("phong_exact").unwrap();
+    let m = method::find("phong_exact").unwrap();
     let (a, ids) = r.render(gpu, Shading::Method(m), true).unwrap();
     let (b, _) = r.render(gpu, Shading::Method(m), false).unwrap();
     let ids = ids.unwrap();
@@ -154,7 +154,7 @@ fn constant_floor_covers_the_same_pixels() {
     let (p, _) = r
         .render(
             gpu,
-            Shading::Method(methods::find("phong_exact").unwrap()),
+            Shading::Method(method::find("phong_exact").unwrap()),
             false,
         )
         .unwrap();
@@ -203,7 +203,7 @@ fn absurd_image_sizes_are_rejected() {
 #[test]
 fn validation_layer_messages_are_collected() {
     use ash::vk as avk;
-    use shadelab::vk::{Image, ImageDesc};
+    use shadelab::gpu::vk::{Image, ImageDesc};
     let r = validated_renderer();
     // A colour image with a depth-only usage: VUID-VkImageCreateInfo-usage-00964 / format features.
     let desc = ImageDesc {

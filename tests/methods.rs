@@ -1,8 +1,9 @@
 //! Every method against its own f64 formula on the GPU, the teeth of that check (swapped
 //! shaders fail), the papers' error bounds measured on the GPU, and NaN/Inf counts on the
 //! real-world meshes.
-use shadelab::methods::{self, Method, METHODS};
-use shadelab::render::{Frame, IdFrame, Renderer, Shading};
+use shadelab::frame::{Frame, IdFrame};
+use shadelab::gpu::{Renderer, Shading};
+use shadelab::method::{self, Method, METHODS};
 use shadelab::scene::{self, Scene};
 use shadelab::truth;
 
@@ -117,8 +118,8 @@ fn hast_and_local_quaternion_differ_on_irregular_meshes() {
     let mut s = scene::scene_for_mesh(&dir.join("suzanne.obj")).unwrap();
     s.width = 96;
     s.height = 96;
-    let hast = methods::find("hast_half_vector").unwrap();
-    let local = methods::find("quaternion_local").unwrap();
+    let hast = method::find("hast_half_vector").unwrap();
+    let local = method::find("quaternion_local").unwrap();
     let prepared = r.prepare(&s, &[hast, local]).unwrap();
     let gpu = prepared.base();
     let (frame, ids) = r.render(gpu, Shading::Method(hast), true).unwrap();
@@ -132,7 +133,7 @@ fn hast_and_local_quaternion_differ_on_irregular_meshes() {
 }
 
 /// Check 4: the error bounds the papers claim, measured on the GPU against f64 exact Phong
-/// (ill-conditioned sliver pixels left out, see truth::ErrorStats).
+/// (ill-conditioned sliver pixels left out, see shadelab::analysis::pixel::ErrorStats).
 #[test]
 fn papers_error_bounds_hold_on_the_gpu() {
     let r = validated_renderer();
@@ -190,7 +191,10 @@ fn papers_error_bounds_hold_on_the_gpu() {
 }
 
 /// Every method's error statistics against f64 exact Phong on `scene`.
-fn errors_against_exact(r: &Renderer, scene: &Scene) -> Vec<(&'static str, truth::ErrorStats)> {
+fn errors_against_exact(
+    r: &Renderer,
+    scene: &Scene,
+) -> Vec<(&'static str, shadelab::analysis::pixel::ErrorStats)> {
     let rendered = render_all(r, scene);
     let (exact, _, exact_ids, _) = rendered
         .iter()
@@ -200,7 +204,12 @@ fn errors_against_exact(r: &Renderer, scene: &Scene) -> Vec<(&'static str, truth
     let reference = truth::evaluate(&prepared.base().inputs, exact_ids, exact);
     rendered
         .iter()
-        .map(|(m, frame, ..)| (m.name, truth::error_stats(frame, m.has_normal, &reference)))
+        .map(|(m, frame, ..)| {
+            (
+                m.name,
+                shadelab::analysis::pixel::error_stats(frame, m.has_normal, &reference),
+            )
+        })
         .collect()
 }
 

@@ -1,8 +1,8 @@
 //! The real-world meshes of ../shared/models (quads, missing normals, creases, slivers, 70k
 //! triangles) all load, render without NaN/Inf under validation, and agree with the f64 truth.
-use shadelab::methods::METHODS;
-use shadelab::render::Shading;
-use shadelab::{methods, scene, truth};
+use shadelab::gpu::Shading;
+use shadelab::method::METHODS;
+use shadelab::{method, scene, truth};
 
 use crate::support::*;
 
@@ -14,7 +14,7 @@ fn every_shared_model_renders_and_matches_f64() {
         "expected the 5 models of the README, found {files:?}"
     );
     let r = validated_renderer();
-    let m = methods::find("phong_exact").unwrap();
+    let m = method::find("phong_exact").unwrap();
     for f in files {
         let mut s = scene::scene_for_mesh(&f).unwrap_or_else(|e| panic!("{e}"));
         s.width = 96;

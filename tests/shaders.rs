@@ -1,5 +1,5 @@
 //! spirv/ is fresh, valid and laid out like the Rust twin of the uniform block.
-use shadelab::{shaders, spirv};
+use shadelab::gpu::{shaders, spirv};
 
 use crate::support::root;
 
@@ -79,7 +79,7 @@ fn spirv_val_passes_on_every_module() {
 /// The std140 block of glsl/common.glsl and `render::Params` have the same member offsets.
 #[test]
 fn uniform_block_matches_rust_twin() {
-    use shadelab::render::Params;
+    use shadelab::scene::Params;
     use std::mem::{offset_of, size_of};
     let rust = vec![
         offset_of!(Params, mvp),

@@ -2,9 +2,9 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use shadelab::render::Renderer;
+use shadelab::gpu::vk::{Context, ContextDesc};
+use shadelab::gpu::Renderer;
 use shadelab::scene::{self, Scene};
-use shadelab::vk::{Context, ContextDesc};
 
 pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

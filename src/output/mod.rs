@@ -1,5 +1,9 @@
 //! Output files: every file the tool writes goes through [`write_atomic`], so an interrupted run
 //! never leaves a truncated PNG, OBJ or NPY behind (temp file in the same directory + rename).
+pub mod heatmap;
+pub mod provenance;
+
+pub use provenance::Provenance;
 use std::io::Write;
 use std::path::Path;
 

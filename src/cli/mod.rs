@@ -1,18 +1,33 @@
 //! The command line: argument parsing (clap) and one function per command. `main.rs` only calls
 //! [`run`] and maps its result to an exit code.
-use std::path::{Path, PathBuf};
+mod bench;
+mod compare;
+mod demo;
+mod list;
+mod mesh;
+mod render;
+mod shaders;
+mod verify;
+
+use self::bench::cmd_bench;
+use self::compare::cmd_compare;
+use self::demo::cmd_demo;
+use self::list::cmd_list;
+use self::mesh::cmd_mesh;
+use self::render::cmd_render;
+use self::shaders::cmd_shaders;
+use self::verify::cmd_verify;
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
-use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::error::{Error, Result};
-use crate::methods::{self, Method, METHODS};
-use crate::render::{Renderer, Shading};
+use crate::gpu::vk::{Context, ContextDesc};
+use crate::gpu::Renderer;
+use crate::method::{self, Method, METHODS};
 use crate::scene::{self, Interpolation, Scene};
-use crate::vk::{Context, ContextDesc};
-use crate::{mesh, output, shaders, truth};
 
 /// Exit code: a threshold was exceeded (results were still written).
 pub const EXIT_THRESHOLD: u8 = 1;
@@ -345,330 +360,6 @@ fn select_methods(list: &str) -> Result<Vec<&'static Method>> {
     }
     list.split(',')
         .filter(|s| !s.is_empty())
-        .map(|s| methods::find(s.trim()))
+        .map(|s| method::find(s.trim()))
         .collect()
-}
-
-fn cmd_render(
-    scene_args: &SceneArgs,
-    dev: &DeviceArgs,
-    method: &str,
-    out: &Path,
-    float: Option<&Path>,
-    normals: Option<&Path>,
-) -> Result<ExitCode> {
-    let method = methods::find(method)?;
-    let scene = load_scene(scene_args)?;
-    let r = renderer(dev)?;
-    let prepared = r.prepare(&scene, &[method])?;
-    let (frame, _) = r.render(prepared.for_method(method), Shading::Method(method), false)?;
-    output::write_png_srgb(out, frame.width, frame.height, &frame.color)?;
-    if let Some(f) = float {
-        output::write_npy_rgba(f, frame.width, frame.height, &frame.color)?;
-    }
-    if let Some(n) = normals {
-        output::write_npy_rgba(n, frame.width, frame.height, &frame.normal)?;
-    }
-    check_validation(r.context())?;
-    Ok(ExitCode::SUCCESS)
-}
-
-fn cmd_verify(
-    scene_args: &SceneArgs,
-    dev: &DeviceArgs,
-    list: &str,
-    against: Option<&str>,
-) -> Result<ExitCode> {
-    let methods = select_methods(list)?;
-    let against = against.map(methods::find).transpose()?;
-    let scene = load_scene(scene_args)?;
-    let r = renderer(dev)?;
-    let exact = methods::find("phong_exact")?;
-    let mut all = methods.clone();
-    all.push(exact);
-    let prepared = r.prepare(&scene, &all)?;
-    // The reference: f64 exact Phong at the rasterizer's weights on the scene's own triangles.
-    let (_, base_ids) = r.render(prepared.base(), Shading::Method(exact), true)?;
-    let base_ids = base_ids.ok_or_else(|| Error::Device("the id pass returned nothing".into()))?;
-    let reference = truth::evaluate(&prepared.base().inputs, &base_ids, exact);
-    println!(
-        "scene {} at {}x{}: each method against its own f64 formula (error/bound <= 1 passes), and against f64 exact \
-         Phong (ill-conditioned sliver pixels left out; NaN/ill = non-finite pixels, well-/ill-conditioned)",
-        scene.name, scene.width, scene.height
-    );
-    println!(
-        "{:<32} {:>7} {:>9} {:>9} {:>6} | {:>9} {:>9} {:>8} {:>8} {:>10} {:>8}",
-        "method",
-        "pixels",
-        "dI/bound",
-        "dN/bound",
-        "ill",
-        "max|dI|",
-        "mean|dI|",
-        "max deg",
-        "mean deg",
-        "max|len-1|",
-        "NaN/ill"
-    );
-    let opt = |v: Option<f64>, prec: usize| {
-        v.map(|x| format!("{x:.prec$}"))
-            .unwrap_or_else(|| "-".into())
-    };
-    let mut failed = Vec::new();
-    for m in methods {
-        let gpu = prepared.for_method(m);
-        let (frame, ids) = r.render(gpu, Shading::Method(m), true)?;
-        let ids = ids.ok_or_else(|| Error::Device("the id pass returned nothing".into()))?;
-        let a = truth::agreement(
-            &frame,
-            &truth::evaluate(&gpu.inputs, &ids, against.unwrap_or(m)),
-        );
-        let e = truth::error_stats(&frame, m.has_normal, &reference);
-        if !a.within_bound() {
-            failed.push(format!(
-                "{} (ratio {:.3}, worst pixel {:?}, coverage mismatches {}, non-finite {})",
-                m.name,
-                a.max_color_ratio.max(a.max_normal_ratio),
-                a.worst_pixel,
-                a.coverage_mismatch,
-                a.non_finite
-            ));
-        }
-        println!(
-            "{:<32} {:>7} {:>9.3} {:>9.3} {:>6} | {:>9.2e} {:>9.2e} {:>8} {:>8} {:>10} {:>8}",
-            m.name,
-            a.covered,
-            a.max_color_ratio,
-            a.max_normal_ratio,
-            a.ill_conditioned,
-            e.max_abs_error,
-            e.mean_abs_error,
-            opt(e.max_normal_angle_deg, 3),
-            opt(e.mean_normal_angle_deg, 3),
-            opt(e.max_normal_length_error, 5),
-            format!("{}/{}", e.non_finite, e.non_finite_ill_conditioned),
-        );
-    }
-    check_validation(r.context())?;
-    if failed.is_empty() {
-        Ok(ExitCode::SUCCESS)
-    } else {
-        let whose = against
-            .map(|a| format!("{}'s", a.name))
-            .unwrap_or_else(|| "their own".into());
-        eprintln!(
-            "outside the float32 bound of {whose} formula: {}",
-            failed.join("; ")
-        );
-        Ok(ExitCode::from(EXIT_THRESHOLD))
-    }
-}
-
-fn cmd_compare(
-    scene_args: &SceneArgs,
-    dev: &DeviceArgs,
-    list: &str,
-    out: &Path,
-    fail_above: &[String],
-    scale: crate::compare::ScaleMode,
-    threshold: f64,
-) -> Result<ExitCode> {
-    use crate::compare;
-    let limits = fail_above
-        .iter()
-        .map(|s| compare::parse_limit(s))
-        .collect::<Result<Vec<_>>>()?;
-    if !(threshold.is_finite() && threshold >= 0.0) {
-        return Err(Error::Usage(format!(
-            "--threshold must be a finite number >= 0, got {threshold}"
-        )));
-    }
-    let methods = select_methods(list)?;
-    let scene = load_scene(scene_args)?;
-    let r = renderer(dev)?;
-    let opts = compare::CompareOptions {
-        scale,
-        threshold,
-        progress: true,
-        images: true,
-    };
-    let summary = compare::compare(&r, &scene, &methods, out, &opts)?;
-    print!("{}", compare::table(&summary));
-    eprintln!(
-        "wrote {} ({} methods, {:.1} s; metrics {:.0} Mpixel/s, FLIP {:.1} Mpixel/s)",
-        out.join("summary.json").display(),
-        summary.methods.len(),
-        summary.timing.total_ms / 1e3,
-        summary.timing.metric_pixels_per_second / 1e6,
-        summary.timing.flip_pixels_per_second / 1e6
-    );
-    check_validation(r.context())?;
-    let over = compare::exceeded(&summary, &limits);
-    if over.is_empty() {
-        return Ok(ExitCode::SUCCESS);
-    }
-    for (m, k, v, limit) in &over {
-        eprintln!("threshold exceeded: {m} {k} = {v:.6e} > {limit:e}");
-    }
-    Ok(ExitCode::from(EXIT_THRESHOLD))
-}
-
-fn cmd_bench(
-    scene_args: &SceneArgs,
-    dev: &DeviceArgs,
-    list: &str,
-    out: &Path,
-    opts: &crate::bench::BenchOptions,
-) -> Result<ExitCode> {
-    let methods = select_methods(list)?;
-    let scene = load_scene(scene_args)?;
-    let r = renderer(dev)?;
-    let report = crate::bench::bench(&r, &scene, &methods, out, opts)?;
-    println!(
-        "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} repetitions",
-        report.scene,
-        report.width,
-        report.height,
-        report.triangles,
-        report.clock.clock,
-        report.lp_num_threads.as_deref().unwrap_or("unset"),
-        report.repeat
-    );
-    println!(
-        "{:<32} {:>9} {:>19} {:>8} {:>9} {:>8} {:>12}",
-        "program", "median ms", "95% CI ms", "ns/px", "x phong", "floor+ms", report.error_metric
-    );
-    let mut rows: Vec<&crate::bench::MethodTiming> = std::iter::once(&report.floor)
-        .chain(&report.methods)
-        .collect();
-    rows[1..].sort_by(|a, b| a.median_ms.total_cmp(&b.median_ms));
-    for m in rows {
-        let err = m
-            .error
-            .as_ref()
-            .and_then(|e| e.metric(&report.error_metric));
-        println!(
-            "{:<32} {:>9.3} {:>19} {:>8.2} {:>9.3} {:>8.3} {:>12}{}",
-            m.name,
-            m.median_ms,
-            format!("[{:.3}, {:.3}]", m.ci95_low_ms, m.ci95_high_ms),
-            m.ns_per_pixel,
-            m.ratio_to_phong_exact,
-            m.above_floor_ms,
-            err.map(|e| format!("{e:.3e}"))
-                .unwrap_or_else(|| "-".into()),
-            if report.pareto_front.contains(&m.name) {
-                "  pareto"
-            } else {
-                ""
-            }
-        );
-    }
-    for s in &report.sweeps {
-        for (name, per_m, loglog) in &s.slopes {
-            println!(
-                "sweep {:?}: {name}: {per_m:.4} ms per million {}, log-log slope {loglog:.3}",
-                s.sweep, s.work
-            );
-        }
-    }
-    eprintln!(
-        "wrote {} ({:.1} s)",
-        out.join("bench.json").display(),
-        report.total_s
-    );
-    check_validation(r.context())?;
-    Ok(ExitCode::SUCCESS)
-}
-
-fn cmd_list(json: bool) -> Result<ExitCode> {
-    if json {
-        let text =
-            serde_json::to_string_pretty(&serde_json::json!({ "version": 1, "methods": METHODS }))
-                .map_err(|e| Error::Usage(e.to_string()))?;
-        println!("{text}");
-    } else {
-        for m in METHODS {
-            println!("{:<22} {}", m.name, m.description);
-        }
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-fn cmd_mesh(
-    generator: Option<String>,
-    params: &[String],
-    out: Option<PathBuf>,
-    shipped: Option<PathBuf>,
-) -> Result<ExitCode> {
-    if let Some(dir) = shipped {
-        for p in mesh::write_shipped(&dir)? {
-            eprintln!("wrote {}", p.display());
-        }
-        return Ok(ExitCode::SUCCESS);
-    }
-    let (Some(name), Some(out)) = (generator, out) else {
-        return Err(Error::Usage(
-            "give a generator and --out FILE.obj, or --shipped DIR".into(),
-        ));
-    };
-    let g = mesh::parse_generator_args(&name, params)?;
-    let m = g.build()?;
-    mesh::write_obj(&m, &out)?;
-    eprintln!("wrote {} ({} triangles)", out.display(), m.triangle_count());
-    Ok(ExitCode::SUCCESS)
-}
-
-fn cmd_shaders(check: bool, glsl: &Path, spirv: &Path) -> Result<ExitCode> {
-    if check {
-        shaders::check_fresh(glsl, spirv)?;
-        println!("{} is fresh", spirv.display());
-    } else {
-        let n = shaders::write_spirv(glsl, spirv)?;
-        println!("wrote {n} SPIR-V modules to {}", spirv.display());
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-fn cmd_demo(scenes_dir: &Path, out: &Path, dev: &DeviceArgs) -> Result<ExitCode> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(scenes_dir)
-        .map_err(|e| Error::io(scenes_dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    if files.is_empty() {
-        return Err(Error::Usage(format!(
-            "no scene files (*.toml) in {}",
-            scenes_dir.display()
-        )));
-    }
-    let r = renderer(dev)?;
-    let method = methods::find("phong_exact")?;
-    for (i, f) in files.iter().enumerate() {
-        let start = Instant::now();
-        let scene = scene::load_scene(f)?;
-        let prepared = r.prepare(&scene, &[method])?;
-        let gpu = prepared.base();
-        let (frame, _) = r.render(gpu, Shading::Method(method), false)?;
-        let stem = f
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let png = out.join(format!("{stem}.png"));
-        output::write_png_srgb(&png, frame.width, frame.height, &frame.color)?;
-        eprintln!(
-            "[{}/{}] {} -> {} ({}x{}, {} triangles, {:.0} ms)",
-            i + 1,
-            files.len(),
-            f.display(),
-            png.display(),
-            frame.width,
-            frame.height,
-            gpu.inputs.triangle_count(),
-            start.elapsed().as_secs_f64() * 1e3
-        );
-    }
-    check_validation(r.context())?;
-    Ok(ExitCode::SUCCESS)
 }

@@ -8,7 +8,7 @@ use plotters::prelude::*;
 
 use crate::bench::{BenchReport, SweepResult};
 use crate::error::{Error, Result};
-use crate::heatmap::{self, Figure};
+use crate::output::heatmap::{self, Figure};
 
 const SIZE: (u32, u32) = (960, 640);
 /// Errors below this are drawn at this value on the log axis (exact zero has no logarithm).

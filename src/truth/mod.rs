@@ -25,13 +25,16 @@
 //!
 //! The constants are few and each is stated below with its reason. The measured error/bound
 //! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
+pub mod agreement;
+
+pub use agreement::*;
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
-use crate::formulas::Lighting;
-use crate::methods::{Fragment, Method, Shaded};
-use crate::render::{Frame, IdFrame, SceneInputs};
+use crate::frame::IdFrame;
+use crate::method::formulas::Lighting;
+use crate::method::{Fragment, Method, Shaded};
 use crate::scene::Interpolation;
-
+use crate::scene::SceneInputs;
 /// f32 unit roundoff.
 pub const U: f64 = 1.0 / 16_777_216.0;
 /// Roundings per plane-equation evaluation and set-up (2 for a0 + dadx x + dady y, 2 for a0).
@@ -115,7 +118,7 @@ fn weight_gradient(s: [DVec2; 3]) -> f64 {
 }
 
 /// Largest channel / component of |a - b|.
-fn max_diff(a: DVec3, b: DVec3) -> f64 {
+pub(crate) fn max_diff(a: DVec3, b: DVec3) -> f64 {
     (a - b).abs().max_element()
 }
 
@@ -208,199 +211,4 @@ fn bound(
         dc += (color * (lighting.diffuse * rn + lighting.specular * spec)).max_element();
     }
     (2.0 * dw * jc + dc, 2.0 * dw * jn + rn)
-}
-
-/// How a GPU frame agrees with its f64 truth.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Agreement {
-    /// Pixels covered in both.
-    pub covered: usize,
-    /// Pixels covered in one and not the other (must be 0: same rasterization).
-    pub coverage_mismatch: usize,
-    /// Max |GPU - f64| over covered pixels and colour channels.
-    pub max_color_error: f64,
-    /// Max |GPU - f64| over covered pixels and normal components (0 without normals).
-    pub max_normal_error: f64,
-    /// Max of (error / bound) over pixels: <= 1 means within the derived float32 bound.
-    pub max_color_ratio: f64,
-    pub max_normal_ratio: f64,
-    /// Pixel (x, y) of the largest colour ratio.
-    pub worst_pixel: (u32, u32),
-    /// Well-conditioned pixels where the GPU produced NaN or Inf although the f64 value is
-    /// finite and within the f32 range: a failure.
-    pub non_finite: usize,
-    /// Pixels where the f64 value itself exceeds the f32 range (the GPU's Inf or NaN is then the
-    /// expected f32 outcome): counted, not a failure.
-    pub overflow: usize,
-    /// Covered pixels whose weight uncertainty exceeds [`ILL_CONDITIONED`] (screen-space
-    /// slivers): the check is weak there, so they are counted.
-    pub ill_conditioned: usize,
-    /// Ill-conditioned pixels where the GPU produced NaN or Inf: reported, not a failure.
-    pub non_finite_ill_conditioned: usize,
-}
-
-impl Agreement {
-    /// True when every covered pixel is within its bound and coverage matches.
-    pub fn within_bound(&self) -> bool {
-        self.coverage_mismatch == 0
-            && self.non_finite == 0
-            && self.max_color_ratio <= 1.0
-            && self.max_normal_ratio <= 1.0
-    }
-}
-
-fn finite(v: &[f32; 4]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
-/// Compares a GPU frame with its truth, pixel by pixel.
-pub fn agreement(frame: &Frame, truth: &Truth) -> Agreement {
-    let mut a = Agreement {
-        covered: 0,
-        coverage_mismatch: 0,
-        max_color_error: 0.0,
-        max_normal_error: 0.0,
-        max_color_ratio: 0.0,
-        max_normal_ratio: 0.0,
-        worst_pixel: (0, 0),
-        non_finite: 0,
-        overflow: 0,
-        ill_conditioned: 0,
-        non_finite_ill_conditioned: 0,
-    };
-    for (i, t) in truth.pixels.iter().enumerate() {
-        let gc = frame.color[i];
-        let covered = gc[3] > 0.0;
-        let Some(t) = t else {
-            a.coverage_mismatch += covered as usize;
-            continue;
-        };
-        if !covered {
-            a.coverage_mismatch += 1;
-            continue;
-        }
-        a.covered += 1;
-        let ill = t.ill_conditioned();
-        a.ill_conditioned += usize::from(ill);
-        let gn = frame.normal[i];
-        if !finite(&gc) || !finite(&gn) {
-            if t.exceeds_f32() {
-                a.overflow += 1;
-            } else if ill {
-                a.non_finite_ill_conditioned += 1;
-            } else {
-                a.non_finite += 1;
-            }
-            continue;
-        }
-        let ce = max_diff(
-            DVec3::new(gc[0] as f64, gc[1] as f64, gc[2] as f64),
-            t.color,
-        );
-        a.max_color_error = a.max_color_error.max(ce);
-        let cr = ce / t.color_bound;
-        if cr > a.max_color_ratio {
-            a.max_color_ratio = cr;
-            a.worst_pixel = (i as u32 % frame.width, i as u32 / frame.width);
-        }
-        if let Some(n) = t.normal {
-            let ne = max_diff(DVec3::new(gn[0] as f64, gn[1] as f64, gn[2] as f64), n);
-            a.max_normal_error = a.max_normal_error.max(ne);
-            a.max_normal_ratio = a.max_normal_ratio.max(ne / t.normal_bound);
-        }
-    }
-    a
-}
-
-/// A method's error against a reference truth (normally f64 exact Phong), over the pixels
-/// covered in both. Ill-conditioned pixels (screen-space slivers whose weights the rasterizer
-/// extrapolated, see [`ILL_CONDITIONED`]) are counted and left out of the statistics: the
-/// reference itself is not meaningful there.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct ErrorStats {
-    /// Pixels in the statistics.
-    pub covered: usize,
-    /// Pixels covered by only one of the two (different geometry, e.g. `trueform`).
-    pub coverage_mismatch: usize,
-    /// Ill-conditioned pixels left out of the statistics.
-    pub ill_conditioned: usize,
-    /// Well-conditioned pixels with NaN or Inf in the method's colour or normal (not in the
-    /// statistics).
-    pub non_finite: usize,
-    /// Ill-conditioned pixels with NaN or Inf.
-    pub non_finite_ill_conditioned: usize,
-    /// Max and mean over pixels of the largest |colour - reference| channel.
-    pub max_abs_error: f64,
-    pub mean_abs_error: f64,
-    /// Angle between the method's shading normal and the reference's, degrees (`None`
-    /// for methods without a per-pixel normal).
-    pub max_normal_angle_deg: Option<f64>,
-    pub mean_normal_angle_deg: Option<f64>,
-    /// Max ||N'| - 1| of the method's normal.
-    pub max_normal_length_error: Option<f64>,
-}
-
-/// Statistics of `frame` (a method's GPU output, `has_normal` telling whether its normal
-/// target is meaningful) against `reference`.
-pub fn error_stats(frame: &Frame, has_normal: bool, reference: &Truth) -> ErrorStats {
-    let (mut covered, mut mismatch, mut non_finite) = (0usize, 0usize, 0usize);
-    let (mut ill, mut non_finite_ill) = (0usize, 0usize);
-    let (mut max_e, mut sum_e, mut max_a, mut sum_a, mut max_l) =
-        (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (i, t) in reference.pixels.iter().enumerate() {
-        let gc = frame.color[i];
-        let here = gc[3] > 0.0;
-        let Some(t) = t else {
-            mismatch += usize::from(here);
-            continue;
-        };
-        if !here {
-            mismatch += 1;
-            continue;
-        }
-        let gn = frame.normal[i];
-        let bad = !finite(&gc) || (has_normal && !finite(&gn));
-        if t.ill_conditioned() {
-            ill += 1;
-            non_finite_ill += usize::from(bad);
-            continue;
-        }
-        if bad {
-            non_finite += 1;
-            continue;
-        }
-        covered += 1;
-        let e = max_diff(
-            DVec3::new(gc[0] as f64, gc[1] as f64, gc[2] as f64),
-            t.color,
-        );
-        max_e = max_e.max(e);
-        sum_e += e;
-        if let (true, Some(rn)) = (has_normal, t.normal) {
-            let n = DVec3::new(gn[0] as f64, gn[1] as f64, gn[2] as f64);
-            let len = n.length();
-            let cos = if len > 0.0 {
-                (n.dot(rn) / (len * rn.length())).clamp(-1.0, 1.0)
-            } else {
-                -1.0
-            };
-            let angle = cos.acos().to_degrees();
-            max_a = max_a.max(angle);
-            sum_a += angle;
-            max_l = max_l.max((len - 1.0).abs());
-        }
-    }
-    let mean = |s: f64| if covered > 0 { s / covered as f64 } else { 0.0 };
-    ErrorStats {
-        covered,
-        coverage_mismatch: mismatch,
-        ill_conditioned: ill,
-        non_finite,
-        non_finite_ill_conditioned: non_finite_ill,
-        max_abs_error: max_e,
-        mean_abs_error: mean(sum_e),
-        max_normal_angle_deg: has_normal.then_some(max_a),
-        mean_normal_angle_deg: has_normal.then(|| mean(sum_a)),
-        max_normal_length_error: has_normal.then_some(max_l),
-    }
 }

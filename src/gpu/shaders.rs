@@ -4,7 +4,7 @@
 //!
 //! A *program* is a vertex + fragment pair named `<name>.<interpolation>`; its files are
 //! `spirv/<program>.vert.spv` and `spirv/<program>.frag.spv`. Every method of
-//! [`crate::methods::METHODS`] gets one program per interpolation mode, plus the internal `ids`
+//! [`crate::method::METHODS`] gets one program per interpolation mode, plus the internal `ids`
 //! program (triangle index and weights for the f64 truth) and `constant` (the cost floor).
 //!
 //! Freshness: spirv/manifest.json records a SHA-256 over every file of glsl/ and the program
@@ -16,7 +16,7 @@ use std::path::Path;
 use sha2::{Digest, Sha256};
 
 use crate::error::{Error, Result};
-use crate::methods::METHODS;
+use crate::method::METHODS;
 use crate::scene::Interpolation;
 
 include!(concat!(env!("OUT_DIR"), "/spirv_table.rs"));

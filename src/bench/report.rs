@@ -1,0 +1,192 @@
+//! The results of a benchmark: bench.json, bench.csv and the text table.
+use super::*;
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::compare::{self, MethodReport};
+use crate::error::{Error, Result};
+use crate::gpu::spirv::{OpCounts, OpCountsDelta};
+use crate::output;
+use crate::output::Provenance;
+/// One method's (or the floor's) row of bench.json.
+#[derive(Debug, Clone, Serialize)]
+pub struct MethodTiming {
+    pub name: String,
+    pub median_ms: f64,
+    pub ci95_low_ms: f64,
+    pub ci95_high_ms: f64,
+    pub samples: usize,
+    /// The clock the median comes from (`timestamp` or `wall`).
+    pub clock: String,
+    pub wall_median_ms: f64,
+    pub timestamp_median_ms: Option<f64>,
+    /// Covered pixels, counted in the method's own image.
+    pub covered_pixels: usize,
+    /// Fragment-shader invocations from a pipeline-statistics query, and whether they equal
+    /// the covered pixels (only then are they an exact per-fragment count; Mesa 22.3 counts
+    /// whole pixel blocks). `None` without pipeline statistics.
+    pub fragment_invocations: Option<u64>,
+    pub invocations_exact: Option<bool>,
+    pub ns_per_pixel: f64,
+    /// Median minus the constant-colour floor's median (same run).
+    pub above_floor_ms: f64,
+    pub ratio_to_phong_exact: f64,
+    /// (median - floor) / (phong_exact - floor).
+    pub ratio_above_floor_to_phong_exact: f64,
+    /// Static scalar operation counts of the fragment shader, and their excess over
+    /// `phong_unnormalized` (the cost of the normalization itself).
+    pub static_ops: Option<OpCounts>,
+    pub static_ops_above_unnormalized: Option<OpCountsDelta>,
+    /// The error metrics of `compare` (null for the floor).
+    pub error: Option<MethodReport>,
+}
+
+/// A claim of the seeds, measured.
+#[derive(Debug, Clone, Serialize)]
+pub struct ClaimCheck {
+    pub method: String,
+    pub claim: String,
+    pub measured: String,
+    /// `agrees`, `disagrees`, `partly`, `not_applicable` or `not_checked`.
+    pub verdict: String,
+    pub reason: String,
+}
+
+/// One point of a sweep.
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepPoint {
+    pub program: String,
+    /// Pixels (size sweep) or triangles (triangle sweep).
+    pub work: f64,
+    pub width: u32,
+    pub height: u32,
+    pub triangles: usize,
+    pub covered_pixels: usize,
+    pub median_ms: f64,
+    pub ci95_low_ms: f64,
+    pub ci95_high_ms: f64,
+}
+
+/// A sweep and its fitted slopes.
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepResult {
+    pub sweep: Sweep,
+    /// "covered pixels" or "triangles".
+    pub work: String,
+    pub points: Vec<SweepPoint>,
+    /// Per program: least-squares slope of median_ms against work (ms per million units) and
+    /// the log-log slope (1 = linear scaling).
+    pub slopes: Vec<(String, f64, f64)>,
+}
+
+/// DIR/bench.json.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchReport {
+    pub schema_version: u32,
+    pub provenance: Provenance,
+    pub cpu_model: String,
+    pub lp_num_threads: Option<String>,
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub triangles: usize,
+    pub repeat: usize,
+    pub warmup: usize,
+    pub clock: ClockCheck,
+    pub error_metric: String,
+    pub floor: MethodTiming,
+    pub methods: Vec<MethodTiming>,
+    /// Names of the non-dominated methods (time, error).
+    pub pareto_front: Vec<String>,
+    pub claims: Vec<ClaimCheck>,
+    pub sweeps: Vec<SweepResult>,
+    pub total_s: f64,
+}
+/// Writes every output of a bench run.
+pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
+    let json = serde_json::to_string_pretty(r).map_err(|e| Error::Usage(e.to_string()))? + "\n";
+    output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())?;
+    output::write_atomic(&out.join("bench.csv"), |w| {
+        let mut c = csv::Writer::from_writer(w);
+        let mut header: Vec<String> = [
+            "name",
+            "median_ms",
+            "ci95_low_ms",
+            "ci95_high_ms",
+            "samples",
+            "clock",
+            "wall_median_ms",
+            "timestamp_median_ms",
+            "covered_pixels",
+            "ns_per_pixel",
+            "above_floor_ms",
+            "ratio_to_phong_exact",
+            "ratio_above_floor_to_phong_exact",
+            "ops_div",
+            "ops_sqrt",
+            "ops_inverse_sqrt",
+            "ops_mul",
+            "ops_add",
+            "ops_pow",
+        ]
+        .map(String::from)
+        .to_vec();
+        header.extend(compare::METRICS.iter().map(|m| m.to_string()));
+        c.write_record(&header).map_err(std::io::Error::other)?;
+        for m in std::iter::once(&r.floor).chain(&r.methods) {
+            let o = |v: Option<f64>| v.map(|x| format!("{x:e}")).unwrap_or_default();
+            let ops = m.static_ops;
+            let mut row = vec![
+                m.name.clone(),
+                format!("{:e}", m.median_ms),
+                format!("{:e}", m.ci95_low_ms),
+                format!("{:e}", m.ci95_high_ms),
+                m.samples.to_string(),
+                m.clock.clone(),
+                format!("{:e}", m.wall_median_ms),
+                o(m.timestamp_median_ms),
+                m.covered_pixels.to_string(),
+                format!("{:e}", m.ns_per_pixel),
+                format!("{:e}", m.above_floor_ms),
+                format!("{:e}", m.ratio_to_phong_exact),
+                format!("{:e}", m.ratio_above_floor_to_phong_exact),
+            ];
+            for f in [
+                |o: &OpCounts| o.div,
+                |o: &OpCounts| o.sqrt,
+                |o: &OpCounts| o.inverse_sqrt,
+                |o: &OpCounts| o.mul,
+                |o: &OpCounts| o.add,
+                |o: &OpCounts| o.pow,
+            ] {
+                row.push(ops.map(|x| f(&x).to_string()).unwrap_or_default());
+            }
+            for k in compare::METRICS {
+                row.push(o(m.error.as_ref().and_then(|e| e.metric(k))));
+            }
+            c.write_record(&row).map_err(std::io::Error::other)?;
+        }
+        c.flush()
+    })?;
+    let claims =
+        serde_json::to_string_pretty(&r.claims).map_err(|e| Error::Usage(e.to_string()))? + "\n";
+    output::write_bytes_atomic(&out.join("claims.json"), claims.as_bytes())?;
+    let mut md = String::from("# The seeds' claims, measured\n\n");
+    md += &format!(
+        "{} at {}x{} on {} ({}), clock: {}. Written by `shadelab bench`.\n\n| method | claim | measured | verdict | why |\n|---|---|---|---|---|\n",
+        r.scene, r.width, r.height, r.provenance.device, r.provenance.driver_info, r.clock.clock
+    );
+    for c in &r.claims {
+        md += &format!(
+            "| {} | {} | {} | {} | {} |\n",
+            c.method, c.claim, c.measured, c.verdict, c.reason
+        );
+    }
+    output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
+    crate::bench::chart::pareto(out, r)?;
+    for s in &r.sweeps {
+        crate::bench::chart::sweep(out, s)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,18 @@
+//! `shadelab list`: the method table as text or JSON.
+use std::process::ExitCode;
+
+use crate::error::{Error, Result};
+use crate::method::METHODS;
+pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
+    if json {
+        let text =
+            serde_json::to_string_pretty(&serde_json::json!({ "version": 1, "methods": METHODS }))
+                .map_err(|e| Error::Usage(e.to_string()))?;
+        println!("{text}");
+    } else {
+        for m in METHODS {
+            println!("{:<22} {}", m.name, m.description);
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

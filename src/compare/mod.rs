@@ -1,0 +1,377 @@
+//! `shadelab compare`: every method against the f64 exact-Phong truth, per covered pixel.
+//! Statistics (intensity per channel and luminance, normal angle and length, FLIP), heatmaps
+//! with colorbars, DIR/summary.json (schema in docs/summary.schema.json), DIR/summary.csv and a
+//! text table. Background pixels are excluded from every statistic and counted separately;
+//! pixels covered by only one of method and reference (a method that changes the geometry)
+//! are counted as coverage mismatches; ill-conditioned sliver pixels (src/truth.rs) are counted
+//! and left out.
+use crate::analysis::flip::{flip, srgb_rgb8};
+use crate::analysis::pixel::{channel_stats, d3, fields, intensity_stats};
+use crate::analysis::stats::percentile;
+pub mod summary;
+#[cfg(test)]
+mod tests;
+
+use std::path::Path;
+use std::time::Instant;
+pub use summary::*;
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use crate::gpu::{Renderer, Shading};
+use crate::method::{self, Method};
+use crate::output;
+use crate::output::heatmap::{self, HeatmapDesc, Scale};
+use crate::output::Provenance;
+use crate::scene::Scene;
+use crate::truth::{self, Truth};
+/// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
+/// removes or renames a field.
+pub const SCHEMA_VERSION: u32 = 1;
+/// Default heatmap scales, shared by all methods so images compare side by side.
+pub const FIXED_ABS: Scale = Scale::Log { lo: 1e-5, hi: 1.0 };
+pub const FIXED_SIGNED: Scale = Scale::Linear { lo: -0.1, hi: 0.1 };
+pub const FIXED_ANGLE: Scale = Scale::Linear { lo: 0.0, hi: 10.0 };
+
+/// Heatmap scaling: shared fixed scales, or per image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum ScaleMode {
+    Fixed,
+    Auto,
+}
+
+/// Options of a comparison.
+#[derive(Debug, Clone)]
+pub struct CompareOptions {
+    pub scale: ScaleMode,
+    /// Luminance error above which a pixel counts in `pixels_above_threshold`.
+    pub threshold: f64,
+    /// Show a progress bar on stderr (only drawn when stderr is a terminal).
+    pub progress: bool,
+    /// Write render.png and the heatmaps (`bench` needs only the statistics).
+    pub images: bool,
+}
+
+impl Default for CompareOptions {
+    fn default() -> Self {
+        CompareOptions {
+            scale: ScaleMode::Fixed,
+            threshold: 1.0 / 255.0,
+            progress: false,
+            images: true,
+        }
+    }
+}
+fn rel(dir: &str, file: &str) -> String {
+    format!("{dir}/{file}")
+}
+
+/// One heatmap to draw: file, values, colorbar label, colormap, scale, and whether it applies.
+type MapSpec<'a> = (
+    &'static str,
+    &'a [Option<f64>],
+    &'static str,
+    colorous::Gradient,
+    Scale,
+    bool,
+);
+
+/// What the workers of [`compare`] share.
+struct Analysis<'a> {
+    reference: &'a Truth,
+    ref8: &'a [u8],
+    out: &'a Path,
+    opts: &'a CompareOptions,
+    width: u32,
+    height: u32,
+}
+
+/// CPU time of one method's analysis phases.
+struct PhaseTimes {
+    metrics_ms: f64,
+    flip_ms: f64,
+    png_ms: f64,
+}
+
+impl Analysis<'_> {
+    /// Statistics, FLIP, render.png and the heatmaps of one method's frame.
+    fn analyse(&self, m: &Method, frame: &Frame) -> Result<(MethodReport, PhaseTimes)> {
+        let (w, h) = (self.width, self.height);
+        let t = Instant::now();
+        let f = fields(frame, m.has_normal, self.reference);
+        let intensity = intensity_stats(&f.errors, self.opts.threshold);
+        let channels = [
+            channel_stats(&f.channels[0]),
+            channel_stats(&f.channels[1]),
+            channel_stats(&f.channels[2]),
+        ];
+        let mut angles = f.angles.clone();
+        let (max_a, mean_a, p99_a) = if m.has_normal {
+            let n = angles.len().max(1) as f64;
+            (
+                Some(angles.iter().fold(0.0f64, |a, &b| a.max(b))),
+                Some(angles.iter().sum::<f64>() / n),
+                Some(percentile(&mut angles, 99.0)),
+            )
+        } else {
+            (None, None, None)
+        };
+        let metrics_ms = t.elapsed().as_secs_f64() * 1e3;
+
+        let t = Instant::now();
+        let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
+        let (flip_mean, flip_p95) = flip(self.ref8, &test8, w, h, &f.both);
+        let flip_ms = t.elapsed().as_secs_f64() * 1e3;
+
+        let t = Instant::now();
+        let dir = self.out.join(m.name);
+        let mut files = Vec::new();
+        if self.opts.images {
+            files.push(rel(m.name, "render.png"));
+            output::write_png_srgb(&dir.join("render.png"), w, h, &frame.color)?;
+        }
+        let (abs_scale, signed_scale, angle_scale) = match self.opts.scale {
+            ScaleMode::Fixed => (FIXED_ABS, FIXED_SIGNED, FIXED_ANGLE),
+            ScaleMode::Auto => {
+                let mx = intensity.max_abs_error.max(1e-9);
+                (
+                    Scale::Log {
+                        lo: mx * 1e-4,
+                        hi: mx,
+                    },
+                    Scale::Linear { lo: -mx, hi: mx },
+                    Scale::Linear {
+                        lo: 0.0,
+                        hi: max_a.unwrap_or(0.0).max(1e-6),
+                    },
+                )
+            }
+        };
+        let maps: [MapSpec; 3] = [
+            (
+                "error_abs.png",
+                &f.abs,
+                "|dI| luminance (linear)",
+                colorous::MAGMA,
+                abs_scale,
+                true,
+            ),
+            (
+                "error_signed.png",
+                &f.signed,
+                "dI = method - reference",
+                colorous::RED_BLUE,
+                signed_scale,
+                true,
+            ),
+            (
+                "error_angle.png",
+                &f.angle,
+                "normal angle error (deg)",
+                colorous::MAGMA,
+                angle_scale,
+                m.has_normal,
+            ),
+        ];
+        for (file, values, label, gradient, scale, wanted) in maps {
+            if !wanted || !self.opts.images {
+                continue;
+            }
+            let fig = heatmap::render(
+                values,
+                w,
+                h,
+                &HeatmapDesc {
+                    label,
+                    gradient,
+                    scale,
+                },
+            )?;
+            heatmap::write_png(&dir.join(file), &fig)?;
+            files.push(rel(m.name, file));
+        }
+        let png_ms = t.elapsed().as_secs_f64() * 1e3;
+
+        let report = MethodReport {
+            name: m.name.to_string(),
+            reference: REFERENCE.to_string(),
+            covered_pixels: f.errors.len(),
+            coverage_mismatch_pixels: f.mismatch,
+            ill_conditioned_pixels: f.ill,
+            non_finite_pixels: f.non_finite,
+            intensity,
+            channels,
+            max_normal_angle_deg: max_a,
+            mean_normal_angle_deg: mean_a,
+            p99_normal_angle_deg: p99_a,
+            max_normal_length_error: m.has_normal.then_some(f.max_len),
+            flip_mean,
+            flip_p95,
+            files,
+        };
+        Ok((
+            report,
+            PhaseTimes {
+                metrics_ms,
+                flip_ms,
+                png_ms,
+            },
+        ))
+    }
+}
+
+/// Runs the comparison of `methods` on `scene` and writes everything into `out`.
+pub fn compare(
+    renderer: &Renderer,
+    scene: &Scene,
+    methods_: &[&'static Method],
+    out: &Path,
+    opts: &CompareOptions,
+) -> Result<Summary> {
+    let start = Instant::now();
+    let exact = method::find("phong_exact")?;
+    let mut all = methods_.to_vec();
+    if !all.iter().any(|m| m.name == exact.name) {
+        all.push(exact);
+    }
+    let prepared = renderer.prepare(scene, &all)?;
+    let base = prepared.base();
+    let (w, h) = (base.inputs.width, base.inputs.height);
+
+    // The reference: f64 exact Phong at the rasterizer's weights on the scene's own triangles.
+    let t0 = Instant::now();
+    let (_, ids) = renderer.render(base, Shading::Method(exact), true)?;
+    let ids = ids.ok_or_else(|| Error::Device("the id pass returned nothing".into()))?;
+    let reference = truth::evaluate(&base.inputs, &ids, exact);
+    let background = reference.pixels.iter().filter(|p| p.is_none()).count();
+    let ref_colors: Vec<DVec3> = reference
+        .pixels
+        .iter()
+        .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO))
+        .collect();
+    let ref8 = srgb_rgb8(ref_colors.iter().copied());
+    let ref_rgba: Vec<[f32; 4]> = reference
+        .pixels
+        .iter()
+        .map(|p| {
+            p.map(|p| [p.color.x as f32, p.color.y as f32, p.color.z as f32, 1.0])
+                .unwrap_or([0.0; 4])
+        })
+        .collect();
+    if opts.images {
+        output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)?;
+    }
+    let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
+
+    let bar = progress_bar(opts.progress, methods_.len() as u64);
+    // Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
+    // into statistics, FLIP and PNGs. The bounded channel keeps at most two frames waiting.
+    let ctx = Analysis {
+        reference: &reference,
+        ref8: &ref8,
+        out,
+        opts,
+        width: w,
+        height: h,
+    };
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, &'static Method, Frame)>(2);
+    let rx = std::sync::Mutex::new(rx);
+    let results = std::sync::Mutex::new(Vec::new());
+    let mut render_ms = 0.0;
+    let render_result: Result<()> = std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| loop {
+                let job = match rx.lock() {
+                    Ok(r) => r.recv(),
+                    Err(_) => return,
+                };
+                let Ok((i, m, frame)) = job else { return };
+                bar.set_message(m.name);
+                let r = ctx.analyse(m, &frame);
+                bar.inc(1);
+                if let Ok(mut v) = results.lock() {
+                    v.push((i, r));
+                }
+            });
+        }
+        for (i, m) in methods_.iter().enumerate() {
+            let t = Instant::now();
+            let (frame, _) = renderer.render(prepared.for_method(m), Shading::Method(m), false)?;
+            render_ms += t.elapsed().as_secs_f64() * 1e3;
+            if tx.send((i, m, frame)).is_err() {
+                break;
+            }
+        }
+        drop(tx);
+        Ok(())
+    });
+    render_result?;
+    bar.finish_and_clear();
+    let mut results = results
+        .into_inner()
+        .map_err(|_| Error::Device("a compare worker panicked".into()))?;
+    results.sort_by_key(|(i, _)| *i);
+    let (mut metrics_ms, mut flip_ms, mut png_ms, mut metric_pixels) = (0.0, 0.0, 0.0, 0usize);
+    let mut reports = Vec::new();
+    for (_, r) in results {
+        let (report, t) = r?;
+        metrics_ms += t.metrics_ms;
+        flip_ms += t.flip_ms;
+        png_ms += t.png_ms;
+        metric_pixels += report.covered_pixels;
+        reports.push(report);
+    }
+    if reports.len() != methods_.len() {
+        return Err(Error::Device("a compare worker stopped early".into()));
+    }
+    let secs = |ms: f64| (ms / 1e3).max(1e-9);
+    let summary = Summary {
+        schema_version: SCHEMA_VERSION,
+        provenance: Provenance::new(renderer.context().info()),
+        scene: scene.name.clone(),
+        scene_source: scene.mesh.source.clone(),
+        triangles: base.inputs.triangle_count(),
+        width: w,
+        height: h,
+        interpolation: crate::gpu::shaders::interpolation_tag(scene.interpolation)
+            .0
+            .to_string(),
+        reference: REFERENCE.to_string(),
+        background_pixels: background,
+        threshold: opts.threshold,
+        scale: opts.scale,
+        timing: Timing {
+            total_ms: start.elapsed().as_secs_f64() * 1e3,
+            render_ms,
+            reference_ms,
+            metrics_ms,
+            flip_ms,
+            png_ms,
+            metric_pixels_per_second: metric_pixels as f64 / secs(metrics_ms),
+            flip_pixels_per_second: (w as f64 * h as f64 * methods_.len() as f64) / secs(flip_ms),
+        },
+        methods: reports,
+    };
+    if opts.images {
+        write_summary(out, &summary)?;
+    }
+    Ok(summary)
+}
+
+fn progress_bar(enabled: bool, n: u64) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !enabled || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(n);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
+    {
+        bar.set_style(style);
+    }
+    bar
+}

@@ -1,0 +1,577 @@
+//! OBJ reading (a validating pass with `file:line` errors, then tobj, cross-checked) and OBJ
+//! writing (deduplicated, shortest round-trip floats, atomic).
+use super::*;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+use crate::output::write_atomic;
+/// One face corner as the validation pass saw it (0-based, relative indices resolved).
+#[derive(Debug, Clone, Copy)]
+struct Corner {
+    position: usize,
+    normal: Option<usize>,
+}
+/// One `f` statement: `corners[first..first + len]`.
+#[derive(Debug, Clone, Copy)]
+struct Face {
+    first: usize,
+    len: usize,
+}
+/// Result of the validation pass.
+#[derive(Debug, Default)]
+struct Parsed {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    texcoord_count: usize,
+    faces: Vec<Face>,
+    corners: Vec<Corner>,
+    had_polygons: bool,
+    skipped_elements: usize,
+    /// Normalized copy of the geometry statements for tobj (see the module doc).
+    tobj_text: String,
+}
+/// Loads a Wavefront OBJ file into a fitted triangle soup.
+///
+/// - Faces with more than 3 vertices are triangulated as fans (tobj's triangulation).
+/// - Normals given in the file are kept per corner (split normals included) and normalized;
+///   a zero-length given normal counts as missing.
+/// - Corners without a normal get a smooth normal: the angle-weighted sum of the face normals
+///   of the non-degenerate triangles around the same *position index* (so texture-coordinate
+///   seams do not split the shading). Where those face normals cancel out (two-sided sheets),
+///   the corner takes its own face normal and a warning says how often that happened.
+/// - Zero-area triangles ([`is_zero_area`]) are dropped and counted.
+/// - The result is fitted with [`fit_unit`].
+/// - `l` and `p` elements, groups, materials and smoothing groups are ignored; texture
+///   coordinates and vertex colours are validated, then ignored.
+///
+/// Errors: a missing or unreadable file is [`Error::Io`]; malformed statements, indices out of
+/// range (positive, zero or relative), non-finite coordinates and faces with fewer than 3
+/// vertices are [`Error::Input`] with the 1-based line; a file that leaves no triangles is
+/// [`Error::Input`] without a line.
+pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport)> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    // Lossy: a stray Latin-1 byte in a comment must not reject the file; in a number it turns
+    // into U+FFFD and fails number parsing with the line reported.
+    let text = String::from_utf8_lossy(&bytes);
+    let parsed = validate_obj(path, &text)?;
+    if parsed.faces.is_empty() {
+        return Err(Error::input(
+            path,
+            None,
+            "no triangles: the file has no faces (`f` statements)",
+        ));
+    }
+    let tobj_models = run_tobj(path, &parsed.tobj_text)?;
+    build_from_parsed(path, &parsed, &tobj_models)
+}
+/// Parses `tok` as an f32 coordinate that must be finite.
+fn parse_coord(tok: &str, what: &str, which: usize) -> std::result::Result<f32, String> {
+    match tok.parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(_) => Err(format!(
+            "{what} {which} is `{tok}`, which is not a finite number (NaN, infinity or beyond the f32 range)"
+        )),
+        Err(_) => Err(format!("{what} {which} is `{tok}`, which is not a number")),
+    }
+}
+/// Resolves a 1-based or negative (relative) OBJ index against the `count` elements defined so
+/// far; returns the 0-based index or a message naming the problem.
+fn resolve_index(
+    raw: &str,
+    count: usize,
+    kind: &str,
+    singular: &str,
+    plural: &str,
+) -> std::result::Result<usize, String> {
+    let idx: i64 = raw
+        .parse()
+        .map_err(|_| format!("face {kind}index `{raw}` is not an integer"))?;
+    if idx > 0 {
+        let i = (idx - 1) as usize;
+        if i >= count {
+            return Err(format!(
+                "face {kind}index {idx} is past the {count} {plural} defined so far"
+            ));
+        }
+        Ok(i)
+    } else if idx == 0 {
+        Err(format!(
+            "face {kind}index 0 is invalid: OBJ indices start at 1 (negative ones count back from the last {singular})"
+        ))
+    } else {
+        let r = count as i64 + idx;
+        if r < 0 {
+            return Err(format!(
+                "relative face {kind}index {idx} points before the first {singular}: only {count} {plural} are defined so far"
+            ));
+        }
+        Ok(r as usize)
+    }
+}
+/// The validation pass: checks every statement, collects positions, normals and faces, and
+/// writes the normalized copy for tobj. Errors carry the 1-based line.
+fn validate_obj(path: &Path, text: &str) -> Result<Parsed> {
+    let mut p = Parsed {
+        tobj_text: String::with_capacity(text.len()),
+        ..Parsed::default()
+    };
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let err = |msg: String| Error::input(path, Some(line), msg);
+        // OBJ comments run from '#' to the end of the line; tobj only knows whole-line ones.
+        let content = raw.split_once('#').map_or(raw, |(c, _)| c);
+        let mut words = content.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        let args: Vec<&str> = words.collect();
+        match keyword {
+            "v" => {
+                // x y z, optionally w (tobj divides by it) or r g b (a common extension).
+                if args.len() < 3 {
+                    return Err(err(format!(
+                        "vertex needs 3 coordinates (x y z), found {}: `{}`",
+                        args.len(),
+                        content.trim()
+                    )));
+                }
+                if !matches!(args.len(), 3 | 4 | 6) {
+                    return Err(err(format!(
+                        "vertex has {} numbers; expected x y z, optionally followed by w or by r g b",
+                        args.len()
+                    )));
+                }
+                let mut xyz = [0f32; 3];
+                for (k, tok) in args[..3].iter().enumerate() {
+                    xyz[k] = parse_coord(tok, "vertex coordinate", k + 1).map_err(&err)?;
+                }
+                if args.len() == 4 {
+                    let w = parse_coord(args[3], "vertex coordinate", 4).map_err(&err)?;
+                    if w == 0.0 {
+                        return Err(err(
+                            "vertex weight w is 0, which would divide the position by zero".into(),
+                        ));
+                    }
+                    // Same f32 arithmetic as tobj, so the cross-check compares equal values.
+                    for c in &mut xyz {
+                        *c /= w;
+                    }
+                    if xyz.iter().any(|c| !c.is_finite()) {
+                        return Err(err(format!(
+                            "vertex divided by its weight w = {w} is not finite"
+                        )));
+                    }
+                    writeln!(
+                        p.tobj_text,
+                        "v {} {} {} {}",
+                        args[0], args[1], args[2], args[3]
+                    )
+                    .ok();
+                } else {
+                    for tok in &args[3..] {
+                        parse_coord(tok, "vertex colour component", 1).map_err(&err)?;
+                    }
+                    writeln!(p.tobj_text, "v {} {} {}", args[0], args[1], args[2]).ok();
+                }
+                p.positions.push(xyz);
+            }
+            "vn" => {
+                if args.len() != 3 {
+                    return Err(err(format!(
+                        "normal needs exactly 3 coordinates (x y z), found {}: `{}`",
+                        args.len(),
+                        content.trim()
+                    )));
+                }
+                let mut n = [0f32; 3];
+                for (k, tok) in args.iter().enumerate() {
+                    n[k] = parse_coord(tok, "normal coordinate", k + 1).map_err(&err)?;
+                }
+                writeln!(p.tobj_text, "vn {} {} {}", args[0], args[1], args[2]).ok();
+                p.normals.push(n);
+            }
+            "vt" => {
+                if args.is_empty() || args.len() > 3 {
+                    return Err(err(format!(
+                        "texture coordinate needs 1 to 3 numbers (u [v [w]]), found {}",
+                        args.len()
+                    )));
+                }
+                for (k, tok) in args.iter().enumerate() {
+                    parse_coord(tok, "texture coordinate", k + 1).map_err(&err)?;
+                }
+                p.texcoord_count += 1;
+            }
+            "f" => {
+                if args.len() < 3 {
+                    return Err(err(format!(
+                        "face has {} vertices; a face needs at least 3 (points and lines belong on `p`/`l` statements)",
+                        args.len()
+                    )));
+                }
+                let first = p.corners.len();
+                p.tobj_text.push('f');
+                for tok in &args {
+                    let parts: Vec<&str> = tok.split('/').collect();
+                    if parts.len() > 3 {
+                        return Err(err(format!(
+                            "face vertex `{tok}` has {} '/'-separated parts; expected v, v/vt, v//vn or v/vt/vn",
+                            parts.len()
+                        )));
+                    }
+                    if parts[0].is_empty() {
+                        return Err(err(format!("face vertex `{tok}` has no position index")));
+                    }
+                    let position =
+                        resolve_index(parts[0], p.positions.len(), "", "vertex", "vertices")
+                            .map_err(&err)?;
+                    if let Some(vt) = parts.get(1).filter(|s| !s.is_empty()) {
+                        resolve_index(
+                            vt,
+                            p.texcoord_count,
+                            "texture coordinate ",
+                            "texture coordinate",
+                            "texture coordinates",
+                        )
+                        .map_err(&err)?;
+                    }
+                    let normal = match parts.get(2).filter(|s| !s.is_empty()) {
+                        Some(vn) => Some(
+                            resolve_index(vn, p.normals.len(), "normal ", "normal", "normals")
+                                .map_err(&err)?,
+                        ),
+                        None => None,
+                    };
+                    // Absolute indices: tobj's relative-index handling never comes into play.
+                    match normal {
+                        Some(n) => write!(p.tobj_text, " {}//{}", position + 1, n + 1).ok(),
+                        None => write!(p.tobj_text, " {}", position + 1).ok(),
+                    };
+                    p.corners.push(Corner { position, normal });
+                }
+                p.tobj_text.push('\n');
+                p.had_polygons |= args.len() > 3;
+                p.faces.push(Face {
+                    first,
+                    len: args.len(),
+                });
+            }
+            "l" | "p" => p.skipped_elements += 1,
+            // Groups, objects, smoothing groups, materials, free-form geometry: not ours to draw.
+            _ => {}
+        }
+    }
+    Ok(p)
+}
+/// Runs tobj on the normalized text; tobj errors carry no line (our pass should have caught
+/// everything tobj rejects, so reaching this is unexpected).
+fn run_tobj(path: &Path, text: &str) -> Result<Vec<tobj::Model>> {
+    // `..Default::default()` covers tobj's feature-gated fields (`merge_identical_points`,
+    // `reorder_data`) should another crate in the graph enable those features.
+    #[allow(clippy::needless_update)]
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let mut reader = text.as_bytes();
+    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| Error::input(path, None, format!("tobj could not load the file: {e}")))?;
+    Ok(models)
+}
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+/// Expands tobj's triangles into the soup, cross-checking them against the validation pass,
+/// drops zero-area triangles, fills in normals and fits the result.
+fn build_from_parsed(
+    path: &Path,
+    parsed: &Parsed,
+    models: &[tobj::Model],
+) -> Result<(Mesh, LoadReport)> {
+    let expected: usize = parsed.faces.iter().map(|f| f.len - 2).sum();
+    let got: usize = models.iter().map(|m| m.mesh.indices.len() / 3).sum();
+    let mismatch = |what: String| {
+        Error::input(
+            path,
+            None,
+            format!("internal error: tobj and the validation pass disagree ({what}); please report this file"),
+        )
+    };
+    if got != expected {
+        return Err(mismatch(format!(
+            "{got} triangles from tobj, {expected} expected"
+        )));
+    }
+
+    // Source corners of every triangle, in file order: tobj triangulates each face as a fan
+    // (0, k+1, k+2) and keeps faces in file order; models follow each other in file order.
+    let mut tri_corners: Vec<[Corner; 3]> = Vec::with_capacity(expected);
+    for f in &parsed.faces {
+        let c = &parsed.corners[f.first..f.first + f.len];
+        for k in 0..f.len - 2 {
+            tri_corners.push([c[0], c[k + 1], c[k + 2]]);
+        }
+    }
+    let mut t = 0usize;
+    for m in models {
+        let mesh = &m.mesh;
+        for (k, &local) in mesh.indices.iter().enumerate() {
+            let corner = tri_corners[t + k / 3][k % 3];
+            let l = local as usize * 3;
+            let tp = mesh
+                .positions
+                .get(l..l + 3)
+                .ok_or_else(|| mismatch("position index out of range".into()))?;
+            if tp != parsed.positions[corner.position] {
+                return Err(mismatch(format!("position of triangle {}", t + k / 3 + 1)));
+            }
+            if let Some(n) = corner.normal {
+                let ni = *mesh
+                    .normal_indices
+                    .get(k)
+                    .ok_or_else(|| mismatch("missing normal index".into()))?
+                    as usize
+                    * 3;
+                let tn = mesh
+                    .normals
+                    .get(ni..ni + 3)
+                    .ok_or_else(|| mismatch("normal index out of range".into()))?;
+                if tn != parsed.normals[n] {
+                    return Err(mismatch(format!("normal of triangle {}", t + k / 3 + 1)));
+                }
+            }
+        }
+        t += mesh.indices.len() / 3;
+    }
+
+    // Drop zero-area triangles.
+    let mut kept: Vec<[Corner; 3]> = Vec::with_capacity(tri_corners.len());
+    for tri in &tri_corners {
+        let [a, b, c] = tri.map(|k| dvec(parsed.positions[k.position]));
+        if !is_zero_area(a, b, c) {
+            kept.push(*tri);
+        }
+    }
+    let dropped = tri_corners.len() - kept.len();
+    if kept.is_empty() {
+        return Err(Error::input(
+            path,
+            None,
+            format!(
+                "no triangles: all {} of the file's triangles have zero area",
+                tri_corners.len()
+            ),
+        ));
+    }
+
+    // Given normals, normalized; zero-length ones count as missing.
+    let mut zero_given = 0usize;
+    let mut given_count = 0usize;
+    let given = |c: &Corner, zero_given: &mut usize| -> Option<DVec3> {
+        let n = dvec(parsed.normals[c.normal?]);
+        let len = n.length();
+        if len > 0.0 {
+            Some(n / len)
+        } else {
+            *zero_given += 1;
+            None
+        }
+    };
+
+    // Smooth normals, accumulated per position index, only if some corner needs one.
+    let lacks_normal = |c: &Corner| c.normal.is_none_or(|n| parsed.normals[n] == [0.0; 3]);
+    let needs_smooth = kept.iter().flatten().any(lacks_normal);
+    let mut acc = Vec::new();
+    let mut weight = Vec::new();
+    if needs_smooth {
+        acc = vec![DVec3::ZERO; parsed.positions.len()];
+        weight = vec![0f64; parsed.positions.len()];
+        for tri in &kept {
+            let p = tri.map(|k| dvec(parsed.positions[k.position]));
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+            for j in 0..3 {
+                let e1 = p[(j + 1) % 3] - p[j];
+                let e2 = p[(j + 2) % 3] - p[j];
+                // atan2 stays accurate for angles near 0 and pi, where acos of a dot does not.
+                let angle = e1.cross(e2).length().atan2(e1.dot(e2));
+                acc[tri[j].position] += n * angle;
+                weight[tri[j].position] += angle;
+            }
+        }
+    }
+
+    let mut positions = Vec::with_capacity(kept.len() * 3);
+    let mut normals = Vec::with_capacity(kept.len() * 3);
+    let mut computed = 0usize;
+    let mut cancelled = 0usize;
+    for tri in &kept {
+        let p = tri.map(|k| dvec(parsed.positions[k.position]));
+        for c in tri {
+            positions.push(parsed.positions[c.position]);
+            let n = match given(c, &mut zero_given) {
+                Some(n) => {
+                    given_count += 1;
+                    n
+                }
+                None => {
+                    computed += 1;
+                    let s = acc[c.position];
+                    let len = s.length();
+                    // Cancellation: neighbouring faces point in (nearly) opposite directions, so
+                    // their sum has no meaningful direction. The threshold is relative to the
+                    // total corner angle, so small but consistent fans are unaffected.
+                    if len > 1e-6 * weight[c.position] && len > 0.0 {
+                        s / len
+                    } else {
+                        cancelled += 1;
+                        (p[1] - p[0]).cross(p[2] - p[0]).normalize()
+                    }
+                }
+            };
+            normals.push(n.as_vec3().to_array());
+        }
+    }
+
+    let mut warnings = Vec::new();
+    if dropped > 0 {
+        warnings.push(format!(
+            "dropped {} (height below 1e-12 x longest edge)",
+            plural(dropped, "zero-area triangle", "zero-area triangles")
+        ));
+    }
+    if parsed.skipped_elements > 0 {
+        warnings.push(format!(
+            "ignored {}: only faces are drawn",
+            plural(
+                parsed.skipped_elements,
+                "point/line element (`p`/`l`)",
+                "point/line elements (`p`/`l`)"
+            )
+        ));
+    }
+    if zero_given > 0 {
+        warnings.push(format!(
+            "{} had a zero-length normal in the file; computed smooth normals for them instead",
+            plural(zero_given, "face corner", "face corners")
+        ));
+    }
+    if computed > 0 && given_count > 0 {
+        warnings.push(format!(
+            "{computed} of {} face corners had no usable normal in the file; computed smooth normals for them",
+            computed + given_count
+        ));
+    }
+    // Smoothing follows the file's position indices, as the format's topology says; a position
+    // written twice (the Utah teapot's patch seams) therefore splits the shading there.
+    let mut first_index: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut repeated: HashMap<[u32; 3], ()> = HashMap::new();
+    for c in kept.iter().flatten().filter(|c| lacks_normal(c)) {
+        let key = parsed.positions[c.position].map(f32::to_bits);
+        if *first_index.entry(key).or_insert(c.position) != c.position {
+            repeated.insert(key, ());
+        }
+    }
+    if !repeated.is_empty() {
+        warnings.push(format!(
+            "computed normals are smoothed per vertex index, so the shading splits at {} defined under more than one index (weld the mesh to smooth across them)",
+            plural(repeated.len(), "position", "positions")
+        ));
+    }
+    if cancelled > 0 {
+        warnings.push(format!(
+            "{}: the neighbouring face normals cancel out (two-sided or folded surface), used the face normal",
+            plural(cancelled, "face corner", "face corners")
+        ));
+    }
+
+    let mut mesh = Mesh {
+        positions,
+        normals,
+        source: path.display().to_string(),
+    };
+    fit_unit(&mut mesh);
+    let report = LoadReport {
+        triangles: kept.len(),
+        dropped_zero_area: dropped,
+        computed_normals: computed > 0,
+        had_quads_or_polygons: parsed.had_polygons,
+        warnings,
+    };
+    Ok((mesh, report))
+}
+/// The OBJ text for `mesh`: `header` as `#` comment lines, then `v` and `vn` lists and
+/// `f v//vn` faces. Positions and normals are deduplicated separately by exact bit pattern (so
+/// identical (position, normal) pairs share both entries and the file stays small), in order of
+/// first use. Floats use Rust's shortest round-trip formatting, so loading the text gives back
+/// exactly the same f32 values. Deterministic: the same mesh gives the same text.
+pub fn obj_text(mesh: &Mesh, header: &str) -> String {
+    fn key(a: [f32; 3]) -> [u32; 3] {
+        a.map(f32::to_bits)
+    }
+    let mut out = String::new();
+    for line in header.lines() {
+        if line.is_empty() {
+            out.push_str("#\n");
+        } else {
+            writeln!(out, "# {line}").ok();
+        }
+    }
+    let mut pos_ids: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut nrm_ids: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut pos_list = Vec::new();
+    let mut nrm_list = Vec::new();
+    let mut corners = Vec::with_capacity(mesh.positions.len());
+    for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+        let pi = *pos_ids.entry(key(*p)).or_insert_with(|| {
+            pos_list.push(*p);
+            pos_list.len()
+        });
+        let ni = *nrm_ids.entry(key(*n)).or_insert_with(|| {
+            nrm_list.push(*n);
+            nrm_list.len()
+        });
+        corners.push((pi, ni));
+    }
+    for p in &pos_list {
+        writeln!(out, "v {} {} {}", p[0], p[1], p[2]).ok();
+    }
+    for n in &nrm_list {
+        writeln!(out, "vn {} {} {}", n[0], n[1], n[2]).ok();
+    }
+    for tri in corners.chunks_exact(3) {
+        writeln!(
+            out,
+            "f {}//{} {}//{} {}//{}",
+            tri[0].0, tri[0].1, tri[1].0, tri[1].1, tri[2].0, tri[2].1
+        )
+        .ok();
+    }
+    out
+}
+/// The header [`write_obj`] puts on a file: names the generator (the mesh's `source`).
+pub(crate) fn default_header(mesh: &Mesh) -> String {
+    format!(
+        "written by shadelab from: {}\n{} triangles; regenerate shipped meshes with `make scenes`",
+        mesh.source,
+        mesh.triangle_count()
+    )
+}
+/// Writes `mesh` as OBJ ([`obj_text`] with a header naming its source) through
+/// [`write_atomic`], so an interrupted write never leaves a truncated file.
+pub fn write_obj(mesh: &Mesh, path: &Path) -> Result<()> {
+    let text = obj_text(mesh, &default_header(mesh));
+    write_atomic(path, |w| w.write_all(text.as_bytes()))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Procedural generators
+// ---------------------------------------------------------------------------------------------

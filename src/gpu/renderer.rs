@@ -1,0 +1,409 @@
+//! Scene + method -> float images (colour and shading normal) and the id pass for the f64
+//! truth. Uploads only the vertex streams the methods of a run read.
+use crate::frame::{Frame, IdFrame};
+use crate::scene::SceneInputs;
+use std::sync::Arc;
+
+use ash::vk as avk;
+
+use crate::error::{Error, Result};
+use crate::gpu::shaders;
+use crate::gpu::vk::commands::ColorTarget;
+use crate::gpu::vk::{
+    Buffer, BufferDesc, Context, DescriptorSet, GraphicsPipeline, Image, ImageDesc, OneShot,
+    PipelineDesc, ShaderModule, VertexStream,
+};
+use crate::method::{specular_table, Geometry, Method};
+use crate::scene::Scene;
+/// What a draw shades with: a method, or the constant-colour floor.
+#[derive(Debug, Clone, Copy)]
+pub enum Shading<'a> {
+    Method(&'a Method),
+    /// The same draw with a constant colour: the cost floor.
+    Constant,
+    /// A method's exact program under another name (`<method>_control`): a benchmark control
+    /// that must time like the method itself.
+    Control(&'a Method),
+}
+
+impl Shading<'_> {
+    /// Name used in reports (`constant` for the floor, `<method>_control` for a control).
+    pub fn name(&self) -> String {
+        match self {
+            Shading::Method(m) => m.name.to_string(),
+            Shading::Constant => "constant".to_string(),
+            Shading::Control(m) => format!("{}_control", m.name),
+        }
+    }
+
+    /// The method whose program and inputs this draw uses, if any.
+    pub fn method(&self) -> Option<&Method> {
+        match *self {
+            Shading::Method(m) | Shading::Control(m) => Some(m),
+            Shading::Constant => None,
+        }
+    }
+}
+/// A vertex stream beyond the positions (location 0); see glsl/shade.vert.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stream {
+    /// location 1, ATTR_NORMAL
+    Normal,
+    /// location 2, ATTR_FLAT
+    Flat,
+    /// locations 3..=5, ATTR_CORNERS
+    Corner(usize),
+    /// locations 6..=8, ATTR_PN
+    PnMid(usize),
+}
+
+impl Stream {
+    fn location(self) -> u32 {
+        match self {
+            Stream::Normal => 1,
+            Stream::Flat => 2,
+            Stream::Corner(k) => 3 + k as u32,
+            Stream::PnMid(k) => 6 + k as u32,
+        }
+    }
+
+    /// The streams a set of GLSL defines reads.
+    fn for_defines(defines: &[&str]) -> Vec<Stream> {
+        let mut out = Vec::new();
+        for d in defines {
+            match *d {
+                "ATTR_NORMAL" => out.push(Stream::Normal),
+                "ATTR_FLAT" => out.push(Stream::Flat),
+                "ATTR_CORNERS" => out.extend((0..3).map(Stream::Corner)),
+                "ATTR_PN" => out.extend((0..3).map(Stream::PnMid)),
+                _ => {}
+            }
+        }
+        out.sort_by_key(|s| s.location());
+        out.dedup();
+        out
+    }
+}
+
+fn method_defines(m: &Method) -> Vec<&'static str> {
+    m.inputs
+        .iter()
+        .flat_map(|i| i.defines().iter().copied())
+        .collect()
+}
+/// The uploaded scene for one geometry: positions, the streams its methods need, the uniform
+/// block and (when a method needs it) the specular table.
+pub struct GpuScene {
+    pub inputs: SceneInputs,
+    positions: Buffer,
+    streams: Vec<(Stream, Buffer)>,
+    _ubo: Buffer,
+    _lut: Option<Buffer>,
+    pub(super) set: DescriptorSet,
+}
+
+type Bindings<'a> = (Vec<VertexStream>, Vec<(u32, &'a Buffer)>);
+
+impl GpuScene {
+    /// The vertex streams and buffers a draw with `shading` binds; an error when the method
+    /// draws another geometry or a stream it reads was not uploaded.
+    pub(super) fn buffers(&self, shading: Shading) -> Result<Bindings<'_>> {
+        let f3 = |location| VertexStream {
+            location,
+            format: avk::Format::R32G32B32_SFLOAT,
+            stride: 12,
+        };
+        let mut streams = vec![f3(0)];
+        let mut buffers = vec![(0, &self.positions)];
+        if let Some(m) = shading.method() {
+            if m.geometry != self.inputs.geometry {
+                return Err(Error::Usage(format!(
+                    "{} draws {:?}, this upload holds {:?}",
+                    m.name, m.geometry, self.inputs.geometry
+                )));
+            }
+            for s in Stream::for_defines(&method_defines(m)) {
+                let buf = self
+                    .streams
+                    .iter()
+                    .find(|(k, _)| *k == s)
+                    .map(|(_, b)| b)
+                    .ok_or_else(|| {
+                        Error::Usage(format!(
+                            "{}: vertex stream {s:?} was not uploaded (prepare with this method)",
+                            m.name
+                        ))
+                    })?;
+                streams.push(f3(s.location()));
+                buffers.push((s.location(), buf));
+            }
+        }
+        Ok((streams, buffers))
+    }
+}
+
+/// The uploads one run needs: one [`GpuScene`] per geometry its methods draw, the scene's own
+/// triangles first.
+pub struct Prepared {
+    scenes: Vec<GpuScene>,
+}
+
+impl Prepared {
+    /// The upload a method draws from.
+    pub fn for_method(&self, m: &Method) -> &GpuScene {
+        self.scenes
+            .iter()
+            .find(|g| g.inputs.geometry == m.geometry)
+            .unwrap_or(&self.scenes[0])
+    }
+
+    /// The upload of the scene's own triangles (the reference geometry).
+    pub fn base(&self) -> &GpuScene {
+        &self.scenes[0]
+    }
+}
+
+/// The targets of a method pass: RGBA32F colour, RGBA32F shading normal, D32 depth.
+pub(crate) struct Targets {
+    color: Image,
+    normal: Image,
+    depth: Image,
+}
+
+impl Targets {
+    pub(super) fn new(ctx: &Arc<Context>, w: u32, h: u32) -> Result<Self> {
+        Ok(Targets {
+            color: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
+            normal: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
+            depth: Image::new(ctx, ImageDesc::depth(w, h))?,
+        })
+    }
+
+    /// Begins a rendering scope that clears all three targets to zero (far depth).
+    pub(super) fn begin(&self, cmd: &mut OneShot) {
+        let clear = avk::ClearColorValue { float32: [0.0; 4] };
+        cmd.begin_rendering(
+            &[
+                ColorTarget {
+                    image: &self.color,
+                    clear,
+                },
+                ColorTarget {
+                    image: &self.normal,
+                    clear,
+                },
+            ],
+            Some(&self.depth),
+        );
+    }
+}
+
+/// Renders scenes offscreen on one device.
+pub struct Renderer {
+    pub(super) ctx: Arc<Context>,
+}
+
+pub(crate) const COLOR: avk::Format = avk::Format::R32G32B32A32_SFLOAT;
+pub(crate) const PRIM: avk::Format = avk::Format::R32_UINT;
+
+impl Renderer {
+    pub fn new(ctx: Arc<Context>) -> Self {
+        Renderer { ctx }
+    }
+
+    pub fn context(&self) -> &Arc<Context> {
+        &self.ctx
+    }
+
+    /// Uploads a scene for `methods`: the scene's own triangles always (the reference and the
+    /// id pass need them), a PN tessellation when a method draws one, and on each only the
+    /// vertex streams those methods read. Checks the image size against the device limit.
+    pub fn prepare(&self, scene: &Scene, methods: &[&Method]) -> Result<Prepared> {
+        self.ctx.check_image_size(scene.width, scene.height)?;
+        let mut geometries = vec![Geometry::Mesh];
+        for m in methods {
+            if !geometries.contains(&m.geometry) {
+                geometries.push(m.geometry);
+            }
+        }
+        let scenes = geometries
+            .into_iter()
+            .map(|g| {
+                let ms: Vec<&Method> = methods
+                    .iter()
+                    .copied()
+                    .filter(|m| m.geometry == g)
+                    .collect();
+                self.upload(SceneInputs::new(scene, g), &ms)
+            })
+            .collect::<Result<_>>()?;
+        Ok(Prepared { scenes })
+    }
+
+    /// Uploads one geometry with the streams `methods` read.
+    fn upload(&self, inputs: SceneInputs, methods: &[&Method]) -> Result<GpuScene> {
+        let defines: Vec<&str> = methods.iter().flat_map(|m| method_defines(m)).collect();
+        let usage = avk::BufferUsageFlags::VERTEX_BUFFER;
+        let positions = Buffer::with_data(&self.ctx, usage, &inputs.positions)?;
+        let streams = Stream::for_defines(&defines)
+            .into_iter()
+            .map(|s| Ok((s, Buffer::with_data(&self.ctx, usage, &inputs.stream(s))?)))
+            .collect::<Result<Vec<_>>>()?;
+        let ubo = Buffer::with_data(
+            &self.ctx,
+            avk::BufferUsageFlags::UNIFORM_BUFFER,
+            &[inputs.params],
+        )?;
+        let lut = if defines.contains(&"USE_LUT") {
+            Some(Buffer::with_data(
+                &self.ctx,
+                avk::BufferUsageFlags::STORAGE_BUFFER,
+                specular_table(),
+            )?)
+        } else {
+            None
+        };
+        let mut bindings = vec![(0, avk::DescriptorType::UNIFORM_BUFFER, &ubo)];
+        if let Some(l) = &lut {
+            bindings.push((1, avk::DescriptorType::STORAGE_BUFFER, l));
+        }
+        let set = DescriptorSet::new(&self.ctx, &bindings)?;
+        Ok(GpuScene {
+            inputs,
+            positions,
+            streams,
+            _ubo: ubo,
+            _lut: lut,
+            set,
+        })
+    }
+
+    pub(super) fn pipeline(
+        &self,
+        gpu: &GpuScene,
+        program: &str,
+        streams: &[VertexStream],
+        colors: &[avk::Format],
+    ) -> Result<GraphicsPipeline> {
+        let vs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "vert")?)?;
+        let fs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "frag")?)?;
+        GraphicsPipeline::new(
+            &self.ctx,
+            &PipelineDesc {
+                vertex: &vs,
+                fragment: &fs,
+                streams,
+                color_formats: colors,
+                depth_format: Some(avk::Format::D32_SFLOAT),
+                descriptors: Some(&gpu.set),
+                specialization: &[(0, gpu.inputs.light_count)],
+            },
+        )
+    }
+
+    pub(super) fn program(&self, gpu: &GpuScene, shading: Shading) -> String {
+        let base = shading.method().map(|m| m.name).unwrap_or("constant");
+        shaders::program_name(base, gpu.inputs.interpolation)
+    }
+
+    /// Renders one frame and reads back colour and normal; with `with_ids`, also runs the id
+    /// pass (same geometry, same vertex code) and reads back triangle ids and weights.
+    pub fn render(
+        &self,
+        gpu: &GpuScene,
+        shading: Shading,
+        with_ids: bool,
+    ) -> Result<(Frame, Option<IdFrame>)> {
+        let (w, h) = (gpu.inputs.width, gpu.inputs.height);
+        let n = gpu.inputs.positions.len() as u32;
+        let (streams, buffers) = gpu.buffers(shading)?;
+        let pipeline =
+            self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
+        let targets = Targets::new(&self.ctx, w, h)?;
+        let (color, normal, depth) = (&targets.color, &targets.normal, &targets.depth);
+        let readback = |img: &Image| {
+            Buffer::new(
+                &self.ctx,
+                BufferDesc {
+                    size: img.byte_size(),
+                    usage: avk::BufferUsageFlags::TRANSFER_DST,
+                },
+            )
+        };
+        let color_buf = readback(color)?;
+        let normal_buf = readback(normal)?;
+        let clear = avk::ClearColorValue { float32: [0.0; 4] };
+
+        let mut cmd = OneShot::begin(&self.ctx)?;
+        targets.begin(&mut cmd);
+        cmd.draw(&pipeline, Some(&gpu.set), &buffers, n);
+        cmd.end_rendering();
+        cmd.copy_image_to_buffer(color, &color_buf);
+        cmd.copy_image_to_buffer(normal, &normal_buf);
+
+        let mut id_objects = None;
+        if with_ids {
+            let (id_streams, id_buffers) = gpu.buffers(Shading::Constant)?;
+            let id_pipeline = self.pipeline(
+                gpu,
+                &shaders::program_name("ids", gpu.inputs.interpolation),
+                &id_streams,
+                &[COLOR, PRIM],
+            )?;
+            let bary = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
+            let prim = Image::new(&self.ctx, ImageDesc::color(w, h, PRIM))?;
+            let bary_buf = readback(&bary)?;
+            let prim_buf = readback(&prim)?;
+            cmd.begin_rendering(
+                &[
+                    ColorTarget {
+                        image: &bary,
+                        clear,
+                    },
+                    ColorTarget {
+                        image: &prim,
+                        clear: avk::ClearColorValue { uint32: [0; 4] },
+                    },
+                ],
+                Some(depth),
+            );
+            cmd.draw(&id_pipeline, Some(&gpu.set), &id_buffers, n);
+            cmd.end_rendering();
+            cmd.copy_image_to_buffer(&bary, &bary_buf);
+            cmd.copy_image_to_buffer(&prim, &prim_buf);
+            id_objects = Some((id_pipeline, bary, prim, bary_buf, prim_buf));
+        }
+        cmd.submit()?;
+
+        let frame = Frame {
+            width: w,
+            height: h,
+            color: bytemuck::pod_collect_to_vec(&color_buf.bytes()[..color.byte_size() as usize]),
+            normal: bytemuck::pod_collect_to_vec(
+                &normal_buf.bytes()[..normal.byte_size() as usize],
+            ),
+        };
+        let ids = id_objects.map(|(_, bary, prim, bary_buf, prim_buf)| IdFrame {
+            width: w,
+            height: h,
+            weights: bytemuck::pod_collect_to_vec(&bary_buf.bytes()[..bary.byte_size() as usize]),
+            prim: bytemuck::pod_collect_to_vec(&prim_buf.bytes()[..prim.byte_size() as usize]),
+        });
+        Ok((frame, ids))
+    }
+}
+
+impl SceneInputs {
+    /// Per-corner data of a stream, ready to upload.
+    fn stream(&self, s: Stream) -> Vec<[f32; 3]> {
+        let per_triangle = |f: &dyn Fn(usize) -> [f32; 3]| -> Vec<[f32; 3]> {
+            (0..self.positions.len()).map(|i| f(i / 3)).collect()
+        };
+        match s {
+            Stream::Normal => self.view_normals.clone(),
+            Stream::Flat => per_triangle(&|t| self.flat_normals[t]),
+            Stream::Corner(k) => per_triangle(&|t| self.view_normals[3 * t + k]),
+            Stream::PnMid(k) => per_triangle(&|t| self.pn_mids[t][k]),
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! Tests of the method table: names, inputs, f64 twins against the formulas.
+use glam::DVec3;
+
+use super::*;
+
+#[test]
+fn names_are_unique_snake_case_and_have_glsl_files() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (i, m) in METHODS.iter().enumerate() {
+        assert!(
+            m.name
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_'),
+            "{} is not snake_case",
+            m.name
+        );
+        assert!(
+            METHODS[..i].iter().all(|o| o.name != m.name),
+            "duplicate method {}",
+            m.name
+        );
+        assert!(
+            root.join("glsl").join(m.glsl).is_file(),
+            "{}: glsl/{} missing",
+            m.name,
+            m.glsl
+        );
+        assert!(!m.inputs.is_empty(), "{} needs no input", m.name);
+    }
+}
+
+#[test]
+fn every_identifier_of_the_issue_is_present() {
+    let want = [
+        "flat",
+        "gouraud",
+        "phong_exact",
+        "phong_unnormalized",
+        "newton_raphson",
+        "lyon_taylor",
+        "lyon_shift",
+        "hast_half_vector",
+        "mikami_const",
+        "mikami_linear",
+        "mikami_quadratic",
+        "romanyuk_poly",
+        "quaternion",
+        "quaternion_local",
+        "barycentric_quadratic",
+        "barycentric_quadratic_exact_mid",
+        "pn_normals",
+        "trueform",
+        "specular_lut",
+    ];
+    let have: Vec<_> = METHODS.iter().map(|m| m.name).collect();
+    assert_eq!(have, want);
+}
+
+#[test]
+fn find_reports_valid_names() {
+    assert_eq!(find("phong_exact").unwrap().name, "phong_exact");
+    let e = find("phong_exakt").unwrap_err().to_string();
+    assert!(
+        e.contains("unknown method \"phong_exakt\"") && e.contains("phong_exact"),
+        "{e}"
+    );
+}
+
+/// At a vertex (one weight 1) every normalization method reproduces the vertex normal up to
+/// its own factor at z = 1, and the colour methods reproduce the vertex colour.
+#[test]
+fn methods_are_consistent_at_vertices() {
+    let n0 = DVec3::new(0.3, 0.2, 1.0).normalize();
+    let frag = Fragment {
+        weights: DVec3::X,
+        corner_normals: [n0, DVec3::Y, DVec3::X],
+        flat_normal: DVec3::new(0.2, 0.3, 1.0).normalize(),
+        pn_mids: [DVec3::Z; 3],
+    };
+    let lit = Lighting {
+        ambient: DVec3::splat(0.1),
+        diffuse: DVec3::splat(0.6),
+        specular: DVec3::splat(0.3),
+        shininess: 20.0,
+        lights: vec![(
+            DVec3::new(0.0, 0.6, 0.8),
+            DVec3::ONE,
+            DVec3::new(0.0, 0.316, 0.949).normalize(),
+        )],
+    };
+    let exact = lit.shade(n0);
+    for m in METHODS.iter().filter(|m| {
+        !matches!(
+            m.name,
+            "flat" | "mikami_const" | "mikami_linear" | "mikami_quadratic" | "romanyuk_poly"
+        )
+    }) {
+        let s = (m.eval_f64)(&frag, &lit);
+        assert!(
+            (s.color - exact).abs().max_element() < 1e-3,
+            "{}: {} vs {exact}",
+            m.name,
+            s.color
+        );
+        assert_eq!(s.normal.is_some(), m.has_normal, "{}", m.name);
+    }
+}

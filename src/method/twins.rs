@@ -1,0 +1,104 @@
+//! The f64 twins' interface: what a method sees at one pixel ([`Fragment`]), what it returns
+//! ([`Shaded`]), and the glue that turns the formulas of [`super::formulas`] into a shaded pixel.
+use std::sync::OnceLock;
+
+use glam::DVec3;
+
+use crate::method::formulas::{self as f, Lighting};
+/// What the f64 twin of a method sees at one pixel: the interpolation weights the rasterizer
+/// used and the triangle's data exactly as uploaded (f32 values widened to f64).
+#[derive(Debug, Clone, Copy)]
+pub struct Fragment {
+    /// Interpolation weights of corners 0, 1, 2.
+    pub weights: DVec3,
+    /// Unit view-space vertex normals of the three corners.
+    pub corner_normals: [DVec3; 3],
+    /// Unit flat normal of the triangle, view space.
+    pub flat_normal: DVec3,
+    /// PN mid-edge normals n110, n011, n101, view space.
+    pub pn_mids: [DVec3; 3],
+}
+
+impl Fragment {
+    /// The interpolated normal `N = sum w_i N_i` (FORMULAS.md 1.1).
+    pub fn interpolated_normal(&self) -> DVec3 {
+        self.interpolate(self.corner_normals)
+    }
+
+    /// Linear interpolation of per-corner values with the weights.
+    pub fn interpolate(&self, v: [DVec3; 3]) -> DVec3 {
+        v[0] * self.weights.x + v[1] * self.weights.y + v[2] * self.weights.z
+    }
+}
+
+/// The result of a method at a pixel: colour, and the shading normal where it has one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shaded {
+    pub color: DVec3,
+    pub normal: Option<DVec3>,
+}
+
+impl Shaded {
+    /// Lit with the shared lighting model (glsl/shading.glsl).
+    pub fn lit(normal: DVec3, lighting: &Lighting) -> Self {
+        Shaded {
+            color: lighting.shade(normal),
+            normal: Some(normal),
+        }
+    }
+}
+pub(crate) fn scalar(frag: &Fragment, lit: &Lighting, k: fn(f64) -> f64) -> Shaded {
+    let n = frag.interpolated_normal();
+    Shaded::lit(n * k(n.length_squared()), lit)
+}
+
+pub(crate) fn mikami(frag: &Fragment, lit: &Lighting, beta: fn(f64) -> f64) -> Shaded {
+    let n = frag.interpolated_normal();
+    let z = n.length_squared();
+    Shaded::lit(n / f::mikami_sqrt(z, beta(z)), lit)
+}
+
+pub(crate) fn gouraud(frag: &Fragment, lit: &Lighting) -> Shaded {
+    let c = frag.corner_normals.map(|n| lit.shade(n));
+    Shaded {
+        color: frag.interpolate(c),
+        normal: None,
+    }
+}
+
+pub(crate) fn quaternion_local(frag: &Fragment, lit: &Lighting) -> Shaded {
+    let n = frag.flat_normal;
+    let (t, b) = f::onb(n);
+    let q = frag
+        .corner_normals
+        .map(|v| f::quat_from_normal(DVec3::new(v.dot(t), v.dot(b), v.dot(n))));
+    let l = f::normal_from_quat(frag.interpolate(q));
+    Shaded::lit(t * l.x + b * l.y + n * l.z, lit)
+}
+
+/// The cos^n table, built once (formulas::specular_lut).
+pub fn specular_table() -> &'static [f32] {
+    static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
+    TABLE.get_or_init(|| f::specular_lut(f::LUT_ROWS, f::LUT_SAMPLES))
+}
+
+pub(crate) fn specular_lut(frag: &Fragment, lit: &Lighting) -> Shaded {
+    let n = f::normalize_exact(frag.interpolated_normal());
+    let mut c = lit.ambient;
+    for &(l, color, h) in &lit.lights {
+        let d = n.dot(l).max(0.0);
+        let s = n.dot(h).max(0.0);
+        let sp = f::lut_lookup(
+            specular_table(),
+            f::LUT_ROWS,
+            f::LUT_SAMPLES,
+            lit.shininess,
+            s,
+        );
+        c += color * (lit.diffuse * d + lit.specular * sp);
+    }
+    Shaded {
+        color: c,
+        normal: Some(n),
+    }
+}

@@ -1,0 +1,464 @@
+//! The TOML scene file: parsing with spans, validation with `file:line` errors, and the
+//! scene for a bare OBJ ([`scene_for_mesh`]).
+use super::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use glam::DVec3;
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::error::{Error, Result};
+use crate::geometry::{fit_unit, load_obj, Generator, LoadReport, Mesh};
+/// A scene for a bare OBJ (`--mesh FILE.obj`): the fitted mesh, [`fit_camera`] at
+/// [`DEFAULT_FOV_Y_DEG`], the default light and material, 512 x 512, screen-linear
+/// interpolation. Named after the file stem. Errors are [`load_obj`]'s.
+pub fn scene_for_mesh(path: &Path) -> Result<Scene> {
+    let (mesh, report) = load_obj(path)?;
+    let (width, height) = (DEFAULT_IMAGE_SIZE, DEFAULT_IMAGE_SIZE);
+    Ok(Scene {
+        name: file_stem(path),
+        mesh,
+        mesh_report: Some(report),
+        camera: fit_camera(DEFAULT_FOV_Y_DEG, width as f64 / height as f64),
+        lights: vec![DirectionalLight::default()],
+        material: Material::default(),
+        width,
+        height,
+        interpolation: Interpolation::default(),
+    })
+}
+
+fn file_stem(path: &Path) -> String {
+    path.file_stem()
+        .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned())
+}
+
+// ---------------------------------------------------------------------------------------------
+// The TOML file as written, every value with its byte span for error lines.
+// ---------------------------------------------------------------------------------------------
+type Vec3 = Spanned<[f64; 3]>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    name: Option<String>,
+    /// Kept generic: `obj` and the generators' keys share the table, which serde's `flatten`
+    /// cannot combine with `deny_unknown_fields`.
+    mesh: Option<Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>>,
+    camera: Option<Spanned<CameraFile>>,
+    light: Option<Spanned<Vec<Spanned<LightFile>>>>,
+    material: Option<MaterialFile>,
+    image: Option<ImageFile>,
+    render: Option<RenderFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraFile {
+    eye: Option<Vec3>,
+    target: Option<Vec3>,
+    up: Option<Vec3>,
+    fov_y_deg: Option<Spanned<f64>>,
+    near: Option<Spanned<f64>>,
+    far: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightFile {
+    #[serde(rename = "type")]
+    kind: Option<Spanned<String>>,
+    // Optional here so that a missing one is reported at its own [[light]] (toml points serde's
+    // "missing field" at the first one).
+    direction: Option<Vec3>,
+    color: Option<Vec3>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFile {
+    ambient: Option<Vec3>,
+    diffuse: Option<Vec3>,
+    specular: Option<Vec3>,
+    shininess: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ImageFile {
+    width: Option<Spanned<u32>>,
+    height: Option<Spanned<u32>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RenderFile {
+    interpolation: Option<Interpolation>,
+}
+
+/// Turns byte offsets into `file:line` errors.
+struct Source<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Source<'_> {
+    /// 1-based line of byte `offset`.
+    fn line(&self, offset: usize) -> usize {
+        let end = offset.min(self.text.len());
+        1 + self.text.as_bytes()[..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+    }
+
+    fn at<T>(&self, spanned: &Spanned<T>, msg: impl Into<String>) -> Error {
+        Error::input(self.path, Some(self.line(spanned.span().start)), msg)
+    }
+
+    fn toml_error(&self, e: &toml::de::Error) -> Error {
+        // Multi-line parser messages ("invalid string\nexpected ...") read better on one line.
+        let msg = e.message().trim().replace('\n', "; ");
+        Error::input(self.path, e.span().map(|s| self.line(s.start)), msg)
+    }
+}
+
+pub(crate) fn dvec(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+/// A vector's value, checked finite.
+fn finite_vec(src: &Source, v: &Vec3, key: &str) -> Result<DVec3> {
+    let d = dvec(*v.get_ref());
+    if !d.is_finite() {
+        return Err(src.at(
+            v,
+            format!("{key} = {:?} must be finite (no nan or inf)", v.get_ref()),
+        ));
+    }
+    Ok(d)
+}
+
+/// A colour: finite, every channel >= 0; `default` when absent.
+fn colour(src: &Source, v: &Option<Vec3>, key: &str, default: DVec3) -> Result<DVec3> {
+    let Some(v) = v else { return Ok(default) };
+    let c = finite_vec(src, v, key)?;
+    if c.min_element() < 0.0 {
+        return Err(src.at(
+            v,
+            format!(
+                "{key} = {:?} has a negative channel; colours must be >= 0",
+                v.get_ref()
+            ),
+        ));
+    }
+    Ok(c)
+}
+
+/// Loads a scene file (format in the module doc). The mesh is loaded relative to the scene
+/// file's folder and fitted to the unit sphere.
+///
+/// Errors: an unreadable scene or OBJ file is [`Error::Io`] naming the path (for the OBJ, the
+/// resolved one); TOML syntax, unknown keys, wrong types and values out of range are
+/// [`Error::Input`] with the scene file's line; OBJ problems are [`load_obj`]'s errors, naming
+/// the OBJ file and line.
+pub fn load_scene(path: &Path) -> Result<Scene> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let src = Source { path, text: &text };
+    let file: SceneFile = toml::from_str(&text).map_err(|e| src.toml_error(&e))?;
+
+    let Some(mesh_table) = &file.mesh else {
+        return Err(Error::input(
+            path,
+            None,
+            "no [mesh] table: add one with `obj = \"FILE.obj\"` or `generator = \"NAME\"` and its parameters",
+        ));
+    };
+    let (mesh, mesh_report) = load_mesh(&src, mesh_table)?;
+
+    let (width, height) = image_size(&src, file.image.as_ref())?;
+    let camera = camera(&src, file.camera.as_ref(), width as f64 / height as f64)?;
+    let lights = lights(&src, file.light.as_ref())?;
+    let material = material(&src, file.material.as_ref())?;
+    let interpolation = file
+        .render
+        .and_then(|r| r.interpolation)
+        .unwrap_or_default();
+
+    Ok(Scene {
+        name: file.name.unwrap_or_else(|| file_stem(path)),
+        mesh,
+        mesh_report,
+        camera,
+        lights,
+        material,
+        width,
+        height,
+        interpolation,
+    })
+}
+
+type MeshTable = Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>;
+
+/// `[mesh]`: exactly one of `obj` (alone) or `generator` (with its parameters).
+fn load_mesh(src: &Source, table: &MeshTable) -> Result<(Mesh, Option<LoadReport>)> {
+    let entries = table.get_ref();
+    let find = |key: &str| entries.iter().find(|(k, _)| k.get_ref() == key);
+    match (find("obj"), find("generator")) {
+        (Some(_), Some((g, _))) => Err(src.at(g, "[mesh] has both `obj` and `generator`; keep one")),
+        (None, None) => Err(src.at(
+            table,
+            "[mesh] needs `obj = \"FILE.obj\"` (relative to the scene file) or `generator = \"NAME\"` with its parameters",
+        )),
+        (Some((_, obj)), None) => {
+            if let Some((k, _)) = entries.iter().find(|(k, _)| k.get_ref() != "obj") {
+                return Err(src.at(
+                    k,
+                    format!("unknown field `{}` in [mesh]: with `obj`, no other key is allowed", k.get_ref()),
+                ));
+            }
+            let Some(rel) = obj.get_ref().as_str() else {
+                return Err(src.at(obj, format!("`obj` must be a string path, found {}", obj.get_ref().type_str())));
+            };
+            let dir = src.path.parent().unwrap_or(Path::new(""));
+            let (mesh, report) = load_obj(&dir.join(rel))?;
+            Ok((mesh, Some(report)))
+        }
+        (None, Some((gkey, _))) => {
+            let generator = parse_generator(src, table, gkey)?;
+            let mut mesh = generator.build().map_err(|e| src.at(gkey, e.to_string()))?;
+            fit_unit(&mut mesh);
+            Ok((mesh, None))
+        }
+    }
+}
+
+/// Deserializes the `[mesh]` table as a [`Generator`], pointing errors at the key at fault.
+/// Serde reports problems inside an internally tagged enum without a position, so the key is
+/// found from the message (unknown field), or by deserializing each key alone next to the
+/// tag and seeing which one reproduces the error (wrong type or value).
+fn parse_generator(src: &Source, table: &MeshTable, gkey: &Spanned<String>) -> Result<Generator> {
+    let entries = table.get_ref();
+    let plain = |only: Option<&str>| -> toml::Value {
+        toml::Value::Table(
+            entries
+                .iter()
+                .filter(|(k, _)| {
+                    only.is_none_or(|o| k.get_ref() == o || k.get_ref() == "generator")
+                })
+                .map(|(k, v)| (k.get_ref().clone(), v.get_ref().clone()))
+                .collect(),
+        )
+    };
+    let key_span = |name: &str| {
+        entries
+            .iter()
+            .find(|(k, _)| k.get_ref() == name)
+            .map(|(k, _)| k)
+    };
+    match Generator::deserialize(plain(None)) {
+        Ok(g) => {
+            if let Err((key, msg)) = g.check() {
+                return Err(src.at(key_span(key).unwrap_or(gkey), msg));
+            }
+            Ok(g)
+        }
+        Err(e) => {
+            let msg = e.message().to_string();
+            if let Some(name) = msg
+                .strip_prefix("unknown field `")
+                .and_then(|r| r.split('`').next())
+            {
+                return Err(src.at(key_span(name).unwrap_or(gkey), format!("{msg} (in [mesh])")));
+            }
+            if msg.starts_with("missing field") {
+                return Err(src.at(table, format!("[mesh] generator: {msg}")));
+            }
+            for (k, _) in entries.iter().filter(|(k, _)| k.get_ref() != "generator") {
+                if let Err(alone) = Generator::deserialize(plain(Some(k.get_ref()))) {
+                    if alone.message() == msg {
+                        return Err(src.at(k, format!("`{}`: {msg}", k.get_ref())));
+                    }
+                }
+            }
+            // Unknown generator name, or `generator` not a string.
+            Err(src.at(gkey, format!("[mesh] generator: {msg}")))
+        }
+    }
+}
+
+fn image_size(src: &Source, image: Option<&ImageFile>) -> Result<(u32, u32)> {
+    let check = |v: &Option<Spanned<u32>>, key: &str| -> Result<u32> {
+        let Some(v) = v else {
+            return Ok(DEFAULT_IMAGE_SIZE);
+        };
+        let n = *v.get_ref();
+        // The device may allow less than MAX_IMAGE_SIZE: the renderer checks that itself.
+        if !(1..=MAX_IMAGE_SIZE).contains(&n) {
+            return Err(src.at(
+                v,
+                format!("image {key} = {n} is out of range: it must be 1 to {MAX_IMAGE_SIZE}"),
+            ));
+        }
+        Ok(n)
+    };
+    match image {
+        None => Ok((DEFAULT_IMAGE_SIZE, DEFAULT_IMAGE_SIZE)),
+        Some(i) => Ok((check(&i.width, "width")?, check(&i.height, "height")?)),
+    }
+}
+
+/// `[camera]`: missing keys come from [`fit_camera`] with the given (or default) fov.
+fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Result<Camera> {
+    let Some(cam) = cam else {
+        return Ok(fit_camera(DEFAULT_FOV_Y_DEG, aspect));
+    };
+    let c = cam.get_ref();
+    let fov = match &c.fov_y_deg {
+        Some(f) => {
+            let v = *f.get_ref();
+            if !(v > 0.0 && v < 180.0) {
+                return Err(src.at(f, format!("fov_y_deg = {v} is out of range: it must be between 0 and 180 degrees (exclusive)")));
+            }
+            v
+        }
+        None => DEFAULT_FOV_Y_DEG,
+    };
+    let fitted = fit_camera(fov, aspect);
+    let get = |v: &Option<Vec3>, key: &str, default: DVec3| match v {
+        Some(v) => finite_vec(src, v, key),
+        None => Ok(default),
+    };
+    let eye = get(&c.eye, "eye", fitted.eye)?;
+    let target = get(&c.target, "target", fitted.target)?;
+    let up = get(&c.up, "up", fitted.up)?;
+    // Point errors at the key the user wrote, else at [camera].
+    let at_key = |v: &Option<Vec3>, msg: String| match v {
+        Some(v) => src.at(v, msg),
+        None => src.at(cam, msg),
+    };
+    let view = target - eye;
+    if view.length() <= 1e-9 {
+        return Err(at_key(
+            &c.eye,
+            format!("eye {eye} and target {target} coincide: the camera has no view direction"),
+        ));
+    }
+    if up.length() == 0.0 || view.normalize().cross(up.normalize()).length() < 1e-6 {
+        return Err(at_key(
+            &c.up,
+            format!(
+                "up {up} is zero or parallel to the view direction {}: pick an up vector across it",
+                view.normalize()
+            ),
+        ));
+    }
+    let clip = |v: &Option<Spanned<f64>>, key: &str| -> Result<Option<f64>> {
+        match v {
+            Some(s) if !(s.get_ref().is_finite() && *s.get_ref() > 0.0) => {
+                Err(src.at(s, format!("{key} = {} must be finite and > 0", s.get_ref())))
+            }
+            Some(s) => Ok(Some(*s.get_ref())),
+            None => Ok(None),
+        }
+    };
+    let camera = Camera {
+        eye,
+        target,
+        up,
+        fov_y_deg: fov,
+        near: clip(&c.near, "near")?,
+        far: clip(&c.far, "far")?,
+    };
+    let (near, far) = camera.near_far();
+    if far <= near {
+        let msg = format!("far = {far} must be greater than near = {near}");
+        return Err(match (&c.far, &c.near) {
+            (Some(f), _) => src.at(f, msg),
+            (None, Some(n)) => src.at(n, msg),
+            (None, None) => src.at(cam, msg),
+        });
+    }
+    Ok(camera)
+}
+
+fn lights(
+    src: &Source,
+    lights: Option<&Spanned<Vec<Spanned<LightFile>>>>,
+) -> Result<Vec<DirectionalLight>> {
+    let Some(list) = lights else {
+        return Ok(vec![DirectionalLight::default()]);
+    };
+    if list.get_ref().is_empty() {
+        return Err(src.at(
+            list,
+            "`light` is empty: a scene needs at least one light (omit it for the default light)",
+        ));
+    }
+    if list.get_ref().len() > MAX_LIGHTS {
+        let extra = &list.get_ref()[MAX_LIGHTS];
+        return Err(src.at(
+            extra,
+            format!(
+                "too many lights: {} given, at most {MAX_LIGHTS} are supported",
+                list.get_ref().len()
+            ),
+        ));
+    }
+    let mut out = Vec::with_capacity(list.get_ref().len());
+    for l in list.get_ref() {
+        let light = l.get_ref();
+        if let Some(kind) = &light.kind {
+            if kind.get_ref() != "directional" {
+                return Err(src.at(
+                    kind,
+                    format!(
+                        "light type `{}` is not supported: the only type is \"directional\" (point lights are not supported yet)",
+                        kind.get_ref()
+                    ),
+                ));
+            }
+        }
+        let Some(dir) = &light.direction else {
+            return Err(src.at(
+                l,
+                "[[light]] is missing `direction` (towards the light, e.g. [-0.4, 0.5, 1.0])",
+            ));
+        };
+        let d = finite_vec(src, dir, "direction")?;
+        if d.length() <= 1e-12 {
+            return Err(src.at(
+                dir,
+                "direction = [0, 0, 0] has no direction: give a vector towards the light",
+            ));
+        }
+        let color = colour(src, &light.color, "color", DVec3::ONE)?;
+        out.push(DirectionalLight {
+            direction: d.normalize(),
+            color,
+        });
+    }
+    Ok(out)
+}
+
+fn material(src: &Source, m: Option<&MaterialFile>) -> Result<Material> {
+    let d = Material::default();
+    let Some(m) = m else { return Ok(d) };
+    let shininess = match &m.shininess {
+        Some(s) => {
+            let v = *s.get_ref();
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(src.at(s, format!("shininess = {v} must be finite and >= 0")));
+            }
+            v
+        }
+        None => d.shininess,
+    };
+    Ok(Material {
+        ambient: colour(src, &m.ambient, "ambient", d.ambient)?,
+        diffuse: colour(src, &m.diffuse, "diffuse", d.diffuse)?,
+        specular: colour(src, &m.specular, "specular", d.specular)?,
+        shininess,
+    })
+}

@@ -1,0 +1,180 @@
+//! Everything the GPU receives for a scene, computed once in f64 and rounded to f32 once
+//! ([`SceneInputs`], [`Params`]). The truth widens the same rounded values back to f64, so GPU
+//! and CPU start from bit-identical inputs.
+
+use glam::{DMat3, DVec3};
+
+use crate::geometry::Mesh;
+use crate::method::formulas::{self, Lighting};
+use crate::method::{Fragment, Geometry};
+use crate::scene::{Interpolation, Scene, MAX_LIGHTS};
+/// The uniform block of every program; twin of `Params` in glsl/common.glsl (std140).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Params {
+    pub mvp: [[f32; 4]; 4],
+    pub ambient: [f32; 4],
+    pub diffuse: [f32; 4],
+    pub specular: [f32; 4],
+    pub light_dir: [[f32; 4]; MAX_LIGHTS],
+    pub light_color: [[f32; 4]; MAX_LIGHTS],
+    pub half_vec: [[f32; 4]; MAX_LIGHTS],
+    pub const_color: [f32; 4],
+}
+/// Everything the GPU may receive for a scene, as f32, computed once in f64.
+pub struct SceneInputs {
+    pub width: u32,
+    pub height: u32,
+    pub interpolation: Interpolation,
+    pub geometry: Geometry,
+    /// Model-space positions, 3 corners per triangle.
+    pub positions: Vec<[f32; 3]>,
+    /// Unit view-space vertex normals per corner.
+    pub view_normals: Vec<[f32; 3]>,
+    /// Unit view-space flat normal per triangle, oriented like the sum of its vertex normals.
+    pub flat_normals: Vec<[f32; 3]>,
+    /// PN mid-edge normals (n110, n011, n101) per triangle, view space.
+    pub pn_mids: Vec<[[f32; 3]; 3]>,
+    pub params: Params,
+    pub light_count: u32,
+}
+
+fn f4(v: DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+fn f3(v: DVec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+fn d3(v: [f32; 3]) -> DVec3 {
+    DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
+}
+
+fn widen(v: [f32; 4]) -> DVec3 {
+    DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
+}
+
+/// The PN-tessellated version of a mesh (model space): `level^2` sub-triangles per triangle.
+fn tessellate(mesh: &Mesh, level: u32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    let cap = mesh.positions.len() * (level * level) as usize;
+    let (mut positions, mut normals) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
+    for (p, n) in mesh
+        .positions
+        .chunks_exact(3)
+        .zip(mesh.normals.chunks_exact(3))
+    {
+        let p = [d3(p[0]), d3(p[1]), d3(p[2])];
+        let n = [d3(n[0]), d3(n[1]), d3(n[2])];
+        for (sp, sn) in formulas::pn_tessellate(p, n, level) {
+            positions.extend(sp.map(f3));
+            normals.extend(sn.map(f3));
+        }
+    }
+    (positions, normals)
+}
+
+impl SceneInputs {
+    /// Transforms the scene in f64: MVP, view-space normals (normal matrix = inverse transpose
+    /// of the view's upper 3x3; the mesh is already in its fitted model space), flat and PN
+    /// mid-edge normals from view-space positions, light directions and half vectors with the
+    /// viewer at infinity (V = +Z in view space, FORMULAS.md 1.2). `geometry` selects the
+    /// scene's triangles or their PN tessellation.
+    pub fn new(scene: &Scene, geometry: Geometry) -> Self {
+        let view = scene.camera.view();
+        let proj = scene
+            .camera
+            .projection(scene.width as f64 / scene.height as f64);
+        let mvp = (proj * view).to_cols_array_2d();
+        let rot = DMat3::from_mat4(view);
+        let normal_matrix = rot.inverse().transpose();
+        let (positions, model_normals) = match geometry {
+            Geometry::Mesh => (scene.mesh.positions.clone(), scene.mesh.normals.clone()),
+            Geometry::PnTessellated(level) => tessellate(&scene.mesh, level),
+        };
+        let view_n: Vec<DVec3> = model_normals
+            .iter()
+            .map(|&n| (normal_matrix * d3(n)).normalize_or_zero())
+            .collect();
+        let view_p: Vec<DVec3> = positions
+            .iter()
+            .map(|&p| view.transform_point3(d3(p)))
+            .collect();
+        let mut flat_normals = Vec::with_capacity(positions.len() / 3);
+        let mut pn_mids = Vec::with_capacity(positions.len() / 3);
+        for (p, n) in view_p.chunks_exact(3).zip(view_n.chunks_exact(3)) {
+            let p = [p[0], p[1], p[2]];
+            let n = [n[0], n[1], n[2]];
+            let mut flat = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            if flat.dot(n[0] + n[1] + n[2]) < 0.0 {
+                flat = -flat;
+            }
+            flat_normals.push(f3(flat));
+            pn_mids.push(formulas::pn_mid_normals(p, n).map(f3));
+        }
+        let mut params = Params {
+            mvp: mvp.map(|c| c.map(|x| x as f32)),
+            ambient: f4(scene.material.ambient, 0.0),
+            diffuse: f4(scene.material.diffuse, 0.0),
+            specular: f4(scene.material.specular, scene.material.shininess),
+            light_dir: [[0.0; 4]; MAX_LIGHTS],
+            light_color: [[0.0; 4]; MAX_LIGHTS],
+            half_vec: [[0.0; 4]; MAX_LIGHTS],
+            const_color: [0.8, 0.8, 0.8, 1.0],
+        };
+        for (i, light) in scene.lights.iter().take(MAX_LIGHTS).enumerate() {
+            let l = (rot * light.direction).normalize();
+            let h = (l + DVec3::Z).normalize_or_zero();
+            params.light_dir[i] = f4(l, 0.0);
+            params.light_color[i] = f4(light.color, 0.0);
+            params.half_vec[i] = f4(h, 0.0);
+        }
+        SceneInputs {
+            width: scene.width,
+            height: scene.height,
+            interpolation: scene.interpolation,
+            geometry,
+            positions,
+            view_normals: view_n.into_iter().map(f3).collect(),
+            flat_normals,
+            pn_mids,
+            params,
+            light_count: scene.lights.len().min(MAX_LIGHTS) as u32,
+        }
+    }
+
+    /// The lighting exactly as uploaded, widened to f64, for the truth evaluator.
+    pub fn lighting(&self) -> Lighting {
+        let p = &self.params;
+        Lighting {
+            ambient: widen(p.ambient),
+            diffuse: widen(p.diffuse),
+            specular: widen(p.specular),
+            shininess: p.specular[3] as f64,
+            lights: (0..self.light_count as usize)
+                .map(|i| {
+                    (
+                        widen(p.light_dir[i]),
+                        widen(p.light_color[i]),
+                        widen(p.half_vec[i]),
+                    )
+                })
+                .collect(),
+        }
+    }
+
+    /// What the f64 twin of a method sees in triangle `t` at `weights`.
+    pub fn fragment(&self, t: usize, weights: DVec3) -> Fragment {
+        Fragment {
+            weights,
+            corner_normals: [0, 1, 2].map(|k| d3(self.view_normals[3 * t + k])),
+            flat_normal: d3(self.flat_normals[t]),
+            pn_mids: self.pn_mids[t].map(d3),
+        }
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.positions.len() / 3
+    }
+}
