@@ -1,7 +1,6 @@
 //! Tests of the statistics, CSV/JSON summaries and limits of `compare`.
 use super::*;
 use crate::analysis::pixel::*;
-use crate::analysis::stats::*;
 
 #[test]
 fn identical_images_give_exactly_zero() {
