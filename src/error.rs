@@ -2,8 +2,6 @@
 //! error); exit code 1 (a threshold exceeded) is not an error and never travels through here.
 use std::path::PathBuf;
 
-use ash::vk;
-
 /// Result alias used across the library.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -27,10 +25,11 @@ pub enum Error {
     #[error("{0}")]
     Usage(String),
     /// A Vulkan call returned an error; `call` names the entry point.
-    #[error("Vulkan call {call} failed: {result:?}")]
+    #[error("Vulkan call {call} failed: {result}")]
     Vulkan {
         call: &'static str,
-        result: vk::Result,
+        /// The `VkResult` code's name, e.g. `ERROR_OUT_OF_HOST_MEMORY`.
+        result: String,
     },
     /// No usable Vulkan loader / device / layer, with a hint how to get one.
     #[error("{0}")]
@@ -70,17 +69,6 @@ impl Error {
     }
 }
 
-/// Attaches the name of the Vulkan entry point to an `ash` result.
-pub(crate) trait VkContext<T> {
-    fn vk(self, call: &'static str) -> Result<T>;
-}
-
-impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
-    fn vk(self, call: &'static str) -> Result<T> {
-        self.map_err(|result| Error::Vulkan { call, result })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -91,15 +79,5 @@ mod tests {
         assert_eq!(e.to_string(), "a/b.obj:12: bad vertex");
         let e = Error::input("a/b.obj", None, "empty mesh");
         assert_eq!(e.to_string(), "a/b.obj: empty mesh");
-    }
-
-    #[test]
-    fn vulkan_error_names_the_call() {
-        let r: std::result::Result<(), vk::Result> = Err(vk::Result::ERROR_OUT_OF_HOST_MEMORY);
-        let e = r.vk("vkCreateImage").unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "Vulkan call vkCreateImage failed: ERROR_OUT_OF_HOST_MEMORY"
-        );
     }
 }

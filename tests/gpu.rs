@@ -202,15 +202,14 @@ fn absurd_image_sizes_are_rejected() {
 /// Teeth for the validation check itself: a deliberately invalid call is reported.
 #[test]
 fn validation_layer_messages_are_collected() {
-    use ash::vk as avk;
-    use shadelab::gpu::vk::{Image, ImageDesc};
+    use shadelab::gpu::vk::{Format, Image, ImageDesc, ImageUsage};
     let r = validated_renderer();
     // A colour image with a depth-only usage: VUID-VkImageCreateInfo-usage-00964 / format features.
     let desc = ImageDesc {
         width: 4,
         height: 4,
-        format: avk::Format::R32G32B32A32_SFLOAT,
-        usage: avk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+        format: Format::Rgba32Float,
+        usage: ImageUsage::DepthTarget,
     };
     let _ = Image::new(r.context(), desc);
     assert!(

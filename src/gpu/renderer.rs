@@ -4,14 +4,12 @@ use crate::frame::{Frame, IdFrame};
 use crate::scene::SceneInputs;
 use std::sync::Arc;
 
-use ash::vk as avk;
-
 use crate::error::{Error, Result};
 use crate::gpu::shaders;
-use crate::gpu::vk::commands::ColorTarget;
+
 use crate::gpu::vk::{
-    Buffer, BufferDesc, Context, DescriptorSet, GraphicsPipeline, Image, ImageDesc, OneShot,
-    PipelineDesc, ShaderModule, VertexStream,
+    Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DescriptorSet, Format,
+    GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule, VertexStream,
 };
 use crate::method::{specular_table, Geometry, Method};
 use crate::scene::Scene;
@@ -110,7 +108,7 @@ impl GpuScene {
     pub(super) fn buffers(&self, shading: Shading) -> Result<Bindings<'_>> {
         let f3 = |location| VertexStream {
             location,
-            format: avk::Format::R32G32B32_SFLOAT,
+            format: Format::Rgb32Float,
             stride: 12,
         };
         let mut streams = vec![f3(0)];
@@ -181,7 +179,7 @@ impl Targets {
 
     /// Begins a rendering scope that clears all three targets to zero (far depth).
     pub(super) fn begin(&self, cmd: &mut OneShot) {
-        let clear = avk::ClearColorValue { float32: [0.0; 4] };
+        let clear = Clear::Float([0.0; 4]);
         cmd.begin_rendering(
             &[
                 ColorTarget {
@@ -203,8 +201,8 @@ pub struct Renderer {
     pub(super) ctx: Arc<Context>,
 }
 
-pub(crate) const COLOR: avk::Format = avk::Format::R32G32B32A32_SFLOAT;
-pub(crate) const PRIM: avk::Format = avk::Format::R32_UINT;
+pub(crate) const COLOR: Format = Format::Rgba32Float;
+pub(crate) const PRIM: Format = Format::R32Uint;
 
 impl Renderer {
     pub fn new(ctx: Arc<Context>) -> Self {
@@ -243,29 +241,25 @@ impl Renderer {
     /// Uploads one geometry with the streams `methods` read.
     fn upload(&self, inputs: SceneInputs, methods: &[&Method]) -> Result<GpuScene> {
         let defines: Vec<&str> = methods.iter().flat_map(|m| method_defines(m)).collect();
-        let usage = avk::BufferUsageFlags::VERTEX_BUFFER;
+        let usage = BufferUsage::Vertex;
         let positions = Buffer::with_data(&self.ctx, usage, &inputs.positions)?;
         let streams = Stream::for_defines(&defines)
             .into_iter()
             .map(|s| Ok((s, Buffer::with_data(&self.ctx, usage, &inputs.stream(s))?)))
             .collect::<Result<Vec<_>>>()?;
-        let ubo = Buffer::with_data(
-            &self.ctx,
-            avk::BufferUsageFlags::UNIFORM_BUFFER,
-            &[inputs.params],
-        )?;
+        let ubo = Buffer::with_data(&self.ctx, BufferUsage::Uniform, &[inputs.params])?;
         let lut = if defines.contains(&"USE_LUT") {
             Some(Buffer::with_data(
                 &self.ctx,
-                avk::BufferUsageFlags::STORAGE_BUFFER,
+                BufferUsage::Storage,
                 specular_table(),
             )?)
         } else {
             None
         };
-        let mut bindings = vec![(0, avk::DescriptorType::UNIFORM_BUFFER, &ubo)];
+        let mut bindings = vec![(0, &ubo)];
         if let Some(l) = &lut {
-            bindings.push((1, avk::DescriptorType::STORAGE_BUFFER, l));
+            bindings.push((1, l));
         }
         let set = DescriptorSet::new(&self.ctx, &bindings)?;
         Ok(GpuScene {
@@ -283,7 +277,7 @@ impl Renderer {
         gpu: &GpuScene,
         program: &str,
         streams: &[VertexStream],
-        colors: &[avk::Format],
+        colors: &[Format],
     ) -> Result<GraphicsPipeline> {
         let vs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "vert")?)?;
         let fs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "frag")?)?;
@@ -294,7 +288,7 @@ impl Renderer {
                 fragment: &fs,
                 streams,
                 color_formats: colors,
-                depth_format: Some(avk::Format::D32_SFLOAT),
+                depth_format: Some(Format::Depth32Float),
                 descriptors: Some(&gpu.set),
                 specialization: &[(0, gpu.inputs.light_count)],
             },
@@ -326,13 +320,13 @@ impl Renderer {
                 &self.ctx,
                 BufferDesc {
                     size: img.byte_size(),
-                    usage: avk::BufferUsageFlags::TRANSFER_DST,
+                    usage: BufferUsage::Readback,
                 },
             )
         };
         let color_buf = readback(color)?;
         let normal_buf = readback(normal)?;
-        let clear = avk::ClearColorValue { float32: [0.0; 4] };
+        let clear = Clear::Float([0.0; 4]);
 
         let mut cmd = OneShot::begin(&self.ctx)?;
         targets.begin(&mut cmd);
@@ -362,7 +356,7 @@ impl Renderer {
                     },
                     ColorTarget {
                         image: &prim,
-                        clear: avk::ClearColorValue { uint32: [0; 4] },
+                        clear: Clear::Uint([0; 4]),
                     },
                 ],
                 Some(depth),

@@ -2,8 +2,6 @@
 //! [`Sample`] per submission.
 use super::*;
 
-use ash::vk as avk;
-
 use crate::error::Result;
 use crate::gpu::vk::queries::timestamp_delta_ns;
 use crate::gpu::vk::{GraphicsPipeline, OneShot, QueryPool, Recorded};
@@ -68,7 +66,6 @@ impl Renderer {
     pub fn timed_draws(&self, gpu: &GpuScene, shadings: &[Shading]) -> Result<TimedDraws> {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
         let targets = Targets::new(&self.ctx, w, h)?;
-        let bottom = avk::PipelineStageFlags2::BOTTOM_OF_PIPE;
         let mut draws = Vec::new();
         for s in shadings {
             let (streams, buffers) = gpu.buffers(*s)?;
@@ -80,8 +77,8 @@ impl Renderer {
             if let Some(q) = &stats {
                 cmd.reset_queries(q);
             }
-            cmd.timestamp(&pool, 0, bottom);
-            cmd.timestamp(&pool, 1, bottom);
+            cmd.timestamp(&pool, 0);
+            cmd.timestamp(&pool, 1);
             targets.begin(&mut cmd);
             if let Some(q) = &stats {
                 cmd.begin_query(q);
@@ -96,8 +93,8 @@ impl Renderer {
                 cmd.end_query(q);
             }
             cmd.end_rendering();
-            cmd.timestamp(&pool, 2, bottom);
-            cmd.timestamp(&pool, 3, bottom);
+            cmd.timestamp(&pool, 2);
+            cmd.timestamp(&pool, 3);
             draws.push((cmd.finish()?, pool, stats, pipeline));
         }
         let info = self.ctx.info();

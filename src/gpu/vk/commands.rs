@@ -5,8 +5,9 @@ use std::time::{Duration, Instant};
 
 use ash::vk;
 
-use super::{Buffer, Context, DescriptorSet, GraphicsPipeline, Image, QueryPool};
-use crate::error::{Error, Result, VkContext};
+use super::conv::VkContext;
+use super::{Buffer, Clear, Context, DescriptorSet, GraphicsPipeline, Image, QueryPool};
+use crate::error::Result;
 
 /// A primary command buffer being recorded; consumed by [`OneShot::submit`].
 pub struct OneShot {
@@ -17,7 +18,7 @@ pub struct OneShot {
 /// A colour attachment for [`OneShot::begin_rendering`] and its clear value.
 pub struct ColorTarget<'a> {
     pub image: &'a Image,
-    pub clear: vk::ClearColorValue,
+    pub clear: Clear,
 }
 
 impl OneShot {
@@ -27,10 +28,7 @@ impl OneShot {
             .command_pool(ctx.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        let _q = ctx
-            .queue_lock
-            .lock()
-            .map_err(|_| Error::Device("queue lock poisoned".into()))?;
+        let _q = ctx.lock_queue()?;
         // SAFETY: the pool is only used under queue_lock (command pools are externally synchronised).
         let cb = unsafe { ctx.device.allocate_command_buffers(&info) }
             .vk("vkAllocateCommandBuffers")?[0];
@@ -94,7 +92,9 @@ impl OneShot {
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                     .load_op(vk::AttachmentLoadOp::CLEAR)
                     .store_op(vk::AttachmentStoreOp::STORE)
-                    .clear_value(vk::ClearValue { color: c.clear })
+                    .clear_value(vk::ClearValue {
+                        color: c.clear.raw(),
+                    })
             })
             .collect();
         let depth_info = depth.map(|d| {
@@ -190,8 +190,10 @@ impl OneShot {
         };
     }
 
-    /// Writes a timestamp into query `index` of `pool` at `stage`.
-    pub fn timestamp(&mut self, pool: &QueryPool, index: u32, stage: vk::PipelineStageFlags2) {
+    /// Writes a timestamp into query `index` of `pool` once all earlier work has completed
+    /// (BOTTOM_OF_PIPE; why the renderer writes these in pairs: `gpu::timing`).
+    pub fn timestamp(&mut self, pool: &QueryPool, index: u32) {
+        let stage = vk::PipelineStageFlags2::BOTTOM_OF_PIPE;
         // SAFETY: recording state; the query was reset earlier in this command buffer.
         unsafe {
             self.ctx
@@ -263,20 +265,9 @@ impl OneShot {
 
     /// Ends recording, submits, and waits for completion. Returns the submit-to-fence wall time.
     pub fn submit(self) -> Result<Duration> {
-        Ok(self.submit_repeated(1)?[0])
-    }
-
-    /// Ends recording and submits the same command buffer `n` times (at least once), each time
-    /// waiting for completion before the next. Returns each submit-to-fence wall time.
-    pub fn submit_repeated(self, n: usize) -> Result<Vec<Duration>> {
-        let d = &self.ctx.device;
         // SAFETY: recording state.
-        unsafe { d.end_command_buffer(self.cb) }.vk("vkEndCommandBuffer")?;
-        let mut times = Vec::with_capacity(n.max(1));
-        for _ in 0..n.max(1) {
-            times.push(self.submit_once()?);
-        }
-        Ok(times)
+        unsafe { self.ctx.device.end_command_buffer(self.cb) }.vk("vkEndCommandBuffer")?;
+        self.submit_once()
     }
 
     /// Ends recording and keeps the command buffer for repeated submission.
@@ -286,7 +277,9 @@ impl OneShot {
         Ok(Recorded { inner: self })
     }
 
+    /// Submits under the queue lock and waits on a fence.
     fn submit_once(&self) -> Result<Duration> {
+        let _queue = self.ctx.lock_queue()?;
         let d = &self.ctx.device;
         // SAFETY: valid device.
         let fence =
@@ -294,11 +287,6 @@ impl OneShot {
         let cbs = [self.cb];
         let submit = vk::SubmitInfo::default().command_buffers(&cbs);
         let result = {
-            let _q = self
-                .ctx
-                .queue_lock
-                .lock()
-                .map_err(|_| Error::Device("queue lock poisoned".into()));
             let start = Instant::now();
             // SAFETY: the queue is used under queue_lock; we wait on the fence before anything
             // referenced by the command buffer can be dropped.
@@ -372,5 +360,30 @@ impl Recorded {
     /// Submits and waits; returns the submit-to-fence wall time.
     pub fn submit(&self) -> Result<Duration> {
         self.inner.submit_once()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::vk::ContextDesc;
+
+    /// A thread that panics while holding the queue lock poisons it; the next submission must
+    /// fail with a message rather than go on without the lock.
+    #[test]
+    fn poisoned_queue_lock_fails_the_submit() {
+        let ctx = Context::new(&ContextDesc::default()).expect("lavapipe context");
+        let cmd = OneShot::begin(&ctx).expect("begin");
+        let poisoner = ctx.clone();
+        let _ = std::thread::spawn(move || {
+            let _held = poisoner.queue_lock.lock().unwrap();
+            panic!("deliberate panic while holding the queue lock");
+        })
+        .join();
+        assert!(ctx.queue_lock.is_poisoned());
+        let err = cmd
+            .submit()
+            .expect_err("submit under a poisoned lock must fail");
+        assert!(err.to_string().contains("poisoned"), "{err}");
     }
 }

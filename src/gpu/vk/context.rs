@@ -8,7 +8,8 @@ use std::sync::{Arc, Mutex};
 
 use ash::vk;
 
-use crate::error::{Error, Result, VkContext};
+use super::conv::VkContext;
+use crate::error::{Error, Result};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -58,6 +59,17 @@ pub struct Context {
 }
 
 impl Context {
+    /// The queue (and command pool) lock. A poisoned lock (another thread panicked while
+    /// holding it) is an error, never ignored: the queue's state is then unknown.
+    pub(crate) fn lock_queue(&self) -> Result<std::sync::MutexGuard<'_, ()>> {
+        self.queue_lock.lock().map_err(|_| {
+            Error::Device(
+                "the Vulkan queue lock is poisoned: another thread panicked while submitting"
+                    .into(),
+            )
+        })
+    }
+
     /// Loads the Vulkan loader, creates an instance (with validation when asked), picks a device
     /// and creates it with dynamic rendering and synchronization2.
     pub fn new(desc: &ContextDesc) -> Result<Arc<Self>> {
@@ -126,7 +138,7 @@ impl Context {
                 ),
                 r => Error::Vulkan {
                     call: "vkCreateInstance",
-                    result: r,
+                    result: format!("{r:?}"),
                 },
             })?;
         // From here on, `instance` must be destroyed on error paths: build the rest in a guard.
@@ -183,7 +195,7 @@ impl Context {
                 }
                 return Err(Error::Vulkan {
                     call: "vkCreateDevice",
-                    result: r,
+                    result: format!("{r:?}"),
                 });
             }
         };
@@ -205,7 +217,7 @@ impl Context {
                 }
                 return Err(Error::Vulkan {
                     call: "vkCreateCommandPool",
-                    result: r,
+                    result: format!("{r:?}"),
                 });
             }
         };

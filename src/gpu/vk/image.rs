@@ -5,27 +5,28 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::conv::VkContext;
 use super::memory::find_memory_type;
-use super::Context;
-use crate::error::{Result, VkContext};
+use super::{Context, Format, ImageUsage};
+use crate::error::Result;
 
 /// How to create an [`Image`].
 #[derive(Debug, Clone, Copy)]
 pub struct ImageDesc {
     pub width: u32,
     pub height: u32,
-    pub format: vk::Format,
-    pub usage: vk::ImageUsageFlags,
+    pub format: Format,
+    pub usage: ImageUsage,
 }
 
 impl ImageDesc {
     /// A colour target that can be read back.
-    pub fn color(width: u32, height: u32, format: vk::Format) -> Self {
+    pub fn color(width: u32, height: u32, format: Format) -> Self {
         ImageDesc {
             width,
             height,
             format,
-            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            usage: ImageUsage::ColorTarget,
         }
     }
 
@@ -34,22 +35,18 @@ impl ImageDesc {
         ImageDesc {
             width,
             height,
-            format: vk::Format::D32_SFLOAT,
-            usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            format: Format::Depth32Float,
+            usage: ImageUsage::DepthTarget,
         }
     }
 
     /// Bytes per texel of the formats shadelab uses.
     pub fn texel_size(&self) -> u64 {
-        match self.format {
-            vk::Format::R32G32B32A32_SFLOAT => 16,
-            vk::Format::R16G16B16A16_SFLOAT => 8,
-            _ => 4,
-        }
+        self.format.texel_size()
     }
 
     pub(crate) fn aspect(&self) -> vk::ImageAspectFlags {
-        if self.format == vk::Format::D32_SFLOAT {
+        if self.format.is_depth() {
             vk::ImageAspectFlags::DEPTH
         } else {
             vk::ImageAspectFlags::COLOR
@@ -71,7 +68,7 @@ impl Image {
         let d = &ctx.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
-            .format(desc.format)
+            .format(desc.format.raw())
             .extent(vk::Extent3D {
                 width: desc.width,
                 height: desc.height,
@@ -81,7 +78,7 @@ impl Image {
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
-            .usage(desc.usage)
+            .usage(desc.usage.raw())
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid device and create info.
@@ -113,7 +110,7 @@ impl Image {
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
-            .format(desc.format)
+            .format(desc.format.raw())
             .subresource_range(Self::range(&desc));
         // SAFETY: image is bound to memory.
         this.view = unsafe { d.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;

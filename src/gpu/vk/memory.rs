@@ -7,14 +7,15 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::Context;
-use crate::error::{Error, Result, VkContext};
+use super::conv::VkContext;
+use super::{BufferUsage, Context};
+use crate::error::{Error, Result};
 
 /// How to create a [`Buffer`].
 #[derive(Debug, Clone, Copy)]
 pub struct BufferDesc {
     pub size: u64,
-    pub usage: vk::BufferUsageFlags,
+    pub usage: BufferUsage,
 }
 
 /// A host-visible, persistently mapped buffer.
@@ -24,6 +25,7 @@ pub struct Buffer {
     memory: vk::DeviceMemory,
     mapped: *mut u8,
     size: u64,
+    usage: BufferUsage,
 }
 
 // SAFETY: the mapped pointer is only dereferenced through &self / &mut self methods; the
@@ -60,7 +62,7 @@ impl Buffer {
         let size = desc.size.max(4);
         let info = vk::BufferCreateInfo::default()
             .size(size)
-            .usage(desc.usage)
+            .usage(desc.usage.raw())
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         let d = &ctx.device;
         // SAFETY: valid device and create info.
@@ -72,6 +74,7 @@ impl Buffer {
             memory: vk::DeviceMemory::null(),
             mapped: std::ptr::null_mut(),
             size,
+            usage: desc.usage,
         };
         // SAFETY: raw is a live buffer.
         let req = unsafe { d.get_buffer_memory_requirements(raw) };
@@ -97,7 +100,7 @@ impl Buffer {
     /// Creates a buffer holding `data`.
     pub fn with_data<T: bytemuck::Pod>(
         ctx: &Arc<Context>,
-        usage: vk::BufferUsageFlags,
+        usage: BufferUsage,
         data: &[T],
     ) -> Result<Self> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
@@ -110,6 +113,11 @@ impl Buffer {
         )?;
         b.bytes_mut()[..bytes.len()].copy_from_slice(bytes);
         Ok(b)
+    }
+
+    /// What the buffer was created for.
+    pub fn usage(&self) -> BufferUsage {
+        self.usage
     }
 
     /// Size in bytes.

@@ -12,16 +12,19 @@
 //! [`memory`] buffers and memory-type choice; [`image`] render targets and readback;
 //! [`pipeline`] shader modules, descriptor sets and graphics pipelines (dynamic rendering);
 //! [`commands`] one-shot and reusable command buffers, synchronous submit;
-//! [`queries`] timestamp query pools and their arithmetic.
+//! [`queries`] timestamp query pools and their arithmetic; [`conv`] the project's names for
+//! formats, usages and clear values, and their one conversion to `ash`.
 pub mod commands;
 pub mod context;
+pub mod conv;
 pub mod image;
 pub mod memory;
 pub mod pipeline;
 pub mod queries;
 
-pub use commands::{OneShot, Recorded};
+pub use commands::{ColorTarget, OneShot, Recorded};
 pub use context::{Context, ContextDesc, DeviceInfo};
+pub use conv::{BufferUsage, Clear, Format, ImageUsage};
 pub use image::{Image, ImageDesc};
 pub use memory::{Buffer, BufferDesc};
 pub use pipeline::{DescriptorSet, GraphicsPipeline, PipelineDesc, ShaderModule, VertexStream};

@@ -5,8 +5,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::{Buffer, Context};
-use crate::error::{Error, Result, VkContext};
+use super::conv::VkContext;
+use super::{Buffer, Context, Format};
+use crate::error::{Error, Result};
 
 /// A SPIR-V module.
 pub struct ShaderModule {
@@ -47,11 +48,21 @@ pub struct DescriptorSet {
 }
 
 impl DescriptorSet {
-    /// `bindings`: (binding number, descriptor type, buffer bound whole).
-    pub fn new(
-        ctx: &Arc<Context>,
-        bindings: &[(u32, vk::DescriptorType, &Buffer)],
-    ) -> Result<Self> {
+    /// `bindings`: (binding number, buffer bound whole). The descriptor type follows the
+    /// buffer's usage (uniform or storage); any other usage is an error.
+    pub fn new(ctx: &Arc<Context>, bindings: &[(u32, &Buffer)]) -> Result<Self> {
+        let bindings = bindings
+            .iter()
+            .map(|&(b, buf)| {
+                let ty = buf.usage().descriptor_type().ok_or_else(|| {
+                    Error::Device(format!(
+                        "binding {b}: a {:?} buffer cannot be bound as a descriptor",
+                        buf.usage()
+                    ))
+                })?;
+                Ok((b, ty, buf))
+            })
+            .collect::<Result<Vec<_>>>()?;
         let d = &ctx.device;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let layout_bindings: Vec<_> = bindings
@@ -138,7 +149,7 @@ impl Drop for DescriptorSet {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct VertexStream {
     pub location: u32,
-    pub format: vk::Format,
+    pub format: Format,
     pub stride: u32,
 }
 
@@ -147,8 +158,8 @@ pub struct PipelineDesc<'a> {
     pub vertex: &'a ShaderModule,
     pub fragment: &'a ShaderModule,
     pub streams: &'a [VertexStream],
-    pub color_formats: &'a [vk::Format],
-    pub depth_format: Option<vk::Format>,
+    pub color_formats: &'a [Format],
+    pub depth_format: Option<Format>,
     pub descriptors: Option<&'a DescriptorSet>,
     /// Fragment-stage specialization constants: (constant id, u32 value).
     pub specialization: &'a [(u32, u32)],
@@ -217,7 +228,7 @@ impl GraphicsPipeline {
             .map(|s| vk::VertexInputAttributeDescription {
                 location: s.location,
                 binding: s.location,
-                format: s.format,
+                format: s.format.raw(),
                 offset: 0,
             })
             .collect();
@@ -252,9 +263,10 @@ impl GraphicsPipeline {
             vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let color_formats: Vec<vk::Format> = desc.color_formats.iter().map(|f| f.raw()).collect();
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(desc.color_formats)
-            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(desc.depth_format.map_or(vk::Format::UNDEFINED, Format::raw));
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
             .vertex_input_state(&vertex_input)
@@ -272,7 +284,7 @@ impl GraphicsPipeline {
             unsafe { d.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
                 .map_err(|(_, r)| Error::Vulkan {
                     call: "vkCreateGraphicsPipelines",
-                    result: r,
+                    result: format!("{r:?}"),
                 })?;
         this.raw = pipelines[0];
         Ok(this)

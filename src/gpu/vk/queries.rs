@@ -3,8 +3,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::conv::VkContext;
 use super::Context;
-use crate::error::{Result, VkContext};
+use crate::error::Result;
 
 /// A pool of `count` timestamp queries.
 pub struct QueryPool {
