@@ -8,11 +8,13 @@
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
+//! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod cli;
 mod compare;
 mod gpu;
+mod layout;
 mod methods;
 mod models;
 mod shaders;

@@ -28,7 +28,6 @@ use crate::error::{Error, Result};
 use crate::gpu::spirv::{self, OpCounts};
 use crate::gpu::{Prepared, Renderer, Shading, TimedDraws};
 use crate::method::{self, Method};
-use crate::output::Provenance;
 use crate::scene::Scene;
 /// Version of the bench.json layout.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -44,7 +43,7 @@ pub const CLOCK_SLACK_MS: f64 = 2.0;
 pub const SPHERES: [(u32, u32); 5] = [(10, 6), (32, 17), (100, 51), (316, 159), (1000, 501)];
 
 /// What to sweep besides the main bench.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Sweep {
     Size,
@@ -86,17 +85,22 @@ fn interleaved(
     Ok(out)
 }
 
-fn estimate(samples: &[crate::gpu::Sample], clock: &str) -> (Estimate, f64, Option<f64>) {
+/// The estimate from the `clock` the clock check chose, with the name of the clock it really
+/// came from: `wall` when timestamps were asked for but no sample has one. Also the wall and
+/// timestamp medians.
+pub(crate) fn estimate(
+    samples: &[crate::gpu::Sample],
+    clock: &str,
+) -> (Estimate, &'static str, f64, Option<f64>) {
     let wall: Vec<f64> = samples.iter().map(|s| s.wall_ms).collect();
     let ts: Vec<f64> = samples.iter().filter_map(|s| s.timestamp_ms).collect();
     let w = median_ci(&wall);
     let t = (!ts.is_empty()).then(|| median_ci(&ts));
-    let chosen = if clock == "timestamp" {
-        t.unwrap_or(w)
-    } else {
-        w
+    let (chosen, used) = match t {
+        Some(t) if clock == "timestamp" => (t, "timestamp"),
+        _ => (w, "wall"),
     };
-    (chosen, w.median, t.map(|t| t.median))
+    (chosen, used, w.median, t.map(|t| t.median))
 }
 fn static_ops(m: &Method, interp: crate::scene::Interpolation) -> Option<OpCounts> {
     let bytes =
@@ -161,7 +165,7 @@ pub fn bench(
             None => prepared.base(),
         };
         let (frame, _) = renderer.render(gpu, *s, false)?;
-        let (e, wall, ts) = estimate(smp, &clock.clock);
+        let (e, used_clock, wall, ts) = estimate(smp, &clock.clock);
         let covered = frame.covered();
         let invocations = smp.iter().filter_map(|x| x.fragment_invocations).max();
         let error = s
@@ -184,7 +188,7 @@ pub fn bench(
             ci95_low_ms: e.ci95_low,
             ci95_high_ms: e.ci95_high,
             samples: e.samples,
-            clock: clock.clock.clone(),
+            clock: used_clock.into(),
             wall_median_ms: wall,
             timestamp_median_ms: ts,
             covered_pixels: covered,
@@ -239,7 +243,7 @@ pub fn bench(
     }
     let report = BenchReport {
         schema_version: SCHEMA_VERSION,
-        provenance: Provenance::new(renderer.context().info()),
+        provenance: renderer.provenance(),
         cpu_model: cpu_model(),
         lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
         scene: scene.name.clone(),

@@ -49,3 +49,22 @@ fn least_squares_slope() {
     assert!((least_squares(&[1.0, 2.0, 3.0], &[3.0, 5.0, 7.0]) - 2.0).abs() < 1e-12);
     assert!(least_squares(&[1.0, 1.0], &[1.0, 2.0]).is_nan());
 }
+
+/// A run whose clock check chose timestamps but whose samples have none reports the wall clock
+/// under its own name (it was labelled "timestamp" before).
+#[test]
+fn wall_clock_fallback_is_labelled_wall() {
+    let sample = |wall_ms, timestamp_ms| crate::gpu::Sample {
+        wall_ms,
+        timestamp_ms,
+        fragment_invocations: None,
+    };
+    let no_ts: Vec<_> = (0..9).map(|i| sample(10.0 + i as f64, None)).collect();
+    let (e, clock, wall, ts) = super::estimate(&no_ts, "timestamp");
+    assert_eq!((clock, ts), ("wall", None));
+    assert_eq!(e.median, wall);
+    let with_ts: Vec<_> = (0..9).map(|i| sample(10.0, Some(5.0 + i as f64))).collect();
+    let (e, clock, _, ts) = super::estimate(&with_ts, "timestamp");
+    assert_eq!((clock, Some(e.median)), ("timestamp", ts));
+    assert_eq!(super::estimate(&with_ts, "wall").1, "wall");
+}

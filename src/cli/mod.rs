@@ -76,6 +76,38 @@ struct DeviceArgs {
     validate: bool,
 }
 
+/// `--scale` of `compare`.
+#[derive(ValueEnum, Debug, Clone, Copy)]
+enum ScaleArg {
+    Fixed,
+    Auto,
+}
+
+impl From<ScaleArg> for crate::compare::ScaleMode {
+    fn from(a: ScaleArg) -> Self {
+        match a {
+            ScaleArg::Fixed => Self::Fixed,
+            ScaleArg::Auto => Self::Auto,
+        }
+    }
+}
+
+/// `--sweep` of `bench`.
+#[derive(ValueEnum, Debug, Clone, Copy)]
+enum SweepArg {
+    Size,
+    Triangles,
+}
+
+impl From<SweepArg> for crate::bench::Sweep {
+    fn from(a: SweepArg) -> Self {
+        match a {
+            SweepArg::Size => Self::Size,
+            SweepArg::Triangles => Self::Triangles,
+        }
+    }
+}
+
 #[derive(ValueEnum, Debug, Clone, Copy)]
 enum InterpArg {
     ScreenLinear,
@@ -133,7 +165,7 @@ enum Command {
         fail_above: Vec<String>,
         /// Heatmap scales: `fixed` (shared by all methods) or `auto` (per image).
         #[arg(long, value_enum, default_value = "fixed")]
-        scale: crate::compare::ScaleMode,
+        scale: ScaleArg,
         /// Luminance error above which a pixel counts in pixels_above_threshold.
         #[arg(long, default_value_t = 1.0 / 255.0)]
         threshold: f64,
@@ -164,7 +196,7 @@ enum Command {
         control: bool,
         /// Also sweep image size (128..2048) or triangle count (~100..~1,000,000); repeatable.
         #[arg(long, value_enum)]
-        sweep: Vec<crate::bench::Sweep>,
+        sweep: Vec<SweepArg>,
     },
     /// List the methods (`--json` for machines).
     List {
@@ -237,7 +269,7 @@ pub fn run() -> Result<ExitCode> {
             &methods,
             &out,
             &fail_above,
-            scale,
+            scale.into(),
             threshold,
         ),
         Command::Render {
@@ -277,7 +309,7 @@ pub fn run() -> Result<ExitCode> {
                 warmup,
                 error_metric,
                 control,
-                sweeps: sweep,
+                sweeps: sweep.into_iter().map(Into::into).collect(),
             };
             cmd_bench(&scene, &device, &methods, &out, &opts)
         }

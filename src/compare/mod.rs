@@ -25,7 +25,6 @@ use crate::gpu::{Renderer, Shading};
 use crate::method::{self, Method};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
-use crate::output::Provenance;
 use crate::scene::Scene;
 use crate::truth::{self, Truth};
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
@@ -37,7 +36,7 @@ pub const FIXED_SIGNED: Scale = Scale::Linear { lo: -0.1, hi: 0.1 };
 pub const FIXED_ANGLE: Scale = Scale::Linear { lo: 0.0, hi: 10.0 };
 
 /// Heatmap scaling: shared fixed scales, or per image.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ScaleMode {
     Fixed,
@@ -331,7 +330,7 @@ pub fn compare(
     let secs = |ms: f64| (ms / 1e3).max(1e-9);
     let summary = Summary {
         schema_version: SCHEMA_VERSION,
-        provenance: Provenance::new(renderer.context().info()),
+        provenance: renderer.provenance(),
         scene: scene.name.clone(),
         scene_source: scene.mesh.source.clone(),
         triangles: base.inputs.triangle_count(),

@@ -12,6 +12,7 @@ use crate::gpu::vk::{
     GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule, VertexStream,
 };
 use crate::method::{specular_table, Geometry, Method};
+use crate::output::Provenance;
 use crate::scene::Scene;
 /// What a draw shades with: a method, or the constant-colour floor.
 #[derive(Debug, Clone, Copy)]
@@ -211,6 +212,12 @@ impl Renderer {
 
     pub fn context(&self) -> &Arc<Context> {
         &self.ctx
+    }
+
+    /// Where results rendered here come from: this device and its driver.
+    pub fn provenance(&self) -> Provenance {
+        let i = self.ctx.info();
+        Provenance::new(&i.name, &i.driver_name, &i.driver_info, &i.api_version)
     }
 
     /// Uploads a scene for `methods`: the scene's own triangles always (the reference and the

@@ -16,10 +16,13 @@ pub struct Provenance {
 }
 
 impl Provenance {
-    pub fn new(info: &crate::gpu::vk::DeviceInfo) -> Self {
+    /// The provenance of a result computed on a device named `device`, whose driver is
+    /// `driver` (`driver_info`: the driver's version string, where Mesa and LLVM versions are
+    /// found) and whose Vulkan API version is `vulkan_api`.
+    pub fn new(device: &str, driver: &str, driver_info: &str, vulkan_api: &str) -> Self {
         let after = |key: &str| {
-            info.driver_info.find(key).map(|i| {
-                info.driver_info[i + key.len()..]
+            driver_info.find(key).map(|i| {
+                driver_info[i + key.len()..]
                     .split(|c: char| c.is_whitespace() || c == ')' || c == ',')
                     .next()
                     .unwrap_or("")
@@ -30,15 +33,17 @@ impl Provenance {
             tool: "shadelab".into(),
             version: env!("CARGO_PKG_VERSION").into(),
             git_revision: env!("SHADELAB_GIT_REVISION").into(),
-            device: info.name.clone(),
-            driver: info.driver_name.clone(),
-            driver_info: info.driver_info.clone(),
-            vulkan_api: info.api_version.clone(),
+            device: device.into(),
+            driver: driver.into(),
+            driver_info: driver_info.into(),
+            vulkan_api: vulkan_api.into(),
             mesa_version: after("Mesa "),
             llvm_version: after("LLVM "),
         }
     }
 }
+
+/// The CPU's model name from /proc/cpuinfo (`unknown` where there is none).
 pub(crate) fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
