@@ -217,3 +217,23 @@ fn validation_layer_messages_are_collected() {
         "the validation layer stayed silent"
     );
 }
+
+/// specular_lut picks its table row by rounding the shininess; GLSL's round() leaves halves to
+/// the implementation, so GPU and f64 twin use one spelled-out rule (halves up). At a
+/// half-integer shininess they must still pick the same row and agree within the bound.
+#[test]
+fn specular_lut_agrees_with_f64_at_half_integer_shininess() {
+    let r = validated_renderer();
+    let m = method::find("specular_lut").unwrap();
+    for shininess in [12.5, 13.5] {
+        let mut scene = shipped_scene("sphere_coarse", 96);
+        scene.material.shininess = shininess;
+        let prepared = r.prepare(&scene, &[m]).unwrap();
+        let gpu = prepared.base();
+        let (frame, ids) = r.render(gpu, Shading::Method(m), true).unwrap();
+        let a = truth::agreement(&frame, &truth::evaluate(&gpu.inputs, &ids.unwrap(), m));
+        assert!(a.covered > 1000, "{a:?}");
+        assert!(a.within_bound(), "shininess {shininess}: {a:?}");
+    }
+    assert_validation_clean(r.context());
+}

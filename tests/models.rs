@@ -4,7 +4,94 @@ use shadelab::gpu::Shading;
 use shadelab::method::METHODS;
 use shadelab::{method, scene, truth};
 
+use shadelab::geometry::load_obj;
+
 use crate::support::*;
+
+/// Every model loads with the triangle count, normals and triangulation its README states,
+/// unit normals and a fitted radius of 1 (moved here from the unit tests, so the models
+/// folder has one rule: tests/support.rs `models_dir`).
+#[test]
+fn shared_models_load() {
+    let Some(dir) = models_dir() else { return };
+    // (file, triangles from the README, normals computed?, needed triangulation?)
+    let models = [
+        ("spot.obj", 5856, true, false),
+        ("teapot.obj", 6320, true, false),
+        ("fandisk.obj", 12946, true, false),
+        ("stanford-bunny.obj", 69451, true, false),
+        // 500 faces of which 468 quads: 32 + 2 * 468 triangles.
+        ("suzanne.obj", 968, false, true),
+    ];
+    for (name, triangles, computed, polygons) in models {
+        let path = dir.join(name);
+        let (mesh, report) = load_obj(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            report.triangles + report.dropped_zero_area,
+            triangles,
+            "{name}: {report:?}"
+        );
+        // A real model loses at most a few degenerate triangles, never a visible part.
+        assert!(
+            report.dropped_zero_area * 100 <= triangles,
+            "{name}: dropped {} of {triangles}",
+            report.dropped_zero_area
+        );
+        assert_eq!(mesh.triangle_count(), report.triangles, "{name}");
+        assert_eq!(
+            report.computed_normals, computed,
+            "{name}: computed normals"
+        );
+        assert_eq!(
+            report.had_quads_or_polygons, polygons,
+            "{name}: triangulated"
+        );
+        for (i, n) in mesh.normals.iter().enumerate() {
+            assert!(
+                n.iter().all(|c| c.is_finite()),
+                "{name}: normal {i} = {n:?}"
+            );
+            let len = glam::Vec3::from(*n).as_dvec3().length();
+            assert!((len - 1.0).abs() <= 1e-6, "{name}: |normal {i}| = {len}");
+        }
+        let r = mesh
+            .positions
+            .iter()
+            .map(|&p| glam::Vec3::from(p).as_dvec3().length())
+            .fold(0.0, f64::max);
+        assert!((r - 1.0).abs() <= 1e-6, "{name}: fitted radius {r}");
+        eprintln!(
+            "{name}: {} triangles, {} dropped, warnings {:?}",
+            report.triangles, report.dropped_zero_area, report.warnings
+        );
+    }
+}
+
+/// A missing models folder is a visible skip, and a failure under SHADELAB_REQUIRE_MODELS=1
+/// (what CI sets): runs this test binary on `shared_models_load` with a folder that is not there.
+#[test]
+fn missing_models_skip_visibly_and_fail_when_required() {
+    let run = |require: &str| {
+        std::process::Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", "models::shared_models_load", "--test-threads=1"])
+            .env("SHADELAB_MODELS", "/nonexistent/shadelab-models")
+            .env("SHADELAB_REQUIRE_MODELS", require)
+            .output()
+            .unwrap()
+    };
+    let skipped = run("0");
+    let err = String::from_utf8_lossy(&skipped.stderr);
+    assert!(skipped.status.success(), "{err}");
+    assert!(
+        err.contains("SKIPPED: models::shared_models_load: no models folder"),
+        "the skip must say SKIPPED and name the test: {err}"
+    );
+    let required = run("1");
+    assert!(
+        !required.status.success(),
+        "SHADELAB_REQUIRE_MODELS=1 must fail a test without models"
+    );
+}
 
 #[test]
 fn every_shared_model_renders_and_matches_f64() {

@@ -41,22 +41,35 @@ pub fn shipped_scene(name: &str, size: u32) -> Scene {
     s
 }
 
-/// The real-world models folder: `SHADELAB_MODELS`, else ../shared/models when present.
-/// `None` (with a message) when absent, so the caller skips.
+/// The real-world models folder: `SHADELAB_MODELS` (unless empty: the Makefile exports it
+/// empty when there are no models), else ../shared/models when present.
+///
+/// When it is absent: with `SHADELAB_REQUIRE_MODELS=1` (CI sets it) the calling test fails;
+/// otherwise `None`, and a `SKIPPED: <test>` line goes straight to the terminal (not through
+/// `eprintln!`, which the test harness captures and hides for a passing test), so a skip never
+/// reads as a pass.
 pub fn models_dir() -> Option<PathBuf> {
     let dir = match std::env::var_os("SHADELAB_MODELS") {
         Some(d) if !d.is_empty() => PathBuf::from(d),
         _ => root().join("../shared/models"),
     };
     if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipping: no models folder at {} (set SHADELAB_MODELS)",
-            dir.display()
-        );
-        None
+        return Some(dir);
     }
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("a test")
+        .to_string();
+    let why = format!(
+        "no models folder at {} (set SHADELAB_MODELS)",
+        dir.display()
+    );
+    if std::env::var("SHADELAB_REQUIRE_MODELS").as_deref() == Ok("1") {
+        panic!("{test}: SHADELAB_REQUIRE_MODELS=1 but {why}");
+    }
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "SKIPPED: {test}: {why}");
+    None
 }
 
 /// The built binary.

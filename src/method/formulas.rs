@@ -314,7 +314,7 @@ pub fn specular_lut(rows: usize, samples: usize) -> Vec<f32> {
     table
 }
 
-/// Lookup with linear interpolation along the cosine axis, row = clamp(round(n), 1, rows); s clamped to [0,1];
+/// Lookup with linear interpolation along the cosine axis, row = clamp(floor(n + 0.5), 1, rows) (halves round up); s clamped to [0,1];
 ///   f = s (samples - 1); i0 = floor(f) (clamped to samples-2); t = f - i0; mix(row[i0], row[i0+1], t).  s <= 0 -> 0.
 ///
 /// `table` is [`specular_lut`]`(rows, samples)`. Non-integer `n` uses the nearest row (no
@@ -324,7 +324,9 @@ pub fn lut_lookup(table: &[f32], rows: usize, samples: usize, n: f64, s: f64) ->
         return 0.0;
     }
     let s = s.min(1.0);
-    let row = (n.round().clamp(1.0, rows as f64) as usize) - 1;
+    // Row floor(n + 0.5): halves round up, the rule glsl/methods/specular_lut.glsl spells out
+    // (f64::round would take halves away from zero, GLSL round() leaves them to the driver).
+    let row = ((n + 0.5).floor().clamp(1.0, rows as f64) as usize) - 1;
     let r = &table[row * samples..(row + 1) * samples];
     let f = s * (samples - 1) as f64;
     let i0 = (f.floor() as usize).min(samples - 2);
