@@ -30,7 +30,8 @@ layout(location = 8) in vec3 inPn20;
 // The id pass and every method pass must rasterize identically: they share this code, and
 // lavapipe compiles it deterministically. (`invariant gl_Position` would say so formally, but
 // Mesa's SPIR-V front end warns that the decoration is not allowed on the gl_PerVertex member
-// and ignores it.) tests/gpu.rs checks that both passes cover exactly the same pixels.
+// and ignores it.) tests/gpu.rs checks that both passes cover the same pixels
+// (the coverage masks, pixel by pixel).
 
 void main() {
     gl_Position = params.mvp * vec4(inPosition, 1.0);
