@@ -37,6 +37,14 @@ pub enum Error {
     /// Shader compilation or SPIR-V problems.
     #[error("{0}")]
     Shader(String),
+    /// An output could not be produced (serialising JSON, drawing a chart or heatmap);
+    /// `what` names the output.
+    #[error("cannot write {what}: {message}")]
+    Output { what: String, message: String },
+    /// A broken internal invariant (a worker thread panicked, a pass returned nothing): a bug
+    /// in shadelab, never the user's input.
+    #[error("internal error (please report): {0}")]
+    Internal(String),
 }
 
 fn location(path: &std::path::Path, line: Option<usize>) -> String {
@@ -60,6 +68,14 @@ impl Error {
         }
     }
 
+    /// An output named `what` that could not be produced.
+    pub fn output(what: impl Into<String>, message: impl std::fmt::Display) -> Self {
+        Error::Output {
+            what: what.into(),
+            message: message.to_string(),
+        }
+    }
+
     /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {
@@ -79,5 +95,19 @@ mod tests {
         assert_eq!(e.to_string(), "a/b.obj:12: bad vertex");
         let e = Error::input("a/b.obj", None, "empty mesh");
         assert_eq!(e.to_string(), "a/b.obj: empty mesh");
+    }
+
+    #[test]
+    fn output_and_internal_errors_say_what_failed() {
+        let e = Error::output("pareto.png", "the font is missing");
+        assert_eq!(
+            e.to_string(),
+            "cannot write pareto.png: the font is missing"
+        );
+        let e = Error::Internal("a compare worker panicked".into());
+        assert_eq!(
+            e.to_string(),
+            "internal error (please report): a compare worker panicked"
+        );
     }
 }

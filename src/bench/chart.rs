@@ -15,7 +15,7 @@ const SIZE: (u32, u32) = (960, 640);
 pub const ERROR_FLOOR: f64 = 1e-9;
 
 fn plot_err<E: std::fmt::Display>(e: E) -> Error {
-    Error::Shader(format!("drawing a chart failed: {e}"))
+    Error::output("a chart", e)
 }
 
 /// Draws with `draw` into an SVG and a PNG of the same chart: DIR/<stem>.svg and .png.

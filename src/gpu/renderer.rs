@@ -116,7 +116,7 @@ impl GpuScene {
         let mut buffers = vec![(0, &self.positions)];
         if let Some(m) = shading.method() {
             if m.geometry != self.inputs.geometry {
-                return Err(Error::Usage(format!(
+                return Err(Error::Internal(format!(
                     "{} draws {:?}, this upload holds {:?}",
                     m.name, m.geometry, self.inputs.geometry
                 )));
@@ -128,7 +128,7 @@ impl GpuScene {
                     .find(|(k, _)| *k == s)
                     .map(|(_, b)| b)
                     .ok_or_else(|| {
-                        Error::Usage(format!(
+                        Error::Internal(format!(
                             "{}: vertex stream {s:?} was not uploaded (prepare with this method)",
                             m.name
                         ))

@@ -215,8 +215,9 @@ pub fn write_spirv(glsl_dir: &Path, spirv_dir: &Path) -> Result<usize> {
         source_hash: source_hash(glsl_dir)?,
         files,
     };
-    let json =
-        serde_json::to_string_pretty(&manifest).map_err(|e| Error::Shader(e.to_string()))? + "\n";
+    let json = serde_json::to_string_pretty(&manifest)
+        .map_err(|e| Error::output("spirv/manifest.json", e))?
+        + "\n";
     crate::output::write_bytes_atomic(&spirv_dir.join("manifest.json"), json.as_bytes())?;
     Ok(compiled.len())
 }

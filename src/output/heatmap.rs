@@ -86,13 +86,18 @@ pub(crate) fn register_font() -> Result<()> {
             FontStyle::Normal,
             dejavu::sans::regular(),
         )
-        .map_err(|_| Error::Shader("the embedded DejaVu Sans font could not be registered".into()));
+        .map_err(|_| {
+            Error::output(
+                "figures",
+                "the embedded DejaVu Sans font could not be registered",
+            )
+        });
     });
     result
 }
 
 fn plot_err<E: std::fmt::Display>(e: E) -> Error {
-    Error::Shader(format!("drawing a heatmap failed: {e}"))
+    Error::output("a heatmap", e)
 }
 
 /// Draws `values` (row-major, `None` = no data) as a heatmap of `width` x `height` with a
