@@ -26,9 +26,11 @@
 //! The constants are few and each is stated below with its reason. The measured error/bound
 //! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
 pub mod agreement;
+pub mod verify;
 
 pub use agreement::*;
 use glam::{DMat4, DVec2, DVec3, DVec4};
+pub use verify::{verify, VerifyReport, VerifyRow};
 
 use crate::frame::IdFrame;
 use crate::method::formulas::Lighting;
