@@ -79,7 +79,9 @@ impl VerifyReport {
             self.scene,
             self.width,
             self.height,
-            self.judged_by()
+            self.against
+                .map(|a| format!("{a}'s"))
+                .unwrap_or_else(|| "its own".into())
         );
         t += &format!(
             "{:<32} {:>7} {:>9} {:>9} {:>6} | {:>9} {:>9} {:>8} {:>8} {:>10} {:>8}\n",
