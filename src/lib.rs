@@ -6,7 +6,7 @@
 //! | layer | modules | owns |
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
-//! | jobs | [`compare`], [`bench`] | a run over methods: statistics, heatmaps, timing, claims |
+//! | jobs | [`compare`], [`bench`], [`verify`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin |
 //! | judgement | [`analysis`], [`truth`] | per-pixel error (one definition), statistics; f64 truth and bound |
 //! | device | [`gpu`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
@@ -42,5 +42,6 @@ pub mod scene;
 #[cfg(test)]
 mod testutil;
 pub mod truth;
+pub mod verify;
 
 pub use error::{Error, Result};

@@ -59,10 +59,11 @@ fn compare_writes_a_valid_summary_heatmaps_and_csv() {
     assert!(get("phong_unnormalized")["max_abs_error"].as_f64().unwrap() > 1e-2);
     // methods without a per-pixel normal report null normal metrics, not 0
     assert!(get("gouraud")["max_normal_angle_deg"].is_null());
-    assert_eq!(
-        get("flat")["max_normal_length_error"].as_f64(),
-        Some(get("flat")["max_normal_length_error"].as_f64().unwrap())
-    );
+    // flat has a per-pixel normal (the unit face normal): a number, at the float32 level of
+    // one normalization (the K_FORMULA budget of src/truth/mod.rs: 32 u = 1.9e-6)
+    let flat_len = get("flat")["max_normal_length_error"].as_f64();
+    let unit = shadelab::truth::K_FORMULA * shadelab::truth::U;
+    assert!(flat_len.is_some_and(|e| e <= unit), "flat: {flat_len:?}");
     // trueform changes the silhouette: pixels covered by only one are counted
     assert!(
         get("trueform")["coverage_mismatch_pixels"]
@@ -154,4 +155,137 @@ fn fail_above_exits_1_exactly_when_a_metric_exceeds_its_limit() {
     let (code, _, err) = compare(dir.path(), &["--fail-above", "max_error=1"]);
     assert_eq!(code, 2);
     assert!(err.contains("unknown metric \"max_error\""), "{err}");
+}
+
+#[test]
+fn limits_in_the_wrong_direction_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    // higher PSNR is better: a --fail-above limit on it would pass the worse methods
+    let (code, _, err) = compare(dir.path(), &["--fail-above", "psnr_db=40"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--fail-above psnr_db: higher psnr_db is better")
+            && err.contains("use --fail-below psnr_db=VALUE"),
+        "{err}"
+    );
+    let (code, _, err) = compare(dir.path(), &["--fail-below", "max_abs_error=0.1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--fail-below max_abs_error: lower max_abs_error is better")
+            && err.contains("use --fail-above max_abs_error=VALUE"),
+        "{err}"
+    );
+    assert!(
+        !dir.path().join("summary.json").exists(),
+        "refused before any work"
+    );
+}
+
+#[test]
+fn fail_below_exits_1_exactly_when_a_metric_is_below_its_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, _, err) = compare(dir.path(), &[]);
+    assert_eq!(code, 0, "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
+            .unwrap();
+    let psnr = |n: &str| {
+        summary["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == n)
+            .unwrap()["psnr_db"]
+            .as_f64()
+            .unwrap()
+    };
+    let worst = psnr("phong_unnormalized").min(psnr("flat"));
+    let at = format!("psnr_db={worst:e}");
+    let (code, _, err) = compare(dir.path(), &["--fail-below", &at]);
+    assert_eq!(code, 0, "at the lowest PSNR nothing is below it: {err}");
+    let above = format!("psnr_db={:e}", worst * 1.001);
+    let (code, _, err) = compare(dir.path(), &["--fail-below", &above]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("threshold exceeded: ") && err.contains(" psnr_db = ") && err.contains(" < "),
+        "{err}"
+    );
+    assert_eq!(err.matches("threshold exceeded").count(), 1, "{err}");
+}
+
+/// One triangle whose vertex normals include an antipodal pair: the interpolated normal passes
+/// through zero inside it, and barycentric_quadratic_exact_mid's midpoint normal
+/// normalize(n0 + n1) is NaN, so every pixel of that method is NaN.
+const ANTIPODAL_OBJ: &str =
+    "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 -1\nvn 0 0 1\nf 1//1 2//2 3//3\n";
+
+#[test]
+fn a_method_that_is_nan_everywhere_fails_every_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("antipodal.obj");
+    std::fs::write(&obj, ANTIPODAL_OBJ).unwrap();
+    // the loader keeps the antipodal pair (it neither recomputes nor flips normals)
+    let scene = shadelab::scene::scene_for_mesh(&obj).unwrap();
+    let normals = &scene.mesh.normals;
+    assert!(
+        normals.contains(&[0.0, 0.0, 1.0]) && normals.contains(&[0.0, 0.0, -1.0]),
+        "{normals:?}"
+    );
+    let out = dir.path().join("out");
+    let run_with = |limit: &[&str]| {
+        let mut args = vec![
+            "compare",
+            "--mesh",
+            obj.to_str().unwrap(),
+            "--size",
+            "48x48",
+            "--validate",
+            "--methods",
+            "barycentric_quadratic_exact_mid,phong_exact",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(limit);
+        run(&args)
+    };
+    let (code, stdout, err) = run_with(&["--fail-above", "max_abs_error=0.01"]);
+    assert_eq!(code, 1, "{stdout}{err}");
+    assert!(
+        err.contains("threshold exceeded: barycentric_quadratic_exact_mid max_abs_error = inf")
+            && err.contains("non-finite pixels"),
+        "{err}"
+    );
+    assert!(!err.contains("threshold exceeded: phong_exact"), "{err}");
+    // PSNR, higher-is-better, fails too
+    let (code, _, err) = run_with(&["--fail-below", "psnr_db=0"]);
+    assert_eq!(code, 1, "{err}");
+    // summary.json: null plus the count, still valid against the schema
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert!(jsonschema::validator_for(&schema())
+        .unwrap()
+        .is_valid(&summary));
+    let nan = summary["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == "barycentric_quadratic_exact_mid")
+        .unwrap();
+    assert!(nan["non_finite_pixels"].as_u64().unwrap() > 100, "{nan}");
+    for k in [
+        "max_abs_error",
+        "mean_abs_error",
+        "p99_abs_error",
+        "psnr_db",
+        "flip_mean",
+    ] {
+        assert!(nan[k].is_null(), "{k}: {}", nan[k]);
+    }
+    // the table: sorted last, shown as inf
+    let rows: Vec<&str> = stdout.lines().collect();
+    assert!(rows[1].starts_with("phong_exact "), "{stdout}");
+    assert!(
+        rows[2].starts_with("barycentric_quadratic_exact_mid ") && rows[2].contains(" inf "),
+        "{stdout}"
+    );
 }

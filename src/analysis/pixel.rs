@@ -1,28 +1,154 @@
-//! The per-pixel error of a frame against its f64 truth, and the statistics of that error.
+//! The per-pixel error of a frame against its f64 truth: the one definition `compare` and
+//! `verify` share, and the statistics of it.
+//!
+//! # The error of a pixel
+//! The colour error of a pixel is the signed error of its linear Rec. 709 luminance,
+//! `dI = L(method) - L(reference)` with `L(c) = 0.2126 r + 0.7152 g + 0.0722 b` ([`LUMINANCE`]),
+//! before any 8-bit quantization. Every `*_abs_error` anywhere in the outputs is a statistic of
+//! `|dI|`. The per-channel errors (`channels` of compare) are the same difference taken per
+//! R, G, B channel, and named as such. The normal error is the angle between the method's shading
+//! normal and the reference's, and the length error `||N'| - 1|`.
+//!
+//! # Which pixels count
+//! Every pixel falls in exactly one [`PixelClass`]. Only [`PixelClass::Measured`] pixels enter a
+//! statistic, and the same pixels enter every statistic (luminance, channels, normal, FLIP); the
+//! other classes are counted ([`PixelCounts`]) and reported:
+//! - background: covered by neither; coverage mismatch: covered by only one of the two;
+//! - ill-conditioned: the reference is not meaningful there (a screen-space sliver whose weights
+//!   the rasterizer extrapolated, see [`crate::truth::ILL_CONDITIONED`], or an f64 reference that is
+//!   itself non-finite);
+//! - non-finite: NaN or Inf in the method's colour (or normal, for methods with one).
+//!
+//! A method with any non-finite pixel, ill-conditioned ones included, has every error statistic
+//! infinite: NaN output is never a small error ([`PixelErrors::non_finite`]).
 use crate::analysis::stats::percentile;
-use crate::truth::{finite, max_diff, Truth};
+use crate::truth::{Truth, TruthPixel};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::frame::Frame;
-/// A method's error against a reference truth (normally f64 exact Phong), over the pixels
-/// covered in both. Ill-conditioned pixels (screen-space slivers whose weights the rasterizer
-/// extrapolated, see [`ILL_CONDITIONED`]) are counted and left out of the statistics: the
-/// reference itself is not meaningful there.
+
+/// Rec. 709 luminance weights of linear RGB.
+pub const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
+/// What a pixel is to the statistics (module doc, "Which pixels count").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PixelClass {
+    Background,
+    CoverageMismatch,
+    /// The reference is not meaningful here; `non_finite` tells whether the method's output is
+    /// NaN/Inf as well.
+    IllConditioned {
+        non_finite: bool,
+    },
+    NonFinite,
+    Measured,
+}
+
+/// How many pixels of each class (background not counted).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct PixelCounts {
+    /// Pixels in every statistic: covered by both, well-conditioned, finite.
+    pub measured: usize,
+    /// Pixels covered by only one of method and reference (different geometry, e.g. `trueform`).
+    pub coverage_mismatch: usize,
+    /// Covered by both, reference not meaningful (left out of every statistic).
+    pub ill_conditioned: usize,
+    /// Covered by both with NaN or Inf in the method's output, ill-conditioned ones included.
+    pub non_finite: usize,
+    /// Of `non_finite`, the ill-conditioned pixels.
+    pub non_finite_ill_conditioned: usize,
+}
+
+/// The class of pixel `i` of `frame` against `reference`.
+pub fn classify(
+    frame: &Frame,
+    has_normal: bool,
+    reference: Option<&TruthPixel>,
+    i: usize,
+) -> PixelClass {
+    let here = frame.color[i][3] > 0.0;
+    let Some(t) = reference else {
+        return if here {
+            PixelClass::CoverageMismatch
+        } else {
+            PixelClass::Background
+        };
+    };
+    if !here {
+        return PixelClass::CoverageMismatch;
+    }
+    let non_finite =
+        !d3(frame.color[i]).is_finite() || (has_normal && !d3(frame.normal[i]).is_finite());
+    let meaningful =
+        !t.ill_conditioned() && t.color.is_finite() && t.normal.is_none_or(|n| n.is_finite());
+    match (meaningful, non_finite) {
+        (false, _) => PixelClass::IllConditioned { non_finite },
+        (true, true) => PixelClass::NonFinite,
+        (true, false) => PixelClass::Measured,
+    }
+}
+
+/// The per-pixel errors of one method against the reference.
+#[derive(Debug, Clone)]
+pub struct PixelErrors {
+    pub width: u32,
+    pub has_normal: bool,
+    pub counts: PixelCounts,
+    /// Per pixel (row-major): whether it is [`PixelClass::Measured`] (the mask of every statistic).
+    pub measured: Vec<bool>,
+    /// (x, y, dI) of every measured pixel, in pixel order.
+    pub errors: Vec<(u32, u32, f64)>,
+    /// Signed R, G, B errors of every measured pixel.
+    pub channels: [Vec<f64>; 3],
+    /// Normal angle error (degrees) of every measured pixel (empty without a per-pixel normal).
+    pub angles: Vec<f64>,
+    /// Max ||N'| - 1| over measured pixels (0 without a per-pixel normal).
+    pub max_len: f64,
+    /// Per pixel: dI where measured.
+    pub signed: Vec<Option<f64>>,
+    /// Per pixel: the normal angle error where measured (methods with a normal).
+    pub angle: Vec<Option<f64>>,
+    /// (x, y) of the first non-finite pixel, if any.
+    pub first_non_finite: Option<[u32; 2]>,
+}
+
+impl PixelErrors {
+    /// Whether any covered pixel is NaN/Inf: every error statistic is then infinite.
+    pub fn non_finite(&self) -> bool {
+        self.counts.non_finite > 0
+    }
+
+    /// Per pixel: |dI| where measured.
+    pub fn abs(&self) -> Vec<Option<f64>> {
+        self.signed.iter().map(|e| e.map(f64::abs)).collect()
+    }
+
+    /// The summary statistics (`verify`'s columns; `compare` reports more of the same fields).
+    pub fn stats(&self) -> ErrorStats {
+        let n = self.errors.len();
+        let mean = |s: f64| if n > 0 { s / n as f64 } else { 0.0 };
+        let inf = self.non_finite();
+        let or_inf = |v: f64| if inf { f64::INFINITY } else { v };
+        let normal = |v: f64| self.has_normal.then_some(or_inf(v));
+        ErrorStats {
+            counts: self.counts,
+            max_abs_error: or_inf(self.errors.iter().fold(0.0, |m, e| m.max(e.2.abs()))),
+            mean_abs_error: or_inf(mean(self.errors.iter().map(|e| e.2.abs()).sum())),
+            max_normal_angle_deg: normal(self.angles.iter().fold(0.0, |m, &a| m.max(a))),
+            mean_normal_angle_deg: normal(mean(self.angles.iter().sum())),
+            max_normal_length_error: normal(self.max_len),
+        }
+    }
+}
+
+/// A method's error against a reference truth (normally f64 exact Phong): the statistics of
+/// |dI| (module doc) and of the normal over the measured pixels, and the counts of the others.
+/// Every error is infinite when the method has a non-finite pixel.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct ErrorStats {
-    /// Pixels in the statistics.
-    pub covered: usize,
-    /// Pixels covered by only one of the two (different geometry, e.g. `trueform`).
-    pub coverage_mismatch: usize,
-    /// Ill-conditioned pixels left out of the statistics.
-    pub ill_conditioned: usize,
-    /// Well-conditioned pixels with NaN or Inf in the method's colour or normal (not in the
-    /// statistics).
-    pub non_finite: usize,
-    /// Ill-conditioned pixels with NaN or Inf.
-    pub non_finite_ill_conditioned: usize,
-    /// Max and mean over pixels of the largest |colour - reference| channel.
+    pub counts: PixelCounts,
+    /// Max and mean over measured pixels of |dI|, the luminance error.
     pub max_abs_error: f64,
     pub mean_abs_error: f64,
     /// Angle between the method's shading normal and the reference's, degrees (`None`
@@ -34,87 +160,122 @@ pub struct ErrorStats {
 }
 
 /// Statistics of `frame` (a method's GPU output, `has_normal` telling whether its normal
-/// target is meaningful) against `reference`.
+/// target is meaningful) against `reference`: `pixel_errors(..).stats()`.
 pub fn error_stats(frame: &Frame, has_normal: bool, reference: &Truth) -> ErrorStats {
-    let (mut covered, mut mismatch, mut non_finite) = (0usize, 0usize, 0usize);
-    let (mut ill, mut non_finite_ill) = (0usize, 0usize);
-    let (mut max_e, mut sum_e, mut max_a, mut sum_a, mut max_l) =
-        (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    pixel_errors(frame, has_normal, reference).stats()
+}
+
+/// The per-pixel errors of `frame` against `reference` (module doc).
+pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> PixelErrors {
+    let n = reference.pixels.len();
+    let mut f = PixelErrors {
+        width: frame.width,
+        has_normal,
+        counts: PixelCounts::default(),
+        measured: vec![false; n],
+        errors: Vec::new(),
+        channels: [Vec::new(), Vec::new(), Vec::new()],
+        angles: Vec::new(),
+        max_len: 0.0,
+        signed: vec![None; n],
+        angle: vec![None; n],
+        first_non_finite: None,
+    };
     for (i, t) in reference.pixels.iter().enumerate() {
-        let gc = frame.color[i];
-        let here = gc[3] > 0.0;
-        let Some(t) = t else {
-            mismatch += usize::from(here);
-            continue;
+        let xy = [i as u32 % frame.width, i as u32 / frame.width];
+        let c = &mut f.counts;
+        let t = match classify(frame, has_normal, t.as_ref(), i) {
+            PixelClass::Background => continue,
+            PixelClass::CoverageMismatch => {
+                c.coverage_mismatch += 1;
+                continue;
+            }
+            PixelClass::IllConditioned { non_finite } => {
+                c.ill_conditioned += 1;
+                if non_finite {
+                    c.non_finite += 1;
+                    c.non_finite_ill_conditioned += 1;
+                    f.first_non_finite.get_or_insert(xy);
+                }
+                continue;
+            }
+            PixelClass::NonFinite => {
+                c.non_finite += 1;
+                f.first_non_finite.get_or_insert(xy);
+                continue;
+            }
+            PixelClass::Measured => match t {
+                Some(t) => t,
+                None => continue,
+            },
         };
-        if !here {
-            mismatch += 1;
-            continue;
+        f.counts.measured += 1;
+        f.measured[i] = true;
+        let col = d3(frame.color[i]);
+        let d = col - t.color;
+        let e = lum(col) - lum(t.color);
+        f.errors.push((xy[0], xy[1], e));
+        for k in 0..3 {
+            f.channels[k].push(d[k]);
         }
-        let gn = frame.normal[i];
-        let bad = !finite(&gc) || (has_normal && !finite(&gn));
-        if t.ill_conditioned() {
-            ill += 1;
-            non_finite_ill += usize::from(bad);
-            continue;
-        }
-        if bad {
-            non_finite += 1;
-            continue;
-        }
-        covered += 1;
-        let e = max_diff(
-            DVec3::new(gc[0] as f64, gc[1] as f64, gc[2] as f64),
-            t.color,
-        );
-        max_e = max_e.max(e);
-        sum_e += e;
-        if let (true, Some(rn)) = (has_normal, t.normal) {
-            let n = DVec3::new(gn[0] as f64, gn[1] as f64, gn[2] as f64);
-            let len = n.length();
+        f.signed[i] = Some(e);
+        if let (true, Some(r)) = (has_normal, t.normal) {
+            let nrm = d3(frame.normal[i]);
+            let len = nrm.length();
             let cos = if len > 0.0 {
-                (n.dot(rn) / (len * rn.length())).clamp(-1.0, 1.0)
+                (nrm.dot(r) / (len * r.length())).clamp(-1.0, 1.0)
             } else {
                 -1.0
             };
-            let angle = cos.acos().to_degrees();
-            max_a = max_a.max(angle);
-            sum_a += angle;
-            max_l = max_l.max((len - 1.0).abs());
+            let a = cos.acos().to_degrees();
+            f.angles.push(a);
+            f.angle[i] = Some(a);
+            f.max_len = f.max_len.max((len - 1.0).abs());
         }
     }
-    let mean = |s: f64| if covered > 0 { s / covered as f64 } else { 0.0 };
-    ErrorStats {
-        covered,
-        coverage_mismatch: mismatch,
-        ill_conditioned: ill,
-        non_finite,
-        non_finite_ill_conditioned: non_finite_ill,
-        max_abs_error: max_e,
-        mean_abs_error: mean(sum_e),
-        max_normal_angle_deg: has_normal.then_some(max_a),
-        mean_normal_angle_deg: has_normal.then(|| mean(sum_a)),
-        max_normal_length_error: has_normal.then_some(max_l),
-    }
+    f
 }
-/// Rec. 709 luminance weights of linear RGB.
-pub const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
-/// Statistics of a signed per-pixel error.
+
+/// Statistics of the signed per-pixel luminance error dI.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct IntensityStats {
     pub mean_abs_error: f64,
     pub max_abs_error: f64,
-    /// (x, y) of the first pixel with the largest |error|, `None` when there are no pixels.
+    /// (x, y) of the first pixel with the largest |error| (the first non-finite pixel when there
+    /// are any), `None` when there are no pixels.
     pub max_error_pixel: Option<[u32; 2]>,
     pub p50_abs_error: f64,
     pub p95_abs_error: f64,
     pub p99_abs_error: f64,
     pub rmse: f64,
-    /// 10 log10(1 / MSE) with peak intensity 1; `None` (null) when the error is exactly 0.
+    /// 10 log10(1 / MSE) with peak intensity 1; `None` (null) when the error is exactly 0;
+    /// -inf (null in JSON) for a method with non-finite pixels.
     pub psnr_db: Option<f64>,
-    pub pixels_above_threshold: usize,
+    /// `None` (null) for a method with non-finite pixels (a NaN is above any threshold).
+    pub pixels_above_threshold: Option<usize>,
     pub fraction_above_threshold: f64,
 }
+
+impl IntensityStats {
+    /// The statistics of a method with non-finite pixels: every error infinite (null in JSON),
+    /// `at` the first non-finite pixel.
+    pub fn non_finite(at: Option<[u32; 2]>) -> Self {
+        let inf = f64::INFINITY;
+        IntensityStats {
+            mean_abs_error: inf,
+            max_abs_error: inf,
+            max_error_pixel: at,
+            p50_abs_error: inf,
+            p95_abs_error: inf,
+            p99_abs_error: inf,
+            rmse: inf,
+            psnr_db: Some(-inf),
+            pixels_above_threshold: None,
+            fraction_above_threshold: inf,
+        }
+    }
+}
+
 /// Statistics of `errors`: (x, y, signed error) per pixel.
 pub fn intensity_stats(errors: &[(u32, u32, f64)], threshold: f64) -> IntensityStats {
     let n = errors.len();
@@ -140,18 +301,19 @@ pub fn intensity_stats(errors: &[(u32, u32, f64)], threshold: f64) -> IntensityS
         p99_abs_error: percentile(&mut abs, 99.0),
         rmse: mse.sqrt(),
         psnr_db: (mse > 0.0).then(|| 10.0 * (1.0 / mse).log10()),
-        pixels_above_threshold: above,
+        pixels_above_threshold: Some(above),
         fraction_above_threshold: if n > 0 { above as f64 / n as f64 } else { 0.0 },
     }
 }
 
-/// Per-channel statistics.
+/// Per-channel statistics of the signed R, G or B error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ChannelStats {
     pub mean_abs_error: f64,
     pub max_abs_error: f64,
     pub rmse: f64,
 }
+
 pub(crate) fn lum(c: DVec3) -> f64 {
     LUMINANCE[0] * c.x + LUMINANCE[1] * c.y + LUMINANCE[2] * c.z
 }
@@ -160,83 +322,16 @@ pub(crate) fn d3(v: [f32; 4]) -> DVec3 {
     DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
 }
 
-/// The per-pixel error fields of one method against the reference.
-pub(crate) struct Fields {
-    pub errors: Vec<(u32, u32, f64)>,
-    pub channels: [Vec<f64>; 3],
-    pub angles: Vec<f64>,
-    pub max_len: f64,
-    pub abs: Vec<Option<f64>>,
-    pub signed: Vec<Option<f64>>,
-    pub angle: Vec<Option<f64>>,
-    pub both: Vec<bool>,
-    pub mismatch: usize,
-    pub ill: usize,
-    pub non_finite: usize,
-}
-
-pub(crate) fn fields(frame: &Frame, has_normal: bool, reference: &Truth) -> Fields {
-    let n = reference.pixels.len();
-    let mut f = Fields {
-        errors: Vec::new(),
-        channels: [Vec::new(), Vec::new(), Vec::new()],
-        angles: Vec::new(),
-        max_len: 0.0,
-        abs: vec![None; n],
-        signed: vec![None; n],
-        angle: vec![None; n],
-        both: vec![false; n],
-        mismatch: 0,
-        ill: 0,
-        non_finite: 0,
-    };
-    for (i, t) in reference.pixels.iter().enumerate() {
-        let here = frame.color[i][3] > 0.0;
-        let Some(t) = t else {
-            f.mismatch += usize::from(here);
-            continue;
+/// Statistics of one channel's signed errors (all infinite when `non_finite`).
+pub(crate) fn channel_stats(v: &[f64], non_finite: bool) -> ChannelStats {
+    if non_finite {
+        let inf = f64::INFINITY;
+        return ChannelStats {
+            mean_abs_error: inf,
+            max_abs_error: inf,
+            rmse: inf,
         };
-        if !here {
-            f.mismatch += 1;
-            continue;
-        }
-        f.both[i] = true;
-        if t.ill_conditioned() {
-            f.ill += 1;
-            continue;
-        }
-        let c = d3(frame.color[i]);
-        let nrm = d3(frame.normal[i]);
-        if !c.is_finite() || (has_normal && !nrm.is_finite()) {
-            f.non_finite += 1;
-            continue;
-        }
-        let d = c - t.color;
-        let e = lum(c) - lum(t.color);
-        f.errors
-            .push((i as u32 % frame.width, i as u32 / frame.width, e));
-        for k in 0..3 {
-            f.channels[k].push(d[k]);
-        }
-        f.abs[i] = Some(e.abs());
-        f.signed[i] = Some(e);
-        if let (true, Some(r)) = (has_normal, t.normal) {
-            let len = nrm.length();
-            let cos = if len > 0.0 {
-                (nrm.dot(r) / (len * r.length())).clamp(-1.0, 1.0)
-            } else {
-                -1.0
-            };
-            let a = cos.acos().to_degrees();
-            f.angles.push(a);
-            f.angle[i] = Some(a);
-            f.max_len = f.max_len.max((len - 1.0).abs());
-        }
     }
-    f
-}
-
-pub(crate) fn channel_stats(v: &[f64]) -> ChannelStats {
     let n = v.len().max(1) as f64;
     ChannelStats {
         mean_abs_error: v.iter().map(|x| x.abs()).sum::<f64>() / n,

@@ -160,13 +160,18 @@ enum Command {
         /// Output directory (summary.json, summary.csv, reference.png, <method>/*.png).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
-        /// Exit 1 when any method's METRIC (a summary.json name) is above VALUE; repeatable.
+        /// Exit 1 when any method's METRIC (a summary.json name, lower is better) is above VALUE;
+        /// repeatable. A method with NaN/Inf pixels fails every limit on an error metric.
         #[arg(long = "fail-above", value_name = "METRIC=VALUE")]
         fail_above: Vec<String>,
+        /// Exit 1 when any method's METRIC (higher is better: psnr_db) is below VALUE; repeatable.
+        #[arg(long = "fail-below", value_name = "METRIC=VALUE")]
+        fail_below: Vec<String>,
         /// Heatmap scales: `fixed` (shared by all methods) or `auto` (per image).
         #[arg(long, value_enum, default_value = "fixed")]
         scale: ScaleArg,
-        /// Luminance error above which a pixel counts in pixels_above_threshold.
+        /// Linear luminance error above which a pixel counts in pixels_above_threshold
+        /// (default 1/255 of linear luminance; not an sRGB 8-bit step).
         #[arg(long, default_value_t = 1.0 / 255.0)]
         threshold: f64,
     },
@@ -261,17 +266,24 @@ pub fn run() -> Result<ExitCode> {
             methods,
             out,
             fail_above,
+            fail_below,
             scale,
             threshold,
-        } => cmd_compare(
-            &scene,
-            &device,
-            &methods,
-            &out,
-            &fail_above,
-            scale.into(),
-            threshold,
-        ),
+        } => {
+            let limits = self::compare::Limits {
+                above: &fail_above,
+                below: &fail_below,
+            };
+            cmd_compare(
+                &scene,
+                &device,
+                &methods,
+                &out,
+                &limits,
+                scale.into(),
+                threshold,
+            )
+        }
         Command::Render {
             scene,
             device,

@@ -1,12 +1,13 @@
 //! `shadelab compare`: every method against the f64 exact-Phong truth, per covered pixel.
 //! Statistics (intensity per channel and luminance, normal angle and length, FLIP), heatmaps
 //! with colorbars, DIR/summary.json (schema in docs/summary.schema.json), DIR/summary.csv and a
-//! text table. Background pixels are excluded from every statistic and counted separately;
-//! pixels covered by only one of method and reference (a method that changes the geometry)
-//! are counted as coverage mismatches; ill-conditioned sliver pixels (src/truth.rs) are counted
-//! and left out.
+//! text table. The per-pixel error and which pixels enter the statistics are defined once, in
+//! [`crate::analysis::pixel`] (shared with `verify`): background, coverage-mismatch,
+//! ill-conditioned and non-finite pixels are counted and left out of every statistic (FLIP
+//! included), and a method with any non-finite pixel has every error metric infinite (null in
+//! JSON, beside its `non_finite_pixels` count), sorts last and fails every limit.
 use crate::analysis::flip::{flip, srgb_rgb8};
-use crate::analysis::pixel::{channel_stats, d3, fields, intensity_stats};
+use crate::analysis::pixel::{channel_stats, d3, intensity_stats, pixel_errors, IntensityStats};
 use crate::analysis::stats::percentile;
 pub mod summary;
 #[cfg(test)]
@@ -28,8 +29,9 @@ use crate::output::heatmap::{self, HeatmapDesc, Scale};
 use crate::scene::Scene;
 use crate::truth::{self, Truth};
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
-/// removes or renames a field.
-pub const SCHEMA_VERSION: u32 = 1;
+/// removes or renames a field or changes its type (2: error metrics are null for a method with
+/// non-finite pixels, `pixels_above_threshold` included).
+pub const SCHEMA_VERSION: u32 = 2;
 /// Default heatmap scales, shared by all methods so images compare side by side.
 pub const FIXED_ABS: Scale = Scale::Log { lo: 1e-5, hi: 1.0 };
 pub const FIXED_SIGNED: Scale = Scale::Linear { lo: -0.1, hi: 0.1 };
@@ -101,29 +103,33 @@ impl Analysis<'_> {
     fn analyse(&self, m: &Method, frame: &Frame) -> Result<(MethodReport, PhaseTimes)> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
-        let f = fields(frame, m.has_normal, self.reference);
-        let intensity = intensity_stats(&f.errors, self.opts.threshold);
-        let channels = [
-            channel_stats(&f.channels[0]),
-            channel_stats(&f.channels[1]),
-            channel_stats(&f.channels[2]),
-        ];
-        let mut angles = f.angles.clone();
-        let (max_a, mean_a, p99_a) = if m.has_normal {
-            let n = angles.len().max(1) as f64;
-            (
-                Some(angles.iter().fold(0.0f64, |a, &b| a.max(b))),
-                Some(angles.iter().sum::<f64>() / n),
-                Some(percentile(&mut angles, 99.0)),
-            )
+        let f = pixel_errors(frame, m.has_normal, self.reference);
+        let nf = f.non_finite();
+        let intensity = if nf {
+            IntensityStats::non_finite(f.first_non_finite)
         } else {
-            (None, None, None)
+            intensity_stats(&f.errors, self.opts.threshold)
         };
+        let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
+        let stats = f.stats();
+        let p99_a = m.has_normal.then(|| {
+            if nf {
+                f64::INFINITY
+            } else {
+                percentile(&mut f.angles.clone(), 99.0)
+            }
+        });
+        let (max_a, mean_a) = (stats.max_normal_angle_deg, stats.mean_normal_angle_deg);
         let metrics_ms = t.elapsed().as_secs_f64() * 1e3;
 
+        // FLIP over the same pixels as every other statistic; a method with NaN/Inf has none.
         let t = Instant::now();
-        let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
-        let (flip_mean, flip_p95) = flip(self.ref8, &test8, w, h, &f.both);
+        let (flip_mean, flip_p95) = if nf {
+            (f64::INFINITY, f64::INFINITY)
+        } else {
+            let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
+            flip(self.ref8, &test8, w, h, &f.measured)
+        };
         let flip_ms = t.elapsed().as_secs_f64() * 1e3;
 
         let t = Instant::now();
@@ -136,7 +142,9 @@ impl Analysis<'_> {
         let (abs_scale, signed_scale, angle_scale) = match self.opts.scale {
             ScaleMode::Fixed => (FIXED_ABS, FIXED_SIGNED, FIXED_ANGLE),
             ScaleMode::Auto => {
-                let mx = intensity.max_abs_error.max(1e-9);
+                // a method with non-finite pixels has no range of its own: the fixed span
+                let finite_or = |v: f64, d: f64| if v.is_finite() { v } else { d };
+                let mx = finite_or(intensity.max_abs_error, 1.0).max(1e-9);
                 (
                     Scale::Log {
                         lo: mx * 1e-4,
@@ -145,15 +153,16 @@ impl Analysis<'_> {
                     Scale::Linear { lo: -mx, hi: mx },
                     Scale::Linear {
                         lo: 0.0,
-                        hi: max_a.unwrap_or(0.0).max(1e-6),
+                        hi: finite_or(max_a.unwrap_or(0.0), 10.0).max(1e-6),
                     },
                 )
             }
         };
+        let abs = f.abs();
         let maps: [MapSpec; 3] = [
             (
                 "error_abs.png",
-                &f.abs,
+                &abs,
                 "|dI| luminance (linear)",
                 colorous::MAGMA,
                 abs_scale,
@@ -198,16 +207,16 @@ impl Analysis<'_> {
         let report = MethodReport {
             name: m.name.to_string(),
             reference: REFERENCE.to_string(),
-            covered_pixels: f.errors.len(),
-            coverage_mismatch_pixels: f.mismatch,
-            ill_conditioned_pixels: f.ill,
-            non_finite_pixels: f.non_finite,
+            covered_pixels: f.counts.measured,
+            coverage_mismatch_pixels: f.counts.coverage_mismatch,
+            ill_conditioned_pixels: f.counts.ill_conditioned,
+            non_finite_pixels: f.counts.non_finite,
             intensity,
             channels,
             max_normal_angle_deg: max_a,
             mean_normal_angle_deg: mean_a,
             p99_normal_angle_deg: p99_a,
-            max_normal_length_error: m.has_normal.then_some(f.max_len),
+            max_normal_length_error: stats.max_normal_length_error,
             flip_mean,
             flip_p95,
             files,

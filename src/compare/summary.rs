@@ -1,5 +1,5 @@
 //! The results of a comparison: per-method reports, summary.json / summary.csv, the text
-//! table and the `--fail-above` limits.
+//! table and the `--fail-above` / `--fail-below` limits.
 use super::*;
 use crate::analysis::pixel::{ChannelStats, IntensityStats};
 use crate::output::Provenance;
@@ -34,7 +34,8 @@ pub struct MethodReport {
     pub files: Vec<String>,
 }
 
-/// The numeric per-method metrics `--fail-above` accepts (their JSON names).
+/// The numeric per-method metrics `--fail-above` / `--fail-below` accept (their JSON names).
+/// Every one is better lower except those of [`HIGHER_IS_BETTER`].
 pub const METRICS: &[&str] = &[
     "mean_abs_error",
     "max_abs_error",
@@ -55,10 +56,37 @@ pub const METRICS: &[&str] = &[
     "coverage_mismatch_pixels",
 ];
 
+/// The metrics of [`METRICS`] where higher is better (a limit on them is a floor: `--fail-below`).
+pub const HIGHER_IS_BETTER: &[&str] = &["psnr_db"];
+
 impl MethodReport {
-    /// A metric by its JSON name; `None` when the metric is null for this method.
+    /// A metric by its JSON name, as a number: `None` when it does not apply (normal metrics of
+    /// methods without a per-pixel normal, PSNR of an exact match) or the name is unknown.
+    /// For a method with non-finite pixels every error metric is infinite (+inf, -inf for PSNR),
+    /// though JSON writes it as null; the counts stay counts.
     pub fn metric(&self, name: &str) -> Option<f64> {
-        serde_json::to_value(self).ok()?.get(name)?.as_f64()
+        let i = &self.intensity;
+        let inf = f64::INFINITY;
+        Some(match name {
+            "mean_abs_error" => i.mean_abs_error,
+            "max_abs_error" => i.max_abs_error,
+            "p50_abs_error" => i.p50_abs_error,
+            "p95_abs_error" => i.p95_abs_error,
+            "p99_abs_error" => i.p99_abs_error,
+            "rmse" => i.rmse,
+            "psnr_db" => return i.psnr_db,
+            "pixels_above_threshold" => i.pixels_above_threshold.map_or(inf, |n| n as f64),
+            "fraction_above_threshold" => i.fraction_above_threshold,
+            "max_normal_angle_deg" => return self.max_normal_angle_deg,
+            "mean_normal_angle_deg" => return self.mean_normal_angle_deg,
+            "p99_normal_angle_deg" => return self.p99_normal_angle_deg,
+            "max_normal_length_error" => return self.max_normal_length_error,
+            "flip_mean" => self.flip_mean,
+            "flip_p95" => self.flip_p95,
+            "non_finite_pixels" => self.non_finite_pixels as f64,
+            "coverage_mismatch_pixels" => self.coverage_mismatch_pixels as f64,
+            _ => return None,
+        })
     }
 }
 /// Wall time of the phases, and the metric throughput.
@@ -165,7 +193,8 @@ pub(crate) fn csv_row(r: &MethodReport) -> Vec<String> {
         f(i.p99_abs_error),
         f(i.rmse),
         o(i.psnr_db),
-        i.pixels_above_threshold.to_string(),
+        i.pixels_above_threshold
+            .map_or_else(|| f(f64::INFINITY), |n| n.to_string()),
         f(i.fraction_above_threshold),
     ];
     for c in &r.channels {
@@ -197,51 +226,158 @@ pub fn write_summary(out: &Path, s: &Summary) -> Result<()> {
     })
 }
 
-/// Parses `METRIC=VALUE` of `--fail-above`.
-pub fn parse_limit(s: &str) -> Result<(String, f64)> {
+/// Which side of a limit fails.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bound {
+    /// `--fail-above`: a value above the limit fails (lower-is-better metrics).
+    Above,
+    /// `--fail-below`: a value below the limit fails (higher-is-better metrics).
+    Below,
+}
+
+impl Bound {
+    /// The command-line flag.
+    pub fn flag(self) -> &'static str {
+        match self {
+            Bound::Above => "--fail-above",
+            Bound::Below => "--fail-below",
+        }
+    }
+}
+
+/// One `--fail-above` / `--fail-below` limit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Limit {
+    pub metric: String,
+    pub value: f64,
+    pub bound: Bound,
+}
+
+/// Parses `METRIC=VALUE` of `--fail-above` or `--fail-below`. A lower-is-better metric is
+/// refused in `--fail-below` and a higher-is-better one ([`HIGHER_IS_BETTER`]) in
+/// `--fail-above`: either limit would pass the worse methods.
+pub fn parse_limit(s: &str, bound: Bound) -> Result<Limit> {
+    let flag = bound.flag();
     let (k, v) = s
         .split_once('=')
-        .ok_or_else(|| Error::Usage(format!("--fail-above expects METRIC=VALUE, got {s:?}")))?;
+        .ok_or_else(|| Error::Usage(format!("{flag} expects METRIC=VALUE, got {s:?}")))?;
     if !METRICS.contains(&k) {
         return Err(Error::Usage(format!(
-            "--fail-above: unknown metric {k:?}; valid metrics: {}",
+            "{flag}: unknown metric {k:?}; valid metrics: {}",
             METRICS.join(", ")
         )));
     }
-    let v: f64 = v
+    let higher = HIGHER_IS_BETTER.contains(&k);
+    match (bound, higher) {
+        (Bound::Above, true) => {
+            return Err(Error::Usage(format!(
+                "--fail-above {k}: higher {k} is better, so its limit is a floor; \
+                 use --fail-below {k}=VALUE"
+            )))
+        }
+        (Bound::Below, false) => {
+            return Err(Error::Usage(format!(
+                "--fail-below {k}: lower {k} is better, so its limit is a ceiling; \
+                 use --fail-above {k}=VALUE"
+            )))
+        }
+        _ => {}
+    }
+    let value: f64 = v
         .parse()
         .ok()
         .filter(|v: &f64| !v.is_nan())
-        .ok_or_else(|| Error::Usage(format!("--fail-above {k}: {v:?} is not a number")))?;
-    Ok((k.to_string(), v))
+        .ok_or_else(|| Error::Usage(format!("{flag} {k}: {v:?} is not a number")))?;
+    Ok(Limit {
+        metric: k.to_string(),
+        value,
+        bound,
+    })
 }
 
-/// Every (method, metric, value, limit) whose value is strictly above its limit. Null metrics
-/// (normal metrics of methods without normals) never exceed.
-pub fn exceeded(s: &Summary, limits: &[(String, f64)]) -> Vec<(String, String, f64, f64)> {
+/// A limit a method did not meet.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Exceeded {
+    pub method: String,
+    pub limit: Limit,
+    pub value: f64,
+    /// The method's non-finite pixels (its error metrics are infinite when > 0).
+    pub non_finite_pixels: usize,
+}
+
+impl std::fmt::Display for Exceeded {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (op, l) = match self.limit.bound {
+            Bound::Above => (">", &self.limit),
+            Bound::Below => ("<", &self.limit),
+        };
+        write!(
+            f,
+            "{} {} = {:.6e} {op} {:e}",
+            self.method, l.metric, self.value, l.value
+        )?;
+        if self.non_finite_pixels > 0 {
+            write!(f, " ({} non-finite pixels)", self.non_finite_pixels)?;
+        }
+        Ok(())
+    }
+}
+
+/// Every (method, limit) the method does not meet: a value strictly above its `--fail-above`
+/// limit or strictly below its `--fail-below` one. Metrics that do not apply (`None`: normal
+/// metrics of methods without normals, PSNR of an exact match) never fail; infinite ones (every
+/// error metric of a method with non-finite pixels) always do.
+pub fn exceeded(s: &Summary, limits: &[Limit]) -> Vec<Exceeded> {
     let mut out = Vec::new();
     for r in &s.methods {
-        for (k, limit) in limits {
-            if let Some(v) = r.metric(k) {
-                if v > *limit {
-                    out.push((r.name.clone(), k.clone(), v, *limit));
-                }
+        for l in limits {
+            let Some(v) = r.metric(&l.metric) else {
+                continue;
+            };
+            // written so that a NaN value fails too
+            let ok = match l.bound {
+                Bound::Above => v <= l.value,
+                Bound::Below => v >= l.value,
+            };
+            if !ok {
+                out.push(Exceeded {
+                    method: r.name.clone(),
+                    limit: l.clone(),
+                    value: v,
+                    non_finite_pixels: r.non_finite_pixels,
+                });
             }
         }
     }
     out
 }
 
-/// The text table (sorted by mean luminance error).
+/// The text table, sorted by mean luminance error; methods with non-finite pixels last, their
+/// errors shown as `inf` and their count in the `NaN` column.
 pub fn table(s: &Summary) -> String {
     let mut rows: Vec<&MethodReport> = s.methods.iter().collect();
     rows.sort_by(|a, b| {
-        a.intensity
-            .mean_abs_error
-            .total_cmp(&b.intensity.mean_abs_error)
+        (a.non_finite_pixels > 0)
+            .cmp(&(b.non_finite_pixels > 0))
+            .then(
+                a.intensity
+                    .mean_abs_error
+                    .total_cmp(&b.intensity.mean_abs_error),
+            )
     });
-    let opt =
-        |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
+    let e = |v: f64| {
+        if v.is_finite() {
+            format!("{v:.3e}")
+        } else {
+            "inf".into()
+        }
+    };
+    let opt = |v: Option<f64>, p: usize| match v {
+        Some(x) if x.is_finite() => format!("{x:.p$}"),
+        Some(x) if x < 0.0 => "-inf".into(),
+        Some(_) => "inf".into(),
+        None => "-".into(),
+    };
     let mut t = format!(
         "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
         "method", "mean|dI|", "p99|dI|", "max|dI|", "PSNR dB", "max deg", "FLIP", "NaN"
@@ -249,14 +385,14 @@ pub fn table(s: &Summary) -> String {
     for r in rows {
         let i = &r.intensity;
         t += &format!(
-            "{:<32} {:>10.3e} {:>10.3e} {:>10.3e} {:>8} {:>9} {:>9.4} {:>8}\n",
+            "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
             r.name,
-            i.mean_abs_error,
-            i.p99_abs_error,
-            i.max_abs_error,
+            e(i.mean_abs_error),
+            e(i.p99_abs_error),
+            e(i.max_abs_error),
             opt(i.psnr_db, 1),
             opt(r.max_normal_angle_deg, 3),
-            r.flip_mean,
+            opt(Some(r.flip_mean), 4),
             r.non_finite_pixels
         );
     }

@@ -1,6 +1,7 @@
 //! Tests of the statistics, CSV/JSON summaries and limits of `compare`.
 use super::*;
 use crate::analysis::pixel::*;
+use crate::output::Provenance;
 
 #[test]
 fn identical_images_give_exactly_zero() {
@@ -11,7 +12,7 @@ fn identical_images_give_exactly_zero() {
         (0.0, 0.0, 0.0, 0.0)
     );
     assert_eq!(s.psnr_db, None);
-    assert_eq!(s.pixels_above_threshold, 0);
+    assert_eq!(s.pixels_above_threshold, Some(0));
 }
 
 #[test]
@@ -29,7 +30,7 @@ fn one_pixel_off_gives_the_known_statistics() {
     assert!((s.psnr_db.unwrap() - 10.0 * (1.0f64 / 0.0025).log10()).abs() < 1e-12);
     assert_eq!(
         (s.pixels_above_threshold, s.fraction_above_threshold),
-        (1, 0.01)
+        (Some(1), 0.01)
     );
 }
 
@@ -46,16 +47,41 @@ fn percentiles_are_nearest_rank() {
 #[test]
 fn limits_parse_and_reject_unknown_metrics() {
     assert_eq!(
-        parse_limit("max_abs_error=0.5").unwrap(),
-        ("max_abs_error".into(), 0.5)
+        parse_limit("max_abs_error=0.5", Bound::Above).unwrap(),
+        Limit {
+            metric: "max_abs_error".into(),
+            value: 0.5,
+            bound: Bound::Above
+        }
     );
-    let e = parse_limit("max_error=1").unwrap_err().to_string();
+    let e = parse_limit("max_error=1", Bound::Above)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("unknown metric \"max_error\"") && e.contains("max_abs_error"),
         "{e}"
     );
-    assert!(parse_limit("max_abs_error").is_err());
-    assert!(parse_limit("max_abs_error=abc").is_err());
+    assert!(parse_limit("max_abs_error", Bound::Above).is_err());
+    assert!(parse_limit("max_abs_error=abc", Bound::Above).is_err());
+}
+
+#[test]
+fn limits_refuse_the_wrong_direction() {
+    let e = parse_limit("psnr_db=40", Bound::Above)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("use --fail-below psnr_db=VALUE"), "{e}");
+    let e = parse_limit("max_abs_error=0.1", Bound::Below)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("use --fail-above max_abs_error=VALUE"), "{e}");
+    assert!(parse_limit("psnr_db=40", Bound::Below).is_ok());
+    // every metric is accepted by exactly one of the two flags
+    for m in METRICS {
+        let above = parse_limit(&format!("{m}=1"), Bound::Above).is_ok();
+        let below = parse_limit(&format!("{m}=1"), Bound::Below).is_ok();
+        assert!(above != below, "{m}");
+    }
 }
 
 #[test]
@@ -89,5 +115,202 @@ fn csv_rows_match_the_header() {
             csv_header().iter().any(|h| h == m),
             "metric {m} missing from the CSV"
         );
+    }
+}
+
+/// A frame of `n` covered pixels with the given colours (normal +z), and its truth: colour
+/// `reference`, normal +z, `ill` marking ill-conditioned pixels.
+fn synthetic(colors: &[[f32; 3]], reference: DVec3, ill: &[bool]) -> (Frame, Truth) {
+    let frame = Frame {
+        width: colors.len() as u32,
+        height: 1,
+        color: colors.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect(),
+        normal: vec![[0.0, 0.0, 1.0, 1.0]; colors.len()],
+    };
+    let pixels = ill
+        .iter()
+        .map(|&ill| {
+            Some(crate::truth::TruthPixel {
+                color: reference,
+                normal: Some(DVec3::Z),
+                color_bound: 1e-6,
+                normal_bound: 1e-6,
+                // ill-conditioned when K_INTERP * U * amplification > ILL_CONDITIONED
+                amplification: if ill { 1e9 } else { 1.0 },
+            })
+        })
+        .collect();
+    let truth = Truth {
+        width: colors.len() as u32,
+        height: 1,
+        pixels,
+    };
+    (frame, truth)
+}
+
+/// The statistics a compare run would report for `frame` (no files written).
+fn report(frame: &Frame, truth: &Truth) -> MethodReport {
+    let m = crate::method::find("phong_exact").unwrap();
+    let ref8 = srgb_rgb8(
+        truth
+            .pixels
+            .iter()
+            .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
+    );
+    let opts = CompareOptions {
+        images: false,
+        ..CompareOptions::default()
+    };
+    let a = Analysis {
+        reference: truth,
+        ref8: &ref8,
+        out: Path::new("unused"),
+        opts: &opts,
+        width: frame.width,
+        height: 1,
+    };
+    a.analyse(m, frame).unwrap().0
+}
+
+#[test]
+fn verify_and_compare_report_the_same_luminance_error() {
+    // red off by 0.1: luminance off by 0.2126 * 0.1 (the largest channel error would be 0.1)
+    let (frame, truth) = synthetic(
+        &[[0.5, 0.2, 0.2], [0.4, 0.2, 0.2]],
+        DVec3::new(0.4, 0.2, 0.2),
+        &[false, false],
+    );
+    let expected = LUMINANCE[0] * 0.1;
+    let verify = error_stats(&frame, true, &truth);
+    let compare = report(&frame, &truth);
+    crate::testutil::assert_close("verify max", verify.max_abs_error, expected, 1e-8);
+    crate::testutil::assert_close(
+        "compare max",
+        compare.intensity.max_abs_error,
+        expected,
+        1e-8,
+    );
+    crate::testutil::assert_close(
+        "verify mean",
+        verify.mean_abs_error,
+        compare.intensity.mean_abs_error,
+        1e-15,
+    );
+    // the per-channel error is reported as such, under its own name
+    crate::testutil::assert_close("red", compare.channels[0].max_abs_error, 0.1, 1e-7);
+}
+
+#[test]
+fn ill_conditioned_pixels_are_left_out_of_every_statistic() {
+    // pixel 1 is ill-conditioned and far off: no statistic may pool it, FLIP's mask included
+    let (frame, truth) = synthetic(
+        &[[0.4; 3], [1.0; 3], [0.4; 3]],
+        DVec3::splat(0.4),
+        &[false, true, false],
+    );
+    let f = pixel_errors(&frame, true, &truth);
+    assert_eq!(f.measured, vec![true, false, true]);
+    assert_eq!((f.counts.measured, f.counts.ill_conditioned), (2, 1));
+    let r = report(&frame, &truth);
+    assert_eq!((r.covered_pixels, r.ill_conditioned_pixels), (2, 1));
+    assert!(r.intensity.max_abs_error < 1e-6 && r.channels[0].max_abs_error < 1e-6);
+    // FLIP pools over `measured` too (its filter still spreads the ill pixel to neighbours,
+    // as it spreads any pixel's difference, so its value here is not 0)
+    assert_eq!(
+        error_stats(&frame, true, &truth).max_abs_error,
+        r.intensity.max_abs_error
+    );
+}
+
+#[test]
+fn non_finite_pixels_make_every_error_infinite_sort_last_and_fail_every_limit() {
+    let nan = f32::NAN;
+    for ill in [false, true] {
+        // one NaN pixel among exact ones; once well-, once ill-conditioned
+        let (frame, truth) = synthetic(
+            &[[0.4; 3], [nan; 3], [0.4; 3]],
+            DVec3::splat(0.4),
+            &[false, ill, false],
+        );
+        let v = error_stats(&frame, true, &truth);
+        assert_eq!(v.counts.non_finite, 1);
+        assert_eq!(v.max_abs_error, f64::INFINITY, "verify, ill {ill}");
+        assert_eq!(v.mean_abs_error, f64::INFINITY);
+        let r = report(&frame, &truth);
+        assert_eq!(r.non_finite_pixels, 1);
+        assert_eq!(r.intensity.max_error_pixel, Some([1, 0]));
+        for m in METRICS.iter().filter(|m| !m.ends_with("_pixels")) {
+            let v = r.metric(m).unwrap();
+            assert!(v.is_infinite(), "{m} = {v}, ill {ill}");
+        }
+        // JSON: null beside the count
+        let json = serde_json::to_value(&r).unwrap();
+        assert!(json["max_abs_error"].is_null() && json["psnr_db"].is_null());
+        assert_eq!(json["non_finite_pixels"], 1);
+        // every limit on an error metric fails, in either direction
+        let mut good = report(
+            &synthetic(&[[0.4; 3]; 3], DVec3::splat(0.4), &[false; 3]).0,
+            &truth,
+        );
+        good.name = "good".into();
+        let s = summary_of(vec![r.clone(), good]);
+        for m in METRICS.iter().filter(|m| !m.ends_with("_pixels")) {
+            let bound = if HIGHER_IS_BETTER.contains(m) {
+                Bound::Below
+            } else {
+                Bound::Above
+            };
+            // a limit every finite value meets
+            let v = if bound == Bound::Below { -1e30 } else { 1e30 };
+            let l = parse_limit(&format!("{m}={v:e}"), bound).unwrap();
+            let over = exceeded(&s, &[l]);
+            assert_eq!(over.len(), 1, "{m}: {over:?}");
+            assert_eq!(over[0].method, r.name);
+        }
+        // the table: last, shown as inf with the count
+        let t = table(&s);
+        let last = t.lines().last().unwrap();
+        assert!(
+            last.starts_with(&r.name) && last.contains("inf") && last.ends_with(" 1"),
+            "{t}"
+        );
+    }
+}
+
+fn summary_of(methods: Vec<MethodReport>) -> Summary {
+    Summary {
+        schema_version: SCHEMA_VERSION,
+        provenance: Provenance {
+            tool: "shadelab".into(),
+            version: String::new(),
+            git_revision: String::new(),
+            device: String::new(),
+            driver: String::new(),
+            driver_info: String::new(),
+            vulkan_api: String::new(),
+            mesa_version: None,
+            llvm_version: None,
+        },
+        scene: String::new(),
+        scene_source: String::new(),
+        triangles: 0,
+        width: 1,
+        height: 1,
+        interpolation: "screen_linear".into(),
+        reference: REFERENCE.into(),
+        background_pixels: 0,
+        threshold: 0.0,
+        scale: ScaleMode::Fixed,
+        timing: Timing {
+            total_ms: 0.0,
+            render_ms: 0.0,
+            reference_ms: 0.0,
+            metrics_ms: 0.0,
+            flip_ms: 0.0,
+            png_ms: 0.0,
+            metric_pixels_per_second: 0.0,
+            flip_pixels_per_second: 0.0,
+        },
+        methods,
     }
 }

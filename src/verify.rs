@@ -1,0 +1,169 @@
+//! `verify`: every method's GPU image against its own formula in f64 (within the float32 bound
+//! of the module doc of [`crate::truth`]), and its error against f64 exact Phong (the per-pixel
+//! error of [`crate::analysis::pixel`], the same definition `compare` uses).
+use crate::analysis::pixel::{error_stats, ErrorStats};
+use crate::error::{Error, Result};
+use crate::gpu::{Renderer, Shading};
+use crate::method::{self, Method};
+use crate::scene::Scene;
+
+use crate::truth::{agreement, evaluate, Agreement};
+
+/// One method's verdict.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct VerifyRow {
+    pub method: &'static str,
+    /// Against its own formula (or `against`'s): the float32-bound check.
+    pub agreement: Agreement,
+    /// Against f64 exact Phong.
+    pub errors: ErrorStats,
+}
+
+/// The result of [`verify`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct VerifyReport {
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    /// The method whose formula judged every image, when not each method's own.
+    pub against: Option<&'static str>,
+    pub rows: Vec<VerifyRow>,
+}
+
+impl VerifyRow {
+    /// Whether the image is within the float32 bound of the formula it was judged by.
+    pub fn passed(&self) -> bool {
+        self.agreement.within_bound()
+    }
+}
+
+impl VerifyReport {
+    /// Whether every method passed.
+    pub fn passed(&self) -> bool {
+        self.rows.iter().all(VerifyRow::passed)
+    }
+
+    /// One line per method outside its bound, with the worst pixel and counts.
+    pub fn failures(&self) -> Vec<String> {
+        self.rows
+            .iter()
+            .filter(|r| !r.passed())
+            .map(|r| {
+                let a = &r.agreement;
+                format!(
+                    "{} (ratio {:.3}, worst pixel {:?}, coverage mismatches {}, non-finite {})",
+                    r.method,
+                    a.max_color_ratio.max(a.max_normal_ratio),
+                    a.worst_pixel,
+                    a.coverage_mismatch,
+                    a.non_finite
+                )
+            })
+            .collect()
+    }
+
+    /// Whose formula judged the images, for messages: "their own" or "NAME's".
+    pub fn judged_by(&self) -> String {
+        self.against
+            .map(|a| format!("{a}'s"))
+            .unwrap_or_else(|| "their own".into())
+    }
+
+    /// The text table: a heading line, column names, one row per method.
+    pub fn table(&self) -> String {
+        let mut t = format!(
+            "scene {} at {}x{}: each method against {} f64 formula (error/bound <= 1 passes), \
+             and against f64 exact Phong: |dI| = linear luminance error (ill-conditioned sliver \
+             pixels left out; NaN/ill = non-finite pixels, well-/ill-conditioned; any makes the \
+             errors inf)\n",
+            self.scene,
+            self.width,
+            self.height,
+            self.against
+                .map(|a| format!("{a}'s"))
+                .unwrap_or_else(|| "its own".into())
+        );
+        t += &format!(
+            "{:<32} {:>7} {:>9} {:>9} {:>6} | {:>9} {:>9} {:>8} {:>8} {:>10} {:>8}\n",
+            "method",
+            "pixels",
+            "dI/bound",
+            "dN/bound",
+            "ill",
+            "max|dI|",
+            "mean|dI|",
+            "max deg",
+            "mean deg",
+            "max|len-1|",
+            "NaN/ill"
+        );
+        let num = |v: f64, s: String| if v.is_finite() { s } else { "inf".into() };
+        let opt = |v: Option<f64>, p: usize| match v {
+            Some(x) => num(x, format!("{x:.p$}")),
+            None => "-".into(),
+        };
+        for r in &self.rows {
+            let (a, e) = (&r.agreement, &r.errors);
+            let c = &e.counts;
+            t += &format!(
+                "{:<32} {:>7} {:>9.3} {:>9.3} {:>6} | {:>9} {:>9} {:>8} {:>8} {:>10} {:>8}\n",
+                r.method,
+                a.covered,
+                a.max_color_ratio,
+                a.max_normal_ratio,
+                a.ill_conditioned,
+                num(e.max_abs_error, format!("{:.2e}", e.max_abs_error)),
+                num(e.mean_abs_error, format!("{:.2e}", e.mean_abs_error)),
+                opt(e.max_normal_angle_deg, 3),
+                opt(e.mean_normal_angle_deg, 3),
+                opt(e.max_normal_length_error, 5),
+                format!(
+                    "{}/{}",
+                    c.non_finite - c.non_finite_ill_conditioned,
+                    c.non_finite_ill_conditioned
+                ),
+            );
+        }
+        t
+    }
+}
+
+/// Renders every method of `methods` on `scene` and judges its image by its own f64 formula
+/// (or by `against`'s) within the float32 bound, and against f64 exact Phong.
+pub fn verify(
+    r: &Renderer,
+    scene: &Scene,
+    methods: &[&'static Method],
+    against: Option<&'static Method>,
+) -> Result<VerifyReport> {
+    let exact = method::find("phong_exact")?;
+    let mut all = methods.to_vec();
+    all.push(exact);
+    let prepared = r.prepare(scene, &all)?;
+    let id_pass = || Error::Device("the id pass returned nothing".into());
+    // The reference: f64 exact Phong at the rasterizer's weights on the scene's own triangles.
+    let (_, base_ids) = r.render(prepared.base(), Shading::Method(exact), true)?;
+    let reference = evaluate(
+        &prepared.base().inputs,
+        &base_ids.ok_or_else(id_pass)?,
+        exact,
+    );
+    let mut rows = Vec::new();
+    for &m in methods {
+        let gpu = prepared.for_method(m);
+        let (frame, ids) = r.render(gpu, Shading::Method(m), true)?;
+        let ids = ids.ok_or_else(id_pass)?;
+        rows.push(VerifyRow {
+            method: m.name,
+            agreement: agreement(&frame, &evaluate(&gpu.inputs, &ids, against.unwrap_or(m))),
+            errors: error_stats(&frame, m.has_normal, &reference),
+        });
+    }
+    Ok(VerifyReport {
+        scene: scene.name.clone(),
+        width: scene.width,
+        height: scene.height,
+        against: against.map(|a| a.name),
+        rows,
+    })
+}
