@@ -140,7 +140,7 @@ pub fn verify(
     let mut all = methods.to_vec();
     all.push(exact);
     let prepared = r.prepare(scene, &all)?;
-    let id_pass = || Error::Device("the id pass returned nothing".into());
+    let id_pass = || Error::Internal("the id pass returned nothing".into());
     // The reference: f64 exact Phong at the rasterizer's weights on the scene's own triangles.
     let (_, base_ids) = r.render(prepared.base(), Shading::Method(exact), true)?;
     let reference = evaluate(

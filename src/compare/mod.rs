@@ -253,7 +253,7 @@ pub fn compare(
     // The reference: f64 exact Phong at the rasterizer's weights on the scene's own triangles.
     let t0 = Instant::now();
     let (_, ids) = renderer.render(base, Shading::Method(exact), true)?;
-    let ids = ids.ok_or_else(|| Error::Device("the id pass returned nothing".into()))?;
+    let ids = ids.ok_or_else(|| Error::Internal("the id pass returned nothing".into()))?;
     let reference = truth::evaluate(&base.inputs, &ids, exact);
     let background = reference.pixels.iter().filter(|p| p.is_none()).count();
     let ref_colors: Vec<DVec3> = reference
@@ -321,7 +321,7 @@ pub fn compare(
     bar.finish_and_clear();
     let mut results = results
         .into_inner()
-        .map_err(|_| Error::Device("a compare worker panicked".into()))?;
+        .map_err(|_| Error::Internal("a compare worker panicked".into()))?;
     results.sort_by_key(|(i, _)| *i);
     let (mut metrics_ms, mut flip_ms, mut png_ms, mut metric_pixels) = (0.0, 0.0, 0.0, 0usize);
     let mut reports = Vec::new();
@@ -334,7 +334,7 @@ pub fn compare(
         reports.push(report);
     }
     if reports.len() != methods_.len() {
-        return Err(Error::Device("a compare worker stopped early".into()));
+        return Err(Error::Internal("a compare worker stopped early".into()));
     }
     let secs = |ms: f64| (ms / 1e3).max(1e-9);
     let summary = Summary {

@@ -213,7 +213,8 @@ pub(crate) fn csv_row(r: &MethodReport) -> Vec<String> {
 
 /// Writes summary.json and summary.csv atomically.
 pub fn write_summary(out: &Path, s: &Summary) -> Result<()> {
-    let json = serde_json::to_string_pretty(s).map_err(|e| Error::Usage(e.to_string()))? + "\n";
+    let json =
+        serde_json::to_string_pretty(s).map_err(|e| Error::output("summary.json", e))? + "\n";
     output::write_bytes_atomic(&out.join("summary.json"), json.as_bytes())?;
     output::write_atomic(&out.join("summary.csv"), |w| {
         let mut c = csv::Writer::from_writer(w);
