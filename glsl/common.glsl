@@ -61,3 +61,8 @@ layout(location = 10) INTERP VARYING vec3 vColor;   // Gouraud: colour lit at th
 #ifdef IN_QUAT
 layout(location = 11) INTERP VARYING vec3 vQuat;    // quaternion (x, y, z) of the vertex normal
 #endif
+#ifdef IN_WINDOW
+layout(location = 12) flat VARYING vec2 vW0;        // the triangle's window-space corners (pixels),
+layout(location = 13) flat VARYING vec2 vW1;        // set up on the CPU in f64: the scanline
+layout(location = 14) flat VARYING vec2 vW2;        // methods' span ends (FORMULAS.md 1.6)
+#endif

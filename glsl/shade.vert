@@ -19,6 +19,11 @@ layout(location = 6) in vec3 inPn01;       // PN mid-edge normals (set up on the
 layout(location = 7) in vec3 inPn12;
 layout(location = 8) in vec3 inPn20;
 #endif
+#ifdef ATTR_WINDOW
+layout(location = 9) in vec3 inW0;         // the triangle's window-space corners (x, y, 0),
+layout(location = 10) in vec3 inW1;        // on every corner
+layout(location = 11) in vec3 inW2;
+#endif
 
 #ifdef IN_COLOR
 #include "shading.glsl"
@@ -52,6 +57,11 @@ void main() {
     vN0 = inN0;
     vN1 = inN1;
     vN2 = inN2;
+#endif
+#ifdef IN_WINDOW
+    vW0 = inW0.xy;
+    vW1 = inW1.xy;
+    vW2 = inW2.xy;
 #endif
 #ifdef IN_PN
     vPn01 = inPn01;

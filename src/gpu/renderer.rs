@@ -11,7 +11,7 @@ use crate::gpu::vk::{
     Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DescriptorSet, Format,
     GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule, VertexStream,
 };
-use crate::method::{specular_table, Geometry, Method};
+use crate::method::{specular_table, Geometry, Input, Method};
 use crate::output::Provenance;
 use crate::scene::Scene;
 /// What a draw shades with: a method, or the constant-colour floor.
@@ -54,6 +54,8 @@ enum Stream {
     Corner(usize),
     /// locations 6..=8, ATTR_PN
     PnMid(usize),
+    /// locations 9..=11, ATTR_WINDOW
+    Window(usize),
 }
 
 impl Stream {
@@ -63,6 +65,7 @@ impl Stream {
             Stream::Flat => 2,
             Stream::Corner(k) => 3 + k as u32,
             Stream::PnMid(k) => 6 + k as u32,
+            Stream::Window(k) => 9 + k as u32,
         }
     }
 
@@ -75,6 +78,7 @@ impl Stream {
                 "ATTR_FLAT" => out.push(Stream::Flat),
                 "ATTR_CORNERS" => out.extend((0..3).map(Stream::Corner)),
                 "ATTR_PN" => out.extend((0..3).map(Stream::PnMid)),
+                "ATTR_WINDOW" => out.extend((0..3).map(Stream::Window)),
                 _ => {}
             }
         }
@@ -245,8 +249,23 @@ impl Renderer {
         Ok(Prepared { scenes })
     }
 
-    /// Uploads one geometry with the streams `methods` read.
+    /// Uploads one geometry with the streams `methods` read. The scanline methods need every
+    /// corner in front of the near plane (their span ends are the unclipped window corners):
+    /// a scene with a clipped triangle is refused for them, naming the triangle.
     fn upload(&self, inputs: SceneInputs, methods: &[&Method]) -> Result<GpuScene> {
+        let scanline: Vec<&str> = methods
+            .iter()
+            .filter(|m| m.inputs.contains(&Input::ScanlineSpan))
+            .map(|m| m.name)
+            .collect();
+        if let (Some(t), false) = (inputs.near_clipped(), scanline.is_empty()) {
+            return Err(Error::Usage(format!(
+                "triangle {t} crosses the near plane (or lies behind the eye); the scanline \
+                 methods ({}) take their span ends from unclipped window corners: move the \
+                 camera back or the near plane closer",
+                scanline.join(", ")
+            )));
+        }
         let defines: Vec<&str> = methods.iter().flat_map(|m| method_defines(m)).collect();
         let usage = BufferUsage::Vertex;
         let positions = Buffer::with_data(&self.ctx, usage, &inputs.positions)?;
@@ -405,6 +424,10 @@ impl SceneInputs {
             Stream::Flat => per_triangle(&|t| self.flat_normals[t]),
             Stream::Corner(k) => per_triangle(&|t| self.view_normals[3 * t + k]),
             Stream::PnMid(k) => per_triangle(&|t| self.pn_mids[t][k]),
+            Stream::Window(k) => per_triangle(&|t| {
+                let w = self.window[3 * t + k];
+                [w[0], w[1], 0.0]
+            }),
         }
     }
 }

@@ -3,6 +3,7 @@
 //! twins (src/formulas.rs) and every output. Identifiers are snake_case and appear unchanged in
 //! file names, CLI arguments, CSV and JSON.
 pub mod formulas;
+pub mod scanline;
 pub mod table;
 #[cfg(test)]
 mod tests;
@@ -39,6 +40,9 @@ pub enum Input {
     QuaternionLocal,
     /// The cos^n lookup table (a storage buffer).
     SpecularLut,
+    /// The span through the fragment's row (FORMULAS.md 1.6): the triangle's window-space
+    /// corners and unit vertex normals (`flat` varyings), and `gl_FragCoord`.
+    ScanlineSpan,
 }
 
 impl Input {
@@ -54,6 +58,7 @@ impl Input {
             Input::Quaternion => &["ATTR_NORMAL", "IN_QUAT"],
             Input::QuaternionLocal => &["ATTR_NORMAL", "ATTR_FLAT", "IN_QUAT", "QUAT_LOCAL"],
             Input::SpecularLut => &["USE_LUT"],
+            Input::ScanlineSpan => &["ATTR_CORNERS", "IN_CORNERS", "ATTR_WINDOW", "IN_WINDOW"],
         }
     }
 }

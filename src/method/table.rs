@@ -312,4 +312,17 @@ pub static METHODS: &[Method] = &[
         glsl: "methods/specular_lut.glsl",
         eval_f64: specular_lut,
     },
+    Method {
+        name: "slerp",
+        description: "spherical linear interpolation between the span's unit end normals (the Phong edge normals, normalised)",
+        citation: "S000 l.85-98 (ref [8]), S004 l.184-195 (FORMULAS.md 2.10, closed form of 2.11)",
+        inputs: &[Input::ScanlineSpan],
+        geometry: Geometry::Mesh,
+        has_normal: true,
+        reference: Reference::Phong,
+        validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
+        claims: &[],
+        glsl: "methods/slerp.glsl",
+        eval_f64: slerp,
+    },
 ];

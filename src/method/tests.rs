@@ -1,5 +1,5 @@
 //! Tests of the method table: names, inputs, f64 twins against the formulas.
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::*;
 
@@ -73,6 +73,13 @@ fn methods_are_consistent_at_vertices() {
     let n0 = DVec3::new(0.3, 0.2, 1.0).normalize();
     let frag = Fragment {
         weights: DVec3::X,
+        // The pixel on corner 0, so the scanline methods' span ends there too.
+        pixel: DVec2::new(10.0, 10.0),
+        window: [
+            DVec2::new(10.0, 10.0),
+            DVec2::new(30.0, 12.0),
+            DVec2::new(15.0, 40.0),
+        ],
         corner_normals: [n0, DVec3::Y, DVec3::X],
         flat_normal: DVec3::new(0.2, 0.3, 1.0).normalize(),
         pn_mids: [DVec3::Z; 3],

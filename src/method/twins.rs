@@ -2,15 +2,20 @@
 //! ([`Shaded`]), and the glue that turns the formulas of [`super::formulas`] into a shaded pixel.
 use std::sync::OnceLock;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::method::formulas::{self as f, Lighting};
+use crate::method::scanline;
 /// What the f64 twin of a method sees at one pixel: the interpolation weights the rasterizer
 /// used and the triangle's data exactly as uploaded (f32 values widened to f64).
 #[derive(Debug, Clone, Copy)]
 pub struct Fragment {
     /// Interpolation weights of corners 0, 1, 2.
     pub weights: DVec3,
+    /// The pixel centre in window space (`gl_FragCoord.xy`: Vulkan origin top-left, +0.5).
+    pub pixel: DVec2,
+    /// The triangle's window-space corners as uploaded (the scanline methods' span ends).
+    pub window: [DVec2; 3],
     /// Unit view-space vertex normals of the three corners.
     pub corner_normals: [DVec3; 3],
     /// Unit flat normal of the triangle, view space.
@@ -56,6 +61,12 @@ pub(crate) fn mikami(frag: &Fragment, lit: &Lighting, beta: fn(f64) -> f64) -> S
     let n = frag.interpolated_normal();
     let z = n.length_squared();
     Shaded::lit(n / f::mikami_sqrt(z, beta(z)), lit)
+}
+
+/// slerp (FORMULAS.md 2.10) between the unit span-end normals at the pixel's span fraction.
+pub(crate) fn slerp(frag: &Fragment, lit: &Lighting) -> Shaded {
+    let (a, b, t) = scanline::span_ends(frag.pixel, frag.window, frag.corner_normals);
+    Shaded::lit(scanline::slerp(a, b, t), lit)
 }
 
 pub(crate) fn gouraud(frag: &Fragment, lit: &Lighting) -> Shaded {

@@ -2,7 +2,7 @@
 //! ([`SceneInputs`], [`Params`]). The truth widens the same rounded values back to f64, so GPU
 //! and CPU start from bit-identical inputs.
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 
 use crate::geometry::Mesh;
 use crate::method::formulas::{self, Lighting};
@@ -35,6 +35,11 @@ pub struct SceneInputs {
     pub flat_normals: Vec<[f32; 3]>,
     /// PN mid-edge normals (n110, n011, n101) per triangle, view space.
     pub pn_mids: Vec<[[f32; 3]; 3]>,
+    /// Window-space position (x, y in pixels; Vulkan origin top-left, pixel centres at +0.5)
+    /// per corner, computed in f64 from the f32 MVP and positions and rounded to f32: the span
+    /// ends of the scanline methods (FORMULAS.md 1.6). Meaningless for a corner in front of the
+    /// near plane ([`SceneInputs::near_clipped`]).
+    pub window: Vec<[f32; 2]>,
     pub params: Params,
     pub light_count: u32,
 }
@@ -129,7 +134,7 @@ impl SceneInputs {
             params.light_color[i] = f4(light.color, 0.0);
             params.half_vec[i] = f4(h, 0.0);
         }
-        SceneInputs {
+        let mut inputs = SceneInputs {
             width: scene.width,
             height: scene.height,
             interpolation: scene.interpolation,
@@ -138,9 +143,41 @@ impl SceneInputs {
             view_normals: view_n.into_iter().map(f3).collect(),
             flat_normals,
             pn_mids,
+            window: Vec::new(),
             params,
             light_count: scene.lights.len().min(MAX_LIGHTS) as u32,
-        }
+        };
+        inputs.window = inputs
+            .clip_corners()
+            .map(|c| {
+                let w = inputs.to_window(c);
+                [w.x as f32, w.y as f32]
+            })
+            .collect();
+        inputs
+    }
+
+    /// Clip-space position of every corner, in f64 from the uploaded f32 MVP and positions.
+    pub fn clip_corners(&self) -> impl Iterator<Item = DVec4> + '_ {
+        let m = DMat4::from_cols_array_2d(&self.params.mvp.map(|c| c.map(|x| x as f64)));
+        self.positions
+            .iter()
+            .map(move |p| m * DVec4::new(p[0] as f64, p[1] as f64, p[2] as f64, 1.0))
+    }
+
+    /// Window-space x, y (pixels) of a clip-space position (Vulkan viewport, y down).
+    pub fn to_window(&self, c: DVec4) -> DVec2 {
+        let (w, h) = (self.width as f64, self.height as f64);
+        DVec2::new((c.x / c.w * 0.5 + 0.5) * w, (c.y / c.w * 0.5 + 0.5) * h)
+    }
+
+    /// The first triangle with a corner in front of the near plane (Vulkan clip z < 0, or
+    /// w <= 0), if any. The rasterizer clips such a triangle, so its window corners are not the
+    /// ends of its spans: the scanline methods refuse the scene (FORMULAS.md 1.6, hazard).
+    pub fn near_clipped(&self) -> Option<usize> {
+        self.clip_corners()
+            .position(|c| c.z < 0.0 || c.w <= 0.0)
+            .map(|i| i / 3)
     }
 
     /// The lighting exactly as uploaded, widened to f64, for the truth evaluator.
@@ -163,10 +200,17 @@ impl SceneInputs {
         }
     }
 
-    /// What the f64 twin of a method sees in triangle `t` at `weights`.
-    pub fn fragment(&self, t: usize, weights: DVec3) -> Fragment {
+    /// What the f64 twin of a method sees in triangle `t` at `weights`, at the pixel whose
+    /// centre is `pixel` (window space, as `gl_FragCoord.xy`).
+    pub fn fragment(&self, t: usize, weights: DVec3, pixel: DVec2) -> Fragment {
+        let w = |k: usize| {
+            let v = self.window[3 * t + k];
+            DVec2::new(v[0] as f64, v[1] as f64)
+        };
         Fragment {
             weights,
+            pixel,
+            window: [w(0), w(1), w(2)],
             corner_normals: [0, 1, 2].map(|k| d3(self.view_normals[3 * t + k])),
             flat_normal: d3(self.flat_normals[t]),
             pn_mids: self.pn_mids[t].map(d3),

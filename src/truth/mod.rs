@@ -28,11 +28,11 @@
 pub mod agreement;
 
 pub use agreement::*;
-use glam::{DMat4, DVec2, DVec3, DVec4};
+use glam::{DVec2, DVec3};
 
 use crate::frame::IdFrame;
 use crate::method::formulas::Lighting;
-use crate::method::{Fragment, Method, Shaded};
+use crate::method::{Fragment, Input, Method, Shaded};
 use crate::scene::Interpolation;
 use crate::scene::SceneInputs;
 /// f32 unit roundoff.
@@ -48,6 +48,14 @@ pub const K_FORMULA: f64 = 32.0;
 pub const POW_REL: f64 = 2e-6;
 /// Central-difference step in the weights (f64: truncation ~h^2, cancellation ~1e-16/h).
 const FD_STEP: f64 = 1e-7;
+/// Roundings in a scanline method's span set-up (FORMULAS.md 1.6: the edge parameter u 2, the
+/// span end x 3, the pixel's fraction t 2, one spare), each on window coordinates of size up
+/// to `S` (the largest |coordinate| of the pixel and the corners): the span behaves as if the
+/// pixel were off by up to `K_SPAN * U * S` in x and in y.
+pub const K_SPAN: f64 = 8.0;
+/// Central-difference step in window space, pixels (the span functions are piecewise linear
+/// in the pixel position, with slopes up to 1/span length).
+const FD_STEP_PX: f64 = 1e-4;
 /// Weight uncertainty (`K_INTERP * U * amplification`) above which a pixel counts as
 /// ill-conditioned: its triangle is so thin on screen (typically a silhouette triangle seen
 /// edge-on) that the rasterizer's float32 weights are uncertain by more than 1e-3, and the
@@ -93,16 +101,7 @@ impl TruthPixel {
 
 /// Window-space corners of every triangle, from the uploaded positions and MVP (in f64).
 fn window_corners(inputs: &SceneInputs) -> Vec<DVec2> {
-    let m = DMat4::from_cols_array_2d(&inputs.params.mvp.map(|c| c.map(|x| x as f64)));
-    let (w, h) = (inputs.width as f64, inputs.height as f64);
-    inputs
-        .positions
-        .iter()
-        .map(|p| {
-            let c = m * DVec4::new(p[0] as f64, p[1] as f64, p[2] as f64, 1.0);
-            DVec2::new((c.x / c.w * 0.5 + 0.5) * w, (c.y / c.w * 0.5 + 0.5) * h)
-        })
-        .collect()
+    inputs.clip_corners().map(|c| inputs.to_window(c)).collect()
 }
 
 /// `g` of the module doc for one triangle: sum of |grad w_j| in 1/pixels.
@@ -137,6 +136,7 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
     let corners = window_corners(inputs);
     let perspective = inputs.interpolation == Interpolation::Perspective;
     let eval = |frag: &Fragment| (method.eval_f64)(frag, &lighting);
+    let scanline = method.inputs.contains(&Input::ScanlineSpan);
     let pixels = ids
         .prim
         .iter()
@@ -147,13 +147,19 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
                 return None;
             }
             let t = (prim - 1) as usize;
-            let frag = inputs.fragment(t, DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64));
-            let shaded = eval(&frag);
             let (x, y) = ((i as u32 % ids.width) as f64, (i as u32 / ids.width) as f64);
+            let weights = DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64);
+            let frag = inputs.fragment(t, weights, DVec2::new(x + 0.5, y + 0.5));
+            let shaded = eval(&frag);
             let g = weight_gradient([corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]]);
             let amplification = (1.0 + g * (x + y + 2.0)) * if perspective { 2.0 } else { 1.0 };
-            let (color_bound, normal_bound) =
+            let (mut color_bound, mut normal_bound) =
                 bound(&eval, &frag, &shaded, &lighting, amplification);
+            if scanline {
+                let (c, n) = span_bound(&eval, &frag);
+                color_bound += c;
+                normal_bound += n;
+            }
             Some(TruthPixel {
                 color: shaded.color,
                 normal: shaded.normal,
@@ -168,6 +174,34 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
         height: ids.height,
         pixels,
     }
+}
+
+/// The extra bound of a scanline method at one pixel: the span set-up's rounding moves the pixel
+/// by up to `K_SPAN * U * S` in x and y ([`K_SPAN`]); first-order propagation through the f64
+/// twin's derivatives in the pixel position.
+fn span_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64) {
+    let size = frag
+        .window
+        .iter()
+        .chain([&frag.pixel])
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    let dpos = K_SPAN * U * size;
+    let (mut jc, mut jn) = (0.0, 0.0);
+    for d in [DVec2::X, DVec2::Y] {
+        let at = |k: f64| {
+            eval(&Fragment {
+                pixel: frag.pixel + d * (k * FD_STEP_PX),
+                ..*frag
+            })
+        };
+        let (plus, minus) = (at(1.0), at(-1.0));
+        jc += max_diff(plus.color, minus.color) / (2.0 * FD_STEP_PX);
+        if let (Some(a), Some(b)) = (plus.normal, minus.normal) {
+            jn += max_diff(a, b) / (2.0 * FD_STEP_PX);
+        }
+    }
+    (2.0 * dpos * jc, 2.0 * dpos * jn)
 }
 
 /// The bounds of the module doc at one pixel.
