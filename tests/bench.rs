@@ -80,22 +80,116 @@ fn bench_writes_its_files_in_the_documented_shape() {
         assert!(lo <= med && med <= hi, "{m}");
         assert!(m["covered_pixels"].as_u64().unwrap() > 100);
     }
-    let exact = bench["methods"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|m| m["name"] == "phong_exact")
-        .unwrap();
-    assert_eq!(exact["ratio_to_phong_exact"], 1.0);
-    assert_eq!(exact["static_ops_above_unnormalized"]["inverse_sqrt"], 1);
-    // every claim has a verdict, and the speed claim against Gouraud is measured in this run
+    let methods = bench["methods"].as_array().unwrap();
+    let row = |n: &str| methods.iter().find(|m| m["name"] == n).unwrap();
+    let (exact, unnormalized) = (row("phong_exact"), row("phong_unnormalized"));
+    let ms = |m: &serde_json::Value, k: &str| m[k].as_f64().unwrap();
+
+    // Ratios, recomputed from the rows' medians (gouraud's and newton_raphson's are not 1 by
+    // construction, as phong_exact's own is).
+    let floor_ms = ms(&bench["floor"], "median_ms");
+    let exact_ms = ms(exact, "median_ms");
+    for m in methods {
+        let med = ms(m, "median_ms");
+        let close = |k: &str, want: f64| {
+            let got = ms(m, k);
+            assert!(
+                (got - want).abs() <= 1e-12 * want.abs(),
+                "{} {k}: {got} vs {want}",
+                m["name"]
+            );
+        };
+        close("ratio_to_phong_exact", med / exact_ms);
+        close(
+            "ratio_above_floor_to_phong_exact",
+            (med - floor_ms) / (exact_ms - floor_ms),
+        );
+    }
+
+    // The op-count excess is phong_exact's counts minus phong_unnormalized's, and the op-count
+    // claim reports that excess.
+    let delta = &exact["static_ops_above_unnormalized"];
+    for k in [
+        "div",
+        "sqrt",
+        "inverse_sqrt",
+        "mul",
+        "add",
+        "pow",
+        "other_transcendental",
+    ] {
+        let count = |m: &serde_json::Value| m["static_ops"][k].as_i64().unwrap();
+        assert_eq!(
+            delta[k].as_i64().unwrap(),
+            count(exact) - count(unnormalized),
+            "{k}"
+        );
+    }
     let claims = bench["claims"].as_array().unwrap();
-    assert!(claims.iter().any(|c| c["method"] == "gouraud"
-        && c["measured"]
-            .as_str()
-            .unwrap()
-            .contains("phong_exact / gouraud")));
-    assert!(claims.len() >= 15);
+    let claim = |method: &str, text: &str| {
+        claims
+            .iter()
+            .find(|c| c["method"] == method && c["claim"].as_str().unwrap().contains(text))
+            .unwrap_or_else(|| panic!("no claim {text:?} for {method}"))
+    };
+    let ops = claim("phong_exact", "3 divisions");
+    let want = format!(
+        "{} div, {} sqrt, {} inverse sqrt, {} mul, {} add",
+        delta["div"], delta["sqrt"], delta["inverse_sqrt"], delta["mul"], delta["add"]
+    );
+    assert!(ops["measured"].as_str().unwrap().contains(&want), "{ops}");
+
+    // The claims follow the methods of this run: every row is about one of them (or about a
+    // method not implemented yet, then not checked), and each run method's f64-checked table
+    // claims are there with the verdict and measurement `list --json` computes.
+    let (code, list, _) = run(&["list", "--json"]);
+    assert_eq!(code, 0);
+    let list: serde_json::Value = serde_json::from_str(&list).unwrap();
+    let table = list["methods"].as_array().unwrap();
+    for c in claims {
+        let m = c["method"].as_str().unwrap();
+        if table.iter().any(|t| t["name"] == m) {
+            assert!(
+                names.contains(&m),
+                "claim of {m}, which this run did not draw: {c}"
+            );
+        } else {
+            assert_eq!(c["verdict"], "not_checked", "{c}");
+        }
+        assert!(!c["how"].as_str().unwrap().is_empty(), "{c}");
+    }
+    for t in table
+        .iter()
+        .filter(|t| names.contains(&t["name"].as_str().unwrap()))
+    {
+        for tc in t["claims"].as_array().unwrap() {
+            if tc["verdict"] == "not_checked" {
+                continue;
+            }
+            let c = claim(t["name"].as_str().unwrap(), tc["claim"].as_str().unwrap());
+            assert_eq!(
+                (&c["verdict"], &c["measured"]),
+                (&tc["verdict"], &tc["measured"])
+            );
+        }
+    }
+    // This run's timing claims, with the verdict its 95% intervals give.
+    assert!(claim("gouraud", "50x")["measured"]
+        .as_str()
+        .unwrap()
+        .contains("phong_exact / gouraud"));
+    let nr = row("newton_raphson");
+    let want = if ms(nr, "ci95_high_ms") < ms(exact, "ci95_low_ms") {
+        "agrees"
+    } else if ms(nr, "ci95_low_ms") > ms(exact, "ci95_high_ms") {
+        "disagrees"
+    } else {
+        "inconclusive"
+    };
+    assert_eq!(
+        claim("newton_raphson", "faster than exact")["verdict"],
+        want
+    );
     assert_eq!(bench["sweeps"][0]["sweep"], "size");
     assert!(bench["sweeps"][0]["points"].as_array().unwrap().len() >= 12);
     // files

@@ -1,5 +1,9 @@
-//! Speed claims of the papers, each with a verdict computed from this run's timings.
+//! The papers' claims in claims.json/md, each with a verdict computed by this run: timings,
+//! SPIR-V operation counts, GPU errors, and the method table's f64 checks.
 use super::*;
+
+use crate::gpu::spirv::OpCountsDelta;
+use crate::method::Verdict;
 
 fn ratio_text(r: &MethodTiming, phong: &MethodTiming) -> String {
     format!(
@@ -14,8 +18,199 @@ fn ratio_text(r: &MethodTiming, phong: &MethodTiming) -> String {
     )
 }
 
-/// The seeds' claims that this milestone's methods can test, measured in this run where they
-/// are timing or GPU-error claims, and as the method table records otherwise.
+/// Where `r` lies against `base` by their 95% intervals of the median: faster or slower only
+/// when the intervals do not overlap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Separation {
+    Faster,
+    Slower,
+    Overlapping,
+}
+
+pub(crate) fn separation(r: &MethodTiming, base: &MethodTiming) -> Separation {
+    if r.ci95_high_ms < base.ci95_low_ms {
+        Separation::Faster
+    } else if r.ci95_low_ms > base.ci95_high_ms {
+        Separation::Slower
+    } else {
+        Separation::Overlapping
+    }
+}
+
+/// How the timing verdicts are measured (bench.json has the samples and the clock).
+fn timing_how(r: &MethodTiming) -> String {
+    format!(
+        "median of {} timed draws per program ({} clock), interleaved with the other programs, \
+         95% interval of the median from the binomial order statistics",
+        r.samples, r.clock
+    )
+}
+
+/// "normalization without a square root is faster than exact normalization": faster beyond
+/// both 95% intervals agrees, slower beyond them disagrees, overlapping is inconclusive.
+pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> ClaimCheck {
+    let (verdict, reason) = match separation(r, phong) {
+        Separation::Faster => (Verdict::Agrees, "faster beyond both 95% intervals"),
+        Separation::Slower => (
+            Verdict::Disagrees,
+            "slower beyond both 95% intervals: lavapipe's inverse square root is a single vector instruction, the approximation costs more arithmetic",
+        ),
+        Separation::Overlapping => (
+            Verdict::Inconclusive,
+            "the 95% intervals overlap: no measurable difference at this sample count; lavapipe computes inversesqrt with one vector instruction, so there is little to save",
+        ),
+    };
+    ClaimCheck {
+        method: r.name.clone(),
+        claim: "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)".into(),
+        measured: ratio_text(r, phong),
+        verdict,
+        how: format!(
+            "{}; agrees when its interval lies below phong_exact's, disagrees when above, \
+             inconclusive when they overlap",
+            timing_how(r)
+        ),
+        reason: reason.into(),
+    }
+}
+
+/// The claimed factor of S002 l.151-153.
+const GOURAUD_FACTOR: f64 = 50.0;
+
+/// "Phong ... takes more than 50x longer than Gouraud": the ratio's bounds are taken from the
+/// ends of the two 95% intervals (phong low / gouraud high, phong high / gouraud low).
+pub(crate) fn phong_50x_gouraud(
+    phong: &MethodTiming,
+    g: &MethodTiming,
+    floor: &MethodTiming,
+) -> ClaimCheck {
+    let ratio = phong.median_ms / g.median_ms;
+    let low = phong.ci95_low_ms / g.ci95_high_ms;
+    let high = if g.ci95_low_ms > 0.0 {
+        phong.ci95_high_ms / g.ci95_low_ms
+    } else {
+        f64::INFINITY
+    };
+    let verdict = if low > GOURAUD_FACTOR {
+        Verdict::Agrees
+    } else if high < GOURAUD_FACTOR {
+        Verdict::Disagrees
+    } else {
+        Verdict::Inconclusive
+    };
+    let g_above = g.median_ms - floor.median_ms;
+    let above = if g_above > 0.0 {
+        format!(
+            "{:.2}x above the constant-colour floor",
+            (phong.median_ms - floor.median_ms) / g_above
+        )
+    } else {
+        format!("Gouraud is at or below the constant-colour floor ({g_above:+.3} ms), so its cost above the floor is nil")
+    };
+    ClaimCheck {
+        method: g.name.clone(),
+        claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
+        measured: format!(
+            "phong_exact / gouraud = {ratio:.2}x per frame (from the 95% intervals: {low:.2}x to {high:.2}x); {above}"
+        ),
+        verdict,
+        how: format!(
+            "{}; agrees when even the lowest ratio of the intervals exceeds {GOURAUD_FACTOR}x, \
+             disagrees when even the highest is below it, else inconclusive",
+            timing_how(g)
+        ),
+        reason: "on a GPU-style pipeline both shade every covered pixel in the same fragment stage; Gouraud only moves the lighting to the vertices, and rasterization, interpolation and the framebuffer dominate".into(),
+    }
+}
+
+/// S004 l.159-163: normalising costs 3 divisions, 3 multiplications, 2 additions and 1 square
+/// root (and nothing else).
+pub(crate) const NORMALIZATION_CLAIM: OpCountsDelta = OpCountsDelta {
+    div: 3,
+    sqrt: 1,
+    inverse_sqrt: 0,
+    mul: 3,
+    add: 2,
+    pow: 0,
+    other_transcendental: 0,
+};
+
+/// The counted SPIR-V cost of exact normalisation against [`NORMALIZATION_CLAIM`], field by
+/// field: all equal agrees; some of the claimed div/mul/add/sqrt counts equal partly; none
+/// disagrees.
+pub(crate) fn normalization_ops(d: &OpCountsDelta) -> ClaimCheck {
+    let c = NORMALIZATION_CLAIM;
+    let fields = [
+        ("div", d.div, c.div),
+        ("mul", d.mul, c.mul),
+        ("add", d.add, c.add),
+        ("sqrt", d.sqrt, c.sqrt),
+        ("inverse_sqrt", d.inverse_sqrt, c.inverse_sqrt),
+        ("pow", d.pow, c.pow),
+        (
+            "other_transcendental",
+            d.other_transcendental,
+            c.other_transcendental,
+        ),
+    ];
+    let differ: Vec<String> = fields
+        .iter()
+        .filter(|(_, got, want)| got != want)
+        .map(|(name, got, want)| format!("{name} {got} (claimed {want})"))
+        .collect();
+    let claimed_equal = fields[..4]
+        .iter()
+        .filter(|(_, got, want)| got == want)
+        .count();
+    let verdict = if differ.is_empty() {
+        Verdict::Agrees
+    } else if claimed_equal > 0 {
+        Verdict::Partly
+    } else {
+        Verdict::Disagrees
+    };
+    let same: Vec<&str> = fields[..4]
+        .iter()
+        .filter(|(_, got, want)| got == want)
+        .map(|(name, _, _)| *name)
+        .collect();
+    ClaimCheck {
+        method: "phong_exact".into(),
+        claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
+        measured: format!(
+            "SPIR-V of phong_exact minus phong_unnormalized: {} div, {} sqrt, {} inverse sqrt, {} mul, {} add; {}",
+            d.div,
+            d.sqrt,
+            d.inverse_sqrt,
+            d.mul,
+            d.add,
+            if differ.is_empty() {
+                "as claimed".to_string()
+            } else {
+                format!("differs in {}", differ.join(", "))
+            }
+        ),
+        verdict,
+        how: "static count of the compiled fragment shaders (src/gpu/spirv.rs count_ops, each \
+              instruction once, weighted by components), phong_exact minus phong_unnormalized; \
+              agrees when every count equals the claim, partly when some of the claimed \
+              div/mul/add/sqrt counts do, disagrees when none does"
+            .into(),
+        reason: if same.is_empty() {
+            "none of the claimed counts is what the compiler emits".into()
+        } else {
+            format!(
+                "equal: {}; the compiler normalizes with one inverse square root and multiplications instead of a square root and three divisions",
+                same.join(", ")
+            )
+        },
+    }
+}
+
+/// The seeds' claims about the methods of this run: timing claims from this run's timings,
+/// the op-count claim from the SPIR-V, Mikami's error bound from this run's GPU images, and
+/// the method table's claims from their f64 checks, run now. Claims of methods not yet
+/// implemented are listed as not checked.
 pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCheck> {
     let mut out = Vec::new();
     let find = |n: &str| rows.iter().find(|r| r.name == n);
@@ -23,23 +218,7 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
         return out;
     };
     if let Some(g) = find("gouraud") {
-        let ratio = phong.median_ms / g.median_ms;
-        let g_above = g.median_ms - floor.median_ms;
-        let above = if g_above > 0.0 {
-            format!(
-                "{:.2}x above the constant-colour floor",
-                (phong.median_ms - floor.median_ms) / g_above
-            )
-        } else {
-            format!("Gouraud is at or below the constant-colour floor ({g_above:+.3} ms), so its cost above the floor is nil")
-        };
-        out.push(ClaimCheck {
-            method: "gouraud".into(),
-            claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
-            measured: format!("phong_exact / gouraud = {ratio:.2}x per frame; {above}"),
-            verdict: if ratio > 50.0 { "agrees" } else { "disagrees" }.into(),
-            reason: "on a GPU-style pipeline both shade every covered pixel in the same fragment stage; Gouraud only moves the lighting to the vertices, and rasterization, interpolation and the framebuffer dominate".into(),
-        });
+        out.push(phong_50x_gouraud(phong, g, floor));
     }
     for n in [
         "newton_raphson",
@@ -53,35 +232,12 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
         "quaternion",
         "quaternion_local",
     ] {
-        let Some(r) = find(n) else { continue };
-        let faster = r.ci95_high_ms < phong.ci95_low_ms;
-        let slower = r.ci95_low_ms > phong.ci95_high_ms;
-        out.push(ClaimCheck {
-            method: n.into(),
-            claim: "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)".into(),
-            measured: ratio_text(r, phong),
-            verdict: if faster { "agrees" } else { "disagrees" }.into(),
-            reason: if faster {
-                "faster beyond both 95% intervals".into()
-            } else if slower {
-                "slower beyond both 95% intervals: lavapipe's inverse square root is a single vector instruction, the approximation costs more arithmetic".into()
-            } else {
-                "the 95% intervals overlap: no measurable difference; lavapipe computes inversesqrt with one vector instruction, so there is little to save".into()
-            },
-        });
+        if let Some(r) = find(n) {
+            out.push(faster_than_exact(r, phong));
+        }
     }
-    if let (Some(d), Some(ops)) = (phong.static_ops_above_unnormalized, phong.static_ops) {
-        let _ = ops;
-        out.push(ClaimCheck {
-            method: "phong_exact".into(),
-            claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
-            measured: format!(
-                "SPIR-V of phong_exact minus phong_unnormalized: {} div, {} sqrt, {} inverse sqrt, {} mul, {} add",
-                d.div, d.sqrt, d.inverse_sqrt, d.mul, d.add
-            ),
-            verdict: "partly".into(),
-            reason: "the same dot product (3 mul + 2 add), but the compiler normalizes with one inverse square root and multiplications instead of a square root and three divisions".into(),
-        });
+    if let Some(d) = phong.static_ops_above_unnormalized {
+        out.push(normalization_ops(&d));
     }
     for n in ["mikami_const", "mikami_linear", "mikami_quadratic"] {
         if let Some(e) = find(n)
@@ -92,23 +248,30 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
                 method: n.into(),
                 claim: "maximum normalised relative error <= 1.5 % (S000 l.74)".into(),
                 measured: format!("max ||N'| - 1| on this scene's pixels: {:.3} %", e * 100.0),
-                verdict: if e <= 0.015 { "agrees" } else { "disagrees" }.into(),
-                reason: "measured on the GPU in this run (the f64 sweep over z in [0.25, 1] is in the method table)".into(),
+                verdict: if e <= 0.015 { Verdict::Agrees } else { Verdict::Disagrees },
+                how: "the largest normal-length error over the covered pixels of this run's GPU image (compare metrics); agrees when <= 1.5 %".into(),
+                reason: "measured on the GPU in this run; the f64 sweep over z in [0.25, 1] is the row from the method table".into(),
             });
         }
     }
-    // The method table's claims (measured by the formulas tests), for completeness.
+    // The method table's claims of the methods in this run, each checked now in f64; those
+    // its checks leave to the bench (timing, op count) are the rows above.
     for m in crate::method::METHODS {
+        if !rows.iter().any(|r| r.name == m.name) {
+            continue;
+        }
         for c in m.claims {
-            if c.verdict == "not_checked" {
+            let r = (c.check)();
+            if r.verdict == Verdict::NotChecked {
                 continue;
             }
             out.push(ClaimCheck {
                 method: m.name.into(),
                 claim: c.claim.into(),
-                measured: c.measured.into(),
-                verdict: c.verdict.into(),
-                reason: "f64 check of the formula (src/formulas.rs tests)".into(),
+                measured: r.measured,
+                verdict: r.verdict,
+                how: r.how,
+                reason: "a property of the formula, checked in f64 (the same check as `shadelab list --json`)".into(),
             });
         }
     }
@@ -138,7 +301,8 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
             method: who.into(),
             claim: claim.into(),
             measured: "-".into(),
-            verdict: "not_checked".into(),
+            verdict: Verdict::NotChecked,
+            how: "not measured: no implementation to time or sweep".into(),
             reason: "the scanline family is not implemented yet (roadmap step 5)".into(),
         });
     }

@@ -7,6 +7,7 @@ use serde::Serialize;
 use crate::compare::{self, MethodReport};
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{OpCounts, OpCountsDelta};
+use crate::method::Verdict;
 use crate::output;
 use crate::output::Provenance;
 /// One method's (or the floor's) row of bench.json.
@@ -42,14 +43,18 @@ pub struct MethodTiming {
     pub error: Option<MethodReport>,
 }
 
-/// A claim of the seeds, measured.
+/// A claim of the seeds, measured by the run that writes it.
 #[derive(Debug, Clone, Serialize)]
 pub struct ClaimCheck {
     pub method: String,
     pub claim: String,
     pub measured: String,
-    /// `agrees`, `disagrees`, `partly`, `not_applicable` or `not_checked`.
-    pub verdict: String,
+    /// Computed from `measured` by the rule in `how`.
+    pub verdict: Verdict,
+    /// What was measured (timings, SPIR-V counts, GPU errors or an f64 sweep) and the rule
+    /// that turns it into the verdict.
+    pub how: String,
+    /// Why the result comes out as it does.
     pub reason: String,
 }
 
@@ -174,13 +179,13 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
     output::write_bytes_atomic(&out.join("claims.json"), claims.as_bytes())?;
     let mut md = String::from("# The seeds' claims, measured\n\n");
     md += &format!(
-        "{} at {}x{} on {} ({}), clock: {}. Written by `shadelab bench`.\n\n| method | claim | measured | verdict | why |\n|---|---|---|---|---|\n",
+        "{} at {}x{} on {} ({}), clock: {}. Written by `shadelab bench`: every verdict below was computed by this run from the measurement in its row, by the rule in its \"how\".\n\n| method | claim | measured | verdict | how | why |\n|---|---|---|---|---|---|\n",
         r.scene, r.width, r.height, r.provenance.device, r.provenance.driver_info, r.clock.clock
     );
     for c in &r.claims {
         md += &format!(
-            "| {} | {} | {} | {} | {} |\n",
-            c.method, c.claim, c.measured, c.verdict, c.reason
+            "| {} | {} | {} | {} | {} | {} |\n",
+            c.method, c.claim, c.measured, c.verdict, c.how, c.reason
         );
     }
     output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;

@@ -338,6 +338,10 @@ pub fn lut_lookup(table: &[f32], rows: usize, samples: usize, n: f64, s: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::method::checks::{
+        angle_deg, mikami_error_pct, mikami_worst_pct, pair, scalar_error_pct, ts, worst,
+        worst_edge_angle,
+    };
     use crate::testutil::assert_close;
 
     #[test]
@@ -387,63 +391,11 @@ mod tests {
         assert_close(what, measured, quoted, 0.5 * 10f64.powi(-decimals) + 1e-12);
     }
 
-    /// Two unit normals `theta` degrees apart, symmetric about +Z in the xz plane.
-    fn pair(theta_deg: f64) -> (DVec3, DVec3) {
-        let h = (0.5 * theta_deg).to_radians();
-        (
-            DVec3::new(-h.sin(), 0.0, h.cos()),
-            DVec3::new(h.sin(), 0.0, h.cos()),
-        )
-    }
-
-    /// Angle between two vectors in degrees (atan2 form: accurate for tiny angles).
-    fn angle_deg(a: DVec3, b: DVec3) -> f64 {
-        a.cross(b).length().atan2(a.dot(b)).to_degrees()
-    }
-
-    /// `t = i / STEPS`, i = 0..=STEPS, along an edge.
-    const STEPS: usize = 100_000;
-    fn ts() -> impl Iterator<Item = f64> {
-        (0..=STEPS).map(|i| i as f64 / STEPS as f64)
-    }
-
-    /// The signed value of largest magnitude.
-    fn worst(values: impl Iterator<Item = f64>) -> f64 {
-        values.fold(0.0, |w: f64, v| if v.abs() > w.abs() { v } else { w })
-    }
-
-    /// Signed relative length error `k(z)|N| - 1` in percent at the worst point of an edge whose
-    /// unit end normals are `theta` apart (FORMULAS.md 1.3). The edge covers z in
-    /// [cos^2(theta/2), 1], so this is also the worst case over all angles up to `theta`.
-    fn scalar_error_pct(k: fn(f64) -> f64, theta_deg: f64) -> f64 {
-        let (a, b) = pair(theta_deg);
-        worst(ts().map(|t| {
-            let n = a.lerp(b, t);
-            let z = n.dot(n);
-            100.0 * (k(z) * z.sqrt() - 1.0)
-        }))
-    }
-
-    /// Mikami's normalised relative error `sqrt(z)/s1 - 1` in percent (FORMULAS.md 2.8).
-    fn mikami_error_pct(z: f64, beta: fn(f64) -> f64) -> f64 {
-        100.0 * (z.sqrt() / mikami_sqrt(z, beta(z)) - 1.0)
-    }
-
-    /// Worst Mikami error on z in [lo, 1] (fine grid, FORMULAS.md 2.8 sweeps [0.25, 1]).
-    fn mikami_worst_pct(lo: f64, beta: fn(f64) -> f64) -> f64 {
-        worst(ts().map(|t| mikami_error_pct(lo + (1.0 - lo) * t, beta)))
-    }
-
     /// Mikami with the original NIIRF start constant 0.354167 (FORMULAS.md 2.8, Allie & Lyons);
     /// test-only on purpose: the library keeps appendix C's 0.35.
     fn mikami_sqrt_niirf(z: f64, beta: f64) -> f64 {
         let s0 = (2.0 / 3.0) * z + 0.354167;
         beta * (z - s0 * s0) + s0
-    }
-
-    /// The NVIDIA formula exactly as printed in S004 l.169: `N (3 - N.N) / 3`.
-    fn k_newton_as_printed_in_s004(z: f64) -> f64 {
-        (3.0 - z) / 3.0
     }
 
     /// Deterministic xorshift64* for the random-direction tests (no rand dependency).
@@ -601,11 +553,12 @@ mod tests {
     fn nvidia_formula_as_printed_in_s004_is_a_typo_k1_is_two_thirds() {
         // S004 l.169 prints N (3 - N.N)/3: at a vertex (z = 1) that shortens the normal to 2/3.
         // The /2 of S000 l.33-38 and of Cutler's original post gives 1 (FORMULAS.md 2.4).
-        assert_close(
-            "S004 as printed, k(1)",
-            k_newton_as_printed_in_s004(1.0),
-            2.0 / 3.0,
-            1e-15,
+        // The claim's check evaluates both (src/method/checks.rs).
+        let m = crate::method::checks::newton_as_printed_in_s004();
+        assert_eq!(m.verdict, crate::method::Verdict::Disagrees, "{m:?}");
+        assert!(
+            m.measured.starts_with("k(1) = 0.666667 as printed"),
+            "{m:?}"
         );
         assert_close("k_newton(1)", k_newton(1.0), 1.0, 0.0);
     }
@@ -721,16 +674,6 @@ mod tests {
     }
 
     // ---- section 3: vector methods -----------------------------------------------------------
-
-    /// Worst angle (degrees) between `method(N)` and normalize(N) along the edge of a pair.
-    fn worst_edge_angle(theta_deg: f64, method: impl Fn(DVec3) -> DVec3) -> f64 {
-        let (a, b) = pair(theta_deg);
-        ts().map(|t| {
-            let n = a.lerp(b, t);
-            angle_deg(method(n), n)
-        })
-        .fold(0.0, f64::max)
-    }
 
     #[test]
     fn hbb_is_unit_length_and_its_angle_error_matches_section_3() {
@@ -1073,13 +1016,13 @@ mod tests {
     fn specular_lut_size_and_the_seeds_4_mb_figure() {
         let table = specular_lut(LUT_ROWS, LUT_SAMPLES);
         assert_eq!(table.len(), 255 * 4096);
-        // S004 l.201-203: "> 4 MB" for n = 1..255. FORMULAS.md 2.20's illustration:
-        // 255 exponents x 8192 samples x 16 bit = 4 177 920 B ~ 4.18 MB > 4e6 (documentation of
-        // the arithmetic; our f32 table with 4096 samples has exactly the same byte count).
-        let bytes_16bit = 255 * 8192 * 2;
-        assert_eq!(bytes_16bit, 4_177_920);
-        assert!(bytes_16bit as f64 > 4e6);
-        assert_eq!(table.len() * std::mem::size_of::<f32>(), bytes_16bit);
+        // S004 l.201-203: "> 4 MB" for n = 1..255. Our f32 table with 4096 samples has the
+        // byte count of FORMULAS.md 2.20's illustration (255 x 8192 x 16 bit = 4 177 920 B).
+        assert_eq!(std::mem::size_of_val(table.as_slice()), 4_177_920);
+        // The claim's check builds the same table and reaches the same verdict.
+        let m = crate::method::checks::specular_lut_over_4_mb();
+        assert_eq!(m.verdict, crate::method::Verdict::Agrees, "{m:?}");
+        assert!(m.measured.contains("= 4177920 bytes"), "{m:?}");
         // row-major layout, value cos^n rounded to f32
         assert_eq!(
             table[49 * LUT_SAMPLES + 2048],

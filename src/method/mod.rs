@@ -2,6 +2,7 @@
 //! shader variants (src/shaders.rs), the vertex streams a run uploads (src/render.rs), the f64
 //! twins (src/formulas.rs) and every output. Identifiers are snake_case and appear unchanged in
 //! file names, CLI arguments, CSV and JSON.
+pub mod checks;
 pub mod formulas;
 pub mod scanline;
 pub mod table;
@@ -83,15 +84,75 @@ pub enum Reference {
     PhongAndSlerp,
 }
 
-/// A numerical claim of the papers and what this project measured.
-#[derive(Debug, Clone, Copy, Serialize)]
+/// A verdict on a claim, computed from a measurement (never written by hand).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// The measurement supports the claim.
+    Agrees,
+    /// Some of the claim holds and some does not (each part is named in `measured`).
+    Partly,
+    /// The measurement contradicts the claim.
+    Disagrees,
+    /// The measurement cannot decide (e.g. overlapping 95% intervals).
+    Inconclusive,
+    /// Not measured by the code that writes it (the reason is in `how`).
+    NotChecked,
+}
+
+impl Verdict {
+    /// The snake_case name, as in the JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::Agrees => "agrees",
+            Verdict::Partly => "partly",
+            Verdict::Disagrees => "disagrees",
+            Verdict::Inconclusive => "inconclusive",
+            Verdict::NotChecked => "not_checked",
+        }
+    }
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// What a check measured, its verdict and how it was measured.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Measurement {
+    /// The measured figures.
+    pub measured: String,
+    /// Derived from `measured` by the rule stated in `how`.
+    pub verdict: Verdict,
+    /// The sweep or command that measured it and the rule that turns it into the verdict.
+    pub how: String,
+}
+
+/// A numerical claim of the papers and the check that measures it.
+///
+/// Serialising a claim (`shadelab list --json`) runs its check, so the JSON holds `claim`,
+/// `measured`, `verdict` and `how` as measured at that moment.
+#[derive(Debug, Clone, Copy)]
 pub struct Claim {
     /// The claim, with its source (seed file and line).
     pub claim: &'static str,
-    /// The project's measurement and the command or test that produced it.
-    pub measured: &'static str,
-    /// `agrees`, `disagrees`, `partly` or `not_checked`.
-    pub verdict: &'static str,
+    /// Measures the claim (an f64 sweep of the formula, see [`checks`]) and derives the verdict.
+    pub check: fn() -> Measurement,
+}
+
+impl Serialize for Claim {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let m = (self.check)();
+        let mut st = s.serialize_struct("Claim", 4)?;
+        st.serialize_field("claim", self.claim)?;
+        st.serialize_field("measured", &m.measured)?;
+        st.serialize_field("verdict", &m.verdict)?;
+        st.serialize_field("how", &m.how)?;
+        st.end()
+    }
 }
 /// One shading method.
 #[derive(Debug, Serialize)]
@@ -112,7 +173,7 @@ pub struct Method {
     pub reference: Reference,
     /// The range in which the paper says it is valid.
     pub validity: &'static str,
-    /// Numerical claims the papers make about it, with the project's measurement.
+    /// Numerical claims the papers make about it, each with the check that measures it.
     pub claims: &'static [Claim],
     /// The GLSL file under glsl/ that defines `methodNormal()` or `methodColor()`.
     pub glsl: &'static str,

@@ -2,6 +2,7 @@
 //! To add a method, add its row here (README "How to add a method").
 use super::*;
 
+use crate::method::checks;
 use crate::method::formulas::{self as f};
 const N: &[Input] = &[Input::InterpolatedNormal];
 
@@ -31,8 +32,7 @@ pub static METHODS: &[Method] = &[
         validity: "any mesh; misses highlights inside triangles",
         claims: &[Claim {
             claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)",
-            measured: "a timing claim: checked by `shadelab bench` (bench milestone)",
-            verdict: "not_checked",
+            check: checks::timing_claim,
         }],
         glsl: "methods/gouraud.glsl",
         eval_f64: gouraud,
@@ -48,8 +48,7 @@ pub static METHODS: &[Method] = &[
         validity: "any non-zero interpolated normal",
         claims: &[Claim {
             claim: "normalization costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)",
-            measured: "an operation count: checked against the SPIR-V by `shadelab bench` (bench milestone)",
-            verdict: "not_checked",
+            check: checks::op_count_claim,
         }],
         glsl: "methods/phong_exact.glsl",
         eval_f64: |fr, l| Shaded::lit(f::normalize_exact(fr.interpolated_normal()), l),
@@ -79,13 +78,11 @@ pub static METHODS: &[Method] = &[
         claims: &[
             Claim {
                 claim: "usable for angles between vertex normals up to 40 (degrees assumed) (S000 l.35)",
-                measured: "length error at the edge midpoint -0.535 % at 40 deg, -2.57 % at 60 deg (formulas tests)",
-                verdict: "agrees",
+                check: checks::newton_usable_to_40_deg,
             },
             Claim {
                 claim: "S004 l.169 prints N (3 - N.N)/3",
-                measured: "k(1) = 2/3 with /3; /2 gives k(1) = 1 (formulas tests): a seed typo",
-                verdict: "disagrees",
+                check: checks::newton_as_printed_in_s004,
             },
         ],
         glsl: "methods/newton_raphson.glsl",
@@ -102,8 +99,7 @@ pub static METHODS: &[Method] = &[
         validity: "z = N.N near 1 (small angles between vertex normals)",
         claims: &[Claim {
             claim: "the approximation error is large (S004 l.181-183)",
-            measured: "length error at the edge midpoint -0.0524 % at 40 deg, -0.542 % at 60 deg, -4.98 % at 90 deg (formulas tests)",
-            verdict: "agrees",
+            check: checks::lyon_error_is_large,
         }],
         glsl: "methods/lyon_taylor.glsl",
         eval_f64: |fr, l| scalar(fr, l, f::k_lyon2),
@@ -132,8 +128,7 @@ pub static METHODS: &[Method] = &[
         validity: "vertex normals not opposite to the flat normal (H.H > 0)",
         claims: &[Claim {
             claim: "normalization without a square root (S000 l.55-63)",
-            measured: "|N'| = 1 exactly; angle error 0.24 deg (40 deg, flat normal on the bisector) to 10.3 deg (90 deg, flat = vertex normal) (formulas tests)",
-            verdict: "agrees",
+            check: checks::hbb_is_unit,
         }],
         glsl: "methods/hast_half_vector.glsl",
         eval_f64: |fr, l| Shaded::lit(f::hbb(fr.interpolated_normal(), fr.flat_normal), l),
@@ -149,8 +144,7 @@ pub static METHODS: &[Method] = &[
         validity: "z = N.N in [0.25, 1]",
         claims: &[Claim {
             claim: "maximum normalised relative error <= 1.5 % (S000 l.74)",
-            measured: "1.15 % on z in [0.25, 1]; +0.487 % at z = 1 (formulas tests)",
-            verdict: "agrees",
+            check: checks::mikami_const_within_bound,
         }],
         glsl: "methods/mikami_const.glsl",
         eval_f64: |fr, l| mikami(fr, l, f::beta_const),
@@ -166,8 +160,7 @@ pub static METHODS: &[Method] = &[
         validity: "z = N.N in [0.25, 1]",
         claims: &[Claim {
             claim: "maximum normalised relative error <= 1.5 % (S000 l.74)",
-            measured: "0.23 % on z in [0.25, 1]; -0.154 % at z = 1 (formulas tests)",
-            verdict: "agrees",
+            check: checks::mikami_linear_within_bound,
         }],
         glsl: "methods/mikami_linear.glsl",
         eval_f64: |fr, l| mikami(fr, l, f::beta_linear),
@@ -183,8 +176,7 @@ pub static METHODS: &[Method] = &[
         validity: "z = N.N in [0.25, 1]",
         claims: &[Claim {
             claim: "maximum normalised relative error <= 1.5 % (S000 l.74)",
-            measured: "0.080 % on z in [0.25, 1]; +0.024 % at z = 1 (formulas tests)",
-            verdict: "agrees",
+            check: checks::mikami_quadratic_within_bound,
         }],
         glsl: "methods/mikami_quadratic.glsl",
         eval_f64: |fr, l| mikami(fr, l, f::beta_quadratic),
@@ -200,8 +192,7 @@ pub static METHODS: &[Method] = &[
         validity: "angle between vertex normals <= 90 degrees (z in [0.5, 1], the fit range)",
         claims: &[Claim {
             claim: "relative error 8x smaller than Lyon's approach (S000 l.79-80)",
-            measured: "theta <= 90 deg: 0.351 % vs Lyon shift 2.77 % (7.9x) and Lyon 2nd degree 4.98 % (14.2x); theta <= 60 deg: 0.300 %, worse than Lyon shift 0.176 % (formulas tests)",
-            verdict: "partly",
+            check: checks::romanyuk_8x_smaller,
         }],
         glsl: "methods/romanyuk_poly.glsl",
         eval_f64: |fr, l| scalar(fr, l, f::k_romanyuk),
@@ -217,8 +208,7 @@ pub static METHODS: &[Method] = &[
         validity: "vertex normals away from -Z in view space (n_z > -1)",
         claims: &[Claim {
             claim: "no square root needed (S000 l.187)",
-            measured: "|N'| = 1 exactly; angle vs normalize(lerp) 0.24 / 0.85 / 3.17 deg at 40 / 60 / 90 deg for a pair symmetric about +Z; grows away from +Z (formulas tests)",
-            verdict: "agrees",
+            check: checks::quaternion_is_unit,
         }],
         glsl: "methods/quaternion.glsl",
         eval_f64: |fr, l| {
@@ -289,8 +279,7 @@ pub static METHODS: &[Method] = &[
         validity: "any mesh with smooth vertex normals",
         claims: &[Claim {
             claim: "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre (S004 l.54-59)",
-            measured: "level-3 tessellation: 10 vertices, 9 triangles (formulas tests)",
-            verdict: "agrees",
+            check: checks::trueform_level_3_counts,
         }],
         glsl: "methods/trueform.glsl",
         eval_f64: gouraud,
@@ -306,8 +295,7 @@ pub static METHODS: &[Method] = &[
         validity: "integer shininess 1..255 (rounded and clamped otherwise)",
         claims: &[Claim {
             claim: "tables for n = 1..255 need more than 4 MB (S004 l.201-203)",
-            measured: "255 x 8192 cosines x 16 bit = 4.18 MB; this table: 255 x 4096 x 32 bit = 4.18 MB (formulas tests)",
-            verdict: "agrees",
+            check: checks::specular_lut_over_4_mb,
         }],
         glsl: "methods/specular_lut.glsl",
         eval_f64: specular_lut,

@@ -51,6 +51,7 @@ fn every_identifier_of_the_issue_is_present() {
         "pn_normals",
         "trueform",
         "specular_lut",
+        "slerp",
     ];
     let have: Vec<_> = METHODS.iter().map(|m| m.name).collect();
     assert_eq!(have, want);
@@ -110,5 +111,24 @@ fn methods_are_consistent_at_vertices() {
             s.color
         );
         assert_eq!(s.normal.is_some(), m.has_normal, "{}", m.name);
+    }
+}
+
+#[test]
+fn serialised_claims_carry_the_measurement_their_check_makes_now() {
+    let json = serde_json::to_value(METHODS).unwrap();
+    for (m, jm) in METHODS.iter().zip(json.as_array().unwrap()) {
+        let claims = jm["claims"].as_array().unwrap();
+        assert_eq!(claims.len(), m.claims.len(), "{}", m.name);
+        for (c, jc) in m.claims.iter().zip(claims) {
+            let now = (c.check)();
+            let keys: Vec<&str> = jc.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+            assert_eq!(keys.len(), 4, "{jc}");
+            assert_eq!(jc["claim"], c.claim);
+            assert_eq!(jc["measured"], now.measured.as_str());
+            assert_eq!(jc["verdict"], now.verdict.as_str());
+            assert_eq!(jc["how"], now.how.as_str());
+            assert!(!now.how.is_empty(), "{}: {}", m.name, c.claim);
+        }
     }
 }
