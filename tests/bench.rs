@@ -262,3 +262,51 @@ fn bench_rejects_bad_options() {
     assert_eq!(code, 2);
     assert!(err.contains("--repeat must be at least 1"), "{err}");
 }
+
+/// A method with NaN pixels has an infinite error: bench still writes its files, keeps the
+/// method off the Pareto front, and names it on the chart instead of plotting infinity
+/// (the one-triangle mesh of tests/compare.rs, with antipodal vertex normals).
+#[test]
+fn bench_of_a_nan_method_keeps_it_off_the_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("antipodal.obj");
+    std::fs::write(
+        &obj,
+        "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 -1\nvn 0 0 1\nf 1//1 2//2 3//3\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let (code, _, stderr) = run(&[
+        "bench",
+        "--mesh",
+        obj.to_str().unwrap(),
+        "--size",
+        "32x32",
+        "--methods",
+        "barycentric_quadratic_exact_mid",
+        "--repeat",
+        "3",
+        "--warmup",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let bench: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).unwrap()).unwrap();
+    let front: Vec<&str> = bench["pareto_front"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert!(
+        !front.contains(&"barycentric_quadratic_exact_mid"),
+        "{front:?}"
+    );
+    let svg = std::fs::read_to_string(out.join("pareto.svg")).unwrap();
+    assert!(
+        svg.contains("infinite error, not plotted: barycentric_quadratic_exact_mid"),
+        "the chart must name the method it leaves off"
+    );
+}

@@ -59,11 +59,17 @@ struct Point {
     front: bool,
 }
 
+/// The methods with a finite error, as chart points. A method with non-finite pixels has an
+/// infinite error (docs/summary.schema.json): it cannot sit on a log axis, and the chart names
+/// it in its caption instead ([`unplottable`]).
 fn pareto_points(r: &BenchReport) -> Vec<Point> {
     r.methods
         .iter()
         .filter_map(|m| {
             let e = m.error.as_ref()?.metric(&r.error_metric)?;
+            if !e.is_finite() {
+                return None;
+            }
             Some(Point {
                 name: m.name.clone(),
                 t: m.median_ms,
@@ -73,6 +79,20 @@ fn pareto_points(r: &BenchReport) -> Vec<Point> {
                 front: r.pareto_front.contains(&m.name),
             })
         })
+        .collect()
+}
+
+/// The methods whose error is not finite (NaN/Inf pixels), left off the chart.
+fn unplottable(r: &BenchReport) -> Vec<&str> {
+    r.methods
+        .iter()
+        .filter(|m| {
+            m.error
+                .as_ref()
+                .and_then(|e| e.metric(&r.error_metric))
+                .is_some_and(|e| !e.is_finite())
+        })
+        .map(|m| m.name.as_str())
         .collect()
 }
 
@@ -93,10 +113,14 @@ fn draw_pareto<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &BenchRepor
     let pad = ((x1 - x0) * 0.08).max(0.05);
     let (x0, x1) = ((x0 - pad).max(0.0), x1 + pad * 3.0);
     let (y0, y1) = (y0 / 3.0, y1 * 3.0);
-    let title = format!(
+    let mut title = format!(
         "{} {}x{}: run time ({} clock, median, 95% CI) vs {}",
         r.scene, r.width, r.height, r.clock.clock, r.error_metric
     );
+    let off = unplottable(r);
+    if !off.is_empty() {
+        title += &format!("; infinite error, not plotted: {}", off.join(", "));
+    }
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 18))
         .margin(16)

@@ -110,7 +110,7 @@ pub struct BenchReport {
 }
 /// Writes every output of a bench run.
 pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
-    let json = serde_json::to_string_pretty(r).map_err(|e| Error::Usage(e.to_string()))? + "\n";
+    let json = serde_json::to_string_pretty(r).map_err(|e| Error::output("bench.json", e))? + "\n";
     output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())?;
     output::write_atomic(&out.join("bench.csv"), |w| {
         let mut c = csv::Writer::from_writer(w);
@@ -174,8 +174,9 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
         }
         c.flush()
     })?;
-    let claims =
-        serde_json::to_string_pretty(&r.claims).map_err(|e| Error::Usage(e.to_string()))? + "\n";
+    let claims = serde_json::to_string_pretty(&r.claims)
+        .map_err(|e| Error::output("claims.json", e))?
+        + "\n";
     output::write_bytes_atomic(&out.join("claims.json"), claims.as_bytes())?;
     let mut md = String::from("# The seeds' claims, measured\n\n");
     md += &format!(

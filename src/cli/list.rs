@@ -7,7 +7,7 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
     if json {
         let text =
             serde_json::to_string_pretty(&serde_json::json!({ "version": 1, "methods": METHODS }))
-                .map_err(|e| Error::Usage(e.to_string()))?;
+                .map_err(|e| Error::output("the method list", e))?;
         println!("{text}");
     } else {
         for m in METHODS {
