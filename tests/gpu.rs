@@ -245,3 +245,31 @@ fn specular_lut_agrees_with_f64_at_half_integer_shininess() {
     }
     assert_validation_clean(r.context());
 }
+
+/// A near plane through the mesh clips triangles, whose window corners are then not their span
+/// ends: scanline methods refuse the scene and name a triangle; other methods still render.
+#[test]
+fn scanline_methods_refuse_a_scene_cut_by_the_near_plane() {
+    let r = validated_renderer();
+    let mut scene = shipped_scene("sphere_coarse", 48);
+    let distance = (scene.camera.eye - scene.camera.target).length();
+    scene.camera.near = Some(distance); // through the sphere's centre
+    let slerp = method::find("slerp").unwrap();
+    let err = r.prepare(&scene, &[slerp]).err().expect("must refuse");
+    let text = err.to_string();
+    assert!(
+        text.contains("crosses the near plane")
+            && text.contains("slerp")
+            && text.contains("triangle "),
+        "{text}"
+    );
+    assert!(r
+        .prepare(&scene, &[method::find("phong_exact").unwrap()])
+        .is_ok());
+    scene.camera.near = None;
+    assert!(
+        r.prepare(&scene, &[slerp]).is_ok(),
+        "the default near plane clips nothing"
+    );
+    assert_validation_clean(r.context());
+}

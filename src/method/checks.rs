@@ -102,6 +102,18 @@ pub fn timing_claim() -> Measurement {
     }
 }
 
+/// A statement about a method's cost per pixel (operations it needs), not measured yet: the
+/// isolated cost of each formula is the [cost] issue's measurement.
+pub fn cost_claim() -> Measurement {
+    Measurement {
+        measured: "-".into(),
+        verdict: Verdict::NotChecked,
+        how: "a cost statement: no f64 formula measures it, and the isolated per-formula cost \
+              that would is not measured yet"
+            .into(),
+    }
+}
+
 /// The operation count of normalisation: counted in the compiled SPIR-V by `shadelab bench`.
 pub fn op_count_claim() -> Measurement {
     Measurement {

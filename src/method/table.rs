@@ -292,7 +292,7 @@ pub static METHODS: &[Method] = &[
         geometry: Geometry::Mesh,
         has_normal: true,
         reference: Reference::Phong,
-        validity: "integer shininess 1..255 (rounded and clamped otherwise)",
+        validity: "integer shininess 1..255 (others take row floor(n + 0.5), clamped to 1..255)",
         claims: &[Claim {
             claim: "tables for n = 1..255 need more than 4 MB (S004 l.201-203)",
             check: checks::specular_lut_over_4_mb,
@@ -309,7 +309,10 @@ pub static METHODS: &[Method] = &[
         has_normal: true,
         reference: Reference::Phong,
         validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
-        claims: &[],
+        claims: &[Claim {
+            claim: "its drawbacks are the arccos, the sines and the division per pixel (S000 l.97-98, S004 l.192-195)",
+            check: checks::cost_claim,
+        }],
         glsl: "methods/slerp.glsl",
         eval_f64: slerp,
     },

@@ -22,6 +22,10 @@
 //!    by the diffuse factor times that, the specular factor `n s^(n-1)` times it, the relative
 //!    error `POW_REL` of lavapipe's `pow` (= exp2(n log2 s), polynomial approximations), and 8u
 //!    for the sums.
+//! 3. Span (scanline methods only, FORMULAS.md 1.6). The span's set-up in f32 (edge parameter,
+//!    end points, the pixel's fraction of the span) rounds on window coordinates of size up to
+//!    `S`, as if the pixel were off by `K_SPAN * u * S` in x and y; first-order propagation
+//!    through the twin's derivatives in the pixel position (central differences) bounds it.
 //!
 //! The constants are few and each is stated below with its reason. The measured error/bound
 //! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
