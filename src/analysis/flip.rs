@@ -1,9 +1,9 @@
 //! FLIP (NVIDIA's perceptual image difference, through the nv-flip crate) over covered pixels.
-use crate::analysis::stats::percentile;
-
 use glam::DVec3;
 
+use crate::analysis::stats::percentile;
 use crate::output;
+
 pub(crate) fn srgb_rgb8(color: impl Iterator<Item = DVec3>) -> Vec<u8> {
     color
         .flat_map(|c| [c.x, c.y, c.z].map(|v| output::srgb8(v as f32)))

@@ -21,12 +21,12 @@
 //!
 //! A method with any non-finite pixel, ill-conditioned ones included, has every error statistic
 //! infinite: NaN output is never a small error ([`PixelErrors::non_finite`]).
-use crate::analysis::stats::percentile;
-use crate::truth::{Truth, TruthPixel};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::stats::percentile;
 use crate::frame::Frame;
+use crate::truth::{Truth, TruthPixel};
 
 /// Rec. 709 luminance weights of linear RGB.
 pub const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];

@@ -1,13 +1,13 @@
 //! The clock check: GPU timestamps against the submit-to-fence wall clock.
-use super::*;
-use crate::analysis::stats::median_ci;
-
 use serde::Serialize;
 
+use super::*;
+use crate::analysis::stats::median_ci;
 use crate::error::Result;
 use crate::gpu::{Renderer, Shading};
 use crate::method::{self};
 use crate::scene::Scene;
+
 /// The clock check at one size.
 #[derive(Debug, Clone, Serialize)]
 pub struct ClockPoint {

@@ -7,8 +7,6 @@
 //! `Renderer::timed_draws`). Every run re-checks the placement: at sizes 128..2048 the
 //! timestamp interval must track the submit-to-fence wall clock ([`CLOCK_TOLERANCE`]); when it
 //! does not, the run says so and times with the wall clock instead.
-use crate::analysis::stats::{median_ci, pareto_front, Estimate};
-use crate::output::provenance::cpu_model;
 pub mod chart;
 pub mod claims;
 pub mod clock;
@@ -19,16 +17,20 @@ mod tests;
 
 pub use clock::*;
 pub use report::*;
+
 use std::path::Path;
 
 use serde::Serialize;
 
+use crate::analysis::stats::{median_ci, pareto_front, Estimate};
 use crate::compare::{self, CompareOptions};
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{self, OpCounts};
 use crate::gpu::{Prepared, Renderer, Shading, TimedDraws};
 use crate::method::{self, Method};
+use crate::output::provenance::cpu_model;
 use crate::scene::Scene;
+
 /// Version of the bench.json layout.
 pub const SCHEMA_VERSION: u32 = 1;
 /// Sizes of the clock check and of `--sweep size`.

@@ -1,15 +1,16 @@
 //! The results of a benchmark: bench.json, bench.csv and the text table.
-use super::*;
 use std::path::Path;
 
 use serde::Serialize;
 
+use super::*;
 use crate::compare::{self, MethodReport};
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{OpCounts, OpCountsDelta};
 use crate::method::Verdict;
 use crate::output;
 use crate::output::Provenance;
+
 /// One method's (or the floor's) row of bench.json.
 #[derive(Debug, Clone, Serialize)]
 pub struct MethodTiming {

@@ -6,20 +6,21 @@
 //! ill-conditioned and non-finite pixels are counted and left out of every statistic (FLIP
 //! included), and a method with any non-finite pixel has every error metric infinite (null in
 //! JSON, beside its `non_finite_pixels` count), sorts last and fails every limit.
-use crate::analysis::flip::{flip, srgb_rgb8};
-use crate::analysis::pixel::{channel_stats, d3, intensity_stats, pixel_errors, IntensityStats};
-use crate::analysis::stats::percentile;
 pub mod summary;
 #[cfg(test)]
 mod tests;
 
+pub use summary::*;
+
 use std::path::Path;
 use std::time::Instant;
-pub use summary::*;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::flip::{flip, srgb_rgb8};
+use crate::analysis::pixel::{channel_stats, d3, intensity_stats, pixel_errors, IntensityStats};
+use crate::analysis::stats::percentile;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::gpu::{Renderer, Shading};
@@ -28,6 +29,7 @@ use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
 use crate::scene::Scene;
 use crate::truth::{self, Truth};
+
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
 /// removes or renames a field or changes its type (2: error metrics are null for a method with
 /// non-finite pixels, `pixels_above_threshold` included).

@@ -1,14 +1,15 @@
 //! The results of a comparison: per-method reports, summary.json / summary.csv, the text
 //! table and the `--fail-above` / `--fail-below` limits.
-use super::*;
-use crate::analysis::pixel::{ChannelStats, IntensityStats};
-use crate::output::Provenance;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use super::*;
+use crate::analysis::pixel::{ChannelStats, IntensityStats};
 use crate::error::{Error, Result};
 use crate::output;
+use crate::output::Provenance;
+
 /// One method's row of the summary. Intensity fields are of the luminance error (linear).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MethodReport {

@@ -1,12 +1,13 @@
 //! Procedural meshes built in f64 with analytic normals (uv sphere, icosphere, torus, cube),
 //! the shipped meshes of scenes/, and their command-line form.
-use super::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use super::*;
 use crate::error::{Error, Result};
+
 /// Largest triangle count a generator may produce: 8M triangles are 576 MB of f32 soup, well
 /// past any useful test mesh (the biggest shared model, the bunny, has 70k).
 pub const MAX_GENERATED_TRIANGLES: u64 = 8_000_000;

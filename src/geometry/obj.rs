@@ -1,14 +1,15 @@
 //! OBJ reading (a validating pass with `file:line` errors, then tobj, cross-checked) and OBJ
 //! writing (deduplicated, shortest round-trip floats, atomic).
-use super::*;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
 use glam::DVec3;
 
+use super::*;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
+
 /// One face corner as the validation pass saw it (0-based, relative indices resolved).
 #[derive(Debug, Clone, Copy)]
 struct Corner {

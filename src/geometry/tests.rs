@@ -1,4 +1,5 @@
 //! Tests of OBJ loading, normals, fitting, writing and the generators.
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
@@ -6,7 +7,6 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::geometry::*;
 use crate::testutil::assert_close;
-use std::collections::BTreeMap;
 
 /// Writes `text` to `name` in a fresh temp dir, keeping the dir alive with the path.
 fn temp_obj(name: &str, text: &str) -> (tempfile::TempDir, PathBuf) {

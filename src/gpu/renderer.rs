@@ -1,12 +1,10 @@
 //! Scene + method -> float images (colour and shading normal) and the id pass for the f64
 //! truth. Uploads only the vertex streams the methods of a run read.
-use crate::frame::{Frame, IdFrame};
-use crate::scene::SceneInputs;
 use std::sync::Arc;
 
 use crate::error::{Error, Result};
+use crate::frame::{Frame, IdFrame};
 use crate::gpu::shaders;
-
 use crate::gpu::vk::{
     Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DescriptorSet, Format,
     GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule, VertexStream,
@@ -14,6 +12,8 @@ use crate::gpu::vk::{
 use crate::method::{specular_table, Geometry, Input, Method};
 use crate::output::Provenance;
 use crate::scene::Scene;
+use crate::scene::SceneInputs;
+
 /// What a draw shades with: a method, or the constant-colour floor.
 #[derive(Debug, Clone, Copy)]
 pub enum Shading<'a> {

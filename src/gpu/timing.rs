@@ -1,10 +1,10 @@
 //! Timed draws: recorded once, submitted repeatedly, each bracketed by timestamps; one
 //! [`Sample`] per submission.
 use super::*;
-
 use crate::error::Result;
 use crate::gpu::vk::queries::timestamp_delta_ns;
 use crate::gpu::vk::{GraphicsPipeline, OneShot, QueryPool, Recorded};
+
 /// One timed submission: the submit-to-fence wall time and the timestamp interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {

@@ -1,8 +1,8 @@
 //! The camera in f64: the fitted default camera, view and projection matrices (Vulkan clip
 //! space: y down, depth 0..1).
-use super::*;
-
 use glam::{DMat4, DVec3, DVec4};
+
+use super::*;
 
 /// The camera that frames the unit sphere: eye on the direction normalize(0, 0.3, 1) (a little
 /// above the equator, looking at the origin, +y up), at the distance where the sphere's

@@ -1,6 +1,5 @@
 //! The TOML scene file: parsing with spans, validation with `file:line` errors, and the
 //! scene for a bare OBJ ([`scene_for_mesh`]).
-use super::*;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -8,8 +7,10 @@ use glam::DVec3;
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::*;
 use crate::error::{Error, Result};
 use crate::geometry::{fit_unit, load_obj, Generator, LoadReport, Mesh};
+
 /// A scene for a bare OBJ (`--mesh FILE.obj`): the fitted mesh, [`fit_camera`] at
 /// [`DEFAULT_FOV_Y_DEG`], the default light and material, 512 x 512, screen-linear
 /// interpolation. Named after the file stem. Errors are [`load_obj`]'s.

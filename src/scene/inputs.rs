@@ -1,13 +1,13 @@
 //! Everything the GPU receives for a scene, computed once in f64 and rounded to f32 once
 //! ([`SceneInputs`], [`Params`]). The truth widens the same rounded values back to f64, so GPU
 //! and CPU start from bit-identical inputs.
-
 use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 
 use crate::geometry::Mesh;
 use crate::method::formulas::{self, Lighting};
 use crate::method::{Fragment, Geometry};
 use crate::scene::{Interpolation, Scene, MAX_LIGHTS};
+
 /// The uniform block of every program; twin of `Params` in glsl/common.glsl (std140).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]

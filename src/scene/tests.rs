@@ -1,5 +1,6 @@
 //! Tests of the scene format, its validation and the camera.
 use std::path::Path;
+use std::path::PathBuf;
 
 use glam::{DVec3, DVec4};
 
@@ -8,7 +9,6 @@ use crate::error::{Error, Result};
 use crate::geometry::*;
 use crate::geometry::{write_obj, SHIPPED};
 use crate::testutil::assert_close;
-use std::path::PathBuf;
 
 /// Clip -> window coordinates (x, y in pixels, y down; depth) for a `w` x `h` viewport.
 fn to_window(clip: DVec4, w: f64, h: f64) -> DVec3 {

@@ -1,9 +1,10 @@
 //! Agreement of a GPU frame with its f64 truth: per pixel error over the float32 bound
 //! (`shadelab verify`).
-use super::*;
 use glam::DVec3;
 
+use super::*;
 use crate::frame::Frame;
+
 /// How a GPU frame agrees with its f64 truth.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Agreement {

@@ -32,6 +32,7 @@
 pub mod agreement;
 
 pub use agreement::*;
+
 use glam::{DVec2, DVec3};
 
 use crate::frame::IdFrame;
@@ -39,6 +40,7 @@ use crate::method::formulas::Lighting;
 use crate::method::{Fragment, Input, Method, Shaded};
 use crate::scene::Interpolation;
 use crate::scene::SceneInputs;
+
 /// f32 unit roundoff.
 pub const U: f64 = 1.0 / 16_777_216.0;
 /// Roundings per plane-equation evaluation and set-up (2 for a0 + dadx x + dady y, 2 for a0).
