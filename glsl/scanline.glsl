@@ -56,3 +56,58 @@ float angleOf(float c, float s) {
 float spanT(Span sp, float px) {
     return sp.xB > sp.xA ? clamp((px - sp.xA) / (sp.xB - sp.xA), 0.0, 1.0) : 0.0;
 }
+
+// Below this 1 - c^2 (angle under 1e-4 rad) the angle-based interpolations use normalize(mix).
+const float PARALLEL = 1e-8;
+
+// The Phong normal of the span at x: linear in x, extrapolated past the ends.
+vec3 spanNormal(Span sp, float x) {
+    return sp.xB > sp.xA ? sp.NA + (sp.NB - sp.NA) * ((x - sp.xA) / (sp.xB - sp.xA)) : sp.NA;
+}
+
+// Halving levels for a span of `width` pixels: the least k >= 1 with 2^k >= width, at most 12.
+const int MAX_LEVELS = 12;
+int levels(float width) {
+    int k = 1;
+    while (k < MAX_LEVELS && float(1 << k) < width) {
+        ++k;
+    }
+    return k;
+}
+
+#ifdef INV_ROOT
+// Dichotomy (FORMULAS.md 2.13): the slerp sample nearest t on the grid m / 2^K, by K bisections
+// with mid = (lo + hi) INV_ROOT(2 lo.hi); m = floor(t 2^K + 0.5).
+vec3 dichotomy(vec3 A, vec3 B, float t, int K) {
+    int n = 1 << K;
+    int m = min(int(floor(t * float(n) + 0.5)), n);
+    if (m == 0) {
+        return A;
+    }
+    if (m == n) {
+        return B;
+    }
+    vec3 lo = A;
+    vec3 hi = B;
+    for (int l = 0; l < K; ++l) {
+        vec3 mid = (lo + hi) * INV_ROOT(2.0 * dot(lo, hi));
+        if (((m >> (K - 1 - l)) & 1) != 0) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+#endif
+
+// The digital segment of 2^k pixels holding the pixel (FORMULAS.md 2.16): its end positions
+// xl, xp (pixel centres; the first starts at the first covered pixel centre) and the pixel's
+// index v in it.
+void segmentAt(Span sp, float px, int k, out float xl, out float xp, out int v) {
+    float p0 = ceil(sp.xA - 0.5) + 0.5;
+    int j = max(int(floor(px - p0)), 0);
+    xl = p0 + float((j >> k) << k);
+    xp = xl + float(1 << k);
+    v = j & ((1 << k) - 1);
+}

@@ -59,19 +59,31 @@ fn every_method_agrees_with_its_f64_formula() {
     assert_validation_clean(r.context());
 }
 
-/// Pairs that check 2 cannot tell apart on the symmetric shipped spheres, each for a reason:
+/// Pairs that check 2 cannot tell apart on the symmetric shipped icosphere (large triangles,
+/// vertex normals 63 degrees apart: long spans, so the scanline methods' quantisation shows),
+/// each for a reason:
 /// - gouraud / trueform: the same Gouraud formula (trueform only changes the geometry);
 /// - phong_exact / specular_lut: the 4096-sample table's interpolation error (<= 1.8e-5 at
 ///   n = 50, formulas tests) lies below the float32 bound;
 /// - hast_half_vector / quaternion_local: quaternion_local's q is normalize(n + N_i), so it is
 ///   Hast's reflection with per-vertex normalised half vectors; the two coincide when a
 ///   triangle's corners sit at equal angles from its flat normal (true on these spheres;
-///   `hast_and_local_quaternion_differ_on_irregular_meshes` shows they differ elsewhere).
-const EQUIVALENT_HERE: [(&str, &str); 3] = [
+///   `hast_and_local_quaternion_differ_on_irregular_meshes` shows they differ elsewhere);
+/// - slerp / spherical_angular: the same function (FORMULAS.md 2.11: the closed form equals
+///   slerp to 4e-16 in f64), two float computations of it;
+const EQUIVALENT_HERE: [(&str, &str); 4] = [
     ("gouraud", "trueform"),
     ("phong_exact", "specular_lut"),
     ("hast_half_vector", "quaternion_local"),
+    ("slerp", "spherical_angular"),
 ];
+
+/// One-way passes: the first method's image passes the second's formula, and not the reverse
+/// (checked). segments_k3_poly2's bound is wide where its 8-pixel segment reaches far past a
+/// short span (the extrapolated end moves a lot when a corner moves by its rounding), and
+/// segments_k2_poly2 (exact Phong at 4-pixel segment ends, slerp to 2e-5 between) differs from
+/// it by less there; elsewhere the two differ by up to 0.018 and the reverse check fails.
+const ONE_WAY_HERE: [(&str, &str); 1] = [("segments_k2_poly2", "segments_k3_poly2")];
 
 fn equivalent(a: &str, b: &str) -> bool {
     EQUIVALENT_HERE
@@ -83,7 +95,7 @@ fn equivalent(a: &str, b: &str) -> bool {
 #[test]
 fn swapping_shaders_fails_the_check() {
     let r = validated_renderer();
-    let scene = shipped_scene("sphere_coarse", 64);
+    let scene = shipped_scene("icosphere", 96);
     let prepared = r.prepare(&scene, &all()).unwrap();
     let rendered = render_all(&r, &scene);
     let mut passed_as = Vec::new();
@@ -96,7 +108,8 @@ fn swapping_shaders_fails_the_check() {
                 frame,
                 &truth::evaluate(&prepared.for_method(m).inputs, ids, other),
             );
-            if a.within_bound() && !equivalent(m.name, other.name) {
+            let one_way = ONE_WAY_HERE.contains(&(m.name, other.name));
+            if a.within_bound() && !equivalent(m.name, other.name) && !one_way {
                 passed_as.push(format!(
                     "{} passed as {} (ratio {:.3})",
                     m.name, other.name, a.max_color_ratio
@@ -111,18 +124,27 @@ fn swapping_shaders_fails_the_check() {
     );
     // ... and the stated pairs do pass as each other, both ways (gouraud / trueform differ in
     // geometry, so the loop above never judges them: each image is judged on its own inputs)
+    let judge = |x: &str, y: &str| {
+        let (m, frame, ids, _) = rendered.iter().find(|(m, ..)| m.name == x).unwrap();
+        let other = method::find(y).unwrap();
+        truth::agreement(
+            frame,
+            &truth::evaluate(&prepared.for_method(m).inputs, ids, other),
+        )
+    };
     let mut not_equivalent = Vec::new();
     for (a, b) in EQUIVALENT_HERE {
         for (x, y) in [(a, b), (b, a)] {
-            let (m, frame, ids, _) = rendered.iter().find(|(m, ..)| m.name == x).unwrap();
-            let other = method::find(y).unwrap();
-            let ag = truth::agreement(
-                frame,
-                &truth::evaluate(&prepared.for_method(m).inputs, ids, other),
-            );
+            let ag = judge(x, y);
             if !ag.within_bound() {
                 not_equivalent.push(format!("{x} judged as {y}: {ag:?}"));
             }
+        }
+    }
+    for (x, y) in ONE_WAY_HERE {
+        let reverse = judge(y, x);
+        if reverse.within_bound() {
+            not_equivalent.push(format!("{y} passes as {x} too: list them as equivalent"));
         }
     }
     assert!(

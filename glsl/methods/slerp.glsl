@@ -1,7 +1,7 @@
 // slerp (FORMULAS.md 2.10, S000 l.85-98, S004 l.184-195): spherical linear interpolation between
 // the span's unit end normals N'_A, N'_B (Phong edge normals, normalised exactly) at the pixel's
-// fraction t of the span, in the closed form of 2.11 (Appendix C saClosed). Twin:
-// src/method/scanline.rs slerp().
+// fraction t of the span, as the seeds print it: (A sin((1-t) theta) + B sin(t theta)) / sin theta.
+// Twin: src/method/scanline.rs slerp().
 #include "scanline.glsl"
 vec3 methodNormal() {
     Span sp = spanAt(gl_FragCoord.y);
@@ -10,10 +10,10 @@ vec3 methodNormal() {
     vec3 B = normalize(sp.NB);
     float c = clamp(dot(A, B), -1.0, 1.0);
     float s2 = 1.0 - c * c;
-    if (s2 < 1e-8) {
-        return normalize(mix(A, B, t));                 // nearly parallel (theta < 1e-4 rad)
+    if (s2 < PARALLEL) {
+        return normalize(mix(A, B, t));
     }
     float s = sqrt(s2);
     float th = angleOf(c, s);
-    return A * cos(t * th) + (B - A * c) * (sin(t * th) / s);
+    return (A * sin((1.0 - t) * th) + B * sin(t * th)) / s;
 }

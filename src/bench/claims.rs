@@ -275,35 +275,17 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
             });
         }
     }
-    for (claim, who) in [
-        (
-            "spherical-angular interpolation doubles polygon shading speed (S000 l.102-104)",
-            "spherical_angular",
-        ),
-        (
-            "quadratic interpolation reduces normal computation time 2-3x (S000 l.151-152)",
-            "quadratic_scanline",
-        ),
-        (
-            "dichotomy with the approximated inverse root: 2.5x faster (S000 l.181)",
-            "dichotomy",
-        ),
-        (
-            "digital segments k = 2: 1.3x / 1.8x; k = 3: 1.48x / 2.09x (S002 l.674-682)",
-            "digital_segments",
-        ),
-        (
-            "Bishop-Weimer: 5 additions and 1 memory access per pixel (S004 l.124-128)",
-            "bishop_weimer",
-        ),
-    ] {
+    for (claim, who) in [(
+        "Bishop-Weimer: 5 additions and 1 memory access per pixel (S004 l.124-128)",
+        "bishop_weimer",
+    )] {
         out.push(ClaimCheck {
             method: who.into(),
             claim: claim.into(),
             measured: "-".into(),
             verdict: Verdict::NotChecked,
             how: "not measured: no implementation to time or sweep".into(),
-            reason: "the scanline family is not implemented yet (roadmap step 5)".into(),
+            reason: "Bishop-Weimer is not implemented yet (issue [scanline])".into(),
         });
     }
     out

@@ -83,20 +83,130 @@ pub fn span_ends(pixel: DVec2, window: [DVec2; 3], normals: [DVec3; 3]) -> (DVec
     )
 }
 
-/// Spherical linear interpolation between unit `a` and `b` (FORMULAS.md 2.10), in the
-/// Gram-Schmidt closed form of 2.11 (Appendix C `saClosed`): `a cos(t theta) + (b - a c)
-/// sin(t theta) / sin(theta)`, `c = a.b` clamped to [-1, 1]. Within 1e-8 of parallel
-/// (`1 - c^2 < 1e-8`, theta < 1e-4 rad) it falls back to `normalize(mix(a, b, t))`, which
-/// agrees there to ~1e-9; antipodal ends (no plane) take the same fallback, whose result is
-/// then the zero vector at t = 1/2 (the method's documented hazard).
+/// Below this `1 - c^2` (angle under 1e-4 rad) the angle-based interpolations fall back to
+/// `normalize(mix(a, b, t))`, which agrees with them there to ~1e-9. Antipodal ends (no plane)
+/// take the same fallback, whose result is the zero vector at t = 1/2 (their documented hazard).
+pub const PARALLEL: f64 = 1e-8;
+
+/// Spherical linear interpolation between unit `a` and `b` as the seeds print it (FORMULAS.md
+/// 2.10): `(a sin((1 - t) theta) + b sin(t theta)) / sin(theta)`, `theta = acos(a.b)`, the dot
+/// product clamped to [-1, 1].
 pub fn slerp(a: DVec3, b: DVec3, t: f64) -> DVec3 {
     let c = a.dot(b).clamp(-1.0, 1.0);
     let s2 = 1.0 - c * c;
-    if s2 < 1e-8 {
+    if s2 < PARALLEL {
+        return normalize_exact(a * (1.0 - t) + b * t);
+    }
+    let th = c.acos();
+    (a * ((1.0 - t) * th).sin() + b * (t * th).sin()) / s2.sqrt()
+}
+
+/// Spherical-angular interpolation in closed form (FORMULAS.md 2.11, Appendix C `saClosed`):
+/// the Gram-Schmidt form `a cos(t theta) + (b - a c) sin(t theta) / sin(theta)`, `c = a.b`.
+/// Equal to [`slerp`] in exact arithmetic; a different float computation.
+pub fn spherical_angular(a: DVec3, b: DVec3, t: f64) -> DVec3 {
+    let c = a.dot(b).clamp(-1.0, 1.0);
+    let s2 = 1.0 - c * c;
+    if s2 < PARALLEL {
         return normalize_exact(a * (1.0 - t) + b * t);
     }
     let th = c.acos();
     a * (t * th).cos() + (b - a * c) * ((t * th).sin() / s2.sqrt())
+}
+
+/// The approximate middle normal of a span (FORMULAS.md 2.12):
+/// `(0.103 c^2 - 0.306 c + 0.705) (nl + np)`, `c = nl.np`, a fit of `1/|nl + np|` on c in [0, 1].
+pub fn mid_approx(nl: DVec3, np: DVec3) -> DVec3 {
+    let c = nl.dot(np);
+    (nl + np) * ((0.103 * c - 0.306) * c + 0.705)
+}
+
+/// The exact middle normal: `normalize(nl + np)`, the angular midpoint of the unit ends.
+pub fn mid_exact(nl: DVec3, np: DVec3) -> DVec3 {
+    normalize_exact(nl + np)
+}
+
+/// Quadratic interpolation along the span through `nl` (t = 0), `nc` (t = 1/2) and `np` (t = 1)
+/// (FORMULAS.md 2.12, the seed's P corrected): `(G t + P) t + nl`, `G = 2np - 4nc + 2nl`,
+/// `P = 4nc - 3nl - np`. Not renormalised.
+pub fn quadratic(nl: DVec3, np: DVec3, nc: DVec3, t: f64) -> DVec3 {
+    let g = np * 2.0 - nc * 4.0 + nl * 2.0;
+    let p = nc * 4.0 - nl * 3.0 - np;
+    (g * t + p) * t + nl
+}
+
+/// `1/sqrt(2 + z)`, `z = 2 cos(phi)`: the factor that makes `lo + hi` unit (FORMULAS.md 2.13).
+pub fn inv_root_exact(z: f64) -> f64 {
+    1.0 / (2.0 + z).sqrt()
+}
+
+/// The degree-1 approximation `0.64 - 0.07 z` of S002 l.625-639 (FORMULAS.md 2.16).
+pub fn inv_root_poly1(z: f64) -> f64 {
+    0.64 - 0.07 * z
+}
+
+/// The degree-2 minimax approximation `0.014253 z^2 - 0.118922 z + 0.680850` on phi in
+/// [0, 45] degrees (FORMULAS.md 2.13, 2.16; S000 l.179 prints it rounded).
+pub fn inv_root_poly2(z: f64) -> f64 {
+    (0.014253 * z - 0.118922) * z + 0.680850
+}
+
+/// Largest number of halving levels of the dichotomy methods (a span of 4096 pixels).
+pub const MAX_LEVELS: u32 = 12;
+
+/// Halving levels for a span of `width` pixels: the least k >= 1 with 2^k >= width, at most
+/// [`MAX_LEVELS`] (FORMULAS.md 2.13: K = ceil(log2(span pixels)), by comparison, no log).
+pub fn levels(width: f64) -> u32 {
+    let mut k = 1;
+    while k < MAX_LEVELS && f64::from(1u32 << k) < width {
+        k += 1;
+    }
+    k
+}
+
+/// Dichotomy (angle halving, FORMULAS.md 2.13): the slerp sample nearest `t` on the grid
+/// m / 2^k, reached by `k` bisections of the bracket (a, b) with `mid = (lo + hi) f(2 lo.hi)`;
+/// `m = floor(t 2^k + 0.5)` (halves up, one rule on GPU and CPU).
+pub fn dichotomy(a: DVec3, b: DVec3, t: f64, k: u32, f: fn(f64) -> f64) -> DVec3 {
+    let n = 1u32 << k;
+    let m = ((t * f64::from(n) + 0.5).floor() as u32).min(n);
+    if m == 0 {
+        return a;
+    }
+    if m == n {
+        return b;
+    }
+    let (mut lo, mut hi) = (a, b);
+    for l in 0..k {
+        let mid = (lo + hi) * f(2.0 * lo.dot(hi));
+        if (m >> (k - 1 - l)) & 1 != 0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// Where a pixel sits in the digital segments of 2^k pixels of a span (FORMULAS.md 2.16): the
+/// segment's end positions `xl`, `xp` (pixel centres; the first segment starts at the first
+/// covered pixel centre `ceil(xA - 0.5) + 0.5`) and the pixel's index `v` in it, 0..2^k.
+pub fn segment(sp: &Span, px: f64, k: u32) -> (f64, f64, u32) {
+    let p0 = (sp.xa - 0.5).ceil() + 0.5;
+    let j = (px - p0).floor().max(0.0) as u32;
+    let len = 1u32 << k;
+    let xl = p0 + f64::from((j >> k) << k);
+    (xl, xl + f64::from(len), j & (len - 1))
+}
+
+/// The Phong normal of the span at `x` (linear in x, extrapolated past the ends; the start
+/// normal on an empty span).
+pub fn span_normal(sp: &Span, x: f64) -> DVec3 {
+    if sp.xb > sp.xa {
+        sp.na + (sp.nb - sp.na) * ((x - sp.xa) / (sp.xb - sp.xa))
+    } else {
+        sp.na
+    }
 }
 
 #[cfg(test)]
@@ -149,22 +259,77 @@ mod tests {
     }
 
     #[test]
-    fn slerp_is_unit_and_angle_proportional() {
-        // 90 degrees apart: at t the angle from a is t * 90 degrees (FORMULAS.md 2.10).
-        let (a, b) = (DVec3::X, DVec3::Y);
-        for t in [0.0, 0.1, 0.25, 0.5, 0.9, 1.0] {
-            let n = slerp(a, b, t);
-            assert_close("|slerp|", n.length(), 1.0, 1e-15);
-            assert_close(
-                "angle",
-                n.angle_between(a),
-                t * std::f64::consts::FRAC_PI_2,
-                1e-12,
+    fn slerp_and_its_closed_form_are_unit_and_angle_proportional() {
+        // 100 degrees apart: at t the angle from a is t * 100 degrees (FORMULAS.md 2.10, 2.11).
+        let a = DVec3::X;
+        let b = DVec3::new(100f64.to_radians().cos(), 100f64.to_radians().sin(), 0.0);
+        for f in [slerp, spherical_angular] {
+            for t in [0.0, 0.1, 0.25, 0.5, 0.9, 1.0] {
+                let n = f(a, b, t);
+                assert_close("|n|", n.length(), 1.0, 1e-15);
+                assert_close("angle", n.angle_between(a), t * 100f64.to_radians(), 1e-12);
+            }
+            // Nearly parallel: the normalize(mix) fallback, continuous with the closed form.
+            let b = DVec3::new(1.0, 1e-5, 0.0).normalize();
+            assert_close("tiny", f(a, b, 0.5).angle_between(a), 0.5e-5, 1e-12);
+        }
+    }
+
+    #[test]
+    fn quadratic_passes_through_its_three_normals() {
+        let (nl, np) = (DVec3::X, DVec3::new(0.5, 0.0, 0.75f64.sqrt()));
+        let nc = mid_exact(nl, np);
+        for (t, want) in [(0.0, nl), (0.5, nc), (1.0, np)] {
+            assert!(
+                (quadratic(nl, np, nc, t) - want).length() < 1e-15,
+                "t = {t}"
             );
         }
-        // Nearly parallel: the normalize(mix) fallback, continuous with the closed form.
-        let b = DVec3::new(1.0, 1e-5, 0.0).normalize();
-        let n = slerp(DVec3::X, b, 0.5);
-        assert_close("tiny angle", n.angle_between(DVec3::X), 0.5e-5, 1e-12);
+        // The polynomial middle normal is within 0.5 % of unit length at 60 degrees
+        // (FORMULAS.md 2.12: -0.20 % at 40 degrees, -0.30 % at 90).
+        assert!((mid_approx(nl, np).length() - 1.0).abs() < 5e-3);
+    }
+
+    #[test]
+    fn exact_dichotomy_lands_on_slerp_and_the_polynomials_near_it() {
+        let a = DVec3::Z;
+        let b = DVec3::new(45f64.to_radians().sin(), 0.0, 45f64.to_radians().cos());
+        for m in 0..=16u32 {
+            let t = f64::from(m) / 16.0;
+            let want = slerp(a, b, t);
+            let exact = dichotomy(a, b, t, 4, inv_root_exact);
+            assert!((exact - want).length() < 1e-14, "m = {m}");
+            // FORMULAS.md 2.13 at 45 degrees (K = 8 there): length errors 0.007 % (degree 2)
+            // and 0.16 % (degree 1)
+            assert!((dichotomy(a, b, t, 4, inv_root_poly2) - want).length() < 1e-4);
+            assert!((dichotomy(a, b, t, 4, inv_root_poly1) - want).length() < 2e-3);
+        }
+        // t between grid points (0, 1/2, 1 for one level) goes to the nearer one, halves up.
+        assert_eq!(dichotomy(a, b, 0.24, 1, inv_root_exact), a);
+        let mid = dichotomy(a, b, 0.25, 1, inv_root_exact);
+        assert!((mid - slerp(a, b, 0.5)).length() < 1e-15);
+        assert_eq!(dichotomy(a, b, 0.75, 1, inv_root_exact), b);
+    }
+
+    #[test]
+    fn levels_cover_the_span_and_segments_tile_it_from_the_first_pixel() {
+        assert_eq!(
+            [0.5, 2.0, 2.1, 64.0, 65.0, 1e9].map(levels),
+            [1, 1, 2, 6, 7, MAX_LEVELS]
+        );
+        let sp = Span {
+            xa: 10.3,
+            na: DVec3::X,
+            xb: 30.0,
+            nb: DVec3::Y,
+        };
+        // first covered centre 10.5; pixel 17.5 is index 7: segment 1 of 4-pixel segments
+        assert_eq!(segment(&sp, 17.5, 2), (14.5, 18.5, 3));
+        assert_eq!(segment(&sp, 10.5, 3), (10.5, 18.5, 0));
+        // a pixel left of the first centre clamps into the first segment
+        assert_eq!(segment(&sp, 9.5, 1), (10.5, 12.5, 0));
+        // the span normal is linear and extrapolates past xB
+        let n = span_normal(&sp, 30.0 + 19.7);
+        assert!((n - (DVec3::X + (DVec3::Y - DVec3::X) * 2.0)).length() < 1e-12);
     }
 }

@@ -52,6 +52,19 @@ fn every_identifier_of_the_issue_is_present() {
         "trueform",
         "specular_lut",
         "slerp",
+        "spherical_angular",
+        "quadratic_scanline",
+        "quadratic_scanline_approx_mid",
+        "dichotomy_exact",
+        "dichotomy_poly1",
+        "dichotomy_poly2",
+        "segments_k1",
+        "segments_k2",
+        "segments_k3",
+        "segments_k2_poly1",
+        "segments_k2_poly2",
+        "segments_k3_poly1",
+        "segments_k3_poly2",
     ];
     let have: Vec<_> = METHODS.iter().map(|m| m.name).collect();
     assert_eq!(have, want);

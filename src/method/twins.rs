@@ -63,10 +63,57 @@ pub(crate) fn mikami(frag: &Fragment, lit: &Lighting, beta: fn(f64) -> f64) -> S
     Shaded::lit(n / f::mikami_sqrt(z, beta(z)), lit)
 }
 
-/// slerp (FORMULAS.md 2.10) between the unit span-end normals at the pixel's span fraction.
-pub(crate) fn slerp(frag: &Fragment, lit: &Lighting) -> Shaded {
+/// A scanline method that interpolates between the unit span-end normals at the pixel's span
+/// fraction t (slerp, spherical-angular, quadratic: FORMULAS.md 2.10-2.12).
+pub(crate) fn along_span(
+    frag: &Fragment,
+    lit: &Lighting,
+    interpolate: fn(DVec3, DVec3, f64) -> DVec3,
+) -> Shaded {
     let (a, b, t) = scanline::span_ends(frag.pixel, frag.window, frag.corner_normals);
-    Shaded::lit(scanline::slerp(a, b, t), lit)
+    Shaded::lit(interpolate(a, b, t), lit)
+}
+
+/// Dichotomy (FORMULAS.md 2.13) between the unit span-end normals with the inverse root `f`,
+/// as many levels as the span has pixels to the next power of two.
+pub(crate) fn dichotomy(frag: &Fragment, lit: &Lighting, f: fn(f64) -> f64) -> Shaded {
+    let sp = scanline::span_at(frag.pixel.y, frag.window, frag.corner_normals);
+    let t = scanline::span_t(&sp, frag.pixel.x);
+    let (a, b) = (f::normalize_exact(sp.na), f::normalize_exact(sp.nb));
+    let k = scanline::levels(sp.xb - sp.xa);
+    Shaded::lit(scanline::dichotomy(a, b, t, k, f), lit)
+}
+
+/// The unit normal at a digital segment's end: the span's Phong normal there (extrapolated
+/// past the span's end for the last segment), the start normal where that passes through 0.
+fn segment_end(sp: &scanline::Span, x: f64) -> DVec3 {
+    let n = scanline::span_normal(sp, x);
+    f::normalize_exact(if n.length_squared() > 1e-12 { n } else { sp.na })
+}
+
+/// Digital segments of 2^k pixels (FORMULAS.md 2.16): exact Phong at the segment's ends; inside,
+/// the colour interpolated linearly (`inv_root` None), or the normal by dichotomy with
+/// `inv_root`.
+pub(crate) fn segments(
+    frag: &Fragment,
+    lit: &Lighting,
+    k: u32,
+    inv_root: Option<fn(f64) -> f64>,
+) -> Shaded {
+    let sp = scanline::span_at(frag.pixel.y, frag.window, frag.corner_normals);
+    let (xl, xp, v) = scanline::segment(&sp, frag.pixel.x, k);
+    let (nl, np) = (segment_end(&sp, xl), segment_end(&sp, xp));
+    let t = f64::from(v) / f64::from(1u32 << k);
+    match inv_root {
+        Some(f) => Shaded::lit(scanline::dichotomy(nl, np, t, k, f), lit),
+        None => {
+            let (il, ip) = (lit.shade(nl), lit.shade(np));
+            Shaded {
+                color: il * (1.0 - t) + ip * t,
+                normal: None,
+            }
+        }
+    }
 }
 
 pub(crate) fn gouraud(frag: &Fragment, lit: &Lighting) -> Shaded {

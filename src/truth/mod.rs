@@ -24,8 +24,9 @@
 //!    for the sums.
 //! 3. Span (scanline methods only, FORMULAS.md 1.6). The span's set-up in f32 (edge parameter,
 //!    end points, the pixel's fraction of the span) rounds on window coordinates of size up to
-//!    `S`, as if the pixel were off by `K_SPAN * u * S` in x and y; first-order propagation
-//!    through the twin's derivatives in the pixel position (central differences) bounds it.
+//!    `S`, as if the pixel and each corner were off by `K_SPAN * u * S` in x and y; the twin
+//!    evaluated with each moved that far bounds the effect (jumps at segment boundaries
+//!    included).
 //!
 //! The constants are few and each is stated below with its reason. The measured error/bound
 //! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
@@ -59,9 +60,6 @@ const FD_STEP: f64 = 1e-7;
 /// to `S` (the largest |coordinate| of the pixel and the corners): the span behaves as if the
 /// pixel were off by up to `K_SPAN * U * S` in x and in y.
 pub const K_SPAN: f64 = 8.0;
-/// Central-difference step in window space, pixels (the span functions are piecewise linear
-/// in the pixel position, with slopes up to 1/span length).
-const FD_STEP_PX: f64 = 1e-4;
 /// Weight uncertainty (`K_INTERP * U * amplification`) above which a pixel counts as
 /// ill-conditioned: its triangle is so thin on screen (typically a silhouette triangle seen
 /// edge-on) that the rasterizer's float32 weights are uncertain by more than 1e-3, and the
@@ -183,8 +181,10 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
 }
 
 /// The extra bound of a scanline method at one pixel: the span set-up's rounding moves the pixel
-/// by up to `K_SPAN * U * S` in x and y ([`K_SPAN`]); first-order propagation through the f64
-/// twin's derivatives in the pixel position.
+/// by up to `K_SPAN * U * S` in x and y ([`K_SPAN`]), and each corner likewise. The twin is
+/// evaluated with the pixel or one corner moved that far each way (not differentiated: the segment and dichotomy methods quantise the
+/// span, and a step across a segment boundary is a jump a derivative would miss); the largest
+/// change per axis, summed over the axes and doubled for the curvature a two-point look misses.
 fn span_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64) {
     let size = frag
         .window
@@ -193,21 +193,30 @@ fn span_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64)
         .map(|p| p.abs().max_element())
         .fold(0.0, f64::max);
     let dpos = K_SPAN * U * size;
-    let (mut jc, mut jn) = (0.0, 0.0);
-    for d in [DVec2::X, DVec2::Y] {
-        let at = |k: f64| {
-            eval(&Fragment {
-                pixel: frag.pixel + d * (k * FD_STEP_PX),
-                ..*frag
-            })
-        };
-        let (plus, minus) = (at(1.0), at(-1.0));
-        jc += max_diff(plus.color, minus.color) / (2.0 * FD_STEP_PX);
-        if let (Some(a), Some(b)) = (plus.normal, minus.normal) {
-            jn += max_diff(a, b) / (2.0 * FD_STEP_PX);
+    let here = eval(frag);
+    let (mut dc, mut dn) = (0.0, 0.0);
+    // The pixel, and each corner on its own (the two span ends round independently, and on a
+    // sliver row their independent errors do not cancel as a common shift would).
+    for point in 0..4 {
+        for d in [DVec2::X, DVec2::Y] {
+            let (mut c, mut n) = (0.0f64, 0.0f64);
+            for k in [-1.0, 1.0] {
+                let mut moved = *frag;
+                match point {
+                    3 => moved.pixel += d * (k * dpos),
+                    corner => moved.window[corner] += d * (k * dpos),
+                }
+                let moved = eval(&moved);
+                c = c.max(max_diff(moved.color, here.color));
+                if let (Some(a), Some(b)) = (moved.normal, here.normal) {
+                    n = n.max(max_diff(a, b));
+                }
+            }
+            dc += c;
+            dn += n;
         }
     }
-    (2.0 * dpos * jc, 2.0 * dpos * jn)
+    (2.0 * dc, 2.0 * dn)
 }
 
 /// The bounds of the module doc at one pixel.

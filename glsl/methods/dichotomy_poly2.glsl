@@ -1,0 +1,11 @@
+// dichotomy_poly2 (FORMULAS.md 2.13, S000 l.155-181, S002 l.604-660): dichotomy (angle halving) between
+// the span's unit end normals, K = ceil(log2(span pixels)) levels (1..12), toward the grid point
+// m / 2^K nearest the pixel's t, with the degree-2 minimax inverse root 0.014253 z^2 - 0.118922 z + 0.680850 (FORMULAS.md 2.13).
+// Twin: src/method/scanline.rs dichotomy().
+#define INV_ROOT(z) ((0.014253 * (z) - 0.118922) * (z) + 0.680850)
+#include "scanline.glsl"
+vec3 methodNormal() {
+    Span sp = spanAt(gl_FragCoord.y);
+    float t = spanT(sp, gl_FragCoord.x);
+    return dichotomy(normalize(sp.NA), normalize(sp.NB), t, levels(sp.xB - sp.xA));
+}

@@ -1,0 +1,19 @@
+// spherical_angular (FORMULAS.md 2.11, S000 l.100-114): spherical-angular interpolation in closed
+// form (Gram-Schmidt of N'_B against N'_A, Appendix C saClosed), equal to slerp in exact
+// arithmetic. The seeds' recurrence N(k+1) = 2 cos(phi) N(k) - N(k-1) is sequential along the
+// span; a fragment shader evaluates the closed form. Twin: src/method/scanline.rs.
+#include "scanline.glsl"
+vec3 methodNormal() {
+    Span sp = spanAt(gl_FragCoord.y);
+    float t = spanT(sp, gl_FragCoord.x);
+    vec3 A = normalize(sp.NA);
+    vec3 B = normalize(sp.NB);
+    float c = clamp(dot(A, B), -1.0, 1.0);
+    float s2 = 1.0 - c * c;
+    if (s2 < PARALLEL) {
+        return normalize(mix(A, B, t));
+    }
+    float s = sqrt(s2);
+    float th = angleOf(c, s);
+    return A * cos(t * th) + (B - A * c) * (sin(t * th) / s);
+}

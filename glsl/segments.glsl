@@ -1,0 +1,33 @@
+// Digital segments of 2^SEGMENT_K pixels (FORMULAS.md 2.16, S002 l.171-703): exact Phong at the
+// segment ends (normalised span normals, the last segment's far end extrapolated past the span
+// as the seed says); inside, the colour interpolated linearly (no INV_ROOT), or, with INV_ROOT,
+// the normal by dichotomy between the unit end normals (S002 l.600-660). Twin:
+// src/method/twins.rs segments().
+#include "scanline.glsl"
+
+vec3 segmentEnd(Span sp, float x) {
+    vec3 N = spanNormal(sp, x);
+    return normalize(dot(N, N) > 1e-12 ? N : sp.NA);   // an extrapolated end can pass through 0
+}
+
+#ifdef INV_ROOT
+vec3 methodNormal() {
+    Span sp = spanAt(gl_FragCoord.y);
+    float xl, xp;
+    int v;
+    segmentAt(sp, gl_FragCoord.x, SEGMENT_K, xl, xp, v);
+    float t = float(v) / float(1 << SEGMENT_K);
+    return dichotomy(segmentEnd(sp, xl), segmentEnd(sp, xp), t, SEGMENT_K);
+}
+#else
+#define METHOD_COLOR
+vec3 methodColor() {
+    Span sp = spanAt(gl_FragCoord.y);
+    float xl, xp;
+    int v;
+    segmentAt(sp, gl_FragCoord.x, SEGMENT_K, xl, xp, v);
+    vec3 Il = shade(segmentEnd(sp, xl));
+    vec3 Ip = shade(segmentEnd(sp, xp));
+    return mix(Il, Ip, float(v) / float(1 << SEGMENT_K));
+}
+#endif
