@@ -111,3 +111,20 @@ void segmentAt(Span sp, float px, int k, out float xl, out float xp, out int v) 
     xp = xl + float(1 << k);
     v = j & ((1 << k) - 1);
 }
+
+#ifdef METHOD_COSINE
+// The lighting model of glsl/shading.glsl from the cosines alone, for methods that approximate
+// N.L and N.H rather than N (Bishop-Weimer, Hast-Euler): methodCosine(v) is the method's N.v.
+// Twin: Lighting::shade_cosines in src/method/formulas.rs.
+float methodCosine(vec3 v);
+vec3 shadeCosines() {
+    vec3 c = params.ambient.rgb;
+    for (int i = 0; i < LIGHT_COUNT; ++i) {
+        float d = max(methodCosine(params.lightDir[i].xyz), 0.0);
+        float s = max(methodCosine(params.halfVec[i].xyz), 0.0);
+        float sp = s > 0.0 ? pow(s, params.specular.w) : 0.0;
+        c += params.lightColor[i].rgb * (params.diffuse.rgb * d + params.specular.rgb * sp);
+    }
+    return c;
+}
+#endif

@@ -275,18 +275,5 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
             });
         }
     }
-    for (claim, who) in [(
-        "Bishop-Weimer: 5 additions and 1 memory access per pixel (S004 l.124-128)",
-        "bishop_weimer",
-    )] {
-        out.push(ClaimCheck {
-            method: who.into(),
-            claim: claim.into(),
-            measured: "-".into(),
-            verdict: Verdict::NotChecked,
-            how: "not measured: no implementation to time or sweep".into(),
-            reason: "Bishop-Weimer is not implemented yet (issue [scanline])".into(),
-        });
-    }
     out
 }

@@ -36,10 +36,17 @@ impl Lighting {
     /// The seeds' lighting model (FORMULAS.md 1.2), twin of `shade()` in glsl/shading.glsl:
     /// `I = k_a I_a + sum I_L (k_d max(0, N.L) + k_s max(0, N.H)^n)`, with `0^n = 0`.
     pub fn shade(&self, n: DVec3) -> DVec3 {
+        self.shade_cosines(|v| n.dot(v))
+    }
+
+    /// The same model from the cosines alone: `cosine(v)` gives N.v for v = L and v = H of
+    /// each light (methods that approximate the cosines rather than the normal: Bishop-Weimer,
+    /// Hast-Euler). Twin of `shadeCosines` in glsl/shading.glsl.
+    pub fn shade_cosines(&self, cosine: impl Fn(DVec3) -> f64) -> DVec3 {
         let mut c = self.ambient;
         for &(l, color, h) in &self.lights {
-            let d = n.dot(l).max(0.0);
-            let s = n.dot(h).max(0.0);
+            let d = cosine(l).max(0.0);
+            let s = cosine(h).max(0.0);
             let sp = if s > 0.0 { s.powf(self.shininess) } else { 0.0 };
             c += color * (self.diffuse * d + self.specular * sp);
         }

@@ -209,6 +209,71 @@ pub fn span_normal(sp: &Span, x: f64) -> DVec3 {
     }
 }
 
+/// Bishop-Weimer's screen-linear normal `N(x, y) = A x + B y + C` (FORMULAS.md 2.17), fitted
+/// to the window corners `s` and normals `n` with the origin at the corners' centroid `o`:
+/// returns (A, B, C, o). A triangle with no area on screen (|det| <= 1e-12) gets the constant
+/// normal n0.
+pub fn plane_normal(s: [DVec2; 3], n: [DVec3; 3]) -> (DVec3, DVec3, DVec3, DVec2) {
+    let o = (s[0] + s[1] + s[2]) / 3.0;
+    let q0 = s[0] - o;
+    let (e1, e2) = (s[1] - s[0], s[2] - s[0]);
+    let det = e1.x * e2.y - e1.y * e2.x;
+    let (a, b) = if det.abs() > 1e-12 {
+        (
+            ((n[1] - n[0]) * e2.y - (n[2] - n[0]) * e1.y) / det,
+            ((n[2] - n[0]) * e1.x - (n[1] - n[0]) * e2.x) / det,
+        )
+    } else {
+        (DVec3::ZERO, DVec3::ZERO)
+    };
+    (a, b, n[0] - a * q0.x - b * q0.y, o)
+}
+
+/// The second-order Taylor polynomial about (0, 0) of `(v.N)/|N|`, `N = A x + B y + C`, at
+/// `p = (x, y)` (FORMULAS.md 2.17: T0..T5, derived symbolically there).
+pub fn taylor_cosine(v: DVec3, a3: DVec3, b3: DVec3, c3: DVec3, p: DVec2) -> f64 {
+    let (a, b, c) = (v.dot(a3), v.dot(b3), v.dot(c3));
+    let (d, e, f) = (a3.dot(a3), 2.0 * a3.dot(b3), b3.dot(b3));
+    let (g, h, i) = (2.0 * a3.dot(c3), 2.0 * b3.dot(c3), c3.dot(c3));
+    let si = i.sqrt();
+    let t0 = c / si;
+    let t1 = (2.0 * b * i - c * h) / (2.0 * i * si);
+    let t2 = (2.0 * a * i - c * g) / (2.0 * i * si);
+    let t3 = (3.0 * c * h * h - 4.0 * c * f * i - 4.0 * b * h * i) / (8.0 * i * i * si);
+    let t4 = (3.0 * c * g * h - 2.0 * c * e * i - 2.0 * b * g * i - 2.0 * a * h * i)
+        / (4.0 * i * i * si);
+    let t5 = (3.0 * c * g * g - 4.0 * c * d * i - 4.0 * a * g * i) / (8.0 * i * i * si);
+    let (x, y) = (p.x, p.y);
+    t5 * x * x + t4 * x * y + t3 * y * y + t2 * x + t1 * y + t0
+}
+
+/// dI/dt of `v.N/|N|` at N with `dN/dt = D`.
+fn cosine_slope(v: DVec3, n: DVec3, d: DVec3) -> f64 {
+    let n2 = n.dot(n);
+    let len = n2.sqrt();
+    v.dot(d) / len - v.dot(n) * n.dot(d) / (n2 * len)
+}
+
+/// Hast's Euler integration of `v.N(t)/|N(t)|` along the span (FORMULAS.md 2.18, the
+/// reconstruction): pixel steps `h = 1/W`, the derivative interpolated between the ends, the
+/// end error spread linearly over the span, at the pixel's fraction `t`.
+pub fn euler_cosine(v: DVec3, sp: &Span, t: f64) -> f64 {
+    let (na, nb) = (sp.na, sp.nb);
+    let w = sp.xb - sp.xa;
+    let i0 = v.dot(na) / na.length();
+    if w.is_nan() || w <= 0.0 {
+        return i0;
+    }
+    let i1 = v.dot(nb) / nb.length();
+    let d = nb - na;
+    let (d0, d1) = (cosine_slope(v, na, d), cosine_slope(v, nb, d));
+    let h = 1.0 / w;
+    let j = t * w;
+    let ij = i0 + h * (j * d0 + (d1 - d0) * j * (j - 1.0) / (2.0 * w));
+    let iw = i0 + h * (w * d0 + (d1 - d0) * (w - 1.0) / 2.0);
+    ij + (i1 - iw) * j / w
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -84,6 +84,27 @@ pub(crate) fn dichotomy(frag: &Fragment, lit: &Lighting, f: fn(f64) -> f64) -> S
     Shaded::lit(scanline::dichotomy(a, b, t, k, f), lit)
 }
 
+/// Bishop-Weimer (FORMULAS.md 2.17): each cosine from the Taylor polynomial of the
+/// screen-linear normal about the corners' centroid.
+pub(crate) fn bishop_weimer(frag: &Fragment, lit: &Lighting) -> Shaded {
+    let (a, b, c, o) = scanline::plane_normal(frag.window, frag.corner_normals);
+    let p = frag.pixel - o;
+    Shaded {
+        color: lit.shade_cosines(|v| scanline::taylor_cosine(v, a, b, c, p)),
+        normal: None,
+    }
+}
+
+/// Hast's Euler integration along the span (FORMULAS.md 2.18, reconstruction).
+pub(crate) fn hast_euler(frag: &Fragment, lit: &Lighting) -> Shaded {
+    let sp = scanline::span_at(frag.pixel.y, frag.window, frag.corner_normals);
+    let t = scanline::span_t(&sp, frag.pixel.x);
+    Shaded {
+        color: lit.shade_cosines(|v| scanline::euler_cosine(v, &sp, t)),
+        normal: None,
+    }
+}
+
 /// The unit normal at a digital segment's end: the span's Phong normal there (extrapolated
 /// past the span's end for the last segment), the start normal where that passes through 0.
 fn segment_end(sp: &scanline::Span, x: f64) -> DVec3 {
