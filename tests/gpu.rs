@@ -273,3 +273,65 @@ fn scanline_methods_refuse_a_scene_cut_by_the_near_plane() {
     );
     assert_validation_clean(r.context());
 }
+
+/// The scanline methods depend on the scanline direction (FORMULAS.md 1.6): rolling the camera
+/// 90 degrees about the view axis rotates the image, and a rotation-invariant method gives the
+/// same pixels rotated back, while a scanline method changes. Reports both differences.
+#[test]
+fn scanline_methods_are_not_rotation_invariant() {
+    let r = validated_renderer();
+    let size = 96;
+    let scene = shipped_scene("sphere_coarse", size);
+    let mut rolled = scene.clone();
+    let forward = (scene.camera.target - scene.camera.eye).normalize();
+    // The old right becomes the new up, so old (dx, dy) -> new (dy, -dx): pixel (i, j) of the
+    // first image is pixel (j, size - 1 - i) of the rolled one.
+    rolled.camera.up = forward.cross(scene.camera.up).normalize();
+    let diff = |name: &str| {
+        let m = method::find(name).unwrap();
+        let render = |s: &shadelab::scene::Scene| {
+            let p = r.prepare(s, &[m]).unwrap();
+            r.render(p.base(), Shading::Method(m), false).unwrap().0
+        };
+        let (a, b) = (render(&scene), render(&rolled));
+        let n = size as usize;
+        let at = |f: &shadelab::frame::Frame, i: usize, j: usize| f.color[j * n + i];
+        let mut worst = 0.0f32;
+        let mut compared = 0;
+        for j in 1..n - 1 {
+            for i in 1..n - 1 {
+                // interior pixels only: covered, with all four neighbours covered, in both
+                let inside = |f: &shadelab::frame::Frame, i: usize, j: usize| {
+                    [(i, j), (i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)]
+                        .iter()
+                        .all(|&(x, y)| at(f, x, y)[3] > 0.0)
+                };
+                let (ri, rj) = (j, n - 1 - i);
+                if !(inside(&a, i, j) && ri > 0 && rj > 0 && ri < n - 1 && inside(&b, ri, rj)) {
+                    continue;
+                }
+                let (p, q) = (at(&a, i, j), at(&b, ri, rj));
+                worst = worst.max((0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f32::max));
+                compared += 1;
+            }
+        }
+        assert!(compared > 2000, "{name}: only {compared} interior pixels");
+        worst
+    };
+    let (exact, slerp, segments) = (diff("phong_exact"), diff("slerp"), diff("segments_k3"));
+    eprintln!(
+        "largest colour change under a 90-degree roll: phong_exact {exact:.2e}, \
+         slerp {slerp:.2e}, segments_k3 {segments:.2e}"
+    );
+    // Measured 2026-11-23 at 96 px: phong_exact at float rounding, the scanline methods two
+    // orders of magnitude and more above it.
+    assert!(
+        exact < 1e-4,
+        "phong_exact should not depend on the roll: {exact}"
+    );
+    assert!(
+        slerp > 100.0 * exact && segments > 100.0 * exact,
+        "{slerp} {segments} vs {exact}"
+    );
+    assert_validation_clean(r.context());
+}
