@@ -204,6 +204,116 @@ pub(crate) fn segments_specular_4pct_with(bound: fn(f64, f64) -> f64) -> Measure
     }
 }
 
+/// The length error in percent of the middle normal `mid(nl, np)` for unit ends `theta` apart.
+pub(crate) fn mid_length_error_pct(theta_deg: f64, mid: fn(DVec3, DVec3) -> DVec3) -> f64 {
+    let (nl, np) = pair(theta_deg);
+    100.0 * (mid(nl, np).length() - 1.0)
+}
+
+/// S000 l.136-146: the middle normal of a scanline is computed approximately as
+/// (0.103 c^2 - 0.306 c + 0.705)(N'_p + N'_l). Measured as its length error over the fit's
+/// design range, end normals up to 90 degrees apart.
+pub fn quadratic_mid_accuracy() -> Measurement {
+    quadratic_mid_accuracy_with(s::mid_approx)
+}
+
+pub(crate) fn quadratic_mid_accuracy_with(mid: fn(DVec3, DVec3) -> DVec3) -> Measurement {
+    let worst = (0..=900)
+        .map(|i| mid_length_error_pct(0.1 * f64::from(i), mid))
+        .fold(0.0, |w: f64, e| if e.abs() > w.abs() { e } else { w });
+    let beyond = mid_length_error_pct(120.0, mid);
+    let limit = super::checks::VISIBLE_LENGTH_ERROR_PCT;
+    Measurement {
+        measured: format!(
+            "worst length error {worst:+.3} % for end normals up to 90 deg apart ({beyond:+.2} % \
+             at 120 deg)"
+        ),
+        verdict: if worst.abs() <= limit {
+            Verdict::Agrees
+        } else {
+            Verdict::Disagrees
+        },
+        how: format!(
+            "f64: |mid(N'_l, N'_p)| - 1 for unit ends 0..90 deg apart in 0.1 deg steps \
+             (src/method/scanline_checks.rs); agrees when within {limit} % (the project's \
+             visible-length threshold)"
+        ),
+    }
+}
+
+/// The worst error of Bishop-Weimer's Taylor cosine against the exact one over a triangle
+/// whose normal changes by `extent` (|A| r) from its centre to its edge, over light directions
+/// (FORMULAS.md 2.17's example: |A| = |B| = 0.3, C = +Z, measured 1.1e-5 at r |A| = 0.03).
+pub(crate) fn taylor_error(
+    extent: f64,
+    approx: fn(DVec3, DVec3, DVec3, DVec3, glam::DVec2) -> f64,
+) -> f64 {
+    let (a, b, c) = (
+        DVec3::new(0.3, 0.0, 0.0),
+        DVec3::new(0.0, 0.3, 0.0),
+        DVec3::Z,
+    );
+    let r = extent / 0.3;
+    let mut worst = 0.0f64;
+    for k in 0..24 {
+        let th = std::f64::consts::TAU * f64::from(k) / 24.0;
+        let l = DVec3::new(0.5 * th.cos(), 0.5 * th.sin(), 0.75f64.sqrt());
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let p = glam::DVec2::new(
+                    -r + 2.0 * r * f64::from(i) / 20.0,
+                    -r + 2.0 * r * f64::from(j) / 20.0,
+                );
+                let n = a * p.x + b * p.y + c;
+                let exact = l.dot(n) / n.length();
+                worst = worst.max((approx(l, a, b, c, p) - exact).abs());
+            }
+        }
+    }
+    worst
+}
+
+/// S004 l.110-120: the second-order Taylor expansion approximates the diffuse intensity over
+/// the polygon. Measured as the largest change of the normal across a triangle (from its
+/// centre) at which the error stays within one 8-bit step of the intensity.
+pub fn bishop_weimer_extent() -> Measurement {
+    bishop_weimer_extent_with(s::taylor_cosine)
+}
+
+pub(crate) fn bishop_weimer_extent_with(
+    approx: fn(DVec3, DVec3, DVec3, DVec3, glam::DVec2) -> f64,
+) -> Measurement {
+    let extents = [0.03, 0.075, 0.15, 0.3, 0.6];
+    let errors: Vec<f64> = extents.iter().map(|&e| taylor_error(e, approx)).collect();
+    let step = 1.0 / 255.0;
+    let holds = extents
+        .iter()
+        .zip(&errors)
+        .filter(|(_, &e)| e <= step)
+        .count();
+    let listed: Vec<String> = extents
+        .iter()
+        .zip(&errors)
+        .map(|(x, e)| format!("{e:.1e} at {x}"))
+        .collect();
+    Measurement {
+        measured: format!(
+            "worst |Taylor - exact| of N.L/|N| by the normal's change from the centre: {}",
+            listed.join(", ")
+        ),
+        verdict: match holds {
+            n if n == extents.len() => Verdict::Agrees,
+            0 => Verdict::Disagrees,
+            _ => Verdict::Partly,
+        },
+        how: "f64: src/method/scanline.rs taylor_cosine against N.L/|N| for N = A x + B y + C \
+              (|A| = |B| = 0.3, C = +Z) over a square around the centre and 24 light directions \
+              (src/method/scanline_checks.rs); agrees when within 1/255 at every extent, \
+              partly when only on the smaller ones"
+            .into(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -241,6 +351,29 @@ mod tests {
         assert_eq!(v(spherical_angular_is_slerp()), Verdict::Agrees);
         let nlerp = |a: DVec3, b: DVec3, t: f64| a.lerp(b, t).normalize();
         assert!(closed_form_gap(nlerp) > 1e-3);
+    }
+
+    #[test]
+    fn quadratic_mid_and_taylor_checks_measure_their_formulas() {
+        // FORMULAS.md 2.12: within +-0.33 % up to 90 degrees, -11.6 % at 120.
+        let m = quadratic_mid_accuracy();
+        assert_eq!(m.verdict, Verdict::Agrees, "{m:?}");
+        assert!(m.measured.contains("-11.6"), "{m:?}");
+        assert_eq!(
+            v(quadratic_mid_accuracy_with(|a, b| (a + b) * 0.5)),
+            Verdict::Disagrees
+        );
+        // FORMULAS.md 2.17: 1.1e-5 at |A| r = 0.03 (r = 0.1), 1.8e-2 at 0.3 (r = 1)
+        let e = taylor_error(0.03, s::taylor_cosine);
+        assert!(e > 5e-6 && e < 3e-5, "{e}");
+        assert_eq!(v(bishop_weimer_extent()), Verdict::Partly);
+        assert_eq!(
+            v(bishop_weimer_extent_with(|l, a, b, c, p| {
+                let n = a * p.x + b * p.y + c;
+                l.dot(n) / n.length()
+            })),
+            Verdict::Agrees
+        );
     }
 
     #[test]

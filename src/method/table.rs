@@ -360,7 +360,10 @@ pub static METHODS: &[Method] = &[
         has_normal: true,
         reference: Reference::Phong,
         validity: "end normals up to 90 degrees apart (the fit's range c in [0, 1]); depends on the scanline direction (not rotation-invariant on screen)",
-        claims: &[],
+        claims: &[Claim {
+            claim: "the middle normal of a scanline is computed approximately as (0.103 c^2 - 0.306 c + 0.705)(N'_p + N'_l) (S000 l.136-146)",
+            check: scanline_checks::quadratic_mid_accuracy,
+        }],
         glsl: "methods/quadratic_scanline_approx_mid.glsl",
         eval_f64: |fr, l| along_span(fr, l, |a, b, t| scanline::quadratic(a, b, scanline::mid_approx(a, b), t)),
     },
@@ -525,6 +528,9 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "triangles small on screen against the change of their normal (the Taylor error grows with the distance from the centroid)",
         claims: &[Claim {
+            claim: "the second-order Taylor expansion approximates the diffuse intensity over the polygon (S004 l.110-120)",
+            check: scanline_checks::bishop_weimer_extent,
+        }, Claim {
             claim: "per pixel 5 additions and 1 memory access; the Taylor set-up needs about 500 floating-point operations per vertex (S004 l.124-128)",
             check: checks::cost_claim,
         }],
