@@ -289,3 +289,57 @@ fn a_method_that_is_nan_everywhere_fails_every_limit() {
         "{stdout}"
     );
 }
+
+/// Angle-interpolating methods are judged against two references (FORMULAS.md 1.4): slerp is
+/// far from exact Phong (it interpolates by angle) and at float rounding from exact slerp;
+/// methods judged against Phong only carry null there.
+#[test]
+fn angle_interpolating_methods_report_a_second_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+    let (code, _, err) = run(&[
+        "compare",
+        "--scene",
+        "scenes/sphere_coarse.toml",
+        "--size",
+        "96x96",
+        "--methods",
+        "slerp,dichotomy_exact,phong_exact",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert!(jsonschema::validator_for(&schema()).unwrap().is_valid(&s));
+    let row = |n: &str| {
+        s["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == n)
+            .unwrap()
+            .clone()
+    };
+    let slerp = row("slerp");
+    let vs_phong = slerp["max_abs_error"].as_f64().unwrap();
+    let vs_slerp = slerp["against_slerp"]["max_abs_error"].as_f64().unwrap();
+    assert_eq!(slerp["against_slerp"]["reference"], "slerp_f64");
+    // float32 rounding against its own formula; the angle-proportional spacing against Phong
+    assert!(vs_slerp < 1e-4, "{vs_slerp}");
+    assert!(vs_phong > 10.0 * vs_slerp, "{vs_phong} vs {vs_slerp}");
+    // dichotomy rounds t to a grid: off both references, and measured against both
+    assert!(
+        row("dichotomy_exact")["against_slerp"]["max_abs_error"]
+            .as_f64()
+            .unwrap()
+            > 1e-4
+    );
+    assert!(row("phong_exact")["against_slerp"].is_null());
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert!(csv
+        .lines()
+        .next()
+        .unwrap()
+        .ends_with("against_slerp_max_normal_angle_deg"));
+}

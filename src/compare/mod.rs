@@ -24,7 +24,7 @@ use crate::analysis::stats::percentile;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::gpu::{Renderer, Shading};
-use crate::method::{self, Method};
+use crate::method::{self, Method, Reference};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
 use crate::scene::Scene;
@@ -86,6 +86,8 @@ type MapSpec<'a> = (
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
     reference: &'a Truth,
+    /// f64 exact slerp along the span, when a method of the run is judged against it too.
+    slerp: Option<&'a Truth>,
     ref8: &'a [u8],
     out: &'a Path,
     opts: &'a CompareOptions,
@@ -101,6 +103,21 @@ struct PhaseTimes {
 }
 
 impl Analysis<'_> {
+    /// The errors against the second reference, for the methods judged against it.
+    fn against_slerp(&self, m: &Method, frame: &Frame) -> Option<AgainstReference> {
+        let slerp = self
+            .slerp
+            .filter(|_| m.reference == Reference::PhongAndSlerp)?;
+        let s = pixel_errors(frame, m.has_normal, slerp).stats();
+        Some(AgainstReference {
+            reference: SLERP_REFERENCE.to_string(),
+            mean_abs_error: s.mean_abs_error,
+            max_abs_error: s.max_abs_error,
+            max_normal_angle_deg: s.max_normal_angle_deg,
+            mean_normal_angle_deg: s.mean_normal_angle_deg,
+        })
+    }
+
     /// Statistics, FLIP, render.png and the heatmaps of one method's frame.
     fn analyse(&self, m: &Method, frame: &Frame) -> Result<(MethodReport, PhaseTimes)> {
         let (w, h) = (self.width, self.height);
@@ -222,6 +239,7 @@ impl Analysis<'_> {
             flip_mean,
             flip_p95,
             files,
+            against_slerp: self.against_slerp(m, frame),
         };
         Ok((
             report,
@@ -257,6 +275,15 @@ pub fn compare(
     let (_, ids) = renderer.render(base, Shading::Method(exact), true)?;
     let ids = ids.ok_or_else(|| Error::Internal("the id pass returned nothing".into()))?;
     let reference = truth::evaluate(&base.inputs, &ids, exact);
+    // The second reference of the angle-interpolating methods: exact slerp along the span.
+    let slerp = if methods_
+        .iter()
+        .any(|m| m.reference == Reference::PhongAndSlerp)
+    {
+        Some(truth::values(&base.inputs, &ids, method::find("slerp")?))
+    } else {
+        None
+    };
     let background = reference.pixels.iter().filter(|p| p.is_none()).count();
     let ref_colors: Vec<DVec3> = reference
         .pixels
@@ -282,6 +309,7 @@ pub fn compare(
     // into statistics, FLIP and PNGs. The bounded channel keeps at most two frames waiting.
     let ctx = Analysis {
         reference: &reference,
+        slerp: slerp.as_ref(),
         ref8: &ref8,
         out,
         opts,

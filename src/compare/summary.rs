@@ -33,6 +33,25 @@ pub struct MethodReport {
     pub flip_p95: f64,
     /// Output files, relative to the output directory.
     pub files: Vec<String>,
+    /// For angle-interpolating methods ([`crate::method::Reference::PhongAndSlerp`]): the same
+    /// statistics against the second reference, f64 exact slerp along the span; `None` (null)
+    /// for the others.
+    pub against_slerp: Option<AgainstReference>,
+}
+
+/// The second reference's name in outputs.
+pub const SLERP_REFERENCE: &str = "slerp_f64";
+
+/// A method's luminance and normal errors against a second reference (the pixels and the
+/// definition of every other statistic, [`crate::analysis::pixel`]). Infinite (null in JSON)
+/// when the method has non-finite pixels.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AgainstReference {
+    pub reference: String,
+    pub mean_abs_error: f64,
+    pub max_abs_error: f64,
+    pub max_normal_angle_deg: Option<f64>,
+    pub mean_normal_angle_deg: Option<f64>,
 }
 
 /// The numeric per-method metrics `--fail-above` / `--fail-below` accept (their JSON names).
@@ -164,6 +183,9 @@ pub fn csv_header() -> Vec<String> {
             "max_normal_length_error",
             "flip_mean",
             "flip_p95",
+            "against_slerp_mean_abs_error",
+            "against_slerp_max_abs_error",
+            "against_slerp_max_normal_angle_deg",
         ]
         .map(String::from),
     );
@@ -208,6 +230,12 @@ pub(crate) fn csv_row(r: &MethodReport) -> Vec<String> {
         o(r.max_normal_length_error),
         f(r.flip_mean),
         f(r.flip_p95),
+    ]);
+    let s = r.against_slerp.as_ref();
+    row.extend([
+        o(s.map(|s| s.mean_abs_error)),
+        o(s.map(|s| s.max_abs_error)),
+        o(s.and_then(|s| s.max_normal_angle_deg)),
     ]);
     row
 }

@@ -106,6 +106,13 @@ fn csv_rows_match_the_header() {
         flip_mean: 0.0,
         flip_p95: 0.0,
         files: vec![],
+        against_slerp: Some(AgainstReference {
+            reference: SLERP_REFERENCE.into(),
+            mean_abs_error: 0.5,
+            max_abs_error: 1.0,
+            max_normal_angle_deg: None,
+            mean_normal_angle_deg: None,
+        }),
     };
     assert_eq!(csv_row(&r).len(), csv_header().len());
     assert_eq!(r.metric("max_abs_error"), Some(0.25));
@@ -163,6 +170,7 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
     };
     let a = Analysis {
         reference: truth,
+        slerp: None,
         ref8: &ref8,
         out: Path::new("unused"),
         opts: &opts,

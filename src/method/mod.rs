@@ -75,14 +75,15 @@ pub enum Geometry {
     PnTessellated(u32),
 }
 
-/// Which exact reference a method is judged against (FORMULAS.md 1.4). Only exact Phong so far;
-/// the angle-interpolating methods' second reference (exact slerp along the span) is a variant
-/// to add together with the compare code that reports it.
+/// Which exact reference a method is judged against (FORMULAS.md 1.4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Reference {
     /// Exact Phong: linear interpolation, then normalization.
     Phong,
+    /// Angle-interpolating methods: exact Phong, and exact slerp along the span (`compare`
+    /// reports both, so a reader sees how much of the error is the angle-proportional spacing).
+    PhongAndSlerp,
 }
 
 /// A verdict on a claim, computed from a measurement (never written by hand).

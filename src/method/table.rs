@@ -307,7 +307,7 @@ pub static METHODS: &[Method] = &[
         inputs: &[Input::ScanlineSpan],
         geometry: Geometry::Mesh,
         has_normal: true,
-        reference: Reference::Phong,
+        reference: Reference::PhongAndSlerp,
         validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
             claim: "its drawbacks are the arccos, the sines and the division per pixel (S000 l.97-98, S004 l.192-195)",
@@ -323,7 +323,7 @@ pub static METHODS: &[Method] = &[
         inputs: &[Input::ScanlineSpan],
         geometry: Geometry::Mesh,
         has_normal: true,
-        reference: Reference::Phong,
+        reference: Reference::PhongAndSlerp,
         validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
             claim: "spherical-angular interpolation gives the slerp normals (S000 l.100-114, refs [9, 10])",
@@ -342,7 +342,7 @@ pub static METHODS: &[Method] = &[
         inputs: &[Input::ScanlineSpan],
         geometry: Geometry::Mesh,
         has_normal: true,
-        reference: Reference::Phong,
+        reference: Reference::PhongAndSlerp,
         validity: "end normals up to about 90 degrees apart; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
             claim: "reduces the normal computation time about 2-3x (S000 l.151-152)",
@@ -358,7 +358,7 @@ pub static METHODS: &[Method] = &[
         inputs: &[Input::ScanlineSpan],
         geometry: Geometry::Mesh,
         has_normal: true,
-        reference: Reference::Phong,
+        reference: Reference::PhongAndSlerp,
         validity: "end normals up to 90 degrees apart (the fit's range c in [0, 1]); depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
             claim: "the middle normal of a scanline is computed approximately as (0.103 c^2 - 0.306 c + 0.705)(N'_p + N'_l) (S000 l.136-146)",
@@ -374,7 +374,7 @@ pub static METHODS: &[Method] = &[
         inputs: &[Input::ScanlineSpan],
         geometry: Geometry::Mesh,
         has_normal: true,
-        reference: Reference::Phong,
+        reference: Reference::PhongAndSlerp,
         validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
             claim: "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)",
@@ -390,7 +390,7 @@ pub static METHODS: &[Method] = &[
         inputs: &[Input::ScanlineSpan],
         geometry: Geometry::Mesh,
         has_normal: true,
-        reference: Reference::Phong,
+        reference: Reference::PhongAndSlerp,
         validity: "each halving's angle up to 45 degrees (the fit's range); depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
             claim: "the degree-1 inverse root has max absolute error <= 0.0005 and relative error 0.12 % (S002 l.643)",
@@ -406,7 +406,7 @@ pub static METHODS: &[Method] = &[
         inputs: &[Input::ScanlineSpan],
         geometry: Geometry::Mesh,
         has_normal: true,
-        reference: Reference::Phong,
+        reference: Reference::PhongAndSlerp,
         validity: "each halving's angle up to 45 degrees (the fit's range); depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
             claim: "the degree-2 inverse root has max absolute error <= 2e-5 and relative error 0.004 % (S002 l.646-658)",

@@ -136,6 +136,17 @@ fn specular_slope(n: f64, s: f64) -> f64 {
 
 /// Evaluates `method` in f64 at every covered pixel of `ids`, with the per-pixel bound.
 pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
+    evaluate_with(inputs, ids, method, true)
+}
+
+/// `method` in f64 at every covered pixel of `ids` as a reference for statistics only: the
+/// float32 bounds are not computed (they are NaN), which saves the twin's extra evaluations
+/// per pixel; the conditioning (`amplification`) is.
+pub fn values(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
+    evaluate_with(inputs, ids, method, false)
+}
+
+fn evaluate_with(inputs: &SceneInputs, ids: &IdFrame, method: &Method, bounds: bool) -> Truth {
     let lighting = inputs.lighting();
     let corners = window_corners(inputs);
     let perspective = inputs.interpolation == Interpolation::Perspective;
@@ -157,9 +168,12 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
             let shaded = eval(&frag);
             let g = weight_gradient([corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]]);
             let amplification = (1.0 + g * (x + y + 2.0)) * if perspective { 2.0 } else { 1.0 };
-            let (mut color_bound, mut normal_bound) =
-                bound(&eval, &frag, &shaded, &lighting, amplification);
-            if scanline {
+            let (mut color_bound, mut normal_bound) = if bounds {
+                bound(&eval, &frag, &shaded, &lighting, amplification)
+            } else {
+                (f64::NAN, f64::NAN)
+            };
+            if scanline && bounds {
                 let (c, n) = span_bound(&eval, &frag);
                 color_bound += c;
                 normal_bound += n;
