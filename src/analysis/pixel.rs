@@ -168,14 +168,16 @@ pub fn error_stats(frame: &Frame, has_normal: bool, reference: &Truth) -> ErrorS
 /// The per-pixel errors of `frame` against `reference` (module doc).
 pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> PixelErrors {
     let n = reference.pixels.len();
+    // Sized once for the covered pixels: growing by doubling would hold up to twice that.
+    let cap = reference.pixels.iter().filter(|p| p.is_some()).count();
     let mut f = PixelErrors {
         width: frame.width,
         has_normal,
         counts: PixelCounts::default(),
         measured: vec![false; n],
-        errors: Vec::new(),
-        channels: [Vec::new(), Vec::new(), Vec::new()],
-        angles: Vec::new(),
+        errors: Vec::with_capacity(cap),
+        channels: [0, 1, 2].map(|_| Vec::with_capacity(cap)),
+        angles: Vec::with_capacity(if has_normal { cap } else { 0 }),
         max_len: 0.0,
         signed: vec![None; n],
         angle: vec![None; n],

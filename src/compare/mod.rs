@@ -122,6 +122,8 @@ impl Analysis<'_> {
     fn analyse(&self, m: &Method, frame: &Frame) -> Result<(MethodReport, PhaseTimes)> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
+        // First, so that its per-pixel errors are freed before the main ones are made.
+        let against_slerp = self.against_slerp(m, frame);
         let f = pixel_errors(frame, m.has_normal, self.reference);
         let nf = f.non_finite();
         let intensity = if nf {
@@ -239,7 +241,7 @@ impl Analysis<'_> {
             flip_mean,
             flip_p95,
             files,
-            against_slerp: self.against_slerp(m, frame),
+            against_slerp,
         };
         Ok((
             report,
@@ -285,28 +287,29 @@ pub fn compare(
         None
     };
     let background = reference.pixels.iter().filter(|p| p.is_none()).count();
-    let ref_colors: Vec<DVec3> = reference
-        .pixels
-        .iter()
-        .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO))
-        .collect();
-    let ref8 = srgb_rgb8(ref_colors.iter().copied());
-    let ref_rgba: Vec<[f32; 4]> = reference
-        .pixels
-        .iter()
-        .map(|p| {
-            p.map(|p| [p.color.x as f32, p.color.y as f32, p.color.z as f32, 1.0])
-                .unwrap_or([0.0; 4])
-        })
-        .collect();
+    let ref8 = srgb_rgb8(
+        reference
+            .pixels
+            .iter()
+            .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
+    );
     if opts.images {
+        let ref_rgba: Vec<[f32; 4]> = reference
+            .pixels
+            .iter()
+            .map(|p| {
+                p.map(|p| [p.color.x as f32, p.color.y as f32, p.color.z as f32, 1.0])
+                    .unwrap_or([0.0; 4])
+            })
+            .collect();
         output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)?;
     }
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
 
     let bar = progress_bar(opts.progress, methods_.len() as u64);
     // Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
-    // into statistics, FLIP and PNGs. The bounded channel keeps at most two frames waiting.
+    // into statistics, FLIP and PNGs. The channel is a rendezvous: a frame is handed over only
+    // when a worker takes it, so at most three frames (32 MB each at 1024x1024) exist at once.
     let ctx = Analysis {
         reference: &reference,
         slerp: slerp.as_ref(),
@@ -316,7 +319,7 @@ pub fn compare(
         width: w,
         height: h,
     };
-    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, &'static Method, Frame)>(2);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, &'static Method, Frame)>(0);
     let rx = std::sync::Mutex::new(rx);
     let results = std::sync::Mutex::new(Vec::new());
     let mut render_ms = 0.0;
