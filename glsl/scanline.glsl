@@ -57,6 +57,15 @@ float spanT(Span sp, float px) {
     return sp.xB > sp.xA ? clamp((px - sp.xA) / (sp.xB - sp.xA), 0.0, 1.0) : 0.0;
 }
 
+// The span's unit end normals N'_A, N'_B (exact normalisation, as the seeds assume) and the
+// fragment's fraction t of the span.
+void spanEnds(out vec3 A, out vec3 B, out float t) {
+    Span sp = spanAt(gl_FragCoord.y);
+    t = spanT(sp, gl_FragCoord.x);
+    A = normalize(sp.NA);
+    B = normalize(sp.NB);
+}
+
 // Below this 1 - c^2 (angle under 1e-4 rad) the angle-based interpolations use normalize(mix).
 const float PARALLEL = 1e-8;
 

@@ -4,10 +4,9 @@
 // span; a fragment shader evaluates the closed form. Twin: src/method/scanline.rs.
 #include "scanline.glsl"
 vec3 methodNormal() {
-    Span sp = spanAt(gl_FragCoord.y);
-    float t = spanT(sp, gl_FragCoord.x);
-    vec3 A = normalize(sp.NA);
-    vec3 B = normalize(sp.NB);
+    vec3 A, B;
+    float t;
+    spanEnds(A, B, t);
     float c = clamp(dot(A, B), -1.0, 1.0);
     float s2 = 1.0 - c * c;
     if (s2 < PARALLEL) {

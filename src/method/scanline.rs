@@ -92,26 +92,29 @@ pub const PARALLEL: f64 = 1e-8;
 /// 2.10): `(a sin((1 - t) theta) + b sin(t theta)) / sin(theta)`, `theta = acos(a.b)`, the dot
 /// product clamped to [-1, 1].
 pub fn slerp(a: DVec3, b: DVec3, t: f64) -> DVec3 {
+    match angle(a, b) {
+        Some((_, s, th)) => (a * ((1.0 - t) * th).sin() + b * (t * th).sin()) / s,
+        None => normalize_exact(a * (1.0 - t) + b * t),
+    }
+}
+
+/// `(c, sin(theta), theta)` of unit `a`, `b` (`c = a.b` clamped to [-1, 1]), or `None` within
+/// [`PARALLEL`] of parallel or antipodal, where the angle-based forms fall back to
+/// `normalize(mix)`.
+fn angle(a: DVec3, b: DVec3) -> Option<(f64, f64, f64)> {
     let c = a.dot(b).clamp(-1.0, 1.0);
     let s2 = 1.0 - c * c;
-    if s2 < PARALLEL {
-        return normalize_exact(a * (1.0 - t) + b * t);
-    }
-    let th = c.acos();
-    (a * ((1.0 - t) * th).sin() + b * (t * th).sin()) / s2.sqrt()
+    (s2 >= PARALLEL).then(|| (c, s2.sqrt(), c.acos()))
 }
 
 /// Spherical-angular interpolation in closed form (FORMULAS.md 2.11, Appendix C `saClosed`):
 /// the Gram-Schmidt form `a cos(t theta) + (b - a c) sin(t theta) / sin(theta)`, `c = a.b`.
 /// Equal to [`slerp`] in exact arithmetic; a different float computation.
 pub fn spherical_angular(a: DVec3, b: DVec3, t: f64) -> DVec3 {
-    let c = a.dot(b).clamp(-1.0, 1.0);
-    let s2 = 1.0 - c * c;
-    if s2 < PARALLEL {
-        return normalize_exact(a * (1.0 - t) + b * t);
+    match angle(a, b) {
+        Some((c, s, th)) => a * (t * th).cos() + (b - a * c) * ((t * th).sin() / s),
+        None => normalize_exact(a * (1.0 - t) + b * t),
     }
-    let th = c.acos();
-    a * (t * th).cos() + (b - a * c) * ((t * th).sin() / s2.sqrt())
 }
 
 /// The approximate middle normal of a span (FORMULAS.md 2.12):
