@@ -21,11 +21,13 @@
 //!
 //! A method with any non-finite pixel, ill-conditioned ones included, has every error statistic
 //! infinite: NaN output is never a small error ([`PixelErrors::non_finite`]).
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::percentile;
-use crate::frame::Frame;
+use crate::frame::{Frame, IdFrame};
+use crate::method::Method;
+use crate::scene::SceneInputs;
 use crate::truth::{Truth, TruthPixel};
 
 /// Rec. 709 luminance weights of linear RGB.
@@ -99,8 +101,9 @@ pub struct PixelErrors {
     pub measured: Vec<bool>,
     /// (x, y, dI) of every measured pixel, in pixel order.
     pub errors: Vec<(u32, u32, f64)>,
-    /// Signed R, G, B errors of every measured pixel.
-    pub channels: [Vec<f64>; 3],
+    /// The R, G, B errors of the measured pixels, accumulated as they are met (the statistics
+    /// need no per-pixel copy).
+    pub channels: [ChannelSums; 3],
     /// Normal angle error (degrees) of every measured pixel (empty without a per-pixel normal).
     pub angles: Vec<f64>,
     /// Max ||N'| - 1| over measured pixels (0 without a per-pixel normal).
@@ -111,6 +114,8 @@ pub struct PixelErrors {
     pub angle: Vec<Option<f64>>,
     /// (x, y) of the first non-finite pixel, if any.
     pub first_non_finite: Option<[u32; 2]>,
+    /// Running sums over the measured pixels: |dI| (sum, max) and the normal angle (sum, max).
+    sums: [f64; 4],
 }
 
 impl PixelErrors {
@@ -119,24 +124,20 @@ impl PixelErrors {
         self.counts.non_finite > 0
     }
 
-    /// Per pixel: |dI| where measured.
-    pub fn abs(&self) -> Vec<Option<f64>> {
-        self.signed.iter().map(|e| e.map(f64::abs)).collect()
-    }
-
     /// The summary statistics (`verify`'s columns; `compare` reports more of the same fields).
     pub fn stats(&self) -> ErrorStats {
-        let n = self.errors.len();
+        let n = self.counts.measured;
         let mean = |s: f64| if n > 0 { s / n as f64 } else { 0.0 };
         let inf = self.non_finite();
         let or_inf = |v: f64| if inf { f64::INFINITY } else { v };
         let normal = |v: f64| self.has_normal.then_some(or_inf(v));
+        let [sum_abs, max_abs, sum_angle, max_angle] = self.sums;
         ErrorStats {
             counts: self.counts,
-            max_abs_error: or_inf(self.errors.iter().fold(0.0, |m, e| m.max(e.2.abs()))),
-            mean_abs_error: or_inf(mean(self.errors.iter().map(|e| e.2.abs()).sum())),
-            max_normal_angle_deg: normal(self.angles.iter().fold(0.0, |m, &a| m.max(a))),
-            mean_normal_angle_deg: normal(mean(self.angles.iter().sum())),
+            max_abs_error: or_inf(max_abs),
+            mean_abs_error: or_inf(mean(sum_abs)),
+            max_normal_angle_deg: normal(max_angle),
+            mean_normal_angle_deg: normal(mean(sum_angle)),
             max_normal_length_error: normal(self.max_len),
         }
     }
@@ -167,23 +168,76 @@ pub fn error_stats(frame: &Frame, has_normal: bool, reference: &Truth) -> ErrorS
 
 /// The per-pixel errors of `frame` against `reference` (module doc).
 pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> PixelErrors {
-    let n = reference.pixels.len();
+    scan(frame, has_normal, reference.pixels.len(), true, |i| {
+        reference.pixels[i]
+    })
+}
+
+/// The statistics of `frame` against another method's f64 twin `other`, evaluated pixel by
+/// pixel where `reference` (the run's truth, from the same id pass) covers a pixel: no second
+/// truth is stored. The pixels and every definition are those of [`pixel_errors`]; a pixel is
+/// ill-conditioned when `reference` says so (the weights are the same) or the twin is
+/// non-finite there.
+pub fn stats_against_twin(
+    frame: &Frame,
+    has_normal: bool,
+    reference: &Truth,
+    inputs: &SceneInputs,
+    ids: &IdFrame,
+    other: &Method,
+) -> ErrorStats {
+    let lighting = inputs.lighting();
+    scan(frame, has_normal, reference.pixels.len(), false, |i| {
+        let t = reference.pixels[i]?;
+        let w = ids.weights[i];
+        let (x, y) = (i as u32 % ids.width, i as u32 / ids.width);
+        let frag = inputs.fragment(
+            (ids.prim[i] - 1) as usize,
+            DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64),
+            DVec2::new(x as f64 + 0.5, y as f64 + 0.5),
+        );
+        let s = (other.eval_f64)(&frag, &lighting);
+        Some(TruthPixel {
+            color: s.color,
+            normal: s.normal,
+            ..t
+        })
+    })
+    .stats()
+}
+
+/// One pass over the pixels against `truth(i)`; `store` keeps the per-pixel vectors (errors,
+/// angles, maps) that percentiles, heatmaps and FLIP need, otherwise only the counts and sums.
+fn scan(
+    frame: &Frame,
+    has_normal: bool,
+    n: usize,
+    store: bool,
+    truth: impl Fn(usize) -> Option<TruthPixel>,
+) -> PixelErrors {
     // Sized once for the covered pixels: growing by doubling would hold up to twice that.
-    let cap = reference.pixels.iter().filter(|p| p.is_some()).count();
+    let cap = if store {
+        frame.color.iter().filter(|c| c[3] > 0.0).count()
+    } else {
+        0
+    };
+    let per_pixel = if store { n } else { 0 };
     let mut f = PixelErrors {
         width: frame.width,
         has_normal,
         counts: PixelCounts::default(),
-        measured: vec![false; n],
+        measured: vec![false; per_pixel],
         errors: Vec::with_capacity(cap),
-        channels: [0, 1, 2].map(|_| Vec::with_capacity(cap)),
+        channels: [ChannelSums::default(); 3],
         angles: Vec::with_capacity(if has_normal { cap } else { 0 }),
         max_len: 0.0,
-        signed: vec![None; n],
-        angle: vec![None; n],
+        signed: vec![None; per_pixel],
+        angle: vec![None; per_pixel],
         first_non_finite: None,
+        sums: [0.0; 4],
     };
-    for (i, t) in reference.pixels.iter().enumerate() {
+    for i in 0..n {
+        let t = truth(i);
         let xy = [i as u32 % frame.width, i as u32 / frame.width];
         let c = &mut f.counts;
         let t = match classify(frame, has_normal, t.as_ref(), i) {
@@ -212,15 +266,19 @@ pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> Pixel
             },
         };
         f.counts.measured += 1;
-        f.measured[i] = true;
         let col = d3(frame.color[i]);
         let d = col - t.color;
         let e = lum(col) - lum(t.color);
-        f.errors.push((xy[0], xy[1], e));
+        f.sums[0] += e.abs();
+        f.sums[1] = f.sums[1].max(e.abs());
         for k in 0..3 {
-            f.channels[k].push(d[k]);
+            f.channels[k].add(d[k]);
         }
-        f.signed[i] = Some(e);
+        if store {
+            f.measured[i] = true;
+            f.errors.push((xy[0], xy[1], e));
+            f.signed[i] = Some(e);
+        }
         if let (true, Some(r)) = (has_normal, t.normal) {
             let nrm = d3(frame.normal[i]);
             let len = nrm.length();
@@ -230,8 +288,12 @@ pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> Pixel
                 -1.0
             };
             let a = cos.acos().to_degrees();
-            f.angles.push(a);
-            f.angle[i] = Some(a);
+            f.sums[2] += a;
+            f.sums[3] = f.sums[3].max(a);
+            if store {
+                f.angles.push(a);
+                f.angle[i] = Some(a);
+            }
             f.max_len = f.max_len.max((len - 1.0).abs());
         }
     }
@@ -325,7 +387,26 @@ pub(crate) fn d3(v: [f32; 4]) -> DVec3 {
 }
 
 /// Statistics of one channel's signed errors (all infinite when `non_finite`).
-pub(crate) fn channel_stats(v: &[f64], non_finite: bool) -> ChannelStats {
+/// Running sums of one channel's signed error over the measured pixels.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ChannelSums {
+    pub n: usize,
+    pub sum_abs: f64,
+    pub sum_sq: f64,
+    pub max_abs: f64,
+}
+
+impl ChannelSums {
+    /// Adds one pixel's signed error.
+    pub fn add(&mut self, e: f64) {
+        self.n += 1;
+        self.sum_abs += e.abs();
+        self.sum_sq += e * e;
+        self.max_abs = self.max_abs.max(e.abs());
+    }
+}
+
+pub(crate) fn channel_stats(v: &ChannelSums, non_finite: bool) -> ChannelStats {
     if non_finite {
         let inf = f64::INFINITY;
         return ChannelStats {
@@ -334,10 +415,10 @@ pub(crate) fn channel_stats(v: &[f64], non_finite: bool) -> ChannelStats {
             rmse: inf,
         };
     }
-    let n = v.len().max(1) as f64;
+    let n = v.n.max(1) as f64;
     ChannelStats {
-        mean_abs_error: v.iter().map(|x| x.abs()).sum::<f64>() / n,
-        max_abs_error: v.iter().fold(0.0f64, |m, x| m.max(x.abs())),
-        rmse: (v.iter().map(|x| x * x).sum::<f64>() / n).sqrt(),
+        mean_abs_error: v.sum_abs / n,
+        max_abs_error: v.max_abs,
+        rmse: (v.sum_sq / n).sqrt(),
     }
 }

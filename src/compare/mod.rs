@@ -19,15 +19,17 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8};
-use crate::analysis::pixel::{channel_stats, d3, intensity_stats, pixel_errors, IntensityStats};
+use crate::analysis::pixel::{
+    channel_stats, d3, intensity_stats, pixel_errors, stats_against_twin, IntensityStats,
+};
 use crate::analysis::stats::percentile;
 use crate::error::{Error, Result};
-use crate::frame::Frame;
+use crate::frame::{Frame, IdFrame};
 use crate::gpu::{Renderer, Shading};
 use crate::method::{self, Method, Reference};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneInputs};
 use crate::truth::{self, Truth};
 
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
@@ -76,18 +78,27 @@ fn rel(dir: &str, file: &str) -> String {
 /// One heatmap to draw: file, values, colorbar label, colormap, scale, and whether it applies.
 type MapSpec<'a> = (
     &'static str,
-    &'a [Option<f64>],
+    &'a dyn Fn(usize) -> Option<f64>,
     &'static str,
     colorous::Gradient,
     Scale,
     bool,
 );
 
+/// What evaluating a second reference's twin at the id pass's pixels needs.
+#[derive(Clone, Copy)]
+struct SecondReference<'a> {
+    inputs: &'a SceneInputs,
+    ids: &'a IdFrame,
+    method: &'static Method,
+}
+
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
     reference: &'a Truth,
-    /// f64 exact slerp along the span, when a method of the run is judged against it too.
-    slerp: Option<&'a Truth>,
+    /// The second reference (f64 exact slerp along the span), when a method of the run is
+    /// judged against it too: its twin is evaluated pixel by pixel, no second truth is stored.
+    slerp: Option<SecondReference<'a>>,
     ref8: &'a [u8],
     out: &'a Path,
     opts: &'a CompareOptions,
@@ -105,10 +116,17 @@ struct PhaseTimes {
 impl Analysis<'_> {
     /// The errors against the second reference, for the methods judged against it.
     fn against_slerp(&self, m: &Method, frame: &Frame) -> Option<AgainstReference> {
-        let slerp = self
+        let r = self
             .slerp
             .filter(|_| m.reference == Reference::PhongAndSlerp)?;
-        let s = pixel_errors(frame, m.has_normal, slerp).stats();
+        let s = stats_against_twin(
+            frame,
+            m.has_normal,
+            self.reference,
+            r.inputs,
+            r.ids,
+            r.method,
+        );
         Some(AgainstReference {
             reference: SLERP_REFERENCE.to_string(),
             mean_abs_error: s.mean_abs_error,
@@ -179,7 +197,9 @@ impl Analysis<'_> {
                 )
             }
         };
-        let abs = f.abs();
+        let abs = |i: usize| f.signed[i].map(f64::abs);
+        let signed = |i: usize| f.signed[i];
+        let angle = |i: usize| f.angle[i];
         let maps: [MapSpec; 3] = [
             (
                 "error_abs.png",
@@ -191,7 +211,7 @@ impl Analysis<'_> {
             ),
             (
                 "error_signed.png",
-                &f.signed,
+                &signed,
                 "dI = method - reference",
                 colorous::RED_BLUE,
                 signed_scale,
@@ -199,7 +219,7 @@ impl Analysis<'_> {
             ),
             (
                 "error_angle.png",
-                &f.angle,
+                &angle,
                 "normal angle error (deg)",
                 colorous::MAGMA,
                 angle_scale,
@@ -276,13 +296,18 @@ pub fn compare(
     let t0 = Instant::now();
     let (_, ids) = renderer.render(base, Shading::Method(exact), true)?;
     let ids = ids.ok_or_else(|| Error::Internal("the id pass returned nothing".into()))?;
-    let reference = truth::evaluate(&base.inputs, &ids, exact);
+    // Statistics need no float32 bound (verify checks those): the values alone.
+    let reference = truth::values(&base.inputs, &ids, exact);
     // The second reference of the angle-interpolating methods: exact slerp along the span.
     let slerp = if methods_
         .iter()
         .any(|m| m.reference == Reference::PhongAndSlerp)
     {
-        Some(truth::values(&base.inputs, &ids, method::find("slerp")?))
+        Some(SecondReference {
+            inputs: &base.inputs,
+            ids: &ids,
+            method: method::find("slerp")?,
+        })
     } else {
         None
     };
@@ -312,7 +337,7 @@ pub fn compare(
     // when a worker takes it, so at most three frames (32 MB each at 1024x1024) exist at once.
     let ctx = Analysis {
         reference: &reference,
-        slerp: slerp.as_ref(),
+        slerp,
         ref8: &ref8,
         out,
         opts,

@@ -394,14 +394,22 @@ impl Renderer {
             id_objects = Some((id_pipeline, bary, prim, bary_buf, prim_buf));
         }
         cmd.submit()?;
-
+        // The work is done (synchronous submit): free the targets and the pipeline before the
+        // copies out, and each readback buffer as soon as it is copied, so that a render's
+        // peak memory is the frame plus one buffer, not every image of the pass at once.
+        let (color_size, normal_size) = (color.byte_size() as usize, normal.byte_size() as usize);
+        drop(pipeline);
+        drop(targets);
+        let color: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&color_buf.bytes()[..color_size]);
+        drop(color_buf);
+        let normal: Vec<[f32; 4]> =
+            bytemuck::pod_collect_to_vec(&normal_buf.bytes()[..normal_size]);
+        drop(normal_buf);
         let frame = Frame {
             width: w,
             height: h,
-            color: bytemuck::pod_collect_to_vec(&color_buf.bytes()[..color.byte_size() as usize]),
-            normal: bytemuck::pod_collect_to_vec(
-                &normal_buf.bytes()[..normal.byte_size() as usize],
-            ),
+            color,
+            normal,
         };
         let ids = id_objects.map(|(_, bary, prim, bary_buf, prim_buf)| IdFrame {
             width: w,

@@ -100,10 +100,10 @@ fn plot_err<E: std::fmt::Display>(e: E) -> Error {
     Error::output("a heatmap", e)
 }
 
-/// Draws `values` (row-major, `None` = no data) as a heatmap of `width` x `height` with a
-/// colorbar panel on the right.
+/// Draws the field `values(i)` (i row-major, `None` = no data; a function, so a caller maps its
+/// own storage without a copy) as a heatmap of `width` x `height` with a colorbar panel on the right.
 pub fn render(
-    values: &[Option<f64>],
+    values: &dyn Fn(usize) -> Option<f64>,
     width: u32,
     height: u32,
     desc: &HeatmapDesc,
@@ -115,7 +115,7 @@ pub fn render(
     // The field itself, pixel for pixel.
     for y in 0..height {
         for x in 0..width {
-            let c = match values[(y * width + x) as usize] {
+            let c = match values((y * width + x) as usize) {
                 Some(v) if v.is_finite() => color_at(&desc.gradient, desc.scale.t(v)),
                 _ => NO_DATA,
             };
@@ -276,7 +276,7 @@ mod tests {
                 gradient: colorous::MAGMA,
                 scale,
             };
-            let fig = render(&values, w, h, &desc).unwrap();
+            let fig = render(&|i| values[i], w, h, &desc).unwrap();
             let (x0, y0, x1, y1) = fig.bar;
             assert!(
                 x0 >= w && x1 <= fig.width && y1 > y0 + 100,
