@@ -21,7 +21,9 @@
 //!
 //! # Where things go
 //! - a method: a GLSL file in glsl/methods/, a row in [`method::table`], its f64 formula in
-//!   [`method::formulas`] and twin in [`method::twins`] (README "How to add a method");
+//!   [`method::formulas`] (per pixel) or [`method::scanline`] (along the span, with
+//!   glsl/scanline.glsl), its twin in [`method::twins`], its claims' checks in
+//!   [`method::checks`] / [`method::scanline_checks`] (README "How to add a method");
 //! - a metric: [`analysis`] computes it, [`compare::summary`] reports it;
 //! - a command: a file in src/cli/, calling a job of the layer below.
 //!
