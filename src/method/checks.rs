@@ -103,7 +103,7 @@ pub fn timing_claim() -> Measurement {
 }
 
 /// A statement about a method's cost per pixel (operations it needs), not measured yet: the
-/// isolated cost of each formula is the [cost] issue's measurement.
+/// isolated cost of each formula is the `[cost]` issue's measurement.
 pub fn cost_claim() -> Measurement {
     Measurement {
         measured: "-".into(),

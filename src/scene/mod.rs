@@ -2,7 +2,7 @@
 //!
 //! Owns [`Scene`] (mesh + camera + lights + material + image size + interpolation mode) and
 //! [`Camera`]'s view and projection. Invariants of a [`Scene`] built here:
-//! - the mesh is fitted to the unit sphere ([`fit_unit`]): bounding box centred at the origin,
+//! - the mesh is fitted to the unit sphere ([`fit_unit`](crate::geometry::fit_unit)): bounding box centred at the origin,
 //!   bounding sphere radius 1, so camera positions in scene files live in that space whatever
 //!   the OBJ's own units;
 //! - 1 to [`MAX_LIGHTS`] lights, each direction unit length;

@@ -144,7 +144,7 @@ impl OneShot {
         }
     }
 
-    /// Binds `pipeline`, its descriptor set and one vertex buffer per stream (binding i = buffers[i]),
+    /// Binds `pipeline`, its descriptor set and one vertex buffer per stream (binding i = `buffers[i]`),
     /// then draws `vertex_count` vertices.
     pub fn draw(
         &mut self,
