@@ -69,6 +69,19 @@ void spanEnds(out vec3 A, out vec3 B, out float t) {
 // Below this 1 - c^2 (angle under 1e-4 rad) the angle-based interpolations use normalize(mix).
 const float PARALLEL = 1e-8;
 
+// The angle between unit A and B: its cosine c, sine s and the angle th (acos refined);
+// false within PARALLEL of parallel or antipodal, where the callers use normalize(mix).
+bool angleBetween(vec3 A, vec3 B, out float c, out float s, out float th) {
+    c = clamp(dot(A, B), -1.0, 1.0);
+    float s2 = 1.0 - c * c;
+    if (s2 < PARALLEL) {
+        return false;
+    }
+    s = sqrt(s2);
+    th = angleOf(c, s);
+    return true;
+}
+
 // The Phong normal of the span at x: linear in x, extrapolated past the ends.
 vec3 spanNormal(Span sp, float x) {
     return sp.xB > sp.xA ? sp.NA + (sp.NB - sp.NA) * ((x - sp.xA) / (sp.xB - sp.xA)) : sp.NA;

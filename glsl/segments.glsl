@@ -10,24 +10,30 @@ vec3 segmentEnd(Span sp, float x) {
     return normalize(dot(N, N) > 1e-12 ? N : sp.NA);   // an extrapolated end can pass through 0
 }
 
-#ifdef INV_ROOT
-vec3 methodNormal() {
+// The unit normals at the ends of the fragment's segment and its place t = v / 2^k in it.
+void segmentEnds(out vec3 Nl, out vec3 Np, out float t) {
     Span sp = spanAt(gl_FragCoord.y);
     float xl, xp;
     int v;
     segmentAt(sp, gl_FragCoord.x, SEGMENT_K, xl, xp, v);
-    float t = float(v) / float(1 << SEGMENT_K);
-    return dichotomy(segmentEnd(sp, xl), segmentEnd(sp, xp), t, SEGMENT_K);
+    Nl = segmentEnd(sp, xl);
+    Np = segmentEnd(sp, xp);
+    t = float(v) / float(1 << SEGMENT_K);
+}
+
+#ifdef INV_ROOT
+vec3 methodNormal() {
+    vec3 Nl, Np;
+    float t;
+    segmentEnds(Nl, Np, t);
+    return dichotomy(Nl, Np, t, SEGMENT_K);
 }
 #else
 #define METHOD_COLOR
 vec3 methodColor() {
-    Span sp = spanAt(gl_FragCoord.y);
-    float xl, xp;
-    int v;
-    segmentAt(sp, gl_FragCoord.x, SEGMENT_K, xl, xp, v);
-    vec3 Il = shade(segmentEnd(sp, xl));
-    vec3 Ip = shade(segmentEnd(sp, xp));
-    return mix(Il, Ip, float(v) / float(1 << SEGMENT_K));
+    vec3 Nl, Np;
+    float t;
+    segmentEnds(Nl, Np, t);
+    return mix(shade(Nl), shade(Np), t);
 }
 #endif

@@ -7,12 +7,9 @@ vec3 methodNormal() {
     vec3 A, B;
     float t;
     spanEnds(A, B, t);
-    float c = clamp(dot(A, B), -1.0, 1.0);
-    float s2 = 1.0 - c * c;
-    if (s2 < PARALLEL) {
+    float c, s, th;
+    if (!angleBetween(A, B, c, s, th)) {
         return normalize(mix(A, B, t));
     }
-    float s = sqrt(s2);
-    float th = angleOf(c, s);
     return A * cos(t * th) + (B - A * c) * (sin(t * th) / s);
 }
