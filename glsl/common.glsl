@@ -1,5 +1,6 @@
 // Shared declarations for every shadelab shader. Compiled with defines from src/shaders.rs:
-//   STAGE_VERTEX / STAGE_FRAGMENT   which stage this is
+//   STAGE_VERTEX / STAGE_FRAGMENT   which stage this is; STAGE_COMPUTE: glsl/evaluate.comp, where
+//                                   the varyings and `params` are plain globals set per case
 //   INTERP                          noperspective (screen-linear, the seeds' scanline model) or smooth
 //   ATTR_*                          vertex streams the program reads (src/render.rs uploads only these)
 //   IN_*                            varyings the program needs (only those are declared)
@@ -7,15 +8,30 @@
 // The Rust twin of `Params` is `render::Params` (#[repr(C)]); a test compares member offsets
 // parsed from the SPIR-V with the Rust offsets.
 
-#ifdef STAGE_VERTEX
-#define VARYING out
+// VARYING(loc, qualifier) declares a varying; in the compute stage it declares a global.
+#if defined(STAGE_VERTEX)
+#define VARYING(loc, qualifier) layout(location = loc) qualifier out
+#elif defined(STAGE_FRAGMENT)
+#define VARYING(loc, qualifier) layout(location = loc) qualifier in
 #else
-#define VARYING in
+#define VARYING(loc, qualifier)
+#endif
+
+// The pixel centre in window space: gl_FragCoord, or the case's pixel in the compute stage.
+#ifdef STAGE_COMPUTE
+vec4 fragCoord;
+#define FRAG_COORD fragCoord
+#else
+#define FRAG_COORD gl_FragCoord
 #endif
 
 layout(constant_id = 0) const int LIGHT_COUNT = 1;   // 1..4, a scene-level specialization constant
 
+#ifdef STAGE_COMPUTE
+struct ParamsData {
+#else
 layout(set = 0, binding = 0, std140) uniform Params {
+#endif
     mat4 mvp;            // model -> Vulkan clip space
     vec4 ambient;        // rgb: k_a * I_a
     vec4 diffuse;        // rgb: k_d
@@ -24,7 +40,12 @@ layout(set = 0, binding = 0, std140) uniform Params {
     vec4 lightColor[4];  // rgb: I_L
     vec4 halfVec[4];     // normalize(L + V) with the viewer at infinity, V = (0, 0, 1)
     vec4 constColor;     // colour of the constant-colour floor program
+#ifdef STAGE_COMPUTE
+};
+ParamsData params;
+#else
 } params;
+#endif
 
 #ifdef USE_LUT
 // cos^n table (FORMULAS.md 2.20): LUT_ROWS rows (n = 1..LUT_ROWS) of LUT_SAMPLES cosines on [0, 1].
@@ -34,35 +55,35 @@ const int LUT_SAMPLES = 4096;
 #endif
 
 #ifdef IN_NORMAL
-layout(location = 0) INTERP VARYING vec3 vNormal;   // interpolated view-space vertex normal (not unit)
+VARYING(0, INTERP) vec3 vNormal;   // interpolated view-space vertex normal (not unit)
 #endif
 #ifdef IN_BARY
-layout(location = 1) INTERP VARYING vec3 vBary;     // interpolation weights of the 3 corners
+VARYING(1, INTERP) vec3 vBary;     // interpolation weights of the 3 corners
 #endif
 #ifdef IN_PRIM
-layout(location = 2) flat VARYING uint vPrim;       // triangle index (unindexed draw: vertex / 3)
+VARYING(2, flat) uint vPrim;       // triangle index (unindexed draw: vertex / 3)
 #endif
 #ifdef IN_FLAT
-layout(location = 3) flat VARYING vec3 vFlat;       // unit flat (polygon) normal, oriented like the vertex normals
+VARYING(3, flat) vec3 vFlat;       // unit flat (polygon) normal, oriented like the vertex normals
 #endif
 #ifdef IN_CORNERS
-layout(location = 4) flat VARYING vec3 vN0;         // the triangle's three unit vertex normals
-layout(location = 5) flat VARYING vec3 vN1;
-layout(location = 6) flat VARYING vec3 vN2;
+VARYING(4, flat) vec3 vN0;         // the triangle's three unit vertex normals
+VARYING(5, flat) vec3 vN1;
+VARYING(6, flat) vec3 vN2;
 #endif
 #ifdef IN_PN
-layout(location = 7) flat VARYING vec3 vPn01;       // PN-triangle mid-edge normals n110, n011, n101
-layout(location = 8) flat VARYING vec3 vPn12;
-layout(location = 9) flat VARYING vec3 vPn20;
+VARYING(7, flat) vec3 vPn01;       // PN-triangle mid-edge normals n110, n011, n101
+VARYING(8, flat) vec3 vPn12;
+VARYING(9, flat) vec3 vPn20;
 #endif
 #ifdef IN_COLOR
-layout(location = 10) INTERP VARYING vec3 vColor;   // Gouraud: colour lit at the vertices
+VARYING(10, INTERP) vec3 vColor;   // Gouraud: colour lit at the vertices
 #endif
 #ifdef IN_QUAT
-layout(location = 11) INTERP VARYING vec3 vQuat;    // quaternion (x, y, z) of the vertex normal
+VARYING(11, INTERP) vec3 vQuat;    // quaternion (x, y, z) of the vertex normal
 #endif
 #ifdef IN_WINDOW
-layout(location = 12) flat VARYING vec2 vW0;        // the triangle's window-space corners (pixels),
-layout(location = 13) flat VARYING vec2 vW1;        // set up on the CPU in f64: the scanline
-layout(location = 14) flat VARYING vec2 vW2;        // methods' span ends (FORMULAS.md 1.6)
+VARYING(12, flat) vec2 vW0;        // the triangle's window-space corners (pixels),
+VARYING(13, flat) vec2 vW1;        // set up on the CPU in f64: the scanline
+VARYING(14, flat) vec2 vW2;        // methods' span ends (FORMULAS.md 1.6)
 #endif

@@ -1,3 +1,5 @@
+#ifndef QUATERNION_GLSL
+#define QUATERNION_GLSL
 // Quaternion helpers (FORMULAS.md 2.14), shared by the vertex and fragment stages.
 // The unit quaternion turning +Z onto unit n without twist, stored as (x, y, z):
 //   z = sqrt((n.z + 1)/2), x = n.x/(2z), y = n.y/(2z)
@@ -18,3 +20,4 @@ void onb(vec3 n, out vec3 t, out vec3 b) {
     t = vec3(1.0 + s * n.x * n.x * a, s * b0, -s * n.x);
     b = vec3(b0, s + n.y * n.y * a, -n.y);
 }
+#endif

@@ -60,8 +60,8 @@ float spanT(Span sp, float px) {
 // The span's unit end normals N'_A, N'_B (exact normalisation, as the seeds assume) and the
 // fragment's fraction t of the span.
 void spanEnds(out vec3 A, out vec3 B, out float t) {
-    Span sp = spanAt(gl_FragCoord.y);
-    t = spanT(sp, gl_FragCoord.x);
+    Span sp = spanAt(FRAG_COORD.y);
+    t = spanT(sp, FRAG_COORD.x);
     A = normalize(sp.NA);
     B = normalize(sp.NB);
 }

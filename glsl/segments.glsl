@@ -12,10 +12,10 @@ vec3 segmentEnd(Span sp, float x) {
 
 // The unit normals at the ends of the fragment's segment and its place t = v / 2^k in it.
 void segmentEnds(out vec3 Nl, out vec3 Np, out float t) {
-    Span sp = spanAt(gl_FragCoord.y);
+    Span sp = spanAt(FRAG_COORD.y);
     float xl, xp;
     int v;
-    segmentAt(sp, gl_FragCoord.x, SEGMENT_K, xl, xp, v);
+    segmentAt(sp, FRAG_COORD.x, SEGMENT_K, xl, xp, v);
     Nl = segmentEnd(sp, xl);
     Np = segmentEnd(sp, xp);
     t = float(v) / float(1 << SEGMENT_K);

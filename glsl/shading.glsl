@@ -1,3 +1,5 @@
+#ifndef SHADING_GLSL
+#define SHADING_GLSL
 // The lighting model of the seeds (FORMULAS.md 1.2), identical for every method:
 //   I = k_a I_a + sum_lights I_L (k_d max(0, N.L) + k_s max(0, N.H)^n)
 // Directional lights, viewer at infinity: L and H are per-frame constants in view space.
@@ -12,3 +14,4 @@ vec3 shade(vec3 N) {
     }
     return c;
 }
+#endif

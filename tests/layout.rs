@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 /// within a layer, dependencies must not form a cycle.
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
-    &["compare", "bench", "verify"],
+    &["compare", "bench", "verify", "stress"],
     &["analysis", "truth"],
     &["gpu"],
     &["scene", "frame"],

@@ -49,6 +49,6 @@ vec3 methodColor() {
         bwB = vec3(0.0);
     }
     bwC = vN0 - bwA * q0.x - bwB * q0.y;
-    bwP = gl_FragCoord.xy - o;
+    bwP = FRAG_COORD.xy - o;
     return shadeCosines();
 }

@@ -5,7 +5,7 @@
 #define INV_ROOT(z) (0.64 - 0.07 * (z))
 #include "scanline.glsl"
 vec3 methodNormal() {
-    Span sp = spanAt(gl_FragCoord.y);
-    float t = spanT(sp, gl_FragCoord.x);
+    Span sp = spanAt(FRAG_COORD.y);
+    float t = spanT(sp, FRAG_COORD.x);
     return dichotomy(normalize(sp.NA), normalize(sp.NB), t, levels(sp.xB - sp.xA));
 }

@@ -38,7 +38,7 @@ float methodCosine(vec3 v) {
 }
 
 vec3 methodColor() {
-    heSpan = spanAt(gl_FragCoord.y);
-    heT = spanT(heSpan, gl_FragCoord.x);
+    heSpan = spanAt(FRAG_COORD.y);
+    heT = spanT(heSpan, FRAG_COORD.x);
     return shadeCosines();
 }

@@ -7,6 +7,7 @@ mod list;
 mod mesh;
 mod render;
 mod shaders;
+mod stress;
 mod verify;
 
 use self::bench::cmd_bench;
@@ -16,6 +17,7 @@ use self::list::cmd_list;
 use self::mesh::cmd_mesh;
 use self::render::cmd_render;
 use self::shaders::cmd_shaders;
+use self::stress::cmd_stress;
 use self::verify::cmd_verify;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -203,6 +205,27 @@ enum Command {
         #[arg(long, value_enum)]
         sweep: Vec<SweepArg>,
     },
+    /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
+    /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
+    Stress {
+        #[command(flatten)]
+        device: DeviceArgs,
+        /// Comma-separated method identifiers, or `all`.
+        #[arg(long, default_value = "all")]
+        methods: String,
+        /// Output directory (stress.json, charts, validity/<method>.png, cases/<method>.json).
+        #[arg(long, value_name = "DIR", required_unless_present = "replay")]
+        out: Option<PathBuf>,
+        /// Evaluate one case again (a cases/<method>.json, or a worst_case of stress.json).
+        #[arg(long, value_name = "CASE.json", conflicts_with = "out")]
+        replay: Option<PathBuf>,
+        /// Max abs colour error (linear) within which a case is valid.
+        #[arg(long, default_value_t = 1.0 / 255.0)]
+        threshold: f64,
+        /// Local-search rounds around each method's worst case (0: grid only).
+        #[arg(long, default_value_t = 8)]
+        refine: usize,
+    },
     /// List the methods (`--json` for machines).
     List {
         #[arg(long)]
@@ -324,6 +347,26 @@ pub fn run() -> Result<ExitCode> {
                 sweeps: sweep.into_iter().map(Into::into).collect(),
             };
             cmd_bench(&scene, &device, &methods, &out, &opts)
+        }
+        Command::Stress {
+            device,
+            methods,
+            out,
+            replay,
+            threshold,
+            refine,
+        } => {
+            if !(threshold.is_finite() && threshold >= 0.0) {
+                return Err(Error::Usage(format!(
+                    "--threshold {threshold}: expected a finite value >= 0"
+                )));
+            }
+            let opts = crate::stress::StressOptions {
+                threshold,
+                refine_rounds: refine,
+                progress: true,
+            };
+            cmd_stress(&device, &methods, out.as_deref(), replay.as_deref(), &opts)
         }
         Command::List { json } => cmd_list(json),
         Command::Mesh {

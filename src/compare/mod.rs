@@ -331,7 +331,7 @@ pub fn compare(
     }
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
 
-    let bar = progress_bar(opts.progress, methods_.len() as u64);
+    let bar = crate::output::progress_bar(opts.progress, methods_.len() as u64);
     // Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
     // into statistics, FLIP and PNGs. The channel is a rendezvous: a frame is handed over only
     // when a worker takes it, so at most three frames (32 MB each at 1024x1024) exist at once.
@@ -426,18 +426,4 @@ pub fn compare(
         write_summary(out, &summary)?;
     }
     Ok(summary)
-}
-
-fn progress_bar(enabled: bool, n: u64) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    if !enabled || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(n);
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
-    {
-        bar.set_style(style);
-    }
-    bar
 }

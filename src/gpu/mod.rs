@@ -1,5 +1,7 @@
 //! The GPU layer: Vulkan objects ([`vk`], the only user of `ash`), the SPIR-V programs
-//! ([`shaders`], [`spirv`]), the offscreen renderer ([`renderer`]) and its timed draws ([`timing`]).
+//! ([`shaders`], [`spirv`]), the offscreen renderer ([`renderer`]), its timed draws ([`timing`])
+//! and methods evaluated on buffers of cases ([`evaluate`]).
+pub mod evaluate;
 pub mod renderer;
 pub mod shaders;
 pub mod spirv;

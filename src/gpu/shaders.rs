@@ -2,10 +2,13 @@
 //! shaders`, `make spirv`), the freshness manifest of spirv/, and the SPIR-V embedded in the
 //! binary by build.rs.
 //!
-//! A *program* is a vertex + fragment pair named `<name>.<interpolation>`; its files are
-//! `spirv/<program>.vert.spv` and `spirv/<program>.frag.spv`. Every method of
-//! [`crate::method::METHODS`] gets one program per interpolation mode, plus the internal `ids`
-//! program (triangle index and weights for the f64 truth) and `constant` (the cost floor).
+//! A *program* is a vertex + fragment pair named `<name>.<interpolation>` (files
+//! `spirv/<program>.vert.spv` and `spirv/<program>.frag.spv`), or a compute shader named
+//! `<name>.evaluate` (`spirv/<program>.comp.spv`). Every method of [`crate::method::METHODS`] gets
+//! one program per interpolation mode, plus the internal `ids` program (triangle index and weights
+//! for the f64 truth) and `constant` (the cost floor); every method that draws the mesh as it is
+//! also gets an `evaluate` program: glsl/evaluate.comp, the same method code run on a buffer of
+//! cases (`shadelab stress`).
 //!
 //! Freshness: spirv/manifest.json records a SHA-256 over every file of glsl/ and the program
 //! table (names + defines), and the SHA-256 of each .spv. [`check_fresh`] recomputes both, so a
@@ -29,8 +32,8 @@ pub const REGENERATE: &str = "make spirv";
 pub struct Program {
     /// `<name>.<interpolation>`.
     pub name: String,
-    /// Fragment shader source under glsl/.
-    pub fragment: &'static str,
+    /// The stages: (file tag `vert` / `frag` / `comp`, source under glsl/).
+    pub stages: Vec<(&'static str, &'static str)>,
     /// The file under glsl/ that `#include "method.glsl"` resolves to, for method programs.
     pub method_file: Option<&'static str>,
     /// Preprocessor defines for both stages (name, value).
@@ -46,6 +49,29 @@ pub fn interpolation_tag(i: Interpolation) -> (&'static str, &'static str) {
 }
 
 const MODES: [Interpolation; 2] = [Interpolation::ScreenLinear, Interpolation::Perspective];
+
+/// The program name of a method's compute program (glsl/evaluate.comp).
+pub fn evaluate_program(method: &str) -> String {
+    format!("{method}.evaluate")
+}
+
+/// Whether a method has a compute program: those that draw the mesh as it is (a method that
+/// tessellates shades other geometry than the case describes).
+pub fn has_evaluate_program(m: &crate::method::Method) -> bool {
+    m.geometry == crate::method::Geometry::Mesh
+}
+
+fn method_defines(m: &crate::method::Method, defines: &mut Vec<(String, String)>) {
+    for input in m.inputs {
+        for d in input.defines() {
+            if !defines.iter().any(|(k, _)| k == d) {
+                defines.push((d.to_string(), "1".to_string()));
+            }
+        }
+    }
+}
+
+const GRAPHICS: [(&str, &str); 2] = [("vert", "shade.vert"), ("frag", "shade.frag")];
 
 /// The program name of a method or internal program (`ids`, `constant`) in a mode.
 pub fn program_name(base: &str, interp: Interpolation) -> String {
@@ -64,31 +90,35 @@ pub fn programs() -> Vec<Program> {
         };
         for m in METHODS {
             let mut defines = with(&[]);
-            for input in m.inputs {
-                for d in input.defines() {
-                    if !defines.iter().any(|(k, _)| k == d) {
-                        defines.push((d.to_string(), "1".to_string()));
-                    }
-                }
-            }
+            method_defines(m, &mut defines);
             out.push(Program {
                 name: program_name(m.name, mode),
-                fragment: "shade.frag",
+                stages: GRAPHICS.to_vec(),
                 method_file: Some(m.glsl),
                 defines,
             });
         }
         out.push(Program {
             name: program_name("ids", mode),
-            fragment: "ids.frag",
+            stages: vec![("vert", "shade.vert"), ("frag", "ids.frag")],
             method_file: None,
             defines: with(&[("IN_BARY", "1"), ("IN_PRIM", "1")]),
         });
         out.push(Program {
             name: program_name("constant", mode),
-            fragment: "constant.frag",
+            stages: vec![("vert", "shade.vert"), ("frag", "constant.frag")],
             method_file: None,
             defines: with(&[]),
+        });
+    }
+    for m in METHODS.iter().filter(|m| has_evaluate_program(m)) {
+        let mut defines = Vec::new();
+        method_defines(m, &mut defines);
+        out.push(Program {
+            name: evaluate_program(m.name),
+            stages: vec![("comp", "evaluate.comp")],
+            method_file: Some(m.glsl),
+            defines,
         });
     }
     out
@@ -100,10 +130,12 @@ pub fn compile_all(glsl_dir: &Path) -> Result<Vec<(String, Vec<u8>)>> {
         .map_err(|e| Error::Shader(format!("cannot start the shaderc compiler: {e}")))?;
     let mut out = Vec::new();
     for p in programs() {
-        for (stage, file, kind) in [
-            ("vert", "shade.vert", shaderc::ShaderKind::Vertex),
-            ("frag", p.fragment, shaderc::ShaderKind::Fragment),
-        ] {
+        for &(stage, file) in &p.stages {
+            let kind = match stage {
+                "vert" => shaderc::ShaderKind::Vertex,
+                "frag" => shaderc::ShaderKind::Fragment,
+                _ => shaderc::ShaderKind::Compute,
+            };
             let path = glsl_dir.join(file);
             let source = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
             let mut opts = shaderc::CompileOptions::new()
@@ -239,8 +271,9 @@ pub fn check_fresh(glsl_dir: &Path, spirv_dir: &Path) -> Result<()> {
     }
     let mut expected = Vec::new();
     for p in programs() {
-        expected.push(format!("{}.vert.spv", p.name));
-        expected.push(format!("{}.frag.spv", p.name));
+        for (stage, _) in &p.stages {
+            expected.push(format!("{}.{stage}.spv", p.name));
+        }
     }
     for name in &expected {
         let Some(hash) = manifest.files.get(name) else {
@@ -262,7 +295,7 @@ pub fn check_fresh(glsl_dir: &Path, spirv_dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The embedded SPIR-V of `<program>.<stage>.spv` (stage `vert` or `frag`).
+/// The embedded SPIR-V of `<program>.<stage>.spv` (stage `vert`, `frag` or `comp`).
 pub fn embedded(program: &str, stage: &str) -> Result<&'static [u8]> {
     let file = format!("{program}.{stage}.spv");
     EMBEDDED_SPIRV

@@ -1,5 +1,6 @@
 //! Output files: every file the tool writes goes through [`write_atomic`], so an interrupted run
 //! never leaves a truncated PNG, OBJ or NPY behind (temp file in the same directory + rename).
+pub mod chart;
 pub mod heatmap;
 pub mod provenance;
 
@@ -196,4 +197,19 @@ mod image_tests {
         assert_eq!(img.get_pixel(0, 0).0, [255, 0, 188, 255]);
         assert_eq!(img.get_pixel(1, 0).0, [0, 0, 0, 0]);
     }
+}
+
+/// A progress bar on stderr, drawn only when `enabled` and stderr is a terminal.
+pub fn progress_bar(enabled: bool, n: u64) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !enabled || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(n);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
+    {
+        bar.set_style(style);
+    }
+    bar
 }

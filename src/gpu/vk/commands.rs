@@ -6,7 +6,9 @@ use std::time::{Duration, Instant};
 use ash::vk;
 
 use super::conv::VkContext;
-use super::{Buffer, Clear, Context, DescriptorSet, GraphicsPipeline, Image, QueryPool};
+use super::{
+    Buffer, Clear, ComputePipeline, Context, DescriptorSet, GraphicsPipeline, Image, QueryPool,
+};
 use crate::error::Result;
 
 /// A primary command buffer being recorded; consumed by [`OneShot::submit`].
@@ -171,6 +173,32 @@ impl OneShot {
                 d.cmd_bind_vertex_buffers(self.cb, binding, &[buf.raw], &[0]);
             }
             d.cmd_draw(self.cb, vertex_count, 1, 0, 0);
+        }
+    }
+
+    /// Binds a compute pipeline and its set, dispatches `groups` work groups along x, and makes
+    /// the shader's writes visible to the host (read after [`submit`](Self::submit) returns).
+    pub fn dispatch(&mut self, pipeline: &ComputePipeline, set: &DescriptorSet, groups: u32) {
+        let d = &self.ctx.device;
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+        // SAFETY: recording outside a rendering scope; all objects alive until submit returns.
+        unsafe {
+            d.cmd_bind_pipeline(self.cb, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
+            d.cmd_bind_descriptor_sets(
+                self.cb,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.layout,
+                0,
+                &[set.raw],
+                &[],
+            );
+            d.cmd_dispatch(self.cb, groups, 1, 1);
+            d.cmd_pipeline_barrier2(self.cb, &dep);
         }
     }
 

@@ -10,7 +10,8 @@
 //!
 //! Module map: [`context`] instance/device/queue selection and validation messages;
 //! [`memory`] buffers and memory-type choice; [`image`] render targets and readback;
-//! [`pipeline`] shader modules, descriptor sets and graphics pipelines (dynamic rendering);
+//! [`pipeline`] shader modules, descriptor sets, graphics pipelines (dynamic rendering) and
+//! compute pipelines;
 //! [`commands`] one-shot and reusable command buffers, synchronous submit;
 //! [`queries`] timestamp query pools and their arithmetic; [`conv`] the project's names for
 //! formats, usages and clear values, and their one conversion to `ash`.
@@ -27,5 +28,7 @@ pub use context::{Context, ContextDesc, DeviceInfo};
 pub use conv::{BufferUsage, Clear, Format, ImageUsage};
 pub use image::{Image, ImageDesc};
 pub use memory::{Buffer, BufferDesc};
-pub use pipeline::{DescriptorSet, GraphicsPipeline, PipelineDesc, ShaderModule, VertexStream};
+pub use pipeline::{
+    ComputePipeline, DescriptorSet, GraphicsPipeline, PipelineDesc, ShaderModule, VertexStream,
+};
 pub use queries::QueryPool;

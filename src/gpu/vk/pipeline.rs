@@ -1,5 +1,5 @@
-//! Shader modules, descriptor sets and graphics pipelines for dynamic rendering (no render-pass
-//! objects). A pipeline is built from a plain [`PipelineDesc`]; everything a method does not
+//! Shader modules, descriptor sets, graphics pipelines for dynamic rendering (no render-pass
+//! objects) and compute pipelines. A pipeline is built from a plain [`PipelineDesc`]; everything a method does not
 //! need (vertex streams, targets) is simply absent from its description.
 use std::sync::Arc;
 
@@ -38,8 +38,8 @@ impl Drop for ShaderModule {
     }
 }
 
-/// One descriptor set with its own layout and pool; bindings are visible to vertex and
-/// fragment stages.
+/// One descriptor set with its own layout and pool; bindings are visible to the vertex, fragment
+/// and compute stages.
 pub struct DescriptorSet {
     ctx: Arc<Context>,
     pub(crate) layout: vk::DescriptorSetLayout,
@@ -64,7 +64,9 @@ impl DescriptorSet {
             })
             .collect::<Result<Vec<_>>>()?;
         let d = &ctx.device;
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let stages = vk::ShaderStageFlags::VERTEX
+            | vk::ShaderStageFlags::FRAGMENT
+            | vk::ShaderStageFlags::COMPUTE;
         let layout_bindings: Vec<_> = bindings
             .iter()
             .map(|&(b, ty, _)| {
@@ -186,21 +188,10 @@ impl GraphicsPipeline {
             layout,
         };
 
-        let spec_entries: Vec<_> = desc
-            .specialization
-            .iter()
-            .enumerate()
-            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
-                constant_id: id,
-                offset: 4 * i as u32,
-                size: 4,
-            })
-            .collect();
-        let spec_data: Vec<u32> = desc.specialization.iter().map(|&(_, v)| v).collect();
-        let spec_bytes: &[u8] = bytemuck::cast_slice(&spec_data);
+        let (spec_entries, spec_data) = specialization(desc.specialization);
         let spec = vk::SpecializationInfo::default()
             .map_entries(&spec_entries)
-            .data(spec_bytes);
+            .data(bytemuck::cast_slice(&spec_data));
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
@@ -288,6 +279,82 @@ impl GraphicsPipeline {
                 })?;
         this.raw = pipelines[0];
         Ok(this)
+    }
+}
+
+/// The map entries and data of specialization constants (constant id, u32 value).
+fn specialization(constants: &[(u32, u32)]) -> (Vec<vk::SpecializationMapEntry>, Vec<u32>) {
+    let entries = constants
+        .iter()
+        .enumerate()
+        .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+            constant_id: id,
+            offset: 4 * i as u32,
+            size: 4,
+        })
+        .collect();
+    (entries, constants.iter().map(|&(_, v)| v).collect())
+}
+
+/// A compute pipeline with its layout (one descriptor set).
+pub struct ComputePipeline {
+    ctx: Arc<Context>,
+    pub(crate) raw: vk::Pipeline,
+    pub(crate) layout: vk::PipelineLayout,
+}
+
+impl ComputePipeline {
+    /// `specialization`: (constant id, u32 value).
+    pub fn new(
+        ctx: &Arc<Context>,
+        module: &ShaderModule,
+        descriptors: &DescriptorSet,
+        specialization: &[(u32, u32)],
+    ) -> Result<Self> {
+        let d = &ctx.device;
+        let set_layouts = [descriptors.layout];
+        let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        // SAFETY: valid create info.
+        let layout =
+            unsafe { d.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
+        let mut this = ComputePipeline {
+            ctx: ctx.clone(),
+            raw: vk::Pipeline::null(),
+            layout,
+        };
+        let (spec_entries, spec_data) = self::specialization(specialization);
+        let spec = vk::SpecializationInfo::default()
+            .map_entries(&spec_entries)
+            .data(bytemuck::cast_slice(&spec_data));
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.raw)
+            .name(c"main")
+            .specialization_info(&spec);
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout);
+        // SAFETY: every pointer in `info` refers to locals alive for the call.
+        let pipelines =
+            unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+                .map_err(|(_, r)| Error::Vulkan {
+                    call: "vkCreateComputePipelines",
+                    result: format!("{r:?}"),
+                })?;
+        this.raw = pipelines[0];
+        Ok(this)
+    }
+}
+
+impl Drop for ComputePipeline {
+    fn drop(&mut self) {
+        // SAFETY: no work in flight; handles owned by self.
+        unsafe {
+            if self.raw != vk::Pipeline::null() {
+                self.ctx.device.destroy_pipeline(self.raw, None);
+            }
+            self.ctx.device.destroy_pipeline_layout(self.layout, None);
+        }
     }
 }
 

@@ -1,0 +1,100 @@
+#version 450
+// A method on a buffer of cases (`shadelab stress`, src/gpu/evaluate.rs): each invocation sets
+// the inputs the fragment stage would see (the varyings as the vertex stage and the rasterizer
+// would produce them from the case's corners and weights, gl_FragCoord, one light) and runs the
+// same method code as glsl/shade.frag (glsl/method_main.glsl). Twin of the case layout:
+// gpu::evaluate::GpuCase.
+#define STAGE_COMPUTE
+#include "common.glsl"
+#include "shading.glsl"
+#ifdef IN_QUAT
+#include "quaternion.glsl"
+#endif
+
+struct Case {
+    vec4 weights;      // xyz: interpolation weights of corners 0, 1, 2
+    vec4 pixel;        // xy: the pixel centre in window space
+    vec4 window[3];    // xy: the triangle's window-space corners
+    vec4 normals[3];   // xyz: vertex normals (unit, or scaled by the stress sweep of lengths)
+    vec4 flatNormal;   // xyz: unit flat normal
+    vec4 pn[3];        // xyz: PN mid-edge normals n110, n011, n101
+    vec4 lightDir;     // xyz: L, unit, towards the light
+    vec4 halfVec;      // xyz: H = normalize(L + V)
+    vec4 lightColor;   // rgb: I_L
+    vec4 ambient;      // rgb: k_a I_a
+    vec4 diffuse;      // rgb: k_d
+    vec4 specular;     // rgb: k_s, w: shininess
+};
+
+layout(set = 0, binding = 0, std430) readonly buffer Cases { Case cases[]; };
+// Two per case: (colour, 1) and the shading normal (w 1 = the method has one).
+layout(set = 0, binding = 2, std430) writeonly buffer Results { vec4 results[]; };
+
+layout(local_size_x = 64) in;
+
+#include "method_main.glsl"
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= uint(cases.length())) {
+        return;
+    }
+    Case c = cases[i];
+    params.ambient = c.ambient;
+    params.diffuse = c.diffuse;
+    params.specular = c.specular;
+    params.lightDir[0] = c.lightDir;
+    params.lightColor[0] = c.lightColor;
+    params.halfVec[0] = c.halfVec;
+    fragCoord = vec4(c.pixel.xy, 0.5, 1.0);
+    vec3 w = c.weights.xyz;
+    vec3 n0 = c.normals[0].xyz;
+    vec3 n1 = c.normals[1].xyz;
+    vec3 n2 = c.normals[2].xyz;
+#ifdef IN_NORMAL
+    vNormal = n0 * w.x + n1 * w.y + n2 * w.z;
+#endif
+#ifdef IN_BARY
+    vBary = w;
+#endif
+#ifdef IN_PRIM
+    vPrim = 0u;
+#endif
+#ifdef IN_FLAT
+    vFlat = c.flatNormal.xyz;
+#endif
+#ifdef IN_CORNERS
+    vN0 = n0;
+    vN1 = n1;
+    vN2 = n2;
+#endif
+#ifdef IN_WINDOW
+    vW0 = c.window[0].xy;
+    vW1 = c.window[1].xy;
+    vW2 = c.window[2].xy;
+#endif
+#ifdef IN_PN
+    vPn01 = c.pn[0].xyz;
+    vPn12 = c.pn[1].xyz;
+    vPn20 = c.pn[2].xyz;
+#endif
+#ifdef IN_COLOR
+    vColor = shade(n0) * w.x + shade(n1) * w.y + shade(n2) * w.z;   // as glsl/shade.vert
+#endif
+#ifdef IN_QUAT
+#ifdef QUAT_LOCAL
+    vec3 t, b, nf = c.flatNormal.xyz;
+    onb(nf, t, b);
+    vQuat = quatFromNormal(vec3(dot(n0, t), dot(n0, b), dot(n0, nf))) * w.x
+          + quatFromNormal(vec3(dot(n1, t), dot(n1, b), dot(n1, nf))) * w.y
+          + quatFromNormal(vec3(dot(n2, t), dot(n2, b), dot(n2, nf))) * w.z;
+#else
+    vQuat = quatFromNormal(n0) * w.x + quatFromNormal(n1) * w.y + quatFromNormal(n2) * w.z;
+#endif
+#endif
+    vec3 color;
+    vec4 normal;
+    evaluateMethod(color, normal);
+    results[2 * i] = vec4(color, 1.0);
+    results[2 * i + 1] = normal;
+}

@@ -1,0 +1,601 @@
+//! The sweeps of `stress`: which cases each holds, which methods each applies to, and how the
+//! per-case errors fold into curves, the validity map, the largest valid angle and the claims.
+use std::collections::HashMap;
+
+use serde::Serialize;
+
+use super::cases::{Case, CaseSpec, Errors, Shape};
+use super::{CurvePoint, MethodStress, StressClaim, ValidityMap, Worst};
+use crate::error::Result;
+use crate::gpu::evaluate::GpuCase;
+use crate::method::{Input, Method, Verdict};
+
+/// The sweep a case belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sweep {
+    /// Angle between the vertex normals x elevation x frame x light (the validity map).
+    Angle,
+    /// Angle x shininess, the light on the specular peak and 10 degrees off it.
+    Shininess,
+    /// Span length (1 to 4096 pixels) x angle, every pixel of short spans.
+    Span,
+    /// Vertex normals scaled by 0 .. 1e38 (methods that take the interpolated normal).
+    Length,
+    /// Slivers and a sub-pixel triangle.
+    Shape,
+}
+
+/// Angles between the vertex normals, degrees: dense near 0 and near 180.
+pub const ANGLES: [f64; 31] = [
+    0.0, 0.01, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 15.0, 22.5, 30.0, 40.0, 45.0, 50.0, 60.0, 75.0, 90.0,
+    100.0, 105.0, 120.0, 135.0, 150.0, 160.0, 170.0, 175.0, 178.0, 179.0, 179.5, 179.9, 179.99,
+    180.0,
+];
+/// Angle of the pair's bisector from the viewer, degrees (90: edge-on, 180: facing away).
+pub const ELEVATIONS: [f64; 19] = [
+    0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0, 90.0, 91.0, 95.0, 105.0, 120.0, 135.0, 150.0,
+    165.0, 175.0, 179.0, 180.0,
+];
+/// (pair azimuth, roll) in degrees: the pair's plane holding or crossing the view axis, and the
+/// whole configuration turned about the view axis.
+pub const FRAMES: [(f64, f64); 4] = [(0.0, 0.0), (90.0, 0.0), (0.0, 90.0), (90.0, 45.0)];
+/// (angle of L from the bisector, out of the pair's plane): along the normal, 45 degrees,
+/// grazing in and across the plane, below the horizon.
+pub const LIGHTS: [(f64, bool); 5] = [
+    (0.0, false),
+    (45.0, false),
+    (89.9, false),
+    (89.9, true),
+    (100.0, false),
+];
+pub const SHININESS: [f64; 16] = [
+    1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 50.0, 67.0, 68.0, 80.0, 100.0, 150.0, 200.0, 300.0, 500.0,
+    1000.0,
+];
+pub const SHININESS_ANGLES: [f64; 9] = [1.0, 2.0, 4.0, 8.0, 15.0, 30.0, 45.0, 60.0, 90.0];
+pub const SPANS: [u32; 16] = [
+    1, 2, 3, 4, 5, 7, 8, 16, 33, 64, 128, 256, 512, 1024, 2048, 4096,
+];
+pub const LENGTHS: [f64; 16] = [
+    0.0, 1e-45, 1e-40, 1e-38, 1e-30, 1e-20, 1e-10, 1e-3, 0.5, 1.0, 2.0, 1e3, 1e10, 1e20, 1e30, 1e38,
+];
+/// Angles of the span, length and shape sweeps.
+pub const FEW_ANGLES: [f64; 3] = [4.0, 30.0, 90.0];
+/// The strip's span in the angle and shininess sweeps, and its sampled pixels.
+pub const SPAN: u32 = 64;
+const SHAPES: [Shape; 3] = [Shape::SliverRow, Shape::SliverColumn, Shape::SubPixel];
+
+/// `n` pixels spread over a span of `span` (all of them when it is no longer).
+fn pixels(span: u32, n: u32) -> Vec<u32> {
+    if span <= n {
+        return (0..span).collect();
+    }
+    let mut v: Vec<u32> = (0..n)
+        .map(|k| {
+            ((u64::from(k) * u64::from(span - 1) + u64::from(n / 2)) / u64::from(n - 1)) as u32
+        })
+        .map(|p| p.min(span - 1))
+        .collect();
+    v.dedup();
+    v
+}
+
+/// What a sweep holds, for stress.json.
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepInfo {
+    pub sweep: Sweep,
+    pub cases: usize,
+    pub varies: &'static str,
+}
+
+/// Every case of every sweep, built once and shared by all methods.
+pub struct Grid {
+    pub cases: Vec<Case>,
+    pub gpu: Vec<GpuCase>,
+    pub kinds: Vec<Sweep>,
+}
+
+impl Grid {
+    /// The specs of every sweep, in a fixed order.
+    pub fn specs() -> Vec<(Sweep, CaseSpec)> {
+        let base = CaseSpec::default();
+        let mut out = Vec::new();
+        for &theta in &ANGLES {
+            for &elevation in &ELEVATIONS {
+                for &(az, roll) in &FRAMES {
+                    for &(light, out_of_plane) in &LIGHTS {
+                        for pixel in pixels(SPAN, 17) {
+                            out.push((
+                                Sweep::Angle,
+                                CaseSpec {
+                                    theta_deg: theta,
+                                    elevation_deg: elevation,
+                                    pair_azimuth_deg: az,
+                                    roll_deg: roll,
+                                    light_deg: light,
+                                    light_out_of_plane: out_of_plane,
+                                    span_px: SPAN,
+                                    pixel,
+                                    ..base
+                                },
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        for &theta in &SHININESS_ANGLES {
+            // At 4 degrees every integer n up to 100 (S002's claim), then the coarse list.
+            let dense: Vec<f64> = if theta == 4.0 {
+                (1..=100)
+                    .map(f64::from)
+                    .chain([150.0, 200.0, 300.0, 500.0, 1000.0])
+                    .collect()
+            } else {
+                SHININESS.to_vec()
+            };
+            for &n in &dense {
+                for elevation in [0.0, 30.0, 60.0] {
+                    // light_deg = elevation in the pair's plane puts H on the bisector.
+                    for off in [0.0, 10.0] {
+                        for pixel in pixels(SPAN, 17) {
+                            out.push((
+                                Sweep::Shininess,
+                                CaseSpec {
+                                    theta_deg: theta,
+                                    elevation_deg: elevation,
+                                    light_deg: elevation + off,
+                                    shininess: n,
+                                    span_px: SPAN,
+                                    pixel,
+                                    ..base
+                                },
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        for &span in &SPANS {
+            for &theta in &FEW_ANGLES {
+                for pixel in pixels(span, 65) {
+                    out.push((
+                        Sweep::Span,
+                        CaseSpec {
+                            theta_deg: theta,
+                            span_px: span,
+                            pixel,
+                            ..base
+                        },
+                    ));
+                }
+            }
+        }
+        for &length in &LENGTHS {
+            for &theta in &FEW_ANGLES {
+                for pixel in pixels(SPAN, 17) {
+                    out.push((
+                        Sweep::Length,
+                        CaseSpec {
+                            theta_deg: theta,
+                            length,
+                            pixel,
+                            ..base
+                        },
+                    ));
+                }
+            }
+        }
+        for &shape in &SHAPES {
+            for &theta in &FEW_ANGLES {
+                let along = if shape == Shape::SubPixel {
+                    vec![0]
+                } else {
+                    pixels(3413, 33)
+                };
+                for pixel in along {
+                    out.push((
+                        Sweep::Shape,
+                        CaseSpec {
+                            theta_deg: theta,
+                            shape,
+                            pixel,
+                            ..base
+                        },
+                    ));
+                }
+            }
+        }
+        out
+    }
+
+    /// Builds every case (f64 references and the device's f32 inputs).
+    pub fn new() -> Result<Grid> {
+        let specs = Grid::specs();
+        let mut cases = Vec::with_capacity(specs.len());
+        let mut gpu = Vec::with_capacity(specs.len());
+        let mut kinds = Vec::with_capacity(specs.len());
+        for (kind, spec) in specs {
+            let case = Case::new(spec);
+            gpu.push(GpuCase::new(&case.fragment, &case.lighting)?);
+            cases.push(case);
+            kinds.push(kind);
+        }
+        Ok(Grid { cases, gpu, kinds })
+    }
+
+    /// Cases per sweep.
+    pub fn info(&self) -> Vec<SweepInfo> {
+        [
+            (Sweep::Angle, "angle between the vertex normals x elevation x frame x light x pixel"),
+            (Sweep::Shininess, "angle x shininess 1..1000 x elevation x light on / 10 degrees off the peak x pixel"),
+            (Sweep::Span, "span of 1..4096 pixels x angle x pixel"),
+            (Sweep::Length, "vertex normals' length 0, 1e-45 (subnormal) .. 1e38 x angle x pixel"),
+            (Sweep::Shape, "slivers along a row and a column (4096 x 0.1 px), a sub-pixel triangle x angle"),
+        ]
+        .into_iter()
+        .map(|(sweep, varies)| SweepInfo {
+            sweep,
+            cases: self.kinds.iter().filter(|&&k| k == sweep).count(),
+            varies,
+        })
+        .collect()
+    }
+}
+
+/// Whether a sweep applies to a method: the sweep of lengths only to methods that take the
+/// interpolated normal (the others read unit corner normals).
+pub fn applies(m: &Method, sweep: Sweep) -> bool {
+    match sweep {
+        Sweep::Length => m.inputs.contains(&Input::InterpolatedNormal),
+        _ => true,
+    }
+}
+
+/// Folds cases into points keyed by `key` (insertion order kept).
+fn fold(
+    grid: &Grid,
+    sweep: Sweep,
+    applies: &[bool],
+    primary: &[Errors],
+    twin: &[Errors],
+    key: impl Fn(&CaseSpec) -> Option<Vec<f64>>,
+    label: impl Fn(&CaseSpec) -> Option<String>,
+) -> Vec<CurvePoint> {
+    let mut points: Vec<CurvePoint> = Vec::new();
+    let mut index: HashMap<Vec<u64>, usize> = HashMap::new();
+    for (i, c) in grid.cases.iter().enumerate() {
+        if grid.kinds[i] != sweep || !applies[i] {
+            continue;
+        }
+        let Some(k) = key(&c.spec) else { continue };
+        let bits: Vec<u64> = k.iter().map(|x| x.to_bits()).collect();
+        let j = *index.entry(bits).or_insert_with(|| {
+            points.push(CurvePoint {
+                key: k.clone(),
+                label: label(&c.spec),
+                device: Worst::default(),
+                f64: Worst::default(),
+            });
+            points.len() - 1
+        });
+        if let Some(e) = primary[i].counted() {
+            points[j].device.add(e);
+        }
+        if let Some(e) = twin[i].counted() {
+            points[j].f64.add(e);
+        }
+    }
+    points
+}
+
+/// The curves of one method.
+pub struct Curves {
+    pub angle: Vec<CurvePoint>,
+    pub shininess: Vec<CurvePoint>,
+    pub span: Vec<CurvePoint>,
+    pub length: Vec<CurvePoint>,
+    pub shape: Vec<CurvePoint>,
+}
+
+/// Worst error per angle (facing the viewer), per (angle, shininess), per (angle, span), per
+/// length, per (shape, angle).
+pub fn curves(grid: &Grid, applies: &[bool], primary: &[Errors], twin: &[Errors]) -> Curves {
+    let none = |_: &CaseSpec| None;
+    Curves {
+        angle: fold(
+            grid,
+            Sweep::Angle,
+            applies,
+            primary,
+            twin,
+            |s| (s.elevation_deg < 90.0).then(|| vec![s.theta_deg]),
+            none,
+        ),
+        shininess: fold(
+            grid,
+            Sweep::Shininess,
+            applies,
+            primary,
+            twin,
+            |s| Some(vec![s.theta_deg, s.shininess]),
+            none,
+        ),
+        span: fold(
+            grid,
+            Sweep::Span,
+            applies,
+            primary,
+            twin,
+            |s| Some(vec![s.theta_deg, f64::from(s.span_px)]),
+            none,
+        ),
+        length: fold(
+            grid,
+            Sweep::Length,
+            applies,
+            primary,
+            twin,
+            |s| Some(vec![s.length]),
+            none,
+        ),
+        shape: fold(
+            grid,
+            Sweep::Shape,
+            applies,
+            primary,
+            twin,
+            |s| Some(vec![s.theta_deg]),
+            |s| Some(format!("{:?}", s.shape).to_lowercase()),
+        ),
+    }
+}
+
+/// The largest angle of [`ANGLES`] up to which every facing case of the angle sweep is finite
+/// and within `threshold` (None: not even the first).
+pub fn max_valid_angle(grid: &Grid, errs: &[Errors], threshold: f64) -> Option<f64> {
+    let mut per_angle = vec![Worst::default(); ANGLES.len()];
+    for (i, c) in grid.cases.iter().enumerate() {
+        if grid.kinds[i] == Sweep::Angle && c.spec.elevation_deg < 90.0 {
+            if let (Some(a), Some(e)) = (
+                ANGLES.iter().position(|&a| a == c.spec.theta_deg),
+                errs[i].counted(),
+            ) {
+                per_angle[a].add(e);
+            }
+        }
+    }
+    let valid = per_angle.iter().take_while(|w| w.valid(threshold)).count();
+    valid.checked_sub(1).map(|k| ANGLES[k])
+}
+
+/// Worst error per (elevation, angle) cell of the angle sweep.
+pub fn validity_map(grid: &Grid, errs: &[Errors]) -> ValidityMap {
+    let mut cells = vec![vec![Worst::default(); ANGLES.len()]; ELEVATIONS.len()];
+    for (i, c) in grid.cases.iter().enumerate() {
+        if grid.kinds[i] != Sweep::Angle {
+            continue;
+        }
+        let a = ANGLES.iter().position(|&a| a == c.spec.theta_deg);
+        let e = ELEVATIONS.iter().position(|&e| e == c.spec.elevation_deg);
+        if let (Some(a), Some(e), Some(v)) = (a, e, errs[i].counted()) {
+            cells[e][a].add(v);
+        }
+    }
+    ValidityMap {
+        angles_deg: ANGLES.to_vec(),
+        elevations_deg: ELEVATIONS.to_vec(),
+        cells,
+    }
+}
+
+/// A neighbour of `s` for the local search: angles, elevation, frame and light moved by up to
+/// `step` degrees, the pixel by up to `step / 2` pixels, clamped to their domains.
+pub fn perturb(s: &CaseSpec, step: f64, rng: &mut fastrand::Rng) -> CaseSpec {
+    let mut d = |x: f64, lo: f64, hi: f64| (x + step * (2.0 * rng.f64() - 1.0)).clamp(lo, hi);
+    let mut out = CaseSpec {
+        theta_deg: d(s.theta_deg, 0.0, 180.0),
+        elevation_deg: d(s.elevation_deg, 0.0, 180.0),
+        pair_azimuth_deg: d(s.pair_azimuth_deg, 0.0, 180.0),
+        roll_deg: d(s.roll_deg, -180.0, 180.0),
+        light_deg: d(s.light_deg, 0.0, 180.0),
+        ..*s
+    };
+    let span = match s.shape {
+        Shape::Strip => s.span_px.max(1),
+        Shape::SubPixel => 1,
+        _ => 3413,
+    };
+    let jump = (step / 2.0).ceil() as i64;
+    let p = i64::from(s.pixel) + rng.i64(-jump..=jump);
+    out.pixel = p.clamp(0, i64::from(span) - 1) as u32;
+    out
+}
+
+/// S002's specular bound at 4 degrees: one digital segment of `2^k` pixels whose end normals
+/// are 4 degrees apart, H on their bisector (the segment's middle pixel, t = 1/2), specular
+/// term alone; the relative error there for n = 1..=100.
+#[derive(Debug, Clone, Serialize)]
+pub struct SpecularBound {
+    pub method: String,
+    pub shininess: Vec<f64>,
+    /// (exact - method) / exact at the middle pixel, on the device (f64 twin without one).
+    pub relative_error: Vec<f64>,
+    /// The seed's bound 1 - cos^n(theta/2).
+    pub bound: Vec<f64>,
+}
+
+/// The specs of [`SpecularBound`] for a segment of `2^k` pixels.
+pub fn specular_bound_specs(k: u32) -> Vec<CaseSpec> {
+    (1..=100)
+        .map(|n| CaseSpec {
+            theta_deg: 4.0,
+            elevation_deg: 0.0,
+            light_deg: 0.0,
+            shininess: f64::from(n),
+            span_px: 1 << k,
+            pixel: 1 << (k - 1),
+            specular_only: true,
+            ..CaseSpec::default()
+        })
+        .collect()
+}
+
+/// The validity claims checked by the sweeps: (method, claimed range in degrees, claim).
+const USABLE_UP_TO: [(&str, f64, &str); 5] = [
+    ("newton_raphson", 40.0, "usable for angles between vertex normals up to 40 degrees (S000 l.35)"),
+    ("romanyuk_poly", 90.0, "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (FORMULAS.md 2.8)"),
+    ("barycentric_quadratic", 90.0, "the M_ij polynomial is fitted for vertex normals up to 90 degrees apart (FORMULAS.md 2.15)"),
+    ("dichotomy_poly1", 45.0, "the degree-1 inverse root is fitted for phi <= 45 degrees per halving (S002 l.643)"),
+    ("dichotomy_poly2", 45.0, "the degree-2 inverse root is fitted for phi <= 45 degrees per halving (S002 l.646-658)"),
+];
+const COLLAPSES_BEYOND_90: [&str; 2] = ["quadratic_scanline", "quadratic_scanline_approx_mid"];
+
+fn fmt(x: Option<f64>) -> String {
+    x.map_or("none".into(), |v| format!("{v}"))
+}
+
+/// The worst device error at angles in `(lo, hi]` of a method's angle curve.
+fn worst_between(m: &MethodStress, lo: f64, hi: f64) -> Worst {
+    let mut w = Worst::default();
+    for p in m
+        .error_vs_angle
+        .iter()
+        .filter(|p| p.key[0] > lo && p.key[0] <= hi)
+    {
+        w.count += p.device.count;
+        w.non_finite += p.device.non_finite;
+        if let Some(v) = p.device.max {
+            w.max = Some(w.max.map_or(v, |x: f64| x.max(v)));
+        }
+    }
+    w
+}
+
+/// Verdicts of the validity claims and S002's specular bound, from the sweeps.
+pub fn claims(
+    methods: &[MethodStress],
+    specular: &[SpecularBound],
+    threshold: f64,
+) -> Vec<StressClaim> {
+    let mut out = Vec::new();
+    let how_valid = format!(
+        "max_valid_angle_deg: the largest angle of the sweep up to which every case facing the \
+         viewer (elevation < 90, 4 frames, 5 lights, shininess 20, 17 pixels) is finite and within \
+         {threshold:.6} on the device; agrees when it reaches the claimed angle"
+    );
+    for (name, range, claim) in USABLE_UP_TO {
+        let Some(m) = methods.iter().find(|m| m.name == name) else {
+            continue;
+        };
+        let v = m.max_valid_angle_deg;
+        let verdict = if v.is_some_and(|v| v >= range) {
+            Verdict::Agrees
+        } else {
+            Verdict::Disagrees
+        };
+        let at = worst_between(m, 0.0, range);
+        out.push(StressClaim {
+            method: name.into(),
+            claim: claim.into(),
+            measured: format!(
+                "valid up to {} degrees on the device ({} in f64); worst error up to {range} degrees {} ({} non-finite)",
+                fmt(v),
+                fmt(m.max_valid_angle_deg_f64),
+                fmt(at.max),
+                at.non_finite
+            ),
+            verdict,
+            how: how_valid.clone(),
+        });
+    }
+    for name in COLLAPSES_BEYOND_90 {
+        let Some(m) = methods.iter().find(|m| m.name == name) else {
+            continue;
+        };
+        let upto = worst_between(m, 60.0, 90.0);
+        let beyond = worst_between(m, 90.0, 120.0);
+        let ratio = match (upto.max, beyond.max) {
+            (Some(a), Some(b)) if a > 0.0 => Some(b / a),
+            _ => None,
+        };
+        let verdict = match (ratio, beyond.non_finite) {
+            (_, n) if n > 0 => Verdict::Agrees,
+            (Some(r), _) if r >= 10.0 => Verdict::Agrees,
+            (Some(r), _) if r < 3.0 => Verdict::Disagrees,
+            (Some(_), _) => Verdict::Partly,
+            (None, _) => Verdict::Inconclusive,
+        };
+        out.push(StressClaim {
+            method: name.into(),
+            claim:
+                "accuracy collapses beyond 90 degrees between the end normals (FORMULAS.md 2.12)"
+                    .into(),
+            measured: format!(
+                "worst error at 60-90 degrees {}, at 90-120 degrees {} ({} non-finite): ratio {}",
+                fmt(upto.max),
+                fmt(beyond.max),
+                beyond.non_finite,
+                fmt(ratio)
+            ),
+            verdict,
+            how: "worst device error over the facing cases of the angle sweep; agrees when the \
+                  error at 90-120 degrees is at least 10x the error at 60-90 (or non-finite), \
+                  disagrees under 3x, partly between"
+                .into(),
+        });
+    }
+    for s in specular {
+        let failing: Vec<f64> = s
+            .shininess
+            .iter()
+            .zip(&s.relative_error)
+            .filter(|(_, &e)| !(e <= 0.04))
+            .map(|(&n, _)| n)
+            .collect();
+        let bound_failing = s
+            .shininess
+            .iter()
+            .zip(&s.bound)
+            .filter(|(_, &b)| b > 0.04)
+            .map(|(&n, _)| n)
+            .collect::<Vec<_>>();
+        let range = |v: &[f64]| match (v.first(), v.last()) {
+            (Some(a), Some(b)) => format!("n = {a}..{b} ({} values)", v.len()),
+            _ => "no n".into(),
+        };
+        let at100 = s.relative_error.last().copied().unwrap_or(f64::NAN);
+        let first = s
+            .shininess
+            .iter()
+            .zip(&s.relative_error)
+            .find(|(_, &e)| !(e <= 0.04))
+            .map_or(String::new(), |(n, e)| {
+                format!(" (first: n = {n}, {:.4} %)", 100.0 * e)
+            });
+        out.push(StressClaim {
+            method: s.method.clone(),
+            claim: "for n <= 100 the specular error stays within 4 % at 4 degrees between \
+                    segment-end normals (S002 l.595-598)"
+                .into(),
+            measured: format!(
+                "relative specular error at the segment's middle above 4 % for {}{first}; {:.2} % at n = 100; \
+                 the seed's bound 1 - cos^n(2 deg) exceeds 4 % for {}",
+                range(&failing),
+                100.0 * at100,
+                range(&bound_failing)
+            ),
+            verdict: if failing.is_empty() {
+                Verdict::Agrees
+            } else {
+                Verdict::Disagrees
+            },
+            how: "one segment of 2^k pixels, end normals 4 degrees apart, H on their bisector, \
+                  specular term alone (k_s = 1), n = 1..100, evaluated on the device at the \
+                  middle pixel; disagrees when any n <= 100 exceeds 4 %"
+                .into(),
+        });
+    }
+    out
+}
