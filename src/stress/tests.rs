@@ -1,1 +1,226 @@
+use super::cases::{Case, CaseSpec};
+use super::grid::{self, Grid, Sweep, ANGLES};
 use super::*;
+use crate::gpu::vk::ContextDesc;
+use crate::method::{self, Verdict, METHODS};
+
+fn context() -> Arc<Context> {
+    Context::new(&ContextDesc::default()).expect("lavapipe context")
+}
+
+/// Cases inside every method's comfortable range: angles up to 45 degrees, facing the viewer,
+/// every frame and light of the angle sweep.
+fn moderate_cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    for theta in [0.5, 4.0, 30.0, 45.0] {
+        for elevation in [0.0, 30.0, 60.0] {
+            for &(az, roll) in &grid::FRAMES {
+                for &(light, out_of_plane) in &grid::LIGHTS {
+                    for pixel in [0, 5, 21, 32, 47, 63] {
+                        out.push(Case::new(CaseSpec {
+                            theta_deg: theta,
+                            elevation_deg: elevation,
+                            pair_azimuth_deg: az,
+                            roll_deg: roll,
+                            light_deg: light,
+                            light_out_of_plane: out_of_plane,
+                            pixel,
+                            ..CaseSpec::default()
+                        }));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The largest colour difference between the device's results of `kernel_of` and the f64 twin
+/// of `twin_of`.
+fn device_vs_twin(
+    ctx: &Arc<Context>,
+    kernel_of: &Method,
+    twin_of: &Method,
+    cases: &[Case],
+) -> f64 {
+    let gpu: Vec<GpuCase> = cases
+        .iter()
+        .map(|c| GpuCase::new(&c.fragment, &c.lighting).unwrap())
+        .collect();
+    let out = Kernel::new(ctx, kernel_of).unwrap().run(&gpu).unwrap();
+    cases
+        .iter()
+        .zip(out)
+        .map(|(c, o)| {
+            let f = (twin_of.eval_f64)(&c.fragment, &c.lighting);
+            let d = Output::from_device(&o).color() - f.color;
+            assert!(d.is_finite(), "{}: non-finite at {:?}", kernel_of.name, c.spec);
+            d.abs().max_element()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Colour tolerance between the device and the f64 twin on [`moderate_cases`]: float32
+/// rounding through a specular power of 20 (the largest measured when this was written:
+/// 1.7e-6, segments_k3_poly2).
+const DEVICE_TOLERANCE: f64 = 1e-5;
+
+/// glsl/evaluate.comp runs the same method as the f64 twin: every method agrees to float32
+/// rounding in its range, and a kernel judged by another method's twin does not.
+#[test]
+fn the_compute_kernel_is_the_method_of_its_twin() {
+    let ctx = context();
+    let cases = moderate_cases();
+    for m in METHODS.iter().filter(|m| has_evaluate_program(m)) {
+        let d = device_vs_twin(&ctx, m, m, &cases);
+        assert!(d <= DEVICE_TOLERANCE, "{}: device vs f64 {d:e}", m.name);
+    }
+    let exact = method::find("phong_exact").unwrap();
+    for other in ["newton_raphson", "slerp", "segments_k2", "gouraud"] {
+        let d = device_vs_twin(&ctx, exact, method::find(other).unwrap(), &cases);
+        assert!(d > 10.0 * DEVICE_TOLERANCE, "phong_exact judged by {other}: {d:e}");
+    }
+}
+
+#[test]
+fn worst_counts_non_finite_and_is_valid_only_without_it() {
+    let mut w = Worst::default();
+    assert!(!w.valid(1.0), "no case is not valid");
+    w.add(0.001);
+    assert!(w.valid(0.01) && !w.valid(0.0001));
+    w.add(f64::NAN);
+    assert_eq!((w.count, w.non_finite, w.max), (2, 1, Some(0.001)));
+    assert!(!w.valid(1.0), "a NaN case makes it invalid at any threshold");
+}
+
+/// A small grid of the angle sweep at the first five angles, facing and back-facing.
+fn small_grid() -> Grid {
+    let mut cases = Vec::new();
+    for &theta in &ANGLES[..5] {
+        for elevation in [0.0, 120.0] {
+            cases.push(Case::new(CaseSpec {
+                theta_deg: theta,
+                elevation_deg: elevation,
+                ..CaseSpec::default()
+            }));
+        }
+    }
+    let gpu = cases
+        .iter()
+        .map(|c| GpuCase::new(&c.fragment, &c.lighting).unwrap())
+        .collect();
+    let kinds = vec![Sweep::Angle; cases.len()];
+    Grid { cases, gpu, kinds }
+}
+
+fn errs(grid: &Grid, f: impl Fn(&CaseSpec) -> f64) -> Vec<Errors> {
+    grid.cases
+        .iter()
+        .map(|c| {
+            let v = f(&c.spec);
+            cases::errors(c, c.phong + DVec3::splat(v), None)
+        })
+        .collect()
+}
+
+#[test]
+fn max_valid_angle_stops_at_the_first_bad_facing_angle() {
+    let g = small_grid();
+    let t = 0.01;
+    assert_eq!(grid::max_valid_angle(&g, &errs(&g, |_| 0.0), t), Some(ANGLES[4]));
+    let bad_at_2 = errs(&g, |s| if s.theta_deg == ANGLES[2] { 0.1 } else { 0.0 });
+    assert_eq!(grid::max_valid_angle(&g, &bad_at_2, t), Some(ANGLES[1]));
+    let nan_at_0 = errs(&g, |s| if s.theta_deg == 0.0 { f64::NAN } else { 0.0 });
+    assert_eq!(grid::max_valid_angle(&g, &nan_at_0, t), None);
+    // back-facing cases do not decide it
+    let bad_behind = errs(&g, |s| if s.elevation_deg > 90.0 { 0.5 } else { 0.0 });
+    assert_eq!(grid::max_valid_angle(&g, &bad_behind, t), Some(ANGLES[4]));
+    // ... but they are in the validity map, NaN as non-finite
+    let map = grid::validity_map(&g, &nan_at_0);
+    assert_eq!(map.cells[0][0].non_finite, 1);
+}
+
+#[test]
+fn the_specular_claim_names_the_failing_shininess() {
+    let shininess: Vec<f64> = (1..=100).map(f64::from).collect();
+    let bound: Vec<f64> = shininess
+        .iter()
+        .map(|&n| 1.0 - 2f64.to_radians().cos().powf(n))
+        .collect();
+    let claim = |rel: Vec<f64>| {
+        let s = grid::SpecularBound {
+            method: "segments_k2".into(),
+            shininess: shininess.clone(),
+            relative_error: rel,
+            bound: bound.clone(),
+        };
+        grid::claims(&[], &[s], 1.0 / 255.0).remove(0)
+    };
+    let c = claim(bound.clone());
+    assert_eq!(c.verdict, Verdict::Disagrees);
+    assert!(c.measured.contains("n = 67..100"), "{}", c.measured);
+    let halved: Vec<f64> = bound.iter().map(|b| b / 2.0).collect();
+    assert_eq!(claim(halved).verdict, Verdict::Agrees);
+    let mut nan = bound.iter().map(|b| b / 2.0).collect::<Vec<_>>();
+    nan[3] = f64::NAN;
+    let c = claim(nan);
+    assert_eq!(c.verdict, Verdict::Disagrees, "NaN is not within 4 %");
+    assert!(c.measured.contains("n = 4..4"), "{}", c.measured);
+}
+
+/// A method on a small grid: the worst case replays bit for bit; a changed recorded colour is
+/// caught; the refined worst is at least the grid's.
+#[test]
+fn the_worst_case_replays_bit_for_bit() {
+    let ctx = context();
+    let m = method::find("slerp").unwrap();
+    let g = small_grid();
+    let opts = StressOptions {
+        refine_rounds: 2,
+        ..StressOptions::default()
+    };
+    let r = stress_method(&ctx, m, &g, &opts).unwrap();
+    assert!(r.worst_finite_abs_error >= r.worst_grid_abs_error);
+    let worst = r.worst_case.clone().unwrap();
+    let again = replay::replay(&ctx, &worst).unwrap();
+    assert_eq!(again.bit_identical, Some(true));
+    let mut tampered = worst.clone();
+    let c = tampered.device_color.unwrap();
+    tampered.device_color = Some([f64::from(f32::from_bits((c[0] as f32).to_bits() + 1)), c[1], c[2]]);
+    assert_eq!(replay::replay(&ctx, &tampered).unwrap().bit_identical, Some(false));
+    // the file round trip
+    let json = serde_json::to_vec(&worst).unwrap();
+    let parsed = replay::parse(std::path::Path::new("case.json"), &json).unwrap();
+    assert_eq!(parsed.spec, worst.spec);
+}
+
+#[test]
+fn bad_case_files_are_refused_with_the_reason() {
+    let p = std::path::Path::new("case.json");
+    let ok = serde_json::to_value(CaseReport {
+        method: "slerp".into(),
+        spec: CaseSpec::default(),
+        inputs: None,
+        exact_phong: None,
+        device_color: None,
+        device_normal: None,
+        f64_color: None,
+        device_abs_error: None,
+        f64_abs_error: None,
+    })
+    .unwrap();
+    assert!(replay::parse(p, ok.to_string().as_bytes()).is_ok());
+    let with = |path: &str, v: serde_json::Value| {
+        let mut j = ok.clone();
+        j.pointer_mut(path).map(|x| *x = v).unwrap();
+        replay::parse(p, j.to_string().as_bytes())
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(with("/method", "no_such".into()).contains("unknown method"));
+    assert!(with("/spec/theta_deg", 1e9.into()).contains("theta_deg"));
+    assert!(with("/spec/span_px", 0.into()).contains("span_px"));
+    assert!(with("/spec/shininess", (-1.0).into()).contains("shininess"));
+    let e = replay::parse(p, b"{not json").unwrap_err().to_string();
+    assert!(e.contains("case.json") && e.contains("not a stress case"), "{e}");
+}
