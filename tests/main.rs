@@ -7,6 +7,7 @@
 //! - `bench`: bench.json against its schema, CSV, charts, claims (structure only, no speeds).
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
+//! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
@@ -18,4 +19,5 @@ mod layout;
 mod methods;
 mod models;
 mod shaders;
+mod stress;
 mod support;

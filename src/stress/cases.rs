@@ -8,9 +8,8 @@
 //! `light_deg` with M, in the pair's plane (`light_out_of_plane` false) or across it; H =
 //! normalize(L + V). On screen, the triangle is a strip whose first row is a span of `span_px`
 //! pixels from N0 (left) to N1 (right), its third corner far below, or one of the shapes of
-//! [`Shape`]; the pixel is `pixel` (a pixel
-//! index along the span, or along the shape). The 3-D positions are the normals themselves (a
-//! patch of the unit sphere), which gives the flat and PN mid-edge normals. Every value is
+//! [`Shape`]; the pixel is `pixel` (a pixel index along the span, or along the shape). In 3-D
+//! the triangle is flat across M (flat normal M), which gives the PN mid-edge normals. Every value is
 //! rounded to f32 once, so the device and the f64 twin see the same numbers.
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -215,8 +214,12 @@ impl Case {
         let (window, pixel) = screen(&spec);
         let window = window.map(r2);
         let w = r3(weights(pixel, window));
-        let mut flat = (unit[1] - unit[0])
-            .cross(unit[2] - unit[0])
+        // A flat triangle across the bisector: N0's corner on -T, N1's on +T, N2's off the
+        // line; its flat normal is M (a sphere patch through the normals would degenerate to a
+        // point at theta = 0).
+        let positions = [-t, t, m.cross(t)];
+        let mut flat = (positions[1] - positions[0])
+            .cross(positions[2] - positions[0])
             .normalize_or_zero();
         if flat.dot(unit[0] + unit[1] + unit[2]) < 0.0 {
             flat = -flat;
@@ -227,7 +230,7 @@ impl Case {
             window,
             corner_normals: normals,
             flat_normal: r3(flat),
-            pn_mids: formulas::pn_mid_normals(unit, unit).map(r3),
+            pn_mids: formulas::pn_mid_normals(positions, unit).map(r3),
         };
         let interpolated = fragment.interpolated_normal();
         let longest = normals.iter().map(|n| n.length()).fold(0.0, f64::max);
@@ -344,6 +347,10 @@ mod tests {
             ..CaseSpec::default()
         });
         assert!(away.phong_normal.z < -0.999);
+        assert!(
+            away.fragment.flat_normal.z < -0.999,
+            "the flat normal is the bisector"
+        );
         let first = Case::new(CaseSpec {
             pixel: 0,
             ..CaseSpec::default()

@@ -81,10 +81,19 @@ pub struct CaseReport {
     pub spec: CaseSpec,
     /// The f32 inputs the device read (glsl/evaluate.comp `struct Case`), for a reader.
     pub inputs: Option<GpuCaseJson>,
+    /// Colours and normals: a NaN or infinite component is written as null (and read back
+    /// as NaN).
+    #[serde(default, deserialize_with = "nullable_rgb")]
     pub exact_phong: Option<[f64; 3]>,
-    /// The device's colour (f32 widened), compared bit for bit by `--replay`.
+    /// The device's colour (f32 widened).
+    #[serde(default, deserialize_with = "nullable_rgb")]
     pub device_color: Option<[f64; 3]>,
+    /// The device colour's f32 bit patterns, compared bit for bit by `--replay` (NaN too).
+    #[serde(default)]
+    pub device_color_bits: Option<[u32; 3]>,
+    #[serde(default, deserialize_with = "nullable_rgb")]
     pub device_normal: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "nullable_rgb")]
     pub f64_color: Option<[f64; 3]>,
     /// Max abs colour error against exact Phong on the device (null: non-finite).
     pub device_abs_error: Option<f64>,
@@ -120,6 +129,14 @@ impl From<&GpuCase> for GpuCaseJson {
     }
 }
 
+/// Reads an RGB triple whose non-finite components were written as null.
+fn nullable_rgb<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Option<[f64; 3]>, D::Error> {
+    let v: Option<[Option<f64>; 3]> = serde::Deserialize::deserialize(d)?;
+    Ok(v.map(|c| c.map(|x| x.unwrap_or(f64::NAN))))
+}
+
 fn finite_or_none(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
@@ -138,6 +155,7 @@ pub fn case_report(m: &Method, case: &Case, dev: Option<&Output>) -> Result<Case
         )?)),
         exact_phong: Some(case.phong.to_array()),
         device_color: dev.map(|d| d.color),
+        device_color_bits: dev.map(|d| d.color.map(|x| (x as f32).to_bits())),
         device_normal: dev.and_then(|d| d.normal),
         f64_color: Some(f.color.to_array()),
         device_abs_error: ed.and_then(|e| finite_or_none(e.abs)),

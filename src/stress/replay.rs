@@ -96,9 +96,14 @@ pub fn replay(ctx: &Arc<Context>, recorded: &CaseReport) -> Result<Replayed> {
     let measured = measure(&mut kernel.as_mut(), m, std::slice::from_ref(&case))?;
     let dev: Option<Output> = measured.into_iter().next().and_then(|(_, o)| o);
     let now = case_report(m, &case, dev.as_ref())?;
-    let bits = |c: [f64; 3]| c.map(|x| (x as f32).to_bits());
-    let bit_identical = match (recorded.device_color, now.device_color) {
-        (Some(a), Some(b)) => Some(bits(a) == bits(b)),
+    // The recorded bits, or the recorded colour's where a hand-made file has no bits.
+    let recorded_bits = recorded.device_color_bits.or_else(|| {
+        recorded
+            .device_color
+            .map(|c| c.map(|x| (x as f32).to_bits()))
+    });
+    let bit_identical = match (recorded_bits, now.device_color_bits) {
+        (Some(a), Some(b)) => Some(a == b),
         _ => None,
     };
     Ok(Replayed { now, bit_identical })

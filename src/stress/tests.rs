@@ -37,12 +37,7 @@ fn moderate_cases() -> Vec<Case> {
 
 /// The largest colour difference between the device's results of `kernel_of` and the f64 twin
 /// of `twin_of`.
-fn device_vs_twin(
-    ctx: &Arc<Context>,
-    kernel_of: &Method,
-    twin_of: &Method,
-    cases: &[Case],
-) -> f64 {
+fn device_vs_twin(ctx: &Arc<Context>, kernel_of: &Method, twin_of: &Method, cases: &[Case]) -> f64 {
     let gpu: Vec<GpuCase> = cases
         .iter()
         .map(|c| GpuCase::new(&c.fragment, &c.lighting).unwrap())
@@ -54,7 +49,12 @@ fn device_vs_twin(
         .map(|(c, o)| {
             let f = (twin_of.eval_f64)(&c.fragment, &c.lighting);
             let d = Output::from_device(&o).color() - f.color;
-            assert!(d.is_finite(), "{}: non-finite at {:?}", kernel_of.name, c.spec);
+            assert!(
+                d.is_finite(),
+                "{}: non-finite at {:?}",
+                kernel_of.name,
+                c.spec
+            );
             d.abs().max_element()
         })
         .fold(0.0, f64::max)
@@ -78,7 +78,10 @@ fn the_compute_kernel_is_the_method_of_its_twin() {
     let exact = method::find("phong_exact").unwrap();
     for other in ["newton_raphson", "slerp", "segments_k2", "gouraud"] {
         let d = device_vs_twin(&ctx, exact, method::find(other).unwrap(), &cases);
-        assert!(d > 10.0 * DEVICE_TOLERANCE, "phong_exact judged by {other}: {d:e}");
+        assert!(
+            d > 10.0 * DEVICE_TOLERANCE,
+            "phong_exact judged by {other}: {d:e}"
+        );
     }
 }
 
@@ -90,7 +93,10 @@ fn worst_counts_non_finite_and_is_valid_only_without_it() {
     assert!(w.valid(0.01) && !w.valid(0.0001));
     w.add(f64::NAN);
     assert_eq!((w.count, w.non_finite, w.max), (2, 1, Some(0.001)));
-    assert!(!w.valid(1.0), "a NaN case makes it invalid at any threshold");
+    assert!(
+        !w.valid(1.0),
+        "a NaN case makes it invalid at any threshold"
+    );
 }
 
 /// A small grid of the angle sweep at the first five angles, facing and back-facing.
@@ -127,7 +133,10 @@ fn errs(grid: &Grid, f: impl Fn(&CaseSpec) -> f64) -> Vec<Errors> {
 fn max_valid_angle_stops_at_the_first_bad_facing_angle() {
     let g = small_grid();
     let t = 0.01;
-    assert_eq!(grid::max_valid_angle(&g, &errs(&g, |_| 0.0), t), Some(ANGLES[4]));
+    assert_eq!(
+        grid::max_valid_angle(&g, &errs(&g, |_| 0.0), t),
+        Some(ANGLES[4])
+    );
     let bad_at_2 = errs(&g, |s| if s.theta_deg == ANGLES[2] { 0.1 } else { 0.0 });
     assert_eq!(grid::max_valid_angle(&g, &bad_at_2, t), Some(ANGLES[1]));
     let nan_at_0 = errs(&g, |s| if s.theta_deg == 0.0 { f64::NAN } else { 0.0 });
@@ -185,13 +194,35 @@ fn the_worst_case_replays_bit_for_bit() {
     let again = replay::replay(&ctx, &worst).unwrap();
     assert_eq!(again.bit_identical, Some(true));
     let mut tampered = worst.clone();
-    let c = tampered.device_color.unwrap();
-    tampered.device_color = Some([f64::from(f32::from_bits((c[0] as f32).to_bits() + 1)), c[1], c[2]]);
-    assert_eq!(replay::replay(&ctx, &tampered).unwrap().bit_identical, Some(false));
+    let mut b = tampered.device_color_bits.unwrap();
+    b[0] += 1;
+    tampered.device_color_bits = Some(b);
+    assert_eq!(
+        replay::replay(&ctx, &tampered).unwrap().bit_identical,
+        Some(false)
+    );
     // the file round trip
     let json = serde_json::to_vec(&worst).unwrap();
     let parsed = replay::parse(std::path::Path::new("case.json"), &json).unwrap();
     assert_eq!(parsed.spec, worst.spec);
+    // a non-finite case round-trips (null in JSON) and replays bit for bit too
+    let bq = method::find("barycentric_quadratic_exact_mid").unwrap();
+    let antipodal = Case::new(CaseSpec {
+        theta_deg: 180.0,
+        ..CaseSpec::default()
+    });
+    let mut k = Some(Kernel::new(&ctx, bq).unwrap());
+    let (err, out) = measure(&mut k.as_mut(), bq, std::slice::from_ref(&antipodal))
+        .unwrap()
+        .remove(0);
+    assert!(err.is_nan(), "antipodal normals make it NaN: {err}");
+    let nan = case_report(bq, &antipodal, out.as_ref()).unwrap();
+    let json = serde_json::to_vec(&nan).unwrap();
+    let parsed = replay::parse(std::path::Path::new("case.json"), &json).unwrap();
+    assert_eq!(
+        replay::replay(&ctx, &parsed).unwrap().bit_identical,
+        Some(true)
+    );
 }
 
 #[test]
@@ -203,6 +234,7 @@ fn bad_case_files_are_refused_with_the_reason() {
         inputs: None,
         exact_phong: None,
         device_color: None,
+        device_color_bits: None,
         device_normal: None,
         f64_color: None,
         device_abs_error: None,
@@ -222,5 +254,8 @@ fn bad_case_files_are_refused_with_the_reason() {
     assert!(with("/spec/span_px", 0.into()).contains("span_px"));
     assert!(with("/spec/shininess", (-1.0).into()).contains("shininess"));
     let e = replay::parse(p, b"{not json").unwrap_err().to_string();
-    assert!(e.contains("case.json") && e.contains("not a stress case"), "{e}");
+    assert!(
+        e.contains("case.json") && e.contains("not a stress case"),
+        "{e}"
+    );
 }
