@@ -4,7 +4,8 @@
 #     (one untimed run first fills Mesa's shader cache), median and range of RUNS runs;
 #  2. per-frame draw time of phong_exact against the constant-colour floor (`shadelab bench`);
 #  3. `shadelab compare` of all methods at 1024x1024 on the fine sphere (renders, statistics,
-#     FLIP, every PNG): wall time and peak resident memory.
+#     FLIP, every PNG): wall time and peak resident memory;
+#  4. `shadelab stress` of all methods: wall time and peak resident memory.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-15}
@@ -41,3 +42,15 @@ print(f"wall {wall:.2f} s, peak RSS {rss:.0f} MB", end="; ")
 PY
   python3 -c "import json,sys; t=json.load(open(sys.argv[1]))['timing']; print(', '.join(f'{k} {v:.0f}' for k,v in t.items()))" "$tmp/cmp/summary.json"
 done
+
+echo
+scmd=("$bin" stress --out "$tmp/stress")
+echo "== stress, all methods (target <= 60 s): ${scmd[*]/$tmp/TMP}"
+python3 - "${scmd[@]}" <<'PY'
+import resource, subprocess, sys, time
+s = time.monotonic()
+subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+wall = time.monotonic() - s
+rss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+print(f"wall {wall:.2f} s, peak RSS {rss:.0f} MB")
+PY
