@@ -32,7 +32,51 @@ layout(set = 0, binding = 2, std430) writeonly buffer Results { vec4 results[]; 
 
 layout(local_size_x = 64) in;
 
+// Evaluations per invocation (`bench`'s isolated cost; 1 for `stress`). From the second on, each
+// reads inputs nudged by the previous colour, a dependency chain the compiler can neither hoist
+// nor drop; 0 stores the loaded inputs without evaluating the method (the chain's baseline).
+layout(constant_id = 1) const int REPEAT = 1;
+
 #include "method_main.glsl"
+
+// Adds d to every input the method may read (d is ~1e-30 of a colour: no input changes in
+// float32, but no compiler can know that).
+void nudge(vec3 d) {
+    float e = d.x + d.y + d.z;
+    fragCoord.xy += vec2(e);
+    params.lightDir[0].xyz += d;
+    params.halfVec[0].xyz += d;
+#ifdef IN_NORMAL
+    vNormal += d;
+#endif
+#ifdef IN_BARY
+    vBary += d;
+#endif
+#ifdef IN_FLAT
+    vFlat += d;
+#endif
+#ifdef IN_CORNERS
+    vN0 += d;
+    vN1 += d;
+    vN2 += d;
+#endif
+#ifdef IN_WINDOW
+    vW0 += vec2(e);
+    vW1 += vec2(e);
+    vW2 += vec2(e);
+#endif
+#ifdef IN_PN
+    vPn01 += d;
+    vPn12 += d;
+    vPn20 += d;
+#endif
+#ifdef IN_COLOR
+    vColor += d;
+#endif
+#ifdef IN_QUAT
+    vQuat += d;
+#endif
+}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -92,9 +136,20 @@ void main() {
     vQuat = quatFromNormal(n0) * w.x + quatFromNormal(n1) * w.y + quatFromNormal(n2) * w.z;
 #endif
 #endif
+    if (REPEAT == 0) {
+        results[2 * i] = vec4(c.weights.xyz + n0 + n1 + n2 + fragCoord.xyz, 1.0);
+        results[2 * i + 1] = vec4(0.0);
+        return;
+    }
     vec3 color;
     vec4 normal;
     evaluateMethod(color, normal);
-    results[2 * i] = vec4(color, 1.0);
+    vec3 sum = color;
+    for (int k = 1; k < REPEAT; ++k) {
+        nudge(color * 1e-30);
+        evaluateMethod(color, normal);
+        sum += color;
+    }
+    results[2 * i] = vec4(REPEAT == 1 ? color : sum, 1.0);
     results[2 * i + 1] = normal;
 }

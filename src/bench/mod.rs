@@ -10,6 +10,7 @@
 pub mod chart;
 pub mod claims;
 pub mod clock;
+pub mod isolated;
 pub mod report;
 pub mod sweep;
 #[cfg(test)]

@@ -10,7 +10,8 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Buffer, BufferDesc, BufferUsage, ComputePipeline, Context, DescriptorSet, OneShot, ShaderModule,
+    Buffer, BufferDesc, BufferUsage, ComputePipeline, Context, DescriptorSet, OneShot, Recorded,
+    ShaderModule,
 };
 use crate::method::formulas::Lighting;
 use crate::method::{specular_table, Fragment, Input, Method};
@@ -74,6 +75,8 @@ pub struct Evaluated {
 /// A method's compute program, ready to evaluate batches of cases.
 pub struct Kernel {
     ctx: Arc<Context>,
+    /// Evaluations per invocation (glsl/evaluate.comp `REPEAT`; 1 for stress).
+    repeat: u32,
     pipeline: Option<(ComputePipeline, DescriptorSet)>,
     _module: ShaderModule,
     cases: Buffer,
@@ -91,6 +94,12 @@ impl Kernel {
     /// The compute program of `m`; an error for methods without one (see
     /// [`shaders::has_evaluate_program`]).
     pub fn new(ctx: &Arc<Context>, m: &Method) -> Result<Self> {
+        Kernel::with_repeat(ctx, m, 1)
+    }
+
+    /// The compute program of `m` evaluating it `repeat` times per case in a dependency chain
+    /// (0: loading and storing the case only); the results of `repeat` > 1 are sums, for timing.
+    pub fn with_repeat(ctx: &Arc<Context>, m: &Method, repeat: u32) -> Result<Self> {
         if !shaders::has_evaluate_program(m) {
             return Err(Error::Usage(format!(
                 "{} draws its own geometry ({:?}): it has no per-case compute program",
@@ -110,6 +119,7 @@ impl Kernel {
         };
         let mut k = Kernel {
             ctx: ctx.clone(),
+            repeat,
             pipeline: None,
             _module: module,
             cases: Buffer::new(ctx, storage(0))?,
@@ -137,7 +147,7 @@ impl Kernel {
             bindings.push((1, l));
         }
         let set = DescriptorSet::new(&self.ctx, &bindings)?;
-        let pipeline = ComputePipeline::new(&self.ctx, &self._module, &set, &[])?;
+        let pipeline = ComputePipeline::new(&self.ctx, &self._module, &set, &[(1, self.repeat)])?;
         self.pipeline = Some((pipeline, set));
         self.capacity = n;
         Ok(())
@@ -171,6 +181,29 @@ impl Kernel {
             }));
         }
         Ok(out)
+    }
+}
+
+impl Kernel {
+    /// Uploads `cases` (at most one batch) and records their dispatch once, for repeated
+    /// timed submissions ([`Recorded::submit`] returns the submit-to-fence wall time).
+    pub fn record(&mut self, cases: &[GpuCase]) -> Result<Recorded> {
+        if cases.is_empty() || cases.len() > MAX_BATCH {
+            return Err(Error::Internal(format!(
+                "a recorded dispatch takes 1..={MAX_BATCH} cases, not {}",
+                cases.len()
+            )));
+        }
+        self.reserve(cases.len())?;
+        let bytes: &[u8] = bytemuck::cast_slice(cases);
+        self.cases.bytes_mut()[..bytes.len()].copy_from_slice(bytes);
+        let (pipeline, set) = self
+            .pipeline
+            .as_ref()
+            .ok_or_else(|| Error::Internal("compute kernel without a pipeline".into()))?;
+        let mut cmd = OneShot::begin(&self.ctx)?;
+        cmd.dispatch(pipeline, set, (self.capacity / GROUP) as u32);
+        cmd.finish()
     }
 }
 

@@ -1,0 +1,284 @@
+//! The isolated cost of each method's per-fragment formula, apart from rasterization: the compute
+//! kernel of `stress` (glsl/evaluate.comp, the fragment code of the method) evaluates it K times
+//! per invocation in a dependency chain, for K in [`REPEATS`]; the least-squares slope of the
+//! dispatch time over K, divided by the invocations, is the cost of one evaluation. Rounds are
+//! interleaved (every method and K once per round, in rotated order), so the ratio to
+//! phong_exact's evaluation is paired per round; medians with order-statistic 95% intervals.
+use std::sync::Arc;
+use std::time::Duration;
+
+use serde::Serialize;
+
+use crate::analysis::stats::median_ci;
+use crate::error::{Error, Result};
+use crate::gpu::evaluate::{GpuCase, Kernel};
+use crate::gpu::shaders::has_evaluate_program;
+use crate::gpu::vk::{Context, Recorded};
+use crate::method::Method;
+use crate::stress::cases::{Case, CaseSpec};
+
+/// Evaluations per invocation.
+pub const REPEATS: [u32; 4] = [0, 1, 16, 64];
+
+/// Options of the isolated-cost measurement.
+#[derive(Debug, Clone)]
+pub struct IsolatedOptions {
+    /// Timed rounds (each: every method at every K once).
+    pub rounds: usize,
+    /// Discarded rounds first (the first dispatch of a pipeline includes its JIT).
+    pub warmup: usize,
+    /// Invocations per dispatch.
+    pub invocations: usize,
+}
+
+impl Default for IsolatedOptions {
+    fn default() -> Self {
+        IsolatedOptions {
+            rounds: 21,
+            warmup: 2,
+            invocations: 16384,
+        }
+    }
+}
+
+/// A median with its distribution-free 95% interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Interval {
+    pub median: f64,
+    pub ci95_low: f64,
+    pub ci95_high: f64,
+}
+
+impl Interval {
+    fn of(samples: &[f64]) -> Self {
+        let e = median_ci(samples);
+        Interval {
+            median: e.median,
+            ci95_low: e.ci95_low,
+            ci95_high: e.ci95_high,
+        }
+    }
+}
+
+/// Cheaper, dearer or indistinguishable from phong_exact's evaluation: from whether the paired
+/// ratio's 95% interval lies below 1, above 1, or holds 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Comparison {
+    Cheaper,
+    Dearer,
+    Indistinguishable,
+}
+
+impl Comparison {
+    pub fn of(ratio: &Interval) -> Self {
+        if ratio.ci95_high < 1.0 {
+            Comparison::Cheaper
+        } else if ratio.ci95_low > 1.0 {
+            Comparison::Dearer
+        } else {
+            Comparison::Indistinguishable
+        }
+    }
+}
+
+/// One method's isolated cost.
+#[derive(Debug, Clone, Serialize)]
+pub struct IsolatedCost {
+    pub name: String,
+    /// ns per evaluation (per-round slopes: median and 95% interval).
+    pub ns_per_eval: Interval,
+    /// Per round, this method's slope over phong_exact's in the same round.
+    pub ratio_to_phong_exact: Option<Interval>,
+    pub versus_phong_exact: Option<Comparison>,
+    /// Median dispatch time per K of [`REPEATS`], ms.
+    pub median_ms_by_repeat: Vec<(u32, f64)>,
+    /// The K = 1 kernel against the method's f64 twin on the timed cases (max |colour|
+    /// difference): the chain kernel is still the method.
+    pub k1_max_abs_diff_vs_f64: f64,
+}
+
+/// Least-squares slope of `t` over `k`.
+pub fn slope(k: &[f64], t: &[f64]) -> f64 {
+    let n = k.len() as f64;
+    let (mk, mt) = (k.iter().sum::<f64>() / n, t.iter().sum::<f64>() / n);
+    let num: f64 = k.iter().zip(t).map(|(a, b)| (a - mk) * (b - mt)).sum();
+    let den: f64 = k.iter().map(|a| (a - mk) * (a - mk)).sum();
+    num / den
+}
+
+/// The timed cases: moderate angles, facing, every frame and light of the stress sweep, tiled.
+fn timed_cases(n: usize) -> Result<(Vec<Case>, Vec<GpuCase>)> {
+    let mut specs = Vec::new();
+    for theta in [4.0, 15.0, 30.0, 45.0] {
+        for elevation in [0.0, 30.0, 60.0] {
+            for &(az, roll) in &crate::stress::grid::FRAMES {
+                for &(light, out_of_plane) in &crate::stress::grid::LIGHTS {
+                    for pixel in (0..64).step_by(4) {
+                        specs.push(CaseSpec {
+                            theta_deg: theta,
+                            elevation_deg: elevation,
+                            pair_azimuth_deg: az,
+                            roll_deg: roll,
+                            light_deg: light,
+                            light_out_of_plane: out_of_plane,
+                            pixel,
+                            ..CaseSpec::default()
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let cases: Vec<Case> = specs.into_iter().cycle().take(n).map(Case::new).collect();
+    let gpu = cases
+        .iter()
+        .map(|c| GpuCase::new(&c.fragment, &c.lighting))
+        .collect::<Result<Vec<_>>>()?;
+    Ok((cases, gpu))
+}
+
+/// A method's kernels at every K, recorded.
+struct Timed {
+    _kernels: Vec<Kernel>,
+    recorded: Vec<Recorded>,
+}
+
+/// Measures the isolated cost of every method with a compute program (phong_exact is measured
+/// whenever any method is, as the reference of the ratios).
+pub fn measure(
+    ctx: &Arc<Context>,
+    methods: &[&'static Method],
+    opts: &IsolatedOptions,
+    progress: &dyn Fn(&str),
+) -> Result<Vec<IsolatedCost>> {
+    let exact = crate::method::find("phong_exact")?;
+    let mut list: Vec<&'static Method> = methods
+        .iter()
+        .copied()
+        .filter(|m| has_evaluate_program(m))
+        .collect();
+    if list.is_empty() {
+        return Ok(Vec::new());
+    }
+    if !list.iter().any(|m| m.name == exact.name) {
+        list.insert(0, exact);
+    }
+    let (cases, gpu) = timed_cases(opts.invocations)?;
+    let mut timed = Vec::with_capacity(list.len());
+    let mut k1_diff = Vec::with_capacity(list.len());
+    for m in &list {
+        progress(m.name);
+        let mut kernels = Vec::new();
+        let mut recorded = Vec::new();
+        for &k in &REPEATS {
+            let mut kernel = Kernel::with_repeat(ctx, m, k)?;
+            if k == 1 {
+                let out = kernel.run(&gpu)?;
+                let d = cases
+                    .iter()
+                    .zip(&out)
+                    .map(|(c, o)| {
+                        let f = (m.eval_f64)(&c.fragment, &c.lighting);
+                        (0..3)
+                            .map(|i| (f64::from(o.color[i]) - f.color[i]).abs())
+                            .fold(0.0, f64::max)
+                    })
+                    .fold(
+                        0.0,
+                        |a: f64, b| if b.is_nan() { f64::INFINITY } else { a.max(b) },
+                    );
+                k1_diff.push(d);
+            }
+            recorded.push(kernel.record(&gpu)?);
+            kernels.push(kernel);
+        }
+        timed.push(Timed {
+            _kernels: kernels,
+            recorded,
+        });
+    }
+    // times[method][k] over rounds, seconds
+    let mut times = vec![vec![Vec::new(); REPEATS.len()]; list.len()];
+    for round in 0..opts.warmup + opts.rounds {
+        progress(&format!(
+            "round {} of {}",
+            round + 1,
+            opts.warmup + opts.rounds
+        ));
+        for j in 0..list.len() {
+            let i = (j + round) % list.len();
+            for (k, rec) in timed[i].recorded.iter().enumerate() {
+                let t: Duration = rec.submit()?;
+                if round >= opts.warmup {
+                    times[i][k].push(t.as_secs_f64());
+                }
+            }
+        }
+    }
+    let ks: Vec<f64> = REPEATS.iter().map(|&k| f64::from(k)).collect();
+    let n = opts.invocations as f64;
+    let slopes: Vec<Vec<f64>> = times
+        .iter()
+        .map(|per_k| {
+            (0..opts.rounds)
+                .map(|r| {
+                    let t: Vec<f64> = per_k.iter().map(|v| v[r]).collect();
+                    slope(&ks, &t) * 1e9 / n
+                })
+                .collect()
+        })
+        .collect();
+    let e = list
+        .iter()
+        .position(|m| m.name == exact.name)
+        .ok_or_else(|| Error::Internal("phong_exact missing from the isolated cost".into()))?;
+    Ok(list
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| methods.iter().any(|x| x.name == m.name))
+        .map(|(i, m)| {
+            let ratio = (i != e).then(|| {
+                let r: Vec<f64> = slopes[i]
+                    .iter()
+                    .zip(&slopes[e])
+                    .map(|(a, b)| a / b)
+                    .collect();
+                Interval::of(&r)
+            });
+            IsolatedCost {
+                name: m.name.to_string(),
+                ns_per_eval: Interval::of(&slopes[i]),
+                versus_phong_exact: ratio.as_ref().map(Comparison::of),
+                ratio_to_phong_exact: ratio,
+                median_ms_by_repeat: REPEATS
+                    .iter()
+                    .zip(&times[i])
+                    .map(|(&k, v)| (k, 1e3 * median_ci(v).median))
+                    .collect(),
+                k1_max_abs_diff_vs_f64: k1_diff[i],
+            }
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slope_and_comparison_follow_the_data() {
+        let k = [0.0, 1.0, 16.0, 64.0];
+        let t: Vec<f64> = k.iter().map(|x| 3.0 + 0.5 * x).collect();
+        assert!((slope(&k, &t) - 0.5).abs() < 1e-12);
+        assert_eq!(slope(&k, &[2.0; 4]), 0.0);
+        let iv = |lo, hi| Interval {
+            median: 0.5 * (lo + hi),
+            ci95_low: lo,
+            ci95_high: hi,
+        };
+        assert_eq!(Comparison::of(&iv(0.5, 0.9)), Comparison::Cheaper);
+        assert_eq!(Comparison::of(&iv(1.1, 1.3)), Comparison::Dearer);
+        assert_eq!(Comparison::of(&iv(0.9, 1.1)), Comparison::Indistinguishable);
+    }
+}
