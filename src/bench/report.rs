@@ -296,9 +296,9 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
     output::write_bytes_atomic(&out.join("claims.json"), claims.as_bytes())?;
     let mut md = String::from("# The seeds' claims, measured\n\n");
     md += &format!(
-        "{} at {}x{} on {} ({}), clock: {}, {} interleaved rounds ({:?}). Written by `shadelab bench`: every verdict below was computed by this run from the measurement in its row, by the rule in its \"how\". Speed verdicts come from the paired per-round ratio to phong_exact ({}).\n\n| method | claim | measured | verdict | how | why |\n|---|---|---|---|---|---|\n",
+        "{} at {}x{} on {} ({}), clock: {}, {} interleaved rounds ({}). Written by `shadelab bench`: every verdict below was computed by this run from the measurement in its row, by the rule in its \"how\". Speed verdicts come from the paired per-round ratio to phong_exact ({}).\n\n| method | claim | measured | verdict | how | why |\n|---|---|---|---|---|---|\n",
         r.scene, r.width, r.height, r.provenance.device, r.provenance.driver_info, r.clock.clock,
-        r.rounds.rounds, r.rounds.stopped, r.ratio_interval
+        r.rounds.rounds, r.rounds.stopped.as_str(), r.ratio_interval
     );
     for c in &r.claims {
         md += &format!(

@@ -115,6 +115,17 @@ pub enum Stop {
     TimeCap,
 }
 
+impl Stop {
+    /// The snake_case name, as in the JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Stop::FixedRepeat => "fixed_repeat",
+            Stop::TargetReached => "target_reached",
+            Stop::TimeCap => "time_cap",
+        }
+    }
+}
+
 /// The `--until-ci` rule: stop when the widest interval is within +-`target_pct` (a NaN or
 /// infinite width never is), else when `elapsed_s` has reached `cap_s`, else go on (`None`).
 pub(crate) fn until_ci_stop(

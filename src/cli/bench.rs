@@ -23,7 +23,7 @@ pub(super) fn cmd_bench(
     let r = renderer(dev)?;
     let report = crate::bench::bench(&r, &scene, &methods, out, opts)?;
     println!(
-        "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} rounds ({:?})",
+        "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} rounds ({})",
         report.scene,
         report.width,
         report.height,
@@ -31,7 +31,7 @@ pub(super) fn cmd_bench(
         report.clock.clock,
         report.lp_num_threads.as_deref().unwrap_or("unset"),
         report.rounds.rounds,
-        report.rounds.stopped
+        report.rounds.stopped.as_str()
     );
     println!(
         "{:<34} {:>9} {:>19} {:>8} {:>26} {:>12} {:>8} {:>12}",
