@@ -1,17 +1,69 @@
 #!/usr/bin/env bash
-# Benchmarks of README "Performance" (never run by the tests). Usage: scripts/bench.sh [RUNS]
+# Benchmarks of README "Performance" and "Bench" (never run by the tests).
+# Usage: scripts/bench.sh [RUNS]
 #  1. process start to PNG written: `shadelab render` of the fine sphere at 1024x1024, warm
 #     (one untimed run first fills Mesa's shader cache), median and range of RUNS runs;
 #  2. per-frame draw time of phong_exact against the constant-colour floor (`shadelab bench`);
 #  3. `shadelab compare` of all methods at 1024x1024 on the fine sphere (renders, statistics,
 #     FLIP, every PNG): wall time and peak resident memory;
 #  4. `shadelab stress` of all methods: wall time and peak resident memory.
+# Usage: scripts/bench.sh paired [RUNS] [KEEP_DIR] [-- EXTRA BENCH ARGS]
+#  The paired-ratio bar of README "Bench": RUNS (default 3) runs of the default bench of all
+#  methods with the control on the fine sphere at 1024x1024; for each run, the paired ratio of
+#  phong_exact_control to phong_exact with its 95% interval (the bar: within +-1 %), the widest
+#  interval of the run, the rounds, why they stopped and the run's wall time; then the setup
+#  (CPU, Mesa, LLVM, LP_NUM_THREADS, load average). Extra arguments go to every bench
+#  (e.g. `-- --until-ci 1 --threads 2`). With KEEP_DIR, each run's files stay in KEEP_DIR/run<i>.
+#  Run it on an idle machine: on a shared one, say so beside the figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-runs=${1:-15}
 bin=target/release/shadelab
 [ -x "$bin" ] || { echo "bench: build first (make build)" >&2; exit 2; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+
+if [ "${1:-}" = paired ]; then
+  shift
+  runs=3; keep=
+  if [ $# -gt 0 ] && [ "$1" != -- ]; then runs=$1; shift; fi
+  if [ $# -gt 0 ] && [ "$1" != -- ]; then keep=$1; shift; fi
+  [ "${1:-}" = -- ] && shift
+  extra=("$@")
+  echo "== paired ratio of phong_exact_control to phong_exact, $runs runs (bar: interval within +-1 %)"
+  echo "   load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  for i in $(seq "$runs"); do
+    dir="$tmp/run$i"; [ -n "$keep" ] && dir="$keep/run$i"
+    rm -rf "$dir"; mkdir -p "$dir"
+    cmd=("$bin" bench --scene scenes/sphere_fine.toml --size 1024x1024 --control ${extra[@]+"${extra[@]}"} --out "$dir")
+    [ "$i" = 1 ] && echo "   command: ${cmd[*]/$dir/DIR}"
+    s=$(date +%s%N)
+    "${cmd[@]}" >"$dir/stdout.txt" 2>"$dir/stderr.txt" || { echo "run $i failed: see $dir/stderr.txt" >&2; cat "$dir/stderr.txt" >&2; exit 2; }
+    e=$(date +%s%N)
+    python3 - "$dir/bench.json" "$i" "$(( (e - s) / 1000000 ))" <<'PY'
+import json, sys
+b = json.load(open(sys.argv[1]))
+c = next(m for m in b["methods"] if m["name"] == "phong_exact_control")
+lo, med, hi = c["ratio_ci95_low"], c["ratio_median"], c["ratio_ci95_high"]
+pm = max(med - lo, hi - med) / med * 100
+r = b["rounds"]
+print(f"run {sys.argv[2]}: phong_exact_control / phong_exact = {med:.4f} [{lo:.4f}, {hi:.4f}] "
+      f"(+-{pm:.2f} %, {'within' if pm <= 1.0 else 'NOT within'} +-1 %); "
+      f"phong_exact {next(m for m in b['methods'] if m['name'] == 'phong_exact')['median_ms']:.2f} ms, "
+      f"floor {b['floor']['median_ms']:.2f} ms; widest interval +-{r['widest_half_width_pct'] or float('nan'):.2f} % "
+      f"({r['widest']}); {r['rounds']} rounds, {r['stopped']}; total {int(sys.argv[3]) / 1000:.1f} s")
+PY
+  done
+  python3 - "$dir/bench.json" <<'PY'
+import json, sys
+b = json.load(open(sys.argv[1]))
+p = b["provenance"]
+print(f"   setup: {b['cpu_model']} ({b['cpu_count']} CPUs), Mesa {p['mesa_version']}, LLVM {p['llvm_version']}, "
+      f"LP_NUM_THREADS={b['lp_num_threads'] or 'unset'}, clock {b['clock']['clock']}")
+PY
+  echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+runs=${1:-15}
 cmd=("$bin" render --scene scenes/sphere_fine.toml --size 1024x1024 --out "$tmp/f.png")
 echo "== process start to PNG written: ${cmd[*]/$tmp/TMP}"
 "${cmd[@]}"

@@ -22,6 +22,8 @@ fn bench_writes_its_files_in_the_documented_shape() {
         "--control",
         "--sweep",
         "size",
+        "--threads",
+        "1",
         "--out",
         out,
     ]);
@@ -70,27 +72,108 @@ fn bench_writes_its_files_in_the_documented_shape() {
         assert!(names.contains(&n), "{n} missing from {names:?}");
     }
     assert_eq!(bench["floor"]["name"], "constant");
-    for m in bench["methods"].as_array().unwrap() {
-        assert_eq!(m["samples"], 6);
-        let (lo, med, hi) = (
-            m["ci95_low_ms"].as_f64().unwrap(),
-            m["median_ms"].as_f64().unwrap(),
-            m["ci95_high_ms"].as_f64().unwrap(),
+    // Provenance of the run: threads, command line, CPU, Mesa and LLVM.
+    assert_eq!(bench["lp_num_threads"], "1");
+    let cmdline: Vec<&str> = bench["command_line"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert!(
+        cmdline.windows(2).any(|w| w == ["--threads", "1"]),
+        "{cmdline:?}"
+    );
+    assert!(bench["cpu_count"].as_u64().unwrap() >= 1);
+    for k in ["mesa_version", "llvm_version"] {
+        assert!(
+            bench["provenance"][k].is_string(),
+            "{k}: {}",
+            bench["provenance"]
         );
-        assert!(lo <= med && med <= hi, "{m}");
-        assert!(m["covered_pixels"].as_u64().unwrap() > 100);
     }
+    // Rounds: exactly --repeat without --until-ci.
+    assert_eq!(bench["rounds"]["rounds"], 6);
+    assert_eq!(bench["rounds"]["stopped"], "fixed_repeat");
+    assert!(bench["ratio_interval"]
+        .as_str()
+        .unwrap()
+        .contains("sign test"));
+    // trueform draws its own PN tessellation: timed in the same rounds as that geometry's own
+    // constant-colour floor, which is timed against the scene's floor.
+    let other = bench["other_floors"].as_array().unwrap();
+    assert_eq!(other.len(), 1, "{other:?}");
+    assert_eq!(other[0]["name"], "constant_pn_tessellated_3");
+    assert_eq!(other[0]["floor_program"], "constant");
     let methods = bench["methods"].as_array().unwrap();
+    let all_rows: Vec<&serde_json::Value> = std::iter::once(&bench["floor"])
+        .chain(other)
+        .chain(methods)
+        .collect();
+    let by_name = |n: &str| *all_rows.iter().find(|m| m["name"] == n).unwrap();
+    for m in &all_rows {
+        assert_eq!(m["samples"], 6);
+        // every round gives a ratio or is counted as not giving one
+        let counted = m["ratio_rounds"].as_u64().unwrap() + m["ratio_non_finite"].as_u64().unwrap();
+        assert_eq!(counted, 6, "{m}");
+        for (lo, med, hi) in [
+            ("ci95_low_ms", "median_ms", "ci95_high_ms"),
+            ("ratio_ci95_low", "ratio_median", "ratio_ci95_high"),
+            (
+                "ratio_to_floor_ci95_low",
+                "ratio_to_floor_median",
+                "ratio_to_floor_ci95_high",
+            ),
+        ] {
+            let (lo, med, hi) = (
+                m[lo].as_f64().unwrap(),
+                m[med].as_f64().unwrap(),
+                m[hi].as_f64().unwrap(),
+            );
+            assert!(lo <= med && med <= hi, "{m}");
+        }
+        let covered = m["covered_pixels"].as_u64().unwrap();
+        assert!(covered > 100);
+        // overdraw from the untimed invocation count
+        if let Some(n) = m["fragment_invocations"].as_u64() {
+            let o = m["overdraw"].as_f64().unwrap();
+            assert!((o - n as f64 / covered as f64).abs() < 1e-12, "{m}");
+            assert!(o >= 1.0, "fewer invocations than covered pixels: {m}");
+        }
+        // the speed word is the paired interval's
+        let (lo, hi) = (
+            m["ratio_ci95_low"].as_f64().unwrap(),
+            m["ratio_ci95_high"].as_f64().unwrap(),
+        );
+        let want = if hi < 1.0 {
+            "faster"
+        } else if lo > 1.0 {
+            "slower"
+        } else {
+            "inconclusive"
+        };
+        assert_eq!(m["speed_vs_phong_exact"], want, "{m}");
+    }
     let row = |n: &str| methods.iter().find(|m| m["name"] == n).unwrap();
     let (exact, unnormalized) = (row("phong_exact"), row("phong_unnormalized"));
     let ms = |m: &serde_json::Value, k: &str| m[k].as_f64().unwrap();
+    // phong_exact against itself, round by round: exactly 1
+    for k in ["ratio_median", "ratio_ci95_low", "ratio_ci95_high"] {
+        assert_eq!(ms(exact, k), 1.0, "{k}");
+    }
+    assert_eq!(
+        row("trueform")["floor_program"],
+        "constant_pn_tessellated_3"
+    );
+    assert_eq!(row("gouraud")["floor_program"], "constant");
 
-    // Ratios, recomputed from the rows' medians (gouraud's and newton_raphson's are not 1 by
-    // construction, as phong_exact's own is).
+    // Ratios of medians, recomputed from the rows (gouraud's and newton_raphson's are not 1 by
+    // construction, as phong_exact's own is); above the floor means above the row's own floor.
     let floor_ms = ms(&bench["floor"], "median_ms");
     let exact_ms = ms(exact, "median_ms");
     for m in methods {
         let med = ms(m, "median_ms");
+        let own_floor = ms(by_name(m["floor_program"].as_str().unwrap()), "median_ms");
         let close = |k: &str, want: f64| {
             let got = ms(m, k);
             assert!(
@@ -100,9 +183,10 @@ fn bench_writes_its_files_in_the_documented_shape() {
             );
         };
         close("ratio_to_phong_exact", med / exact_ms);
+        close("above_floor_ms", med - own_floor);
         close(
             "ratio_above_floor_to_phong_exact",
-            (med - floor_ms) / (exact_ms - floor_ms),
+            (med - own_floor) / (exact_ms - floor_ms),
         );
     }
 
@@ -173,15 +257,16 @@ fn bench_writes_its_files_in_the_documented_shape() {
             );
         }
     }
-    // This run's timing claims, with the verdict its 95% intervals give.
+    // This run's timing claims, with the verdict its paired ratio interval gives (never the
+    // two separate intervals).
     assert!(claim("gouraud", "50x")["measured"]
         .as_str()
         .unwrap()
-        .contains("phong_exact / gouraud"));
+        .contains("phong_exact / gouraud per round"));
     let nr = row("newton_raphson");
-    let want = if ms(nr, "ci95_high_ms") < ms(exact, "ci95_low_ms") {
+    let want = if ms(nr, "ratio_ci95_high") < 1.0 {
         "agrees"
-    } else if ms(nr, "ci95_low_ms") > ms(exact, "ci95_high_ms") {
+    } else if ms(nr, "ratio_ci95_low") > 1.0 {
         "disagrees"
     } else {
         "inconclusive"
@@ -191,7 +276,13 @@ fn bench_writes_its_files_in_the_documented_shape() {
         want
     );
     assert_eq!(bench["sweeps"][0]["sweep"], "size");
-    assert!(bench["sweeps"][0]["points"].as_array().unwrap().len() >= 12);
+    let points = bench["sweeps"][0]["points"].as_array().unwrap();
+    assert!(points.len() >= 12);
+    // at least 20 draws per sweep point even with --repeat 6, and the coverage reached
+    for p in points {
+        assert!(p["samples"].as_u64().unwrap() >= 20, "{p}");
+        assert!(p["ci_confidence"].as_f64().unwrap() >= 0.95, "{p}");
+    }
     // files
     for f in [
         "bench.csv",
@@ -218,7 +309,11 @@ fn bench_writes_its_files_in_the_documented_shape() {
     let csv = std::fs::read_to_string(dir.path().join("bench.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert!(lines[0].starts_with("name,median_ms,ci95_low_ms,ci95_high_ms,samples,clock,"));
-    assert_eq!(lines.len(), 2 + names.len(), "header + floor + methods");
+    assert_eq!(
+        lines.len(),
+        2 + other.len() + names.len(),
+        "header + floors + methods"
+    );
     assert!(lines
         .iter()
         .all(|l| l.split(',').count() == lines[0].split(',').count()));
@@ -261,6 +356,124 @@ fn bench_rejects_bad_options() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("--repeat must be at least 1"), "{err}");
+    let bench = |extra: &[&str]| {
+        let mut args = vec!["bench", "--scene", "scenes/cube.toml", "--size", "32x32"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", out]);
+        run(&args)
+    };
+    let (code, _, err) = bench(&["--until-ci", "0"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--until-ci must be a percentage > 0"), "{err}");
+    let (code, _, err) = bench(&["--until-ci", "1", "--max-time", "0"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--max-time must be a number of seconds > 0"),
+        "{err}"
+    );
+    let (code, _, err) = bench(&["--fail-slower", "5"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--baseline"), "{err}");
+    // a baseline that cannot be read fails before any timing
+    let (code, _, err) = bench(&["--baseline", "no/such/bench.json"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no/such/bench.json"), "{err}");
+    assert!(!err.contains("bench: timing"), "{err}");
+}
+
+/// `--until-ci` stops at its target or at its time cap, says which, and records it;
+/// `--baseline` compares (not paired) and `--fail-slower` exits 1 naming each slower program,
+/// judged on synthetic baselines much faster and much slower than any real run.
+#[test]
+fn bench_until_ci_and_baseline() {
+    let dir = tempfile::tempdir().unwrap();
+    let baseline = |ms: f64| {
+        let row = |n: &str| serde_json::json!({"name": n, "ci95_low_ms": ms * 0.99, "median_ms": ms, "ci95_high_ms": ms * 1.01});
+        let p = dir.path().join(format!("baseline_{ms}.json"));
+        let v = serde_json::json!({"floor": row("constant"), "other_floors": [], "methods": [row("phong_exact"), row("gone")]});
+        std::fs::write(&p, v.to_string()).unwrap();
+        p
+    };
+    let (fast, slow) = (baseline(1e-6), baseline(1e6));
+    let bench = |extra: &[&str], out: &str| {
+        let out = dir.path().join(out);
+        let mut args = vec![
+            "bench",
+            "--scene",
+            "scenes/sphere_coarse.toml",
+            "--size",
+            "32x32",
+            "--methods",
+            "phong_exact",
+            "--repeat",
+            "6",
+            "--warmup",
+            "1",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+        let (code, stdout, stderr) = run(&args);
+        let json = std::fs::read_to_string(out.join("bench.json"))
+            .map(|t| serde_json::from_str::<serde_json::Value>(&t).unwrap());
+        (code, stdout, stderr, json)
+    };
+    // A target any 6 rounds with a finite ratio meet (a preempted 32x32 draw can make a
+    // ratio 10x, so not 1000 %); a baseline far faster than this run: exit 1, named.
+    let (code, stdout, stderr, json) = bench(
+        &[
+            "--until-ci",
+            "1e12",
+            "--baseline",
+            fast.to_str().unwrap(),
+            "--fail-slower",
+            "5",
+        ],
+        "a",
+    );
+    assert_eq!(code, 1, "{stderr}");
+    let json = json.unwrap();
+    assert_eq!(json["rounds"]["stopped"], "target_reached");
+    assert_eq!(json["rounds"]["rounds"], 6);
+    assert!(stdout.contains("target reached"), "{stdout}");
+    assert!(stdout.contains("not paired"), "{stdout}");
+    assert!(
+        stderr.contains(
+            "phong_exact is slower than the baseline beyond both 95% intervals by more than 5 %"
+        ),
+        "{stderr}"
+    );
+    assert!(stderr.contains("constant is slower"), "{stderr}");
+    let b = &json["baseline"];
+    assert_eq!(b["paired"], false);
+    assert_eq!(b["failing"], serde_json::json!(["constant", "phong_exact"]));
+    assert_eq!(b["only_in_baseline"], serde_json::json!(["gone"]));
+    // An unreachable target: the time cap stops it, says so; a baseline far slower: exit 0.
+    let (code, stdout, stderr, json) = bench(
+        &[
+            "--until-ci",
+            "0.000001",
+            "--max-time",
+            "0.5",
+            "--baseline",
+            slow.to_str().unwrap(),
+            "--fail-slower",
+            "5",
+        ],
+        "b",
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let json = json.unwrap();
+    assert_eq!(json["rounds"]["stopped"], "time_cap");
+    assert!(json["rounds"]["rounds"].as_u64().unwrap() >= 6);
+    assert!(
+        json["rounds"]["widest_half_width_pct"].as_f64().unwrap() > 0.000001,
+        "{}",
+        json["rounds"]
+    );
+    assert!(stdout.contains("time cap of 0.5 s reached"), "{stdout}");
+    assert!(stdout.contains("not reached"), "{stdout}");
+    assert!(json["baseline"]["failing"].as_array().unwrap().is_empty());
+    assert_eq!(json["baseline"]["programs"][1]["change"], "faster");
 }
 
 /// A method with NaN pixels has an infinite error: bench still writes its files, keeps the

@@ -1,6 +1,6 @@
 //! Charts of `bench`: the Pareto chart (run time against error, log scale, 95% intervals,
-//! non-dominated methods marked and labelled) and the sweep charts (time against work),
-//! each written as SVG and PNG with plotters.
+//! non-dominated methods, by the paired rule of `pareto_front_paired`, marked and labelled)
+//! and the sweep charts (time against work), each written as SVG and PNG with plotters.
 use std::path::Path;
 
 use plotters::coord::Shift;
@@ -81,7 +81,7 @@ fn draw_pareto<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &BenchRepor
     let (x0, x1) = ((x0 - pad).max(0.0), x1 + pad * 3.0);
     let (y0, y1) = (y0 / 3.0, y1 * 3.0);
     let mut title = format!(
-        "{} {}x{}: run time ({} clock, median, 95% CI) vs {}",
+        "{} {}x{}: run time ({} clock, median, 95% CI) vs {}; front: dominated only beyond the paired interval",
         r.scene, r.width, r.height, r.clock.clock, r.error_metric
     );
     let off = unplottable(r);

@@ -1,5 +1,6 @@
-//! The papers' claims in claims.json/md, each with a verdict computed by this run: timings,
-//! SPIR-V operation counts, GPU errors, and the method table's f64 checks.
+//! The papers' claims in claims.json/md, each with a verdict computed by this run: paired
+//! timings (never two separate intervals), SPIR-V operation counts, GPU errors, and the method
+//! table's f64 checks.
 use super::*;
 
 use crate::gpu::spirv::OpCountsDelta;
@@ -7,57 +8,51 @@ use crate::method::Verdict;
 
 fn ratio_text(r: &MethodTiming, phong: &MethodTiming) -> String {
     format!(
-        "{:.3} ms [{:.3}, {:.3}] vs phong_exact {:.3} ms [{:.3}, {:.3}] (ratio {:.3})",
+        "{} / phong_exact per round: median {:.4}, 95% interval [{:.4}, {:.4}] over {} rounds{} ({}); medians {:.3} ms vs {:.3} ms",
+        r.name,
+        r.ratio_median,
+        r.ratio_ci95_low,
+        r.ratio_ci95_high,
+        r.ratio_rounds,
+        if r.ratio_non_finite > 0 {
+            format!(", {} rounds without a finite ratio", r.ratio_non_finite)
+        } else {
+            String::new()
+        },
+        r.speed_vs_phong_exact.as_str(),
         r.median_ms,
-        r.ci95_low_ms,
-        r.ci95_high_ms,
-        phong.median_ms,
-        phong.ci95_low_ms,
-        phong.ci95_high_ms,
-        r.ratio_to_phong_exact
+        phong.median_ms
     )
-}
-
-/// Where `r` lies against `base` by their 95% intervals of the median: faster or slower only
-/// when the intervals do not overlap.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Separation {
-    Faster,
-    Slower,
-    Overlapping,
-}
-
-pub(crate) fn separation(r: &MethodTiming, base: &MethodTiming) -> Separation {
-    if r.ci95_high_ms < base.ci95_low_ms {
-        Separation::Faster
-    } else if r.ci95_low_ms > base.ci95_high_ms {
-        Separation::Slower
-    } else {
-        Separation::Overlapping
-    }
 }
 
 /// How the timing verdicts are measured (bench.json has the samples and the clock).
 fn timing_how(r: &MethodTiming) -> String {
     format!(
-        "median of {} timed draws per program ({} clock), interleaved with the other programs, \
-         95% interval of the median from the binomial order statistics",
+        "paired: in each of {} interleaved rounds ({} clock) the ratio of this program's draw to \
+         phong_exact's in the same round; the median of those ratios with the sign-test 95% \
+         interval (order statistics); faster when the interval lies below 1, slower when above, \
+         inconclusive when it contains 1",
         r.samples, r.clock
     )
 }
 
-/// "normalization without a square root is faster than exact normalization": faster beyond
-/// both 95% intervals agrees, slower beyond them disagrees, overlapping is inconclusive.
+/// "normalization without a square root is faster than exact normalization", judged by the
+/// paired ratio to phong_exact: faster agrees, slower disagrees, inconclusive is inconclusive.
 pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> ClaimCheck {
-    let (verdict, reason) = match separation(r, phong) {
-        Separation::Faster => (Verdict::Agrees, "faster beyond both 95% intervals"),
-        Separation::Slower => (
+    let speed = Speed::from_ratio(&super::row_ratio(r));
+    let (verdict, reason) = match speed {
+        Speed::Faster => (Verdict::Agrees, "faster: the paired 95% interval lies below 1"),
+        Speed::Slower => (
             Verdict::Disagrees,
-            "slower beyond both 95% intervals: lavapipe's inverse square root is a single vector instruction, the approximation costs more arithmetic",
+            "slower: the paired 95% interval lies above 1; lavapipe's inverse square root is a single vector instruction, the approximation costs more arithmetic",
         ),
-        Separation::Overlapping => (
+        Speed::Inconclusive => (
             Verdict::Inconclusive,
-            "the 95% intervals overlap: no measurable difference at this sample count; lavapipe computes inversesqrt with one vector instruction, so there is little to save",
+            "the paired 95% interval contains 1: no measurable difference at this number of rounds; lavapipe computes inversesqrt with one vector instruction, so there is little to save",
+        ),
+        Speed::Unmeasured => (
+            Verdict::Inconclusive,
+            "no round gave a finite ratio (see ratio_non_finite): nothing to judge",
         ),
     };
     ClaimCheck {
@@ -66,8 +61,7 @@ pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> Claim
         measured: ratio_text(r, phong),
         verdict,
         how: format!(
-            "{}; agrees when its interval lies below phong_exact's, disagrees when above, \
-             inconclusive when they overlap",
+            "{}; the claim agrees when faster, disagrees when slower, else inconclusive",
             timing_how(r)
         ),
         reason: reason.into(),
@@ -77,32 +71,35 @@ pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> Claim
 /// The claimed factor of S002 l.151-153.
 const GOURAUD_FACTOR: f64 = 50.0;
 
-/// "Phong ... takes more than 50x longer than Gouraud": the ratio's bounds are taken from the
-/// ends of the two 95% intervals (phong low / gouraud high, phong high / gouraud low).
+/// "Phong ... takes more than 50x longer than Gouraud": phong_exact / gouraud per round is the
+/// reciprocal of gouraud's paired ratio, so its interval is [1 / high, 1 / low].
 pub(crate) fn phong_50x_gouraud(
     phong: &MethodTiming,
     g: &MethodTiming,
     floor: &MethodTiming,
 ) -> ClaimCheck {
-    let ratio = phong.median_ms / g.median_ms;
-    let low = phong.ci95_low_ms / g.ci95_high_ms;
-    let high = if g.ci95_low_ms > 0.0 {
-        phong.ci95_high_ms / g.ci95_low_ms
+    let ratio = 1.0 / g.ratio_median;
+    let low = 1.0 / g.ratio_ci95_high;
+    let high = if g.ratio_ci95_low > 0.0 {
+        1.0 / g.ratio_ci95_low
     } else {
         f64::INFINITY
     };
-    let verdict = if low > GOURAUD_FACTOR {
+    let verdict = if g.ratio_rounds == 0 || low.is_nan() {
+        Verdict::Inconclusive
+    } else if low > GOURAUD_FACTOR {
         Verdict::Agrees
     } else if high < GOURAUD_FACTOR {
         Verdict::Disagrees
     } else {
         Verdict::Inconclusive
     };
+    let phong_ms = phong.median_ms;
     let g_above = g.median_ms - floor.median_ms;
     let above = if g_above > 0.0 {
         format!(
-            "{:.2}x above the constant-colour floor",
-            (phong.median_ms - floor.median_ms) / g_above
+            "{:.2}x above the constant-colour floor (medians)",
+            (phong_ms - floor.median_ms) / g_above
         )
     } else {
         format!("Gouraud is at or below the constant-colour floor ({g_above:+.3} ms), so its cost above the floor is nil")
@@ -111,12 +108,13 @@ pub(crate) fn phong_50x_gouraud(
         method: g.name.clone(),
         claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
         measured: format!(
-            "phong_exact / gouraud = {ratio:.2}x per frame (from the 95% intervals: {low:.2}x to {high:.2}x); {above}"
+            "phong_exact / gouraud per round: median {ratio:.3}x, 95% interval {low:.3}x to {high:.3}x over {} rounds; {above}",
+            g.ratio_rounds
         ),
         verdict,
         how: format!(
-            "{}; agrees when even the lowest ratio of the intervals exceeds {GOURAUD_FACTOR}x, \
-             disagrees when even the highest is below it, else inconclusive",
+            "{}; agrees when even the interval's lowest phong_exact / gouraud exceeds {GOURAUD_FACTOR}x, \
+             disagrees when even its highest is below it, else inconclusive",
             timing_how(g)
         ),
         reason: "on a GPU-style pipeline both shade every covered pixel in the same fragment stage; Gouraud only moves the lighting to the vertices, and rasterization, interpolation and the framebuffer dominate".into(),

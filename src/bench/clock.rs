@@ -36,7 +36,7 @@ pub fn check_clock(renderer: &Renderer, scene: &Scene) -> Result<ClockCheck> {
         s.width = size;
         s.height = size;
         let prepared = renderer.prepare(&s, &[exact])?;
-        let draws = renderer.timed_draws(prepared.base(), &[Shading::Method(exact)])?;
+        let draws = renderer.timed_draws(&[(prepared.base(), Shading::Method(exact))])?;
         let samples = interleaved(&draws, 2, 7)?;
         let wall = median_ci(&samples[0].iter().map(|s| s.wall_ms).collect::<Vec<_>>()).median;
         let ts: Vec<f64> = samples[0].iter().filter_map(|s| s.timestamp_ms).collect();

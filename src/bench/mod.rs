@@ -1,39 +1,58 @@
-//! `shadelab bench`: run time against error. Timing on lavapipe with a validated clock,
-//! interleaved repetitions, medians with distribution-free 95% confidence intervals, the error
-//! metrics of `compare`, static operation counts of each fragment shader, a Pareto chart, the
-//! papers' claims checked, and sweeps over image size and triangle count.
+//! `shadelab bench`: run time against error. Timing on lavapipe with a validated clock, every
+//! program (the methods, the constant-colour floor of each geometry, the control) in the same
+//! interleaved rounds, medians with distribution-free 95% confidence intervals, paired
+//! per-round ratios to phong_exact and to the floor ([`rounds`]), the error metrics of
+//! `compare`, static operation counts of each fragment shader, overdraw from an untimed
+//! pipeline-statistics pass, a Pareto chart, the papers' claims checked, sweeps over image size
+//! and triangle count, and a comparison with an earlier run ([`baseline`]).
 //!
 //! Clock: Vulkan timestamps placed as TOOLCHAIN.md found to track the draw on Mesa 22.3 (see
 //! `Renderer::timed_draws`). Every run re-checks the placement: at sizes 128..2048 the
 //! timestamp interval must track the submit-to-fence wall clock ([`CLOCK_TOLERANCE`]); when it
 //! does not, the run says so and times with the wall clock instead.
+pub mod baseline;
 pub mod chart;
 pub mod claims;
 pub mod clock;
 pub mod isolated;
 pub mod report;
+pub mod rounds;
 pub mod sweep;
 #[cfg(test)]
 mod tests;
 
 pub use clock::*;
 pub use report::*;
+pub use rounds::{RoundsReport, Stop};
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::analysis::stats::{median_ci, pareto_front, Estimate};
+use crate::analysis::stats::{median_ci, pareto_front_paired, Estimate, RatioEstimate};
 use crate::compare::{self, CompareOptions};
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{self, OpCounts};
-use crate::gpu::{Prepared, Renderer, Shading, TimedDraws};
-use crate::method::{self, Method};
+use crate::gpu::{GpuScene, Prepared, Renderer, Shading, TimedDraws};
+use crate::method::{self, Geometry, Method};
 use crate::output::provenance::cpu_model;
 use crate::scene::Scene;
+use rounds::{ratios, round_values, until_ci_stop, widest, Rounds};
 
-/// Version of the bench.json layout.
-pub const SCHEMA_VERSION: u32 = 1;
+/// Version of the bench.json layout (2: paired ratios, rounds, other floors, overdraw,
+/// command line, baseline).
+pub const SCHEMA_VERSION: u32 = 2;
+/// Fewest timed draws per sweep point (a sign-test interval from 20 samples covers 95.9 %).
+pub const SWEEP_MIN_REPEAT: usize = 20;
+/// Most timed draws per sweep point (the bench's `--repeat` in between).
+pub const SWEEP_MAX_REPEAT: usize = 40;
+/// Default time cap of `--until-ci`, seconds of timed rounds.
+pub const DEFAULT_MAX_TIME_S: f64 = 300.0;
+/// How the paired intervals are computed (bench.json `ratio_interval`).
+pub const RATIO_INTERVAL: &str = "sign test: median of the per-round ratios with the \
+     distribution-free 95% interval [r(l), r(n+1-l)] of their order statistics, l the largest \
+     rank with P(Bin(n, 1/2) < l) <= 2.5 % (no bootstrap)";
 /// Sizes of the clock check and of `--sweep size`.
 pub const SIZES: [u32; 5] = [128, 256, 512, 1024, 2048];
 /// The timestamp interval tracks the wall clock when, at every size, it is within this
@@ -56,6 +75,7 @@ pub enum Sweep {
 /// Options of a bench run.
 #[derive(Debug, Clone)]
 pub struct BenchOptions {
+    /// Rounds (the minimum with `until_ci_pct`).
     pub repeat: usize,
     pub warmup: usize,
     /// A compare metric (JSON name) for the Pareto chart's y axis.
@@ -63,29 +83,44 @@ pub struct BenchOptions {
     /// Add `phong_exact_control`: phong_exact's program under a second name.
     pub control: bool,
     pub sweeps: Vec<Sweep>,
+    /// `--until-ci PCT`: add rounds until every paired ratio interval is within +-PCT %.
+    pub until_ci_pct: Option<f64>,
+    /// The time cap of `until_ci_pct`, seconds of timed rounds.
+    pub max_time_s: f64,
+    /// `--baseline OLD/bench.json` and `--fail-slower PCT`.
+    pub baseline: Option<PathBuf>,
+    pub fail_slower_pct: Option<f64>,
+    /// The command line, recorded in bench.json.
+    pub command_line: Vec<String>,
 }
-/// Times `draws` round-robin: `warmup` discarded submissions each, then `repeat` rounds, each
-/// round visiting every draw once in an order rotated by one per round, so drift of a shared
-/// machine hits every draw alike. Returns the samples per draw.
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        BenchOptions {
+            repeat: 40,
+            warmup: 3,
+            error_metric: "p99_abs_error".into(),
+            control: false,
+            sweeps: Vec::new(),
+            until_ci_pct: None,
+            max_time_s: DEFAULT_MAX_TIME_S,
+            baseline: None,
+            fail_slower_pct: None,
+            command_line: Vec::new(),
+        }
+    }
+}
+
+/// Times `draws` in `repeat` interleaved rounds after `warmup` discarded submissions each
+/// (see [`rounds::Rounds`]). Returns the samples per draw.
 fn interleaved(
     draws: &TimedDraws,
     warmup: usize,
     repeat: usize,
 ) -> Result<Vec<Vec<crate::gpu::Sample>>> {
-    let n = draws.len();
-    for i in 0..n {
-        for _ in 0..warmup {
-            draws.run(i)?;
-        }
-    }
-    let mut out = vec![Vec::with_capacity(repeat); n];
-    for round in 0..repeat {
-        for k in 0..n {
-            let i = (k + round) % n;
-            out[i].push(draws.run(i)?);
-        }
-    }
-    Ok(out)
+    let mut r = Rounds::new(draws, warmup)?;
+    r.run(repeat)?;
+    Ok(r.samples)
 }
 
 /// The estimate from the `clock` the clock check chose, with the name of the clock it really
@@ -105,11 +140,66 @@ pub(crate) fn estimate(
     };
     (chosen, used, w.median, t.map(|t| t.median))
 }
-fn static_ops(m: &Method, interp: crate::scene::Interpolation) -> Option<OpCounts> {
+
+fn static_ops(program: &str, interp: crate::scene::Interpolation) -> Option<OpCounts> {
     let bytes =
-        crate::gpu::shaders::embedded(&crate::gpu::shaders::program_name(m.name, interp), "frag")
+        crate::gpu::shaders::embedded(&crate::gpu::shaders::program_name(program, interp), "frag")
             .ok()?;
     spirv::count_ops(bytes).ok()
+}
+
+/// The name of the constant-colour program on geometry `g`.
+pub fn floor_name(g: Geometry) -> String {
+    match g {
+        Geometry::Mesh => "constant".into(),
+        Geometry::PnTessellated(level) => format!("constant_pn_tessellated_{level}"),
+    }
+}
+
+/// A timed program of a run: what it draws and the floor it is measured against.
+struct Program<'a> {
+    name: String,
+    gpu: &'a GpuScene,
+    shading: Shading<'a>,
+    /// Index of its floor among the programs (the scene's floor, 0, is its own).
+    floor: usize,
+}
+
+/// The programs of a run, all timed in the same rounds: the floor of the scene's triangles
+/// first, then the floor of every other geometry (measured against the first: the cost of
+/// that geometry), the methods (each against the floor of its geometry) and the control.
+fn programs<'a>(
+    prepared: &'a Prepared,
+    methods: &[&'a Method],
+    control: Option<&'a Method>,
+) -> Vec<Program<'a>> {
+    let geometries = prepared.geometries();
+    let mut out: Vec<Program> = Vec::new();
+    for g in &geometries {
+        if let Some(gpu) = prepared.for_geometry(*g) {
+            out.push(Program {
+                name: floor_name(*g),
+                gpu,
+                shading: Shading::Constant,
+                floor: 0,
+            });
+        }
+    }
+    let floor_of = |g: Geometry| geometries.iter().position(|x| *x == g).unwrap_or(0);
+    let shadings = methods
+        .iter()
+        .map(|m| Shading::Method(m))
+        .chain(control.map(Shading::Control));
+    for s in shadings {
+        let Some(m) = s.method() else { continue };
+        out.push(Program {
+            name: s.name(),
+            gpu: prepared.for_method(m),
+            shading: s,
+            floor: floor_of(m.geometry),
+        });
+    }
+    out
 }
 
 /// Runs the bench and writes DIR/bench.json, bench.csv, pareto.svg/png, claims.json/md (and
@@ -121,17 +211,14 @@ pub fn bench(
     out: &Path,
     opts: &BenchOptions,
 ) -> Result<BenchReport> {
-    let start = std::time::Instant::now();
-    if !compare::METRICS.contains(&opts.error_metric.as_str()) {
-        return Err(Error::Usage(format!(
-            "--error-metric: unknown metric {:?}; valid metrics: {}",
-            opts.error_metric,
-            compare::METRICS.join(", ")
-        )));
-    }
-    if opts.repeat == 0 {
-        return Err(Error::Usage("--repeat must be at least 1".into()));
-    }
+    let start = Instant::now();
+    check_options(opts)?;
+    // Read the baseline first: a bad path must not cost a whole run.
+    let baseline = opts
+        .baseline
+        .as_ref()
+        .map(|p| baseline::load(p).map(|v| (p, v)))
+        .transpose()?;
     let exact = method::find("phong_exact")?;
     let unnormalized = method::find("phong_unnormalized")?;
     let mut all = methods_.to_vec();
@@ -145,13 +232,25 @@ pub fn bench(
     eprintln!("bench: clock = {} ({})", clock.clock, clock.reason);
 
     let prepared = renderer.prepare(scene, &all)?;
-    // Shadings: the floor, the methods (and the control), each drawing its own geometry.
-    let mut shadings: Vec<Shading> = vec![Shading::Constant];
-    shadings.extend(all.iter().map(|m| Shading::Method(m)));
-    if opts.control {
-        shadings.push(Shading::Control(exact));
-    }
-    let samples = time_shadings(renderer, &prepared, &shadings, opts)?;
+    let programs = programs(&prepared, &all, opts.control.then_some(exact));
+    let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
+    let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
+    let phong = names
+        .iter()
+        .position(|n| n == "phong_exact")
+        .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
+    let (samples, rounds_report) = time_rounds(renderer, &programs, &clock.clock, opts)?;
+    let values: Vec<Vec<f64>> = samples
+        .iter()
+        .map(|s| round_values(s, &clock.clock))
+        .collect();
+    let (to_phong, to_floor) = ratios(&values, phong, &floors);
+
+    eprintln!("bench: fragment invocations (untimed, one submission per program)");
+    let invocations = programs
+        .iter()
+        .map(|p| renderer.fragment_invocations(p.gpu, p.shading))
+        .collect::<Result<Vec<_>>>()?;
 
     eprintln!("bench: error metrics (compare, without images)");
     let copts = CompareOptions {
@@ -160,33 +259,21 @@ pub fn bench(
     };
     let summary = compare::compare(renderer, scene, &all, out, &copts)?;
 
-    // Coverage from each image itself.
     let mut rows = Vec::new();
-    for (s, smp) in shadings.iter().zip(&samples) {
-        let gpu = match s.method() {
-            Some(m) => prepared.for_method(m),
-            None => prepared.base(),
-        };
-        let (frame, _) = renderer.render(gpu, *s, false)?;
-        let (e, used_clock, wall, ts) = estimate(smp, &clock.clock);
+    for (i, p) in programs.iter().enumerate() {
+        // Coverage from each image itself.
+        let (frame, _) = renderer.render(p.gpu, p.shading, false)?;
+        let (e, used_clock, wall, ts) = estimate(&samples[i], &clock.clock);
         let covered = frame.covered();
-        let invocations = smp.iter().filter_map(|x| x.fragment_invocations).max();
-        let error = s
+        let error = p
+            .shading
             .method()
             .and_then(|m| summary.methods.iter().find(|r| r.name == m.name).cloned());
-        let ops = s
-            .method()
-            .and_then(|m| static_ops(m, scene.interpolation))
-            .or_else(|| {
-                crate::gpu::shaders::embedded(
-                    &crate::gpu::shaders::program_name("constant", scene.interpolation),
-                    "frag",
-                )
-                .ok()
-                .and_then(|b| spirv::count_ops(b).ok())
-            });
+        let program = p.shading.method().map_or("constant", |m| m.name);
+        let (rp, rf) = (to_phong[i], to_floor[i]);
         rows.push(MethodTiming {
-            name: s.name(),
+            name: p.name.clone(),
+            floor_program: names[p.floor].clone(),
             median_ms: e.median,
             ci95_low_ms: e.ci95_low,
             ci95_high_ms: e.ci95_high,
@@ -195,45 +282,68 @@ pub fn bench(
             wall_median_ms: wall,
             timestamp_median_ms: ts,
             covered_pixels: covered,
-            fragment_invocations: invocations,
-            invocations_exact: invocations.map(|n| n as usize == covered),
+            fragment_invocations: invocations[i],
+            invocations_exact: invocations[i].map(|n| n as usize == covered),
+            overdraw: invocations[i]
+                .filter(|_| covered > 0)
+                .map(|n| n as f64 / covered as f64),
             ns_per_pixel: e.median * 1e6 / covered.max(1) as f64,
             above_floor_ms: 0.0,
             ratio_to_phong_exact: 0.0,
             ratio_above_floor_to_phong_exact: 0.0,
-            static_ops: ops,
+            ratio_median: rp.median,
+            ratio_ci95_low: rp.ci95_low,
+            ratio_ci95_high: rp.ci95_high,
+            ratio_rounds: rp.rounds,
+            ratio_non_finite: rp.non_finite,
+            ratio_confidence: rp.confidence,
+            ratio_to_floor_median: rf.median,
+            ratio_to_floor_ci95_low: rf.ci95_low,
+            ratio_to_floor_ci95_high: rf.ci95_high,
+            ratio_to_floor_non_finite: rf.non_finite,
+            speed_vs_phong_exact: Speed::from_ratio(&rp),
+            static_ops: static_ops(program, scene.interpolation),
             static_ops_above_unnormalized: None,
             error,
         });
     }
-    let floor = rows.remove(0);
-    let phong = rows
-        .iter()
-        .find(|r| r.name == "phong_exact")
-        .map(|r| r.median_ms)
-        .unwrap_or(f64::NAN);
+    let medians: Vec<f64> = rows.iter().map(|r| r.median_ms).collect();
+    let (phong_ms, floor_ms) = (medians[phong], medians[0]);
     let base_ops = rows
         .iter()
         .find(|r| r.name == "phong_unnormalized")
         .and_then(|r| r.static_ops);
-    for r in &mut rows {
-        r.above_floor_ms = r.median_ms - floor.median_ms;
-        r.ratio_to_phong_exact = r.median_ms / phong;
-        r.ratio_above_floor_to_phong_exact =
-            (r.median_ms - floor.median_ms) / (phong - floor.median_ms);
+    for (r, p) in rows.iter_mut().zip(&programs) {
+        let own_floor = medians[p.floor];
+        r.above_floor_ms = r.median_ms - own_floor;
+        r.ratio_to_phong_exact = r.median_ms / phong_ms;
+        r.ratio_above_floor_to_phong_exact = (r.median_ms - own_floor) / (phong_ms - floor_ms);
         r.static_ops_above_unnormalized = match (r.static_ops, base_ops) {
             (Some(a), Some(b)) => Some(a.minus(&b)),
             _ => None,
         };
     }
-    // Only the methods the user asked for (phong_exact / unnormalized are always timed, as
-    // the ratios' references, and kept).
-    let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| e.metric(&opts.error_metric));
-    let points: Vec<(f64, f64)> = rows
+    // Split: the floors (programs without a method), then the methods with their round values.
+    let is_floor: Vec<bool> = programs
         .iter()
-        .map(|r| (r.median_ms, metric(r).unwrap_or(f64::NAN)))
+        .map(|p| p.shading.method().is_none())
         .collect();
-    let front: Vec<String> = pareto_front(&points)
+    let mut floors_rows = Vec::new();
+    let mut method_rows = Vec::new();
+    let mut method_values = Vec::new();
+    for ((r, f), v) in rows.into_iter().zip(is_floor).zip(values) {
+        if f {
+            floors_rows.push(r);
+        } else {
+            method_rows.push(r);
+            method_values.push(v);
+        }
+    }
+    let floor = floors_rows.remove(0);
+    let rows = method_rows;
+    let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| e.metric(&opts.error_metric));
+    let errors: Vec<f64> = rows.iter().map(|r| metric(r).unwrap_or(f64::NAN)).collect();
+    let front: Vec<String> = pareto_front_paired(&errors, &method_values)
         .into_iter()
         .map(|i| rows[i].name.clone())
         .collect();
@@ -244,69 +354,179 @@ pub fn bench(
         eprintln!("bench: sweep {sw:?}");
         sweeps.push(sweep::sweep(renderer, scene, sw, opts)?);
     }
-    let report = BenchReport {
+    let mut report = BenchReport {
         schema_version: SCHEMA_VERSION,
         provenance: renderer.provenance(),
         cpu_model: cpu_model(),
+        cpu_count: std::thread::available_parallelism().map_or(0, |n| n.get()),
         lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
+        command_line: opts.command_line.clone(),
         scene: scene.name.clone(),
         width: scene.width,
         height: scene.height,
         triangles: prepared.base().inputs.triangle_count(),
         repeat: opts.repeat,
         warmup: opts.warmup,
+        rounds: rounds_report,
+        ratio_interval: RATIO_INTERVAL.into(),
         clock,
         error_metric: opts.error_metric.clone(),
         floor,
+        other_floors: floors_rows,
         methods: rows,
         pareto_front: front,
         claims,
         sweeps,
-        total_s: start.elapsed().as_secs_f64(),
+        baseline: None,
+        total_s: 0.0,
     };
+    if let Some((path, old)) = baseline {
+        let new = serde_json::to_value(&report).map_err(|e| Error::output("bench.json", e))?;
+        report.baseline = Some(baseline::compare(
+            &old,
+            &new,
+            &path.display().to_string(),
+            opts.fail_slower_pct,
+        ));
+    }
+    report.total_s = start.elapsed().as_secs_f64();
     write(out, &report)?;
     Ok(report)
 }
 
-fn time_shadings(
+fn check_options(opts: &BenchOptions) -> Result<()> {
+    if !compare::METRICS.contains(&opts.error_metric.as_str()) {
+        return Err(Error::Usage(format!(
+            "--error-metric: unknown metric {:?}; valid metrics: {}",
+            opts.error_metric,
+            compare::METRICS.join(", ")
+        )));
+    }
+    if opts.repeat == 0 {
+        return Err(Error::Usage("--repeat must be at least 1".into()));
+    }
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if let Some(p) = opts.until_ci_pct.filter(|p| !positive(*p)) {
+        return Err(Error::Usage(format!(
+            "--until-ci must be a percentage > 0, got {p}"
+        )));
+    }
+    if !positive(opts.max_time_s) {
+        return Err(Error::Usage(format!(
+            "--max-time must be a number of seconds > 0, got {}",
+            opts.max_time_s
+        )));
+    }
+    if let Some(p) = opts.fail_slower_pct {
+        if !(p.is_finite() && p >= 0.0) {
+            return Err(Error::Usage(format!(
+                "--fail-slower must be a percentage >= 0, got {p}"
+            )));
+        }
+        if opts.baseline.is_none() {
+            return Err(Error::Usage(
+                "--fail-slower needs --baseline OLD/bench.json to compare with".into(),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Times every program in the same interleaved rounds: `repeat` rounds, then with
+/// `until_ci_pct` one round at a time until every paired ratio interval is within +-PCT % or
+/// `max_time_s` of rounds has passed. Says on stderr which happened.
+fn time_rounds(
     renderer: &Renderer,
-    prepared: &Prepared,
-    shadings: &[Shading],
+    programs: &[Program],
+    clock: &str,
     opts: &BenchOptions,
-) -> Result<Vec<Vec<crate::gpu::Sample>>> {
-    // Draws of different geometries need their own targets; group them, time each group.
-    let mut out = vec![Vec::new(); shadings.len()];
-    let mut groups: Vec<(crate::method::Geometry, Vec<usize>)> = Vec::new();
-    for (i, s) in shadings.iter().enumerate() {
-        let g = s
-            .method()
-            .map(|m| m.geometry)
-            .unwrap_or(crate::method::Geometry::Mesh);
-        match groups.iter_mut().find(|(k, _)| *k == g) {
-            Some((_, v)) => v.push(i),
-            None => groups.push((g, vec![i])),
-        }
-    }
-    for (_, idx) in groups {
-        let first = shadings[idx[0]];
-        let gpu = match first.method() {
-            Some(m) => prepared.for_method(m),
-            None => prepared.base(),
+) -> Result<(Vec<Vec<crate::gpu::Sample>>, RoundsReport)> {
+    let pairs: Vec<(&GpuScene, Shading)> = programs.iter().map(|p| (p.gpu, p.shading)).collect();
+    let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
+    let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
+    let phong = names.iter().position(|n| n == "phong_exact").unwrap_or(0);
+    eprintln!(
+        "bench: timing {} programs in the same interleaved rounds: {} warm-up submissions each, \
+         then {} rounds{}",
+        programs.len(),
+        opts.warmup,
+        opts.repeat,
+        opts.until_ci_pct.map_or(String::new(), |p| format!(
+            " and more until every paired ratio interval is within +-{p} % (cap {} s)",
+            opts.max_time_s
+        ))
+    );
+    let draws = renderer.timed_draws(&pairs)?;
+    let mut rounds = Rounds::new(&draws, opts.warmup)?;
+    let t0 = Instant::now();
+    rounds.run(opts.repeat)?;
+    let widest_now = |rounds: &Rounds| {
+        let values: Vec<Vec<f64>> = rounds
+            .samples
+            .iter()
+            .map(|s| round_values(s, clock))
+            .collect();
+        let (p, f) = ratios(&values, phong, &floors);
+        widest(&names, &p, &f)
+    };
+    let (stopped, (w, which)) = loop {
+        let w = widest_now(&rounds);
+        let Some(target) = opts.until_ci_pct else {
+            break (Stop::FixedRepeat, w);
         };
-        let group: Vec<Shading> = idx.iter().map(|&i| shadings[i]).collect();
-        eprintln!(
-            "bench: timing {} programs x {} repetitions ({} warm-up)",
-            group.len(),
-            opts.repeat,
-            opts.warmup
-        );
-        let draws = renderer.timed_draws(gpu, &group)?;
-        for (k, s) in interleaved(&draws, opts.warmup, opts.repeat)?
-            .into_iter()
-            .enumerate()
+        if let Some(stop) = until_ci_stop(w.0, target, t0.elapsed().as_secs_f64(), opts.max_time_s)
         {
-            out[idx[k]] = s;
+            break (stop, w);
         }
+        if rounds.len() % 10 == 0 {
+            eprintln!(
+                "bench: {} rounds, widest paired ratio interval +-{:.2} % ({})",
+                rounds.len(),
+                w.0,
+                w.1
+            );
+        }
+        rounds.run(1)?;
+    };
+    let timing_s = t0.elapsed().as_secs_f64();
+    match stopped {
+        Stop::FixedRepeat => eprintln!(
+            "bench: {} rounds in {timing_s:.1} s; widest paired ratio interval +-{w:.2} % ({which})",
+            rounds.len()
+        ),
+        Stop::TargetReached => eprintln!(
+            "bench: stopped: target reached: every paired ratio interval within +-{} % after {} rounds ({timing_s:.1} s); widest +-{w:.2} % ({which})",
+            opts.until_ci_pct.unwrap_or(f64::NAN),
+            rounds.len()
+        ),
+        Stop::TimeCap => eprintln!(
+            "bench: stopped: time cap of {} s reached after {} rounds; target +-{} % NOT reached: widest paired ratio interval +-{w:.2} % ({which})",
+            opts.max_time_s,
+            rounds.len(),
+            opts.until_ci_pct.unwrap_or(f64::NAN)
+        ),
     }
-    Ok(out)
+    let report = RoundsReport {
+        repeat: opts.repeat,
+        rounds: rounds.len(),
+        until_ci_pct: opts.until_ci_pct,
+        max_time_s: opts.until_ci_pct.map(|_| opts.max_time_s),
+        stopped,
+        timing_s,
+        widest_half_width_pct: w,
+        widest: which,
+    };
+    Ok((rounds.samples, report))
+}
+
+/// The paired ratio estimate a row carries against phong_exact (for claims and tests).
+pub(crate) fn row_ratio(r: &MethodTiming) -> RatioEstimate {
+    RatioEstimate {
+        median: r.ratio_median,
+        ci95_low: r.ratio_ci95_low,
+        ci95_high: r.ratio_ci95_high,
+        rounds: r.ratio_rounds,
+        non_finite: r.ratio_non_finite,
+        confidence: r.ratio_confidence,
+    }
 }

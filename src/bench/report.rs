@@ -4,6 +4,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::*;
+use crate::analysis::stats::RatioEstimate;
 use crate::compare::{self, MethodReport};
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{OpCounts, OpCountsDelta};
@@ -11,10 +12,53 @@ use crate::method::Verdict;
 use crate::output;
 use crate::output::Provenance;
 
-/// One method's (or the floor's) row of bench.json.
+/// Where a program lies against phong_exact by the paired interval of its per-round ratio.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Speed {
+    /// The whole 95% interval of the ratio lies below 1.
+    Faster,
+    /// The whole interval lies above 1.
+    Slower,
+    /// The interval contains 1.
+    Inconclusive,
+    /// No round gave a finite ratio.
+    Unmeasured,
+}
+
+impl Speed {
+    /// From a paired ratio to the reference (never from two separate intervals).
+    pub fn from_ratio(r: &RatioEstimate) -> Speed {
+        if r.rounds == 0 || !(r.ci95_low.is_finite() && r.ci95_high.is_finite()) {
+            Speed::Unmeasured
+        } else if r.ci95_high < 1.0 {
+            Speed::Faster
+        } else if r.ci95_low > 1.0 {
+            Speed::Slower
+        } else {
+            Speed::Inconclusive
+        }
+    }
+
+    /// The snake_case name, as in the JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Speed::Faster => "faster",
+            Speed::Slower => "slower",
+            Speed::Inconclusive => "inconclusive",
+            Speed::Unmeasured => "unmeasured",
+        }
+    }
+}
+
+/// One method's (or a floor's) row of bench.json.
 #[derive(Debug, Clone, Serialize)]
 pub struct MethodTiming {
     pub name: String,
+    /// The constant-colour program on the same geometry this program is measured against:
+    /// `constant` for the scene's triangles, `constant_pn_tessellated_<level>` for a PN
+    /// tessellation (for a floor: the floor it is compared with, `constant`).
+    pub floor_program: String,
     pub median_ms: f64,
     pub ci95_low_ms: f64,
     pub ci95_high_ms: f64,
@@ -25,17 +69,40 @@ pub struct MethodTiming {
     pub timestamp_median_ms: Option<f64>,
     /// Covered pixels, counted in the method's own image.
     pub covered_pixels: usize,
-    /// Fragment-shader invocations from a pipeline-statistics query, and whether they equal
-    /// the covered pixels (only then are they an exact per-fragment count; Mesa 22.3 counts
-    /// whole pixel blocks). `None` without pipeline statistics.
+    /// Fragment-shader invocations from a pipeline-statistics query in an untimed
+    /// submission of its own, and whether they equal the covered pixels (only then are they
+    /// an exact per-fragment count; Mesa 22.3 counts whole pixel blocks). `None` without
+    /// pipeline statistics.
     pub fragment_invocations: Option<u64>,
     pub invocations_exact: Option<bool>,
+    /// fragment_invocations / covered_pixels: shading work per visible pixel (overdraw, plus
+    /// the block overcount where `invocations_exact` is false).
+    pub overdraw: Option<f64>,
     pub ns_per_pixel: f64,
-    /// Median minus the constant-colour floor's median (same run).
+    /// Median minus its floor's median (same run): for a method with its own geometry, its
+    /// shading cost without the cost of that geometry.
     pub above_floor_ms: f64,
+    /// Ratio of the medians (kept for continuity; the paired ratio below is the one verdicts use).
     pub ratio_to_phong_exact: f64,
-    /// (median - floor) / (phong_exact - floor).
+    /// (median - its floor) / (phong_exact - floor).
     pub ratio_above_floor_to_phong_exact: f64,
+    /// Paired ratio to phong_exact: median over the rounds of (this program / phong_exact in
+    /// the same round), with the sign-test 95% interval (order statistics of the per-round
+    /// ratios), the rounds that gave a finite ratio, the rounds that did not, and the exact
+    /// coverage of the interval.
+    pub ratio_median: f64,
+    pub ratio_ci95_low: f64,
+    pub ratio_ci95_high: f64,
+    pub ratio_rounds: usize,
+    pub ratio_non_finite: usize,
+    pub ratio_confidence: f64,
+    /// The same against `floor_program` in the same round.
+    pub ratio_to_floor_median: f64,
+    pub ratio_to_floor_ci95_low: f64,
+    pub ratio_to_floor_ci95_high: f64,
+    pub ratio_to_floor_non_finite: usize,
+    /// From the paired ratio to phong_exact.
+    pub speed_vs_phong_exact: Speed,
     /// Static scalar operation counts of the fragment shader, and their excess over
     /// `phong_unnormalized` (the cost of the normalization itself).
     pub static_ops: Option<OpCounts>,
@@ -72,6 +139,10 @@ pub struct SweepPoint {
     pub median_ms: f64,
     pub ci95_low_ms: f64,
     pub ci95_high_ms: f64,
+    /// Timed draws of the point (at least [`crate::bench::SWEEP_MIN_REPEAT`]) and the exact
+    /// coverage of its interval.
+    pub samples: usize,
+    pub ci_confidence: f64,
 }
 
 /// A sweep and its fitted slopes.
@@ -92,21 +163,38 @@ pub struct BenchReport {
     pub schema_version: u32,
     pub provenance: Provenance,
     pub cpu_model: String,
+    /// Logical CPUs the process may use.
+    pub cpu_count: usize,
+    /// LP_NUM_THREADS when the Vulkan instance was created (set by `--threads`, or inherited);
+    /// null: lavapipe's default, one thread per CPU.
     pub lp_num_threads: Option<String>,
+    /// The command line of the run.
+    pub command_line: Vec<String>,
     pub scene: String,
     pub width: u32,
     pub height: u32,
     pub triangles: usize,
     pub repeat: usize,
     pub warmup: usize,
+    /// How many rounds were run and why they stopped.
+    pub rounds: RoundsReport,
+    /// How the paired ratio intervals are computed.
+    pub ratio_interval: String,
     pub clock: ClockCheck,
     pub error_metric: String,
     pub floor: MethodTiming,
+    /// The constant-colour program on each other geometry of the run (a PN tessellation):
+    /// the floor of the methods that draw it; its paired ratio to `floor` is the cost of that
+    /// geometry.
+    pub other_floors: Vec<MethodTiming>,
     pub methods: Vec<MethodTiming>,
-    /// Names of the non-dominated methods (time, error).
+    /// Names of the non-dominated methods (error, paired time): a method is dominated only
+    /// when another has an error at most its own and is faster beyond the paired interval.
     pub pareto_front: Vec<String>,
     pub claims: Vec<ClaimCheck>,
     pub sweeps: Vec<SweepResult>,
+    /// The comparison with `--baseline` (null without it).
+    pub baseline: Option<crate::bench::baseline::BaselineComparison>,
     pub total_s: f64,
 }
 /// Writes every output of a bench run.
@@ -129,6 +217,17 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
             "above_floor_ms",
             "ratio_to_phong_exact",
             "ratio_above_floor_to_phong_exact",
+            "floor_program",
+            "ratio_median",
+            "ratio_ci95_low",
+            "ratio_ci95_high",
+            "ratio_non_finite",
+            "ratio_to_floor_median",
+            "ratio_to_floor_ci95_low",
+            "ratio_to_floor_ci95_high",
+            "speed_vs_phong_exact",
+            "fragment_invocations",
+            "overdraw",
             "ops_div",
             "ops_sqrt",
             "ops_inverse_sqrt",
@@ -140,7 +239,10 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
         .to_vec();
         header.extend(compare::METRICS.iter().map(|m| m.to_string()));
         c.write_record(&header).map_err(std::io::Error::other)?;
-        for m in std::iter::once(&r.floor).chain(&r.methods) {
+        for m in std::iter::once(&r.floor)
+            .chain(&r.other_floors)
+            .chain(&r.methods)
+        {
             let o = |v: Option<f64>| v.map(|x| format!("{x:e}")).unwrap_or_default();
             let ops = m.static_ops;
             let mut row = vec![
@@ -157,6 +259,19 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
                 format!("{:e}", m.above_floor_ms),
                 format!("{:e}", m.ratio_to_phong_exact),
                 format!("{:e}", m.ratio_above_floor_to_phong_exact),
+                m.floor_program.clone(),
+                format!("{:e}", m.ratio_median),
+                format!("{:e}", m.ratio_ci95_low),
+                format!("{:e}", m.ratio_ci95_high),
+                m.ratio_non_finite.to_string(),
+                format!("{:e}", m.ratio_to_floor_median),
+                format!("{:e}", m.ratio_to_floor_ci95_low),
+                format!("{:e}", m.ratio_to_floor_ci95_high),
+                m.speed_vs_phong_exact.as_str().into(),
+                m.fragment_invocations
+                    .map(|n| n.to_string())
+                    .unwrap_or_default(),
+                o(m.overdraw),
             ];
             for f in [
                 |o: &OpCounts| o.div,
@@ -181,8 +296,9 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
     output::write_bytes_atomic(&out.join("claims.json"), claims.as_bytes())?;
     let mut md = String::from("# The seeds' claims, measured\n\n");
     md += &format!(
-        "{} at {}x{} on {} ({}), clock: {}. Written by `shadelab bench`: every verdict below was computed by this run from the measurement in its row, by the rule in its \"how\".\n\n| method | claim | measured | verdict | how | why |\n|---|---|---|---|---|---|\n",
-        r.scene, r.width, r.height, r.provenance.device, r.provenance.driver_info, r.clock.clock
+        "{} at {}x{} on {} ({}), clock: {}, {} interleaved rounds ({}). Written by `shadelab bench`: every verdict below was computed by this run from the measurement in its row, by the rule in its \"how\". Speed verdicts come from the paired per-round ratio to phong_exact ({}).\n\n| method | claim | measured | verdict | how | why |\n|---|---|---|---|---|---|\n",
+        r.scene, r.width, r.height, r.provenance.device, r.provenance.driver_info, r.clock.clock,
+        r.rounds.rounds, r.rounds.stopped.as_str(), r.ratio_interval
     );
     for c in &r.claims {
         md += &format!(

@@ -30,18 +30,154 @@ fn binomial_cdf_is_exact_for_small_n() {
 }
 
 #[test]
-fn pareto_front_keeps_only_non_dominated_points() {
-    let pts = [
-        (1.0, 5.0),
-        (2.0, 3.0),
-        (3.0, 4.0),
-        (4.0, 1.0),
-        (2.0, 3.0),
-        (0.5, f64::NAN),
-    ];
-    // (3, 4) is dominated by (2, 3); the two (2, 3) tie and both stay; NaN is never on it
-    assert_eq!(pareto_front(&pts), vec![0, 1, 3, 4]);
-    assert!(pareto_front(&[]).is_empty());
+fn order_statistic_confidence_is_exact() {
+    // [min, max] of 5 samples: 1 - 2 / 32; of 1 sample: nothing
+    assert!((order_statistic_confidence(5, 0) - 0.9375).abs() < 1e-15);
+    assert_eq!(order_statistic_confidence(1, 0), 0.0);
+    assert_eq!(order_statistic_confidence(0, 0), 0.0);
+    // n = 20: l = 6, 1 - 2 P(Bin(20, 1/2) <= 5) = 0.95861...
+    assert_eq!(sign_test_rank(20), 6);
+    let e = median_ci(&(1..=20).map(f64::from).collect::<Vec<_>>());
+    assert!((e.confidence - 0.958610).abs() < 1e-6, "{e:?}");
+    assert!(e.confidence >= 0.95);
+    assert!(median_ci(&[1.0, 2.0, 3.0, 4.0, 5.0]).confidence < 0.95);
+}
+
+/// Synthetic rounds in which the whole machine slows down and speeds up by a factor of two
+/// from round to round (drift), while the method is 1 % slower than phong_exact in every
+/// round: the separate intervals overlap completely, the paired interval is exactly 1.01.
+fn drifting_rounds(ratio: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+    let phong: Vec<f64> = (0..n)
+        .map(|r| 20.0 * (1.0 + (r % 7) as f64 / 7.0))
+        .collect();
+    let method = phong.iter().map(|p| p * ratio).collect();
+    (method, phong)
+}
+
+#[test]
+fn paired_ratio_sees_through_drift() {
+    let (m, p) = drifting_rounds(1.01, 40);
+    let r = paired_ratio(&m, &p);
+    assert!((r.median - 1.01).abs() < 1e-12, "{r:?}");
+    assert!(r.ci95_low > 1.0, "{r:?}");
+    assert_eq!((r.rounds, r.non_finite), (40, 0));
+    // the separate intervals could not tell them apart
+    let (em, ep) = (median_ci(&m), median_ci(&p));
+    assert!(em.ci95_low < ep.ci95_high, "{em:?} {ep:?}");
+    // teeth: a method whose per-round ratios straddle 1 is not called slower
+    let noisy: Vec<f64> = p
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x * if i % 2 == 0 { 1.03 } else { 0.98 })
+        .collect();
+    let r = paired_ratio(&noisy, &p);
+    assert!(r.ci95_low < 1.0 && r.ci95_high > 1.0, "{r:?}");
+}
+
+#[test]
+fn paired_ratio_counts_non_finite_rounds_and_never_sorts_them() {
+    let p = vec![10.0; 12];
+    let mut m = vec![11.0; 12];
+    m[3] = f64::NAN;
+    m[5] = f64::INFINITY;
+    let mut p2 = p.clone();
+    p2[7] = 0.0; // a zero denominator gives no ratio either
+    let r = paired_ratio(&m, &p2);
+    assert_eq!((r.rounds, r.non_finite), (9, 3), "{r:?}");
+    assert!((r.median - 1.1).abs() < 1e-12 && (r.ci95_high - 1.1).abs() < 1e-12);
+    // nothing finite: NaN estimate, never a ratio of 1 or 0
+    let r = paired_ratio(&[f64::NAN; 4], &p[..4]);
+    assert_eq!((r.rounds, r.non_finite), (0, 4));
+    assert!(r.median.is_nan() && r.half_width_pct().is_nan());
+}
+
+#[test]
+fn half_width_is_the_wider_side_in_percent() {
+    let r = RatioEstimate {
+        median: 1.0,
+        ci95_low: 0.99,
+        ci95_high: 1.02,
+        rounds: 40,
+        non_finite: 0,
+        confidence: 0.96,
+    };
+    assert!((r.half_width_pct() - 2.0).abs() < 1e-9);
+}
+
+#[test]
+fn paired_pareto_front_dominates_only_beyond_the_paired_interval() {
+    // a: low error, slow; b: higher error, 1 % faster in every round; c: b's error, as slow
+    // as a or 2 % slower, alternately; d: non-finite error
+    let (a, base) = drifting_rounds(1.0, 40);
+    let b: Vec<f64> = base.iter().map(|x| x * 0.99).collect();
+    let c: Vec<f64> = base
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x * if i % 2 == 0 { 1.02 } else { 1.0 })
+        .collect();
+    let times = vec![a.clone(), b.clone(), c.clone(), b.clone()];
+    let errors = [1.0, 2.0, 2.0, f64::NAN];
+    // c is dominated by b (same error, b faster beyond the paired interval): off the front;
+    // a and b trade off; d is never on it
+    assert_eq!(pareto_front_paired(&errors, &times), vec![0, 1]);
+    // teeth: if c had a's error it would stay (c is not slower than a beyond the interval,
+    // even though its median is above a's)
+    let errors = [1.0, 2.0, 1.0, f64::NAN];
+    assert_eq!(pareto_front_paired(&errors, &times), vec![0, 1, 2]);
+    // teeth: a method at b's time with a strictly worse error is dominated
+    let times = vec![a, b.clone(), b.iter().map(|x| x * 1.05).collect()];
+    assert_eq!(pareto_front_paired(&[1.0, 2.0, 3.0], &times), vec![0, 1]);
+    assert!(pareto_front_paired(&[], &[]).is_empty());
+}
+
+#[test]
+fn until_ci_stops_at_the_target_or_the_cap_and_not_before() {
+    use super::rounds::{until_ci_stop, Stop};
+    assert_eq!(
+        until_ci_stop(0.9, 1.0, 5.0, 300.0),
+        Some(Stop::TargetReached)
+    );
+    assert_eq!(
+        until_ci_stop(1.0, 1.0, 5.0, 300.0),
+        Some(Stop::TargetReached)
+    );
+    assert_eq!(until_ci_stop(1.1, 1.0, 5.0, 300.0), None);
+    assert_eq!(until_ci_stop(1.1, 1.0, 300.0, 300.0), Some(Stop::TimeCap));
+    // an interval without a finite ratio is never narrow enough
+    assert_eq!(until_ci_stop(f64::NAN, 1.0, 5.0, 300.0), None);
+    assert_eq!(until_ci_stop(f64::INFINITY, 1.0, 5.0, 300.0), None);
+    assert_eq!(
+        until_ci_stop(f64::NAN, 1.0, 301.0, 300.0),
+        Some(Stop::TimeCap)
+    );
+}
+
+#[test]
+fn widest_names_the_widest_interval_and_treats_unmeasured_as_infinite() {
+    use super::rounds::widest;
+    let r = |lo, hi, rounds| RatioEstimate {
+        median: 1.0,
+        ci95_low: lo,
+        ci95_high: hi,
+        rounds,
+        non_finite: 0,
+        confidence: 0.96,
+    };
+    let names = ["a".to_string(), "b".to_string()];
+    let (w, which) = widest(
+        &names,
+        &[r(0.99, 1.01, 9), r(0.97, 1.0, 9)],
+        &[r(1.0, 1.0, 9); 2],
+    );
+    assert!((w - 3.0).abs() < 1e-9);
+    assert_eq!(which, "b against phong_exact");
+    let (w, which) = widest(
+        &names,
+        &[r(1.0, 1.0, 9); 2],
+        &[r(1.0, 1.0, 9), r(f64::NAN, f64::NAN, 0)],
+    );
+    assert!(w.is_infinite());
+    assert_eq!(which, "b against its floor");
 }
 
 #[test]
@@ -57,7 +193,6 @@ fn wall_clock_fallback_is_labelled_wall() {
     let sample = |wall_ms, timestamp_ms| crate::gpu::Sample {
         wall_ms,
         timestamp_ms,
-        fragment_invocations: None,
     };
     let no_ts: Vec<_> = (0..9).map(|i| sample(10.0 + i as f64, None)).collect();
     let (e, clock, wall, ts) = super::estimate(&no_ts, "timestamp");
@@ -67,22 +202,36 @@ fn wall_clock_fallback_is_labelled_wall() {
     let (e, clock, _, ts) = super::estimate(&with_ts, "timestamp");
     assert_eq!((clock, Some(e.median)), ("timestamp", ts));
     assert_eq!(super::estimate(&with_ts, "wall").1, "wall");
+    // Paired values on the timestamp clock: a round without a timestamp is NaN (counted by
+    // the ratios), never its wall time.
+    let mixed = [sample(10.0, Some(4.0)), sample(10.0, None)];
+    let v = super::rounds::round_values(&mixed, "timestamp");
+    assert_eq!(v[0], 4.0);
+    assert!(v[1].is_nan());
+    assert_eq!(
+        super::rounds::round_values(&mixed, "wall"),
+        vec![10.0, 10.0]
+    );
 }
 
 // ---- claims ---------------------------------------------------------------------------------
 
 use super::claims::*;
 use super::MethodTiming;
+use crate::analysis::stats::RatioEstimate;
 use crate::gpu::spirv::OpCountsDelta;
 use crate::method::Verdict;
 
-/// A timing row with only the fields the claims read.
-fn row(name: &str, low: f64, median: f64, high: f64) -> MethodTiming {
+/// A timing row with only the fields the claims read: the medians and the paired ratio
+/// interval to phong_exact.
+fn row(name: &str, median: f64, ratio: (f64, f64, f64)) -> MethodTiming {
+    let (lo, mid, hi) = ratio;
     MethodTiming {
         name: name.into(),
+        floor_program: "constant".into(),
         median_ms: median,
-        ci95_low_ms: low,
-        ci95_high_ms: high,
+        ci95_low_ms: median * 0.9,
+        ci95_high_ms: median * 1.1,
         samples: 20,
         clock: "timestamp".into(),
         wall_median_ms: median,
@@ -90,10 +239,29 @@ fn row(name: &str, low: f64, median: f64, high: f64) -> MethodTiming {
         covered_pixels: 1000,
         fragment_invocations: None,
         invocations_exact: None,
+        overdraw: None,
         ns_per_pixel: 0.0,
         above_floor_ms: 0.0,
         ratio_to_phong_exact: 0.0,
         ratio_above_floor_to_phong_exact: 0.0,
+        ratio_median: mid,
+        ratio_ci95_low: lo,
+        ratio_ci95_high: hi,
+        ratio_rounds: 20,
+        ratio_non_finite: 0,
+        ratio_confidence: 0.96,
+        ratio_to_floor_median: f64::NAN,
+        ratio_to_floor_ci95_low: f64::NAN,
+        ratio_to_floor_ci95_high: f64::NAN,
+        ratio_to_floor_non_finite: 0,
+        speed_vs_phong_exact: super::Speed::from_ratio(&RatioEstimate {
+            median: mid,
+            ci95_low: lo,
+            ci95_high: hi,
+            rounds: 20,
+            non_finite: 0,
+            confidence: 0.96,
+        }),
         static_ops: None,
         static_ops_above_unnormalized: None,
         error: None,
@@ -101,31 +269,65 @@ fn row(name: &str, low: f64, median: f64, high: f64) -> MethodTiming {
 }
 
 #[test]
-fn speed_verdict_is_inconclusive_when_the_intervals_overlap() {
-    let phong = row("phong_exact", 1.0, 1.1, 1.2);
-    let verdict = |lo, med, hi| faster_than_exact(&row("newton_raphson", lo, med, hi), &phong);
-    assert_eq!(verdict(0.5, 0.6, 0.9).verdict, Verdict::Agrees);
-    assert_eq!(verdict(1.3, 1.4, 1.5).verdict, Verdict::Disagrees);
-    // faster median, but the intervals overlap: no measurable difference
-    let overlap = verdict(0.8, 0.9, 1.05);
-    assert_eq!(overlap.verdict, Verdict::Inconclusive, "{overlap:?}");
-    assert!(overlap.reason.contains("overlap"), "{overlap:?}");
-    // slower median, overlapping too
-    assert_eq!(verdict(1.15, 1.25, 1.3).verdict, Verdict::Inconclusive);
+fn speed_verdict_comes_from_the_paired_interval_only() {
+    let phong = row("phong_exact", 1.1, (1.0, 1.0, 1.0));
+    let verdict = |ratio| faster_than_exact(&row("newton_raphson", 1.0, ratio), &phong);
+    let v = verdict((0.97, 0.98, 0.99));
+    assert_eq!(v.verdict, Verdict::Agrees, "{v:?}");
+    assert!(v.measured.contains("faster"), "{v:?}");
+    assert_eq!(verdict((1.01, 1.02, 1.03)).verdict, Verdict::Disagrees);
+    // a faster median whose paired interval contains 1: no measurable difference
+    let v = verdict((0.98, 0.99, 1.001));
+    assert_eq!(v.verdict, Verdict::Inconclusive, "{v:?}");
+    assert!(v.reason.contains("contains 1"), "{v:?}");
+    // the separate intervals of the row (median +-10 %) overlap phong_exact's, yet the paired
+    // interval decides: the verdict never comes from the separate intervals
+    let r = row("newton_raphson", 1.0, (0.95, 0.96, 0.97));
+    assert!(r.ci95_high_ms > phong.ci95_low_ms);
+    assert_eq!(faster_than_exact(&r, &phong).verdict, Verdict::Agrees);
+    // no finite round: inconclusive, said so
+    let v = verdict((f64::NAN, f64::NAN, f64::NAN));
+    assert_eq!(v.verdict, Verdict::Inconclusive);
+    assert!(v.reason.contains("no round"), "{v:?}");
 }
 
 #[test]
-fn gouraud_50x_verdict_uses_both_intervals() {
-    let floor = row("constant", 0.1, 0.1, 0.1);
-    let phong = row("phong_exact", 10.0, 11.0, 12.0);
-    let verdict = |lo, med, hi| phong_50x_gouraud(&phong, &row("gouraud", lo, med, hi), &floor);
-    // 10 / 0.15 = 66x at the least
-    assert_eq!(verdict(0.1, 0.12, 0.15).verdict, Verdict::Agrees);
-    // 12 / 1 = 12x at the most
-    assert_eq!(verdict(1.0, 1.1, 1.2).verdict, Verdict::Disagrees);
-    // median ratio 11 / 0.2 = 55x, but the intervals allow 10 / 0.3 = 33x
-    let m = verdict(0.15, 0.2, 0.3);
+fn speed_of_a_ratio() {
+    use super::Speed;
+    let r = |lo, hi, rounds| RatioEstimate {
+        median: 1.0,
+        ci95_low: lo,
+        ci95_high: hi,
+        rounds,
+        non_finite: 0,
+        confidence: 0.96,
+    };
+    assert_eq!(Speed::from_ratio(&r(0.9, 0.99, 9)), Speed::Faster);
+    assert_eq!(Speed::from_ratio(&r(1.01, 1.1, 9)), Speed::Slower);
+    assert_eq!(Speed::from_ratio(&r(0.99, 1.01, 9)), Speed::Inconclusive);
+    assert_eq!(Speed::from_ratio(&r(1.0, 1.0, 9)), Speed::Inconclusive);
+    assert_eq!(
+        Speed::from_ratio(&r(f64::NAN, f64::NAN, 0)),
+        Speed::Unmeasured
+    );
+}
+
+#[test]
+fn gouraud_50x_verdict_uses_the_paired_interval() {
+    let floor = row("constant", 0.1, (0.0, 0.0, 0.0));
+    let phong = row("phong_exact", 11.0, (1.0, 1.0, 1.0));
+    let verdict = |ratio| phong_50x_gouraud(&phong, &row("gouraud", 0.2, ratio), &floor);
+    // phong / gouraud at least 1 / 0.015 = 66x
+    assert_eq!(verdict((0.01, 0.012, 0.015)).verdict, Verdict::Agrees);
+    // at most 1 / 0.5 = 2x
+    assert_eq!(verdict((0.5, 0.6, 0.7)).verdict, Verdict::Disagrees);
+    // median 1 / 0.018 = 55x, but the interval allows 1 / 0.03 = 33x
+    let m = verdict((0.015, 0.018, 0.03));
     assert_eq!(m.verdict, Verdict::Inconclusive, "{m:?}");
+    assert_eq!(
+        verdict((f64::NAN, f64::NAN, f64::NAN)).verdict,
+        Verdict::Inconclusive
+    );
 }
 
 #[test]
@@ -155,4 +357,102 @@ fn op_count_verdict_compares_each_count_with_the_claim() {
         ..Default::default()
     });
     assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
+}
+
+// ---- baseline -------------------------------------------------------------------------------
+
+use super::baseline::{self, Change};
+use serde_json::json;
+
+/// A synthetic bench.json with the floor and methods given as (name, low, median, high).
+fn bench_json(rows: &[(&str, f64, f64, f64)]) -> serde_json::Value {
+    let row = |&(n, lo, m, hi): &(&str, f64, f64, f64)| json!({"name": n, "ci95_low_ms": lo, "median_ms": m, "ci95_high_ms": hi});
+    json!({
+        "scene": "sphere_fine",
+        "width": 1024,
+        "height": 1024,
+        "clock": {"clock": "timestamp"},
+        "floor": row(&rows[0]),
+        "other_floors": [],
+        "methods": rows[1..].iter().map(row).collect::<Vec<_>>(),
+    })
+}
+
+#[test]
+fn baseline_fails_only_beyond_both_intervals_by_more_than_the_limit() {
+    let old = bench_json(&[
+        ("constant", 19.0, 20.0, 21.0),
+        ("phong_exact", 29.0, 30.0, 31.0),
+        ("gouraud", 19.0, 20.0, 21.0),
+        ("lyon_taylor", 29.0, 30.0, 31.0),
+        ("dropped", 1.0, 2.0, 3.0),
+    ]);
+    let new = bench_json(&[
+        ("constant", 19.5, 20.5, 21.5),    // overlapping
+        ("phong_exact", 33.0, 34.0, 35.0), // 33 / 31 = +6.5 % beyond both
+        ("gouraud", 21.5, 22.0, 22.5),     // 21.5 / 21 = +2.4 % beyond both
+        ("lyon_taylor", 20.0, 21.0, 22.0), // faster
+        ("added", 1.0, 2.0, 3.0),
+    ]);
+    let c = baseline::compare(&old, &new, "old/bench.json", Some(5.0));
+    assert!(!c.paired && c.note.contains("not paired"));
+    let change = |n: &str| c.programs.iter().find(|p| p.name == n).unwrap().change;
+    assert_eq!(change("constant"), Change::Indistinguishable);
+    assert_eq!(change("phong_exact"), Change::Slower);
+    assert_eq!(change("gouraud"), Change::Slower);
+    assert_eq!(change("lyon_taylor"), Change::Faster);
+    assert_eq!(c.failing, vec!["phong_exact"]);
+    assert!(c.exceeded());
+    let p = c.programs.iter().find(|p| p.name == "phong_exact").unwrap();
+    assert!((p.slower_by_at_least_pct.unwrap() - (33.0 / 31.0 - 1.0) * 100.0).abs() < 1e-9);
+    assert!((p.change_pct.unwrap() - (34.0 / 30.0 - 1.0) * 100.0).abs() < 1e-9);
+    assert_eq!(c.only_in_baseline, vec!["dropped"]);
+    assert_eq!(c.only_in_this_run, vec!["added"]);
+    assert!(c.setup_differences.is_empty(), "{:?}", c.setup_differences);
+    // teeth: a looser limit passes the same runs; no limit never fails
+    let loose = baseline::compare(&old, &new, "old", Some(10.0));
+    assert!(loose.failing.is_empty() && !loose.exceeded());
+    assert!(!baseline::compare(&old, &new, "old", None).exceeded());
+    // a run against itself: nothing slower
+    let same = baseline::compare(&old, &old, "old", Some(0.0));
+    assert!(!same.exceeded(), "{same:?}");
+}
+
+#[test]
+fn baseline_counts_programs_it_cannot_compare_and_fails_on_them() {
+    let old = bench_json(&[
+        ("constant", 19.0, 20.0, 21.0),
+        ("phong_exact", 29.0, 30.0, 31.0),
+    ]);
+    let mut new = bench_json(&[
+        ("constant", 19.0, 20.0, 21.0),
+        ("phong_exact", 29.0, 30.0, 31.0),
+    ]);
+    // NaN is written as null by serde_json
+    new["methods"][0]["ci95_low_ms"] = serde_json::Value::Null;
+    new["width"] = json!(512);
+    let c = baseline::compare(&old, &new, "old", Some(5.0));
+    assert_eq!(c.not_comparable, vec!["phong_exact"]);
+    assert!(c.failing.is_empty());
+    assert!(c.exceeded(), "a gate must not pass what it cannot measure");
+    assert_eq!(
+        c.setup_differences,
+        vec!["width: baseline 1024, this run 512"]
+    );
+    // without --fail-slower it is reported, not failed
+    assert!(!baseline::compare(&old, &new, "old", None).exceeded());
+}
+
+#[test]
+fn baseline_rejects_a_file_that_is_not_a_bench_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("x.json");
+    std::fs::write(&p, "{\"methods\": 3}").unwrap();
+    let e = baseline::load(&p).unwrap_err().to_string();
+    assert!(e.contains("not a bench.json"), "{e}");
+    std::fs::write(&p, "{").unwrap();
+    let e = baseline::load(&p).unwrap_err().to_string();
+    assert!(e.contains("not valid JSON"), "{e}");
+    std::fs::write(&p, bench_json(&[("constant", 1.0, 2.0, 3.0)]).to_string()).unwrap();
+    assert!(baseline::load(&p).is_ok());
 }

@@ -1,4 +1,4 @@
-//! `shadelab bench`: timed draws, clock check, sweeps, claims.
+//! `shadelab bench`: timed draws, clock check, paired ratios, sweeps, claims, baseline.
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -9,43 +9,66 @@ pub(super) fn cmd_bench(
     dev: &DeviceArgs,
     list: &str,
     out: &Path,
+    threads: Option<u32>,
     opts: &crate::bench::BenchOptions,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let scene = load_scene(scene_args)?;
+    if let Some(n) = threads {
+        // lavapipe reads LP_NUM_THREADS when its device is created: this must come before the
+        // Vulkan instance (the renderer below). Nothing else runs yet: no other thread reads
+        // the environment while it changes.
+        std::env::set_var("LP_NUM_THREADS", n.to_string());
+    }
     let r = renderer(dev)?;
     let report = crate::bench::bench(&r, &scene, &methods, out, opts)?;
     println!(
-        "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} repetitions",
+        "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} rounds ({})",
         report.scene,
         report.width,
         report.height,
         report.triangles,
         report.clock.clock,
         report.lp_num_threads.as_deref().unwrap_or("unset"),
-        report.repeat
+        report.rounds.rounds,
+        report.rounds.stopped.as_str()
     );
     println!(
-        "{:<32} {:>9} {:>19} {:>8} {:>9} {:>8} {:>12}",
-        "program", "median ms", "95% CI ms", "ns/px", "x phong", "floor+ms", report.error_metric
+        "{:<34} {:>9} {:>19} {:>8} {:>26} {:>12} {:>8} {:>12}",
+        "program",
+        "median ms",
+        "95% CI ms",
+        "ns/px",
+        "/ phong_exact (paired)",
+        "speed",
+        "overdraw",
+        report.error_metric
     );
     let mut rows: Vec<&crate::bench::MethodTiming> = std::iter::once(&report.floor)
+        .chain(&report.other_floors)
         .chain(&report.methods)
         .collect();
-    rows[1..].sort_by(|a, b| a.median_ms.total_cmp(&b.median_ms));
+    let floors = 1 + report.other_floors.len();
+    rows[floors..].sort_by(|a, b| a.median_ms.total_cmp(&b.median_ms));
     for m in rows {
         let err = m
             .error
             .as_ref()
             .and_then(|e| e.metric(&report.error_metric));
         println!(
-            "{:<32} {:>9.3} {:>19} {:>8.2} {:>9.3} {:>8.3} {:>12}{}",
+            "{:<34} {:>9.3} {:>19} {:>8.2} {:>26} {:>12} {:>8} {:>12}{}",
             m.name,
             m.median_ms,
             format!("[{:.3}, {:.3}]", m.ci95_low_ms, m.ci95_high_ms),
             m.ns_per_pixel,
-            m.ratio_to_phong_exact,
-            m.above_floor_ms,
+            format!(
+                "{:.4} [{:.4}, {:.4}]",
+                m.ratio_median, m.ratio_ci95_low, m.ratio_ci95_high
+            ),
+            m.speed_vs_phong_exact.as_str(),
+            m.overdraw
+                .map(|o| format!("{o:.2}"))
+                .unwrap_or_else(|| "-".into()),
             err.map(|e| format!("{e:.3e}"))
                 .unwrap_or_else(|| "-".into()),
             if report.pareto_front.contains(&m.name) {
@@ -54,6 +77,41 @@ pub(super) fn cmd_bench(
                 ""
             }
         );
+    }
+    for f in &report.other_floors {
+        println!(
+            "{}: geometry cost: {:.4}x the scene's floor per round, 95% interval [{:.4}, {:.4}]; methods on it are measured against it",
+            f.name, f.ratio_to_floor_median, f.ratio_to_floor_ci95_low, f.ratio_to_floor_ci95_high
+        );
+    }
+    for m in report
+        .methods
+        .iter()
+        .filter(|m| m.floor_program != "constant")
+    {
+        println!(
+            "{}: shading cost on its own geometry: {:.4}x {} per round, 95% interval [{:.4}, {:.4}]",
+            m.name,
+            m.ratio_to_floor_median,
+            m.floor_program,
+            m.ratio_to_floor_ci95_low,
+            m.ratio_to_floor_ci95_high
+        );
+    }
+    let rr = &report.rounds;
+    match rr.stopped {
+        crate::bench::Stop::FixedRepeat => println!(
+            "{} rounds (--repeat); widest paired ratio interval +-{:.2} % ({})",
+            rr.rounds, rr.widest_half_width_pct, rr.widest
+        ),
+        crate::bench::Stop::TargetReached => println!(
+            "--until-ci: target reached: every paired ratio interval within +-{} % after {} rounds ({:.1} s); widest +-{:.2} % ({})",
+            rr.until_ci_pct.unwrap_or(f64::NAN), rr.rounds, rr.timing_s, rr.widest_half_width_pct, rr.widest
+        ),
+        crate::bench::Stop::TimeCap => println!(
+            "--until-ci: time cap of {} s reached after {} rounds, target +-{} % not reached: widest paired ratio interval +-{:.2} % ({})",
+            rr.max_time_s.unwrap_or(f64::NAN), rr.rounds, rr.until_ci_pct.unwrap_or(f64::NAN), rr.widest_half_width_pct, rr.widest
+        ),
     }
     for s in &report.sweeps {
         for (name, per_m, loglog) in &s.slopes {
@@ -69,5 +127,48 @@ pub(super) fn cmd_bench(
         report.total_s
     );
     check_validation(r.context())?;
+    let Some(b) = &report.baseline else {
+        return Ok(ExitCode::SUCCESS);
+    };
+    println!("baseline {}: {}", b.path, b.note);
+    for d in &b.setup_differences {
+        println!("baseline: setup differs: {d}");
+    }
+    for p in &b.programs {
+        let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.3}"));
+        println!(
+            "{:<34} {:>9} [{}, {}] -> {:>9} [{}, {}] ms  {:+.1} %  {:?}{}",
+            p.name,
+            f(p.baseline_median_ms),
+            f(p.baseline_ci95_low_ms),
+            f(p.baseline_ci95_high_ms),
+            f(p.median_ms),
+            f(p.ci95_low_ms),
+            f(p.ci95_high_ms),
+            p.change_pct.unwrap_or(f64::NAN),
+            p.change,
+            if p.fails { "  FAILS --fail-slower" } else { "" }
+        );
+    }
+    for (what, list) in [
+        ("only in the baseline", &b.only_in_baseline),
+        ("only in this run", &b.only_in_this_run),
+    ] {
+        if !list.is_empty() {
+            println!("baseline: {what}: {}", list.join(", "));
+        }
+    }
+    if b.exceeded() {
+        let pct = b.fail_slower_pct.unwrap_or(f64::NAN);
+        for n in &b.failing {
+            eprintln!(
+                "shadelab: {n} is slower than the baseline beyond both 95% intervals by more than {pct} % (not paired)"
+            );
+        }
+        for n in &b.not_comparable {
+            eprintln!("shadelab: {n} cannot be compared with the baseline (a median or interval end is missing or not finite)");
+        }
+        return Ok(ExitCode::from(EXIT_THRESHOLD));
+    }
     Ok(ExitCode::SUCCESS)
 }

@@ -202,8 +202,28 @@ enum Command {
         #[arg(long)]
         control: bool,
         /// Also sweep image size (128..2048) or triangle count (~100..~1,000,000); repeatable.
+        /// Each sweep point takes 20 to 40 timed draws per program (--repeat, clamped).
         #[arg(long, value_enum)]
         sweep: Vec<SweepArg>,
+        /// After --repeat rounds, add rounds until every paired ratio interval (to phong_exact
+        /// and to the floor) is within +-PCT percent of its median, or --max-time is reached.
+        #[arg(long, value_name = "PCT")]
+        until_ci: Option<f64>,
+        /// Time cap of --until-ci: seconds of timed rounds.
+        #[arg(long, value_name = "SECONDS", default_value_t = crate::bench::DEFAULT_MAX_TIME_S)]
+        max_time: f64,
+        /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
+        /// (0: render on the submitting thread). Recorded in bench.json.
+        #[arg(long, value_name = "N")]
+        threads: Option<u32>,
+        /// Compare with the bench.json of an earlier run (not paired: the runs were not
+        /// interleaved). Written to bench.json `baseline` and printed.
+        #[arg(long, value_name = "OLD/bench.json")]
+        baseline: Option<PathBuf>,
+        /// With --baseline: exit 1 when a program's 95% interval lies above the baseline's by
+        /// more than PCT percent (or cannot be compared), naming each.
+        #[arg(long, value_name = "PCT", requires = "baseline")]
+        fail_slower: Option<f64>,
     },
     /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
     /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
@@ -338,6 +358,11 @@ pub fn run() -> Result<ExitCode> {
             error_metric,
             control,
             sweep,
+            until_ci,
+            max_time,
+            threads,
+            baseline,
+            fail_slower,
         } => {
             let opts = crate::bench::BenchOptions {
                 repeat,
@@ -345,8 +370,13 @@ pub fn run() -> Result<ExitCode> {
                 error_metric,
                 control,
                 sweeps: sweep.into_iter().map(Into::into).collect(),
+                until_ci_pct: until_ci,
+                max_time_s: max_time,
+                baseline,
+                fail_slower_pct: fail_slower,
+                command_line: std::env::args().collect(),
             };
-            cmd_bench(&scene, &device, &methods, &out, &opts)
+            cmd_bench(&scene, &device, &methods, &out, threads, &opts)
         }
         Command::Stress {
             device,

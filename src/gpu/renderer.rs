@@ -154,10 +154,17 @@ pub struct Prepared {
 impl Prepared {
     /// The upload a method draws from.
     pub fn for_method(&self, m: &Method) -> &GpuScene {
-        self.scenes
-            .iter()
-            .find(|g| g.inputs.geometry == m.geometry)
-            .unwrap_or(&self.scenes[0])
+        self.for_geometry(m.geometry).unwrap_or(&self.scenes[0])
+    }
+
+    /// The upload of one geometry, if this run has it.
+    pub fn for_geometry(&self, g: Geometry) -> Option<&GpuScene> {
+        self.scenes.iter().find(|s| s.inputs.geometry == g)
+    }
+
+    /// The geometries uploaded, the scene's own triangles first.
+    pub fn geometries(&self) -> Vec<Geometry> {
+        self.scenes.iter().map(|s| s.inputs.geometry).collect()
     }
 
     /// The upload of the scene's own triangles (the reference geometry).

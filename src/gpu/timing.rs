@@ -1,7 +1,8 @@
 //! Timed draws: recorded once, submitted repeatedly, each bracketed by timestamps; one
-//! [`Sample`] per submission.
+//! [`Sample`] per submission. The pipeline-statistics count of a draw is taken in a submission
+//! of its own ([`Renderer::fragment_invocations`]), never inside a timed bracket.
 use super::*;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::gpu::vk::queries::timestamp_delta_ns;
 use crate::gpu::vk::{GraphicsPipeline, OneShot, QueryPool, Recorded};
 
@@ -11,14 +12,11 @@ pub struct Sample {
     pub wall_ms: f64,
     /// `None` when the queue has no timestamps.
     pub timestamp_ms: Option<f64>,
-    /// Fragment-shader invocations reported by a pipeline-statistics query (`None` when the
-    /// device has none). Not necessarily the covered pixels: Mesa 22.3 counts whole blocks.
-    pub fragment_invocations: Option<u64>,
 }
 
 /// Draws recorded by [`Renderer::timed_draws`], ready to be submitted in any order.
 pub struct TimedDraws {
-    draws: Vec<(Recorded, QueryPool, Option<QueryPool>, GraphicsPipeline)>,
+    draws: Vec<(Recorded, QueryPool, GraphicsPipeline)>,
     _targets: Targets,
     valid_bits: u32,
     period_ns: f32,
@@ -27,18 +25,13 @@ pub struct TimedDraws {
 impl TimedDraws {
     /// Submits draw `i` once and waits for it.
     pub fn run(&self, i: usize) -> Result<Sample> {
-        let (cmd, pool, stats, _) = &self.draws[i];
+        let (cmd, pool, _) = &self.draws[i];
         let wall = cmd.submit()?;
         let t = pool.results()?;
-        let fragment_invocations = match stats {
-            Some(q) => q.results()?.first().copied(),
-            None => None,
-        };
         Ok(Sample {
             wall_ms: wall.as_secs_f64() * 1e3,
             timestamp_ms: timestamp_delta_ns(t[0], t[2], self.valid_bits, self.period_ns)
                 .map(|ns| ns / 1e6),
-            fragment_invocations,
         })
     }
 
@@ -54,48 +47,53 @@ impl TimedDraws {
 }
 
 impl Renderer {
-    /// Records, once, the draw of every shading into shared targets (clear + draw into the
-    /// colour and normal targets, no readback), each bracketed by timestamps, for repeated
-    /// submission by a benchmark. All shadings must draw the same geometry as `gpu`.
+    /// Records, once, the draw of every (upload, shading) pair into shared targets (clear +
+    /// draw into the colour and normal targets, no readback), each bracketed by timestamps,
+    /// for repeated submission by a benchmark. The uploads may hold different geometries (the
+    /// scene's triangles, a PN tessellation), so that every program of a run can be timed in the
+    /// same interleaved rounds; they must share one image size. Nothing but the draw and its
+    /// timestamps is inside a bracket (no pipeline-statistics query: see
+    /// [`Renderer::fragment_invocations`]).
     ///
     /// Timestamp placement (measured in ../shared/TOOLCHAIN.md on Mesa 22.3): a
     /// TOP_OF_PIPE/BOTTOM_OF_PIPE pair around the draw reports ~0.2 ms for ~20 ms of work,
     /// because a timestamp's value is latched when the *next* flush runs. Two BOTTOM_OF_PIPE
     /// writes before the rendering and two after it, reading the first of each pair, track the
     /// submit-to-fence wall clock; `bench` re-checks that on every run.
-    pub fn timed_draws(&self, gpu: &GpuScene, shadings: &[Shading]) -> Result<TimedDraws> {
-        let (w, h) = (gpu.inputs.width, gpu.inputs.height);
+    pub fn timed_draws(&self, programs: &[(&GpuScene, Shading)]) -> Result<TimedDraws> {
+        let Some((first, _)) = programs.first() else {
+            return Err(Error::Internal("timed_draws: no program to record".into()));
+        };
+        let (w, h) = (first.inputs.width, first.inputs.height);
         let targets = Targets::new(&self.ctx, w, h)?;
         let mut draws = Vec::new();
-        for s in shadings {
+        for (gpu, s) in programs {
+            if (gpu.inputs.width, gpu.inputs.height) != (w, h) {
+                return Err(Error::Internal(format!(
+                    "timed_draws: {} draws {}x{}, the shared targets are {w}x{h}",
+                    s.name(),
+                    gpu.inputs.width,
+                    gpu.inputs.height
+                )));
+            }
             let (streams, buffers) = gpu.buffers(*s)?;
             let pipeline = self.pipeline(gpu, &self.program(gpu, *s), &streams, &[COLOR, COLOR])?;
             let pool = QueryPool::timestamps(&self.ctx, 4)?;
-            let stats = QueryPool::fragment_invocations(&self.ctx)?;
             let mut cmd = OneShot::begin(&self.ctx)?;
             cmd.reset_queries(&pool);
-            if let Some(q) = &stats {
-                cmd.reset_queries(q);
-            }
             cmd.timestamp(&pool, 0);
             cmd.timestamp(&pool, 1);
             targets.begin(&mut cmd);
-            if let Some(q) = &stats {
-                cmd.begin_query(q);
-            }
             cmd.draw(
                 &pipeline,
                 Some(&gpu.set),
                 &buffers,
                 gpu.inputs.positions.len() as u32,
             );
-            if let Some(q) = &stats {
-                cmd.end_query(q);
-            }
             cmd.end_rendering();
             cmd.timestamp(&pool, 2);
             cmd.timestamp(&pool, 3);
-            draws.push((cmd.finish()?, pool, stats, pipeline));
+            draws.push((cmd.finish()?, pool, pipeline));
         }
         let info = self.ctx.info();
         Ok(TimedDraws {
@@ -104,5 +102,34 @@ impl Renderer {
             valid_bits: info.timestamp_valid_bits,
             period_ns: info.timestamp_period_ns,
         })
+    }
+
+    /// Fragment-shader invocations of one draw (clear + draw, as timed), counted by a
+    /// pipeline-statistics query in a submission of its own, untimed, so that the query never
+    /// sits inside a timed bracket. `None` when the device has no pipeline statistics. Not
+    /// necessarily the covered pixels: Mesa 22.3 counts whole pixel blocks.
+    pub fn fragment_invocations(&self, gpu: &GpuScene, shading: Shading) -> Result<Option<u64>> {
+        let Some(stats) = QueryPool::fragment_invocations(&self.ctx)? else {
+            return Ok(None);
+        };
+        let (w, h) = (gpu.inputs.width, gpu.inputs.height);
+        let targets = Targets::new(&self.ctx, w, h)?;
+        let (streams, buffers) = gpu.buffers(shading)?;
+        let pipeline =
+            self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
+        let mut cmd = OneShot::begin(&self.ctx)?;
+        cmd.reset_queries(&stats);
+        targets.begin(&mut cmd);
+        cmd.begin_query(&stats);
+        cmd.draw(
+            &pipeline,
+            Some(&gpu.set),
+            &buffers,
+            gpu.inputs.positions.len() as u32,
+        );
+        cmd.end_query(&stats);
+        cmd.end_rendering();
+        cmd.submit()?;
+        Ok(stats.results()?.first().copied())
     }
 }
