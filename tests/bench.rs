@@ -15,6 +15,8 @@ fn bench_writes_its_files_in_the_documented_shape() {
         "--validate",
         "--methods",
         "phong_exact,gouraud,newton_raphson,trueform",
+        "--isolated-rounds",
+        "6",
         "--repeat",
         "6",
         "--warmup",
@@ -72,6 +74,42 @@ fn bench_writes_its_files_in_the_documented_shape() {
         assert!(names.contains(&n), "{n} missing from {names:?}");
     }
     assert_eq!(bench["floor"]["name"], "constant");
+    // The isolated cost: measured for every method with a compute program, its K = 1 kernel
+    // the method itself; trueform (its own geometry) has none; a second Pareto chart.
+    let row = |n: &str| {
+        bench["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == n)
+            .unwrap()
+            .clone()
+    };
+    for n in ["phong_exact", "gouraud", "newton_raphson"] {
+        let r = row(n);
+        let (lo, med, hi) = (
+            r["isolated_ci95_low_ns"].as_f64().unwrap(),
+            r["isolated_ns_per_eval"].as_f64().unwrap(),
+            r["isolated_ci95_high_ns"].as_f64().unwrap(),
+        );
+        assert!(lo <= med && med <= hi, "{n}: {lo} {med} {hi}");
+        assert!(
+            r["isolated_k1_max_abs_diff_vs_f64"].as_f64().unwrap() < 1e-4,
+            "{n}"
+        );
+    }
+    assert!(row("phong_exact")["isolated_ns_per_eval"].as_f64().unwrap() > 0.0);
+    assert!(row("gouraud")["isolated_vs_phong_exact"].is_string());
+    assert!(row("trueform")["isolated_ns_per_eval"].is_null());
+    assert!(dir.path().join("pareto_isolated.png").is_file());
+    let claims = bench["claims"].as_array().unwrap();
+    assert!(
+        claims.iter().any(|c| c["how"]
+            .as_str()
+            .unwrap()
+            .starts_with("measure: isolated cost")),
+        "no claim judged by the isolated cost"
+    );
     // Provenance of the run: threads, command line, CPU, Mesa and LLVM.
     assert_eq!(bench["lp_num_threads"], "1");
     let cmdline: Vec<&str> = bench["command_line"]
@@ -349,6 +387,8 @@ fn bench_rejects_bad_options() {
         "scenes/cube.toml",
         "--size",
         "32x32",
+        "--isolated-rounds",
+        "0",
         "--repeat",
         "0",
         "--out",
@@ -405,6 +445,8 @@ fn bench_until_ci_and_baseline() {
             "32x32",
             "--methods",
             "phong_exact",
+            "--isolated-rounds",
+            "0",
             "--repeat",
             "6",
             "--warmup",
@@ -497,6 +539,8 @@ fn bench_of_a_nan_method_keeps_it_off_the_front() {
         "32x32",
         "--methods",
         "barycentric_quadratic_exact_mid",
+        "--isolated-rounds",
+        "0",
         "--repeat",
         "3",
         "--warmup",

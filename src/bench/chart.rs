@@ -29,7 +29,7 @@ struct Point {
 /// The methods with a finite error, as chart points. A method with non-finite pixels has an
 /// infinite error (docs/summary.schema.json): it cannot sit on a log axis, and the chart names
 /// it in its caption instead ([`unplottable`]).
-fn pareto_points(r: &BenchReport) -> Vec<Point> {
+fn pareto_points(r: &BenchReport, axis: Axis) -> Vec<Point> {
     r.methods
         .iter()
         .filter_map(|m| {
@@ -37,16 +37,39 @@ fn pareto_points(r: &BenchReport) -> Vec<Point> {
             if !e.is_finite() {
                 return None;
             }
+            let (t, lo, hi, front) = match axis {
+                Axis::FrameTime => (
+                    m.median_ms,
+                    m.ci95_low_ms,
+                    m.ci95_high_ms,
+                    r.pareto_front.contains(&m.name),
+                ),
+                Axis::IsolatedCost => (
+                    m.isolated_ns_per_eval?,
+                    m.isolated_ci95_low_ns?,
+                    m.isolated_ci95_high_ns?,
+                    r.pareto_front_isolated.contains(&m.name),
+                ),
+            };
             Some(Point {
                 name: m.name.clone(),
-                t: m.median_ms,
-                lo: m.ci95_low_ms,
-                hi: m.ci95_high_ms,
+                t,
+                lo,
+                hi,
                 e: e.max(ERROR_FLOOR),
-                front: r.pareto_front.contains(&m.name),
+                front,
             })
         })
         .collect()
+}
+
+/// The x axis of a Pareto chart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Axis {
+    /// Frame time of the whole draw.
+    FrameTime,
+    /// Isolated cost of one evaluation of the method's code.
+    IsolatedCost,
 }
 
 /// The methods whose error is not finite (NaN/Inf pixels), left off the chart.
@@ -63,9 +86,13 @@ fn unplottable(r: &BenchReport) -> Vec<&str> {
         .collect()
 }
 
-fn draw_pareto<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &BenchReport) -> Result<()> {
+fn draw_pareto<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    r: &BenchReport,
+    axis: Axis,
+) -> Result<()> {
     area.fill(&WHITE).map_err(plot_err)?;
-    let pts = pareto_points(r);
+    let pts = pareto_points(r, axis);
     let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY);
     for p in &pts {
@@ -80,10 +107,16 @@ fn draw_pareto<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &BenchRepor
     let pad = ((x1 - x0) * 0.08).max(0.05);
     let (x0, x1) = ((x0 - pad).max(0.0), x1 + pad * 3.0);
     let (y0, y1) = (y0 / 3.0, y1 * 3.0);
-    let mut title = format!(
-        "{} {}x{}: run time ({} clock, median, 95% CI) vs {}; front: dominated only beyond the paired interval",
-        r.scene, r.width, r.height, r.clock.clock, r.error_metric
-    );
+    let mut title = match axis {
+        Axis::FrameTime => format!(
+            "{} {}x{}: run time ({} clock, median, 95% CI) vs {}; front: dominated only beyond the paired interval",
+            r.scene, r.width, r.height, r.clock.clock, r.error_metric
+        ),
+        Axis::IsolatedCost => format!(
+            "{} {}x{}: isolated cost per evaluation (median, 95% CI) vs {}; front: dominated only when the intervals separate",
+            r.scene, r.width, r.height, r.error_metric
+        ),
+    };
     let off = unplottable(r);
     if !off.is_empty() {
         title += &format!("; infinite error, not plotted: {}", off.join(", "));
@@ -97,7 +130,10 @@ fn draw_pareto<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &BenchRepor
         .map_err(plot_err)?;
     chart
         .configure_mesh()
-        .x_desc("draw time per frame (ms)")
+        .x_desc(match axis {
+            Axis::FrameTime => "draw time per frame (ms)",
+            Axis::IsolatedCost => "isolated cost of one evaluation (ns, compute kernel)",
+        })
         .y_desc(format!("{} (log)", r.error_metric))
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .label_style(("sans-serif", 13))
@@ -154,11 +190,22 @@ fn draw_pareto<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &BenchRepor
     Ok(())
 }
 
-/// DIR/pareto.svg and DIR/pareto.png.
+/// DIR/pareto.svg and DIR/pareto.png; with isolated costs also DIR/pareto_isolated.svg/png.
 pub fn pareto(out: &Path, r: &BenchReport) -> Result<()> {
-    both(out, "pareto", &|a| draw_pareto(a, r), &|a| {
-        draw_pareto(a, r)
-    })
+    if r.methods.iter().any(|m| m.isolated_ns_per_eval.is_some()) {
+        both(
+            out,
+            "pareto_isolated",
+            &|a| draw_pareto(a, r, Axis::IsolatedCost),
+            &|a| draw_pareto(a, r, Axis::IsolatedCost),
+        )?;
+    }
+    both(
+        out,
+        "pareto",
+        &|a| draw_pareto(a, r, Axis::FrameTime),
+        &|a| draw_pareto(a, r, Axis::FrameTime),
+    )
 }
 
 fn draw_sweep<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, s: &SweepResult) -> Result<()> {

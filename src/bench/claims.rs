@@ -3,6 +3,7 @@
 //! table's f64 checks.
 use super::*;
 
+use crate::bench::isolated::Comparison;
 use crate::gpu::spirv::OpCountsDelta;
 use crate::method::Verdict;
 
@@ -205,6 +206,191 @@ pub(crate) fn normalization_ops(d: &OpCountsDelta) -> ClaimCheck {
     }
 }
 
+/// Which measure a speed verdict comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Measure {
+    /// The paired ratio of frame times (the whole draw).
+    FrameTime,
+    /// The paired ratio of isolated costs per evaluation ([`crate::bench::isolated`]).
+    IsolatedCost,
+}
+
+impl Measure {
+    fn name(self) -> &'static str {
+        match self {
+            Measure::FrameTime => "paired frame time",
+            Measure::IsolatedCost => "isolated cost per evaluation",
+        }
+    }
+
+    /// (low, median, high) of a row's paired ratio to phong_exact by this measure.
+    fn ratio(self, r: &MethodTiming) -> Option<(f64, f64, f64)> {
+        match self {
+            Measure::FrameTime => (r.ratio_rounds > 0).then_some((
+                r.ratio_ci95_low,
+                r.ratio_median,
+                r.ratio_ci95_high,
+            )),
+            Measure::IsolatedCost => r
+                .isolated_ratio_to_phong_exact
+                .map(|i| (i.ci95_low, i.median, i.ci95_high)),
+        }
+        .filter(|(lo, _, hi)| lo.is_finite() && hi.is_finite())
+    }
+}
+
+/// A claim "`factor` times faster than phong_exact" (a range `factor..factor_hi`), judged by
+/// `measure`: the method's paired ratio to phong_exact should be at most 1 / factor. Agrees when
+/// the ratio's 95% interval reaches 1 / factor or lies below it, disagrees when it lies wholly
+/// above, inconclusive when unmeasured.
+pub(crate) fn factor_claim(
+    r: &MethodTiming,
+    claim: &str,
+    factor: f64,
+    measure: Measure,
+) -> ClaimCheck {
+    let target = 1.0 / factor;
+    let (verdict, measured) = match measure.ratio(r) {
+        Some((lo, mid, hi)) => (
+            if lo <= target {
+                Verdict::Agrees
+            } else {
+                Verdict::Disagrees
+            },
+            format!(
+                "{} / phong_exact by {}: median {mid:.4} (speed-up {:.2}x), 95% interval [{lo:.4}, {hi:.4}]; the claim needs <= {target:.4}",
+                r.name,
+                measure.name(),
+                1.0 / mid
+            ),
+        ),
+        None => (
+            Verdict::Inconclusive,
+            format!("{}: not measured by {}", r.name, measure.name()),
+        ),
+    };
+    ClaimCheck {
+        method: r.name.clone(),
+        claim: claim.into(),
+        measured,
+        verdict,
+        how: format!(
+            "measure: {}; paired per round against phong_exact, median and sign-test 95% interval; \
+             agrees when the interval reaches 1/{factor} or lies below it, disagrees when it lies wholly above",
+            measure.name()
+        ),
+        reason: match measure {
+            Measure::FrameTime => "the whole draw: rasterization, interpolation and the framebuffer are shared by every method and dominate a lavapipe frame",
+            Measure::IsolatedCost => "the method's per-fragment code alone, evaluated independently per pixel as a fragment shader must; the seeds' speed-ups come from incremental evaluation along a scanline, which a fragment shader cannot do",
+        }
+        .into(),
+    }
+}
+
+/// "Normalization without a square root is faster", judged by the isolated cost.
+pub(crate) fn cheaper_isolated(r: &MethodTiming) -> ClaimCheck {
+    let (verdict, measured) = match (r.isolated_vs_phong_exact, r.isolated_ratio_to_phong_exact) {
+        (Some(c), Some(i)) => (
+            match c {
+                Comparison::Cheaper => Verdict::Agrees,
+                Comparison::Dearer => Verdict::Disagrees,
+                Comparison::Indistinguishable => Verdict::Inconclusive,
+            },
+            format!(
+                "{} / phong_exact isolated cost per round: median {:.4}, 95% interval [{:.4}, {:.4}] ({c:?})",
+                r.name, i.median, i.ci95_low, i.ci95_high
+            ),
+        ),
+        _ => (
+            Verdict::Inconclusive,
+            format!("{}: isolated cost not measured", r.name),
+        ),
+    };
+    ClaimCheck {
+        method: r.name.clone(),
+        claim: "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)".into(),
+        measured,
+        verdict,
+        how: "measure: isolated cost per evaluation; agrees when the paired ratio's 95% interval lies below 1, disagrees above, inconclusive when it holds 1".into(),
+        reason: "the formula alone, without rasterization; the shared lighting (a pow per light) is part of every evaluation".into(),
+    }
+}
+
+/// "2.5x faster normal interpolation with the approximated inverse root": dichotomy_poly1 over
+/// dichotomy_exact, from their isolated-cost ratios to phong_exact (the quotient of the
+/// medians; its interval is not paired, so the verdict needs the intervals to separate).
+pub(crate) fn dichotomy_isolated(fast: &MethodTiming, exact: &MethodTiming) -> ClaimCheck {
+    let (verdict, measured) = match (
+        fast.isolated_ratio_to_phong_exact,
+        exact.isolated_ratio_to_phong_exact,
+    ) {
+        (Some(f), Some(e)) => {
+            // speed-up = exact / fast; its widest bounds from the two intervals
+            let (lo, mid, hi) = (
+                e.ci95_low / f.ci95_high,
+                e.median / f.median,
+                e.ci95_high / f.ci95_low,
+            );
+            (
+                if lo >= 2.5 {
+                    Verdict::Agrees
+                } else if hi < 2.5 {
+                    Verdict::Disagrees
+                } else {
+                    Verdict::Inconclusive
+                },
+                format!("dichotomy_exact / dichotomy_poly1 isolated cost: {mid:.2}x (bounds from the two intervals {lo:.2}x to {hi:.2}x)"),
+            )
+        }
+        _ => (
+            Verdict::Inconclusive,
+            "isolated cost not measured".to_string(),
+        ),
+    };
+    ClaimCheck {
+        method: exact.name.clone(),
+        claim: "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)".into(),
+        measured,
+        verdict,
+        how: "measure: isolated cost per evaluation; the speed-up of dichotomy_poly1 over dichotomy_exact from their ratios to phong_exact; agrees when even its lowest bound reaches 2.5x, disagrees when its highest is below, else inconclusive".into(),
+        reason: "both halve toward the pixel level by level; only the inverse root differs, and lavapipe's exact inverse root is one vector instruction".into(),
+    }
+}
+
+/// The seeds' speed factors against exact Phong: (method, claim, factor).
+const FACTOR_CLAIMS: [(&str, &str, f64); 6] = [
+    (
+        "spherical_angular",
+        "doubles the speed of polygon shading (S000 l.102-104)",
+        2.0,
+    ),
+    (
+        "quadratic_scanline",
+        "reduces the normal computation time about 2-3x (S000 l.151-152): at least 2x",
+        2.0,
+    ),
+    (
+        "segments_k2",
+        "diffuse shading 1.3x faster at k = 2 (S002 l.674-682)",
+        1.3,
+    ),
+    (
+        "segments_k2_poly1",
+        "diffuse shading 1.8x faster at k = 2 with the degree-1 polynomial (S002 l.674-682)",
+        1.8,
+    ),
+    (
+        "segments_k3",
+        "diffuse shading 1.48x faster at k = 3 (S002 l.674-682)",
+        1.48,
+    ),
+    (
+        "segments_k3_poly1",
+        "diffuse shading 2.09x faster at k = 3 with the degree-1 polynomial (S002 l.674-682)",
+        2.09,
+    ),
+];
+
 /// The seeds' claims about the methods of this run: timing claims from this run's timings,
 /// the op-count claim from the SPIR-V, Mikami's error bound from this run's GPU images, and
 /// the method table's claims from their f64 checks, run now. Claims of methods not yet
@@ -232,7 +418,41 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
     ] {
         if let Some(r) = find(n) {
             out.push(faster_than_exact(r, phong));
+            if r.isolated_ratio_to_phong_exact.is_some() {
+                out.push(cheaper_isolated(r));
+            }
         }
+    }
+    for (name, claim, factor) in FACTOR_CLAIMS {
+        if let Some(r) = find(name) {
+            out.push(factor_claim(r, claim, factor, Measure::FrameTime));
+            out.push(factor_claim(r, claim, factor, Measure::IsolatedCost));
+        }
+    }
+    if let (Some(exact), Some(g)) = (phong.isolated_ns_per_eval, find("gouraud")) {
+        if let Some(i) = g.isolated_ratio_to_phong_exact {
+            let (lo, hi) = (1.0 / i.ci95_high, 1.0 / i.ci95_low);
+            out.push(ClaimCheck {
+                method: g.name.clone(),
+                claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
+                measured: format!(
+                    "phong_exact / gouraud isolated cost per round: median {:.2}x, 95% interval [{lo:.2}x, {hi:.2}x] (phong_exact {exact:.2} ns per evaluation)",
+                    1.0 / i.median
+                ),
+                verdict: if lo > GOURAUD_FACTOR {
+                    Verdict::Agrees
+                } else if hi < GOURAUD_FACTOR && hi > 0.0 {
+                    Verdict::Disagrees
+                } else {
+                    Verdict::Inconclusive
+                },
+                how: "measure: isolated cost per evaluation (phong_exact's over gouraud's, paired per round); agrees when the interval's low end exceeds 50x, disagrees when its high end is below 50x (an interval of gouraud's ratio reaching 0 leaves it open), else inconclusive".into(),
+                reason: "gouraud's per-fragment code is a single interpolated colour, so its isolated cost is near the chain's own cost".into(),
+            });
+        }
+    }
+    if let (Some(fast), Some(exact)) = (find("dichotomy_poly1"), find("dichotomy_exact")) {
+        out.push(dichotomy_isolated(fast, exact));
     }
     if let Some(d) = phong.static_ops_above_unnormalized {
         out.push(normalization_ops(&d));

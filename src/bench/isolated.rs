@@ -262,6 +262,25 @@ pub fn measure(
         .collect())
 }
 
+/// The methods not dominated by isolated cost: one is dominated only when another has an error
+/// at most its own (finite) and an isolated-cost interval wholly below its own (separate
+/// intervals: the isolated costs are paired only with phong_exact). `errors[i]` is the error of
+/// `rows[i]`; rows without an isolated cost or a finite error are left out.
+pub fn pareto_front(rows: &[crate::bench::MethodTiming], errors: &[f64]) -> Vec<String> {
+    let pts: Vec<(usize, f64, f64, f64)> = rows
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let (lo, hi) = (r.isolated_ci95_low_ns?, r.isolated_ci95_high_ns?);
+            errors[i].is_finite().then_some((i, errors[i], lo, hi))
+        })
+        .collect();
+    pts.iter()
+        .filter(|&&(_, e, lo, _)| !pts.iter().any(|&(_, e2, _, hi2)| e2 <= e && hi2 < lo))
+        .map(|&(i, ..)| rows[i].name.clone())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

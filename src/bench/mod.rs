@@ -92,6 +92,8 @@ pub struct BenchOptions {
     pub fail_slower_pct: Option<f64>,
     /// The command line, recorded in bench.json.
     pub command_line: Vec<String>,
+    /// Rounds of the isolated cost per formula ([`isolated`]; 0: not measured).
+    pub isolated_rounds: usize,
 }
 
 impl Default for BenchOptions {
@@ -105,6 +107,7 @@ impl Default for BenchOptions {
             until_ci_pct: None,
             max_time_s: DEFAULT_MAX_TIME_S,
             baseline: None,
+            isolated_rounds: isolated::IsolatedOptions::default().rounds,
             fail_slower_pct: None,
             command_line: Vec::new(),
         }
@@ -305,6 +308,12 @@ pub fn bench(
             static_ops: static_ops(program, scene.interpolation),
             static_ops_above_unnormalized: None,
             error,
+            isolated_ns_per_eval: None,
+            isolated_ci95_low_ns: None,
+            isolated_ci95_high_ns: None,
+            isolated_ratio_to_phong_exact: None,
+            isolated_vs_phong_exact: None,
+            isolated_k1_max_abs_diff_vs_f64: None,
         });
     }
     let medians: Vec<f64> = rows.iter().map(|r| r.median_ms).collect();
@@ -347,6 +356,29 @@ pub fn bench(
         .into_iter()
         .map(|i| rows[i].name.clone())
         .collect();
+    let mut rows = rows;
+    if opts.isolated_rounds > 0 {
+        let methods: Vec<&'static Method> = rows
+            .iter()
+            .filter_map(|r| crate::method::find(&r.name).ok())
+            .collect();
+        let iso_opts = isolated::IsolatedOptions {
+            rounds: opts.isolated_rounds,
+            ..isolated::IsolatedOptions::default()
+        };
+        let bar = crate::output::progress_bar(true, 0);
+        let costs = isolated::measure(renderer.context(), &methods, &iso_opts, &|msg| {
+            bar.set_message(format!("isolated cost: {msg}"));
+            bar.tick();
+        })?;
+        bar.finish_and_clear();
+        for c in &costs {
+            if let Some(r) = rows.iter_mut().find(|r| r.name == c.name) {
+                r.set_isolated(c);
+            }
+        }
+    }
+    let front_isolated = isolated::pareto_front(&rows, &errors);
     let claims = claims::claims(&rows, &floor);
 
     let mut sweeps = Vec::new();
@@ -375,6 +407,7 @@ pub fn bench(
         other_floors: floors_rows,
         methods: rows,
         pareto_front: front,
+        pareto_front_isolated: front_isolated,
         claims,
         sweeps,
         baseline: None,

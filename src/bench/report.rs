@@ -109,6 +109,32 @@ pub struct MethodTiming {
     pub static_ops_above_unnormalized: Option<OpCountsDelta>,
     /// The error metrics of `compare` (null for the floor).
     pub error: Option<MethodReport>,
+    /// The isolated cost of one evaluation of the method's per-fragment code, apart from
+    /// rasterization ([`crate::bench::isolated`]): per-round slopes, median and 95% interval,
+    /// ns; null for the floors, for a method without a compute program (trueform) and with
+    /// `--isolated-rounds 0`.
+    pub isolated_ns_per_eval: Option<f64>,
+    pub isolated_ci95_low_ns: Option<f64>,
+    pub isolated_ci95_high_ns: Option<f64>,
+    /// Paired per round: this method's slope over phong_exact's (null for phong_exact).
+    pub isolated_ratio_to_phong_exact: Option<crate::bench::isolated::Interval>,
+    /// From that ratio's interval: below 1 cheaper, above 1 dearer, else indistinguishable.
+    pub isolated_vs_phong_exact: Option<crate::bench::isolated::Comparison>,
+    /// The K = 1 kernel against the method's f64 twin on the timed cases (max colour
+    /// difference): the timed code is the method.
+    pub isolated_k1_max_abs_diff_vs_f64: Option<f64>,
+}
+
+impl MethodTiming {
+    /// Fills the isolated-cost fields from a measurement.
+    pub fn set_isolated(&mut self, c: &crate::bench::isolated::IsolatedCost) {
+        self.isolated_ns_per_eval = Some(c.ns_per_eval.median);
+        self.isolated_ci95_low_ns = Some(c.ns_per_eval.ci95_low);
+        self.isolated_ci95_high_ns = Some(c.ns_per_eval.ci95_high);
+        self.isolated_ratio_to_phong_exact = c.ratio_to_phong_exact;
+        self.isolated_vs_phong_exact = c.versus_phong_exact;
+        self.isolated_k1_max_abs_diff_vs_f64 = Some(c.k1_max_abs_diff_vs_f64);
+    }
 }
 
 /// A claim of the seeds, measured by the run that writes it.
@@ -191,6 +217,10 @@ pub struct BenchReport {
     /// Names of the non-dominated methods (error, paired time): a method is dominated only
     /// when another has an error at most its own and is faster beyond the paired interval.
     pub pareto_front: Vec<String>,
+    /// The same by isolated cost: dominated only when another method has an error at most its
+    /// own and its isolated-cost interval lies wholly below this one's (empty without the
+    /// isolated cost).
+    pub pareto_front_isolated: Vec<String>,
     pub claims: Vec<ClaimCheck>,
     pub sweeps: Vec<SweepResult>,
     /// The comparison with `--baseline` (null without it).

@@ -265,6 +265,12 @@ fn row(name: &str, median: f64, ratio: (f64, f64, f64)) -> MethodTiming {
         static_ops: None,
         static_ops_above_unnormalized: None,
         error: None,
+        isolated_ns_per_eval: None,
+        isolated_ci95_low_ns: None,
+        isolated_ci95_high_ns: None,
+        isolated_ratio_to_phong_exact: None,
+        isolated_vs_phong_exact: None,
+        isolated_k1_max_abs_diff_vs_f64: None,
     }
 }
 

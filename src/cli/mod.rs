@@ -224,6 +224,10 @@ enum Command {
         /// more than PCT percent (or cannot be compared), naming each.
         #[arg(long, value_name = "PCT", requires = "baseline")]
         fail_slower: Option<f64>,
+        /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
+        /// 1, 16, 64 times per invocation; 0: skip it).
+        #[arg(long, value_name = "N", default_value_t = crate::bench::isolated::IsolatedOptions::default().rounds)]
+        isolated_rounds: usize,
     },
     /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
     /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
@@ -363,6 +367,7 @@ pub fn run() -> Result<ExitCode> {
             threads,
             baseline,
             fail_slower,
+            isolated_rounds,
         } => {
             let opts = crate::bench::BenchOptions {
                 repeat,
@@ -375,6 +380,7 @@ pub fn run() -> Result<ExitCode> {
                 baseline,
                 fail_slower_pct: fail_slower,
                 command_line: std::env::args().collect(),
+                isolated_rounds,
             };
             cmd_bench(&scene, &device, &methods, &out, threads, &opts)
         }
