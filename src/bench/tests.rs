@@ -462,3 +462,64 @@ fn baseline_rejects_a_file_that_is_not_a_bench_json() {
     std::fs::write(&p, bench_json(&[("constant", 1.0, 2.0, 3.0)]).to_string()).unwrap();
     assert!(baseline::load(&p).is_ok());
 }
+
+#[test]
+fn factor_claims_follow_the_ratio_of_each_measure() {
+    use super::claims::{factor_claim, Measure};
+    use crate::bench::isolated::Interval;
+    // frame time: a 2x claim agrees at ratio 0.45 and disagrees at 0.9
+    let fast = row("spherical_angular", 1.0, (0.42, 0.45, 0.48));
+    let slow = row("spherical_angular", 1.0, (0.88, 0.9, 0.92));
+    assert_eq!(
+        factor_claim(&fast, "2x", 2.0, Measure::FrameTime).verdict,
+        Verdict::Agrees
+    );
+    assert_eq!(
+        factor_claim(&slow, "2x", 2.0, Measure::FrameTime).verdict,
+        Verdict::Disagrees
+    );
+    // an interval reaching 1/F is consistent with the claim
+    let edge = row("spherical_angular", 1.0, (0.49, 0.55, 0.6));
+    assert_eq!(
+        factor_claim(&edge, "2x", 2.0, Measure::FrameTime).verdict,
+        Verdict::Agrees
+    );
+    // isolated cost: unmeasured is inconclusive, measured follows its own interval
+    assert_eq!(
+        factor_claim(&fast, "2x", 2.0, Measure::IsolatedCost).verdict,
+        Verdict::Inconclusive
+    );
+    let mut iso = slow.clone();
+    iso.isolated_ratio_to_phong_exact = Some(Interval {
+        median: 0.3,
+        ci95_low: 0.25,
+        ci95_high: 0.35,
+    });
+    let c = factor_claim(&iso, "2x", 2.0, Measure::IsolatedCost);
+    assert_eq!(c.verdict, Verdict::Agrees, "{}", c.measured);
+    assert!(c.how.starts_with("measure: isolated cost"));
+    assert_eq!(
+        factor_claim(&iso, "2x", 2.0, Measure::FrameTime).verdict,
+        Verdict::Disagrees,
+        "each measure gives its own verdict"
+    );
+}
+
+#[test]
+fn the_isolated_front_needs_separate_intervals() {
+    let mut a = row("a", 1.0, (1.0, 1.0, 1.0));
+    let mut b = row("b", 1.0, (1.0, 1.0, 1.0));
+    (a.isolated_ci95_low_ns, a.isolated_ci95_high_ns) = (Some(9.0), Some(11.0));
+    (b.isolated_ci95_low_ns, b.isolated_ci95_high_ns) = (Some(10.0), Some(12.0));
+    let rows = vec![a.clone(), b.clone()];
+    // b has the larger error but overlapping intervals: not dominated
+    let front = crate::bench::isolated::pareto_front(&rows, &[0.1, 0.2]);
+    assert_eq!(front, vec!["a", "b"]);
+    // separated intervals: b is dominated
+    b.isolated_ci95_low_ns = Some(11.5);
+    let front = crate::bench::isolated::pareto_front(&[a, b], &[0.1, 0.2]);
+    assert_eq!(front, vec!["a"]);
+    // a NaN error leaves a method out
+    let front = crate::bench::isolated::pareto_front(&rows, &[f64::NAN, 0.2]);
+    assert_eq!(front, vec!["b"]);
+}
