@@ -6,7 +6,7 @@
 //! | layer | modules | owns |
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
-//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain |
+//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain |
 //! | judgement | [`analysis`], [`truth`] | per-pixel error (one definition), statistics; f64 truth and bound |
 //! | device | [`gpu`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
@@ -40,6 +40,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod method;
 pub mod output;
+pub mod plan;
 pub mod scene;
 pub mod stress;
 #[cfg(test)]

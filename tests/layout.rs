@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 /// within a layer, dependencies must not form a cycle.
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
-    &["compare", "bench", "verify", "stress"],
+    &["compare", "bench", "verify", "stress", "plan"],
     &["analysis", "truth"],
     &["gpu"],
     &["scene", "frame"],

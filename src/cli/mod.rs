@@ -5,6 +5,7 @@ mod compare;
 mod demo;
 mod list;
 mod mesh;
+mod plan;
 mod render;
 mod shaders;
 mod stress;
@@ -15,6 +16,7 @@ use self::compare::cmd_compare;
 use self::demo::cmd_demo;
 use self::list::cmd_list;
 use self::mesh::cmd_mesh;
+use self::plan::cmd_plan;
 use self::render::cmd_render;
 use self::shaders::cmd_shaders;
 use self::stress::cmd_stress;
@@ -250,6 +252,15 @@ enum Command {
         #[arg(long, default_value_t = 8)]
         refine: usize,
     },
+    /// What a scene needs: topology (culling), the spread of its vertex normals against each
+    /// method's measured validity range, triangle sizes and facing, lighting, what is skipped.
+    Plan {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// List the methods (`--json` for machines).
     List {
         #[arg(long)]
@@ -404,6 +415,7 @@ pub fn run() -> Result<ExitCode> {
             };
             cmd_stress(&device, &methods, out.as_deref(), replay.as_deref(), &opts)
         }
+        Command::Plan { scene, json } => cmd_plan(&scene, json),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,

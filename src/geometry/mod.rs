@@ -25,9 +25,11 @@ pub mod generators;
 pub mod obj;
 #[cfg(test)]
 mod tests;
+pub mod topology;
 
 pub use generators::*;
 pub use obj::*;
+pub use topology::{topology, Topology};
 
 use glam::DVec3;
 

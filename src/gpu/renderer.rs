@@ -6,13 +6,13 @@ use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DescriptorSet, Format,
+    Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DescriptorSet, Format, FrontFace,
     GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule, VertexStream,
 };
 use crate::method::{specular_table, Geometry, Input, Method};
 use crate::output::Provenance;
 use crate::scene::Scene;
-use crate::scene::SceneInputs;
+use crate::scene::{SceneInputs, Winding};
 
 /// What a draw shades with: a method, or the constant-colour floor.
 #[derive(Debug, Clone, Copy)]
@@ -324,6 +324,10 @@ impl Renderer {
                 depth_format: Some(Format::Depth32Float),
                 descriptors: Some(&gpu.set),
                 specialization: &[(0, gpu.inputs.light_count)],
+                cull_front: gpu.inputs.cull_front.map(|w| match w {
+                    Winding::CounterClockwise => FrontFace::CounterClockwise,
+                    Winding::Clockwise => FrontFace::Clockwise,
+                }),
             },
         )
     }

@@ -27,6 +27,7 @@ pub fn scene_for_mesh(path: &Path) -> Result<Scene> {
         width,
         height,
         interpolation: Interpolation::default(),
+        cull: Cull::default(),
     })
 }
 
@@ -96,6 +97,7 @@ struct ImageFile {
 #[serde(deny_unknown_fields)]
 struct RenderFile {
     interpolation: Option<Interpolation>,
+    cull: Option<Cull>,
 }
 
 /// Turns byte offsets into `file:line` errors.
@@ -184,7 +186,13 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     let material = material(&src, file.material.as_ref())?;
     let interpolation = file
         .render
+        .as_ref()
         .and_then(|r| r.interpolation)
+        .unwrap_or_default();
+    let cull = file
+        .render
+        .as_ref()
+        .and_then(|r| r.cull)
         .unwrap_or_default();
 
     Ok(Scene {
@@ -197,6 +205,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
         width,
         height,
         interpolation,
+        cull,
     })
 }
 

@@ -42,6 +42,35 @@ pub struct SceneInputs {
     pub window: Vec<[f32; 2]>,
     pub params: Params,
     pub light_count: u32,
+    /// Back-face culling of every pass of this geometry (method, floor and id pass alike):
+    /// the window-space winding of the front faces, or None for no culling.
+    pub cull_front: Option<Winding>,
+}
+
+/// A window-space winding, as Vulkan's front-face state names it (framebuffer coordinates,
+/// y down: the sign of `-1/2 sum(x_i y_(i+1) - x_(i+1) y_i)`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Winding {
+    CounterClockwise,
+    Clockwise,
+}
+
+/// Triangles whose winding agrees with their vertex normals' sum, and those against it.
+#[derive(Default)]
+struct FacingCount {
+    with: usize,
+    against: usize,
+}
+
+impl FacingCount {
+    fn add(&mut self, p: [DVec3; 3], normal_sum: DVec3) {
+        if (p[1] - p[0]).cross(p[2] - p[0]).dot(normal_sum) >= 0.0 {
+            self.with += 1;
+        } else {
+            self.against += 1;
+        }
+    }
 }
 
 fn f4(v: DVec3, w: f64) -> [f32; 4] {
@@ -105,6 +134,10 @@ impl SceneInputs {
             .iter()
             .map(|&p| view.transform_point3(d3(p)))
             .collect();
+        let mut facing = FacingCount::default();
+        for (p, n) in view_p.chunks_exact(3).zip(view_n.chunks_exact(3)) {
+            facing.add([p[0], p[1], p[2]], n[0] + n[1] + n[2]);
+        }
         let mut flat_normals = Vec::with_capacity(positions.len() / 3);
         let mut pn_mids = Vec::with_capacity(positions.len() / 3);
         for (p, n) in view_p.chunks_exact(3).zip(view_n.chunks_exact(3)) {
@@ -146,6 +179,7 @@ impl SceneInputs {
             window: Vec::new(),
             params,
             light_count: scene.lights.len().min(MAX_LIGHTS) as u32,
+            cull_front: None,
         };
         inputs.window = inputs
             .clip_corners()
@@ -154,7 +188,46 @@ impl SceneInputs {
                 [w.x as f32, w.y as f32]
             })
             .collect();
+        let topo = crate::geometry::topology(&Mesh {
+            positions: inputs.positions.clone(),
+            normals: Vec::new(),
+            source: String::new(),
+        });
+        if super::culls_back(scene.cull, &topo, facing.with, facing.against) {
+            inputs.cull_front = Some(inputs.front_winding(&view_p));
+        }
         inputs
+    }
+
+    /// The window-space winding of the triangles whose winding side (the side their
+    /// vertex normals point to, for a mesh wound like its normals) faces the eye: the majority
+    /// over the triangles in front of the near plane.
+    fn front_winding(&self, view_p: &[DVec3]) -> Winding {
+        let (mut ccw, mut cw) = (0usize, 0usize);
+        for (t, p) in view_p.chunks_exact(3).enumerate() {
+            let g = (p[1] - p[0]).cross(p[2] - p[0]);
+            if g.dot(-p[0]) <= 0.0 {
+                continue; // its winding side faces away
+            }
+            let w = [0, 1, 2].map(|k| self.window[3 * t + k]);
+            let area: f64 = -0.5
+                * (0..3)
+                    .map(|i| {
+                        let (a, b) = (w[i], w[(i + 1) % 3]);
+                        f64::from(a[0]) * f64::from(b[1]) - f64::from(b[0]) * f64::from(a[1])
+                    })
+                    .sum::<f64>();
+            if area > 0.0 {
+                ccw += 1;
+            } else if area < 0.0 {
+                cw += 1;
+            }
+        }
+        if ccw >= cw {
+            Winding::CounterClockwise
+        } else {
+            Winding::Clockwise
+        }
     }
 
     /// Clip-space position of every corner, in f64 from the uploaded f32 MVP and positions.

@@ -86,6 +86,36 @@ pub enum Interpolation {
     Perspective,
 }
 
+/// Back-face culling (`cull` in the scene's `[render]` table).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Cull {
+    /// Cull back faces when the mesh is closed and consistently oriented (then no back face is
+    /// ever visible), else nothing: the default.
+    #[default]
+    Auto,
+    /// Always cull back faces.
+    Back,
+    /// Never cull.
+    None,
+}
+
+/// Whether back faces are culled: `Back` always, `None` never, `Auto` when `topo` is closed and
+/// consistently oriented and the winding agrees with the vertex normals on most triangles
+/// (`with` against `against`; an inside-out winding is not trusted).
+pub fn culls_back(
+    cull: Cull,
+    topo: &crate::geometry::Topology,
+    with: usize,
+    against: usize,
+) -> bool {
+    match cull {
+        Cull::Back => true,
+        Cull::None => false,
+        Cull::Auto => topo.closed_and_oriented() && with >= against,
+    }
+}
+
 /// A perspective camera in the fitted (unit-sphere) model space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
@@ -135,6 +165,7 @@ pub struct Scene {
     pub width: u32,
     pub height: u32,
     pub interpolation: Interpolation,
+    pub cull: Cull,
 }
 
 impl Default for DirectionalLight {

@@ -161,3 +161,19 @@ mod tests {
         assert_eq!(BufferUsage::Vertex.descriptor_type(), None);
     }
 }
+
+/// Which window-space winding is front-facing when back faces are culled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrontFace {
+    CounterClockwise,
+    Clockwise,
+}
+
+impl FrontFace {
+    pub(crate) fn raw(self) -> vk::FrontFace {
+        match self {
+            FrontFace::CounterClockwise => vk::FrontFace::COUNTER_CLOCKWISE,
+            FrontFace::Clockwise => vk::FrontFace::CLOCKWISE,
+        }
+    }
+}

@@ -25,7 +25,7 @@ pub mod queries;
 
 pub use commands::{ColorTarget, OneShot, Recorded};
 pub use context::{Context, ContextDesc, DeviceInfo};
-pub use conv::{BufferUsage, Clear, Format, ImageUsage};
+pub use conv::{BufferUsage, Clear, Format, FrontFace, ImageUsage};
 pub use image::{Image, ImageDesc};
 pub use memory::{Buffer, BufferDesc};
 pub use pipeline::{

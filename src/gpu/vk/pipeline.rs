@@ -6,7 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::conv::VkContext;
-use super::{Buffer, Context, Format};
+use super::{Buffer, Context, Format, FrontFace};
 use crate::error::{Error, Result};
 
 /// A SPIR-V module.
@@ -165,9 +165,12 @@ pub struct PipelineDesc<'a> {
     pub descriptors: Option<&'a DescriptorSet>,
     /// Fragment-stage specialization constants: (constant id, u32 value).
     pub specialization: &'a [(u32, u32)],
+    /// Cull back faces, this winding being front; None: no culling.
+    pub cull_front: Option<FrontFace>,
 }
 
-/// A graphics pipeline with its layout (triangle list, no culling, depth test LESS).
+/// A graphics pipeline with its layout (triangle list, back faces culled or not, depth test
+/// LESS).
 pub struct GraphicsPipeline {
     ctx: Arc<Context>,
     pub(crate) raw: vk::Pipeline,
@@ -233,8 +236,15 @@ impl GraphicsPipeline {
             .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(vk::CullModeFlags::NONE)
-            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .cull_mode(if desc.cull_front.is_some() {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            })
+            .front_face(
+                desc.cull_front
+                    .map_or(vk::FrontFace::COUNTER_CLOCKWISE, FrontFace::raw),
+            )
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
