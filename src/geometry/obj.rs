@@ -55,9 +55,15 @@ struct Parsed {
 /// [`Error::Input`] without a line.
 pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_obj(path, &bytes)
+}
+/// [`load_obj`] on bytes already read: `path` only names the file in messages and in the mesh's
+/// `source`. Errors as [`load_obj`]'s, except that it never returns [`Error::Io`]. This is the
+/// entry point the fuzz harness (tests/fuzz.rs) drives.
+pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
     // Lossy: a stray Latin-1 byte in a comment must not reject the file; in a number it turns
     // into U+FFFD and fails number parsing with the line reported.
-    let text = String::from_utf8_lossy(&bytes);
+    let text = String::from_utf8_lossy(bytes);
     let parsed = validate_obj(path, &text)?;
     if parsed.faces.is_empty() {
         return Err(Error::input(

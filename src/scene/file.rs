@@ -166,8 +166,19 @@ fn colour(src: &Source, v: &Option<Vec3>, key: &str, default: DVec3) -> Result<D
 /// the OBJ file and line.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let src = Source { path, text: &text };
-    let file: SceneFile = toml::from_str(&text).map_err(|e| src.toml_error(&e))?;
+    parse_scene(path, &text, &load_obj)
+}
+
+/// Reads an OBJ named by a scene file (given the path joined to the scene's folder).
+pub type ObjLoader<'a> = &'a dyn Fn(&Path) -> Result<(Mesh, LoadReport)>;
+
+/// [`load_scene`] on text already read: `path` names the file in messages and gives the folder
+/// `obj = ...` is relative to; `load_obj` reads that OBJ ([`load_obj`] for a real scene; the
+/// fuzz harness in tests/fuzz.rs passes one that never touches the disk). Errors as
+/// [`load_scene`]'s.
+pub fn parse_scene(path: &Path, text: &str, load_obj: ObjLoader) -> Result<Scene> {
+    let src = Source { path, text };
+    let file: SceneFile = toml::from_str(text).map_err(|e| src.toml_error(&e))?;
 
     let Some(mesh_table) = &file.mesh else {
         return Err(Error::input(
@@ -176,7 +187,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
             "no [mesh] table: add one with `obj = \"FILE.obj\"` or `generator = \"NAME\"` and its parameters",
         ));
     };
-    let (mesh, mesh_report) = load_mesh(&src, mesh_table)?;
+    let (mesh, mesh_report) = load_mesh(&src, mesh_table, load_obj)?;
 
     let (width, height) = image_size(&src, file.image.as_ref())?;
     let camera = camera(&src, file.camera.as_ref(), width as f64 / height as f64)?;
@@ -203,7 +214,11 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 type MeshTable = Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>;
 
 /// `[mesh]`: exactly one of `obj` (alone) or `generator` (with its parameters).
-fn load_mesh(src: &Source, table: &MeshTable) -> Result<(Mesh, Option<LoadReport>)> {
+fn load_mesh(
+    src: &Source,
+    table: &MeshTable,
+    load_obj: ObjLoader,
+) -> Result<(Mesh, Option<LoadReport>)> {
     let entries = table.get_ref();
     let find = |key: &str| entries.iter().find(|(k, _)| k.get_ref() == key);
     match (find("obj"), find("generator")) {
