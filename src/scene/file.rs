@@ -141,6 +141,17 @@ fn finite_vec(src: &Source, v: &Vec3, key: &str) -> Result<DVec3> {
     Ok(d)
 }
 
+/// `v` scaled to unit length, and its length, without overflow: glam's `normalize` squares the
+/// components, so a finite `[0, -1e308, 1]` came out as `[0, -0, 0]` (found by the fuzz
+/// harness). Dividing by the largest component first keeps the squares finite. `None` for zero.
+fn unit_and_length(v: DVec3) -> Option<(DVec3, f64)> {
+    let m = v.abs().max_element();
+    (m > 0.0).then(|| {
+        let s = v / m;
+        (s.normalize(), m * s.length())
+    })
+}
+
 /// A colour: finite, every channel >= 0; `default` when absent.
 fn colour(src: &Source, v: &Option<Vec3>, key: &str, default: DVec3) -> Result<DVec3> {
     let Some(v) = v else { return Ok(default) };
@@ -361,12 +372,16 @@ fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Resul
             format!("eye {eye} and target {target} coincide: the camera has no view direction"),
         ));
     }
-    if up.length() == 0.0 || view.normalize().cross(up.normalize()).length() < 1e-6 {
+    let parallel = match (unit_and_length(view), unit_and_length(up)) {
+        (Some((v, _)), Some((u, _))) => v.cross(u).length() < 1e-6,
+        _ => true,
+    };
+    if parallel {
         return Err(at_key(
             &c.up,
             format!(
                 "up {up} is zero or parallel to the view direction {}: pick an up vector across it",
-                view.normalize()
+                unit_and_length(view).map_or(view, |(v, _)| v)
             ),
         ));
     }
@@ -388,6 +403,18 @@ fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Resul
         far: clip(&c.far, "far")?,
     };
     let (near, far) = camera.near_far();
+    // Finite inputs can still overflow on the way (found by the fuzz harness): eye and target
+    // 1e308 apart, near * far past f64, a field of view whose tangent is subnormal, an `up`
+    // whose cross product with the view direction overflows (glam then normalizes it to zero:
+    // finite, but no rotation).
+    if !(view_is_orthonormal(&camera) && camera.projection(aspect).is_finite()) {
+        return Err(src.at(
+            cam,
+            format!(
+                "the camera's view or projection overflows (eye {eye}, target {target}, up {up}, fov_y_deg = {fov}, near = {near}, far = {far}): use values nearer the unit-sphere scene"
+            ),
+        ));
+    }
     if far <= near {
         let msg = format!("far = {far} must be greater than near = {near}");
         return Err(match (&c.far, &c.near) {
@@ -397,6 +424,12 @@ fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Resul
         });
     }
     Ok(camera)
+}
+
+/// The camera's view matrix is finite and its rotation rows are unit length.
+fn view_is_orthonormal(camera: &Camera) -> bool {
+    let v = camera.view();
+    v.is_finite() && (0..3).all(|i| (v.row(i).truncate().length() - 1.0).abs() < 1e-9)
 }
 
 fn lights(
@@ -443,17 +476,17 @@ fn lights(
             ));
         };
         let d = finite_vec(src, dir, "direction")?;
-        if d.length() <= 1e-12 {
+        let Some((direction, _)) = unit_and_length(d).filter(|&(_, len)| len > 1e-12) else {
             return Err(src.at(
                 dir,
-                "direction = [0, 0, 0] has no direction: give a vector towards the light",
+                format!(
+                    "direction = {:?} has no direction: give a vector towards the light",
+                    dir.get_ref()
+                ),
             ));
-        }
+        };
         let color = colour(src, &light.color, "color", DVec3::ONE)?;
-        out.push(DirectionalLight {
-            direction: d.normalize(),
-            color,
-        });
+        out.push(DirectionalLight { direction, color });
     }
     Ok(out)
 }
