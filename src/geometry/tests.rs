@@ -739,7 +739,26 @@ fn generator_parameters_are_validated() {
                 segments: 100_000,
                 rings: 100_000,
             },
-            "the limit is 8000000",
+            "the limit is 2000000",
+        ),
+        // Found by tests/fuzz.rs: 1e39 is past f32, the positions became infinite.
+        (
+            Generator::Torus {
+                major_radius: 1e39,
+                minor_radius: 0.5,
+                major_segments: 3,
+                minor_segments: 3,
+            },
+            "major_radius must be at most 1e30 (got 1e39)",
+        ),
+        (
+            Generator::Torus {
+                major_radius: 1.0,
+                minor_radius: 1e-20,
+                major_segments: 3,
+                minor_segments: 3,
+            },
+            "minor_radius must be at least 1e-4 x major_radius (got 1e-20 for 1e0)",
         ),
     ];
     for (g, needle) in cases {
