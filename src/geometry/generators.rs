@@ -8,11 +8,12 @@ use glam::DVec3;
 use super::*;
 use crate::error::{Error, Result};
 
-/// Largest triangle count a generator may produce: 2M triangles are 144 MB of f32 soup and
-/// build in about 0.3 s (3.1M took 0.51 s in the fuzz harness, which allows 1 s per input),
-/// still far past any useful test mesh (the biggest shared model, the bunny, has 70k). It was
-/// 8M (about 1.3 s and a 288 MB allocation from one number in a scene file).
-pub const MAX_GENERATED_TRIANGLES: u64 = 2_000_000;
+/// Largest triangle count a generator may produce: 1M triangles are 72 MB of f32 soup, still
+/// 14x the biggest shared model (the bunny, 70k). The fuzz harness allows 1 s per input: a
+/// scene asking for 2M took 0.31 s on an idle machine and 0.58 s with the 2 cores loaded (load
+/// average 7), so 1M keeps a margin. It was 8M (about 1.3 s and a 288 MB allocation from one
+/// number in a scene file).
+pub const MAX_GENERATED_TRIANGLES: u64 = 1_000_000;
 /// Largest torus radius: positions are stored as f32 (max 3.4e38); found by the fuzz harness
 /// (`major_radius = 1e39` gave infinite positions and NaN after fitting).
 pub const MAX_GENERATED_RADIUS: f64 = 1e30;

@@ -739,7 +739,7 @@ fn generator_parameters_are_validated() {
                 segments: 100_000,
                 rings: 100_000,
             },
-            "the limit is 2000000",
+            "the limit is 1000000",
         ),
         // Found by tests/fuzz.rs: 1e39 is past f32, the positions became infinite.
         (
