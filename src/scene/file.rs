@@ -403,10 +403,10 @@ fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Resul
         far: clip(&c.far, "far")?,
     };
     let (near, far) = camera.near_far();
-    // Finite inputs can still overflow on the way (found by the fuzz harness): eye and target
-    // 1e308 apart, near * far past f64, a field of view whose tangent is subnormal, an `up`
-    // whose cross product with the view direction overflows (glam then normalizes it to zero:
-    // finite, but no rotation).
+    // Finite inputs can still overflow on the way (the pattern the fuzz harness found in light
+    // directions; these cases found by review): eye and target 1e308 apart, near * far past
+    // f64, a field of view whose tangent is subnormal, an `up` whose cross product with the
+    // view direction overflows (glam then normalizes it to zero: finite, but no rotation).
     if !(view_is_orthonormal(&camera) && camera.projection(aspect).is_finite()) {
         return Err(src.at(
             cam,

@@ -379,7 +379,8 @@ fn bad_scenes_report_file_and_line() {
         (format!("{MESH}[[light]]\ntype = \"point\"\ndirection = [0, 0, 1]\n"), Some(4), "light type `point` is not supported"),
         (format!("{MESH}[[light]]\ndirection = [0, 0, 1]\n[[light]]\ncolor = [1, 1, 1]\n"), Some(5), "[[light]] is missing `direction`"),
         (format!("{MESH}[[light]]\ndirection = [0, 0, 0]\n"), Some(4), "has no direction"),
-        // Found by tests/fuzz.rs: the squares of these overflow (regression files in tests/data/fuzz/scene/).
+        // Overflow on the way (the pattern tests/fuzz.rs found in light directions, see
+        // huge_light_directions_normalize_without_overflow; these cases by review).
         (format!("{MESH}[[light]]\ndirection = [1e-13, 0, 0]\n"), Some(4), "direction = [1e-13, 0.0, 0.0] has no direction"),
         (format!("{MESH}[camera]\neye = [0, 1e308, 3]\ntarget = [0, -1e308, 0]\n"), Some(3), "the camera's view or projection overflows"),
         (format!("{MESH}[camera]\nnear = 1e200\nfar = 1e300\n"), Some(3), "the camera's view or projection overflows"),

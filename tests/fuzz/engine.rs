@@ -33,8 +33,8 @@ pub struct Limits {
     /// After this long on one input the watchdog saves it and ends the process.
     pub hang: Duration,
     /// Largest single allocation one input may cause. 256 MiB: the largest legitimate one
-    /// from a seed is the text copy of the biggest model (2.4 MB), and a generated mesh at
-    /// MAX_GENERATED_TRIANGLES is 96 MB per array.
+    /// from a seed file is 13 MiB (the bunny), and a generated mesh at
+    /// MAX_GENERATED_TRIANGLES (1M) is 36 MB per array (48 MiB with Vec's doubling).
     pub alloc_bytes: usize,
 }
 
