@@ -6,7 +6,7 @@ BIN := target/release/shadelab
 SHADELAB_MODELS ?= $(if $(wildcard ../shared/models/*.obj),$(abspath ../shared/models),)
 export SHADELAB_MODELS
 
-.PHONY: demo test build deps spirv scenes bench clean
+.PHONY: demo test build deps spirv scenes bench fuzz clean
 
 deps:
 	scripts/install-deps.sh run build test
@@ -37,6 +37,12 @@ scenes: build
 ## Benchmarks of README "Performance" (not part of the tests).
 bench: build
 	scripts/bench.sh
+
+## Fuzz the OBJ and scene readers, 1,000,000 inputs (README "Fuzzing"; not part of the tests,
+## which run a 20,000-input smoke run of the same harness).
+fuzz:
+	scripts/install-deps.sh run build
+	scripts/fuzz.sh
 
 clean:
 	$(CARGO) clean

@@ -10,10 +10,12 @@
 //! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
+//! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod cli;
 mod compare;
+mod fuzz;
 mod gpu;
 mod layout;
 mod methods;

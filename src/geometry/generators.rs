@@ -8,9 +8,17 @@ use glam::DVec3;
 use super::*;
 use crate::error::{Error, Result};
 
-/// Largest triangle count a generator may produce: 8M triangles are 576 MB of f32 soup, well
-/// past any useful test mesh (the biggest shared model, the bunny, has 70k).
-pub const MAX_GENERATED_TRIANGLES: u64 = 8_000_000;
+/// Largest triangle count a generator may produce: 1M triangles are 72 MB of f32 soup, still
+/// 14x the biggest shared model (the bunny, 70k). The fuzz harness allows 1 s per input: a
+/// scene asking for 2M took 0.31 s on an idle machine and 0.58 s with the 2 cores loaded (load
+/// average 7), so 1M keeps a margin. It was 8M (about 1.3 s and a 288 MB allocation from one
+/// number in a scene file).
+pub const MAX_GENERATED_TRIANGLES: u64 = 1_000_000;
+/// Largest torus radius: positions are stored as f32 (max 3.4e38); found by the fuzz harness
+/// (`major_radius = 1e39` gave infinite positions and NaN after fitting).
+pub const MAX_GENERATED_RADIUS: f64 = 1e30;
+/// Thinnest torus tube, relative to the major radius (see [`Generator::validate`]).
+pub const MIN_MINOR_RATIO: f64 = 1e-4;
 
 /// A procedural mesh, built in f64 with exact analytic normals. Serialized (TOML scene files,
 /// [`parse_generator_args`]) as `generator = "snake_case_name"` plus the variant's fields.
@@ -195,6 +203,20 @@ impl Generator {
                         format!("{name}: minor_radius must be finite and > 0 (got {minor_radius})"),
                     ));
                 }
+                if major_radius > MAX_GENERATED_RADIUS {
+                    return Err((
+                        "major_radius",
+                        format!("{name}: major_radius must be at most {MAX_GENERATED_RADIUS:e} (got {major_radius:e}); positions are f32, and the mesh is fitted to the unit sphere anyway"),
+                    ));
+                }
+                // Thinner, the tube's rings round to the same f32 points once fitted and the
+                // mesh gets zero-area triangles (found by the fuzz harness at 1e-20).
+                if minor_radius < MIN_MINOR_RATIO * major_radius {
+                    return Err((
+                        "minor_radius",
+                        format!("{name}: minor_radius must be at least {MIN_MINOR_RATIO:e} x major_radius (got {minor_radius:e} for {major_radius:e}); the tube would vanish in f32"),
+                    ));
+                }
                 if minor_radius >= major_radius {
                     return Err((
                         "minor_radius",
@@ -232,6 +254,7 @@ impl Generator {
     }
 
     /// Checks the parameters: segments >= 3, rings >= 2, radii finite and > 0, minor < major,
+    /// major at most [`MAX_GENERATED_RADIUS`], minor at least [`MIN_MINOR_RATIO`] x major,
     /// subdivisions <= 7, at most [`MAX_GENERATED_TRIANGLES`]. Violations are
     /// [`Error::Usage`] naming the rule and the value found.
     pub fn validate(&self) -> Result<()> {

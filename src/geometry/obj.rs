@@ -55,9 +55,15 @@ struct Parsed {
 /// [`Error::Input`] without a line.
 pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_obj(path, &bytes)
+}
+/// [`load_obj`] on bytes already read: `path` only names the file in messages and in the mesh's
+/// `source`. Errors as [`load_obj`]'s, except that it never returns [`Error::Io`]. This is the
+/// entry point the fuzz harness (tests/fuzz.rs) drives.
+pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
     // Lossy: a stray Latin-1 byte in a comment must not reject the file; in a number it turns
     // into U+FFFD and fails number parsing with the line reported.
-    let text = String::from_utf8_lossy(&bytes);
+    let text = String::from_utf8_lossy(bytes);
     let parsed = validate_obj(path, &text)?;
     if parsed.faces.is_empty() {
         return Err(Error::input(
@@ -362,7 +368,7 @@ fn build_from_parsed(
             kept.push(*tri);
         }
     }
-    let dropped = tri_corners.len() - kept.len();
+    let mut dropped = tri_corners.len() - kept.len();
     if kept.is_empty() {
         return Err(Error::input(
             path,
@@ -442,6 +448,36 @@ fn build_from_parsed(
         }
     }
 
+    let mut mesh = Mesh {
+        positions,
+        normals,
+        source: path.display().to_string(),
+    };
+    // Fitting rounds to f32 in the fitted frame: beside a far-away vertex, a triangle with an
+    // area in the file's coordinates can collapse (found by the fuzz harness: one cube vertex
+    // moved to x = -2147483648). Drop those too and refit; a refit only happens when something
+    // was dropped, so other meshes keep their bits. Each round drops at least one triangle;
+    // the bound keeps an adversarial file linear.
+    fit_unit(&mut mesh);
+    for _ in 0..4 {
+        let collapsed = drop_zero_area(&mut mesh);
+        if collapsed == 0 {
+            break;
+        }
+        dropped += collapsed;
+        if mesh.positions.is_empty() {
+            return Err(Error::input(
+                path,
+                None,
+                format!(
+                    "no triangles: all {} of the file's triangles have zero area once fitted to the unit sphere (a vertex far from the others?)",
+                    tri_corners.len()
+                ),
+            ));
+        }
+        fit_unit(&mut mesh);
+    }
+
     let mut warnings = Vec::new();
     if dropped > 0 {
         warnings.push(format!(
@@ -494,20 +530,30 @@ fn build_from_parsed(
         ));
     }
 
-    let mut mesh = Mesh {
-        positions,
-        normals,
-        source: path.display().to_string(),
-    };
-    fit_unit(&mut mesh);
     let report = LoadReport {
-        triangles: kept.len(),
+        triangles: mesh.triangle_count(),
         dropped_zero_area: dropped,
         computed_normals: computed > 0,
         had_quads_or_polygons: parsed.had_polygons,
         warnings,
     };
     Ok((mesh, report))
+}
+/// Removes the triangles of `mesh` that [`is_zero_area`] rejects; returns how many.
+fn drop_zero_area(mesh: &mut Mesh) -> usize {
+    let keep: Vec<bool> = mesh
+        .positions
+        .chunks_exact(3)
+        .map(|t| !is_zero_area(dvec(t[0]), dvec(t[1]), dvec(t[2])))
+        .collect();
+    for list in [&mut mesh.positions, &mut mesh.normals] {
+        let mut corner = 0;
+        list.retain(|_| {
+            corner += 1;
+            keep[(corner - 1) / 3]
+        });
+    }
+    keep.iter().filter(|&&k| !k).count()
 }
 /// The OBJ text for `mesh`: `header` as `#` comment lines, then `v` and `vn` lists and
 /// `f v//vn` faces. Positions and normals are deduplicated separately by exact bit pattern (so

@@ -739,7 +739,26 @@ fn generator_parameters_are_validated() {
                 segments: 100_000,
                 rings: 100_000,
             },
-            "the limit is 8000000",
+            "the limit is 1000000",
+        ),
+        // Found by tests/fuzz.rs: 1e39 is past f32, the positions became infinite.
+        (
+            Generator::Torus {
+                major_radius: 1e39,
+                minor_radius: 0.5,
+                major_segments: 3,
+                minor_segments: 3,
+            },
+            "major_radius must be at most 1e30 (got 1e39)",
+        ),
+        (
+            Generator::Torus {
+                major_radius: 1.0,
+                minor_radius: 1e-20,
+                major_segments: 3,
+                minor_segments: 3,
+            },
+            "minor_radius must be at least 1e-4 x major_radius (got 1e-20 for 1e0)",
         ),
     ];
     for (g, needle) in cases {
@@ -862,4 +881,27 @@ fn shipped_meshes_are_fresh() {
             "scenes/{name} is stale: run `make scenes`"
         );
     }
+}
+
+/// Found by tests/fuzz.rs (tests/data/fuzz/obj/cube-vertex-at-i32-min.obj): one vertex moved
+/// far away leaves the triangles that do not use it smaller than f32 resolution once fitted.
+/// They are dropped and counted like any zero-area triangle, and the rest is refitted.
+#[test]
+fn triangles_that_collapse_when_fitted_are_dropped() {
+    let text =
+        "v -2147483648 0 0\nv 0 0 0\nv 0 1 0\nv 0 0 1\nv 0 1e-9 0\nv 0 0 1e-9\nf 1 3 4\nf 2 5 6\n";
+    let (mesh, report) = load_text(text).unwrap();
+    assert_eq!((report.triangles, report.dropped_zero_area), (1, 1));
+    assert_eq!(mesh.triangle_count(), 1);
+    assert!(
+        report.warnings[0].contains("dropped 1 zero-area triangle"),
+        "{:?}",
+        report.warnings
+    );
+    let t = &mesh.positions;
+    assert!(!is_zero_area(
+        DVec3::from_array(t[0].map(f64::from)),
+        DVec3::from_array(t[1].map(f64::from)),
+        DVec3::from_array(t[2].map(f64::from))
+    ));
 }

@@ -143,6 +143,17 @@ fn finite_vec(src: &Source, v: &Vec3, key: &str) -> Result<DVec3> {
     Ok(d)
 }
 
+/// `v` scaled to unit length, and its length, without overflow: glam's `normalize` squares the
+/// components, so a finite `[0, -1e308, 1]` came out as `[0, -0, 0]` (found by the fuzz
+/// harness). Dividing by the largest component first keeps the squares finite. `None` for zero.
+fn unit_and_length(v: DVec3) -> Option<(DVec3, f64)> {
+    let m = v.abs().max_element();
+    (m > 0.0).then(|| {
+        let s = v / m;
+        (s.normalize(), m * s.length())
+    })
+}
+
 /// A colour: finite, every channel >= 0; `default` when absent.
 fn colour(src: &Source, v: &Option<Vec3>, key: &str, default: DVec3) -> Result<DVec3> {
     let Some(v) = v else { return Ok(default) };
@@ -168,8 +179,19 @@ fn colour(src: &Source, v: &Option<Vec3>, key: &str, default: DVec3) -> Result<D
 /// the OBJ file and line.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let src = Source { path, text: &text };
-    let file: SceneFile = toml::from_str(&text).map_err(|e| src.toml_error(&e))?;
+    parse_scene(path, &text, &load_obj)
+}
+
+/// Reads an OBJ named by a scene file (given the path joined to the scene's folder).
+pub type ObjLoader<'a> = &'a dyn Fn(&Path) -> Result<(Mesh, LoadReport)>;
+
+/// [`load_scene`] on text already read: `path` names the file in messages and gives the folder
+/// `obj = ...` is relative to; `load_obj` reads that OBJ ([`load_obj`] for a real scene; the
+/// fuzz harness in tests/fuzz.rs passes one that never touches the disk). Errors as
+/// [`load_scene`]'s.
+pub fn parse_scene(path: &Path, text: &str, load_obj: ObjLoader) -> Result<Scene> {
+    let src = Source { path, text };
+    let file: SceneFile = toml::from_str(text).map_err(|e| src.toml_error(&e))?;
 
     let Some(mesh_table) = &file.mesh else {
         return Err(Error::input(
@@ -178,7 +200,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
             "no [mesh] table: add one with `obj = \"FILE.obj\"` or `generator = \"NAME\"` and its parameters",
         ));
     };
-    let (mesh, mesh_report) = load_mesh(&src, mesh_table)?;
+    let (mesh, mesh_report) = load_mesh(&src, mesh_table, load_obj)?;
 
     let (width, height) = image_size(&src, file.image.as_ref())?;
     let camera = camera(&src, file.camera.as_ref(), width as f64 / height as f64)?;
@@ -212,7 +234,11 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 type MeshTable = Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>;
 
 /// `[mesh]`: exactly one of `obj` (alone) or `generator` (with its parameters).
-fn load_mesh(src: &Source, table: &MeshTable) -> Result<(Mesh, Option<LoadReport>)> {
+fn load_mesh(
+    src: &Source,
+    table: &MeshTable,
+    load_obj: ObjLoader,
+) -> Result<(Mesh, Option<LoadReport>)> {
     let entries = table.get_ref();
     let find = |key: &str| entries.iter().find(|(k, _)| k.get_ref() == key);
     match (find("obj"), find("generator")) {
@@ -355,12 +381,16 @@ fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Resul
             format!("eye {eye} and target {target} coincide: the camera has no view direction"),
         ));
     }
-    if up.length() == 0.0 || view.normalize().cross(up.normalize()).length() < 1e-6 {
+    let parallel = match (unit_and_length(view), unit_and_length(up)) {
+        (Some((v, _)), Some((u, _))) => v.cross(u).length() < 1e-6,
+        _ => true,
+    };
+    if parallel {
         return Err(at_key(
             &c.up,
             format!(
                 "up {up} is zero or parallel to the view direction {}: pick an up vector across it",
-                view.normalize()
+                unit_and_length(view).map_or(view, |(v, _)| v)
             ),
         ));
     }
@@ -382,6 +412,18 @@ fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Resul
         far: clip(&c.far, "far")?,
     };
     let (near, far) = camera.near_far();
+    // Finite inputs can still overflow on the way (the pattern the fuzz harness found in light
+    // directions; these cases found by review): eye and target 1e308 apart, near * far past
+    // f64, a field of view whose tangent is subnormal, an `up` whose cross product with the
+    // view direction overflows (glam then normalizes it to zero: finite, but no rotation).
+    if !(view_is_orthonormal(&camera) && camera.projection(aspect).is_finite()) {
+        return Err(src.at(
+            cam,
+            format!(
+                "the camera's view or projection overflows (eye {eye}, target {target}, up {up}, fov_y_deg = {fov}, near = {near}, far = {far}): use values nearer the unit-sphere scene"
+            ),
+        ));
+    }
     if far <= near {
         let msg = format!("far = {far} must be greater than near = {near}");
         return Err(match (&c.far, &c.near) {
@@ -391,6 +433,12 @@ fn camera(src: &Source, cam: Option<&Spanned<CameraFile>>, aspect: f64) -> Resul
         });
     }
     Ok(camera)
+}
+
+/// The camera's view matrix is finite and its rotation rows are unit length.
+fn view_is_orthonormal(camera: &Camera) -> bool {
+    let v = camera.view();
+    v.is_finite() && (0..3).all(|i| (v.row(i).truncate().length() - 1.0).abs() < 1e-9)
 }
 
 fn lights(
@@ -437,17 +485,17 @@ fn lights(
             ));
         };
         let d = finite_vec(src, dir, "direction")?;
-        if d.length() <= 1e-12 {
+        let Some((direction, _)) = unit_and_length(d).filter(|&(_, len)| len > 1e-12) else {
             return Err(src.at(
                 dir,
-                "direction = [0, 0, 0] has no direction: give a vector towards the light",
+                format!(
+                    "direction = {:?} has no direction: give a vector towards the light",
+                    dir.get_ref()
+                ),
             ));
-        }
+        };
         let color = colour(src, &light.color, "color", DVec3::ONE)?;
-        out.push(DirectionalLight {
-            direction: d.normalize(),
-            color,
-        });
+        out.push(DirectionalLight { direction, color });
     }
     Ok(out)
 }

@@ -294,6 +294,16 @@ fn minimal_scene_gets_the_defaults() {
     assert_eq!(s.mesh.triangle_count(), 12);
 }
 
+/// Found by tests/fuzz.rs: glam's `normalize` squared `-1e308` to infinity and turned this
+/// light into `[0, -0, 0]`.
+#[test]
+fn huge_light_directions_normalize_without_overflow() {
+    let (_d, _p, r) =
+        load_text("[mesh]\nobj = \"cube.obj\"\n[[light]]\ndirection = [-0, -1e308, 1.0]\n");
+    let s = r.unwrap();
+    assert_eq!(s.lights[0].direction, DVec3::new(0.0, -1.0, 1e-308));
+}
+
 #[test]
 fn full_scene_is_read_and_normalized() {
     let text = r#"name = "all keys"
@@ -369,6 +379,13 @@ fn bad_scenes_report_file_and_line() {
         (format!("{MESH}[[light]]\ntype = \"point\"\ndirection = [0, 0, 1]\n"), Some(4), "light type `point` is not supported"),
         (format!("{MESH}[[light]]\ndirection = [0, 0, 1]\n[[light]]\ncolor = [1, 1, 1]\n"), Some(5), "[[light]] is missing `direction`"),
         (format!("{MESH}[[light]]\ndirection = [0, 0, 0]\n"), Some(4), "has no direction"),
+        // Overflow on the way (the pattern tests/fuzz.rs found in light directions, see
+        // huge_light_directions_normalize_without_overflow; these cases by review).
+        (format!("{MESH}[[light]]\ndirection = [1e-13, 0, 0]\n"), Some(4), "direction = [1e-13, 0.0, 0.0] has no direction"),
+        (format!("{MESH}[camera]\neye = [0, 1e308, 3]\ntarget = [0, -1e308, 0]\n"), Some(3), "the camera's view or projection overflows"),
+        (format!("{MESH}[camera]\nnear = 1e200\nfar = 1e300\n"), Some(3), "the camera's view or projection overflows"),
+        (format!("{MESH}[camera]\nfov_y_deg = 1e-320\n"), Some(3), "the camera's view or projection overflows"),
+        (format!("{MESH}[camera]\nup = [1e300, 1e300, 0]\n"), Some(3), "the camera's view or projection overflows"),
         (format!("{MESH}[[light]]\ndirection = [0, 0, 1]\ncolor = [1, -1, 1]\n"), Some(5), "color = [1.0, -1.0, 1.0] has a negative channel"),
         (format!("light = []\n{MESH}"), Some(1), "at least one light"),
         (format!("{MESH}{}", "[[light]]\ndirection = [0, 0, 1]\n".repeat(5)), Some(11), "too many lights: 5 given, at most 4"),
