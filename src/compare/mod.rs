@@ -136,40 +136,33 @@ impl Analysis<'_> {
         })
     }
 
-    /// Statistics, FLIP, render.png and the heatmaps of one method's frame.
-    fn analyse(&self, m: &Method, frame: &Frame) -> Result<(MethodReport, PhaseTimes)> {
+    /// Statistics, render.png, the heatmaps and FLIP of one method's frame, in that order: the
+    /// frame and the per-pixel maps are freed before FLIP, whose own float images (about 80 MB
+    /// at 1024x1024) are then the worker's only large allocation.
+    fn analyse(&self, m: &Method, frame: Frame) -> Result<(MethodReport, PhaseTimes)> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
         // First, so that its per-pixel errors are freed before the main ones are made.
-        let against_slerp = self.against_slerp(m, frame);
-        let f = pixel_errors(frame, m.has_normal, self.reference);
+        let against_slerp = self.against_slerp(m, &frame);
+        let mut f = pixel_errors(&frame, m.has_normal, self.reference);
         let nf = f.non_finite();
         let intensity = if nf {
             IntensityStats::non_finite(f.first_non_finite)
         } else {
             intensity_stats(&f.errors, self.opts.threshold)
         };
+        f.errors = Vec::new();
         let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
         let stats = f.stats();
         let p99_a = m.has_normal.then(|| {
             if nf {
                 f64::INFINITY
             } else {
-                percentile(&mut f.angles.clone(), 99.0)
+                percentile(&mut std::mem::take(&mut f.angles), 99.0)
             }
         });
         let (max_a, mean_a) = (stats.max_normal_angle_deg, stats.mean_normal_angle_deg);
         let metrics_ms = t.elapsed().as_secs_f64() * 1e3;
-
-        // FLIP over the same pixels as every other statistic; a method with NaN/Inf has none.
-        let t = Instant::now();
-        let (flip_mean, flip_p95) = if nf {
-            (f64::INFINITY, f64::INFINITY)
-        } else {
-            let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
-            flip(self.ref8, &test8, w, h, &f.measured)
-        };
-        let flip_ms = t.elapsed().as_secs_f64() * 1e3;
 
         let t = Instant::now();
         let dir = self.out.join(m.name);
@@ -245,13 +238,26 @@ impl Analysis<'_> {
         }
         let png_ms = t.elapsed().as_secs_f64() * 1e3;
 
+        // FLIP over the same pixels as every other statistic; a method with NaN/Inf has none.
+        // It needs only the 8-bit test image and the mask: the frame and the maps go first.
+        let t = Instant::now();
+        let test8 = (!nf).then(|| srgb_rgb8(frame.color.iter().map(|&c| d3(c))));
+        drop(frame);
+        let (counts, measured) = (f.counts, std::mem::take(&mut f.measured));
+        drop(f);
+        let (flip_mean, flip_p95) = match test8 {
+            Some(test8) => flip(self.ref8, &test8, w, h, &measured),
+            None => (f64::INFINITY, f64::INFINITY),
+        };
+        let flip_ms = t.elapsed().as_secs_f64() * 1e3;
+
         let report = MethodReport {
             name: m.name.to_string(),
             reference: REFERENCE.to_string(),
-            covered_pixels: f.counts.measured,
-            coverage_mismatch_pixels: f.counts.coverage_mismatch,
-            ill_conditioned_pixels: f.counts.ill_conditioned,
-            non_finite_pixels: f.counts.non_finite,
+            covered_pixels: counts.measured,
+            coverage_mismatch_pixels: counts.coverage_mismatch,
+            ill_conditioned_pixels: counts.ill_conditioned,
+            non_finite_pixels: counts.non_finite,
             intensity,
             channels,
             max_normal_angle_deg: max_a,
@@ -357,7 +363,7 @@ pub fn compare(
                 };
                 let Ok((i, m, frame)) = job else { return };
                 bar.set_message(m.name);
-                let r = ctx.analyse(m, &frame);
+                let r = ctx.analyse(m, frame);
                 bar.inc(1);
                 if let Ok(mut v) = results.lock() {
                     v.push((i, r));
