@@ -28,7 +28,7 @@ use crate::analysis::stats::percentile;
 use crate::frame::{Frame, IdFrame};
 use crate::method::Method;
 use crate::scene::SceneInputs;
-use crate::truth::{Truth, TruthPixel};
+use crate::truth::{RefPixel, Truth, Values};
 
 /// Rec. 709 luminance weights of linear RGB.
 pub const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
@@ -66,7 +66,7 @@ pub struct PixelCounts {
 pub fn classify(
     frame: &Frame,
     has_normal: bool,
-    reference: Option<&TruthPixel>,
+    reference: Option<&RefPixel>,
     i: usize,
 ) -> PixelClass {
     let here = frame.color[i][3] > 0.0;
@@ -83,7 +83,7 @@ pub fn classify(
     let non_finite =
         !d3(frame.color[i]).is_finite() || (has_normal && !d3(frame.normal[i]).is_finite());
     let meaningful =
-        !t.ill_conditioned() && t.color.is_finite() && t.normal.is_none_or(|n| n.is_finite());
+        !t.ill_conditioned && t.color.is_finite() && t.normal.is_none_or(|n| n.is_finite());
     match (meaningful, non_finite) {
         (false, _) => PixelClass::IllConditioned { non_finite },
         (true, true) => PixelClass::NonFinite,
@@ -162,15 +162,54 @@ pub struct ErrorStats {
 
 /// Statistics of `frame` (a method's GPU output, `has_normal` telling whether its normal
 /// target is meaningful) against `reference`: `pixel_errors(..).stats()`.
-pub fn error_stats(frame: &Frame, has_normal: bool, reference: &Truth) -> ErrorStats {
+pub fn error_stats(
+    frame: &Frame,
+    has_normal: bool,
+    reference: &impl ReferencePixels,
+) -> ErrorStats {
     pixel_errors(frame, has_normal, reference).stats()
 }
 
 /// The per-pixel errors of `frame` against `reference` (module doc).
-pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> PixelErrors {
-    scan(frame, has_normal, reference.pixels.len(), true, |i| {
-        reference.pixels[i]
-    })
+pub fn pixel_errors(
+    frame: &Frame,
+    has_normal: bool,
+    reference: &impl ReferencePixels,
+) -> PixelErrors {
+    scan(
+        frame,
+        has_normal,
+        reference.len(),
+        true,
+        reference.ref_pixels(),
+    )
+}
+
+/// A reference the statistics can be taken against: a [`Truth`] (with its bounds, `verify`)
+/// or the compact [`Values`] (`compare`); the same f64 values either way.
+pub trait ReferencePixels {
+    /// Number of pixels, covered or not.
+    fn len(&self) -> usize;
+    /// Every pixel in row-major order, `None` on the background.
+    fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_;
+}
+
+impl ReferencePixels for Truth {
+    fn len(&self) -> usize {
+        self.pixels.len()
+    }
+    fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_ {
+        self.pixels.iter().map(|p| p.as_ref().map(|p| p.value()))
+    }
+}
+
+impl ReferencePixels for Values {
+    fn len(&self) -> usize {
+        Values::len(self)
+    }
+    fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_ {
+        self.pixels()
+    }
 }
 
 /// The statistics of `frame` against another method's f64 twin `other`, evaluated pixel by
@@ -181,14 +220,14 @@ pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> Pixel
 pub fn stats_against_twin(
     frame: &Frame,
     has_normal: bool,
-    reference: &Truth,
+    reference: &impl ReferencePixels,
     inputs: &SceneInputs,
     ids: &IdFrame,
     other: &Method,
 ) -> ErrorStats {
     let lighting = inputs.lighting();
-    scan(frame, has_normal, reference.pixels.len(), false, |i| {
-        let t = reference.pixels[i]?;
+    let twin = reference.ref_pixels().enumerate().map(|(i, t)| {
+        let t = t?;
         let w = ids.weights[i];
         let (x, y) = (i as u32 % ids.width, i as u32 / ids.width);
         let frag = inputs.fragment(
@@ -197,13 +236,13 @@ pub fn stats_against_twin(
             DVec2::new(x as f64 + 0.5, y as f64 + 0.5),
         );
         let s = (other.eval_f64)(&frag, &lighting);
-        Some(TruthPixel {
+        Some(RefPixel {
             color: s.color,
             normal: s.normal,
             ..t
         })
-    })
-    .stats()
+    });
+    scan(frame, has_normal, reference.len(), false, twin).stats()
 }
 
 /// One pass over the pixels against `truth(i)`; `store` keeps the per-pixel vectors (errors,
@@ -213,7 +252,7 @@ fn scan(
     has_normal: bool,
     n: usize,
     store: bool,
-    truth: impl Fn(usize) -> Option<TruthPixel>,
+    truth: impl Iterator<Item = Option<RefPixel>>,
 ) -> PixelErrors {
     // Sized once for the covered pixels: growing by doubling would hold up to twice that.
     let cap = if store {
@@ -236,8 +275,7 @@ fn scan(
         first_non_finite: None,
         sums: [0.0; 4],
     };
-    for i in 0..n {
-        let t = truth(i);
+    for (i, t) in truth.take(n).enumerate() {
         let xy = [i as u32 % frame.width, i as u32 / frame.width];
         let c = &mut f.counts;
         let t = match classify(frame, has_normal, t.as_ref(), i) {

@@ -30,7 +30,7 @@ use crate::method::{self, Method, Reference};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
 use crate::scene::{Scene, SceneInputs};
-use crate::truth::{self, Truth};
+use crate::truth::{self, Values};
 
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
 /// removes or renames a field or changes its type (2: error metrics are null for a method with
@@ -95,7 +95,7 @@ struct SecondReference<'a> {
 
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
-    reference: &'a Truth,
+    reference: &'a Values,
     /// The second reference (f64 exact slerp along the span), when a method of the run is
     /// judged against it too: its twin is evaluated pixel by pixel, no second truth is stored.
     slerp: Option<SecondReference<'a>>,
@@ -317,17 +317,15 @@ pub fn compare(
     } else {
         None
     };
-    let background = reference.pixels.iter().filter(|p| p.is_none()).count();
+    let background = reference.background();
     let ref8 = srgb_rgb8(
         reference
-            .pixels
-            .iter()
+            .pixels()
             .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
     );
     if opts.images {
         let ref_rgba: Vec<[f32; 4]> = reference
-            .pixels
-            .iter()
+            .pixels()
             .map(|p| {
                 p.map(|p| [p.color.x as f32, p.color.y as f32, p.color.z as f32, 1.0])
                     .unwrap_or([0.0; 4])

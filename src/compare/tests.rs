@@ -2,6 +2,7 @@
 use super::*;
 use crate::analysis::pixel::*;
 use crate::output::Provenance;
+use crate::truth::{Truth, Values};
 
 #[test]
 fn identical_images_give_exactly_zero() {
@@ -168,8 +169,9 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
         images: false,
         ..CompareOptions::default()
     };
+    let values = Values::from(truth);
     let a = Analysis {
-        reference: truth,
+        reference: &values,
         slerp: None,
         ref8: &ref8,
         out: Path::new("unused"),
@@ -177,7 +179,7 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
         width: frame.width,
         height: 1,
     };
-    a.analyse(m, frame).unwrap().0
+    a.analyse(m, frame.clone()).unwrap().0
 }
 
 #[test]
