@@ -99,19 +99,19 @@ pub struct PixelErrors {
     pub counts: PixelCounts,
     /// Per pixel (row-major): whether it is [`PixelClass::Measured`] (the mask of every statistic).
     pub measured: Vec<bool>,
-    /// (x, y, dI) of every measured pixel, in pixel order.
-    pub errors: Vec<(u32, u32, f64)>,
     /// The R, G, B errors of the measured pixels, accumulated as they are met (the statistics
     /// need no per-pixel copy).
     pub channels: [ChannelSums; 3],
-    /// Normal angle error (degrees) of every measured pixel (empty without a per-pixel normal).
-    pub angles: Vec<f64>,
     /// Max ||N'| - 1| over measured pixels (0 without a per-pixel normal).
     pub max_len: f64,
-    /// Per pixel: dI where measured.
-    pub signed: Vec<Option<f64>>,
-    /// Per pixel: the normal angle error where measured (methods with a normal).
-    pub angle: Vec<Option<f64>>,
+    /// Per pixel: dI where `measured`, 0 elsewhere (see [`PixelErrors::signed`]). One f64 per
+    /// pixel and no list beside it: 8 bytes per pixel where an `Option` map and an (x, y, dI)
+    /// list took 16 + 16 per measured pixel.
+    signed: Vec<f64>,
+    /// Per pixel: the normal angle error where `has_angle`, 0 elsewhere.
+    angle: Vec<f64>,
+    /// Per pixel: measured, with a normal on both sides (methods with a normal).
+    has_angle: Vec<bool>,
     /// (x, y) of the first non-finite pixel, if any.
     pub first_non_finite: Option<[u32; 2]>,
     /// Running sums over the measured pixels: |dI| (sum, max) and the normal angle (sum, max).
@@ -119,6 +119,37 @@ pub struct PixelErrors {
 }
 
 impl PixelErrors {
+    /// dI at pixel `i` (row-major) where it is measured.
+    pub fn signed(&self, i: usize) -> Option<f64> {
+        self.measured[i].then(|| self.signed[i])
+    }
+
+    /// The normal angle error (degrees) at pixel `i` where it is measured (methods with a normal).
+    pub fn angle(&self, i: usize) -> Option<f64> {
+        self.has_angle[i].then(|| self.angle[i])
+    }
+
+    /// (x, y, dI) of every measured pixel, in pixel order.
+    pub fn errors(&self) -> impl Iterator<Item = (u32, u32, f64)> + '_ {
+        let w = self.width as usize;
+        // `take`: an exact upper size hint, so that a collector allocates once
+        (0..self.measured.len())
+            .filter(|&i| self.measured[i])
+            .take(self.counts.measured)
+            .map(move |i| ((i % w) as u32, (i / w) as u32, self.signed[i]))
+    }
+
+    /// The normal angle error of every measured pixel with one, in pixel order.
+    pub fn angles(&self) -> Vec<f64> {
+        let mut v = Vec::with_capacity(self.counts.measured);
+        v.extend(
+            (0..self.has_angle.len())
+                .filter(|&i| self.has_angle[i])
+                .map(|i| self.angle[i]),
+        );
+        v
+    }
+
     /// Whether any covered pixel is NaN/Inf: every error statistic is then infinite.
     pub fn non_finite(&self) -> bool {
         self.counts.non_finite > 0
@@ -254,24 +285,18 @@ fn scan(
     store: bool,
     truth: impl Iterator<Item = Option<RefPixel>>,
 ) -> PixelErrors {
-    // Sized once for the covered pixels: growing by doubling would hold up to twice that.
-    let cap = if store {
-        frame.color.iter().filter(|c| c[3] > 0.0).count()
-    } else {
-        0
-    };
     let per_pixel = if store { n } else { 0 };
+    let angles = if store && has_normal { n } else { 0 };
     let mut f = PixelErrors {
         width: frame.width,
         has_normal,
         counts: PixelCounts::default(),
         measured: vec![false; per_pixel],
-        errors: Vec::with_capacity(cap),
         channels: [ChannelSums::default(); 3],
-        angles: Vec::with_capacity(if has_normal { cap } else { 0 }),
         max_len: 0.0,
-        signed: vec![None; per_pixel],
-        angle: vec![None; per_pixel],
+        signed: vec![0.0; per_pixel],
+        angle: vec![0.0; angles],
+        has_angle: vec![false; angles],
         first_non_finite: None,
         sums: [0.0; 4],
     };
@@ -314,8 +339,7 @@ fn scan(
         }
         if store {
             f.measured[i] = true;
-            f.errors.push((xy[0], xy[1], e));
-            f.signed[i] = Some(e);
+            f.signed[i] = e;
         }
         if let (true, Some(r)) = (has_normal, t.normal) {
             let nrm = d3(frame.normal[i]);
@@ -329,8 +353,8 @@ fn scan(
             f.sums[2] += a;
             f.sums[3] = f.sums[3].max(a);
             if store {
-                f.angles.push(a);
-                f.angle[i] = Some(a);
+                f.angle[i] = a;
+                f.has_angle[i] = true;
             }
             f.max_len = f.max_len.max((len - 1.0).abs());
         }
@@ -379,12 +403,16 @@ impl IntensityStats {
 }
 
 /// Statistics of `errors`: (x, y, signed error) per pixel.
-pub fn intensity_stats(errors: &[(u32, u32, f64)], threshold: f64) -> IntensityStats {
-    let n = errors.len();
-    let mut abs: Vec<f64> = errors.iter().map(|e| e.2.abs()).collect();
+pub fn intensity_stats(
+    errors: impl IntoIterator<Item = (u32, u32, f64)>,
+    threshold: f64,
+) -> IntensityStats {
+    let errors = errors.into_iter();
+    let mut abs: Vec<f64> = Vec::with_capacity(errors.size_hint().1.unwrap_or(0));
     let (mut sum, mut sq, mut max, mut at, mut above) = (0.0, 0.0, 0.0, None, 0);
-    for &(x, y, e) in errors {
+    for (x, y, e) in errors {
         let a = e.abs();
+        abs.push(a);
         sum += a;
         sq += a * a;
         if at.is_none() || a > max {
@@ -393,6 +421,7 @@ pub fn intensity_stats(errors: &[(u32, u32, f64)], threshold: f64) -> IntensityS
         }
         above += usize::from(a > threshold);
     }
+    let n = abs.len();
     let mse = if n > 0 { sq / n as f64 } else { 0.0 };
     IntensityStats {
         mean_abs_error: if n > 0 { sum / n as f64 } else { 0.0 },

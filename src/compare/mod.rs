@@ -149,16 +149,15 @@ impl Analysis<'_> {
         let intensity = if nf {
             IntensityStats::non_finite(f.first_non_finite)
         } else {
-            intensity_stats(&f.errors, self.opts.threshold)
+            intensity_stats(f.errors(), self.opts.threshold)
         };
-        f.errors = Vec::new();
         let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
         let stats = f.stats();
         let p99_a = m.has_normal.then(|| {
             if nf {
                 f64::INFINITY
             } else {
-                percentile(&mut std::mem::take(&mut f.angles), 99.0)
+                percentile(&mut f.angles(), 99.0)
             }
         });
         let (max_a, mean_a) = (stats.max_normal_angle_deg, stats.mean_normal_angle_deg);
@@ -190,9 +189,9 @@ impl Analysis<'_> {
                 )
             }
         };
-        let abs = |i: usize| f.signed[i].map(f64::abs);
-        let signed = |i: usize| f.signed[i];
-        let angle = |i: usize| f.angle[i];
+        let abs = |i: usize| f.signed(i).map(f64::abs);
+        let signed = |i: usize| f.signed(i);
+        let angle = |i: usize| f.angle(i);
         let maps: [MapSpec; 3] = [
             (
                 "error_abs.png",
