@@ -105,8 +105,8 @@ pub struct PixelErrors {
     /// Max ||N'| - 1| over measured pixels (0 without a per-pixel normal).
     pub max_len: f64,
     /// Per pixel: dI where `measured`, 0 elsewhere (see [`PixelErrors::signed`]). One f64 per
-    /// pixel and no list beside it: 8 bytes per pixel where an `Option` map and an (x, y, dI)
-    /// list took 16 + 16 per measured pixel.
+    /// pixel and no list beside it: 8 bytes per pixel, where an `Option` map (16 per pixel) and
+    /// an (x, y, dI) list (16 per measured pixel) were kept before.
     signed: Vec<f64>,
     /// Per pixel: the normal angle error where `has_angle`, 0 elsewhere.
     angle: Vec<f64>,
