@@ -27,3 +27,10 @@ pub struct IdFrame {
     pub prim: Vec<u32>,
     pub weights: Vec<[f32; 4]>,
 }
+
+impl IdFrame {
+    /// Number of covered pixels (a triangle id other than 0).
+    pub fn covered(&self) -> usize {
+        self.prim.iter().filter(|&&p| p != 0).count()
+    }
+}

@@ -28,7 +28,7 @@ use crate::analysis::stats::percentile;
 use crate::frame::{Frame, IdFrame};
 use crate::method::Method;
 use crate::scene::SceneInputs;
-use crate::truth::{Truth, TruthPixel};
+use crate::truth::{RefPixel, Truth, Values};
 
 /// Rec. 709 luminance weights of linear RGB.
 pub const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
@@ -66,7 +66,7 @@ pub struct PixelCounts {
 pub fn classify(
     frame: &Frame,
     has_normal: bool,
-    reference: Option<&TruthPixel>,
+    reference: Option<&RefPixel>,
     i: usize,
 ) -> PixelClass {
     let here = frame.color[i][3] > 0.0;
@@ -83,7 +83,7 @@ pub fn classify(
     let non_finite =
         !d3(frame.color[i]).is_finite() || (has_normal && !d3(frame.normal[i]).is_finite());
     let meaningful =
-        !t.ill_conditioned() && t.color.is_finite() && t.normal.is_none_or(|n| n.is_finite());
+        !t.ill_conditioned && t.color.is_finite() && t.normal.is_none_or(|n| n.is_finite());
     match (meaningful, non_finite) {
         (false, _) => PixelClass::IllConditioned { non_finite },
         (true, true) => PixelClass::NonFinite,
@@ -99,19 +99,19 @@ pub struct PixelErrors {
     pub counts: PixelCounts,
     /// Per pixel (row-major): whether it is [`PixelClass::Measured`] (the mask of every statistic).
     pub measured: Vec<bool>,
-    /// (x, y, dI) of every measured pixel, in pixel order.
-    pub errors: Vec<(u32, u32, f64)>,
     /// The R, G, B errors of the measured pixels, accumulated as they are met (the statistics
     /// need no per-pixel copy).
     pub channels: [ChannelSums; 3],
-    /// Normal angle error (degrees) of every measured pixel (empty without a per-pixel normal).
-    pub angles: Vec<f64>,
     /// Max ||N'| - 1| over measured pixels (0 without a per-pixel normal).
     pub max_len: f64,
-    /// Per pixel: dI where measured.
-    pub signed: Vec<Option<f64>>,
-    /// Per pixel: the normal angle error where measured (methods with a normal).
-    pub angle: Vec<Option<f64>>,
+    /// Per pixel: dI where `measured`, 0 elsewhere (see [`PixelErrors::signed`]). One f64 per
+    /// pixel and no list beside it: 8 bytes per pixel, where an `Option` map (16 per pixel) and
+    /// an (x, y, dI) list (16 per measured pixel) were kept before.
+    signed: Vec<f64>,
+    /// Per pixel: the normal angle error where `has_angle`, 0 elsewhere.
+    angle: Vec<f64>,
+    /// Per pixel: measured, with a normal on both sides (methods with a normal).
+    has_angle: Vec<bool>,
     /// (x, y) of the first non-finite pixel, if any.
     pub first_non_finite: Option<[u32; 2]>,
     /// Running sums over the measured pixels: |dI| (sum, max) and the normal angle (sum, max).
@@ -119,6 +119,37 @@ pub struct PixelErrors {
 }
 
 impl PixelErrors {
+    /// dI at pixel `i` (row-major) where it is measured.
+    pub fn signed(&self, i: usize) -> Option<f64> {
+        self.measured[i].then(|| self.signed[i])
+    }
+
+    /// The normal angle error (degrees) at pixel `i` where it is measured (methods with a normal).
+    pub fn angle(&self, i: usize) -> Option<f64> {
+        self.has_angle[i].then(|| self.angle[i])
+    }
+
+    /// (x, y, dI) of every measured pixel, in pixel order.
+    pub fn errors(&self) -> impl Iterator<Item = (u32, u32, f64)> + '_ {
+        let w = self.width as usize;
+        // `take`: an exact upper size hint, so that a collector allocates once
+        (0..self.measured.len())
+            .filter(|&i| self.measured[i])
+            .take(self.counts.measured)
+            .map(move |i| ((i % w) as u32, (i / w) as u32, self.signed[i]))
+    }
+
+    /// The normal angle error of every measured pixel with one, in pixel order.
+    pub fn angles(&self) -> Vec<f64> {
+        let mut v = Vec::with_capacity(self.counts.measured);
+        v.extend(
+            (0..self.has_angle.len())
+                .filter(|&i| self.has_angle[i])
+                .map(|i| self.angle[i]),
+        );
+        v
+    }
+
     /// Whether any covered pixel is NaN/Inf: every error statistic is then infinite.
     pub fn non_finite(&self) -> bool {
         self.counts.non_finite > 0
@@ -162,15 +193,54 @@ pub struct ErrorStats {
 
 /// Statistics of `frame` (a method's GPU output, `has_normal` telling whether its normal
 /// target is meaningful) against `reference`: `pixel_errors(..).stats()`.
-pub fn error_stats(frame: &Frame, has_normal: bool, reference: &Truth) -> ErrorStats {
+pub fn error_stats(
+    frame: &Frame,
+    has_normal: bool,
+    reference: &impl ReferencePixels,
+) -> ErrorStats {
     pixel_errors(frame, has_normal, reference).stats()
 }
 
 /// The per-pixel errors of `frame` against `reference` (module doc).
-pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> PixelErrors {
-    scan(frame, has_normal, reference.pixels.len(), true, |i| {
-        reference.pixels[i]
-    })
+pub fn pixel_errors(
+    frame: &Frame,
+    has_normal: bool,
+    reference: &impl ReferencePixels,
+) -> PixelErrors {
+    scan(
+        frame,
+        has_normal,
+        reference.len(),
+        true,
+        reference.ref_pixels(),
+    )
+}
+
+/// A reference the statistics can be taken against: a [`Truth`] (with its bounds, `verify`)
+/// or the compact [`Values`] (`compare`); the same f64 values either way.
+pub trait ReferencePixels {
+    /// Number of pixels, covered or not.
+    fn len(&self) -> usize;
+    /// Every pixel in row-major order, `None` on the background.
+    fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_;
+}
+
+impl ReferencePixels for Truth {
+    fn len(&self) -> usize {
+        self.pixels.len()
+    }
+    fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_ {
+        self.pixels.iter().map(|p| p.as_ref().map(|p| p.value()))
+    }
+}
+
+impl ReferencePixels for Values {
+    fn len(&self) -> usize {
+        Values::len(self)
+    }
+    fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_ {
+        self.pixels()
+    }
 }
 
 /// The statistics of `frame` against another method's f64 twin `other`, evaluated pixel by
@@ -181,14 +251,14 @@ pub fn pixel_errors(frame: &Frame, has_normal: bool, reference: &Truth) -> Pixel
 pub fn stats_against_twin(
     frame: &Frame,
     has_normal: bool,
-    reference: &Truth,
+    reference: &impl ReferencePixels,
     inputs: &SceneInputs,
     ids: &IdFrame,
     other: &Method,
 ) -> ErrorStats {
     let lighting = inputs.lighting();
-    scan(frame, has_normal, reference.pixels.len(), false, |i| {
-        let t = reference.pixels[i]?;
+    let twin = reference.ref_pixels().enumerate().map(|(i, t)| {
+        let t = t?;
         let w = ids.weights[i];
         let (x, y) = (i as u32 % ids.width, i as u32 / ids.width);
         let frag = inputs.fragment(
@@ -197,13 +267,13 @@ pub fn stats_against_twin(
             DVec2::new(x as f64 + 0.5, y as f64 + 0.5),
         );
         let s = (other.eval_f64)(&frag, &lighting);
-        Some(TruthPixel {
+        Some(RefPixel {
             color: s.color,
             normal: s.normal,
             ..t
         })
-    })
-    .stats()
+    });
+    scan(frame, has_normal, reference.len(), false, twin).stats()
 }
 
 /// One pass over the pixels against `truth(i)`; `store` keeps the per-pixel vectors (errors,
@@ -213,31 +283,24 @@ fn scan(
     has_normal: bool,
     n: usize,
     store: bool,
-    truth: impl Fn(usize) -> Option<TruthPixel>,
+    truth: impl Iterator<Item = Option<RefPixel>>,
 ) -> PixelErrors {
-    // Sized once for the covered pixels: growing by doubling would hold up to twice that.
-    let cap = if store {
-        frame.color.iter().filter(|c| c[3] > 0.0).count()
-    } else {
-        0
-    };
     let per_pixel = if store { n } else { 0 };
+    let angles = if store && has_normal { n } else { 0 };
     let mut f = PixelErrors {
         width: frame.width,
         has_normal,
         counts: PixelCounts::default(),
         measured: vec![false; per_pixel],
-        errors: Vec::with_capacity(cap),
         channels: [ChannelSums::default(); 3],
-        angles: Vec::with_capacity(if has_normal { cap } else { 0 }),
         max_len: 0.0,
-        signed: vec![None; per_pixel],
-        angle: vec![None; per_pixel],
+        signed: vec![0.0; per_pixel],
+        angle: vec![0.0; angles],
+        has_angle: vec![false; angles],
         first_non_finite: None,
         sums: [0.0; 4],
     };
-    for i in 0..n {
-        let t = truth(i);
+    for (i, t) in truth.take(n).enumerate() {
         let xy = [i as u32 % frame.width, i as u32 / frame.width];
         let c = &mut f.counts;
         let t = match classify(frame, has_normal, t.as_ref(), i) {
@@ -276,8 +339,7 @@ fn scan(
         }
         if store {
             f.measured[i] = true;
-            f.errors.push((xy[0], xy[1], e));
-            f.signed[i] = Some(e);
+            f.signed[i] = e;
         }
         if let (true, Some(r)) = (has_normal, t.normal) {
             let nrm = d3(frame.normal[i]);
@@ -291,8 +353,8 @@ fn scan(
             f.sums[2] += a;
             f.sums[3] = f.sums[3].max(a);
             if store {
-                f.angles.push(a);
-                f.angle[i] = Some(a);
+                f.angle[i] = a;
+                f.has_angle[i] = true;
             }
             f.max_len = f.max_len.max((len - 1.0).abs());
         }
@@ -341,12 +403,16 @@ impl IntensityStats {
 }
 
 /// Statistics of `errors`: (x, y, signed error) per pixel.
-pub fn intensity_stats(errors: &[(u32, u32, f64)], threshold: f64) -> IntensityStats {
-    let n = errors.len();
-    let mut abs: Vec<f64> = errors.iter().map(|e| e.2.abs()).collect();
+pub fn intensity_stats(
+    errors: impl IntoIterator<Item = (u32, u32, f64)>,
+    threshold: f64,
+) -> IntensityStats {
+    let errors = errors.into_iter();
+    let mut abs: Vec<f64> = Vec::with_capacity(errors.size_hint().1.unwrap_or(0));
     let (mut sum, mut sq, mut max, mut at, mut above) = (0.0, 0.0, 0.0, None, 0);
-    for &(x, y, e) in errors {
+    for (x, y, e) in errors {
         let a = e.abs();
+        abs.push(a);
         sum += a;
         sq += a * a;
         if at.is_none() || a > max {
@@ -355,6 +421,7 @@ pub fn intensity_stats(errors: &[(u32, u32, f64)], threshold: f64) -> IntensityS
         }
         above += usize::from(a > threshold);
     }
+    let n = abs.len();
     let mse = if n > 0 { sq / n as f64 } else { 0.0 };
     IntensityStats {
         mean_abs_error: if n > 0 { sum / n as f64 } else { 0.0 },

@@ -30,7 +30,7 @@ use crate::method::{self, Method, Reference};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
 use crate::scene::{Scene, SceneInputs};
-use crate::truth::{self, Truth};
+use crate::truth::{self, Values};
 
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
 /// removes or renames a field or changes its type (2: error metrics are null for a method with
@@ -95,7 +95,7 @@ struct SecondReference<'a> {
 
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
-    reference: &'a Truth,
+    reference: &'a Values,
     /// The second reference (f64 exact slerp along the span), when a method of the run is
     /// judged against it too: its twin is evaluated pixel by pixel, no second truth is stored.
     slerp: Option<SecondReference<'a>>,
@@ -136,18 +136,20 @@ impl Analysis<'_> {
         })
     }
 
-    /// Statistics, FLIP, render.png and the heatmaps of one method's frame.
-    fn analyse(&self, m: &Method, frame: &Frame) -> Result<(MethodReport, PhaseTimes)> {
+    /// Statistics, render.png, the heatmaps and FLIP of one method's frame, in that order: the
+    /// frame and the per-pixel maps are freed before FLIP, whose own float images (about 80 MB
+    /// at 1024x1024) are then the worker's only large allocation.
+    fn analyse(&self, m: &Method, frame: Frame) -> Result<(MethodReport, PhaseTimes)> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
         // First, so that its per-pixel errors are freed before the main ones are made.
-        let against_slerp = self.against_slerp(m, frame);
-        let f = pixel_errors(frame, m.has_normal, self.reference);
+        let against_slerp = self.against_slerp(m, &frame);
+        let mut f = pixel_errors(&frame, m.has_normal, self.reference);
         let nf = f.non_finite();
         let intensity = if nf {
             IntensityStats::non_finite(f.first_non_finite)
         } else {
-            intensity_stats(&f.errors, self.opts.threshold)
+            intensity_stats(f.errors(), self.opts.threshold)
         };
         let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
         let stats = f.stats();
@@ -155,21 +157,11 @@ impl Analysis<'_> {
             if nf {
                 f64::INFINITY
             } else {
-                percentile(&mut f.angles.clone(), 99.0)
+                percentile(&mut f.angles(), 99.0)
             }
         });
         let (max_a, mean_a) = (stats.max_normal_angle_deg, stats.mean_normal_angle_deg);
         let metrics_ms = t.elapsed().as_secs_f64() * 1e3;
-
-        // FLIP over the same pixels as every other statistic; a method with NaN/Inf has none.
-        let t = Instant::now();
-        let (flip_mean, flip_p95) = if nf {
-            (f64::INFINITY, f64::INFINITY)
-        } else {
-            let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
-            flip(self.ref8, &test8, w, h, &f.measured)
-        };
-        let flip_ms = t.elapsed().as_secs_f64() * 1e3;
 
         let t = Instant::now();
         let dir = self.out.join(m.name);
@@ -197,9 +189,9 @@ impl Analysis<'_> {
                 )
             }
         };
-        let abs = |i: usize| f.signed[i].map(f64::abs);
-        let signed = |i: usize| f.signed[i];
-        let angle = |i: usize| f.angle[i];
+        let abs = |i: usize| f.signed(i).map(f64::abs);
+        let signed = |i: usize| f.signed(i);
+        let angle = |i: usize| f.angle(i);
         let maps: [MapSpec; 3] = [
             (
                 "error_abs.png",
@@ -245,13 +237,26 @@ impl Analysis<'_> {
         }
         let png_ms = t.elapsed().as_secs_f64() * 1e3;
 
+        // FLIP over the same pixels as every other statistic; a method with NaN/Inf has none.
+        // It needs only the 8-bit test image and the mask: the frame and the maps go first.
+        let t = Instant::now();
+        let test8 = (!nf).then(|| srgb_rgb8(frame.color.iter().map(|&c| d3(c))));
+        drop(frame);
+        let (counts, measured) = (f.counts, std::mem::take(&mut f.measured));
+        drop(f);
+        let (flip_mean, flip_p95) = match test8 {
+            Some(test8) => flip(self.ref8, &test8, w, h, &measured),
+            None => (f64::INFINITY, f64::INFINITY),
+        };
+        let flip_ms = t.elapsed().as_secs_f64() * 1e3;
+
         let report = MethodReport {
             name: m.name.to_string(),
             reference: REFERENCE.to_string(),
-            covered_pixels: f.counts.measured,
-            coverage_mismatch_pixels: f.counts.coverage_mismatch,
-            ill_conditioned_pixels: f.counts.ill_conditioned,
-            non_finite_pixels: f.counts.non_finite,
+            covered_pixels: counts.measured,
+            coverage_mismatch_pixels: counts.coverage_mismatch,
+            ill_conditioned_pixels: counts.ill_conditioned,
+            non_finite_pixels: counts.non_finite,
             intensity,
             channels,
             max_normal_angle_deg: max_a,
@@ -311,17 +316,15 @@ pub fn compare(
     } else {
         None
     };
-    let background = reference.pixels.iter().filter(|p| p.is_none()).count();
+    let background = reference.background();
     let ref8 = srgb_rgb8(
         reference
-            .pixels
-            .iter()
+            .pixels()
             .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
     );
     if opts.images {
         let ref_rgba: Vec<[f32; 4]> = reference
-            .pixels
-            .iter()
+            .pixels()
             .map(|p| {
                 p.map(|p| [p.color.x as f32, p.color.y as f32, p.color.z as f32, 1.0])
                     .unwrap_or([0.0; 4])
@@ -357,7 +360,7 @@ pub fn compare(
                 };
                 let Ok((i, m, frame)) = job else { return };
                 bar.set_message(m.name);
-                let r = ctx.analyse(m, &frame);
+                let r = ctx.analyse(m, frame);
                 bar.inc(1);
                 if let Ok(mut v) = results.lock() {
                     v.push((i, r));

@@ -2,11 +2,12 @@
 use super::*;
 use crate::analysis::pixel::*;
 use crate::output::Provenance;
+use crate::truth::{Truth, Values};
 
 #[test]
 fn identical_images_give_exactly_zero() {
     let e: Vec<_> = (0..100).map(|i| (i % 10, i / 10, 0.0)).collect();
-    let s = intensity_stats(&e, 0.01);
+    let s = intensity_stats(e.iter().copied(), 0.01);
     assert_eq!(
         (s.mean_abs_error, s.max_abs_error, s.rmse, s.p99_abs_error),
         (0.0, 0.0, 0.0, 0.0)
@@ -19,7 +20,7 @@ fn identical_images_give_exactly_zero() {
 fn one_pixel_off_gives_the_known_statistics() {
     let mut e: Vec<_> = (0..100u32).map(|i| (i % 10, i / 10, 0.0)).collect();
     e[37].2 = -0.5; // pixel (7, 3)
-    let s = intensity_stats(&e, 0.01);
+    let s = intensity_stats(e.iter().copied(), 0.01);
     assert_eq!(s.max_abs_error, 0.5);
     assert_eq!(s.max_error_pixel, Some([7, 3]));
     assert!((s.mean_abs_error - 0.005).abs() < 1e-15);
@@ -93,7 +94,7 @@ fn csv_rows_match_the_header() {
         coverage_mismatch_pixels: 0,
         ill_conditioned_pixels: 0,
         non_finite_pixels: 0,
-        intensity: intensity_stats(&[(0, 0, 0.25)], 0.1),
+        intensity: intensity_stats([(0, 0, 0.25)], 0.1),
         channels: [0, 1, 2].map(|_| ChannelStats {
             mean_abs_error: 0.0,
             max_abs_error: 0.0,
@@ -168,8 +169,9 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
         images: false,
         ..CompareOptions::default()
     };
+    let values = Values::from(truth);
     let a = Analysis {
-        reference: truth,
+        reference: &values,
         slerp: None,
         ref8: &ref8,
         out: Path::new("unused"),
@@ -177,7 +179,7 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
         width: frame.width,
         height: 1,
     };
-    a.analyse(m, frame).unwrap().0
+    a.analyse(m, frame.clone()).unwrap().0
 }
 
 #[test]

@@ -31,8 +31,10 @@
 //! The constants are few and each is stated below with its reason. The measured error/bound
 //! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
 pub mod agreement;
+mod values;
 
 pub use agreement::*;
+pub use values::*;
 
 use glam::{DVec2, DVec3};
 
@@ -96,6 +98,15 @@ impl TruthPixel {
         K_INTERP * U * self.amplification > ILL_CONDITIONED
     }
 
+    /// What the statistics read of this pixel.
+    pub fn value(&self) -> RefPixel {
+        RefPixel {
+            color: self.color,
+            normal: self.normal,
+            ill_conditioned: self.ill_conditioned(),
+        }
+    }
+
     /// Whether the f64 colour or normal lies outside the range of f32.
     pub fn exceeds_f32(&self) -> bool {
         let big = |v: DVec3| !v.is_finite() || v.abs().max_element() > f32::MAX as f64;
@@ -136,61 +147,69 @@ fn specular_slope(n: f64, s: f64) -> f64 {
 
 /// Evaluates `method` in f64 at every covered pixel of `ids`, with the per-pixel bound.
 pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
-    evaluate_with(inputs, ids, method, true)
-}
-
-/// `method` in f64 at every covered pixel of `ids` as a reference for statistics only: the
-/// float32 bounds are not computed (they are NaN), which saves the twin's extra evaluations
-/// per pixel; the conditioning (`amplification`) is.
-pub fn values(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
-    evaluate_with(inputs, ids, method, false)
-}
-
-fn evaluate_with(inputs: &SceneInputs, ids: &IdFrame, method: &Method, bounds: bool) -> Truth {
-    let lighting = inputs.lighting();
-    let corners = window_corners(inputs);
-    let perspective = inputs.interpolation == Interpolation::Perspective;
-    let eval = |frag: &Fragment| (method.eval_f64)(frag, &lighting);
-    let scanline = method.inputs.contains(&Input::ScanlineSpan);
-    let pixels = ids
-        .prim
-        .iter()
-        .zip(&ids.weights)
-        .enumerate()
-        .map(|(i, (&prim, w))| {
-            if prim == 0 {
-                return None;
-            }
-            let t = (prim - 1) as usize;
-            let (x, y) = ((i as u32 % ids.width) as f64, (i as u32 / ids.width) as f64);
-            let weights = DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64);
-            let frag = inputs.fragment(t, weights, DVec2::new(x + 0.5, y + 0.5));
-            let shaded = eval(&frag);
-            let g = weight_gradient([corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]]);
-            let amplification = (1.0 + g * (x + y + 2.0)) * if perspective { 2.0 } else { 1.0 };
-            let (mut color_bound, mut normal_bound) = if bounds {
-                bound(&eval, &frag, &shaded, &lighting, amplification)
-            } else {
-                (f64::NAN, f64::NAN)
-            };
-            if scanline && bounds {
-                let (c, n) = span_bound(&eval, &frag);
-                color_bound += c;
-                normal_bound += n;
-            }
-            Some(TruthPixel {
-                color: shaded.color,
-                normal: shaded.normal,
-                color_bound,
-                normal_bound,
-                amplification,
-            })
-        })
-        .collect();
+    let pixel = evaluator(inputs, ids, method, true);
     Truth {
         width: ids.width,
         height: ids.height,
-        pixels,
+        pixels: (0..ids.prim.len()).map(pixel).collect(),
+    }
+}
+
+/// `method` in f64 at every covered pixel of `ids` as a reference for statistics only: the
+/// float32 bounds are not computed (which saves the twin's extra evaluations per pixel) and
+/// not stored; the conditioning is, as a flag (see [`Values`]).
+pub fn values(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Values {
+    let pixel = evaluator(inputs, ids, method, false);
+    let mut v = Values::with_capacity(ids.width, ids.height, ids.covered());
+    for i in 0..ids.prim.len() {
+        v.push(pixel(i).as_ref());
+    }
+    v
+}
+
+/// The truth at pixel `i` of `ids` (`None` on the background); the bounds are NaN unless
+/// `bounds`.
+fn evaluator<'a>(
+    inputs: &'a SceneInputs,
+    ids: &'a IdFrame,
+    method: &'a Method,
+    bounds: bool,
+) -> impl Fn(usize) -> Option<TruthPixel> + 'a {
+    let lighting = inputs.lighting();
+    let corners = window_corners(inputs);
+    let perspective = inputs.interpolation == Interpolation::Perspective;
+    let scanline = method.inputs.contains(&Input::ScanlineSpan);
+    move |i| {
+        let eval = |frag: &Fragment| (method.eval_f64)(frag, &lighting);
+        let prim = ids.prim[i];
+        if prim == 0 {
+            return None;
+        }
+        let w = ids.weights[i];
+        let t = (prim - 1) as usize;
+        let (x, y) = ((i as u32 % ids.width) as f64, (i as u32 / ids.width) as f64);
+        let weights = DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64);
+        let frag = inputs.fragment(t, weights, DVec2::new(x + 0.5, y + 0.5));
+        let shaded = eval(&frag);
+        let g = weight_gradient([corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]]);
+        let amplification = (1.0 + g * (x + y + 2.0)) * if perspective { 2.0 } else { 1.0 };
+        let (mut color_bound, mut normal_bound) = if bounds {
+            bound(&eval, &frag, &shaded, &lighting, amplification)
+        } else {
+            (f64::NAN, f64::NAN)
+        };
+        if scanline && bounds {
+            let (c, n) = span_bound(&eval, &frag);
+            color_bound += c;
+            normal_bound += n;
+        }
+        Some(TruthPixel {
+            color: shaded.color,
+            normal: shaded.normal,
+            color_bound,
+            normal_bound,
+            amplification,
+        })
     }
 }
 
