@@ -34,8 +34,7 @@ use engine::{run_target, Config, FailureKind, Limits, Report};
 pub enum Syntax {
     Obj,
     Toml,
-    /// For the replay reader of `stress --replay CASE.json` (issue 10), not written yet.
-    #[allow(dead_code)]
+    /// The replay reader of `stress --replay CASE.json`.
     Json,
 }
 
@@ -68,11 +67,11 @@ pub struct Target {
     pub parse: fn(&[u8]) -> Result<()>,
 }
 
-/// The readers under test. A new one is one line here (e.g. the replay reader of
-/// `stress --replay CASE.json`, with its cases as seeds).
+/// The readers under test. A new one is one line here.
 #[rustfmt::skip]
 pub const TARGETS: &[Target] = &[
     Target { name: "obj", syntax: Syntax::Obj, seeds: &[Seeds::Repo("scenes", "obj"), Seeds::Env("SHADELAB_MODELS", "obj"), Seeds::Repo("tests/data/fuzz/obj", "obj")], parse: fuzz_obj },
+    Target { name: "replay", syntax: Syntax::Json, seeds: &[Seeds::Repo("tests/data/fuzz/replay", "json")], parse: fuzz_replay },
     Target { name: "scene", syntax: Syntax::Toml, seeds: &[Seeds::Repo("scenes", "toml"), Seeds::Repo("tests/data/fuzz/scene", "toml")], parse: fuzz_scene },
 ];
 
@@ -136,6 +135,18 @@ fn cube() -> &'static (Mesh, LoadReport) {
         let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cube.obj");
         geometry::load_obj(&path).expect("scenes/cube.obj loads")
     })
+}
+
+/// `stress --replay`: a case it accepts names a method and builds a case whose device inputs
+/// are finite numbers.
+fn fuzz_replay(bytes: &[u8]) -> Result<()> {
+    let r = shadelab::stress::replay::parse(Path::new(FUZZ_PATH), bytes)?;
+    assert!(shadelab::method::find(&r.method).is_ok(), "{}", r.method);
+    let case = shadelab::stress::cases::Case::new(r.spec);
+    let gpu = shadelab::gpu::evaluate::GpuCase::new(&case.fragment, &case.lighting)?;
+    let words: &[f32] = bytemuck::cast_slice(std::slice::from_ref(&gpu));
+    assert!(words.iter().all(|x| x.is_finite()), "{:?}", r.spec);
+    Ok(())
 }
 
 fn fuzz_scene(bytes: &[u8]) -> Result<()> {

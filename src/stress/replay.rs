@@ -38,9 +38,9 @@ fn check_spec(path: &Path, s: &CaseSpec) -> Result<()> {
             s.shininess
         )));
     }
-    if !(s.length.is_finite() && s.length >= 0.0) {
+    if !(s.length.is_finite() && (0.0..=1e38).contains(&s.length)) {
         return Err(bad(format!(
-            "spec.length = {}: expected a finite length >= 0",
+            "spec.length = {}: expected 0..1e38 (the vertex normals' length, within float32)",
             s.length
         )));
     }
