@@ -26,6 +26,8 @@ vec4 fragCoord;
 #endif
 
 layout(constant_id = 0) const int LIGHT_COUNT = 1;   // 1..4, a scene-level specialization constant
+// false when the scene's k_s is 0: the specular term (a pow per light) is compiled out.
+layout(constant_id = 2) const bool HAS_SPECULAR = true;
 
 #ifdef STAGE_COMPUTE
 struct ParamsData {

@@ -144,7 +144,7 @@ vec3 shadeCosines() {
     for (int i = 0; i < LIGHT_COUNT; ++i) {
         float d = max(methodCosine(params.lightDir[i].xyz), 0.0);
         float s = max(methodCosine(params.halfVec[i].xyz), 0.0);
-        float sp = s > 0.0 ? pow(s, params.specular.w) : 0.0;
+        float sp = HAS_SPECULAR && s > 0.0 ? pow(s, params.specular.w) : 0.0;
         c += params.lightColor[i].rgb * (params.diffuse.rgb * d + params.specular.rgb * sp);
     }
     return c;

@@ -343,3 +343,77 @@ fn angle_interpolating_methods_report_a_second_reference() {
         .unwrap()
         .ends_with("against_slerp_max_normal_angle_deg"));
 }
+
+/// What the renderer skips must not change what it draws: back-face culling (`--cull`) covers
+/// the same pixels with the same colours on a closed mesh, and a scene without specular
+/// (k_s = 0, the specular term compiled out by a specialization constant) still matches the
+/// f64 truth. Against that, a scene whose specular is on differs from its k_s = 0 twin.
+#[test]
+fn culling_and_specialization_change_nothing_visible() {
+    let dir = tempfile::tempdir().unwrap();
+    let torus = std::fs::read_to_string(root().join("scenes/torus.toml")).unwrap();
+    let flat = dir.path().join("matte.toml");
+    std::fs::write(
+        &flat,
+        torus
+            .replace(
+                "obj = \"torus.obj\"",
+                &format!("obj = {:?}", root().join("scenes/torus.obj")),
+            )
+            .replace("specular = [0.5, 0.5, 0.5]", "specular = [0.0, 0.0, 0.0]"),
+    )
+    .unwrap();
+    let summary = |scene: &str, cull: &str, out: &str| {
+        let out = dir.path().join(out);
+        let (code, _, err) = run(&[
+            "compare",
+            "--scene",
+            scene,
+            "--size",
+            "96x96",
+            "--validate",
+            "--cull",
+            cull,
+            "--methods",
+            "phong_exact,gouraud",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        s
+    };
+    let shipped = root().join("scenes/torus.toml");
+    let shipped = shipped.to_str().unwrap();
+    let none = summary(shipped, "none", "none");
+    let auto = summary(shipped, "auto", "auto");
+    let pick = |s: &serde_json::Value, m: &str, k: &str| {
+        s["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == m)
+            .unwrap()[k]
+            .clone()
+    };
+    for k in ["covered_pixels", "max_abs_error", "mean_abs_error"] {
+        let v = pick(&none, "gouraud", k);
+        assert!(v.is_number(), "{k}: {v}");
+        assert_eq!(v, pick(&auto, "gouraud", k), "{k}");
+    }
+    let matte = summary(flat.to_str().unwrap(), "auto", "matte");
+    assert!(
+        pick(&matte, "phong_exact", "max_abs_error")
+            .as_f64()
+            .unwrap()
+            < 1e-5
+    );
+    let g_matte = pick(&matte, "gouraud", "max_abs_error").as_f64().unwrap();
+    let g_shiny = pick(&auto, "gouraud", "max_abs_error").as_f64().unwrap();
+    assert!(
+        g_matte < g_shiny,
+        "the highlight is gone: {g_matte} vs {g_shiny}"
+    );
+}

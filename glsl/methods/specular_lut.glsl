@@ -22,7 +22,7 @@ vec3 methodShade(vec3 N) {
     for (int i = 0; i < LIGHT_COUNT; ++i) {
         float d = max(dot(N, params.lightDir[i].xyz), 0.0);
         float s = max(dot(N, params.halfVec[i].xyz), 0.0);
-        c += params.lightColor[i].rgb * (params.diffuse.rgb * d + params.specular.rgb * lutLookup(s));
+        c += params.lightColor[i].rgb * (params.diffuse.rgb * d + (HAS_SPECULAR ? params.specular.rgb * lutLookup(s) : vec3(0.0)));
     }
     return c;
 }

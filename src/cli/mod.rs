@@ -68,6 +68,17 @@ struct SceneArgs {
     /// Interpolation of the varyings, overriding the scene's.
     #[arg(long, value_enum)]
     interpolation: Option<InterpArg>,
+    /// Back-face culling, overriding the scene's `cull` (auto: only closed, consistently
+    /// oriented meshes; see `shadelab plan`).
+    #[arg(long, value_enum)]
+    cull: Option<CullArg>,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy)]
+enum CullArg {
+    Auto,
+    Back,
+    None,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -456,6 +467,13 @@ fn load_scene(args: &SceneArgs) -> Result<Scene> {
         scene.interpolation = match i {
             InterpArg::ScreenLinear => Interpolation::ScreenLinear,
             InterpArg::Perspective => Interpolation::Perspective,
+        };
+    }
+    if let Some(c) = args.cull {
+        scene.cull = match c {
+            CullArg::Auto => scene::Cull::Auto,
+            CullArg::Back => scene::Cull::Back,
+            CullArg::None => scene::Cull::None,
         };
     }
     if let Some(report) = &scene.mesh_report {

@@ -323,7 +323,13 @@ impl Renderer {
                 color_formats: colors,
                 depth_format: Some(Format::Depth32Float),
                 descriptors: Some(&gpu.set),
-                specialization: &[(0, gpu.inputs.light_count)],
+                specialization: &[
+                    (0, gpu.inputs.light_count),
+                    (
+                        2,
+                        u32::from(gpu.inputs.params.specular[..3].iter().any(|&k| k != 0.0)),
+                    ),
+                ],
                 cull_front: gpu.inputs.cull_front.map(|w| match w {
                     Winding::CounterClockwise => FrontFace::CounterClockwise,
                     Winding::Clockwise => FrontFace::Clockwise,
