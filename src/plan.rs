@@ -104,6 +104,103 @@ pub struct Plan {
     /// The cull mode the renderer uses for it (`cull` in the scene, `auto` by default).
     pub cull: Cull,
     pub skips: Vec<Skip>,
+    /// The per-triangle choice of `auto` at an error budget (null when not asked for).
+    pub auto: Option<AutoChoice>,
+}
+
+/// The methods `auto` chooses from (gouraud and flat included), ordered at run time by their
+/// measured isolated cost.
+pub const AUTO_CANDIDATES: [&str; 5] = [
+    "gouraud",
+    "flat",
+    "phong_unnormalized",
+    "newton_raphson",
+    "phong_exact",
+];
+/// The sampled error is doubled before it is compared with the budget: the samples may miss
+/// the peak between them.
+pub const AUTO_MARGIN: f64 = 1.0;
+/// Subdivisions of the barycentric sample grid per triangle edge ((n+1)(n+2)/2 samples).
+pub const AUTO_GRID: usize = 6;
+
+/// The choice of `auto`: per triangle, the cheapest candidate whose f64 error on that triangle
+/// (max over a barycentric grid of samples and the colour channels, against exact Phong with
+/// the scene's lighting), times 1 + [`AUTO_MARGIN`], stays within the budget.
+#[derive(Debug, Clone, Serialize)]
+pub struct AutoChoice {
+    pub budget: f64,
+    pub margin: f64,
+    pub samples_per_triangle: usize,
+    /// The candidates cheapest first, with the isolated cost (ns per evaluation, median) that
+    /// ordered them.
+    pub order: Vec<(String, f64)>,
+    /// Triangles per candidate, in `order`.
+    pub triangles: Vec<(String, usize)>,
+    /// Time to choose (the cost measurement excluded), ms.
+    pub choice_ms: f64,
+    /// Time to measure the candidates' isolated costs, ms.
+    pub cost_ms: f64,
+}
+
+/// The per-triangle choice: index into `order` for every triangle of `inputs`.
+pub fn choose(
+    inputs: &SceneInputs,
+    order: &[&'static crate::method::Method],
+    budget: f64,
+) -> Vec<usize> {
+    let lighting = inputs.lighting();
+    let n = AUTO_GRID;
+    let weights: Vec<DVec3> = (0..=n)
+        .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let (a, b) = (i as f64 / n as f64, j as f64 / n as f64);
+            DVec3::new(1.0 - a - b, a, b)
+        })
+        .collect();
+    let tris = inputs.triangle_count();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let chunk = tris.div_ceil(threads).max(1);
+    let pick = |t: usize| -> usize {
+        let frags: Vec<_> = weights
+            .iter()
+            .map(|&w| inputs.fragment(t, w, glam::DVec2::ZERO))
+            .collect();
+        let exact: Vec<DVec3> = frags
+            .iter()
+            .map(|f| {
+                lighting.shade(crate::method::formulas::normalize_exact(
+                    f.interpolated_normal(),
+                ))
+            })
+            .collect();
+        order
+            .iter()
+            .position(|m| {
+                frags.iter().zip(&exact).all(|(f, e)| {
+                    let c = (m.eval_f64)(f, &lighting).color;
+                    let err = (c - *e).abs().max_element();
+                    err.is_finite() && err * (1.0 + AUTO_MARGIN) <= budget
+                })
+            })
+            .unwrap_or(order.len() - 1)
+    };
+    std::thread::scope(|s| {
+        let handles: Vec<_> = (0..tris)
+            .step_by(chunk)
+            .map(|start| {
+                let pick = &pick;
+                s.spawn(move || {
+                    (start..(start + chunk).min(tris))
+                        .map(pick)
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_default())
+            .collect()
+    })
 }
 
 /// Threshold of the validity ranges, linear colour.
@@ -159,6 +256,71 @@ pub fn validity_ranges() -> &'static Vec<(&'static str, Option<f64>)> {
 
 fn d3(v: [f32; 3]) -> DVec3 {
     DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+}
+
+/// The candidates of `auto` ordered by isolated cost measured now on `ctx` (cheapest first),
+/// with the costs; phong_exact stays last as the fallback whatever it costs.
+pub fn auto_order(
+    ctx: &std::sync::Arc<crate::gpu::vk::Context>,
+) -> crate::error::Result<Vec<(&'static crate::method::Method, f64)>> {
+    let ms: Vec<&'static crate::method::Method> = AUTO_CANDIDATES
+        .iter()
+        .map(|n| crate::method::find(n))
+        .collect::<crate::error::Result<_>>()?;
+    let opts = crate::bench::isolated::IsolatedOptions {
+        rounds: 7,
+        warmup: 1,
+        invocations: 4096,
+    };
+    let costs = crate::bench::isolated::measure(ctx, &ms, &opts, &|_| {})?;
+    let mut order: Vec<(&'static crate::method::Method, f64)> = ms
+        .iter()
+        .map(|m| {
+            let c = costs
+                .iter()
+                .find(|c| c.name == m.name)
+                .map_or(f64::INFINITY, |c| c.ns_per_eval.median);
+            (*m, c)
+        })
+        .collect();
+    order.sort_by(|a, b| {
+        (a.0.name == "phong_exact")
+            .cmp(&(b.0.name == "phong_exact"))
+            .then(a.1.total_cmp(&b.1))
+    });
+    Ok(order)
+}
+
+/// The plan with `auto`'s choice at `budget`, its candidates ordered by `order`.
+pub fn plan_with_auto(
+    scene: &Scene,
+    order: &[(&'static crate::method::Method, f64)],
+    budget: f64,
+    cost_ms: f64,
+) -> Plan {
+    let mut p = plan(scene);
+    let inputs = SceneInputs::new(scene, Geometry::Mesh);
+    let ms: Vec<&'static crate::method::Method> = order.iter().map(|(m, _)| *m).collect();
+    let start = std::time::Instant::now();
+    let pick = choose(&inputs, &ms, budget);
+    let choice_ms = start.elapsed().as_secs_f64() * 1e3;
+    p.auto = Some(AutoChoice {
+        budget,
+        margin: AUTO_MARGIN,
+        samples_per_triangle: (AUTO_GRID + 1) * (AUTO_GRID + 2) / 2,
+        order: order
+            .iter()
+            .map(|(m, c)| (m.name.to_string(), *c))
+            .collect(),
+        triangles: ms
+            .iter()
+            .enumerate()
+            .map(|(i, m)| (m.name.to_string(), pick.iter().filter(|&&k| k == i).count()))
+            .collect(),
+        choice_ms,
+        cost_ms,
+    });
+    p
 }
 
 /// Measures what `scene` needs.
@@ -274,6 +436,7 @@ pub fn plan(scene: &Scene) -> Plan {
         methods,
         cull,
         skips,
+        auto: None,
     }
 }
 
@@ -330,6 +493,15 @@ impl Plan {
                 }
             );
         }
+        if let Some(a) = &self.auto {
+            s += &format!(
+                "auto at an error budget of {:.6} (sampled f64 error x {} <= budget, {} samples per triangle; chosen in {:.0} ms, costs measured in {:.0} ms):\n",
+                a.budget, 1.0 + a.margin, a.samples_per_triangle, a.choice_ms, a.cost_ms
+            );
+            for ((name, n), (_, cost)) in a.triangles.iter().zip(&a.order) {
+                s += &format!("  {name:<20} {n:>8} triangles  ({cost:.2} ns per evaluation)\n");
+            }
+        }
         for k in &self.skips {
             s += &format!(
                 "skip {}: {} ({})\n",
@@ -339,5 +511,85 @@ impl Plan {
             );
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::find;
+
+    fn torus() -> Scene {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/torus.toml");
+        crate::scene::load_scene(&path).unwrap()
+    }
+
+    fn order() -> Vec<&'static crate::method::Method> {
+        ["gouraud", "newton_raphson", "phong_exact"]
+            .iter()
+            .map(|n| find(n).unwrap())
+            .collect()
+    }
+
+    /// The budget decides: a tiny budget leaves mostly phong_exact (the fallback), a huge one
+    /// takes the cheapest everywhere, and 1/255 mixes; every choice but the fallback keeps its
+    /// sampled error within half the budget.
+    #[test]
+    fn auto_chooses_the_cheapest_method_within_the_budget() {
+        let scene = torus();
+        let inputs = SceneInputs::new(&scene, Geometry::Mesh);
+        let ms = order();
+        let all = |pick: &[usize], k: usize| pick.iter().all(|&i| i == k);
+        // a tiny budget: exact Phong, but where a cheaper method is exact too (triangles in
+        // shadow, lit by the ambient term alone)
+        let tiny = choose(&inputs, &ms, 1e-12);
+        assert!(tiny.iter().filter(|&&k| k == 2).count() > tiny.len() / 2);
+        assert!(
+            all(&choose(&inputs, &ms, 10.0), 0),
+            "anything passes a huge budget"
+        );
+        let pick = choose(&inputs, &ms, 1.0 / 255.0);
+        assert_eq!(pick.len(), inputs.triangle_count());
+        let used: std::collections::BTreeSet<usize> = pick.iter().copied().collect();
+        assert!(
+            used.len() >= 2,
+            "the torus needs more than one method: {used:?}"
+        );
+        let lighting = inputs.lighting();
+        for (t, &k) in pick.iter().enumerate().filter(|(_, &k)| k < 2) {
+            for w in [
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::splat(1.0 / 3.0),
+                DVec3::new(0.5, 0.5, 0.0),
+            ] {
+                let f = inputs.fragment(t, w, glam::DVec2::ZERO);
+                let e = lighting.shade(crate::method::formulas::normalize_exact(
+                    f.interpolated_normal(),
+                ));
+                let err = ((ms[k].eval_f64)(&f, &lighting).color - e)
+                    .abs()
+                    .max_element();
+                assert!(
+                    err * 2.0 <= 1.0 / 255.0 + 1e-12,
+                    "triangle {t}: {} {err}",
+                    ms[k].name
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn plan_reads_the_topology_and_the_spread() {
+        let p = plan(&torus());
+        assert!(p.closed_and_oriented);
+        assert_eq!(p.triangles, 2304);
+        assert_eq!(p.front_facing + p.back_facing, p.triangles);
+        let spread = p.normal_angle_deg.max;
+        assert!(spread > 10.0 && spread < 20.0, "{spread}");
+        let n: usize = p.normal_angle_deg.histogram.iter().map(|h| h.2).sum();
+        assert_eq!(n, p.triangles, "every triangle in one bin");
+        assert!(p.skips[0].applies, "a closed torus is culled");
+        let exact = p.methods.iter().find(|m| m.name == "phong_exact").unwrap();
+        assert!(exact.inside);
     }
 }

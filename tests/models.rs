@@ -137,3 +137,58 @@ fn every_method_on_every_shared_model_is_within_its_bound() {
     assert!(outside.is_empty(), "{}", outside.join("\n"));
     assert_validation_clean(r.context());
 }
+
+/// `shadelab plan` on every model and shipped scene, text and JSON: the counts add up, the
+/// topology decides culling, and the JSON carries every method's validity range.
+#[test]
+fn plan_reads_every_scene_and_model() {
+    let Some(models) = model_files() else { return };
+    let mut inputs: Vec<(String, &str)> = models
+        .iter()
+        .map(|m| (m.to_str().unwrap().to_string(), "--mesh"))
+        .collect();
+    for s in [
+        "sphere_coarse",
+        "sphere_fine",
+        "torus",
+        "torus_generated",
+        "cube",
+        "icosphere",
+    ] {
+        let p = root().join(format!("scenes/{s}.toml"));
+        if p.is_file() {
+            inputs.push((p.to_str().unwrap().to_string(), "--scene"));
+        }
+    }
+    assert!(inputs.len() >= 6, "{inputs:?}");
+    for (path, flag) in &inputs {
+        let (code, text, err) = run(&["plan", flag, path]);
+        assert_eq!(code, 0, "{path}: {err}");
+        assert!(
+            text.contains("closed and consistently oriented") && text.contains("skip back faces"),
+            "{text}"
+        );
+        let (code, json, err) = run(&["plan", flag, path, "--json"]);
+        assert_eq!(code, 0, "{path}: {err}");
+        let p: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let n = p["triangles"].as_u64().unwrap();
+        assert_eq!(
+            p["front_facing"].as_u64().unwrap() + p["back_facing"].as_u64().unwrap(),
+            n
+        );
+        let binned: u64 = p["normal_angle_deg"]["histogram"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|b| b[2].as_u64().unwrap())
+            .sum();
+        assert_eq!(binned, n, "{path}");
+        assert_eq!(p["methods"].as_array().unwrap().len(), METHODS.len());
+        let culled = p["skips"][0]["applies"].as_bool().unwrap();
+        assert_eq!(
+            culled,
+            p["closed_and_oriented"].as_bool().unwrap(),
+            "{path}"
+        );
+    }
+}

@@ -268,9 +268,15 @@ enum Command {
     Plan {
         #[command(flatten)]
         scene: SceneArgs,
+        #[command(flatten)]
+        device: DeviceArgs,
         /// JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Also choose per triangle the cheapest method whose f64 error stays within this
+        /// budget (max abs colour error, linear), as `auto` would, and count them.
+        #[arg(long, value_name = "E")]
+        error_budget: Option<f64>,
     },
     /// List the methods (`--json` for machines).
     List {
@@ -426,7 +432,12 @@ pub fn run() -> Result<ExitCode> {
             };
             cmd_stress(&device, &methods, out.as_deref(), replay.as_deref(), &opts)
         }
-        Command::Plan { scene, json } => cmd_plan(&scene, json),
+        Command::Plan {
+            scene,
+            device,
+            json,
+            error_budget,
+        } => cmd_plan(&scene, &device, json, error_budget),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,
