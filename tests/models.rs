@@ -192,3 +192,93 @@ fn plan_reads_every_scene_and_model() {
         );
     }
 }
+
+/// `auto` meets its budget on every covered pixel of every shipped scene and shared model (the
+/// benchmark script checks 512x512 and 1024x1024): max abs error, luminance and each channel.
+/// Teeth: the same choice at a budget 16x larger breaks the smaller budget somewhere.
+#[test]
+fn auto_meets_its_budget_on_every_scene_and_model() {
+    let Some(models) = model_files() else { return };
+    let mut inputs: Vec<(String, &str)> = models
+        .iter()
+        .map(|m| (m.to_str().unwrap().to_string(), "--mesh"))
+        .collect();
+    for s in [
+        "sphere_coarse",
+        "sphere_fine",
+        "torus",
+        "torus_generated",
+        "cube",
+        "icosphere",
+    ] {
+        inputs.push((
+            root()
+                .join(format!("scenes/{s}.toml"))
+                .to_str()
+                .unwrap()
+                .to_string(),
+            "--scene",
+        ));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let budget = 1.0 / 255.0;
+    let worst = |path: &str, flag: &str, e: f64, out: &str| -> f64 {
+        let out = dir.path().join(out);
+        let (code, _, err) = run(&[
+            "compare",
+            flag,
+            path,
+            "--size",
+            "128x128",
+            "--methods",
+            "auto",
+            "--error-budget",
+            &format!("{e}"),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{path}: {err}");
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        let a = s["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == "auto")
+            .unwrap()
+            .clone();
+        assert_eq!(a["non_finite_pixels"], 0, "{path}");
+        let mut w = a["max_abs_error"].as_f64().unwrap();
+        for c in a["channels"].as_array().unwrap() {
+            w = w.max(c["max_abs_error"].as_f64().unwrap());
+        }
+        let chosen: u64 = s["auto"]["triangles"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| t[1].as_u64().unwrap())
+            .sum();
+        assert_eq!(
+            chosen,
+            s["triangles"].as_u64().unwrap(),
+            "{path}: every triangle chosen once"
+        );
+        w
+    };
+    let mut broken = 0;
+    for (i, (path, flag)) in inputs.iter().enumerate() {
+        let w = worst(path, flag, budget, &format!("a{i}"));
+        assert!(
+            w <= budget,
+            "{path}: auto's worst error {w} over its budget {budget}"
+        );
+        if worst(path, flag, 16.0 * budget, &format!("b{i}")) > budget {
+            broken += 1;
+        }
+    }
+    assert!(
+        broken > 0,
+        "a 16x budget never broke 1/255: the check has no teeth"
+    );
+}

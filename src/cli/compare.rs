@@ -20,6 +20,7 @@ pub(super) fn cmd_compare(
     limits: &Limits,
     scale: compare::ScaleMode,
     threshold: f64,
+    budget: f64,
 ) -> Result<ExitCode> {
     let limits = limits
         .above
@@ -37,14 +38,21 @@ pub(super) fn cmd_compare(
             "--threshold must be a finite number >= 0, got {threshold}"
         )));
     }
-    let methods = select_methods(list)?;
+    let (list, with_auto) = split_auto(list);
+    let methods = select_methods(&list)?;
     let scene = load_scene(scene_args)?;
     let r = renderer(dev)?;
+    let auto = if with_auto {
+        Some(auto_spec(&r, budget)?)
+    } else {
+        None
+    };
     let opts = compare::CompareOptions {
         scale,
         threshold,
         progress: true,
         images: true,
+        auto,
     };
     let summary = compare::compare(&r, &scene, &methods, out, &opts)?;
     print!("{}", compare::table(&summary));

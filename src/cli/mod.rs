@@ -189,6 +189,9 @@ enum Command {
         /// (default 1/255 of linear luminance; not an sRGB 8-bit step).
         #[arg(long, default_value_t = 1.0 / 255.0)]
         threshold: f64,
+        /// The error budget of `auto` (in --methods): max abs colour error, linear.
+        #[arg(long, value_name = "E", default_value_t = 1.0 / 255.0)]
+        error_budget: f64,
     },
     /// Run time against error: validated timing, Pareto chart, the papers' claims, sweeps.
     Bench {
@@ -344,6 +347,7 @@ pub fn run() -> Result<ExitCode> {
             fail_below,
             scale,
             threshold,
+            error_budget,
         } => {
             let limits = self::compare::Limits {
                 above: &fail_above,
@@ -357,6 +361,7 @@ pub fn run() -> Result<ExitCode> {
                 &limits,
                 scale.into(),
                 threshold,
+                error_budget,
             )
         }
         Command::Render {
@@ -516,6 +521,38 @@ fn check_validation(ctx: &Arc<Context>) -> Result<()> {
         "the validation layer reported {} message(s) (printed above)",
         msgs.len()
     )))
+}
+
+/// `list` without `auto`, and whether `auto` was in it.
+fn split_auto(list: &str) -> (String, bool) {
+    let parts: Vec<&str> = list.split(',').map(str::trim).collect();
+    let with = parts.contains(&"auto");
+    let rest: Vec<&str> = parts.into_iter().filter(|p| *p != "auto").collect();
+    (rest.join(","), with)
+}
+
+/// `auto`'s candidates ordered by their isolated cost, measured now on the run's device.
+fn auto_spec(r: &Renderer, budget: f64) -> Result<crate::scene::auto::AutoSpec> {
+    if !(budget.is_finite() && budget > 0.0) {
+        return Err(Error::Usage(format!(
+            "--error-budget {budget}: expected a colour error > 0 (linear; 1/255 = 0.0039)"
+        )));
+    }
+    let t = std::time::Instant::now();
+    let order = crate::plan::auto_order(r.context())?;
+    eprintln!(
+        "auto: candidates by isolated cost (measured in {:.1} s): {}",
+        t.elapsed().as_secs_f64(),
+        order
+            .iter()
+            .map(|(m, c)| format!("{} {c:.2} ns", m.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(crate::scene::auto::AutoSpec {
+        order: order.into_iter().map(|(m, _)| m).collect(),
+        budget,
+    })
 }
 
 fn select_methods(list: &str) -> Result<Vec<&'static Method>> {

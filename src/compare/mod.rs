@@ -59,6 +59,8 @@ pub struct CompareOptions {
     pub progress: bool,
     /// Write render.png and the heatmaps (`bench` needs only the statistics).
     pub images: bool,
+    /// Also compare `auto` (per triangle the cheapest method within a budget), named `auto`.
+    pub auto: Option<crate::scene::auto::AutoSpec>,
 }
 
 impl Default for CompareOptions {
@@ -68,6 +70,7 @@ impl Default for CompareOptions {
             threshold: 1.0 / 255.0,
             progress: false,
             images: true,
+            auto: None,
         }
     }
 }
@@ -84,6 +87,31 @@ type MapSpec<'a> = (
     Scale,
     bool,
 );
+
+/// What is compared: a method of the table, or `auto`.
+#[derive(Debug, Clone, Copy)]
+struct Subject {
+    name: &'static str,
+    has_normal: bool,
+    reference: Reference,
+}
+
+impl From<&Method> for Subject {
+    fn from(m: &Method) -> Self {
+        Subject {
+            name: m.name,
+            has_normal: m.has_normal,
+            reference: m.reference,
+        }
+    }
+}
+
+/// `auto` in the outputs: no per-pixel normal of its own (gouraud's triangles have none).
+const AUTO: Subject = Subject {
+    name: "auto",
+    has_normal: false,
+    reference: Reference::Phong,
+};
 
 /// What evaluating a second reference's twin at the id pass's pixels needs.
 #[derive(Clone, Copy)]
@@ -115,7 +143,7 @@ struct PhaseTimes {
 
 impl Analysis<'_> {
     /// The errors against the second reference, for the methods judged against it.
-    fn against_slerp(&self, m: &Method, frame: &Frame) -> Option<AgainstReference> {
+    fn against_slerp(&self, m: Subject, frame: &Frame) -> Option<AgainstReference> {
         let r = self
             .slerp
             .filter(|_| m.reference == Reference::PhongAndSlerp)?;
@@ -139,7 +167,7 @@ impl Analysis<'_> {
     /// Statistics, render.png, the heatmaps and FLIP of one method's frame, in that order: the
     /// frame and the per-pixel maps are freed before FLIP, whose own float images (about 80 MB
     /// at 1024x1024) are then the worker's only large allocation.
-    fn analyse(&self, m: &Method, frame: Frame) -> Result<(MethodReport, PhaseTimes)> {
+    fn analyse(&self, m: Subject, frame: Frame) -> Result<(MethodReport, PhaseTimes)> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
         // First, so that its per-pixel errors are freed before the main ones are made.
@@ -334,7 +362,8 @@ pub fn compare(
     }
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
 
-    let bar = crate::output::progress_bar(opts.progress, methods_.len() as u64);
+    let subjects = methods_.len() + usize::from(opts.auto.is_some());
+    let bar = crate::output::progress_bar(opts.progress, subjects as u64);
     // Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
     // into statistics, FLIP and PNGs. The channel is a rendezvous: a frame is handed over only
     // when a worker takes it, so at most three frames (32 MB each at 1024x1024) exist at once.
@@ -347,10 +376,11 @@ pub fn compare(
         width: w,
         height: h,
     };
-    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, &'static Method, Frame)>(0);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Subject, Frame)>(0);
     let rx = std::sync::Mutex::new(rx);
     let results = std::sync::Mutex::new(Vec::new());
     let mut render_ms = 0.0;
+    let mut auto_summary = None;
     let render_result: Result<()> = std::thread::scope(|scope| {
         for _ in 0..2 {
             scope.spawn(|| loop {
@@ -371,9 +401,21 @@ pub fn compare(
             let t = Instant::now();
             let (frame, _) = renderer.render(prepared.for_method(m), Shading::Method(m), false)?;
             render_ms += t.elapsed().as_secs_f64() * 1e3;
-            if tx.send((i, m, frame)).is_err() {
+            if tx.send((i, Subject::from(*m), frame)).is_err() {
                 break;
             }
+        }
+        if let Some(spec) = &opts.auto {
+            let t = Instant::now();
+            let pick = crate::scene::auto::choose(&base.inputs, &spec.order, spec.budget);
+            let choice_ms = t.elapsed().as_secs_f64() * 1e3;
+            auto_summary = Some(crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms));
+            let t = Instant::now();
+            let scene_auto = renderer.prepare_auto(scene, &spec.order, &pick)?;
+            let frame = renderer.render_auto(&scene_auto)?;
+            drop(scene_auto);
+            render_ms += t.elapsed().as_secs_f64() * 1e3;
+            let _ = tx.send((methods_.len(), AUTO, frame));
         }
         drop(tx);
         Ok(())
@@ -394,7 +436,7 @@ pub fn compare(
         metric_pixels += report.covered_pixels;
         reports.push(report);
     }
-    if reports.len() != methods_.len() {
+    if reports.len() != subjects {
         return Err(Error::Internal("a compare worker stopped early".into()));
     }
     let secs = |ms: f64| (ms / 1e3).max(1e-9);
@@ -421,9 +463,10 @@ pub fn compare(
             flip_ms,
             png_ms,
             metric_pixels_per_second: metric_pixels as f64 / secs(metrics_ms),
-            flip_pixels_per_second: (w as f64 * h as f64 * methods_.len() as f64) / secs(flip_ms),
+            flip_pixels_per_second: (w as f64 * h as f64 * subjects as f64) / secs(flip_ms),
         },
         methods: reports,
+        auto: auto_summary,
     };
     if opts.images {
         write_summary(out, &summary)?;

@@ -143,6 +143,9 @@ pub struct Summary {
     pub scale: ScaleMode,
     pub timing: Timing,
     pub methods: Vec<MethodReport>,
+    /// `auto`'s per-triangle choice when it was compared (its row in `methods` is `auto`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub auto: Option<crate::scene::auto::AutoSummary>,
 }
 
 /// The reference's name in outputs.

@@ -179,7 +179,7 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
         width: frame.width,
         height: 1,
     };
-    a.analyse(m, frame.clone()).unwrap().0
+    a.analyse(Subject::from(m), frame.clone()).unwrap().0
 }
 
 #[test]
@@ -322,5 +322,6 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
             flip_pixels_per_second: 0.0,
         },
         methods,
+        auto: None,
     }
 }

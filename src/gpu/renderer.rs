@@ -438,6 +438,99 @@ impl Renderer {
     }
 }
 
+/// `auto` uploaded: the scene's triangles grouped by the method chosen for each, every group's
+/// vertex streams, and the groups as (method, first vertex, vertex count).
+pub struct AutoScene {
+    pub gpu: GpuScene,
+    pub groups: Vec<(&'static Method, u32, u32)>,
+}
+
+impl Renderer {
+    /// Uploads `scene` for `auto`: triangle t drawn with `order[pick[t]]`.
+    pub fn prepare_auto(
+        &self,
+        scene: &Scene,
+        order: &[&'static Method],
+        pick: &[usize],
+    ) -> Result<AutoScene> {
+        self.ctx.check_image_size(scene.width, scene.height)?;
+        let inputs = SceneInputs::new(scene, Geometry::Mesh);
+        if pick.len() != inputs.triangle_count() || pick.iter().any(|&k| k >= order.len()) {
+            return Err(Error::Internal(format!(
+                "auto: {} choices for {} triangles",
+                pick.len(),
+                inputs.triangle_count()
+            )));
+        }
+        if let Some(m) = order.iter().find(|m| m.geometry != Geometry::Mesh) {
+            return Err(Error::Usage(format!(
+                "auto: {} draws its own geometry and cannot be a candidate",
+                m.name
+            )));
+        }
+        let mut perm: Vec<usize> = (0..pick.len()).collect();
+        perm.sort_by_key(|&t| pick[t]);
+        let mut groups = Vec::new();
+        let mut first = 0u32;
+        for (k, m) in order.iter().enumerate() {
+            let n = 3 * pick.iter().filter(|&&p| p == k).count() as u32;
+            if n > 0 {
+                groups.push((*m, first, n));
+            }
+            first += n;
+        }
+        let gpu = self.upload(inputs.permuted(&perm), order)?;
+        Ok(AutoScene { gpu, groups })
+    }
+
+    /// Renders `auto`: one pipeline per group, each drawing its range, in one pass.
+    pub fn render_auto(&self, a: &AutoScene) -> Result<Frame> {
+        let gpu = &a.gpu;
+        let (w, h) = (gpu.inputs.width, gpu.inputs.height);
+        let mut draws = Vec::new();
+        for &(m, first, count) in &a.groups {
+            let (streams, buffers) = gpu.buffers(Shading::Method(m))?;
+            let p = self.pipeline(
+                gpu,
+                &self.program(gpu, Shading::Method(m)),
+                &streams,
+                &[COLOR, COLOR],
+            )?;
+            draws.push((p, buffers, first, count));
+        }
+        let targets = Targets::new(&self.ctx, w, h)?;
+        let readback = |img: &Image| {
+            Buffer::new(
+                &self.ctx,
+                BufferDesc {
+                    size: img.byte_size(),
+                    usage: BufferUsage::Readback,
+                },
+            )
+        };
+        let color_buf = readback(&targets.color)?;
+        let normal_buf = readback(&targets.normal)?;
+        let mut cmd = OneShot::begin(&self.ctx)?;
+        targets.begin(&mut cmd);
+        for (p, buffers, first, count) in &draws {
+            cmd.draw_range(p, Some(&gpu.set), buffers, *first, *count);
+        }
+        cmd.end_rendering();
+        cmd.copy_image_to_buffer(&targets.color, &color_buf);
+        cmd.copy_image_to_buffer(&targets.normal, &normal_buf);
+        cmd.submit()?;
+        let size = targets.color.byte_size() as usize;
+        drop(draws);
+        drop(targets);
+        Ok(Frame {
+            width: w,
+            height: h,
+            color: bytemuck::pod_collect_to_vec(&color_buf.bytes()[..size]),
+            normal: bytemuck::pod_collect_to_vec(&normal_buf.bytes()[..size]),
+        })
+    }
+}
+
 impl SceneInputs {
     /// Per-corner data of a stream, ready to upload.
     fn stream(&self, s: Stream) -> Vec<[f32; 3]> {

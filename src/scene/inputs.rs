@@ -290,6 +290,40 @@ impl SceneInputs {
         }
     }
 
+    /// The same inputs with the triangles in the order `order` (a permutation of the triangle
+    /// indices): `auto` draws each method's triangles as one contiguous range.
+    pub fn permuted(&self, order: &[usize]) -> SceneInputs {
+        let corners = |v: &[[f32; 3]]| -> Vec<[f32; 3]> {
+            order
+                .iter()
+                .flat_map(|&t| [v[3 * t], v[3 * t + 1], v[3 * t + 2]])
+                .collect()
+        };
+        SceneInputs {
+            width: self.width,
+            height: self.height,
+            interpolation: self.interpolation,
+            geometry: self.geometry,
+            positions: corners(&self.positions),
+            view_normals: corners(&self.view_normals),
+            flat_normals: order.iter().map(|&t| self.flat_normals[t]).collect(),
+            pn_mids: order.iter().map(|&t| self.pn_mids[t]).collect(),
+            window: order
+                .iter()
+                .flat_map(|&t| {
+                    [
+                        self.window[3 * t],
+                        self.window[3 * t + 1],
+                        self.window[3 * t + 2],
+                    ]
+                })
+                .collect(),
+            params: self.params,
+            light_count: self.light_count,
+            cull_front: self.cull_front,
+        }
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.positions.len() / 3

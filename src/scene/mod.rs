@@ -50,9 +50,10 @@
 //!
 //! Meshes, OBJ or generated, are fitted to the unit sphere on load. Unknown keys, wrong types
 //! and values out of range are errors naming `file:line`.
+pub mod auto;
 pub mod camera;
 pub mod file;
-pub mod inputs;
+mod inputs;
 #[cfg(test)]
 mod tests;
 

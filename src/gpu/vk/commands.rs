@@ -155,6 +155,18 @@ impl OneShot {
         buffers: &[(u32, &Buffer)],
         vertex_count: u32,
     ) {
+        self.draw_range(pipeline, set, buffers, 0, vertex_count);
+    }
+
+    /// [`draw`](Self::draw) of the vertices `first..first + count` only.
+    pub fn draw_range(
+        &mut self,
+        pipeline: &GraphicsPipeline,
+        set: Option<&DescriptorSet>,
+        buffers: &[(u32, &Buffer)],
+        first: u32,
+        count: u32,
+    ) {
         let d = &self.ctx.device;
         // SAFETY: recording inside a rendering scope; all objects alive until submit returns.
         unsafe {
@@ -172,7 +184,7 @@ impl OneShot {
             for &(binding, buf) in buffers {
                 d.cmd_bind_vertex_buffers(self.cb, binding, &[buf.raw], &[0]);
             }
-            d.cmd_draw(self.cb, vertex_count, 1, 0, 0);
+            d.cmd_draw(self.cb, count, 1, first, 0);
         }
     }
 
