@@ -29,7 +29,22 @@ use spans::{n4, stepped, Along, SpanShader};
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct Form {
     pub scanline: bool,
+    /// A recurrence whose float32 rounding accumulates along the span (judged with
+    /// [`drift_allowance`] on top of the per-pixel float32 bound).
+    pub drifts: bool,
     pub form: &'static str,
+}
+
+/// The float32 drift a recurrence may accumulate `n` steps into its span, on values of unit
+/// size (normals, cosines). The Chebyshev recurrence amplifies an error made k steps back by at
+/// most k + 1 (|U_k(cos phi)| <= k + 1) and second-order forward differences add each step's
+/// rounding of the first difference to every later value, so at most 4 roundings a step give
+/// `4 u (n + 1)^2`; the seeds (closed form or polynomial at the span's first pixel, budgeted
+/// like a formula: `K_FORMULA = 32` roundings, twice for value and step) carried along add
+/// `64 u (n + 1)`.
+pub fn drift_allowance(n: f64) -> f64 {
+    let u = 1.0 / 16_777_216.0;
+    u * (4.0 * (n + 1.0) * (n + 1.0) + 64.0 * (n + 1.0))
 }
 
 /// The form `method` takes in the software engine.
@@ -49,7 +64,19 @@ pub fn form(method: &str) -> Form {
         "barycentric_quadratic" | "barycentric_quadratic_exact_mid" | "pn_normals" => (false, "per-pixel form: weights stepped by forward differences, quadratic evaluated per pixel"),
         _ => (false, "per-pixel form: normal stepped by forward differences, then the method's normalisation"),
     };
-    Form { scanline, form }
+    let drifts = matches!(
+        method,
+        "spherical_angular"
+            | "quadratic_scanline"
+            | "quadratic_scanline_approx_mid"
+            | "bishop_weimer"
+            | "hast_euler"
+    );
+    Form {
+        scanline,
+        drifts,
+        form,
+    }
 }
 
 /// Threads the engine uses by default: all the machine offers.

@@ -91,6 +91,19 @@ fn walk(tri: &Tri, span: &RowSpan) -> Walk {
     }
 }
 
+/// A recurrence's value `v` at span fraction `t`, or the value at the nearer end when `t` lies
+/// outside [0, 1] (the twins clamp t there).
+#[inline(always)]
+fn clamped(t: f32, v: Vec3, ends: (Vec3, Vec3)) -> Vec3 {
+    if t < 0.0 {
+        ends.0
+    } else if t > 1.0 {
+        ends.1
+    } else {
+        v
+    }
+}
+
 /// Which interpolation along the span.
 #[derive(Debug, Clone, Copy)]
 pub enum Along {
@@ -191,19 +204,27 @@ impl Shader for SpanShader {
             }
             Along::Chebyshev => {
                 let w = walk(tri, &span);
-                let t0 = w.t.clamp(0.0, 1.0);
+                // Seeded at the first pixel's own t, not clamped: a covered centre a rounding
+                // left of xA then stays on the same grid as the rest of the span.
+                let t0 = w.t;
                 match f::angle(w.a, w.b) {
                     Some((_, _, th)) => {
                         let k2 = 2.0 * (th * w.dt).cos();
                         let mut cur = f::spherical_angular(w.a, w.b, t0);
                         let mut next = f::spherical_angular(w.a, w.b, t0 + w.dt);
+                        // Outside [0, 1] (rounding at the span's ends, or the clamped top and
+                        // bottom rows) the twin clamps t: the end values there.
+                        let ends = (w.a, f::spherical_angular(w.a, w.b, 1.0));
+                        let mut t = t0;
                         for i in span.i0..=span.i1 {
                             if out.test(tri, i, z, span.centre(i)) {
-                                out.put(i, lit.shade(cur), n4(cur));
+                                let n = clamped(t, cur, ends);
+                                out.put(i, lit.shade(n), n4(n));
                             }
                             let n2 = next * k2 - cur;
                             cur = next;
                             next = n2;
+                            t += w.dt;
                             z += span.dz;
                         }
                     }
@@ -231,16 +252,20 @@ impl Shader for SpanShader {
                 };
                 let g = np * 2.0 - nc * 4.0 + nl * 2.0;
                 let p = nc * 4.0 - nl * 3.0 - np;
-                let (t, dt) = (w.t.clamp(0.0, 1.0), w.dt);
+                let (t, dt) = (w.t, w.dt);
                 let mut v = (g * t + p) * t + nl;
                 let mut d1 = g * (2.0 * t * dt + dt * dt) + p * dt;
                 let d2 = g * (2.0 * dt * dt);
+                let ends = (nl, (g + p) + nl);
+                let mut t = t;
                 for i in span.i0..=span.i1 {
                     if out.test(tri, i, z, span.centre(i)) {
-                        out.put(i, lit.shade(v), n4(v));
+                        let n = clamped(t, v, ends);
+                        out.put(i, lit.shade(n), n4(n));
                     }
                     v += d1;
                     d1 += d2;
+                    t += dt;
                     z += span.dz;
                 }
             }
@@ -397,7 +422,11 @@ impl SpanShader {
                     }
                 }
             }
-            c += dc;
+            // Pixels left of the first centre p0 (coverage and span rounded apart) sit at
+            // v = 0 with the twin; the colour steps from p0 on.
+            if i as i64 >= start {
+                c += dc;
+            }
             z += span.dz;
         }
     }
