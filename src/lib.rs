@@ -8,7 +8,7 @@
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
 //! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain |
 //! | judgement | [`analysis`], [`truth`] | per-pixel error (one definition), statistics; f64 truth and bound |
-//! | device | [`gpu`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws |
+//! | device | [`gpu`], [`software`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form) |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
 //! | base | [`output`], [`error`] | atomic files, PNG/NPY, figures, provenance; the error type |
@@ -42,6 +42,7 @@ pub mod method;
 pub mod output;
 pub mod plan;
 pub mod scene;
+pub mod software;
 pub mod stress;
 #[cfg(test)]
 mod testutil;

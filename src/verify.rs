@@ -3,11 +3,14 @@
 //! error of [`crate::analysis::pixel`], the same definition `compare` uses).
 use crate::analysis::pixel::{error_stats, ErrorStats};
 use crate::error::{Error, Result};
+use crate::frame::IdFrame;
 use crate::gpu::{Renderer, Shading};
+use crate::method::scanline;
 use crate::method::{self, Method};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneInputs};
+use crate::software;
 
-use crate::truth::{agreement, evaluate, Agreement};
+use crate::truth::{agreement, evaluate, Agreement, Truth};
 
 /// One method's verdict.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -125,6 +128,77 @@ impl VerifyReport {
             );
         }
         t
+    }
+}
+
+/// [`verify`] with the software engine (src/software/) on `threads` threads: each method drawn
+/// in its span form, judged by its f64 twin at the software rasterizer's own weights, and
+/// against f64 exact Phong at those weights.
+pub fn verify_software(
+    scene: &Scene,
+    methods: &[&'static Method],
+    against: Option<&'static Method>,
+    threads: usize,
+) -> Result<VerifyReport> {
+    let exact = method::find("phong_exact")?;
+    let id_pass = || Error::Internal("the software engine returned no id frame".into());
+    let base = SceneInputs::new(scene, exact.geometry);
+    let (_, base_ids) = software::render(&base, exact, threads, true)?;
+    let reference = evaluate(&base, &base_ids.ok_or_else(id_pass)?, exact);
+    let mut rows = Vec::new();
+    for &m in methods {
+        let inputs = if m.geometry == base.geometry {
+            None
+        } else {
+            Some(SceneInputs::new(scene, m.geometry))
+        };
+        let inputs = inputs.as_ref().unwrap_or(&base);
+        let (frame, ids) = software::render(inputs, m, threads, true)?;
+        let ids = ids.ok_or_else(id_pass)?;
+        let mut truth = evaluate(inputs, &ids, against.unwrap_or(m));
+        if software::form(m.name).drifts {
+            widen_for_drift(&mut truth, inputs, &ids);
+        }
+        rows.push(VerifyRow {
+            method: m.name,
+            agreement: agreement(&frame, &truth),
+            errors: error_stats(&frame, m.has_normal, &reference),
+        });
+    }
+    Ok(VerifyReport {
+        scene: scene.name.clone(),
+        width: scene.width,
+        height: scene.height,
+        against: against.map(|a| a.name),
+        rows,
+    })
+}
+
+/// Adds the recurrence drift of [`software::drift_allowance`] to each pixel's bound: `n` is the
+/// pixel's distance from the first pixel centre of its triangle's span on that row (where the
+/// recurrence starts), the normal allowance times `|N|`, the colour allowance that times the
+/// largest slope of the lighting in a cosine (diffuse + shininess x specular, per light).
+fn widen_for_drift(truth: &mut Truth, inputs: &SceneInputs, ids: &IdFrame) {
+    let lit = inputs.lighting();
+    let slope: f64 = lit
+        .lights
+        .iter()
+        .map(|&(_, c, _)| (c * (lit.diffuse + lit.specular * lit.shininess.max(1.0))).max_element())
+        .sum();
+    for (i, px) in truth.pixels.iter_mut().enumerate() {
+        let Some(p) = px else { continue };
+        let t = ids.prim[i] as usize - 1;
+        let (x, y) = (
+            (i as u32 % ids.width) as f64 + 0.5,
+            (i as u32 / ids.width) as f64 + 0.5,
+        );
+        let f = inputs.fragment(t, glam::DVec3::ZERO, glam::DVec2::new(x, y));
+        let sp = scanline::span_at(y, f.window, f.corner_normals);
+        let n = (x - ((sp.xa - 0.5).ceil() + 0.5)).max(0.0) + 1.0;
+        let d = software::drift_allowance(n);
+        let len = p.normal.map_or(1.0, |v| v.length().max(1.0));
+        p.normal_bound += d * len;
+        p.color_bound += d * len * slope;
     }
 }
 

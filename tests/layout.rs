@@ -9,7 +9,7 @@ const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["compare", "bench", "verify", "stress", "plan"],
     &["analysis", "truth"],
-    &["gpu"],
+    &["gpu", "software"],
     &["scene", "frame"],
     &["method", "geometry"],
     &["output", "error", "testutil", "lib"],

@@ -9,6 +9,7 @@
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
+//! - `software`: the software engine against Vulkan (coverage, colours) and its f64 twins.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
@@ -21,5 +22,6 @@ mod layout;
 mod methods;
 mod models;
 mod shaders;
+mod software;
 mod stress;
 mod support;

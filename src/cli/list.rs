@@ -5,9 +5,17 @@ use crate::error::{Error, Result};
 use crate::method::METHODS;
 pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
     if json {
-        let text =
-            serde_json::to_string_pretty(&serde_json::json!({ "version": 1, "methods": METHODS }))
-                .map_err(|e| Error::output("the method list", e))?;
+        let text = serde_json::to_string_pretty(&serde_json::json!({
+            "version": 1,
+            "methods": METHODS,
+            // How each method runs under `--engine software` (src/software/): its scanline
+            // form, or its per-pixel form where it has none.
+            "software_forms": METHODS
+                .iter()
+                .map(|m| (m.name, crate::software::form(m.name)))
+                .collect::<std::collections::BTreeMap<_, _>>(),
+        }))
+        .map_err(|e| Error::output("the method list", e))?;
         println!("{text}");
     } else {
         for m in METHODS {

@@ -89,6 +89,17 @@ struct DeviceArgs {
     /// Run under the Khronos validation layer; any message makes the command fail (exit 2).
     #[arg(long)]
     validate: bool,
+    /// Which renderer draws: the Vulkan pipeline (lavapipe), or the software scanline engine
+    /// (src/software/: every method in its incremental span form, float32, all cores).
+    #[arg(long, value_enum, default_value = "vulkan")]
+    engine: EngineArg,
+}
+
+/// `--engine`.
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum EngineArg {
+    Vulkan,
+    Software,
 }
 
 /// `--scale` of `compare`.

@@ -14,10 +14,20 @@ pub(super) fn cmd_verify(
     let methods = select_methods(list)?;
     let against = against.map(method::find).transpose()?;
     let scene = load_scene(scene_args)?;
+    if dev.engine == EngineArg::Software {
+        let threads = crate::software::default_threads();
+        let report = crate::verify::verify_software(&scene, &methods, against, threads)?;
+        print!("{}", report.table());
+        return verdict(&report);
+    }
     let r = renderer(dev)?;
     let report = crate::verify::verify(&r, &scene, &methods, against)?;
     print!("{}", report.table());
     check_validation(r.context())?;
+    verdict(&report)
+}
+
+fn verdict(report: &crate::verify::VerifyReport) -> Result<ExitCode> {
     if report.passed() {
         return Ok(ExitCode::SUCCESS);
     }

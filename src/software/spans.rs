@@ -1,0 +1,433 @@
+//! Each method in its span form (issue 13): what it computes per triangle, per row and per
+//! pixel. Per-pixel methods step their interpolated vector (normal, quaternion, weights or
+//! colour) by a forward difference and apply their formula; the scanline family walks the span
+//! with its own recurrence. Every per-pixel loop is allocation-free: state lives in locals, the
+//! dichotomy grids in the per-thread scratch.
+use std::marker::PhantomData;
+
+use glam::{Vec2, Vec3};
+
+use super::formulas::{self as f, Lighting32, Span};
+use super::raster::{RowOut, RowSpan, Shader, Tri};
+use crate::scene::MAX_LIGHTS;
+
+/// The normal output of a method with a per-pixel normal (w = 1).
+#[inline(always)]
+pub fn n4(n: Vec3) -> [f32; 4] {
+    [n.x, n.y, n.z, 1.0]
+}
+
+/// Per-pixel methods: a per-corner vector (`attr`, with per-triangle data `D`) interpolated
+/// along the span by a forward difference, and `pixel` turning it into (colour, normal).
+pub struct Stepped<D, A, F> {
+    pub attr: A,
+    pub pixel: F,
+    pub _d: PhantomData<fn() -> D>,
+}
+
+/// A [`Stepped`] shader.
+pub fn stepped<D, A, F>(attr: A, pixel: F) -> Stepped<D, A, F>
+where
+    A: Fn(&Tri) -> ([Vec3; 3], D) + Sync,
+    F: Fn(Vec3, &D) -> (Vec3, [f32; 4]) + Sync,
+{
+    Stepped {
+        attr,
+        pixel,
+        _d: PhantomData,
+    }
+}
+
+impl<D, A, F> Shader for Stepped<D, A, F>
+where
+    D: Send + Sync,
+    A: Fn(&Tri) -> ([Vec3; 3], D) + Sync,
+    F: Fn(Vec3, &D) -> (Vec3, [f32; 4]) + Sync,
+{
+    type Setup = ([Vec3; 3], D);
+    fn setup(&self, tri: &Tri) -> Self::Setup {
+        (self.attr)(tri)
+    }
+
+    #[inline]
+    fn row(&self, tri: &Tri, s: &Self::Setup, span: RowSpan, out: &mut RowOut, _: &mut Vec<Vec3>) {
+        let (mut v, dv) = tri.attribute(&s.0, span.centre(span.i0));
+        let mut z = span.z;
+        for i in span.i0..=span.i1 {
+            if out.test(tri, i, z, span.centre(i)) {
+                let (c, n) = (self.pixel)(v, &s.1);
+                out.put(i, c, n);
+            }
+            v += dv;
+            z += span.dz;
+        }
+    }
+}
+
+/// The span through a row, its unit ends, and `t` with its step at the first pixel.
+struct Walk {
+    sp: Span,
+    a: Vec3,
+    b: Vec3,
+    t: f32,
+    dt: f32,
+}
+
+fn walk(tri: &Tri, span: &RowSpan) -> Walk {
+    let sp = f::span_at(span.y as f32 + 0.5, &tri.s, &tri.n);
+    let px = span.i0 as f32 + 0.5;
+    let (t, dt) = if sp.xb > sp.xa {
+        let dt = 1.0 / (sp.xb - sp.xa);
+        ((px - sp.xa) * dt, dt)
+    } else {
+        (0.0, 0.0)
+    };
+    Walk {
+        sp,
+        a: f::normalize_exact(sp.na),
+        b: f::normalize_exact(sp.nb),
+        t,
+        dt,
+    }
+}
+
+/// A recurrence's value `v` at span fraction `t`, or the value at the nearer end when `t` lies
+/// outside [0, 1] (the twins clamp t there).
+#[inline(always)]
+fn clamped(t: f32, v: Vec3, ends: (Vec3, Vec3)) -> Vec3 {
+    if t < 0.0 {
+        ends.0
+    } else if t > 1.0 {
+        ends.1
+    } else {
+        v
+    }
+}
+
+/// Which interpolation along the span.
+#[derive(Debug, Clone, Copy)]
+pub enum Along {
+    /// slerp evaluated at each pixel's t (the closed form; its recurrence is `Chebyshev`).
+    Slerp,
+    /// spherical_angular: N(k+1) = 2 cos(phi) N(k) - N(k-1), seeded by the closed form.
+    Chebyshev,
+    /// quadratic_scanline: G t^2 + P t + Q by second-order forward differences.
+    Quadratic { approx_mid: bool },
+    /// dichotomy_*: the span's grid m / 2^K filled by halving, each pixel takes its nearest.
+    Dichotomy(fn(f32) -> f32),
+    /// segments_k*: ends shaded, the colour stepped by 1/2^k (or dichotomy inside with a root).
+    Segments(u32, Option<fn(f32) -> f32>),
+    /// bishop_weimer: each cosine's Taylor polynomial by forward differences.
+    BishopWeimer,
+    /// hast_euler: each cosine by Euler steps with the end-error correction.
+    HastEuler,
+}
+
+/// The scanline family's shader.
+pub struct SpanShader {
+    pub along: Along,
+    pub lit: Lighting32,
+}
+
+/// Per-triangle set-up of the scanline family (only Bishop-Weimer has any).
+pub struct SpanSetup {
+    o: Vec2,
+    taylor: [[f32; 6]; 2 * MAX_LIGHTS],
+}
+
+/// Fills `grid[0..=n]` (n = 2^k) with the dichotomy samples between unit `a` and `b`: each
+/// midpoint `(lo + hi) f(2 lo.hi)` once, the same operations as `scanline::dichotomy` takes on
+/// its way to any one sample.
+fn halve(grid: &mut Vec<Vec3>, a: Vec3, b: Vec3, k: u32, inv_root: fn(f32) -> f32) {
+    let n = 1usize << k;
+    grid.clear();
+    grid.resize(n + 1, Vec3::ZERO);
+    grid[0] = a;
+    grid[n] = b;
+    let mut step = n;
+    while step > 1 {
+        let half = step / 2;
+        let mut j = 0;
+        while j < n {
+            let (lo, hi) = (grid[j], grid[j + step]);
+            grid[j + half] = (lo + hi) * inv_root(2.0 * lo.dot(hi));
+            j += step;
+        }
+        step = half;
+    }
+}
+
+impl Shader for SpanShader {
+    type Setup = SpanSetup;
+    fn setup(&self, tri: &Tri) -> SpanSetup {
+        let mut taylor = [[0.0; 6]; 2 * MAX_LIGHTS];
+        let mut o = Vec2::ZERO;
+        if let Along::BishopWeimer = self.along {
+            let (a, b, c, origin) = f::plane_normal(&tri.s, &tri.n);
+            o = origin;
+            for (k, t) in taylor.iter_mut().enumerate().take(self.lit.cosines()) {
+                *t = f::taylor_terms(self.lit.dirs[k], a, b, c);
+            }
+        }
+        SpanSetup { o, taylor }
+    }
+
+    fn row(
+        &self,
+        tri: &Tri,
+        st: &SpanSetup,
+        span: RowSpan,
+        out: &mut RowOut,
+        scratch: &mut Vec<Vec3>,
+    ) {
+        let lit = &self.lit;
+        let mut z = span.z;
+        match self.along {
+            Along::Slerp => {
+                let w = walk(tri, &span);
+                let ang = f::angle(w.a, w.b);
+                let mut t = w.t;
+                for i in span.i0..=span.i1 {
+                    if out.test(tri, i, z, span.centre(i)) {
+                        let tc = t.clamp(0.0, 1.0);
+                        let n = match ang {
+                            Some((_, s, th)) => {
+                                (w.a * ((1.0 - tc) * th).sin() + w.b * (tc * th).sin()) / s
+                            }
+                            None => f::normalize_exact(w.a * (1.0 - tc) + w.b * tc),
+                        };
+                        out.put(i, lit.shade(n), n4(n));
+                    }
+                    t += w.dt;
+                    z += span.dz;
+                }
+            }
+            Along::Chebyshev => {
+                let w = walk(tri, &span);
+                // Seeded at the first pixel's own t, not clamped: a covered centre a rounding
+                // left of xA then stays on the same grid as the rest of the span.
+                let t0 = w.t;
+                match f::angle(w.a, w.b) {
+                    Some((_, _, th)) => {
+                        let k2 = 2.0 * (th * w.dt).cos();
+                        let mut cur = f::spherical_angular(w.a, w.b, t0);
+                        let mut next = f::spherical_angular(w.a, w.b, t0 + w.dt);
+                        // Outside [0, 1] (rounding at the span's ends, or the clamped top and
+                        // bottom rows) the twin clamps t: the end values there.
+                        let ends = (w.a, f::spherical_angular(w.a, w.b, 1.0));
+                        let mut t = t0;
+                        for i in span.i0..=span.i1 {
+                            if out.test(tri, i, z, span.centre(i)) {
+                                let n = clamped(t, cur, ends);
+                                out.put(i, lit.shade(n), n4(n));
+                            }
+                            let n2 = next * k2 - cur;
+                            cur = next;
+                            next = n2;
+                            t += w.dt;
+                            z += span.dz;
+                        }
+                    }
+                    None => {
+                        let mut t = w.t;
+                        for i in span.i0..=span.i1 {
+                            if out.test(tri, i, z, span.centre(i)) {
+                                let tc = t.clamp(0.0, 1.0);
+                                let n = f::normalize_exact(w.a * (1.0 - tc) + w.b * tc);
+                                out.put(i, lit.shade(n), n4(n));
+                            }
+                            t += w.dt;
+                            z += span.dz;
+                        }
+                    }
+                }
+            }
+            Along::Quadratic { approx_mid } => {
+                let w = walk(tri, &span);
+                let (nl, np) = (w.a, w.b);
+                let nc = if approx_mid {
+                    f::mid_approx(nl, np)
+                } else {
+                    f::mid_exact(nl, np)
+                };
+                let g = np * 2.0 - nc * 4.0 + nl * 2.0;
+                let p = nc * 4.0 - nl * 3.0 - np;
+                let (t, dt) = (w.t, w.dt);
+                let mut v = (g * t + p) * t + nl;
+                let mut d1 = g * (2.0 * t * dt + dt * dt) + p * dt;
+                let d2 = g * (2.0 * dt * dt);
+                let ends = (nl, (g + p) + nl);
+                let mut t = t;
+                for i in span.i0..=span.i1 {
+                    if out.test(tri, i, z, span.centre(i)) {
+                        let n = clamped(t, v, ends);
+                        out.put(i, lit.shade(n), n4(n));
+                    }
+                    v += d1;
+                    d1 += d2;
+                    t += dt;
+                    z += span.dz;
+                }
+            }
+            Along::Dichotomy(inv_root) => {
+                let w = walk(tri, &span);
+                let k = f::levels(w.sp.xb - w.sp.xa);
+                let n = 1u32 << k;
+                halve(scratch, w.a, w.b, k, inv_root);
+                let mut t = w.t;
+                for i in span.i0..=span.i1 {
+                    if out.test(tri, i, z, span.centre(i)) {
+                        let tc = t.clamp(0.0, 1.0);
+                        let m = ((tc * n as f32 + 0.5).floor() as u32).min(n);
+                        let v = scratch[m as usize];
+                        out.put(i, lit.shade(v), n4(v));
+                    }
+                    t += w.dt;
+                    z += span.dz;
+                }
+            }
+            Along::Segments(k, inv_root) => self.segments(tri, span, out, scratch, k, inv_root),
+            Along::BishopWeimer => {
+                let c = lit.cosines();
+                let x = span.i0 as f32 + 0.5 - st.o.x;
+                let y = span.y as f32 + 0.5 - st.o.y;
+                let (mut v, mut d1, mut d2) = (
+                    [0.0f32; 2 * MAX_LIGHTS],
+                    [0.0; 2 * MAX_LIGHTS],
+                    [0.0; 2 * MAX_LIGHTS],
+                );
+                for k in 0..c {
+                    let [t0, t1, t2, t3, t4, t5] = st.taylor[k];
+                    v[k] = t5 * x * x + t4 * x * y + t3 * y * y + t2 * x + t1 * y + t0;
+                    d1[k] = t5 * (2.0 * x + 1.0) + t4 * y + t2;
+                    d2[k] = 2.0 * t5;
+                }
+                for i in span.i0..=span.i1 {
+                    if out.test(tri, i, z, span.centre(i)) {
+                        out.put(i, lit.shade_cosines(|k| v[k]), [0.0; 4]);
+                    }
+                    for k in 0..c {
+                        v[k] += d1[k];
+                        d1[k] += d2[k];
+                    }
+                    z += span.dz;
+                }
+            }
+            Along::HastEuler => {
+                let w = walk(tri, &span);
+                let c = lit.cosines();
+                let (na, nb) = (w.sp.na, w.sp.nb);
+                let ww = w.sp.xb - w.sp.xa;
+                let (mut v, mut d1, mut d2) = (
+                    [0.0f32; 2 * MAX_LIGHTS],
+                    [0.0; 2 * MAX_LIGHTS],
+                    [0.0; 2 * MAX_LIGHTS],
+                );
+                for k in 0..c {
+                    let dir = lit.dirs[k];
+                    let i0 = dir.dot(na) / na.length();
+                    if !(ww > 0.0) {
+                        v[k] = i0;
+                        continue;
+                    }
+                    let i1 = dir.dot(nb) / nb.length();
+                    let dn = nb - na;
+                    let (s0, s1) = (f::cosine_slope(dir, na, dn), f::cosine_slope(dir, nb, dn));
+                    let h = 1.0 / ww;
+                    let j = w.t.clamp(0.0, 1.0) * ww;
+                    let iw = i0 + h * (ww * s0 + (s1 - s0) * (ww - 1.0) / 2.0);
+                    let e = i1 - iw;
+                    v[k] = i0 + h * (j * s0 + (s1 - s0) * j * (j - 1.0) / (2.0 * ww)) + e * j / ww;
+                    d1[k] = h * (s0 + (s1 - s0) * j / ww) + e / ww;
+                    d2[k] = h * (s1 - s0) / ww;
+                }
+                for i in span.i0..=span.i1 {
+                    if out.test(tri, i, z, span.centre(i)) {
+                        out.put(i, lit.shade_cosines(|k| v[k]), [0.0; 4]);
+                    }
+                    for k in 0..c {
+                        v[k] += d1[k];
+                        d1[k] += d2[k];
+                    }
+                    z += span.dz;
+                }
+            }
+        }
+    }
+}
+
+impl SpanShader {
+    /// Digital segments (FORMULAS.md 2.16): segments of 2^k pixels from the span's first pixel
+    /// centre; each end's normal by accumulating 2^k dN (the first from the span's formula),
+    /// normalised and shaded once (the right end of one segment is the left of the next, the
+    /// last one extrapolated past the span); inside, the colour stepped by (I_p - I_l) / 2^k,
+    /// or with `inv_root` the normals by halving between the unit ends.
+    fn segments(
+        &self,
+        tri: &Tri,
+        span: RowSpan,
+        out: &mut RowOut,
+        grid: &mut Vec<Vec3>,
+        k: u32,
+        inv_root: Option<fn(f32) -> f32>,
+    ) {
+        let lit = &self.lit;
+        let sp = f::span_at(span.y as f32 + 0.5, &tri.s, &tri.n);
+        let len = 1i64 << k;
+        let p0 = (sp.xa - 0.5).ceil() + 0.5;
+        let start = (p0 - 0.5) as i64;
+        let dseg = if sp.xb > sp.xa {
+            (sp.nb - sp.na) * (len as f32 / (sp.xb - sp.xa))
+        } else {
+            Vec3::ZERO
+        };
+        let end = |n: Vec3| f::normalize_exact(if n.dot(n) > 1e-12 { n } else { sp.na });
+        let scale = 1.0 / len as f32;
+        let mut seg = i64::MIN;
+        let (mut nr, mut np) = (Vec3::ZERO, Vec3::ZERO);
+        let (mut ip, mut c, mut dc) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+        let mut z = span.z;
+        for i in span.i0..=span.i1 {
+            let j = (i as i64 - start).max(0);
+            let (s, v) = (j >> k, (j & (len - 1)) as usize);
+            if s != seg {
+                let (nl, il) = if s == seg + 1 {
+                    (np, ip)
+                } else {
+                    nr = f::span_normal(&sp, p0 + (s << k) as f32);
+                    let nl = end(nr);
+                    (nl, lit.shade(nl))
+                };
+                nr += dseg;
+                np = end(nr);
+                match inv_root {
+                    None => {
+                        ip = lit.shade(np);
+                        dc = (ip - il) * scale;
+                        c = il + dc * v as f32;
+                    }
+                    Some(r) => {
+                        halve(grid, nl, np, k, r);
+                        ip = il; // unused with dichotomy inside
+                    }
+                }
+                seg = s;
+            }
+            if out.test(tri, i, z, span.centre(i)) {
+                match inv_root {
+                    None => out.put(i, c, [0.0; 4]),
+                    Some(_) => {
+                        let n = grid[v];
+                        out.put(i, lit.shade(n), n4(n));
+                    }
+                }
+            }
+            // Pixels left of the first centre p0 (coverage and span rounded apart) sit at
+            // v = 0 with the twin; the colour steps from p0 on.
+            if i as i64 >= start {
+                c += dc;
+            }
+            z += span.dz;
+        }
+    }
+}
