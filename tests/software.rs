@@ -9,7 +9,6 @@ use glam::{DVec2, DVec3};
 use shadelab::method::{find, Geometry};
 use shadelab::scene::{Interpolation, Params, MAX_LIGHTS};
 use shadelab::software::{drift_allowance, render};
-use shadelab::truth::values;
 
 use crate::support::*;
 
@@ -191,6 +190,7 @@ fn long_spans(w: u32, deg: f64) -> SceneInputs {
         window: Vec::new(),
         params,
         light_count: 1,
+        cull_front: None,
     };
     inputs.window = inputs
         .clip_corners()
@@ -209,7 +209,7 @@ fn drift(method: &str, w: u32, deg: f64) -> Vec<(u32, f64)> {
     let m = find(method).unwrap();
     let (frame, ids) = render(&inputs, m, 2, true).unwrap();
     let ids = ids.unwrap();
-    let truth = values(&inputs, &ids, m);
+    let truth = evaluate(&inputs, &ids, m);
     let edges = [16u32, 64, 256, 1024, 4096];
     let mut worst = vec![0.0f64; edges.len()];
     for (i, t) in truth.pixels.iter().enumerate() {

@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3};
 
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
-use crate::scene::SceneInputs;
+use crate::scene::{SceneInputs, Winding};
 
 /// Rows per band of work.
 pub const BAND: u32 = 16;
@@ -122,6 +122,18 @@ pub fn setup(inputs: &SceneInputs) -> Result<Vec<Tri>> {
             (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
         if area == 0 {
             continue;
+        }
+        // Back-face culling as the Vulkan pipeline does it (SceneInputs::cull_front): Vulkan's
+        // signed area -1/2 sum(x_i y_(i+1) - x_(i+1) y_i) is positive for counter-clockwise,
+        // and `area` above is minus twice it.
+        if let Some(front) = inputs.cull_front {
+            let front_facing = match front {
+                Winding::CounterClockwise => area < 0,
+                Winding::Clockwise => area > 0,
+            };
+            if !front_facing {
+                continue;
+            }
         }
         // Inside is where every edge function is positive: wind the edges by the area's sign.
         let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
