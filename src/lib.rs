@@ -6,6 +6,7 @@
 //! | layer | modules | owns |
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
+//! | report | [`report`] | the main job: compare, bench and stress per scene, one offline HTML page |
 //! | jobs | [`compare`], [`bench`], [`verify`], [`stress`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain |
 //! | judgement | [`analysis`], [`truth`] | per-pixel error (one definition), statistics; f64 truth and bound |
 //! | device | [`gpu`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws |
@@ -17,7 +18,7 @@
 //! scene file -> [`scene::Scene`] -> [`scene::SceneInputs`] (f64, rounded to f32 once) ->
 //! [`gpu::Renderer`] -> [`frame::Frame`] + [`frame::IdFrame`] -> [`truth::evaluate`] (the same
 //! inputs in f64 at the rasterizer's weights) -> [`analysis::pixel`] -> [`compare`] / [`bench`]
-//! -> files in the output folder.
+//! -> files in the output folder -> [`report`] (index.html over those files).
 //!
 //! # Where things go
 //! - a method: a GLSL file in glsl/methods/, a row in [`method::table`], its f64 formula in
@@ -40,6 +41,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod method;
 pub mod output;
+pub mod report;
 pub mod scene;
 pub mod stress;
 #[cfg(test)]
