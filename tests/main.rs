@@ -9,6 +9,8 @@
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
+//! - `report`: the HTML report: links, every method's parts, escaping; headless Chromium (no
+//!   error, no failed resource, the script runs, a screenshot that is not blank), with teeth.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
@@ -18,6 +20,7 @@ mod gpu;
 mod layout;
 mod methods;
 mod models;
+mod report;
 mod shaders;
 mod stress;
 mod support;
