@@ -368,3 +368,23 @@ fn report_loads_in_a_browser_without_errors_and_is_not_blank() {
     );
     assert!(distinct_colours(&blank_shot) <= 200);
 }
+
+#[test]
+fn report_needs_exactly_one_source() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let (code, _, stderr) = run(&["report", "--out", out]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("--scenes"), "{stderr}");
+    let (code, _, stderr) = run(&[
+        "report",
+        "--scene",
+        "scenes/cube.toml",
+        "--mesh",
+        "scenes/cube.obj",
+        "--out",
+        out,
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("cannot be used with"), "{stderr}");
+}

@@ -243,6 +243,7 @@ fn method_section(s: &SceneResult, m: &MethodReport, reference: &str, dims: Dims
         esc(&p99),
         m.non_finite_pixels
     );
+    h += "<div class=\"method-body\">";
     if let Some(r) = render {
         let _ = write!(
             h,
@@ -255,7 +256,7 @@ fn method_section(s: &SceneResult, m: &MethodReport, reference: &str, dims: Dims
     for f in m.files.iter().filter(|f| !f.ends_with("render.png")) {
         h += &figure(&file(f), &heatmap_caption(f), "px heat", dims);
     }
-    h + "</div></article>"
+    h + "</div></div></article>"
 }
 
 fn scene_section(s: &SceneResult, dims: Dims) -> String {
@@ -312,13 +313,31 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
             esc(&svg)
         );
     }
-    h += "</div><h3>Claims</h3>";
-    h += &bench_claims(s);
-    h += "<h3>Methods</h3><p>Each method beside the reference (with JavaScript: on top of it, \
-          with a slider, a flip button and zoom; nearest-pixel scaling) and its heatmaps.</p>";
+    h += "</div><h3>Methods</h3><p>Each method beside the reference (with JavaScript: on top of \
+          it, with a slider, a flip button and zoom; nearest-pixel scaling) and its heatmaps.</p>";
     for m in &sum.methods {
         h += &method_section(s, m, &reference, dims);
     }
+    let count = |v: &str| {
+        s.bench
+            .claims
+            .iter()
+            .filter(|c| c.verdict.as_str() == v)
+            .count()
+    };
+    let _ = write!(
+        h,
+        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} partly, {} disagree, \
+         {} inconclusive, {} not checked</summary>",
+        s.bench.claims.len(),
+        count("agrees"),
+        count("partly"),
+        count("disagrees"),
+        count("inconclusive"),
+        count("not_checked")
+    );
+    h += &bench_claims(s);
+    h += "</details>";
     h + "</section>"
 }
 
