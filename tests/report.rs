@@ -104,7 +104,10 @@ fn report_links_resolve_and_every_method_has_its_parts() {
     let html = index_html();
     let broken = broken_links(&dir.join("index.html")).unwrap();
     assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
-    assert_eq!(missing_parts(&html, "tiny", &SHOWN), Vec::<String>::new());
+    assert_eq!(
+        missing_parts(&html, "scene-tiny", &SHOWN),
+        Vec::<String>::new()
+    );
     // Escaped everywhere: the raw name never appears, the escaped one does.
     assert!(!html.contains(EVIL_NAME));
     assert!(html
@@ -114,8 +117,8 @@ fn report_links_resolve_and_every_method_has_its_parts() {
         assert!(!html.contains(needle), "the page names {needle}");
     }
     for part in [
-        "id=\"tiny--metrics\"",
-        "id=\"tiny--claims\"",
+        "id=\"scene-tiny--metrics\"",
+        "id=\"scene-tiny--claims\"",
         "pareto.png",
         "error_vs_angle.png",
         "error_vs_shininess.png",
@@ -148,10 +151,10 @@ fn report_links_resolve_and_every_method_has_its_parts() {
     );
     let cut = html.replace("<tr data-method=\"slerp\">", "<tr>");
     assert_eq!(
-        missing_parts(&cut, "tiny", &SHOWN),
+        missing_parts(&cut, "scene-tiny", &SHOWN),
         vec!["slerp: no row in the metric table".to_string()]
     );
-    assert_eq!(missing_parts(&html, "tiny", &["flat"]).len(), 1);
+    assert_eq!(missing_parts(&html, "scene-tiny", &["flat"]).len(), 1);
 }
 
 /// Headless Chromium, or `None` with a `SKIPPED` line (a failure under

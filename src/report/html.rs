@@ -58,9 +58,10 @@ fn num_td(x: Option<f64>) -> String {
     format!("<td data-v=\"{}\"{class}>{}</td>", esc(&k), esc(&t))
 }
 
-/// The HTML id of a method's section in a scene.
+/// The HTML id of a method's section in a scene. Every id of a scene starts with `scene-`,
+/// every id of the stress section with `stress-`, so no scene name can collide with another id.
 pub fn method_anchor(scene: &str, method: &str) -> String {
-    format!("{scene}--{method}")
+    format!("scene-{scene}--{method}")
 }
 
 /// Dimensions of an image (by its path relative to DIR), when readable.
@@ -101,23 +102,20 @@ fn heatmap_caption(file: &str) -> String {
     }
 }
 
-/// The bench columns: every number at the top level of a bench.json row (so fields bench adds
-/// later appear here without a change), in bench.json's order.
+/// The bench columns: every key at the top level of a bench.json row that holds a number in
+/// some row (so fields bench adds later appear here without a change), sorted by name.
 fn bench_columns(scene: &SceneResult) -> Vec<String> {
-    let Some(first) = scene.bench.methods.first() else {
-        return Vec::new();
-    };
-    match serde_json::to_value(first) {
-        Ok(serde_json::Value::Object(map)) => map
-            .into_iter()
-            .filter(|(k, v)| {
-                k != "name" && (v.is_number() || (v.is_null() && !matches!(k.as_str(), "error")))
-            })
-            .filter(|(k, _)| !k.starts_with("static_ops"))
-            .map(|(k, _)| k)
-            .collect(),
-        _ => Vec::new(),
+    let mut keys = std::collections::BTreeSet::new();
+    for row in &scene.bench.methods {
+        if let Ok(serde_json::Value::Object(map)) = serde_json::to_value(row) {
+            keys.extend(
+                map.into_iter()
+                    .filter(|(_, v)| v.is_number())
+                    .map(|(k, _)| k),
+            );
+        }
     }
+    keys.into_iter().collect()
 }
 
 fn bench_value(scene: &SceneResult, method: &str, key: &str) -> Option<f64> {
@@ -149,7 +147,7 @@ fn metric_table(s: &SceneResult) -> String {
     columns.extend(bench_cols.iter().cloned());
     let mut t = format!(
         "<div class=\"scroll\"><table class=\"sortable metrics\" id=\"{}\">",
-        esc(&format!("{}--metrics", s.id))
+        esc(&format!("scene-{}--metrics", s.id))
     );
     t += &sortable_head(
         &[
@@ -198,7 +196,7 @@ fn method_link(name: &str, anchor: Option<String>) -> String {
 fn bench_claims(s: &SceneResult) -> String {
     let mut t = format!(
         "<div class=\"scroll\"><table class=\"sortable claims\" id=\"{}\">",
-        esc(&format!("{}--claims", s.id))
+        esc(&format!("scene-{}--claims", s.id))
     );
     let cols: Vec<String> = ["method", "claim", "verdict", "measured", "how", "why"]
         .map(String::from)
@@ -232,7 +230,7 @@ fn method_section(s: &SceneResult, m: &MethodReport, reference: &str, dims: Dims
         esc(&anchor),
         esc(&m.name),
         esc(&m.name),
-        esc(&format!("{}--metrics", s.id))
+        esc(&format!("scene-{}--metrics", s.id))
     );
     let (_, mean) = number(m.metric("mean_abs_error"));
     let (_, p99) = number(m.metric("p99_abs_error"));
