@@ -26,7 +26,9 @@
 //!   glsl/scanline.glsl), its twin in [`method::twins`], its claims' checks in
 //!   [`method::checks`] / [`method::scanline_checks`] (README "How to add a method");
 //! - a metric: [`analysis`] computes it, [`compare::summary`] reports it;
-//! - a command: a file in src/cli/, calling a job of the layer below.
+//! - a command: a file in src/cli/, calling a job of the layer below;
+//! - a section of the HTML report: [`report::html`] (links stay relative; [`report::links`]
+//!   checks them).
 //!
 //! # Lifetimes and synchronisation
 //! Vulkan objects own an `Arc` of their [`gpu::vk::Context`]; every submission waits on its fence,

@@ -318,7 +318,7 @@ fn report_loads_in_a_browser_without_errors_and_is_not_blank() {
     );
     // reference + per method render, reference again, 2-3 heatmaps; charts; validity maps.
     assert!(
-        p["images"].as_u64().unwrap() >= 1 + 4 * SHOWN.len() as u64,
+        p["images"].as_u64().unwrap() > 4 * SHOWN.len() as u64,
         "{p}"
     );
 

@@ -1,3 +1,5 @@
+//! Unit tests of the report without a device: escaping, numbers, dates, ids, the link checker
+//! (with teeth: each kind of broken link must be flagged).
 use super::html::{esc, number};
 use super::links::{attribute_values, broken_in};
 use super::*;
