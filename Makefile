@@ -15,9 +15,10 @@ build:
 	scripts/install-deps.sh run build
 	$(CARGO) build --release --locked
 
-## The main job on the embedded default scenes: renders into out/.
+## The main job on the shipped scenes: compare, bench, stress, one HTML page; prints the path of
+## out/report/index.html (last line of stdout).
 demo: build
-	$(BIN) demo --scenes scenes --out out
+	$(BIN) report --scenes scenes --out out/report
 
 ## The whole test suite (unit, GPU under the validation layer, CLI, real-world models).
 test:

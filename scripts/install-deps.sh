@@ -2,7 +2,8 @@
 # Installs the Debian/Ubuntu packages shadelab needs, only when one is missing.
 #   run time : libvulkan1 (the loader), mesa-vulkan-drivers (lavapipe)
 #   build    : libshaderc-dev (+ glslang-dev, spirv-tools: static libs shaderc-sys links)
-#   tests    : vulkan-validationlayers (Khronos validation), spirv-tools (spirv-val)
+#   tests    : vulkan-validationlayers (Khronos validation), spirv-tools (spirv-val),
+#              chromium (headless: the HTML report's browser test)
 # Usage: scripts/install-deps.sh [run|build|test]...   (default: all three)
 set -euo pipefail
 
@@ -12,7 +13,7 @@ for set in "${@:-run build test}"; do
     case "$s" in
       run) want+=(libvulkan1 mesa-vulkan-drivers) ;;
       build) want+=(libshaderc-dev glslang-dev spirv-tools pkg-config) ;;
-      test) want+=(vulkan-validationlayers spirv-tools) ;;
+      test) want+=(vulkan-validationlayers spirv-tools chromium) ;;
       *) echo "install-deps: unknown set '$s' (expected run, build or test)" >&2; exit 2 ;;
     esac
   done

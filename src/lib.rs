@@ -6,6 +6,7 @@
 //! | layer | modules | owns |
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
+//! | report | [`report`] | the main job: compare, bench and stress per scene, one offline HTML page |
 //! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain |
 //! | judgement | [`analysis`], [`truth`] | per-pixel error (one definition), statistics; f64 truth and bound |
 //! | device | [`gpu`], [`software`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form) |
@@ -17,7 +18,7 @@
 //! scene file -> [`scene::Scene`] -> [`scene::SceneInputs`] (f64, rounded to f32 once) ->
 //! [`gpu::Renderer`] -> [`frame::Frame`] + [`frame::IdFrame`] -> [`truth::evaluate`] (the same
 //! inputs in f64 at the rasterizer's weights) -> [`analysis::pixel`] -> [`compare`] / [`bench`]
-//! -> files in the output folder.
+//! -> files in the output folder -> [`report`] (index.html over those files).
 //!
 //! # Where things go
 //! - a method: a GLSL file in glsl/methods/, a row in [`method::table`], its f64 formula in
@@ -25,7 +26,9 @@
 //!   glsl/scanline.glsl), its twin in [`method::twins`], its claims' checks in
 //!   [`method::checks`] / [`method::scanline_checks`] (README "How to add a method");
 //! - a metric: [`analysis`] computes it, [`compare::summary`] reports it;
-//! - a command: a file in src/cli/, calling a job of the layer below.
+//! - a command: a file in src/cli/, calling a job of the layer below;
+//! - a section of the HTML report: [`report::html`] (links stay relative; [`report::links`]
+//!   checks them).
 //!
 //! # Lifetimes and synchronisation
 //! Vulkan objects own an `Arc` of their [`gpu::vk::Context`]; every submission waits on its fence,
@@ -41,6 +44,7 @@ pub mod gpu;
 pub mod method;
 pub mod output;
 pub mod plan;
+pub mod report;
 pub mod scene;
 pub mod software;
 pub mod stress;

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 /// within a layer, dependencies must not form a cycle.
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
+    &["report"],
     &["compare", "bench", "verify", "stress", "plan"],
     &["analysis", "truth"],
     &["gpu", "software"],

@@ -10,6 +10,8 @@
 //! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
 //! - `software`: the software engine against Vulkan (coverage, colours) and its f64 twins.
+//! - `report`: the HTML report: links, every method's parts, escaping; headless Chromium (no
+//!   error, no failed resource, the script runs, a screenshot that is not blank), with teeth.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
@@ -21,6 +23,7 @@ mod gpu;
 mod layout;
 mod methods;
 mod models;
+mod report;
 mod shaders;
 mod software;
 mod stress;

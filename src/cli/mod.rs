@@ -7,6 +7,7 @@ mod list;
 mod mesh;
 mod plan;
 mod render;
+mod report;
 mod shaders;
 mod stress;
 mod verify;
@@ -18,6 +19,7 @@ use self::list::cmd_list;
 use self::mesh::cmd_mesh;
 use self::plan::cmd_plan;
 use self::render::cmd_render;
+use self::report::{cmd_report, Sources};
 use self::shaders::cmd_shaders;
 use self::stress::cmd_stress;
 use self::verify::cmd_verify;
@@ -25,7 +27,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Context, ContextDesc};
@@ -329,6 +331,40 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
+    /// The main job: compare, bench and stress on the given scenes, written as one offline
+    /// HTML report (OUT/index.html, its path printed on stdout).
+    #[command(group(ArgGroup::new("source").required(true).args(["scenes", "scene", "mesh"])))]
+    Report {
+        /// Every scene file (*.toml) of DIR.
+        #[arg(long, value_name = "DIR")]
+        scenes: Option<PathBuf>,
+        /// One scene file (TOML).
+        #[arg(long, value_name = "FILE")]
+        scene: Option<PathBuf>,
+        /// One OBJ mesh (camera fitted, default light and material).
+        #[arg(long, value_name = "FILE.obj")]
+        mesh: Option<PathBuf>,
+        /// Output directory (index.html and everything it shows).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Comma-separated method identifiers, or `all` (phong_exact and phong_unnormalized,
+        /// the references of bench's ratios, are always included).
+        #[arg(long, default_value = "all")]
+        methods: String,
+        /// Image size of every scene (the default keeps the page of the shipped scenes under
+        /// 50 MB).
+        #[arg(long, value_name = "WxH", value_parser = parse_size, default_value = "256x256")]
+        size: (u32, u32),
+        /// Interpolation of the varyings, overriding the scenes'.
+        #[arg(long, value_enum)]
+        interpolation: Option<InterpArg>,
+        /// Bench's long setting (40 timed draws after 3 warm-ups; stress refined 8 rounds)
+        /// instead of the short one (10 after 2; 2 rounds).
+        #[arg(long)]
+        full: bool,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
     /// List the Vulkan devices the loader reports.
     Devices,
 }
@@ -467,6 +503,24 @@ pub fn run() -> Result<ExitCode> {
             out,
             device,
         } => cmd_demo(&scenes, &out, &device),
+        Command::Report {
+            scenes,
+            scene,
+            mesh,
+            out,
+            methods,
+            size,
+            interpolation,
+            full,
+            device,
+        } => {
+            let src = Sources {
+                scenes: scenes.as_deref(),
+                scene: scene.as_deref(),
+                mesh: mesh.as_deref(),
+            };
+            cmd_report(&src, size, interpolation, &device, &methods, &out, full)
+        }
         Command::Devices => {
             for d in Context::list_devices()? {
                 println!("{d}");

@@ -1,0 +1,524 @@
+//! The report page: one HTML string built from [`ReportData`]. Every piece of text passes through
+//! [`esc`]; every link is relative to DIR; the tables are plain HTML (readable without
+//! JavaScript); `report.js` only adds sorting and the viewer.
+use std::fmt::Write as _;
+
+use super::*;
+use crate::compare::{MethodReport, METRICS};
+
+/// Escapes text for HTML content and double- or single-quoted attribute values.
+pub fn esc(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&#39;"),
+            _ => o.push(c),
+        }
+    }
+    o
+}
+
+/// A number for a table cell: (the sort key in `data-v`, the text shown). `None` is "n/a"
+/// (does not apply, or null in the job's JSON) with an empty key; non-finite values are shown as
+/// `inf`, `-inf`, `NaN` (keys `Infinity`, `-Infinity`, `NaN`, which JavaScript's `Number`
+/// parses).
+pub fn number(x: Option<f64>) -> (String, String) {
+    let Some(x) = x else {
+        return (String::new(), "n/a".into());
+    };
+    if x.is_nan() {
+        return ("NaN".into(), "NaN".into());
+    }
+    if x.is_infinite() {
+        let s = if x > 0.0 { "" } else { "-" };
+        return (format!("{s}Infinity"), format!("{s}inf"));
+    }
+    let text = if x == x.trunc() && x.abs() < 1e9 {
+        format!("{x:.0}")
+    } else if (1e-3..1e5).contains(&x.abs()) {
+        let digits = (3 - x.abs().log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.3e}")
+    };
+    (format!("{x:e}"), text)
+}
+
+fn num_td(x: Option<f64>) -> String {
+    let (k, t) = number(x);
+    let class = match t.as_str() {
+        "n/a" => " class=\"na\"",
+        "inf" | "-inf" | "NaN" => " class=\"nonfinite\"",
+        _ => "",
+    };
+    format!("<td data-v=\"{}\"{class}>{}</td>", esc(&k), esc(&t))
+}
+
+/// The HTML id of a method's section in a scene. Every id of a scene starts with `scene-`,
+/// every id of the stress section with `stress-`, so no scene name can collide with another id.
+pub fn method_anchor(scene: &str, method: &str) -> String {
+    format!("scene-{scene}--{method}")
+}
+
+/// Dimensions of an image (by its path relative to DIR), when readable.
+pub type Dims<'a> = &'a dyn Fn(&str) -> Option<(u32, u32)>;
+
+fn img(src: &str, alt: &str, class: &str, dims: Dims) -> String {
+    let size = dims(src)
+        .map(|(w, h)| format!(" width=\"{w}\" height=\"{h}\""))
+        .unwrap_or_default();
+    format!(
+        "<img src=\"{}\" alt=\"{}\" class=\"{}\"{size} loading=\"lazy\">",
+        esc(src),
+        esc(alt),
+        esc(class)
+    )
+}
+
+fn figure(src: &str, caption: &str, class: &str, dims: Dims) -> String {
+    format!(
+        "<figure>{}<figcaption>{}</figcaption></figure>",
+        img(src, caption, class, dims),
+        esc(caption)
+    )
+}
+
+/// What each heatmap of compare shows, by its file stem.
+fn heatmap_caption(file: &str) -> String {
+    let stem = file
+        .rsplit('/')
+        .next()
+        .unwrap_or(file)
+        .trim_end_matches(".png");
+    match stem {
+        "error_abs" => "|luminance error| against the reference (log scale)".into(),
+        "error_signed" => "signed luminance error, method minus reference".into(),
+        "error_angle" => "angle between the method's and the exact normal (degrees)".into(),
+        other => other.replace('_', " "),
+    }
+}
+
+/// The bench columns: every key at the top level of a bench.json row that holds a number in
+/// some row (so fields bench adds later appear here without a change), sorted by name.
+fn bench_columns(scene: &SceneResult) -> Vec<String> {
+    let mut keys = std::collections::BTreeSet::new();
+    for row in &scene.bench.methods {
+        if let Ok(serde_json::Value::Object(map)) = serde_json::to_value(row) {
+            keys.extend(
+                map.into_iter()
+                    .filter(|(_, v)| v.is_number())
+                    .map(|(k, _)| k),
+            );
+        }
+    }
+    keys.into_iter().collect()
+}
+
+fn bench_value(scene: &SceneResult, method: &str, key: &str) -> Option<f64> {
+    let row = scene.bench.methods.iter().find(|r| r.name == method)?;
+    serde_json::to_value(row).ok()?.get(key)?.as_f64()
+}
+
+fn sortable_head(groups: &[(&str, usize)], columns: &[String]) -> String {
+    let mut h = String::from("<thead><tr>");
+    for (label, span) in groups {
+        let _ = write!(
+            h,
+            "<th colspan=\"{span}\" class=\"group\">{}</th>",
+            esc(label)
+        );
+    }
+    h += "</tr><tr>";
+    for c in columns {
+        let _ = write!(h, "<th scope=\"col\">{}</th>", esc(c));
+    }
+    h + "</tr></thead>"
+}
+
+/// The metric table of one scene: every compare metric and every bench number per method.
+fn metric_table(s: &SceneResult) -> String {
+    let bench_cols = bench_columns(s);
+    let mut columns = vec!["method".to_string()];
+    columns.extend(METRICS.iter().map(|m| m.to_string()));
+    columns.extend(bench_cols.iter().cloned());
+    let mut t = format!(
+        "<div class=\"scroll\"><table class=\"sortable metrics\" id=\"{}\">",
+        esc(&format!("scene-{}--metrics", s.id))
+    );
+    t += &sortable_head(
+        &[
+            ("", 1),
+            ("error against the reference (compare)", METRICS.len()),
+            ("run time (bench)", bench_cols.len()),
+        ],
+        &columns,
+    );
+    t += "<tbody>";
+    for m in &s.summary.methods {
+        let _ = write!(
+            t,
+            "<tr data-method=\"{}\"><th scope=\"row\"><a href=\"#{}\">{}</a></th>",
+            esc(&m.name),
+            esc(&method_anchor(&s.id, &m.name)),
+            esc(&m.name)
+        );
+        for k in METRICS {
+            t += &num_td(m.metric(k));
+        }
+        for k in &bench_cols {
+            t += &num_td(bench_value(s, &m.name, k));
+        }
+        t += "</tr>";
+    }
+    t + "</tbody></table></div>"
+}
+
+fn verdict_td(v: &str) -> String {
+    format!(
+        "<td class=\"verdict {}\">{}</td>",
+        esc(&format!("v-{v}")),
+        esc(v)
+    )
+}
+
+/// A method name linked to `anchor` when that id exists on the page, plain text otherwise.
+fn method_link(name: &str, anchor: Option<String>) -> String {
+    match anchor {
+        Some(a) => format!("<a href=\"#{}\">{}</a>", esc(&a), esc(name)),
+        None => esc(name),
+    }
+}
+
+fn bench_claims(s: &SceneResult) -> String {
+    let mut t = format!(
+        "<div class=\"scroll\"><table class=\"sortable claims\" id=\"{}\">",
+        esc(&format!("scene-{}--claims", s.id))
+    );
+    let cols: Vec<String> = ["method", "claim", "verdict", "measured", "how", "why"]
+        .map(String::from)
+        .to_vec();
+    t += &sortable_head(&[("the papers' claims, measured by bench", 6)], &cols);
+    t += "<tbody>";
+    let known = |n: &str| s.summary.methods.iter().any(|m| m.name == n);
+    for c in &s.bench.claims {
+        let anchor = known(&c.method).then(|| method_anchor(&s.id, &c.method));
+        let _ = write!(
+            t,
+            "<tr><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
+            method_link(&c.method, anchor),
+            esc(&c.claim),
+            verdict_td(c.verdict.as_str()),
+            esc(&c.measured),
+            esc(&c.how),
+            esc(&c.reason)
+        );
+    }
+    t + "</tbody></table></div>"
+}
+
+/// One method of one scene: the viewer (method and reference at the same spot) and heatmaps.
+fn method_section(s: &SceneResult, m: &MethodReport, reference: &str, dims: Dims) -> String {
+    let anchor = method_anchor(&s.id, &m.name);
+    let file = |f: &str| format!("{}/{}", s.compare_dir, f);
+    let render = m.files.iter().find(|f| f.ends_with("render.png"));
+    let mut h = format!(
+        "<article class=\"method\" id=\"{}\" data-method=\"{}\"><h4>{} <a class=\"up\" href=\"#{}\">table</a></h4>",
+        esc(&anchor),
+        esc(&m.name),
+        esc(&m.name),
+        esc(&format!("scene-{}--metrics", s.id))
+    );
+    let (_, mean) = number(m.metric("mean_abs_error"));
+    let (_, p99) = number(m.metric("p99_abs_error"));
+    let _ = write!(
+        h,
+        "<p class=\"figures\">mean |dI| {}, p99 |dI| {}, non-finite pixels {}</p>",
+        esc(&mean),
+        esc(&p99),
+        m.non_finite_pixels
+    );
+    h += "<div class=\"method-body\">";
+    if let Some(r) = render {
+        let _ = write!(
+            h,
+            "<div class=\"viewer\">{}{}</div>",
+            figure(reference, "reference: exact Phong in f64", "px v-ref", dims),
+            figure(&file(r), &format!("{}: render", m.name), "px v-mth", dims)
+        );
+    }
+    h += "<div class=\"heatmaps\">";
+    for f in m.files.iter().filter(|f| !f.ends_with("render.png")) {
+        h += &figure(&file(f), &heatmap_caption(f), "px heat", dims);
+    }
+    h + "</div></div></article>"
+}
+
+fn scene_section(s: &SceneResult, dims: Dims) -> String {
+    let sum = &s.summary;
+    let reference = format!("{}/reference.png", s.compare_dir);
+    let mut h = format!(
+        "<section class=\"scene\" id=\"{}\"><h2>Scene {}</h2>",
+        esc(&format!("scene-{}", s.id)),
+        esc(&sum.scene)
+    );
+    let _ = write!(
+        h,
+        "<p>{} &middot; {} triangles &middot; {}&times;{} &middot; {} interpolation &middot; {} background pixels. Data: \
+         <a href=\"{c}/summary.json\">summary.json</a>, <a href=\"{c}/summary.csv\">summary.csv</a>, \
+         <a href=\"{b}/bench.json\">bench.json</a>, <a href=\"{b}/bench.csv\">bench.csv</a>, \
+         <a href=\"{b}/claims.md\">claims.md</a>.</p>",
+        esc(&s.source),
+        sum.triangles,
+        sum.width,
+        sum.height,
+        esc(&sum.interpolation),
+        sum.background_pixels,
+        c = esc(&s.compare_dir),
+        b = esc(&s.bench_dir)
+    );
+    h += &figure(
+        &reference,
+        "reference: exact Phong evaluated in f64 at the rasterizer's weights",
+        "px",
+        dims,
+    );
+    let b = &s.bench;
+    let _ = write!(
+        h,
+        "<h3>Metrics</h3><p>Errors are of the linear luminance against the reference, over the \
+         covered pixels (README \"Compare\"); <code>inf</code> marks a method with non-finite \
+         pixels, <code>n/a</code> a metric that does not apply. Times: median of {} timed draws \
+         after {} warm-ups ({} clock), constant-colour floor {} ms. Click a column to sort.</p>",
+        b.repeat,
+        b.warmup,
+        esc(&b.clock.clock),
+        esc(&number(Some(b.floor.median_ms)).1)
+    );
+    h += &metric_table(s);
+    h += "<h3>Run time against error</h3><div class=\"charts\">";
+    for c in &s.pareto_charts {
+        let svg = c.trim_end_matches(".png").to_string() + ".svg";
+        let _ = write!(
+            h,
+            "<figure><a href=\"{}\">{}</a><figcaption>{} (with 95% intervals; <a href=\"{}\">SVG</a>)</figcaption></figure>",
+            esc(c),
+            img(c, "Pareto chart: run time against error", "chart", dims),
+            esc(c.rsplit('/').next().unwrap_or(c)),
+            esc(&svg)
+        );
+    }
+    h += "</div><h3>Methods</h3><p>Each method beside the reference (with JavaScript: on top of \
+          it, with a slider, a flip button and zoom; nearest-pixel scaling) and its heatmaps.</p>";
+    for m in &sum.methods {
+        h += &method_section(s, m, &reference, dims);
+    }
+    let count = |v: &str| {
+        s.bench
+            .claims
+            .iter()
+            .filter(|c| c.verdict.as_str() == v)
+            .count()
+    };
+    let _ = write!(
+        h,
+        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} partly, {} disagree, \
+         {} inconclusive, {} not checked</summary>",
+        s.bench.claims.len(),
+        count("agrees"),
+        count("partly"),
+        count("disagrees"),
+        count("inconclusive"),
+        count("not_checked")
+    );
+    h += &bench_claims(s);
+    h += "</details>";
+    h + "</section>"
+}
+
+fn stress_section(d: &ReportData, dims: Dims) -> String {
+    let r = &d.stress;
+    let dir = &d.stress_dir;
+    let mut h = format!(
+        "<section id=\"stress\"><h2>Stress: each method over its input domain</h2><p>{} cases \
+         per method, threshold {} (max abs colour error, linear), {:.1} s. Data: \
+         <a href=\"{}/stress.json\">stress.json</a>.</p><div class=\"charts\">",
+        r.cases_per_method,
+        esc(&number(Some(r.threshold)).1),
+        r.seconds,
+        esc(dir)
+    );
+    for (f, cap) in [
+        (
+            "error_vs_angle",
+            "worst error against the angle between vertex normals",
+        ),
+        ("error_vs_shininess", "worst error against the shininess"),
+    ] {
+        h += &figure(&format!("{dir}/{f}.png"), cap, "chart", dims);
+    }
+    h += "</div>";
+    let cols: Vec<String> = [
+        "method",
+        "cases",
+        "non_finite_cases",
+        "non_finite_cases_f64",
+        "worst_abs_error",
+        "worst_finite_abs_error",
+        "worst_abs_error_f64",
+        "max_valid_angle_deg",
+        "max_valid_angle_deg_f64",
+    ]
+    .map(String::from)
+    .to_vec();
+    h += "<div class=\"scroll\"><table class=\"sortable\" id=\"stress--table\">";
+    h += &sortable_head(&[("stress.json per method", cols.len())], &cols);
+    h += "<tbody>";
+    for m in &r.methods {
+        // stress.json writes a worst error of null when a case was non-finite.
+        let worst = if m.non_finite_cases > 0 {
+            Some(f64::INFINITY)
+        } else {
+            m.worst_abs_error
+        };
+        let _ = write!(
+            h,
+            "<tr><th scope=\"row\"><a href=\"#{}\">{}</a></th>{}{}{}{}{}{}{}{}</tr>",
+            esc(&format!("stress--{}", m.name)),
+            esc(&m.name),
+            num_td(Some(m.cases as f64)),
+            num_td(Some(m.non_finite_cases as f64)),
+            num_td(Some(m.non_finite_cases_f64 as f64)),
+            num_td(worst),
+            num_td(m.worst_finite_abs_error),
+            num_td(m.worst_abs_error_f64),
+            num_td(m.max_valid_angle_deg),
+            num_td(m.max_valid_angle_deg_f64),
+        );
+    }
+    h += "</tbody></table></div><h3>Validity claims</h3>";
+    let cols: Vec<String> = ["method", "claim", "verdict", "measured", "how"]
+        .map(String::from)
+        .to_vec();
+    h += "<div class=\"scroll\"><table class=\"sortable claims\" id=\"stress--claims\">";
+    h += &sortable_head(
+        &[("the papers' validity claims, measured by stress", 5)],
+        &cols,
+    );
+    h += "<tbody>";
+    for c in &r.claims {
+        let known = r.methods.iter().any(|m| m.name == c.method);
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td></tr>",
+            method_link(&c.method, known.then(|| format!("stress--{}", c.method))),
+            esc(&c.claim),
+            verdict_td(c.verdict.as_str()),
+            esc(&c.measured),
+            esc(&c.how)
+        );
+    }
+    h += "</tbody></table></div><h3>Validity maps</h3><p>Worst device error per (angle between \
+          vertex normals, elevation) cell; grey: NaN/Inf.</p><div class=\"validity\">";
+    for m in &r.methods {
+        let _ = write!(
+            h,
+            "<div id=\"{}\">{}</div>",
+            esc(&format!("stress--{}", m.name)),
+            figure(
+                &format!("{dir}/validity/{}.png", m.name),
+                &m.name,
+                "px",
+                dims
+            )
+        );
+    }
+    h + "</div></section>"
+}
+
+fn provenance_section(d: &ReportData) -> String {
+    let run = &d.run;
+    let mut rows: Vec<(&str, String)> = Vec::new();
+    if let Some(s) = d.scenes.first() {
+        let p = &s.summary.provenance;
+        rows.push(("tool", format!("{} {}", p.tool, p.version)));
+        rows.push(("git revision", p.git_revision.clone()));
+        rows.push(("device", p.device.clone()));
+        rows.push(("driver", format!("{} ({})", p.driver, p.driver_info)));
+        rows.push(("Vulkan API", p.vulkan_api.clone()));
+        let opt = |o: &Option<String>| o.clone().unwrap_or_else(|| "unknown".into());
+        rows.push(("Mesa", opt(&p.mesa_version)));
+        rows.push(("LLVM", opt(&p.llvm_version)));
+    }
+    rows.push(("CPU", run.cpu_model.clone()));
+    rows.push((
+        "threads",
+        format!(
+            "{} available; LP_NUM_THREADS={}",
+            run.available_threads,
+            run.lp_num_threads.as_deref().unwrap_or("unset")
+        ),
+    ));
+    rows.push(("command line", run.command_line.clone()));
+    rows.push(("date", run.date_utc.clone()));
+    rows.push((
+        "settings",
+        format!(
+            "{}: bench {} timed draws after {} warm-ups per program; stress {} refinement rounds",
+            if run.full { "full" } else { "short" },
+            run.bench_repeat,
+            run.bench_warmup,
+            run.stress_refine
+        ),
+    ));
+    rows.push(("jobs' run time", format!("{:.1} s", run.seconds)));
+    let mut h =
+        String::from("<section id=\"provenance\"><h2>Provenance</h2><table class=\"prov\"><tbody>");
+    for (k, v) in rows {
+        let _ = write!(
+            h,
+            "<tr><th scope=\"row\">{}</th><td>{}</td></tr>",
+            esc(k),
+            esc(&v)
+        );
+    }
+    h + "</tbody></table></section>"
+}
+
+/// The whole page. `dims` gives an image's size (for width/height attributes; `None` leaves
+/// them out).
+pub fn page(d: &ReportData, dims: Dims) -> Result<String> {
+    let mut h = String::from(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
+         <title>shadelab report</title><link rel=\"stylesheet\" href=\"report.css\">\
+         <script src=\"report.js\" defer></script></head><body>",
+    );
+    h += "<header><h1>shadelab report</h1><p>Fast Phong-shading methods against exact Phong \
+          (f64), rendered by Vulkan on the CPU (lavapipe): error maps, metrics, run time \
+          against error, the papers' claims, numerical stress.</p><nav><ul>";
+    for s in &d.scenes {
+        let _ = write!(
+            h,
+            "<li><a href=\"#scene-{}\">{}</a></li>",
+            esc(&s.id),
+            esc(&s.summary.scene)
+        );
+    }
+    h += "<li><a href=\"#stress\">stress</a></li><li><a href=\"#plan\">plan</a></li>\
+          <li><a href=\"#provenance\">provenance</a></li></ul></nav></header><main>";
+    for s in &d.scenes {
+        h += &scene_section(s, dims);
+    }
+    h += &stress_section(d, dims);
+    // PLAN: `shadelab plan` does not exist yet; when it does, its job runs in `super::run` and
+    // its section goes here.
+    h += "<section id=\"plan\"><h2>Plan</h2><p class=\"todo\">Not in this report: the \
+          <code>plan</code> job does not exist yet.</p></section>";
+    h += &provenance_section(d);
+    h += "</main></body></html>\n";
+    Ok(h)
+}

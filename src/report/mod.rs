@@ -1,0 +1,324 @@
+//! `shadelab report`: the main job. For each scene it runs [`crate::compare`] (error maps and
+//! statistics) and [`crate::bench`] (timing, Pareto chart, the papers' claims), then
+//! [`crate::stress`] once (it is scene-independent), and writes DIR/index.html beside the files
+//! those jobs wrote: the page only points at them (no copies), plus its own `report.css` and
+//! `report.js`.
+//!
+//! Invariants of the page ([`html`]): every string from a scene, a method or a measurement is
+//! escaped; every `href`/`src` is a relative path to a file under DIR or an `#id` of the page
+//! ([`links::broken_links`] checks both, and the tests run it); nothing is fetched from the
+//! network (no CDN, font or script from elsewhere); the tables and images are plain HTML, and the
+//! script only adds sorting and the method/reference viewer.
+//!
+//! Layout of DIR: `index.html`, `report.css`, `report.js`, `scenes/<id>/compare/` (compare's
+//! outputs), `scenes/<id>/bench/` (bench's outputs), `stress/` (stress's outputs).
+pub mod html;
+pub mod links;
+#[cfg(test)]
+mod tests;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::bench::{BenchOptions, BenchReport};
+use crate::compare::{CompareOptions, Summary};
+use crate::error::{Error, Result};
+use crate::gpu::Renderer;
+use crate::method::{self, Method};
+use crate::output;
+use crate::scene::Scene;
+use crate::stress::{StressOptions, StressReport};
+
+/// The page's style sheet and script, written beside index.html.
+pub const CSS: &str = include_str!("report.css");
+pub const JS: &str = include_str!("report.js");
+
+/// One scene of a report, loaded by the caller.
+#[derive(Debug, Clone)]
+pub struct ReportScene {
+    /// Where it came from (scene file or OBJ), for the page.
+    pub source: PathBuf,
+    pub scene: Scene,
+}
+
+/// The settings of a report run.
+#[derive(Debug, Clone)]
+pub struct ReportOptions {
+    /// `--full`: bench's long setting (40 timed draws after 3 warm-ups, stress refined 8 rounds)
+    /// instead of the short one (10 after 2, stress refined 2 rounds).
+    pub full: bool,
+    /// The command line, for the provenance section.
+    pub command_line: String,
+    /// Show a progress bar on stderr (drawn only when stderr is a terminal).
+    pub progress: bool,
+}
+
+/// Everything one scene contributed: the compare summary and the bench report, and where their
+/// files are (relative to DIR, `/`-separated).
+#[derive(Debug, Clone)]
+pub struct SceneResult {
+    /// Unique, made of `[A-Za-z0-9_-]` only: a folder name and an HTML id.
+    pub id: String,
+    pub source: String,
+    pub summary: Summary,
+    pub bench: BenchReport,
+    pub compare_dir: String,
+    pub bench_dir: String,
+    /// Pareto charts found in the bench folder (`pareto*.png`), relative to DIR.
+    pub pareto_charts: Vec<String>,
+}
+
+/// What the page says about the run itself.
+#[derive(Debug, Clone)]
+pub struct RunInfo {
+    pub command_line: String,
+    pub date_utc: String,
+    pub cpu_model: String,
+    pub available_threads: usize,
+    pub lp_num_threads: Option<String>,
+    pub bench_repeat: usize,
+    pub bench_warmup: usize,
+    pub stress_refine: usize,
+    pub full: bool,
+    pub seconds: f64,
+}
+
+/// All the page shows.
+#[derive(Debug, Clone)]
+pub struct ReportData {
+    pub scenes: Vec<SceneResult>,
+    pub stress: StressReport,
+    pub stress_dir: String,
+    pub run: RunInfo,
+}
+
+/// What a run wrote.
+#[derive(Debug, Clone)]
+pub struct Written {
+    pub index: PathBuf,
+    /// Bytes of every file under DIR (the page and everything it can open).
+    pub total_bytes: u64,
+    pub files: usize,
+    /// Methods shown per scene ([`ALWAYS`] included).
+    pub methods: usize,
+    pub seconds: f64,
+}
+
+/// The methods a report always includes: the references of bench's ratios (bench times them
+/// whatever it is asked, and its rows and claims must have a method section to link to).
+pub const ALWAYS: [&str; 2] = ["phong_exact", "phong_unnormalized"];
+
+/// A folder name / HTML id from a scene's file stem: `[A-Za-z0-9_-]`, unique among `taken`.
+pub fn scene_id(stem: &str, taken: &[String]) -> String {
+    let mut base: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if base.is_empty() {
+        base = "scene".into();
+    }
+    let mut id = base.clone();
+    let mut n = 2;
+    while taken.contains(&id) {
+        id = format!("{base}-{n}");
+        n += 1;
+    }
+    id
+}
+
+/// The current date and time in UTC, `YYYY-MM-DD HH:MM UTC` (no time-zone database needed).
+pub fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    format_utc(secs)
+}
+
+/// `secs` since 1970-01-01 as `YYYY-MM-DD HH:MM UTC` (Howard Hinnant's civil-from-days).
+pub fn format_utc(secs: u64) -> String {
+    let days = (secs / 86_400) as i64;
+    let rem = secs % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02} UTC",
+        rem / 3600,
+        (rem % 3600) / 60
+    )
+}
+
+/// `methods` plus [`ALWAYS`], in the method table's order.
+fn with_references(methods: &[&'static Method]) -> Vec<&'static Method> {
+    method::METHODS
+        .iter()
+        .filter(|m| methods.iter().any(|x| x.name == m.name) || ALWAYS.contains(&m.name))
+        .collect()
+}
+
+/// `pareto*.png` in `dir`, sorted, as paths relative to DIR (`rel` is `dir` relative to DIR).
+fn pareto_charts(dir: &Path, rel: &str) -> Result<Vec<String>> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("pareto") && n.ends_with(".png"))
+        .map(|n| format!("{rel}/{n}"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// Bytes and number of the files under `dir`.
+pub fn tree_size(dir: &Path) -> Result<(u64, usize)> {
+    let mut total = (0, 0);
+    for e in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
+        let e = e.map_err(|e| Error::io(dir, e))?;
+        let meta = e.metadata().map_err(|err| Error::io(e.path(), err))?;
+        if meta.is_dir() {
+            let (b, n) = tree_size(&e.path())?;
+            total.0 += b;
+            total.1 += n;
+        } else {
+            total.0 += meta.len();
+            total.1 += 1;
+        }
+    }
+    Ok(total)
+}
+
+/// Runs compare and bench on every scene and stress once, then writes DIR/index.html.
+pub fn run(
+    renderer: &Renderer,
+    scenes: &[ReportScene],
+    methods: &[&'static Method],
+    out: &Path,
+    opts: &ReportOptions,
+) -> Result<Written> {
+    let start = Instant::now();
+    if scenes.is_empty() {
+        return Err(Error::Usage("the report has no scene to show".into()));
+    }
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let methods = with_references(methods);
+    let (repeat, warmup, refine) = if opts.full { (40, 3, 8) } else { (10, 2, 2) };
+    // Steps: compare and bench per scene, stress, the page.
+    let bar = output::progress_bar(opts.progress, 2 * scenes.len() as u64 + 2);
+    let mut results: Vec<SceneResult> = Vec::new();
+    for s in scenes {
+        let taken: Vec<String> = results.iter().map(|r| r.id.clone()).collect();
+        let stem = s
+            .source
+            .file_stem()
+            .map(|x| x.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let id = scene_id(&stem, &taken);
+        let compare_dir = format!("scenes/{id}/compare");
+        let bench_dir = format!("scenes/{id}/bench");
+        bar.set_message(format!("{id}: compare"));
+        let copts = CompareOptions {
+            progress: false,
+            ..CompareOptions::default()
+        };
+        let summary = crate::compare::compare(
+            renderer,
+            &s.scene,
+            &methods,
+            &out.join(&compare_dir),
+            &copts,
+        )?;
+        bar.inc(1);
+        bar.set_message(format!("{id}: bench"));
+        // The isolated cost per formula does not depend on the scene: measured with the first
+        // scene's bench only (short: 5 rounds; --full: bench's default).
+        let isolated_rounds = match (results.is_empty(), repeat >= BenchOptions::default().repeat) {
+            (false, _) => 0,
+            (true, true) => BenchOptions::default().isolated_rounds,
+            (true, false) => 5,
+        };
+        let bopts = BenchOptions {
+            repeat,
+            warmup,
+            isolated_rounds,
+            command_line: std::env::args().collect(),
+            ..BenchOptions::default()
+        };
+        let bdir = out.join(&bench_dir);
+        std::fs::create_dir_all(&bdir).map_err(|e| Error::io(&bdir, e))?;
+        let bench =
+            bar.suspend(|| crate::bench::bench(renderer, &s.scene, &methods, &bdir, &bopts))?;
+        bar.inc(1);
+        let pareto = pareto_charts(&bdir, &bench_dir)?;
+        results.push(SceneResult {
+            id,
+            source: s.source.display().to_string(),
+            summary,
+            bench,
+            compare_dir,
+            bench_dir,
+            pareto_charts: pareto,
+        });
+    }
+    bar.set_message("stress");
+    let sopts = StressOptions {
+        refine_rounds: refine,
+        progress: false,
+        ..StressOptions::default()
+    };
+    let stress = crate::stress::run(renderer.context(), &methods, &sopts)?;
+    crate::stress::write(&out.join("stress"), &stress)?;
+    bar.inc(1);
+    bar.set_message("index.html");
+    let data = ReportData {
+        scenes: results,
+        stress,
+        stress_dir: "stress".into(),
+        run: RunInfo {
+            command_line: opts.command_line.clone(),
+            date_utc: utc_now(),
+            cpu_model: output::provenance::cpu_model(),
+            available_threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
+            bench_repeat: repeat,
+            bench_warmup: warmup,
+            stress_refine: refine,
+            full: opts.full,
+            seconds: start.elapsed().as_secs_f64(),
+        },
+    };
+    output::write_bytes_atomic(&out.join("report.css"), CSS.as_bytes())?;
+    output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
+    let page = html::page(&data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
+    let index = out.join("index.html");
+    output::write_bytes_atomic(&index, page.as_bytes())?;
+    bar.inc(1);
+    bar.finish_and_clear();
+    let broken = links::broken_links(&index)?;
+    if !broken.is_empty() {
+        return Err(Error::Internal(format!(
+            "the report links to {} missing target(s), first: {}",
+            broken.len(),
+            broken[0]
+        )));
+    }
+    let (total_bytes, files) = tree_size(out)?;
+    Ok(Written {
+        index,
+        total_bytes,
+        files,
+        methods: methods.len(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
