@@ -39,7 +39,7 @@ fn main() -> shadelab::Result<()> {
         validate: false,
     })?);
     let prepared = r.prepare(&scene, &[exact])?;
-    let draws = r.timed_draws(prepared.base(), &[Shading::Method(exact)])?;
+    let draws = r.timed_draws(&[(prepared.base(), Shading::Method(exact))])?;
     let inputs = &prepared.base().inputs;
     // Warm-up: lavapipe JIT-compiles at the first draw.
     draws.run(0)?;

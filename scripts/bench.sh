@@ -7,6 +7,8 @@
 #  3. `shadelab compare` of all methods at 1024x1024 on the fine sphere (renders, statistics,
 #     FLIP, every PNG): wall time and peak resident memory;
 #  4. `shadelab stress` of all methods: wall time and peak resident memory.
+# Usage: scripts/bench.sh skip: culling before/after per shipped scene, auto's error against its
+#  budget at 512x512 and 1024x1024 on every shipped scene and shared model.
 # Usage: scripts/bench.sh paired [RUNS] [KEEP_DIR] [-- EXTRA BENCH ARGS]
 #  The paired-ratio bar of README "Bench": RUNS (default 3) runs of the default bench of all
 #  methods with the control on the fine sphere at 1024x1024; for each run, the paired ratio of
@@ -60,6 +62,51 @@ print(f"   setup: {b['cpu_model']} ({b['cpu_count']} CPUs), Mesa {p['mesa_versio
       f"LP_NUM_THREADS={b['lp_num_threads'] or 'unset'}, clock {b['clock']['clock']}")
 PY
   echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = skip ]; then
+  # What skipping saves and what auto costs, per shipped scene and shared model:
+  #  1. back-face culling: fragment invocations and draw time of phong_exact with --cull none
+  #     and --cull auto (two bench runs: not paired; the README says so);
+  #  2. auto at 512x512 and 1024x1024: its worst error (luminance and every channel) against
+  #     its budget 1/255 (compare --methods auto), and what each method got.
+  models=()
+  [ -d ../shared/models ] && models=(../shared/models/*.obj)
+  echo "== culling: $bin bench --SCENE --size 1024x1024 --methods phong_exact --isolated-rounds 0 --repeat 20 --cull none|auto"
+  for sc in scenes/*.toml; do
+    for c in none auto; do
+      "$bin" bench --scene "$sc" --size 1024x1024 --methods phong_exact --isolated-rounds 0 --repeat 20 --cull $c --out "$tmp/cull_$c" >/dev/null 2>&1
+    done
+    python3 - "$sc" "$tmp/cull_none/bench.json" "$tmp/cull_auto/bench.json" <<'PY'
+import json, sys
+rows = []
+for f in sys.argv[2:]:
+    b = json.load(open(f))
+    m = next(r for r in b["methods"] if r["name"] == "phong_exact")
+    rows.append((m["fragment_invocations"], m["covered_pixels"], m["median_ms"], m["ci95_low_ms"], m["ci95_high_ms"]))
+(n0, c0, t0, l0, h0), (n1, c1, t1, l1, h1) = rows
+print(f"{sys.argv[1]}: invocations {n0} -> {n1} ({n1 / n0:.3f}x), covered {c0} -> {c1}; "
+      f"phong_exact {t0:.2f} [{l0:.2f}, {h0:.2f}] -> {t1:.2f} [{l1:.2f}, {h1:.2f}] ms ({t1 / t0:.3f}x, not paired)")
+PY
+  done
+  echo "== auto: $bin compare --SCENE --size S --methods auto,phong_exact --error-budget 0.00392156862745098"
+  for sc in scenes/*.toml "${models[@]}"; do
+    flag=--scene; case "$sc" in *.obj) flag=--mesh ;; esac
+    for size in 512 1024; do
+      "$bin" compare $flag "$sc" --size ${size}x${size} --methods auto,phong_exact --error-budget 0.00392156862745098 --out "$tmp/auto" >/dev/null 2>&1
+      python3 - "$sc" "$size" "$tmp/auto/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[3]))
+a = next(m for m in s["methods"] if m["name"] == "auto")
+w = max([a["max_abs_error"]] + [c["max_abs_error"] for c in a["channels"]])
+b = s["auto"]["budget"]
+got = ", ".join(f"{n} {k}" for n, k in s["auto"]["triangles"] if k)
+print(f"{sys.argv[1]} {sys.argv[2]}px: worst {w:.3e} vs budget {b:.3e} ({'within' if w <= b else 'OVER'}); "
+      f"non-finite {a['non_finite_pixels']}; {got}; chosen in {s['auto']['choice_ms']:.0f} ms")
+PY
+    done
+  done
   exit 0
 fi
 

@@ -7,6 +7,51 @@ use super::*;
 use crate::compare::{MethodReport, METRICS};
 
 /// Escapes text for HTML content and double- or single-quoted attribute values.
+/// `shadelab plan` per scene: the figures that decide what is skipped, and the whole text.
+fn plan_section(d: &ReportData) -> String {
+    let mut h = String::from(
+        "<section id=\"plan\"><h2>Plan</h2><p>What each scene needs, measured before \
+         drawing (<code>shadelab plan</code>): topology (back faces are culled only on closed, \
+         consistently oriented meshes), the spread of each triangle's vertex normals against \
+         every method's measured validity range, facing and size on screen.</p>\
+         <table><thead><tr><th>scene</th><th>triangles</th><th>closed and oriented</th>\
+         <th>back faces culled</th><th>back-facing</th><th>normal spread max / p99 (deg)</th>\
+         <th>under one pixel</th><th>methods inside their range</th><th>JSON</th></tr></thead><tbody>",
+    );
+    for s in &d.scenes {
+        let p = &s.plan;
+        let inside = p.methods.iter().filter(|m| m.inside).count();
+        let _ = write!(
+            h,
+            "<tr><td><a href=\"#scene-{}\">{}</a></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{:.2} / {:.2}</td><td>{}</td><td>{} of {}</td><td><a href=\"{}\">plan.json</a></td></tr>",
+            esc(&s.id),
+            esc(&p.scene),
+            p.triangles,
+            if p.closed_and_oriented { "yes" } else { "no" },
+            if p.skips.first().is_some_and(|k| k.applies) { "yes" } else { "no" },
+            p.back_facing,
+            p.normal_angle_deg.max,
+            p.normal_angle_deg.p99,
+            p.sub_pixel_triangles,
+            inside,
+            p.methods.len(),
+            esc(&s.plan_json)
+        );
+    }
+    h += "</tbody></table>";
+    for s in &d.scenes {
+        let _ = write!(
+            h,
+            "<details><summary>{}</summary><pre>{}</pre></details>",
+            esc(&s.plan.scene),
+            esc(&s.plan.text())
+        );
+    }
+    h += "</section>";
+    h
+}
+
 pub fn esc(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
@@ -514,10 +559,7 @@ pub fn page(d: &ReportData, dims: Dims) -> Result<String> {
         h += &scene_section(s, dims);
     }
     h += &stress_section(d, dims);
-    // PLAN: `shadelab plan` does not exist yet; when it does, its job runs in `super::run` and
-    // its section goes here.
-    h += "<section id=\"plan\"><h2>Plan</h2><p class=\"todo\">Not in this report: the \
-          <code>plan</code> job does not exist yet.</p></section>";
+    h += &plan_section(d);
     h += &provenance_section(d);
     h += "</main></body></html>\n";
     Ok(h)

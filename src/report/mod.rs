@@ -66,6 +66,9 @@ pub struct SceneResult {
     pub bench_dir: String,
     /// Pareto charts found in the bench folder (`pareto*.png`), relative to DIR.
     pub pareto_charts: Vec<String>,
+    /// What the scene needs (`shadelab plan`), also written as scenes/<id>/plan.json.
+    pub plan: crate::plan::Plan,
+    pub plan_json: String,
 }
 
 /// What the page says about the run itself.
@@ -261,7 +264,14 @@ pub fn run(
             bar.suspend(|| crate::bench::bench(renderer, &s.scene, &methods, &bdir, &bopts))?;
         bar.inc(1);
         let pareto = pareto_charts(&bdir, &bench_dir)?;
+        let plan = crate::plan::plan(&s.scene);
+        let plan_json = format!("scenes/{id}/plan.json");
+        let text =
+            serde_json::to_string_pretty(&plan).map_err(|e| Error::output("plan.json", e))?;
+        crate::output::write_bytes_atomic(&out.join(&plan_json), (text + "\n").as_bytes())?;
         results.push(SceneResult {
+            plan,
+            plan_json,
             id,
             source: s.source.display().to_string(),
             summary,
