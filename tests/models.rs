@@ -143,23 +143,7 @@ fn every_method_on_every_shared_model_is_within_its_bound() {
 #[test]
 fn plan_reads_every_scene_and_model() {
     let Some(models) = model_files() else { return };
-    let mut inputs: Vec<(String, &str)> = models
-        .iter()
-        .map(|m| (m.to_str().unwrap().to_string(), "--mesh"))
-        .collect();
-    for s in [
-        "sphere_coarse",
-        "sphere_fine",
-        "torus",
-        "torus_generated",
-        "cube",
-        "icosphere",
-    ] {
-        let p = root().join(format!("scenes/{s}.toml"));
-        if p.is_file() {
-            inputs.push((p.to_str().unwrap().to_string(), "--scene"));
-        }
-    }
+    let inputs = scenes_and_models(&models);
     assert!(inputs.len() >= 6, "{inputs:?}");
     for (path, flag) in &inputs {
         let (code, text, err) = run(&["plan", flag, path]);
@@ -199,27 +183,7 @@ fn plan_reads_every_scene_and_model() {
 #[test]
 fn auto_meets_its_budget_on_every_scene_and_model() {
     let Some(models) = model_files() else { return };
-    let mut inputs: Vec<(String, &str)> = models
-        .iter()
-        .map(|m| (m.to_str().unwrap().to_string(), "--mesh"))
-        .collect();
-    for s in [
-        "sphere_coarse",
-        "sphere_fine",
-        "torus",
-        "torus_generated",
-        "cube",
-        "icosphere",
-    ] {
-        inputs.push((
-            root()
-                .join(format!("scenes/{s}.toml"))
-                .to_str()
-                .unwrap()
-                .to_string(),
-            "--scene",
-        ));
-    }
+    let inputs = scenes_and_models(&models);
     let dir = tempfile::tempdir().unwrap();
     let budget = 1.0 / 255.0;
     let worst = |path: &str, flag: &str, e: f64, out: &str| -> f64 {
@@ -281,4 +245,24 @@ fn auto_meets_its_budget_on_every_scene_and_model() {
         broken > 0,
         "a 16x budget never broke 1/255: the check has no teeth"
     );
+}
+
+/// The shared models (`--mesh`) and every shipped scene (`--scene`), as command-line pairs.
+fn scenes_and_models(models: &[std::path::PathBuf]) -> Vec<(String, &'static str)> {
+    let mut inputs: Vec<(String, &str)> = models
+        .iter()
+        .map(|m| (m.to_str().unwrap().to_string(), "--mesh"))
+        .collect();
+    let mut scenes: Vec<_> = std::fs::read_dir(root().join("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    scenes.sort();
+    inputs.extend(
+        scenes
+            .iter()
+            .map(|p| (p.to_str().unwrap().to_string(), "--scene")),
+    );
+    inputs
 }

@@ -80,32 +80,29 @@ fn draw_lines<DB: DrawingBackend>(
         }
         Ok(())
     };
+    // Both branches draw the same series; only the x coordinate's type differs.
+    macro_rules! series {
+        ($chart:ident) => {
+            label!($chart, x_desc);
+            lines(&mut |i, finite, crosses| {
+                $chart
+                    .draw_series(LineSeries::new(finite, palette(i).stroke_width(1)))
+                    .map_err(plot_err)?;
+                $chart
+                    .draw_series(crosses.into_iter().map(|p| Cross::new(p, 4, palette(i))))
+                    .map_err(plot_err)?;
+                Ok(())
+            })?;
+        };
+    }
     if x_log {
         let mut chart = builder
             .build_cartesian_2d((x0.max(1e-3)..x1 * 1.2).log_scale(), y)
             .map_err(plot_err)?;
-        label!(chart, x_desc);
-        lines(&mut |i, finite, crosses| {
-            chart
-                .draw_series(LineSeries::new(finite, palette(i).stroke_width(1)))
-                .map_err(plot_err)?;
-            chart
-                .draw_series(crosses.into_iter().map(|p| Cross::new(p, 4, palette(i))))
-                .map_err(plot_err)?;
-            Ok(())
-        })?;
+        series!(chart);
     } else {
         let mut chart = builder.build_cartesian_2d(x0..x1, y).map_err(plot_err)?;
-        label!(chart, x_desc);
-        lines(&mut |i, finite, crosses| {
-            chart
-                .draw_series(LineSeries::new(finite, palette(i).stroke_width(1)))
-                .map_err(plot_err)?;
-            chart
-                .draw_series(crosses.into_iter().map(|p| Cross::new(p, 4, palette(i))))
-                .map_err(plot_err)?;
-            Ok(())
-        })?;
+        series!(chart);
     }
     // The legend: one short line and the name per method, with the line's dash colour.
     for (i, m) in r.methods.iter().enumerate() {
