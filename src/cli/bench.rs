@@ -10,7 +10,8 @@ pub(super) fn cmd_bench(
     list: &str,
     out: &Path,
     threads: Option<u32>,
-    opts: &crate::bench::BenchOptions,
+    budgets: Option<(f64, Vec<f64>)>,
+    mut opts: crate::bench::BenchOptions,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let scene = load_scene(scene_args)?;
@@ -21,7 +22,21 @@ pub(super) fn cmd_bench(
         std::env::set_var("LP_NUM_THREADS", n.to_string());
     }
     let r = renderer(dev)?;
-    let report = crate::bench::bench(&r, &scene, &methods, out, opts)?;
+    if let Some((budget, curve)) = budgets {
+        let main = auto_spec(&r, budget)?;
+        let mut specs = vec![main.clone()];
+        for b in curve {
+            if (b - budget).abs() > 1e-12 * budget && !specs.iter().any(|s| s.budget == b) {
+                specs.push(crate::scene::auto::AutoSpec {
+                    name: crate::scene::auto::curve_name(b),
+                    budget: b,
+                    ..main.clone()
+                });
+            }
+        }
+        opts.auto = specs;
+    }
+    let report = crate::bench::bench(&r, &scene, &methods, out, &opts)?;
     println!(
         "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} rounds ({})",
         report.scene,
@@ -96,6 +111,31 @@ pub(super) fn cmd_bench(
             m.floor_program,
             m.ratio_to_floor_ci95_low,
             m.ratio_to_floor_ci95_high
+        );
+    }
+    for (a, c) in report.auto_curve.iter().zip(&report.auto) {
+        let chosen: Vec<String> = c
+            .triangles
+            .iter()
+            .filter(|(_, k)| *k > 0)
+            .map(|(m, k)| format!("{m} {k}"))
+            .collect();
+        println!(
+            "{} (budget {:.3e}): max_abs_error {:.3e} ({}), {:.4} [{:.4}, {:.4}] of phong_exact (paired, {}), {}; triangles: {}",
+            a.name,
+            a.budget,
+            a.max_abs_error,
+            if a.within_budget { "within budget" } else { "OVER budget" },
+            a.ratio_median,
+            a.ratio_ci95_low,
+            a.ratio_ci95_high,
+            a.speed_vs_phong_exact.as_str(),
+            if a.beaten_by.is_empty() {
+                "no fixed method beats it".to_string()
+            } else {
+                format!("beaten by {}", a.beaten_by.join(", "))
+            },
+            chosen.join(", ")
         );
     }
     let rr = &report.rounds;

@@ -43,9 +43,9 @@ pub(super) fn cmd_compare(
     let scene = load_scene(scene_args)?;
     let r = renderer(dev)?;
     let auto = if with_auto {
-        Some(auto_spec(&r, budget)?)
+        vec![auto_spec(&r, budget)?]
     } else {
-        None
+        Vec::new()
     };
     let opts = compare::CompareOptions {
         scale,
