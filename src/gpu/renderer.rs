@@ -6,8 +6,9 @@ use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DescriptorSet, Format, FrontFace,
-    GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule, VertexStream,
+    Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DepthMode, DescriptorSet, Format,
+    FrontFace, GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule,
+    VertexStream,
 };
 use crate::method::{specular_table, Geometry, Input, Method};
 use crate::output::Provenance;
@@ -176,35 +177,42 @@ impl Prepared {
 /// The targets of a method pass: RGBA32F colour, RGBA32F shading normal, D32 depth.
 pub(crate) struct Targets {
     color: Image,
-    normal: Image,
+    /// The shading normal; None when nothing reads it (a timed draw).
+    normal: Option<Image>,
     depth: Image,
 }
 
 impl Targets {
+    /// Colour, normal and depth.
     pub(super) fn new(ctx: &Arc<Context>, w: u32, h: u32) -> Result<Self> {
+        Self::with_normal(ctx, w, h, true)
+    }
+
+    pub(super) fn with_normal(ctx: &Arc<Context>, w: u32, h: u32, normal: bool) -> Result<Self> {
         Ok(Targets {
             color: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
-            normal: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
+            normal: normal
+                .then(|| Image::new(ctx, ImageDesc::color(w, h, COLOR)))
+                .transpose()?,
             depth: Image::new(ctx, ImageDesc::depth(w, h))?,
         })
     }
 
-    /// Begins a rendering scope that clears all three targets to zero (far depth).
+    /// The normal target of targets made with one.
+    fn normal(&self) -> Result<&Image> {
+        self.normal
+            .as_ref()
+            .ok_or_else(|| Error::Internal("these targets have no normal target".into()))
+    }
+
+    /// Begins a rendering scope that clears every target to zero (far depth).
     pub(super) fn begin(&self, cmd: &mut OneShot) {
         let clear = Clear::Float([0.0; 4]);
-        cmd.begin_rendering(
-            &[
-                ColorTarget {
-                    image: &self.color,
-                    clear,
-                },
-                ColorTarget {
-                    image: &self.normal,
-                    clear,
-                },
-            ],
-            Some(&self.depth),
-        );
+        let colors: Vec<ColorTarget> = std::iter::once(&self.color)
+            .chain(&self.normal)
+            .map(|image| ColorTarget { image, clear })
+            .collect();
+        cmd.begin_rendering(&colors, Some(&self.depth));
     }
 }
 
@@ -312,6 +320,20 @@ impl Renderer {
         streams: &[VertexStream],
         colors: &[Format],
     ) -> Result<GraphicsPipeline> {
+        self.pipeline_with(gpu, program, streams, colors, DepthMode::Less, true)
+    }
+
+    /// [`Renderer::pipeline`] with a depth mode and colour writes on or off (the depth
+    /// pre-pass and the pass after it).
+    pub(super) fn pipeline_with(
+        &self,
+        gpu: &GpuScene,
+        program: &str,
+        streams: &[VertexStream],
+        colors: &[Format],
+        depth: DepthMode,
+        color_write: bool,
+    ) -> Result<GraphicsPipeline> {
         let vs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "vert")?)?;
         let fs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "frag")?)?;
         GraphicsPipeline::new(
@@ -334,6 +356,8 @@ impl Renderer {
                     Winding::CounterClockwise => FrontFace::CounterClockwise,
                     Winding::Clockwise => FrontFace::Clockwise,
                 }),
+                depth,
+                color_write,
             },
         )
     }
@@ -357,7 +381,7 @@ impl Renderer {
         let pipeline =
             self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
         let targets = Targets::new(&self.ctx, w, h)?;
-        let (color, normal, depth) = (&targets.color, &targets.normal, &targets.depth);
+        let (color, normal, depth) = (&targets.color, targets.normal()?, &targets.depth);
         let readback = |img: &Image| {
             Buffer::new(
                 &self.ctx,
@@ -499,7 +523,7 @@ impl Renderer {
             )
         };
         let color_buf = readback(&targets.color)?;
-        let normal_buf = readback(&targets.normal)?;
+        let normal_buf = readback(targets.normal()?)?;
         let mut cmd = OneShot::begin(&self.ctx)?;
         targets.begin(&mut cmd);
         for (p, buffers, first, count) in &draws {
@@ -507,7 +531,7 @@ impl Renderer {
         }
         cmd.end_rendering();
         cmd.copy_image_to_buffer(&targets.color, &color_buf);
-        cmd.copy_image_to_buffer(&targets.normal, &normal_buf);
+        cmd.copy_image_to_buffer(targets.normal()?, &normal_buf);
         cmd.submit()?;
         let size = targets.color.byte_size() as usize;
         drop(draws);
@@ -531,6 +555,8 @@ impl AutoScene {
                 .iter()
                 .map(|&(m, first, count)| (Shading::Method(m), first, count))
                 .collect(),
+            prepass: false,
+            normal: true,
         }
     }
 }

@@ -4,7 +4,7 @@
 use super::*;
 use crate::error::{Error, Result};
 use crate::gpu::vk::queries::timestamp_delta_ns;
-use crate::gpu::vk::{GraphicsPipeline, OneShot, QueryPool, Recorded};
+use crate::gpu::vk::{DepthMode, GraphicsPipeline, OneShot, QueryPool, Recorded};
 
 /// One timed submission: the submit-to-fence wall time and the timestamp interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -17,7 +17,7 @@ pub struct Sample {
 /// Draws recorded by [`Renderer::timed_draws`], ready to be submitted in any order.
 pub struct TimedDraws {
     draws: Vec<(Recorded, QueryPool, Vec<GraphicsPipeline>)>,
-    _targets: Targets,
+    _targets: [Option<Targets>; 2],
     valid_bits: u32,
     period_ns: f32,
 }
@@ -53,6 +53,12 @@ pub struct DrawList<'a> {
     pub gpu: &'a GpuScene,
     /// (shading, first vertex, vertex count).
     pub parts: Vec<(Shading<'a>, u32, u32)>,
+    /// Draw every triangle depth-only first, then shade with LESS_OR_EQUAL and no depth write,
+    /// so that no occluded fragment is shaded.
+    pub prepass: bool,
+    /// Render into a normal target too (false: nothing reads it; the shader's second output
+    /// has no attachment and is discarded).
+    pub normal: bool,
 }
 
 impl<'a> DrawList<'a> {
@@ -61,6 +67,8 @@ impl<'a> DrawList<'a> {
         DrawList {
             gpu,
             parts: vec![(shading, 0, gpu.inputs.positions.len() as u32)],
+            prepass: false,
+            normal: true,
         }
     }
 
@@ -100,7 +108,8 @@ impl Renderer {
             return Err(Error::Internal("timed_draws: no program to record".into()));
         };
         let (w, h) = (first.gpu.inputs.width, first.gpu.inputs.height);
-        let targets = Targets::new(&self.ctx, w, h)?;
+        // Shared targets: with a normal target, and without one, made when a list asks.
+        let mut targets: [Option<Targets>; 2] = [None, None];
         let mut draws = Vec::new();
         for list in programs {
             let gpu = list.gpu;
@@ -112,13 +121,20 @@ impl Renderer {
                     gpu.inputs.height
                 )));
             }
+            let slot = &mut targets[usize::from(list.normal)];
+            if slot.is_none() {
+                *slot = Some(Targets::with_normal(&self.ctx, w, h, list.normal)?);
+            }
+            let Some(t) = slot.as_ref() else {
+                return Err(Error::Internal("timed_draws: targets missing".into()));
+            };
             let recorded = self.record_list(list)?;
             let pool = QueryPool::timestamps(&self.ctx, 4)?;
             let mut cmd = OneShot::begin(&self.ctx)?;
             cmd.reset_queries(&pool);
             cmd.timestamp(&pool, 0);
             cmd.timestamp(&pool, 1);
-            targets.begin(&mut cmd);
+            t.begin(&mut cmd);
             for (p, buffers, first, count) in &recorded {
                 cmd.draw_range(p, Some(&gpu.set), buffers, *first, *count);
             }
@@ -138,7 +154,9 @@ impl Renderer {
         })
     }
 
-    /// The pipeline, bindings and vertex range of every part of `list`.
+    /// The pipeline, bindings and vertex range of every draw of `list`, in order: the depth
+    /// pre-pass (the constant program, colour writes off, every vertex) when asked, then every
+    /// part.
     pub(super) fn record_list<'g>(
         &self,
         list: &DrawList<'g>,
@@ -151,15 +169,34 @@ impl Renderer {
         )>,
     > {
         let gpu = list.gpu;
-        list.parts
-            .iter()
-            .map(|&(s, first, count)| {
-                let (streams, buffers) = gpu.buffers(s)?;
-                let pipeline =
-                    self.pipeline(gpu, &self.program(gpu, s), &streams, &[COLOR, COLOR])?;
-                Ok((pipeline, buffers, first, count))
-            })
-            .collect()
+        let colors: &[crate::gpu::vk::Format] = if list.normal {
+            &[COLOR, COLOR]
+        } else {
+            &[COLOR]
+        };
+        let mut out = Vec::new();
+        let depth = if list.prepass {
+            let (streams, buffers) = gpu.buffers(Shading::Constant)?;
+            let p = self.pipeline_with(
+                gpu,
+                &self.program(gpu, Shading::Constant),
+                &streams,
+                colors,
+                DepthMode::Less,
+                false,
+            )?;
+            out.push((p, buffers, 0, gpu.inputs.positions.len() as u32));
+            DepthMode::EqualAfterPrepass
+        } else {
+            DepthMode::Less
+        };
+        for &(s, first, count) in &list.parts {
+            let (streams, buffers) = gpu.buffers(s)?;
+            let p =
+                self.pipeline_with(gpu, &self.program(gpu, s), &streams, colors, depth, true)?;
+            out.push((p, buffers, first, count));
+        }
+        Ok(out)
     }
 
     /// Fragment-shader invocations of one draw (clear + draw, as timed), counted by a
@@ -177,7 +214,7 @@ impl Renderer {
         };
         let gpu = list.gpu;
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
-        let targets = Targets::new(&self.ctx, w, h)?;
+        let targets = Targets::with_normal(&self.ctx, w, h, list.normal)?;
         let recorded = self.record_list(list)?;
         let mut cmd = OneShot::begin(&self.ctx)?;
         cmd.reset_queries(&stats);

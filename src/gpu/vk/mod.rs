@@ -29,6 +29,7 @@ pub use conv::{BufferUsage, Clear, Format, FrontFace, ImageUsage};
 pub use image::{Image, ImageDesc};
 pub use memory::{Buffer, BufferDesc};
 pub use pipeline::{
-    ComputePipeline, DescriptorSet, GraphicsPipeline, PipelineDesc, ShaderModule, VertexStream,
+    ComputePipeline, DepthMode, DescriptorSet, GraphicsPipeline, PipelineDesc, ShaderModule,
+    VertexStream,
 };
 pub use queries::QueryPool;

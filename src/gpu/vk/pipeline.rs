@@ -167,6 +167,20 @@ pub struct PipelineDesc<'a> {
     pub specialization: &'a [(u32, u32)],
     /// Cull back faces, this winding being front; None: no culling.
     pub cull_front: Option<FrontFace>,
+    /// How the depth attachment (when there is one) is tested and written.
+    pub depth: DepthMode,
+    /// Write the colour attachments (false: a depth-only pass with the same attachments).
+    pub color_write: bool,
+}
+
+/// The depth test of a pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DepthMode {
+    /// LESS, writing depth: the one-pass default.
+    Less,
+    /// LESS_OR_EQUAL without writing: the shading pass after a depth pre-pass drawn with the
+    /// same vertex positions, so that only the visible fragment of each pixel passes.
+    EqualAfterPrepass,
 }
 
 /// A graphics pipeline with its layout (triangle list, back faces culled or not, depth test
@@ -248,16 +262,25 @@ impl GraphicsPipeline {
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let (compare, write) = match desc.depth {
+            DepthMode::Less => (vk::CompareOp::LESS, true),
+            DepthMode::EqualAfterPrepass => (vk::CompareOp::LESS_OR_EQUAL, false),
+        };
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(desc.depth_format.is_some())
-            .depth_write_enable(desc.depth_format.is_some())
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_write_enable(desc.depth_format.is_some() && write)
+            .depth_compare_op(compare);
         let blend_attachments: Vec<_> = desc
             .color_formats
             .iter()
             .map(|_| {
-                vk::PipelineColorBlendAttachmentState::default()
-                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+                vk::PipelineColorBlendAttachmentState::default().color_write_mask(
+                    if desc.color_write {
+                        vk::ColorComponentFlags::RGBA
+                    } else {
+                        vk::ColorComponentFlags::empty()
+                    },
+                )
             })
             .collect();
         let blend =
