@@ -131,6 +131,10 @@ pub struct Timing {
 pub struct Summary {
     pub schema_version: u32,
     pub provenance: Provenance,
+    /// Which renderer drew the frames: `vulkan` or `software` ([`super::Engine::name`]); a
+    /// summary written before the field existed was drawn by Vulkan.
+    #[serde(default = "vulkan")]
+    pub engine: String,
     pub scene: String,
     pub scene_source: String,
     pub triangles: usize,
@@ -146,6 +150,10 @@ pub struct Summary {
     /// `auto`'s per-triangle choice when it was compared (its row in `methods` is `auto`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub auto: Option<crate::scene::auto::AutoSummary>,
+}
+
+fn vulkan() -> String {
+    "vulkan".into()
 }
 
 /// The reference's name in outputs.
