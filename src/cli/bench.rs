@@ -11,9 +11,19 @@ pub(super) fn cmd_bench(
     out: &Path,
     threads: Option<u32>,
     opts: &crate::bench::BenchOptions,
+    vulkan_bench: Option<&Path>,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let scene = load_scene(scene_args)?;
+    if dev.engine == EngineArg::Software {
+        let sw = crate::bench::software::SoftwareOptions {
+            threads: threads.map_or_else(crate::software::default_threads, |n| n as usize),
+            vulkan_bench: vulkan_bench.map(Path::to_path_buf),
+        };
+        let report = crate::bench::software::bench(&scene, &methods, out, opts, &sw)?;
+        print!("{}", crate::bench::software::table(&report));
+        return Ok(ExitCode::SUCCESS);
+    }
     if let Some(n) = threads {
         // lavapipe reads LP_NUM_THREADS when its device is created: this must come before the
         // Vulkan instance (the renderer below). Nothing else runs yet: no other thread reads

@@ -242,7 +242,8 @@ enum Command {
         #[arg(long, value_name = "SECONDS", default_value_t = crate::bench::DEFAULT_MAX_TIME_S)]
         max_time: f64,
         /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
-        /// (0: render on the submitting thread). Recorded in bench.json.
+        /// (0: render on the submitting thread). Recorded in bench.json. With --engine
+        /// software: the software engine's threads (default: all cores).
         #[arg(long, value_name = "N")]
         threads: Option<u32>,
         /// Compare with the bench.json of an earlier run (not paired: the runs were not
@@ -257,6 +258,10 @@ enum Command {
         /// 1, 16, 64 times per invocation; 0: skip it).
         #[arg(long, value_name = "N", default_value_t = crate::bench::isolated::IsolatedOptions::default().rounds)]
         isolated_rounds: usize,
+        /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
+        /// paired ratios are judged beside the software ones in claims.md.
+        #[arg(long, value_name = "DIR/bench.json")]
+        vulkan_bench: Option<PathBuf>,
     },
     /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
     /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
@@ -448,6 +453,7 @@ pub fn run() -> Result<ExitCode> {
             baseline,
             fail_slower,
             isolated_rounds,
+            vulkan_bench,
         } => {
             let opts = crate::bench::BenchOptions {
                 repeat,
@@ -462,7 +468,15 @@ pub fn run() -> Result<ExitCode> {
                 command_line: std::env::args().collect(),
                 isolated_rounds,
             };
-            cmd_bench(&scene, &device, &methods, &out, threads, &opts)
+            cmd_bench(
+                &scene,
+                &device,
+                &methods,
+                &out,
+                threads,
+                &opts,
+                vulkan_bench.as_deref(),
+            )
         }
         Command::Stress {
             device,
