@@ -621,3 +621,20 @@ fn the_span_and_pixel_loops_allocate_nothing() {
     );
     assert_eq!(allocs, rows);
 }
+
+#[test]
+fn a_command_without_a_software_path_refuses_the_software_engine() {
+    // stress draws on Vulkan only: --engine software must not be ignored silently
+    let dir = tempfile::tempdir().unwrap();
+    let (code, _, err) = run(&[
+        "stress",
+        "--engine",
+        "software",
+        "--methods",
+        "phong_exact",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--engine software is for render"), "{err}");
+}

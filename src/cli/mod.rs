@@ -580,6 +580,15 @@ fn load_scene(args: &SceneArgs) -> Result<Scene> {
 }
 
 fn renderer(args: &DeviceArgs) -> Result<Renderer> {
+    // render, verify, compare and bench take their software path before asking for a
+    // renderer: a command that reaches here with --engine software would silently use Vulkan.
+    if args.engine == EngineArg::Software {
+        return Err(Error::Usage(
+            "--engine software is for render, verify, compare and bench; this command runs on \
+             the Vulkan pipeline only: leave --engine out"
+                .into(),
+        ));
+    }
     let ctx = Context::new(&ContextDesc {
         device: args.device.clone(),
         validate: args.validate,
