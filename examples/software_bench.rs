@@ -96,7 +96,7 @@ fn main() -> shadelab::Result<()> {
     for k in 0..N {
         run(k)?;
     }
-    let mut t = vec![Vec::with_capacity(rounds); N];
+    let mut t: Vec<Vec<f64>> = (0..N).map(|_| Vec::with_capacity(rounds)).collect();
     for round in 0..rounds {
         for j in 0..N {
             let k = (j + round) % N;
