@@ -190,3 +190,61 @@ fn unwritable_output_is_an_error_and_leaves_nothing() {
         "{err}"
     );
 }
+
+/// The float32 payload of a 128-byte-header .npy written by `render --float`.
+fn npy_floats(path: &std::path::Path) -> Vec<f32> {
+    let bytes = std::fs::read(path).unwrap();
+    bytes[128..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect()
+}
+
+#[test]
+fn render_auto_stays_within_its_budget_of_exact_phong() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |method: &str, budget: &str| {
+        let png = dir.path().join(format!("{method}.png"));
+        let npy = dir
+            .path()
+            .join(format!("{method}_{}.npy", budget.replace('/', "_")));
+        let (code, _, err) = run(&[
+            "render",
+            "--scene",
+            "scenes/torus.toml",
+            "--size",
+            "96x96",
+            "--validate",
+            "--method",
+            method,
+            "--error-budget",
+            budget,
+            "--out",
+            png.to_str().unwrap(),
+            "--float",
+            npy.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        npy_floats(&npy)
+    };
+    let exact = render("phong_exact", "1/255");
+    // Largest colour difference over the pixels both cover (alpha 1).
+    let worst = |a: &[f32]| {
+        a.chunks_exact(4)
+            .zip(exact.chunks_exact(4))
+            .filter(|(p, q)| p[3] == 1.0 && q[3] == 1.0)
+            .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0f32, f32::max))
+            .fold(0.0f32, f32::max)
+    };
+    let covered = exact.chunks_exact(4).filter(|p| p[3] == 1.0).count();
+    assert!(covered > 1000, "{covered} covered pixels");
+    // phong_exact itself is within ~1e-6 of the f64 truth: the budget holds against it too.
+    let tight = worst(&render("auto", "1/255"));
+    assert!(tight <= 1.0 / 255.0, "auto at 1/255: {tight}");
+    // Teeth: a loose budget lets gouraud shade the whole torus, visibly off exact Phong.
+    let loose = worst(&render("auto", "16/255"));
+    assert!(
+        loose > 1.0 / 255.0 && loose <= 16.0 / 255.0,
+        "auto at 16/255: {loose}"
+    );
+}

@@ -165,14 +165,19 @@ pub fn paired_ratio(num: &[f64], den: &[f64]) -> RatioEstimate {
 /// Points with a non-finite error are never on the front.
 pub fn pareto_front_paired(errors: &[f64], times: &[Vec<f64>]) -> Vec<usize> {
     (0..errors.len())
-        .filter(|&i| {
-            errors[i].is_finite()
-                && !(0..errors.len()).any(|j| {
-                    j != i
-                        && errors[j].is_finite()
-                        && errors[j] <= errors[i]
-                        && paired_ratio(&times[i], &times[j]).ci95_low > 1.0
-                })
+        .filter(|&i| errors[i].is_finite() && dominators(errors, times, i).is_empty())
+        .collect()
+}
+
+/// The points that dominate point i by the rule of [`pareto_front_paired`]: an error at most
+/// i's and i slower than each beyond the paired interval.
+pub fn dominators(errors: &[f64], times: &[Vec<f64>], i: usize) -> Vec<usize> {
+    (0..errors.len())
+        .filter(|&j| {
+            j != i
+                && errors[j].is_finite()
+                && errors[j] <= errors[i]
+                && paired_ratio(&times[i], &times[j]).ci95_low > 1.0
         })
         .collect()
 }

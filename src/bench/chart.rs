@@ -24,6 +24,8 @@ struct Point {
     hi: f64,
     e: f64,
     front: bool,
+    /// `auto`'s budget when this point is `auto` at some budget.
+    budget: Option<f64>,
 }
 
 /// The methods with a finite error, as chart points. A method with non-finite pixels has an
@@ -58,6 +60,7 @@ fn pareto_points(r: &BenchReport, axis: Axis) -> Vec<Point> {
                 hi,
                 e: e.max(ERROR_FLOOR),
                 front,
+                budget: r.auto.iter().find(|a| a.name == m.name).map(|a| a.budget),
             })
         })
         .collect()
@@ -164,6 +167,25 @@ fn draw_pareto<DB: DrawingBackend>(
             front.iter().map(|p| (p.t, p.e)).collect::<Vec<_>>(),
             blue.mix(0.5).stroke_width(1),
         )))
+        .map_err(plot_err)?;
+    // auto's budget curve, in budget order.
+    let orange = RGBColor(230, 120, 20);
+    let mut curve: Vec<&Point> = pts.iter().filter(|p| p.budget.is_some()).collect();
+    curve.sort_by(|a, b| a.budget.unwrap_or(0.0).total_cmp(&b.budget.unwrap_or(0.0)));
+    if curve.len() > 1 {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                curve.iter().map(|p| (p.t, p.e)).collect::<Vec<_>>(),
+                orange.stroke_width(2),
+            )))
+            .map_err(plot_err)?;
+    }
+    chart
+        .draw_series(
+            curve
+                .iter()
+                .map(|p| Cross::new((p.t, p.e), 6, orange.stroke_width(2))),
+        )
         .map_err(plot_err)?;
     chart
         .draw_series(pts.iter().map(|p| {

@@ -35,7 +35,7 @@ use crate::analysis::stats::{median_ci, pareto_front_paired, Estimate, RatioEsti
 use crate::compare::{self, CompareOptions};
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{self, OpCounts};
-use crate::gpu::{GpuScene, Prepared, Renderer, Shading, TimedDraws};
+use crate::gpu::{DrawList, GpuScene, Prepared, Renderer, Shading, TimedDraws};
 use crate::method::{self, Geometry, Method};
 use crate::output::provenance::cpu_model;
 use crate::scene::Scene;
@@ -95,6 +95,9 @@ pub struct BenchOptions {
     pub command_line: Vec<String>,
     /// Rounds of the isolated cost per formula ([`isolated`]; 0: not measured).
     pub isolated_rounds: usize,
+    /// `auto` (named `auto`) and the points of its budget curve (`auto_<k>_255`, `auto_1_<k>`), timed and
+    /// judged like the methods.
+    pub auto: Vec<crate::scene::auto::AutoSpec>,
 }
 
 impl Default for BenchOptions {
@@ -111,6 +114,7 @@ impl Default for BenchOptions {
             isolated_rounds: isolated::IsolatedOptions::default().rounds,
             fail_slower_pct: None,
             command_line: Vec::new(),
+            auto: Vec::new(),
         }
     }
 }
@@ -160,22 +164,66 @@ pub fn floor_name(g: Geometry) -> String {
     }
 }
 
+/// What a timed program shades with.
+#[derive(Clone, Copy)]
+enum What<'a> {
+    /// The constant colour (a floor).
+    Floor,
+    Method(&'a Method),
+    /// phong_exact's program under another name.
+    Control(&'a Method),
+    /// `auto`: its groups, each with the method chosen for its triangles.
+    Auto(&'a crate::gpu::AutoScene),
+}
+
 /// A timed program of a run: what it draws and the floor it is measured against.
 struct Program<'a> {
     name: String,
     gpu: &'a GpuScene,
-    shading: Shading<'a>,
+    what: What<'a>,
     /// Index of its floor among the programs (the scene's floor, 0, is its own).
     floor: usize,
 }
 
+impl<'a> Program<'a> {
+    /// The draw as timed and counted.
+    fn list(&self) -> DrawList<'a> {
+        match self.what {
+            What::Floor => DrawList::whole(self.gpu, Shading::Constant),
+            What::Method(m) => DrawList::whole(self.gpu, Shading::Method(m)),
+            What::Control(m) => DrawList::whole(self.gpu, Shading::Control(m)),
+            What::Auto(a) => a.draw_list(),
+        }
+    }
+
+    /// The method of the table whose program this is (none for a floor or `auto`).
+    fn method(&self) -> Option<&'a Method> {
+        match self.what {
+            What::Method(m) | What::Control(m) => Some(m),
+            What::Floor | What::Auto(_) => None,
+        }
+    }
+
+    /// The image, for its coverage.
+    fn render(&self, renderer: &Renderer) -> Result<crate::frame::Frame> {
+        match self.what {
+            What::Floor => Ok(renderer.render(self.gpu, Shading::Constant, false)?.0),
+            What::Method(m) => Ok(renderer.render(self.gpu, Shading::Method(m), false)?.0),
+            What::Control(m) => Ok(renderer.render(self.gpu, Shading::Control(m), false)?.0),
+            What::Auto(a) => renderer.render_auto(a),
+        }
+    }
+}
+
 /// The programs of a run, all timed in the same rounds: the floor of the scene's triangles
 /// first, then the floor of every other geometry (measured against the first: the cost of
-/// that geometry), the methods (each against the floor of its geometry) and the control.
+/// that geometry), the methods (each against the floor of its geometry), the control and
+/// `auto` (on the scene's triangles, against the first floor).
 fn programs<'a>(
     prepared: &'a Prepared,
     methods: &[&'a Method],
     control: Option<&'a Method>,
+    autos: &'a [(String, crate::gpu::AutoScene)],
 ) -> Vec<Program<'a>> {
     let geometries = prepared.geometries();
     let mut out: Vec<Program> = Vec::new();
@@ -184,23 +232,34 @@ fn programs<'a>(
             out.push(Program {
                 name: floor_name(*g),
                 gpu,
-                shading: Shading::Constant,
+                what: What::Floor,
                 floor: 0,
             });
         }
     }
     let floor_of = |g: Geometry| geometries.iter().position(|x| *x == g).unwrap_or(0);
-    let shadings = methods
-        .iter()
-        .map(|m| Shading::Method(m))
-        .chain(control.map(Shading::Control));
-    for s in shadings {
-        let Some(m) = s.method() else { continue };
+    for m in methods {
         out.push(Program {
-            name: s.name(),
+            name: m.name.to_string(),
             gpu: prepared.for_method(m),
-            shading: s,
+            what: What::Method(m),
             floor: floor_of(m.geometry),
+        });
+    }
+    if let Some(m) = control {
+        out.push(Program {
+            name: Shading::Control(m).name(),
+            gpu: prepared.for_method(m),
+            what: What::Control(m),
+            floor: floor_of(m.geometry),
+        });
+    }
+    for (name, a) in autos {
+        out.push(Program {
+            name: name.clone(),
+            gpu: &a.gpu,
+            what: What::Auto(a),
+            floor: 0,
         });
     }
     out
@@ -236,7 +295,32 @@ pub fn bench(
     eprintln!("bench: clock = {} ({})", clock.clock, clock.reason);
 
     let prepared = renderer.prepare(scene, &all)?;
-    let programs = programs(&prepared, &all, opts.control.then_some(exact));
+    let mut autos = Vec::new();
+    let mut auto_summaries = Vec::new();
+    for spec in &opts.auto {
+        let t = Instant::now();
+        let pick = crate::scene::auto::choose(&prepared.base().inputs, &spec.order, spec.budget);
+        let choice_ms = t.elapsed().as_secs_f64() * 1e3;
+        let summary = crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms);
+        eprintln!(
+            "bench: {} (budget {:.3e}): {} ({choice_ms:.0} ms to choose)",
+            spec.name,
+            spec.budget,
+            summary
+                .triangles
+                .iter()
+                .filter(|(_, k)| *k > 0)
+                .map(|(m, k)| format!("{m} {k}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        auto_summaries.push(summary);
+        autos.push((
+            spec.name.clone(),
+            renderer.prepare_auto(scene, &spec.order, &pick)?,
+        ));
+    }
+    let programs = programs(&prepared, &all, opts.control.then_some(exact), &autos);
     let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
     let phong = names
@@ -253,12 +337,13 @@ pub fn bench(
     eprintln!("bench: fragment invocations (untimed, one submission per program)");
     let invocations = programs
         .iter()
-        .map(|p| renderer.fragment_invocations(p.gpu, p.shading))
+        .map(|p| renderer.fragment_invocations_list(&p.list()))
         .collect::<Result<Vec<_>>>()?;
 
     eprintln!("bench: error metrics (compare, without images)");
     let copts = CompareOptions {
         images: false,
+        auto: opts.auto.clone(),
         ..CompareOptions::default()
     };
     let summary = compare::compare(renderer, scene, &all, out, &copts)?;
@@ -266,14 +351,15 @@ pub fn bench(
     let mut rows = Vec::new();
     for (i, p) in programs.iter().enumerate() {
         // Coverage from each image itself.
-        let (frame, _) = renderer.render(p.gpu, p.shading, false)?;
+        let frame = p.render(renderer)?;
         let (e, used_clock, wall, ts) = estimate(&samples[i], &clock.clock);
         let covered = frame.covered();
-        let error = p
-            .shading
-            .method()
-            .and_then(|m| summary.methods.iter().find(|r| r.name == m.name).cloned());
-        let program = p.shading.method().map_or("constant", |m| m.name);
+        // The control's error is phong_exact's (the same program); auto's is its own.
+        let judged = p.method().map_or(p.name.as_str(), |m| m.name);
+        let error = match p.what {
+            What::Floor => None,
+            _ => summary.methods.iter().find(|r| r.name == judged).cloned(),
+        };
         let (rp, rf) = (to_phong[i], to_floor[i]);
         rows.push(MethodTiming {
             name: p.name.clone(),
@@ -306,7 +392,13 @@ pub fn bench(
             ratio_to_floor_ci95_high: rf.ci95_high,
             ratio_to_floor_non_finite: rf.non_finite,
             speed_vs_phong_exact: Speed::from_ratio(&rp),
-            static_ops: static_ops(program, scene.interpolation),
+            static_ops: match p.what {
+                What::Auto(_) => None,
+                _ => static_ops(
+                    p.method().map_or("constant", |m| m.name),
+                    scene.interpolation,
+                ),
+            },
             static_ops_above_unnormalized: None,
             error,
             isolated_ns_per_eval: None,
@@ -336,7 +428,7 @@ pub fn bench(
     // Split: the floors (programs without a method), then the methods with their round values.
     let is_floor: Vec<bool> = programs
         .iter()
-        .map(|p| p.shading.method().is_none())
+        .map(|p| matches!(p.what, What::Floor))
         .collect();
     let mut floors_rows = Vec::new();
     let mut method_rows = Vec::new();
@@ -357,6 +449,7 @@ pub fn bench(
         .into_iter()
         .map(|i| rows[i].name.clone())
         .collect();
+    let auto_curve = auto_points(&rows, &errors, &method_values, &auto_summaries);
     let mut rows = rows;
     if opts.isolated_rounds > 0 {
         let methods: Vec<&'static Method> = rows
@@ -410,6 +503,8 @@ pub fn bench(
         pareto_front: front,
         pareto_front_isolated: front_isolated,
         claims,
+        auto: auto_summaries,
+        auto_curve,
         sweeps,
         baseline: None,
         total_s: 0.0,
@@ -426,6 +521,46 @@ pub fn bench(
     report.total_s = start.elapsed().as_secs_f64();
     write(out, &report)?;
     Ok(report)
+}
+
+/// Every `auto` row against the fixed methods (rows that are not `auto`), by the paired rule of
+/// the Pareto front.
+fn auto_points(
+    rows: &[MethodTiming],
+    errors: &[f64],
+    values: &[Vec<f64>],
+    autos: &[crate::scene::auto::AutoSummary],
+) -> Vec<AutoPoint> {
+    let is_auto = |name: &str| autos.iter().any(|a| a.name == name);
+    autos
+        .iter()
+        .filter_map(|a| {
+            let i = rows.iter().position(|r| r.name == a.name)?;
+            let r = &rows[i];
+            let max_abs = r
+                .error
+                .as_ref()
+                .and_then(|e| e.metric("max_abs_error"))
+                .unwrap_or(f64::NAN);
+            let beaten_by = crate::analysis::stats::dominators(errors, values, i)
+                .into_iter()
+                .filter(|&j| !is_auto(&rows[j].name))
+                .map(|j| rows[j].name.clone())
+                .collect();
+            Some(AutoPoint {
+                name: a.name.clone(),
+                budget: a.budget,
+                max_abs_error: max_abs,
+                within_budget: max_abs <= a.budget,
+                error: errors[i],
+                ratio_median: r.ratio_median,
+                ratio_ci95_low: r.ratio_ci95_low,
+                ratio_ci95_high: r.ratio_ci95_high,
+                speed_vs_phong_exact: r.speed_vs_phong_exact,
+                beaten_by,
+            })
+        })
+        .collect()
 }
 
 fn check_options(opts: &BenchOptions) -> Result<()> {
@@ -475,7 +610,7 @@ fn time_rounds(
     clock: &str,
     opts: &BenchOptions,
 ) -> Result<(Vec<Vec<crate::gpu::Sample>>, RoundsReport)> {
-    let pairs: Vec<(&GpuScene, Shading)> = programs.iter().map(|p| (p.gpu, p.shading)).collect();
+    let lists: Vec<DrawList> = programs.iter().map(Program::list).collect();
     let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
     let phong = names.iter().position(|n| n == "phong_exact").unwrap_or(0);
@@ -490,7 +625,7 @@ fn time_rounds(
             opts.max_time_s
         ))
     );
-    let draws = renderer.timed_draws(&pairs)?;
+    let draws = renderer.timed_draw_lists(&lists)?;
     let mut rounds = Rounds::new(&draws, opts.warmup)?;
     let t0 = Instant::now();
     rounds.run(opts.repeat)?;

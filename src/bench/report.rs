@@ -137,6 +137,26 @@ impl MethodTiming {
     }
 }
 
+/// `auto` at one budget, judged against the fixed methods of the same rounds.
+#[derive(Debug, Clone, Serialize)]
+pub struct AutoPoint {
+    pub name: String,
+    pub budget: f64,
+    /// Max abs colour error over the covered pixels (compare's `max_abs_error`).
+    pub max_abs_error: f64,
+    /// Whether `max_abs_error` <= `budget`.
+    pub within_budget: bool,
+    /// The run's error metric (the Pareto chart's y).
+    pub error: f64,
+    pub ratio_median: f64,
+    pub ratio_ci95_low: f64,
+    pub ratio_ci95_high: f64,
+    pub speed_vs_phong_exact: Speed,
+    /// Fixed methods with an error (the run's metric) at most `error` and faster beyond the
+    /// paired interval: empty when no fixed method beats this point.
+    pub beaten_by: Vec<String>,
+}
+
 /// A claim of the seeds, measured by the run that writes it.
 #[derive(Debug, Clone, Serialize)]
 pub struct ClaimCheck {
@@ -222,6 +242,12 @@ pub struct BenchReport {
     /// isolated cost).
     pub pareto_front_isolated: Vec<String>,
     pub claims: Vec<ClaimCheck>,
+    /// What `auto` chose at each budget of the run (empty without `auto`).
+    pub auto: Vec<crate::scene::auto::AutoSummary>,
+    /// `auto` at each budget against the fixed methods: its paired ratio to phong_exact, its
+    /// error, and the fixed methods that beat it (error at most its own, faster beyond the
+    /// paired interval).
+    pub auto_curve: Vec<AutoPoint>,
     pub sweeps: Vec<SweepResult>,
     /// The comparison with `--baseline` (null without it).
     pub baseline: Option<crate::bench::baseline::BaselineComparison>,

@@ -217,7 +217,7 @@ fn wall_clock_fallback_is_labelled_wall() {
 // ---- claims ---------------------------------------------------------------------------------
 
 use super::claims::*;
-use super::MethodTiming;
+use super::{auto_points, MethodTiming};
 use crate::analysis::stats::RatioEstimate;
 use crate::gpu::spirv::OpCountsDelta;
 use crate::method::Verdict;
@@ -522,4 +522,48 @@ fn the_isolated_front_needs_separate_intervals() {
     // a NaN error leaves a method out
     let front = crate::bench::isolated::pareto_front(&rows, &[f64::NAN, 0.2]);
     assert_eq!(front, vec!["b"]);
+}
+
+fn auto_summary(name: &str, budget: f64) -> crate::scene::auto::AutoSummary {
+    crate::scene::auto::AutoSummary {
+        name: name.into(),
+        budget,
+        margin: 1.0,
+        samples_per_triangle: 28,
+        triangles: Vec::new(),
+        choice_ms: 0.0,
+    }
+}
+
+#[test]
+fn auto_is_beaten_only_by_a_fixed_method_with_no_more_error_and_a_faster_paired_time() {
+    let rows = vec![
+        row("gouraud", 1.0, (0.4, 0.5, 0.6)),
+        row("phong_exact", 2.0, (1.0, 1.0, 1.0)),
+        row("auto", 1.5, (0.7, 0.75, 0.8)),
+        row("auto_16_255", 0.9, (0.4, 0.45, 0.5)),
+    ];
+    let rounds = |t: f64| -> Vec<f64> { (0..20).map(|r| t * (1.0 + 0.01 * r as f64)).collect() };
+    let values = vec![rounds(1.0), rounds(2.0), rounds(1.5), rounds(0.9)];
+    let autos = [
+        auto_summary("auto", 1.0 / 255.0),
+        auto_summary("auto_16_255", 16.0 / 255.0),
+    ];
+    // gouraud is faster but has more error: nothing fixed beats auto. auto_16_255 is faster
+    // with less error, but it is not a fixed method.
+    let errors = [1e-2, 1e-6, 1e-3, 1e-4];
+    let p = auto_points(&rows, &errors, &values, &autos);
+    assert_eq!(p.len(), 2);
+    assert!(p[0].beaten_by.is_empty(), "{:?}", p[0].beaten_by);
+    assert_eq!((p[0].ratio_ci95_low, p[0].ratio_ci95_high), (0.7, 0.8));
+    // The same gouraud with less error than auto beats it.
+    let errors = [1e-4, 1e-6, 1e-3, 1e-2];
+    let p = auto_points(&rows, &errors, &values, &autos);
+    assert_eq!(p[0].beaten_by, vec!["gouraud".to_string()]);
+    // ... but not when its time is indistinguishable from auto's in the paired rounds.
+    let values = vec![rounds(1.5), rounds(2.0), rounds(1.5), rounds(0.9)];
+    let p = auto_points(&rows, &errors, &values, &autos);
+    assert!(p[0].beaten_by.is_empty(), "{:?}", p[0].beaten_by);
+    // No error measured (rows without compare's statistics): never within budget.
+    assert!(p[0].max_abs_error.is_nan() && !p[0].within_budget);
 }

@@ -3,24 +3,32 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use super::*;
-use crate::error::Result;
+use crate::error::{Error, Result};
 pub(super) fn cmd_bench(
     scene_args: &SceneArgs,
     dev: &DeviceArgs,
     list: &str,
     out: &Path,
     threads: Option<u32>,
-    opts: &crate::bench::BenchOptions,
+    budgets: Option<(f64, Vec<f64>)>,
+    mut opts: crate::bench::BenchOptions,
     vulkan_bench: Option<&Path>,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let scene = load_scene(scene_args)?;
     if dev.engine == EngineArg::Software {
+        if budgets.is_some() {
+            return Err(Error::Usage(
+                "auto is drawn by the Vulkan pipeline only: leave it out of --methods with \
+                 --engine software"
+                    .into(),
+            ));
+        }
         let sw = crate::bench::software::SoftwareOptions {
             threads: threads.map_or_else(crate::software::default_threads, |n| n as usize),
             vulkan_bench: vulkan_bench.map(Path::to_path_buf),
         };
-        let report = crate::bench::software::bench(&scene, &methods, out, opts, &sw)?;
+        let report = crate::bench::software::bench(&scene, &methods, out, &opts, &sw)?;
         print!("{}", crate::bench::software::table(&report));
         return Ok(ExitCode::SUCCESS);
     }
@@ -31,7 +39,21 @@ pub(super) fn cmd_bench(
         std::env::set_var("LP_NUM_THREADS", n.to_string());
     }
     let r = renderer(dev)?;
-    let report = crate::bench::bench(&r, &scene, &methods, out, opts)?;
+    if let Some((budget, curve)) = budgets {
+        let main = auto_spec(&r, budget)?;
+        let mut specs = vec![main.clone()];
+        for b in curve {
+            if (b - budget).abs() > 1e-12 * budget && !specs.iter().any(|s| s.budget == b) {
+                specs.push(crate::scene::auto::AutoSpec {
+                    name: crate::scene::auto::curve_name(b),
+                    budget: b,
+                    ..main.clone()
+                });
+            }
+        }
+        opts.auto = specs;
+    }
+    let report = crate::bench::bench(&r, &scene, &methods, out, &opts)?;
     println!(
         "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} rounds ({})",
         report.scene,
@@ -106,6 +128,31 @@ pub(super) fn cmd_bench(
             m.floor_program,
             m.ratio_to_floor_ci95_low,
             m.ratio_to_floor_ci95_high
+        );
+    }
+    for (a, c) in report.auto_curve.iter().zip(&report.auto) {
+        let chosen: Vec<String> = c
+            .triangles
+            .iter()
+            .filter(|(_, k)| *k > 0)
+            .map(|(m, k)| format!("{m} {k}"))
+            .collect();
+        println!(
+            "{} (budget {:.3e}): max_abs_error {:.3e} ({}), {:.4} [{:.4}, {:.4}] of phong_exact (paired, {}), {}; triangles: {}",
+            a.name,
+            a.budget,
+            a.max_abs_error,
+            if a.within_budget { "within budget" } else { "OVER budget" },
+            a.ratio_median,
+            a.ratio_ci95_low,
+            a.ratio_ci95_high,
+            a.speed_vs_phong_exact.as_str(),
+            if a.beaten_by.is_empty() {
+                "no fixed method beats it".to_string()
+            } else {
+                format!("beaten by {}", a.beaten_by.join(", "))
+            },
+            chosen.join(", ")
         );
     }
     let rr = &report.rounds;

@@ -46,7 +46,7 @@ pub(super) fn cmd_compare(
         threshold,
         progress: true,
         images: true,
-        auto: None,
+        auto: Vec::new(),
     };
     let r = if dev.engine == EngineArg::Software {
         if with_auto {
@@ -63,7 +63,7 @@ pub(super) fn cmd_compare(
     let engine = match &r {
         Some(r) => {
             if with_auto {
-                opts.auto = Some(auto_spec(r, budget)?);
+                opts.auto = vec![auto_spec(r, budget)?];
             }
             compare::Engine::Vulkan(r)
         }

@@ -150,7 +150,8 @@ enum Command {
         scene: SceneArgs,
         #[command(flatten)]
         device: DeviceArgs,
-        /// Method identifier (see `shadelab list`).
+        /// Method identifier (see `shadelab list`), or `auto` (per triangle the cheapest method
+        /// within --error-budget).
         #[arg(long, default_value = "phong_exact")]
         method: String,
         /// Output PNG (sRGB, alpha 0 on the background).
@@ -162,6 +163,10 @@ enum Command {
         /// Also write the shading normal as .npy, shape (H, W, 4), float32 (w 1 where defined).
         #[arg(long, value_name = "FILE.npy")]
         normals: Option<PathBuf>,
+        /// The error budget of `--method auto`: max abs colour error, linear; `4/255` style
+        /// fractions accepted.
+        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
+        error_budget: f64,
     },
     /// Check GPU methods against their own formula evaluated in f64 at the rasterizer's weights.
     Verify {
@@ -202,8 +207,9 @@ enum Command {
         /// (default 1/255 of linear luminance; not an sRGB 8-bit step).
         #[arg(long, default_value_t = 1.0 / 255.0)]
         threshold: f64,
-        /// The error budget of `auto` (in --methods): max abs colour error, linear.
-        #[arg(long, value_name = "E", default_value_t = 1.0 / 255.0)]
+        /// The error budget of `auto` (in --methods): max abs colour error, linear; `4/255`
+        /// style fractions accepted.
+        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
         error_budget: f64,
     },
     /// Run time against error: validated timing, Pareto chart, the papers' claims, sweeps.
@@ -258,6 +264,18 @@ enum Command {
         /// 1, 16, 64 times per invocation; 0: skip it).
         #[arg(long, value_name = "N", default_value_t = crate::bench::isolated::IsolatedOptions::default().rounds)]
         isolated_rounds: usize,
+        /// The error budget of `auto` (in --methods): max abs colour error, linear; `4/255`
+        /// style fractions accepted.
+        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
+        error_budget: f64,
+        /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),
+        /// drawn as a curve on the Pareto chart; `none` for no curve.
+        #[arg(
+            long,
+            value_name = "E,E,...",
+            default_value = "1/1024,1/255,4/255,16/255"
+        )]
+        auto_curve: String,
         /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
         /// paired ratios are judged beside the software ones in claims.md.
         #[arg(long, value_name = "DIR/bench.json")]
@@ -423,6 +441,7 @@ pub fn run() -> Result<ExitCode> {
             out,
             float,
             normals,
+            error_budget,
         } => cmd_render(
             &scene,
             &device,
@@ -430,6 +449,7 @@ pub fn run() -> Result<ExitCode> {
             &out,
             float.as_deref(),
             normals.as_deref(),
+            error_budget,
         ),
         Command::Verify {
             scene,
@@ -453,8 +473,16 @@ pub fn run() -> Result<ExitCode> {
             baseline,
             fail_slower,
             isolated_rounds,
+            error_budget,
+            auto_curve,
             vulkan_bench,
         } => {
+            let (methods, with_auto) = split_auto(&methods);
+            let budgets = if with_auto {
+                Some((error_budget, parse_budgets(&auto_curve)?))
+            } else {
+                None
+            };
             let opts = crate::bench::BenchOptions {
                 repeat,
                 warmup,
@@ -467,6 +495,7 @@ pub fn run() -> Result<ExitCode> {
                 fail_slower_pct: fail_slower,
                 command_line: std::env::args().collect(),
                 isolated_rounds,
+                auto: Vec::new(),
             };
             cmd_bench(
                 &scene,
@@ -474,7 +503,8 @@ pub fn run() -> Result<ExitCode> {
                 &methods,
                 &out,
                 threads,
-                &opts,
+                budgets,
+                opts,
                 vulkan_bench.as_deref(),
             )
         }
@@ -619,6 +649,41 @@ fn split_auto(list: &str) -> (String, bool) {
     (rest.join(","), with)
 }
 
+/// An error budget: a number or a fraction `a/b` (`4/255`), finite and > 0.
+fn parse_budget(s: &str) -> std::result::Result<f64, String> {
+    let v = match s.trim().split_once('/') {
+        Some((a, b)) => {
+            let num = |x: &str| {
+                x.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("{s:?}: expected a number or a fraction like 4/255"))
+            };
+            num(a)? / num(b)?
+        }
+        None => s
+            .trim()
+            .parse::<f64>()
+            .map_err(|_| format!("{s:?}: expected a number or a fraction like 4/255"))?,
+    };
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{s:?}: expected a colour error > 0 (linear; 1/255 = 0.0039)"
+        ))
+    }
+}
+
+/// `--auto-curve`: budgets separated by commas, or `none`.
+fn parse_budgets(list: &str) -> Result<Vec<f64>> {
+    if list.trim() == "none" {
+        return Ok(Vec::new());
+    }
+    list.split(',')
+        .map(|s| parse_budget(s).map_err(|e| Error::Usage(format!("--auto-curve: {e}"))))
+        .collect()
+}
+
 /// `auto`'s candidates ordered by their isolated cost, measured now on the run's device.
 fn auto_spec(r: &Renderer, budget: f64) -> Result<crate::scene::auto::AutoSpec> {
     if !(budget.is_finite() && budget > 0.0) {
@@ -638,6 +703,7 @@ fn auto_spec(r: &Renderer, budget: f64) -> Result<crate::scene::auto::AutoSpec> 
             .join(", ")
     );
     Ok(crate::scene::auto::AutoSpec {
+        name: "auto".into(),
         order: order.into_iter().map(|(m, _)| m).collect(),
         budget,
     })

@@ -14,7 +14,11 @@ pub(super) fn cmd_render(
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
+    error_budget: f64,
 ) -> Result<ExitCode> {
+    if method == "auto" {
+        return render_auto(scene_args, dev, out, float, normals, error_budget);
+    }
     let method = method::find(method)?;
     let scene = load_scene(scene_args)?;
     if dev.engine == EngineArg::Software {
@@ -37,6 +41,49 @@ pub(super) fn cmd_render(
     let r = renderer(dev)?;
     let prepared = r.prepare(&scene, &[method])?;
     let (frame, _) = r.render(prepared.for_method(method), Shading::Method(method), false)?;
+    write_frame(&frame, out, float, normals)?;
+    check_validation(r.context())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `render --method auto`: the per-triangle choice within `--error-budget`, drawn group by
+/// group (Vulkan only).
+fn render_auto(
+    scene_args: &SceneArgs,
+    dev: &DeviceArgs,
+    out: &Path,
+    float: Option<&Path>,
+    normals: Option<&Path>,
+    budget: f64,
+) -> Result<ExitCode> {
+    if dev.engine == EngineArg::Software {
+        return Err(crate::error::Error::Usage(
+            "auto draws each group of triangles with its own Vulkan pipeline: use --engine vulkan"
+                .into(),
+        ));
+    }
+    let scene = load_scene(scene_args)?;
+    let r = renderer(dev)?;
+    let spec = auto_spec(&r, budget)?;
+    let t = std::time::Instant::now();
+    let inputs = crate::scene::SceneInputs::new(&scene, crate::method::Geometry::Mesh);
+    let pick = crate::scene::auto::choose(&inputs, &spec.order, spec.budget);
+    let summary =
+        crate::scene::auto::AutoSummary::new(&spec, &pick, t.elapsed().as_secs_f64() * 1e3);
+    eprintln!(
+        "auto (budget {:.3e}, chosen in {:.0} ms): {}",
+        spec.budget,
+        summary.choice_ms,
+        summary
+            .triangles
+            .iter()
+            .filter(|(_, k)| *k > 0)
+            .map(|(m, k)| format!("{m} {k}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let a = r.prepare_auto(&scene, &spec.order, &pick)?;
+    let frame = r.render_auto(&a)?;
     write_frame(&frame, out, float, normals)?;
     check_validation(r.context())?;
     Ok(ExitCode::SUCCESS)

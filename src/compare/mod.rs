@@ -61,8 +61,9 @@ pub struct CompareOptions {
     pub progress: bool,
     /// Write render.png and the heatmaps (`bench` needs only the statistics).
     pub images: bool,
-    /// Also compare `auto` (per triangle the cheapest method within a budget), named `auto`.
-    pub auto: Option<crate::scene::auto::AutoSpec>,
+    /// Also compare `auto` (per triangle the cheapest method within a budget), each spec under
+    /// its name (`auto`, or `auto_4_255` and the like for the points of bench's curve).
+    pub auto: Vec<crate::scene::auto::AutoSpec>,
 }
 
 impl Default for CompareOptions {
@@ -72,7 +73,7 @@ impl Default for CompareOptions {
             threshold: 1.0 / 255.0,
             progress: false,
             images: true,
-            auto: None,
+            auto: Vec::new(),
         }
     }
 }
@@ -92,13 +93,13 @@ type MapSpec<'a> = (
 
 /// What is compared: a method of the table, or `auto`.
 #[derive(Debug, Clone, Copy)]
-struct Subject {
-    name: &'static str,
+struct Subject<'n> {
+    name: &'n str,
     has_normal: bool,
     reference: Reference,
 }
 
-impl From<&Method> for Subject {
+impl From<&Method> for Subject<'static> {
     fn from(m: &Method) -> Self {
         Subject {
             name: m.name,
@@ -109,11 +110,13 @@ impl From<&Method> for Subject {
 }
 
 /// `auto` in the outputs: no per-pixel normal of its own (gouraud's triangles have none).
-const AUTO: Subject = Subject {
-    name: "auto",
-    has_normal: false,
-    reference: Reference::Phong,
-};
+fn auto_subject(name: &str) -> Subject<'_> {
+    Subject {
+        name,
+        has_normal: false,
+        reference: Reference::Phong,
+    }
+}
 
 /// What evaluating a second reference's twin at the id pass's pixels needs.
 #[derive(Clone, Copy)]
@@ -331,7 +334,7 @@ pub fn compare_with(
     opts: &CompareOptions,
 ) -> Result<Summary> {
     let start = Instant::now();
-    if opts.auto.is_some() && !matches!(engine, Engine::Vulkan(_)) {
+    if !opts.auto.is_empty() && !matches!(engine, Engine::Vulkan(_)) {
         return Err(Error::Usage(format!(
             "auto is drawn by the Vulkan pipeline only, not by the {} engine: leave auto out of \
              --methods or use --engine vulkan",
@@ -384,7 +387,7 @@ pub fn compare_with(
     }
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
 
-    let subjects = methods_.len() + usize::from(opts.auto.is_some());
+    let subjects = methods_.len() + opts.auto.len();
     let bar = crate::output::progress_bar(opts.progress, subjects as u64);
     // Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
     // into statistics, FLIP and PNGs. The channel is a rendezvous: a frame is handed over only
@@ -402,7 +405,7 @@ pub fn compare_with(
     let rx = std::sync::Mutex::new(rx);
     let results = std::sync::Mutex::new(Vec::new());
     let mut render_ms = 0.0;
-    let mut auto_summary = None;
+    let mut auto_summaries = Vec::new();
     let render_result: Result<()> = std::thread::scope(|scope| {
         for _ in 0..2 {
             scope.spawn(|| loop {
@@ -411,7 +414,7 @@ pub fn compare_with(
                     Err(_) => return,
                 };
                 let Ok((i, m, frame)) = job else { return };
-                bar.set_message(m.name);
+                bar.set_message(m.name.to_string());
                 let r = ctx.analyse(m, frame);
                 bar.inc(1);
                 if let Ok(mut v) = results.lock() {
@@ -427,17 +430,26 @@ pub fn compare_with(
                 break;
             }
         }
-        if let (Some(spec), Engine::Vulkan(renderer)) = (&opts.auto, engine) {
+        for (k, spec) in opts.auto.iter().enumerate() {
+            // refused at the start for any other engine
+            let Engine::Vulkan(renderer) = engine else {
+                break;
+            };
             let t = Instant::now();
             let pick = crate::scene::auto::choose(base, &spec.order, spec.budget);
             let choice_ms = t.elapsed().as_secs_f64() * 1e3;
-            auto_summary = Some(crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms));
+            auto_summaries.push(crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms));
             let t = Instant::now();
             let scene_auto = renderer.prepare_auto(scene, &spec.order, &pick)?;
             let frame = renderer.render_auto(&scene_auto)?;
             drop(scene_auto);
             render_ms += t.elapsed().as_secs_f64() * 1e3;
-            let _ = tx.send((methods_.len(), AUTO, frame));
+            if tx
+                .send((methods_.len() + k, auto_subject(&spec.name), frame))
+                .is_err()
+            {
+                break;
+            }
         }
         drop(tx);
         Ok(())
@@ -489,7 +501,8 @@ pub fn compare_with(
             flip_pixels_per_second: (w as f64 * h as f64 * subjects as f64) / secs(flip_ms),
         },
         methods: reports,
-        auto: auto_summary,
+        auto: auto_summaries.first().cloned(),
+        auto_curve: auto_summaries.into_iter().skip(1).collect(),
     };
     if opts.images {
         write_summary(out, &summary)?;

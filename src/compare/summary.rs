@@ -150,6 +150,9 @@ pub struct Summary {
     /// `auto`'s per-triangle choice when it was compared (its row in `methods` is `auto`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub auto: Option<crate::scene::auto::AutoSummary>,
+    /// Further budgets of `auto` compared in the same run (bench's curve), each under its name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub auto_curve: Vec<crate::scene::auto::AutoSummary>,
 }
 
 fn vulkan() -> String {

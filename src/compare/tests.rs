@@ -324,5 +324,6 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
         },
         methods,
         auto: None,
+        auto_curve: Vec::new(),
     }
 }

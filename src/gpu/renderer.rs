@@ -487,17 +487,7 @@ impl Renderer {
     pub fn render_auto(&self, a: &AutoScene) -> Result<Frame> {
         let gpu = &a.gpu;
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
-        let mut draws = Vec::new();
-        for &(m, first, count) in &a.groups {
-            let (streams, buffers) = gpu.buffers(Shading::Method(m))?;
-            let p = self.pipeline(
-                gpu,
-                &self.program(gpu, Shading::Method(m)),
-                &streams,
-                &[COLOR, COLOR],
-            )?;
-            draws.push((p, buffers, first, count));
-        }
+        let draws = self.record_list(&a.draw_list())?;
         let targets = Targets::new(&self.ctx, w, h)?;
         let readback = |img: &Image| {
             Buffer::new(
@@ -528,6 +518,20 @@ impl Renderer {
             color: bytemuck::pod_collect_to_vec(&color_buf.bytes()[..size]),
             normal: bytemuck::pod_collect_to_vec(&normal_buf.bytes()[..size]),
         })
+    }
+}
+
+impl AutoScene {
+    /// The groups as one draw list (for timing and counting like any program).
+    pub fn draw_list(&self) -> crate::gpu::DrawList<'_> {
+        crate::gpu::DrawList {
+            gpu: &self.gpu,
+            parts: self
+                .groups
+                .iter()
+                .map(|&(m, first, count)| (Shading::Method(m), first, count))
+                .collect(),
+        }
     }
 }
 

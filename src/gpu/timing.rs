@@ -16,7 +16,7 @@ pub struct Sample {
 
 /// Draws recorded by [`Renderer::timed_draws`], ready to be submitted in any order.
 pub struct TimedDraws {
-    draws: Vec<(Recorded, QueryPool, GraphicsPipeline)>,
+    draws: Vec<(Recorded, QueryPool, Vec<GraphicsPipeline>)>,
     _targets: Targets,
     valid_bits: u32,
     period_ns: f32,
@@ -46,6 +46,31 @@ impl TimedDraws {
     }
 }
 
+/// What one timed program draws: ranges of one upload, each with its shading (one range for a
+/// method or the floor; one per group for `auto`), all in one rendering.
+#[derive(Clone)]
+pub struct DrawList<'a> {
+    pub gpu: &'a GpuScene,
+    /// (shading, first vertex, vertex count).
+    pub parts: Vec<(Shading<'a>, u32, u32)>,
+}
+
+impl<'a> DrawList<'a> {
+    /// Every vertex of `gpu` with one shading.
+    pub fn whole(gpu: &'a GpuScene, shading: Shading<'a>) -> Self {
+        DrawList {
+            gpu,
+            parts: vec![(shading, 0, gpu.inputs.positions.len() as u32)],
+        }
+    }
+
+    /// The shadings' names joined with `+` (for messages).
+    pub fn name(&self) -> String {
+        let names: Vec<String> = self.parts.iter().map(|(s, ..)| s.name()).collect();
+        names.join("+")
+    }
+}
+
 impl Renderer {
     /// Records, once, the draw of every (upload, shading) pair into shared targets (clear +
     /// draw into the colour and normal targets, no readback), each bracketed by timestamps,
@@ -61,39 +86,48 @@ impl Renderer {
     /// writes before the rendering and two after it, reading the first of each pair, track the
     /// submit-to-fence wall clock; `bench` re-checks that on every run.
     pub fn timed_draws(&self, programs: &[(&GpuScene, Shading)]) -> Result<TimedDraws> {
-        let Some((first, _)) = programs.first() else {
+        let lists: Vec<DrawList> = programs
+            .iter()
+            .map(|(gpu, s)| DrawList::whole(gpu, *s))
+            .collect();
+        self.timed_draw_lists(&lists)
+    }
+
+    /// [`Renderer::timed_draws`] of draw lists: each program is one or more ranges of one
+    /// upload, every range with its own pipeline, all in one rendering (`auto`'s groups).
+    pub fn timed_draw_lists(&self, programs: &[DrawList]) -> Result<TimedDraws> {
+        let Some(first) = programs.first() else {
             return Err(Error::Internal("timed_draws: no program to record".into()));
         };
-        let (w, h) = (first.inputs.width, first.inputs.height);
+        let (w, h) = (first.gpu.inputs.width, first.gpu.inputs.height);
         let targets = Targets::new(&self.ctx, w, h)?;
         let mut draws = Vec::new();
-        for (gpu, s) in programs {
+        for list in programs {
+            let gpu = list.gpu;
             if (gpu.inputs.width, gpu.inputs.height) != (w, h) {
                 return Err(Error::Internal(format!(
                     "timed_draws: {} draws {}x{}, the shared targets are {w}x{h}",
-                    s.name(),
+                    list.name(),
                     gpu.inputs.width,
                     gpu.inputs.height
                 )));
             }
-            let (streams, buffers) = gpu.buffers(*s)?;
-            let pipeline = self.pipeline(gpu, &self.program(gpu, *s), &streams, &[COLOR, COLOR])?;
+            let recorded = self.record_list(list)?;
             let pool = QueryPool::timestamps(&self.ctx, 4)?;
             let mut cmd = OneShot::begin(&self.ctx)?;
             cmd.reset_queries(&pool);
             cmd.timestamp(&pool, 0);
             cmd.timestamp(&pool, 1);
             targets.begin(&mut cmd);
-            cmd.draw(
-                &pipeline,
-                Some(&gpu.set),
-                &buffers,
-                gpu.inputs.positions.len() as u32,
-            );
+            for (p, buffers, first, count) in &recorded {
+                cmd.draw_range(p, Some(&gpu.set), buffers, *first, *count);
+            }
             cmd.end_rendering();
             cmd.timestamp(&pool, 2);
             cmd.timestamp(&pool, 3);
-            draws.push((cmd.finish()?, pool, pipeline));
+            let cmd = cmd.finish()?;
+            let pipelines = recorded.into_iter().map(|(p, ..)| p).collect();
+            draws.push((cmd, pool, pipelines));
         }
         let info = self.ctx.info();
         Ok(TimedDraws {
@@ -104,29 +138,54 @@ impl Renderer {
         })
     }
 
+    /// The pipeline, bindings and vertex range of every part of `list`.
+    pub(super) fn record_list<'g>(
+        &self,
+        list: &DrawList<'g>,
+    ) -> Result<
+        Vec<(
+            GraphicsPipeline,
+            Vec<(u32, &'g crate::gpu::vk::Buffer)>,
+            u32,
+            u32,
+        )>,
+    > {
+        let gpu = list.gpu;
+        list.parts
+            .iter()
+            .map(|&(s, first, count)| {
+                let (streams, buffers) = gpu.buffers(s)?;
+                let pipeline =
+                    self.pipeline(gpu, &self.program(gpu, s), &streams, &[COLOR, COLOR])?;
+                Ok((pipeline, buffers, first, count))
+            })
+            .collect()
+    }
+
     /// Fragment-shader invocations of one draw (clear + draw, as timed), counted by a
     /// pipeline-statistics query in a submission of its own, untimed, so that the query never
     /// sits inside a timed bracket. `None` when the device has no pipeline statistics. Not
     /// necessarily the covered pixels: Mesa 22.3 counts whole pixel blocks.
     pub fn fragment_invocations(&self, gpu: &GpuScene, shading: Shading) -> Result<Option<u64>> {
+        self.fragment_invocations_list(&DrawList::whole(gpu, shading))
+    }
+
+    /// [`Renderer::fragment_invocations`] of a draw list (all its parts in one query).
+    pub fn fragment_invocations_list(&self, list: &DrawList) -> Result<Option<u64>> {
         let Some(stats) = QueryPool::fragment_invocations(&self.ctx)? else {
             return Ok(None);
         };
+        let gpu = list.gpu;
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
         let targets = Targets::new(&self.ctx, w, h)?;
-        let (streams, buffers) = gpu.buffers(shading)?;
-        let pipeline =
-            self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
+        let recorded = self.record_list(list)?;
         let mut cmd = OneShot::begin(&self.ctx)?;
         cmd.reset_queries(&stats);
         targets.begin(&mut cmd);
         cmd.begin_query(&stats);
-        cmd.draw(
-            &pipeline,
-            Some(&gpu.set),
-            &buffers,
-            gpu.inputs.positions.len() as u32,
-        );
+        for (p, buffers, first, count) in &recorded {
+            cmd.draw_range(p, Some(&gpu.set), buffers, *first, *count);
+        }
         cmd.end_query(&stats);
         cmd.end_rendering();
         cmd.submit()?;

@@ -14,14 +14,40 @@ pub const AUTO_GRID: usize = 6;
 /// What `auto` needs: the candidates cheapest first (the last is the fallback) and the budget.
 #[derive(Debug, Clone)]
 pub struct AutoSpec {
+    /// `auto` for the run's budget; `auto_<k>_255` and the like for a point of the budget curve
+    /// ([`curve_name`]).
+    pub name: String,
     pub order: Vec<&'static crate::method::Method>,
     /// Max abs colour error, linear.
     pub budget: f64,
 }
 
+/// The budgets of `auto`'s curve on bench's Pareto chart (issue 12): 1/1024, 1/255, 4/255,
+/// 16/255.
+pub const CURVE_BUDGETS: [f64; 4] = [1.0 / 1024.0, 1.0 / 255.0, 4.0 / 255.0, 16.0 / 255.0];
+
+/// The name of `auto` at `budget` on the curve, an identifier like a method's:
+/// `auto_<k>_255` or `auto_1_<k>` when the budget is k/255 or 1/k (to 1e-9), else
+/// `auto_<budget in millionths>e_6`.
+pub fn curve_name(budget: f64) -> String {
+    let near = |a: f64| (a - a.round()).abs() < 1e-9 * a.abs().max(1.0);
+    let k = budget * 255.0;
+    if near(k) && k.round() >= 1.0 {
+        return format!("auto_{}_255", k.round() as u64);
+    }
+    let inv = 1.0 / budget;
+    if near(inv) && inv.round() >= 1.0 {
+        return format!("auto_1_{}", inv.round() as u64);
+    }
+    format!("auto_{}e_6", (budget * 1e6).round() as u64)
+}
+
 /// What `auto` chose for a scene, for the outputs.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AutoSummary {
+    /// `auto`, or [`curve_name`] for a point of bench's budget curve.
+    #[serde(default = "auto_name")]
+    pub name: String,
     pub budget: f64,
     pub margin: f64,
     pub samples_per_triangle: usize,
@@ -35,6 +61,7 @@ impl AutoSummary {
     /// The summary of `pick` (indices into `spec.order`).
     pub fn new(spec: &AutoSpec, pick: &[usize], choice_ms: f64) -> Self {
         AutoSummary {
+            name: spec.name.clone(),
             budget: spec.budget,
             margin: AUTO_MARGIN,
             samples_per_triangle: (AUTO_GRID + 1) * (AUTO_GRID + 2) / 2,
@@ -47,6 +74,10 @@ impl AutoSummary {
             choice_ms,
         }
     }
+}
+
+fn auto_name() -> String {
+    "auto".into()
 }
 
 /// The per-triangle choice: index into `order` for every triangle of `inputs`.
