@@ -1,23 +1,52 @@
-//! Frame times of the software engine against lavapipe for the same draw, in the same run
-//! (run by scripts/software_bench.sh; a benchmark, never a test). Usage:
-//! `software_bench SCENE.toml SIZE REPEAT [METHOD,...|all]`.
+//! The anchor benchmark of issue 13: software phong_exact against lavapipe's frame time for
+//! the same draw in the same run, paired per round, with a timing breakdown of the software
+//! frame (run by scripts/software_bench.sh; a benchmark, never a test). Usage:
+//! `software_bench SCENE.toml SIZE ROUNDS`.
 //!
-//! Clocks: the Vulkan figure is submit-to-fence wall time of one recorded draw (timed_draws);
-//! the software figure is the wall time of `software::render` (set-up, binning, rasterization
-//! and shading; the images allocated and cleared inside it). Draws alternate (Vulkan, software)
-//! so that a busy machine slows both alike; medians and quartiles are printed.
+//! Clocks: the Vulkan figure is the submit-to-fence wall time of one recorded draw
+//! (`timed_draws`); the software figure is the wall time of `software::render` (set-up,
+//! binning, rasterization and shading; the images allocated and cleared inside it). Each round
+//! runs every program once, the order rotated by one per round (as `bench` does), so the
+//! per-round ratio software / lavapipe cancels what the machine did during that round; the
+//! median ratio is printed with its sign-test 95% interval (`paired_ratio`).
+//!
+//! Breakdown (all in the same rounds, medians of per-round differences): `set-up` is
+//! `raster::setup` (triangle set-up: snapping, edge functions, planes); `clear` is a draw of no
+//! triangles (image allocation and clearing, the band queue and its threads); `raster` is a
+//! draw of the set-up triangles whose shader only tests depth and writes a constant (binning,
+//! coverage, depth), minus set-up and clear; `shade` is the whole phong_exact frame minus that.
 use std::time::Instant;
 
+use glam::Vec3;
+use shadelab::analysis::stats::{median_ci, paired_ratio};
 use shadelab::gpu::vk::{Context, ContextDesc};
 use shadelab::gpu::{Renderer, Shading};
-use shadelab::method::{self, METHODS};
-use shadelab::scene::{self, SceneInputs};
-use shadelab::software;
+use shadelab::method;
+use shadelab::scene;
+use shadelab::software::{self, raster};
 
-fn quartiles(mut v: Vec<f64>) -> (f64, f64, f64) {
-    v.sort_by(f64::total_cmp);
-    let q = |p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
-    (q(0.25), q(0.5), q(0.75))
+/// Depth test and a constant colour: everything of a frame but the method.
+struct NoShading;
+
+impl raster::Shader for NoShading {
+    type Setup = ();
+    fn setup(&self, _: &raster::Tri) {}
+    fn row(
+        &self,
+        tri: &raster::Tri,
+        _: &(),
+        span: raster::RowSpan,
+        out: &mut raster::RowOut,
+        _: &mut Vec<Vec3>,
+    ) {
+        let mut z = span.z;
+        for i in span.i0..=span.i1 {
+            if out.test(tri, i, z, span.centre(i)) {
+                out.put(i, Vec3::ONE, [0.0; 4]);
+            }
+            z += span.dz;
+        }
+    }
 }
 
 fn main() -> shadelab::Result<()> {
@@ -26,8 +55,7 @@ fn main() -> shadelab::Result<()> {
         .get(1)
         .map_or("scenes/sphere_fine.toml", String::as_str);
     let size: u32 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1024);
-    let repeat: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(15);
-    let list = args.get(4).map_or("all", String::as_str);
+    let rounds: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(21);
     let mut scene = scene::load_scene(std::path::Path::new(path))?;
     scene.width = size;
     scene.height = size;
@@ -41,67 +69,91 @@ fn main() -> shadelab::Result<()> {
     let prepared = r.prepare(&scene, &[exact])?;
     let draws = r.timed_draws(&[(prepared.base(), Shading::Method(exact))])?;
     let inputs = &prepared.base().inputs;
-    // Warm-up: lavapipe JIT-compiles at the first draw.
-    draws.run(0)?;
-    software::render(inputs, exact, threads, false)?;
-    let (mut vk, mut sw) = (Vec::new(), Vec::new());
-    for _ in 0..repeat {
-        vk.push(draws.run(0)?.wall_ms);
+    let timed = |f: &mut dyn FnMut() -> shadelab::Result<()>| -> shadelab::Result<f64> {
         let t = Instant::now();
-        software::render(inputs, exact, threads, false)?;
-        sw.push(t.elapsed().as_secs_f64() * 1e3);
+        f()?;
+        Ok(t.elapsed().as_secs_f64() * 1e3)
+    };
+    // The programs of a round: lavapipe, software, set-up, clear, raster without shading.
+    let run = |k: usize| -> shadelab::Result<f64> {
+        match k {
+            0 => Ok(draws.run(0)?.wall_ms),
+            1 => timed(&mut || software::render(inputs, exact, threads, false).map(drop)),
+            2 => timed(&mut || raster::setup(inputs).map(drop)),
+            3 => timed(&mut || {
+                raster::draw(size, size, &[], &NoShading, threads, false);
+                Ok(())
+            }),
+            _ => timed(&mut || {
+                let tris = raster::setup(inputs)?;
+                raster::draw(size, size, &tris, &NoShading, threads, false);
+                Ok(())
+            }),
+        }
+    };
+    const N: usize = 5;
+    // Warm-up: lavapipe JIT-compiles at the first draw.
+    for k in 0..N {
+        run(k)?;
     }
-    let (v, s) = (quartiles(vk), quartiles(sw));
+    let mut t: Vec<Vec<f64>> = (0..N).map(|_| Vec::with_capacity(rounds)).collect();
+    for round in 0..rounds {
+        for j in 0..N {
+            let k = (j + round) % N;
+            t[k].push(run(k)?);
+        }
+    }
+    let med = |v: &[f64]| median_ci(v);
+    let (vk, sw) = (med(&t[0]), med(&t[1]));
     println!(
-        "{} at {size}x{size}, {} triangles, {repeat} alternating draws, software on {threads} threads",
+        "{} at {size}x{size}, {} triangles, {rounds} rounds (order rotated per round), software on {threads} threads",
         scene.name,
         inputs.triangle_count()
     );
     println!(
-        "phong_exact lavapipe  median {:7.2} ms (IQR {:.2}-{:.2})",
-        v.1, v.0, v.2
+        "phong_exact lavapipe  median {:7.2} ms (95% CI {:.2}-{:.2})",
+        vk.median, vk.ci95_low, vk.ci95_high
     );
     println!(
-        "phong_exact software  median {:7.2} ms (IQR {:.2}-{:.2})",
-        s.1, s.0, s.2
+        "phong_exact software  median {:7.2} ms (95% CI {:.2}-{:.2})",
+        sw.median, sw.ci95_low, sw.ci95_high
     );
-    println!(
-        "software / lavapipe frame-time ratio: {:.2} (target <= 2)",
-        s.1 / v.1
-    );
-
-    println!("\nsoftware frame time per method (median of {repeat}, ms; ratio to phong_exact):");
-    let methods: Vec<_> = if list == "all" {
-        METHODS.iter().collect()
+    let ratio = paired_ratio(&t[1], &t[0]);
+    // Within 2x when the whole interval is at or below 2, not when it lies above, otherwise
+    // undecided at this number of rounds.
+    let within = if ratio.rounds == 0 || !ratio.ci95_high.is_finite() {
+        "undecided (no finite ratio)"
+    } else if ratio.ci95_high <= 2.0 {
+        "yes"
+    } else if ratio.ci95_low > 2.0 {
+        "no"
     } else {
-        list.split(',')
-            .map(method::find)
-            .collect::<shadelab::Result<_>>()?
+        "undecided (the interval holds 2)"
     };
-    for m in methods {
-        let inputs = SceneInputs::new(&scene, m.geometry);
-        software::render(&inputs, m, threads, false)?;
-        let mut t = Vec::new();
-        for _ in 0..repeat {
-            let t0 = Instant::now();
-            software::render(&inputs, m, threads, false)?;
-            t.push(t0.elapsed().as_secs_f64() * 1e3);
+    println!(
+        "software / lavapipe per round: median {:.3}, 95% interval [{:.3}, {:.3}] over {} rounds{}; within 2x: {within}",
+        ratio.median,
+        ratio.ci95_low,
+        ratio.ci95_high,
+        ratio.rounds,
+        if ratio.non_finite > 0 {
+            format!(" ({} rounds without a finite ratio)", ratio.non_finite)
+        } else {
+            String::new()
         }
-        let q = quartiles(t);
-        let form = software::form(m.name);
-        println!(
-            "{:<32} {:8.2} (IQR {:.2}-{:.2})  x{:.2}  {}",
-            m.name,
-            q.1,
-            q.0,
-            q.2,
-            q.1 / s.1,
-            if form.scanline {
-                "scanline form"
-            } else {
-                "per-pixel form"
-            }
-        );
-    }
+    );
+    let diff = |a: &[f64], b: &[&[f64]]| -> f64 {
+        let d: Vec<f64> = (0..a.len())
+            .map(|r| a[r] - b.iter().map(|v| v[r]).sum::<f64>())
+            .collect();
+        med(&d).median
+    };
+    println!(
+        "software frame breakdown (medians of per-round differences, ms): set-up {:.2}, clear {:.2}, raster (bins, coverage, depth) {:.2}, shade {:.2}",
+        med(&t[2]).median,
+        med(&t[3]).median,
+        diff(&t[4], &[&t[2], &t[3]]),
+        diff(&t[1], &[&t[4]])
+    );
     Ok(())
 }

@@ -15,7 +15,7 @@
 //! A failing input found by a run is written to `target/tmp/fuzz/`; keep it as a regression
 //! file in `tests/data/fuzz/TARGET/` (also a seed, so later runs mutate around it) once the
 //! reader is fixed: [`kept_failing_inputs_stay_fixed`] replays them all.
-mod engine;
+pub(crate) mod engine;
 mod mutate;
 
 use std::path::{Path, PathBuf};

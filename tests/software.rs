@@ -275,3 +275,366 @@ fn drift_allowance_is_not_vacuous() {
     let u = 1.0 / 16_777_216.0;
     assert!(d.iter().all(|&(e, v)| v < 4.0 * u * e as f64), "{d:?}");
 }
+
+fn summary_schema() -> jsonschema::Validator {
+    let s = std::fs::read_to_string(root().join("docs/summary.schema.json")).unwrap();
+    jsonschema::validator_for(&serde_json::from_str(&s).unwrap()).unwrap()
+}
+
+fn read_json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn compare_with_the_software_engine_writes_a_valid_summary_that_names_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |e: &str| dir.path().join(e);
+    let methods = "phong_exact,phong_unnormalized,spherical_angular,gouraud";
+    let args = |engine: &'static str, o: &std::path::Path| {
+        let o = o.to_str().unwrap().to_string();
+        let (code, _, err) = run(&[
+            "compare",
+            "--scene",
+            "scenes/torus.toml",
+            "--size",
+            "96x96",
+            "--methods",
+            methods,
+            "--engine",
+            engine,
+            "--out",
+            &o,
+        ]);
+        assert_eq!(code, 0, "{engine}: {err}");
+        read_json(&std::path::Path::new(&o).join("summary.json"))
+    };
+    let sw = args("software", &out("sw"));
+    let vk = args("vulkan", &out("vk"));
+    let schema = summary_schema();
+    assert!(
+        schema.is_valid(&sw),
+        "software summary.json against the schema"
+    );
+    assert_eq!(sw["engine"], "software");
+    assert_eq!(vk["engine"], "vulkan");
+    // teeth: an engine the schema does not know is rejected
+    let mut wrong = sw.clone();
+    wrong["engine"] = "metal".into();
+    assert!(!schema.is_valid(&wrong));
+    let row = |s: &serde_json::Value, n: &str| {
+        s["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == n)
+            .unwrap()
+            .clone()
+    };
+    // judged against the same f64 exact Phong: software phong_exact is at the float32 level
+    // (bound: tests/gpu.rs), unnormalized far above it, both on the same covered pixels
+    // as Vulkan (coverage: software_phong_exact_agrees_with_vulkan_on_every_shipped_scene)
+    assert!(row(&sw, "phong_exact")["max_abs_error"].as_f64().unwrap() < 1e-4);
+    assert!(
+        row(&sw, "phong_unnormalized")["max_abs_error"]
+            .as_f64()
+            .unwrap()
+            > 1e-2
+    );
+    assert_eq!(
+        row(&sw, "phong_exact")["covered_pixels"],
+        row(&vk, "phong_exact")["covered_pixels"]
+    );
+    for n in methods.split(',') {
+        assert_eq!(row(&sw, n)["non_finite_pixels"], 0, "{n}");
+        assert!(out("sw").join(n).join("error_abs.png").is_file(), "{n}");
+    }
+    // auto is drawn by Vulkan only: refused with a usage error, not silently dropped
+    let o = out("auto");
+    let (code, _, err) = run(&[
+        "compare",
+        "--scene",
+        "scenes/torus.toml",
+        "--size",
+        "64x64",
+        "--methods",
+        "phong_exact,auto",
+        "--engine",
+        "software",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("Vulkan pipeline only"), "{err}");
+}
+
+/// The verdict rule of claims.md, from an entry's interval: below the target agrees, above
+/// disagrees, holding it (or no finite round) inconclusive.
+fn verdict_of(j: &serde_json::Value, target: f64) -> &'static str {
+    let (lo, hi) = (j["ci95_low"].as_f64(), j["ci95_high"].as_f64());
+    match (lo, hi, j["rounds"].as_u64()) {
+        (Some(lo), Some(hi), Some(n)) if n > 0 => {
+            if hi < target {
+                "agrees"
+            } else if lo > target {
+                "disagrees"
+            } else {
+                "inconclusive"
+            }
+        }
+        _ => "inconclusive",
+    }
+}
+
+#[test]
+fn bench_with_the_software_engine_writes_paired_ratios_and_computed_verdicts() {
+    let dir = tempfile::tempdir().unwrap();
+    // A minimal Vulkan bench.json: the fields the Vulkan column reads.
+    let row = |n: &str, lo: f64, hi: f64| {
+        serde_json::json!({"name": n, "ratio_median": (lo + hi) / 2.0, "ratio_ci95_low": lo,
+            "ratio_ci95_high": hi, "ratio_rounds": 40, "ratio_non_finite": 0})
+    };
+    let vk = serde_json::json!({"scene": "torus", "width": 64, "height": 64,
+        "rounds": {"rounds": 40},
+        "methods": [row("gouraud", 0.8, 0.9), row("spherical_angular", 1.0, 1.1)]});
+    let vk_path = dir.path().join("vk.json");
+    std::fs::write(&vk_path, vk.to_string()).unwrap();
+    let out = dir.path().join("sw");
+    let bench = |vk: &std::path::Path, out: &std::path::Path| {
+        run(&[
+            "bench",
+            "--scene",
+            "scenes/torus.toml",
+            "--size",
+            "64x64",
+            "--engine",
+            "software",
+            "--methods",
+            "gouraud,spherical_angular,dichotomy_exact,dichotomy_poly1",
+            "--repeat",
+            "6",
+            "--warmup",
+            "1",
+            "--vulkan-bench",
+            vk.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let (code, stdout, err) = bench(&vk_path, &out);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("phong_exact"), "{stdout}");
+    let b = read_json(&out.join("bench.json"));
+    assert_eq!(b["engine"], "software");
+    assert_eq!(b["rounds"]["rounds"], 6);
+    let methods = b["methods"].as_array().unwrap();
+    assert_eq!(methods.len(), 5, "the four methods and phong_exact");
+    for m in methods {
+        assert_eq!(m["round_ms"].as_array().unwrap().len(), 6, "{m}");
+        assert_eq!(
+            m["ratio_rounds"].as_u64().unwrap() + m["ratio_non_finite"].as_u64().unwrap(),
+            6
+        );
+    }
+    let claims = read_json(&out.join("claims.json"));
+    assert_eq!(claims, b["claims"]);
+    let md = std::fs::read_to_string(out.join("claims.md")).unwrap();
+    let mut judged = 0;
+    for c in claims.as_array().unwrap() {
+        let target = c["claimed_below"].as_f64().unwrap();
+        for engine in ["software", "vulkan"] {
+            let j = &c[engine];
+            if j.is_null() {
+                continue;
+            }
+            judged += 1;
+            assert_eq!(j["verdict"], verdict_of(j, target), "{engine}: {c}");
+            // teeth: the same entry with its interval moved across the target flips
+            let mut moved = j.clone();
+            moved["ci95_low"] = (target * 2.0 + 1.0).into();
+            moved["ci95_high"] = (target * 2.0 + 2.0).into();
+            assert_eq!(verdict_of(&moved, target), "disagrees");
+        }
+        let line = format!(
+            "| {} / {} |",
+            c["num"].as_str().unwrap(),
+            c["den"].as_str().unwrap()
+        );
+        assert!(md.contains(&line), "claims.md lacks {line}:\n{md}");
+    }
+    // software: gouraud, spherical_angular, dichotomy; Vulkan: gouraud and spherical_angular
+    assert_eq!(judged, 5, "{claims}");
+    // the Vulkan column's verdicts are computed from the given intervals
+    let of = |num: &str| {
+        claims
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["num"] == num)
+            .unwrap()
+            .clone()
+    };
+    assert_eq!(of("gouraud")["vulkan"]["verdict"], "disagrees");
+    assert_eq!(of("spherical_angular")["vulkan"]["verdict"], "disagrees");
+    // a bench.json of the software engine is refused as the Vulkan column (exit 2)
+    let (code, _, err) = bench(&out.join("bench.json"), &dir.path().join("again"));
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("not \"vulkan\""), "{err}");
+}
+
+#[test]
+fn software_verify_passes_on_every_shared_model_at_256() {
+    // Skipped with a printed message when the models folder is absent (support::models_dir).
+    let Some(files) = model_files() else { return };
+    assert!(
+        files.len() >= 5,
+        "expected the 5 models of the README, found {files:?}"
+    );
+    let all: Vec<_> = METHODS.iter().collect();
+    for (k, f) in files.iter().enumerate() {
+        let mut s = shadelab::scene::scene_for_mesh(f).unwrap_or_else(|e| panic!("{e}"));
+        s.width = 256;
+        s.height = 256;
+        if k == 0 {
+            // teeth: on a real model too, an image judged by another formula fails
+            let (nr, exact) = (find("mikami_const").unwrap(), find("phong_exact").unwrap());
+            let wrong = verify_software(&s, &[nr], Some(exact), 2).unwrap();
+            assert!(!wrong.passed(), "{}", wrong.table());
+        }
+        let report = verify_software(&s, &all, None, 2).unwrap();
+        println!("{}:\n{}", f.display(), report.table());
+        assert!(
+            report.rows.iter().all(|r| r.agreement.covered > 1000),
+            "{}",
+            f.display()
+        );
+        assert!(
+            report.passed(),
+            "{}: {}\n{}",
+            f.display(),
+            report.failures().join("; "),
+            report.table()
+        );
+    }
+}
+
+/// The allocation counter of the test crate's global allocator (tests/fuzz/engine.rs): per
+/// thread, so other tests running at the same time do not enter the count (the software engine
+/// on 1 thread draws on the calling thread).
+mod allocations {
+    pub fn count() -> u64 {
+        crate::fuzz::engine::allocations_on_this_thread()
+    }
+}
+
+/// A shader that counts the allocations made inside the wrapped shader's rows.
+struct CountRows<S> {
+    inner: S,
+    allocs: std::sync::atomic::AtomicU64,
+    rows: std::sync::atomic::AtomicU64,
+    /// Teeth: allocate in every row.
+    leak: bool,
+}
+
+impl<S: software::raster::Shader> software::raster::Shader for CountRows<S> {
+    type Setup = S::Setup;
+    fn setup(&self, tri: &software::raster::Tri) -> S::Setup {
+        self.inner.setup(tri)
+    }
+    fn row(
+        &self,
+        tri: &software::raster::Tri,
+        setup: &S::Setup,
+        span: software::raster::RowSpan,
+        out: &mut software::raster::RowOut,
+        scratch: &mut Vec<glam::Vec3>,
+    ) {
+        use std::sync::atomic::Ordering::Relaxed;
+        let before = allocations::count();
+        if self.leak {
+            std::hint::black_box(vec![0u8; 16]);
+        }
+        self.inner.row(tri, setup, span, out, scratch);
+        self.allocs
+            .fetch_add(allocations::count() - before, Relaxed);
+        self.rows.fetch_add(1, Relaxed);
+    }
+}
+
+#[test]
+fn the_span_and_pixel_loops_allocate_nothing() {
+    use software::formulas::{self as f, Lighting32};
+    use software::spans::{n4, stepped, Along, SpanShader};
+    let scene = shipped_scene("sphere_fine", 256);
+    let inputs = SceneInputs::new(&scene, Geometry::Mesh);
+    let tris = software::raster::setup(&inputs).unwrap();
+    let lit = Lighting32::new(&inputs.params, inputs.light_count);
+    fn counted<S: software::raster::Shader>(
+        tris: &[software::raster::Tri],
+        s: S,
+        leak: bool,
+    ) -> (u64, u64) {
+        let c = CountRows {
+            inner: s,
+            allocs: 0.into(),
+            rows: 0.into(),
+            leak,
+        };
+        // 1 thread: the rows run on this thread, where the counter counts
+        software::raster::draw(256, 256, tris, &c, 1, true);
+        (c.allocs.into_inner(), c.rows.into_inner())
+    }
+    let alongs = [
+        Along::Slerp,
+        Along::Chebyshev,
+        Along::Quadratic { approx_mid: false },
+        Along::Dichotomy(f::inv_root_exact),
+        Along::Segments(3, None),
+        Along::Segments(3, Some(f::inv_root_poly1)),
+        Along::BishopWeimer,
+        Along::HastEuler,
+    ];
+    for along in alongs {
+        let (allocs, rows) = counted(&tris, SpanShader { along, lit }, false);
+        assert!(rows > 1000, "{along:?}: {rows} rows");
+        assert_eq!(allocs, 0, "{along:?}: {allocs} allocations in {rows} rows");
+    }
+    let per_pixel = stepped(
+        |t: &software::raster::Tri| (t.n, ()),
+        move |v: glam::Vec3, _: &()| {
+            let m = f::normalize_exact(v);
+            (lit.shade(m), n4(m))
+        },
+    );
+    let (allocs, rows) = counted(&tris, per_pixel, false);
+    assert_eq!(
+        allocs, 0,
+        "per-pixel form: {allocs} allocations in {rows} rows"
+    );
+    // teeth: a row that allocates is counted, once per row
+    let (allocs, rows) = counted(
+        &tris,
+        SpanShader {
+            along: Along::Chebyshev,
+            lit,
+        },
+        true,
+    );
+    assert_eq!(allocs, rows);
+}
+
+#[test]
+fn a_command_without_a_software_path_refuses_the_software_engine() {
+    // stress draws on Vulkan only: --engine software must not be ignored silently
+    let dir = tempfile::tempdir().unwrap();
+    let (code, _, err) = run(&[
+        "stress",
+        "--engine",
+        "software",
+        "--methods",
+        "phong_exact",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--engine software is for render"), "{err}");
+}

@@ -70,7 +70,7 @@ pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> Claim
 }
 
 /// The claimed factor of S002 l.151-153.
-const GOURAUD_FACTOR: f64 = 50.0;
+pub(crate) const GOURAUD_FACTOR: f64 = 50.0;
 
 /// "Phong ... takes more than 50x longer than Gouraud": phong_exact / gouraud per round is the
 /// reciprocal of gouraud's paired ratio, so its interval is [1 / high, 1 / low].
@@ -358,7 +358,7 @@ pub(crate) fn dichotomy_isolated(fast: &MethodTiming, exact: &MethodTiming) -> C
 }
 
 /// The seeds' speed factors against exact Phong: (method, claim, factor).
-const FACTOR_CLAIMS: [(&str, &str, f64); 6] = [
+pub(crate) const FACTOR_CLAIMS: [(&str, &str, f64); 6] = [
     (
         "spherical_angular",
         "doubles the speed of polygon shading (S000 l.102-104)",

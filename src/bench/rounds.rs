@@ -11,16 +11,33 @@ use crate::analysis::stats::{paired_ratio, RatioEstimate};
 use crate::error::Result;
 use crate::gpu::{Sample, TimedDraws};
 
-/// Rounds run so far over a set of recorded draws.
-pub(crate) struct Rounds<'d> {
-    draws: &'d TimedDraws,
+/// Programs that can be timed one at a time, in any order: lavapipe's recorded draws, or the
+/// software engine's renders ([`super::software`]).
+pub(crate) trait Draws {
+    fn len(&self) -> usize;
+    /// Draws program `i` once and times it.
+    fn run(&self, i: usize) -> Result<Sample>;
+}
+
+impl Draws for TimedDraws {
+    fn len(&self) -> usize {
+        TimedDraws::len(self)
+    }
+    fn run(&self, i: usize) -> Result<Sample> {
+        TimedDraws::run(self, i)
+    }
+}
+
+/// Rounds run so far over a set of draws.
+pub(crate) struct Rounds<'d, D: Draws + ?Sized = TimedDraws> {
+    draws: &'d D,
     /// `samples[i][r]`: program i in round r.
     pub samples: Vec<Vec<Sample>>,
 }
 
-impl<'d> Rounds<'d> {
+impl<'d, D: Draws + ?Sized> Rounds<'d, D> {
     /// Runs `warmup` discarded submissions of each draw (the first includes lavapipe's JIT).
-    pub fn new(draws: &'d TimedDraws, warmup: usize) -> Result<Self> {
+    pub fn new(draws: &'d D, warmup: usize) -> Result<Self> {
         for i in 0..draws.len() {
             for _ in 0..warmup {
                 draws.run(i)?;

@@ -3,7 +3,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use super::*;
-use crate::error::Result;
+use crate::error::{Error, Result};
 pub(super) fn cmd_bench(
     scene_args: &SceneArgs,
     dev: &DeviceArgs,
@@ -12,9 +12,26 @@ pub(super) fn cmd_bench(
     threads: Option<u32>,
     budgets: Option<(f64, Vec<f64>)>,
     mut opts: crate::bench::BenchOptions,
+    vulkan_bench: Option<&Path>,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let scene = load_scene(scene_args)?;
+    if dev.engine == EngineArg::Software {
+        if budgets.is_some() {
+            return Err(Error::Usage(
+                "auto is drawn by the Vulkan pipeline only: leave it out of --methods with \
+                 --engine software"
+                    .into(),
+            ));
+        }
+        let sw = crate::bench::software::SoftwareOptions {
+            threads: threads.map_or_else(crate::software::default_threads, |n| n as usize),
+            vulkan_bench: vulkan_bench.map(Path::to_path_buf),
+        };
+        let report = crate::bench::software::bench(&scene, &methods, out, &opts, &sw)?;
+        print!("{}", crate::bench::software::table(&report));
+        return Ok(ExitCode::SUCCESS);
+    }
     if let Some(n) = threads {
         // lavapipe reads LP_NUM_THREADS when its device is created: this must come before the
         // Vulkan instance (the renderer below). Nothing else runs yet: no other thread reads

@@ -41,30 +41,50 @@ pub(super) fn cmd_compare(
     let (list, with_auto) = split_auto(list);
     let methods = select_methods(&list)?;
     let scene = load_scene(scene_args)?;
-    let r = renderer(dev)?;
-    let auto = if with_auto {
-        vec![auto_spec(&r, budget)?]
-    } else {
-        Vec::new()
-    };
-    let opts = compare::CompareOptions {
+    let mut opts = compare::CompareOptions {
         scale,
         threshold,
         progress: true,
         images: true,
-        auto,
+        auto: Vec::new(),
     };
-    let summary = compare::compare(&r, &scene, &methods, out, &opts)?;
+    let r = if dev.engine == EngineArg::Software {
+        if with_auto {
+            return Err(Error::Usage(
+                "auto is drawn by the Vulkan pipeline only: leave it out of --methods with \
+                 --engine software"
+                    .into(),
+            ));
+        }
+        None
+    } else {
+        Some(renderer(dev)?)
+    };
+    let engine = match &r {
+        Some(r) => {
+            if with_auto {
+                opts.auto = vec![auto_spec(r, budget)?];
+            }
+            compare::Engine::Vulkan(r)
+        }
+        None => compare::Engine::Software {
+            threads: crate::software::default_threads(),
+        },
+    };
+    let summary = compare::compare_with(engine, &scene, &methods, out, &opts)?;
     print!("{}", compare::table(&summary));
     eprintln!(
-        "wrote {} ({} methods, {:.1} s; metrics {:.0} Mpixel/s, FLIP {:.1} Mpixel/s)",
+        "wrote {} ({} engine, {} methods, {:.1} s; metrics {:.0} Mpixel/s, FLIP {:.1} Mpixel/s)",
         out.join("summary.json").display(),
+        summary.engine,
         summary.methods.len(),
         summary.timing.total_ms / 1e3,
         summary.timing.metric_pixels_per_second / 1e6,
         summary.timing.flip_pixels_per_second / 1e6
     );
-    check_validation(r.context())?;
+    if let Some(r) = &r {
+        check_validation(r.context())?;
+    }
     let over = compare::exceeded(&summary, &limits);
     if over.is_empty() {
         return Ok(ExitCode::SUCCESS);

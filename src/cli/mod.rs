@@ -248,7 +248,8 @@ enum Command {
         #[arg(long, value_name = "SECONDS", default_value_t = crate::bench::DEFAULT_MAX_TIME_S)]
         max_time: f64,
         /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
-        /// (0: render on the submitting thread). Recorded in bench.json.
+        /// (0: render on the submitting thread). Recorded in bench.json. With --engine
+        /// software: the software engine's threads (default: all cores).
         #[arg(long, value_name = "N")]
         threads: Option<u32>,
         /// Compare with the bench.json of an earlier run (not paired: the runs were not
@@ -275,6 +276,10 @@ enum Command {
             default_value = "1/1024,1/255,4/255,16/255"
         )]
         auto_curve: String,
+        /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
+        /// paired ratios are judged beside the software ones in claims.md.
+        #[arg(long, value_name = "DIR/bench.json")]
+        vulkan_bench: Option<PathBuf>,
     },
     /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
     /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
@@ -470,6 +475,7 @@ pub fn run() -> Result<ExitCode> {
             isolated_rounds,
             error_budget,
             auto_curve,
+            vulkan_bench,
         } => {
             let (methods, with_auto) = split_auto(&methods);
             let budgets = if with_auto {
@@ -491,7 +497,16 @@ pub fn run() -> Result<ExitCode> {
                 isolated_rounds,
                 auto: Vec::new(),
             };
-            cmd_bench(&scene, &device, &methods, &out, threads, budgets, opts)
+            cmd_bench(
+                &scene,
+                &device,
+                &methods,
+                &out,
+                threads,
+                budgets,
+                opts,
+                vulkan_bench.as_deref(),
+            )
         }
         Command::Stress {
             device,
@@ -595,6 +610,15 @@ fn load_scene(args: &SceneArgs) -> Result<Scene> {
 }
 
 fn renderer(args: &DeviceArgs) -> Result<Renderer> {
+    // render, verify, compare and bench take their software path before asking for a
+    // renderer: a command that reaches here with --engine software would silently use Vulkan.
+    if args.engine == EngineArg::Software {
+        return Err(Error::Usage(
+            "--engine software is for render, verify, compare and bench; this command runs on \
+             the Vulkan pipeline only: leave --engine out"
+                .into(),
+        ));
+    }
     let ctx = Context::new(&ContextDesc {
         device: args.device.clone(),
         validate: args.validate,

@@ -6,10 +6,12 @@
 //! ill-conditioned and non-finite pixels are counted and left out of every statistic (FLIP
 //! included), and a method with any non-finite pixel has every error metric infinite (null in
 //! JSON, beside its `non_finite_pixels` count), sorts last and fails every limit.
+pub mod engine;
 pub mod summary;
 #[cfg(test)]
 mod tests;
 
+pub use engine::Engine;
 pub use summary::*;
 
 use std::path::Path;
@@ -25,7 +27,7 @@ use crate::analysis::pixel::{
 use crate::analysis::stats::percentile;
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
-use crate::gpu::{Renderer, Shading};
+use crate::gpu::Renderer;
 use crate::method::{self, Method, Reference};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
@@ -318,29 +320,49 @@ pub fn compare(
     out: &Path,
     opts: &CompareOptions,
 ) -> Result<Summary> {
+    compare_with(Engine::Vulkan(renderer), scene, methods_, out, opts)
+}
+
+/// [`compare`] with the frames drawn by `engine`: the reference is f64 exact Phong at that
+/// engine's own weights (its id pass), so each engine is judged on the pixels it covers.
+/// `auto` is drawn by the Vulkan pipeline only.
+pub fn compare_with(
+    engine: Engine,
+    scene: &Scene,
+    methods_: &[&'static Method],
+    out: &Path,
+    opts: &CompareOptions,
+) -> Result<Summary> {
     let start = Instant::now();
+    if !opts.auto.is_empty() && !matches!(engine, Engine::Vulkan(_)) {
+        return Err(Error::Usage(format!(
+            "auto is drawn by the Vulkan pipeline only, not by the {} engine: leave auto out of \
+             --methods or use --engine vulkan",
+            engine.name()
+        )));
+    }
     let exact = method::find("phong_exact")?;
     let mut all = methods_.to_vec();
     if !all.iter().any(|m| m.name == exact.name) {
         all.push(exact);
     }
-    let prepared = renderer.prepare(scene, &all)?;
+    let prepared = engine::Ready::new(engine, scene, &all)?;
     let base = prepared.base();
-    let (w, h) = (base.inputs.width, base.inputs.height);
+    let (w, h) = (base.width, base.height);
 
     // The reference: f64 exact Phong at the rasterizer's weights on the scene's own triangles.
     let t0 = Instant::now();
-    let (_, ids) = renderer.render(base, Shading::Method(exact), true)?;
+    let (_, ids) = prepared.render(exact, true)?;
     let ids = ids.ok_or_else(|| Error::Internal("the id pass returned nothing".into()))?;
     // Statistics need no float32 bound (verify checks those): the values alone.
-    let reference = truth::values(&base.inputs, &ids, exact);
+    let reference = truth::values(base, &ids, exact);
     // The second reference of the angle-interpolating methods: exact slerp along the span.
     let slerp = if methods_
         .iter()
         .any(|m| m.reference == Reference::PhongAndSlerp)
     {
         Some(SecondReference {
-            inputs: &base.inputs,
+            inputs: base,
             ids: &ids,
             method: method::find("slerp")?,
         })
@@ -402,15 +424,19 @@ pub fn compare(
         }
         for (i, m) in methods_.iter().enumerate() {
             let t = Instant::now();
-            let (frame, _) = renderer.render(prepared.for_method(m), Shading::Method(m), false)?;
+            let (frame, _) = prepared.render(m, false)?;
             render_ms += t.elapsed().as_secs_f64() * 1e3;
             if tx.send((i, Subject::from(*m), frame)).is_err() {
                 break;
             }
         }
         for (k, spec) in opts.auto.iter().enumerate() {
+            // refused at the start for any other engine
+            let Engine::Vulkan(renderer) = engine else {
+                break;
+            };
             let t = Instant::now();
-            let pick = crate::scene::auto::choose(&base.inputs, &spec.order, spec.budget);
+            let pick = crate::scene::auto::choose(base, &spec.order, spec.budget);
             let choice_ms = t.elapsed().as_secs_f64() * 1e3;
             auto_summaries.push(crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms));
             let t = Instant::now();
@@ -450,10 +476,11 @@ pub fn compare(
     let secs = |ms: f64| (ms / 1e3).max(1e-9);
     let summary = Summary {
         schema_version: SCHEMA_VERSION,
-        provenance: renderer.provenance(),
+        provenance: engine.provenance(),
+        engine: engine.name().to_string(),
         scene: scene.name.clone(),
         scene_source: scene.mesh.source.clone(),
-        triangles: base.inputs.triangle_count(),
+        triangles: base.triangle_count(),
         width: w,
         height: h,
         interpolation: crate::gpu::shaders::interpolation_tag(scene.interpolation)

@@ -131,6 +131,10 @@ pub struct Timing {
 pub struct Summary {
     pub schema_version: u32,
     pub provenance: Provenance,
+    /// Which renderer drew the frames: `vulkan` or `software` ([`super::Engine::name`]); a
+    /// summary written before the field existed was drawn by Vulkan.
+    #[serde(default = "vulkan")]
+    pub engine: String,
     pub scene: String,
     pub scene_source: String,
     pub triangles: usize,
@@ -149,6 +153,10 @@ pub struct Summary {
     /// Further budgets of `auto` compared in the same run (bench's curve), each under its name.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub auto_curve: Vec<crate::scene::auto::AutoSummary>,
+}
+
+fn vulkan() -> String {
+    "vulkan".into()
 }
 
 /// The reference's name in outputs.

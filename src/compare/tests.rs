@@ -301,6 +301,7 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
             mesa_version: None,
             llvm_version: None,
         },
+        engine: "vulkan".into(),
         scene: String::new(),
         scene_source: String::new(),
         triangles: 0,

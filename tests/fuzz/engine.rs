@@ -159,6 +159,15 @@ thread_local! {
     /// The run in progress on this thread (its `Arc` outlives the pointer's use).
     static RUN: Cell<*const Shared> = const { Cell::new(std::ptr::null()) };
     static LAST_PANIC: RefCell<Option<String>> = const { RefCell::new(None) };
+    /// Allocations (and reallocations) made by this thread so far, for
+    /// [`allocations_on_this_thread`].
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+/// How many allocations and reallocations this thread has made so far (tests/software.rs
+/// checks with it that the software engine's span loops allocate nothing).
+pub fn allocations_on_this_thread() -> u64 {
+    ALLOCATIONS.with(Cell::get)
 }
 
 /// The system allocator, noting the largest request made on a fuzzing thread.
@@ -168,6 +177,7 @@ pub struct Tracking;
 static ALLOCATOR: Tracking = Tracking;
 
 fn note(size: usize) {
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
     let _ = FUZZING.try_with(|f| {
         if !f.get() {
             return;

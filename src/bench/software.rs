@@ -1,0 +1,781 @@
+//! `shadelab bench --engine software`: the frame time of [`software::render`] for every selected
+//! method and phong_exact, in the interleaved rounds of [`super::rounds`] (round r starts at
+//! program r mod n), each method's paired per-round ratio to phong_exact with the sign-test 95%
+//! interval ([`paired_ratio`]), and the seeds' speed claims judged by those intervals
+//! (claims.md / claims.json), beside the verdict of a Vulkan bench.json when one is given
+//! (`--vulkan-bench`).
+//!
+//! Clock: the wall time of one `software::render` call, from set-up to finished images (the
+//! colour, normal and depth images are allocated and cleared inside it); the frame is freed
+//! after the clock stops. The software engine has no constant-colour floor program, no
+//! isolated-cost kernel and no sweeps: those stay with the Vulkan bench.
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::claims::{FACTOR_CLAIMS, GOURAUD_FACTOR};
+use super::rounds::{ratios, round_values, until_ci_stop, widest, Draws, Rounds};
+use super::{BenchOptions, RoundsReport, Stop, RATIO_INTERVAL};
+use crate::analysis::stats::{median_ci, paired_ratio, RatioEstimate};
+use crate::compare::Engine;
+use crate::error::{Error, Result};
+use crate::gpu::Sample;
+use crate::method::{self, Method, Verdict};
+use crate::output;
+use crate::output::provenance::{cpu_model, Provenance};
+use crate::scene::{Scene, SceneInputs};
+use crate::software;
+
+/// Version of the software bench.json layout.
+pub const SCHEMA_VERSION: u32 = 1;
+/// The clock, as bench.json states it.
+pub const CLOCK: &str = "wall: one software::render call, set-up to finished images (their \
+     allocation and clearing included, freeing excluded)";
+
+/// What the software bench needs besides [`BenchOptions`].
+#[derive(Debug, Clone)]
+pub struct SoftwareOptions {
+    /// Threads of the software engine (at least 1).
+    pub threads: usize,
+    /// A Vulkan run's bench.json whose paired ratios are judged beside this run's.
+    pub vulkan_bench: Option<PathBuf>,
+}
+
+/// The programs of a run: each method drawn by the software engine on its own geometry.
+struct Renders<'a> {
+    programs: Vec<(&'static Method, &'a SceneInputs)>,
+    threads: usize,
+}
+
+impl Draws for Renders<'_> {
+    fn len(&self) -> usize {
+        self.programs.len()
+    }
+
+    fn run(&self, i: usize) -> Result<Sample> {
+        let (m, inputs) = self.programs[i];
+        let t = Instant::now();
+        let frame = software::render(inputs, m, self.threads, false)?;
+        let wall_ms = t.elapsed().as_secs_f64() * 1e3;
+        drop(frame);
+        Ok(Sample {
+            wall_ms,
+            timestamp_ms: None,
+        })
+    }
+}
+
+/// One method's frame time and its paired ratio to phong_exact (the ratio fields are named as
+/// in the Vulkan bench.json, so one reader serves both).
+#[derive(Debug, Clone, Serialize)]
+pub struct SoftwareTiming {
+    pub name: String,
+    /// Whether the method ran in its scanline (incremental) form ([`software::form`]).
+    pub scanline_form: bool,
+    pub form: &'static str,
+    pub median_ms: f64,
+    pub ci95_low_ms: f64,
+    pub ci95_high_ms: f64,
+    pub samples: usize,
+    pub ratio_median: f64,
+    pub ratio_ci95_low: f64,
+    pub ratio_ci95_high: f64,
+    pub ratio_rounds: usize,
+    pub ratio_non_finite: usize,
+    pub ratio_confidence: f64,
+    /// The frame time of every round, in round order (pairs with every other program's).
+    pub round_ms: Vec<f64>,
+}
+
+/// A ratio interval and the verdict it gives on one claim.
+#[derive(Debug, Clone, Serialize)]
+pub struct Judged {
+    pub median: f64,
+    pub ci95_low: f64,
+    pub ci95_high: f64,
+    /// Rounds with a finite ratio, and rounds without one (counted, never sorted in).
+    pub rounds: usize,
+    pub non_finite: usize,
+    /// Whether the interval is of per-round ratios of the two programs; false when it is
+    /// bounded from two separate ratios to phong_exact (a Vulkan bench.json's only choice
+    /// for a claim that is not against phong_exact).
+    pub paired: bool,
+    pub verdict: Verdict,
+}
+
+/// One seed speed claim, judged in the software engine and, where a Vulkan bench.json is given,
+/// in Vulkan.
+#[derive(Debug, Clone, Serialize)]
+pub struct SpeedClaim {
+    pub claim: String,
+    /// The ratio judged: `num / den` of frame times per round.
+    pub num: String,
+    pub den: String,
+    /// The claim holds when `num / den` is below this.
+    pub claimed_below: f64,
+    /// `None` when a program of the ratio was not in the run.
+    pub software: Option<Judged>,
+    pub vulkan: Option<Judged>,
+}
+
+/// A claim before it is measured: `num / den` per round below `target`.
+#[derive(Debug, Clone)]
+pub(crate) struct ClaimSpec {
+    pub claim: String,
+    pub num: &'static str,
+    pub den: &'static str,
+    pub target: f64,
+}
+
+/// The seeds' speed claims (the same texts and factors as the Vulkan bench's claims.md).
+pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
+    let spec = |claim: &str, num, den, target| ClaimSpec {
+        claim: claim.into(),
+        num,
+        den,
+        target,
+    };
+    let mut out = vec![spec(
+        "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)",
+        "gouraud",
+        "phong_exact",
+        1.0 / GOURAUD_FACTOR,
+    )];
+    for (name, claim, factor) in FACTOR_CLAIMS {
+        out.push(spec(claim, name, "phong_exact", 1.0 / factor));
+    }
+    out.push(spec(
+        "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)",
+        "dichotomy_poly1",
+        "dichotomy_exact",
+        1.0 / 2.5,
+    ));
+    out.push(spec(
+        "Bishop-Weimer is cheap: per pixel 5 additions and 1 memory access (S004 l.124-128): faster than exact Phong",
+        "bishop_weimer",
+        "phong_exact",
+        1.0,
+    ));
+    for name in [
+        "newton_raphson",
+        "lyon_taylor",
+        "lyon_shift",
+        "hast_half_vector",
+        "mikami_const",
+        "mikami_linear",
+        "mikami_quadratic",
+        "romanyuk_poly",
+        "quaternion",
+        "quaternion_local",
+    ] {
+        out.push(spec(
+            "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)",
+            name,
+            "phong_exact",
+            1.0,
+        ));
+    }
+    out
+}
+
+/// The verdict of a claim "`num / den` is below `target`" from the ratio's 95% interval:
+/// agrees when the whole interval lies below the target, disagrees when it lies wholly above,
+/// inconclusive when it holds the target or when no round gave a finite ratio.
+pub(crate) fn judge(r: &RatioEstimate, target: f64) -> Verdict {
+    let (lo, hi) = (r.ci95_low, r.ci95_high);
+    if r.rounds == 0 || !lo.is_finite() || !hi.is_finite() {
+        Verdict::Inconclusive
+    } else if hi < target {
+        Verdict::Agrees
+    } else if lo > target {
+        Verdict::Disagrees
+    } else {
+        Verdict::Inconclusive
+    }
+}
+
+fn judged(r: RatioEstimate, target: f64, paired: bool) -> Judged {
+    Judged {
+        median: r.median,
+        ci95_low: r.ci95_low,
+        ci95_high: r.ci95_high,
+        rounds: r.rounds,
+        non_finite: r.non_finite,
+        paired,
+        verdict: judge(&r, target),
+    }
+}
+
+/// A Vulkan run's ratios to phong_exact, read from its bench.json.
+#[derive(Debug, Clone)]
+pub(crate) struct VulkanRatios {
+    pub path: String,
+    pub scene: String,
+    pub width: u64,
+    pub height: u64,
+    pub rounds: u64,
+    /// (method, its paired ratio to phong_exact).
+    pub ratios: Vec<(String, RatioEstimate)>,
+}
+
+impl VulkanRatios {
+    /// Reads `path`; refuses a bench.json of another engine (`engine` other than `vulkan`; a
+    /// bench.json without the field was written by the Vulkan bench).
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::Usage(format!(
+                "--vulkan-bench {}: {e}: give the bench.json of a `shadelab bench` run",
+                path.display()
+            ))
+        })?;
+        let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+            Error::Usage(format!("--vulkan-bench {}: not JSON: {e}", path.display()))
+        })?;
+        Self::from_json(&v, &path.display().to_string())
+    }
+
+    pub fn from_json(v: &serde_json::Value, path: &str) -> Result<Self> {
+        let engine = v.get("engine").and_then(|e| e.as_str()).unwrap_or("vulkan");
+        if engine != "vulkan" {
+            return Err(Error::Usage(format!(
+                "--vulkan-bench {path}: its engine is {engine:?}, not \"vulkan\": give the \
+                 bench.json of a `shadelab bench --engine vulkan` run"
+            )));
+        }
+        let methods = v
+            .get("methods")
+            .and_then(|m| m.as_array())
+            .ok_or_else(|| Error::Usage(format!("--vulkan-bench {path}: no `methods` array")))?;
+        let f = |row: &serde_json::Value, k: &str| {
+            row.get(k).and_then(|x| x.as_f64()).unwrap_or(f64::NAN)
+        };
+        let u = |row: &serde_json::Value, k: &str| {
+            row.get(k).and_then(|x| x.as_u64()).unwrap_or(0) as usize
+        };
+        let ratios = methods
+            .iter()
+            .filter_map(|row| {
+                let name = row.get("name")?.as_str()?.to_string();
+                Some((
+                    name,
+                    RatioEstimate {
+                        median: f(row, "ratio_median"),
+                        ci95_low: f(row, "ratio_ci95_low"),
+                        ci95_high: f(row, "ratio_ci95_high"),
+                        rounds: u(row, "ratio_rounds"),
+                        non_finite: u(row, "ratio_non_finite"),
+                        confidence: f(row, "ratio_confidence"),
+                    },
+                ))
+            })
+            .collect();
+        let n = |k: &str| v.get(k).and_then(|x| x.as_u64()).unwrap_or(0);
+        Ok(VulkanRatios {
+            path: path.into(),
+            scene: v
+                .get("scene")
+                .and_then(|s| s.as_str())
+                .unwrap_or("?")
+                .into(),
+            width: n("width"),
+            height: n("height"),
+            rounds: v
+                .get("rounds")
+                .and_then(|r| r.get("rounds"))
+                .and_then(|r| r.as_u64())
+                .unwrap_or(0),
+            ratios,
+        })
+    }
+
+    fn to_phong(&self, name: &str) -> Option<RatioEstimate> {
+        if name == "phong_exact" {
+            return None;
+        }
+        self.ratios.iter().find(|(n, _)| n == name).map(|(_, r)| *r)
+    }
+
+    /// `num / den`: the paired ratio when `den` is phong_exact, otherwise the quotient of the
+    /// two ratios to phong_exact with bounds from both intervals (not paired: widest ends).
+    pub fn ratio(&self, num: &str, den: &str) -> Option<(RatioEstimate, bool)> {
+        let a = self.to_phong(num)?;
+        if den == "phong_exact" {
+            return Some((a, true));
+        }
+        let b = self.to_phong(den)?;
+        let high = if b.ci95_low > 0.0 {
+            a.ci95_high / b.ci95_low
+        } else {
+            f64::NAN
+        };
+        Some((
+            RatioEstimate {
+                median: a.median / b.median,
+                ci95_low: a.ci95_low / b.ci95_high,
+                ci95_high: high,
+                rounds: a.rounds.min(b.rounds),
+                non_finite: a.non_finite.max(b.non_finite),
+                confidence: a.confidence.min(b.confidence),
+            },
+            false,
+        ))
+    }
+}
+
+/// Every claim of [`claim_specs`] judged by `software` (per-round ratios of the programs
+/// `names`, `values[i][r]` the time of program i in round r) and by `vulkan`.
+pub(crate) fn judge_claims(
+    names: &[String],
+    values: &[Vec<f64>],
+    vulkan: Option<&VulkanRatios>,
+) -> Vec<SpeedClaim> {
+    let at = |n: &str| names.iter().position(|x| x == n);
+    claim_specs()
+        .into_iter()
+        .map(|c| {
+            let software = match (at(c.num), at(c.den)) {
+                (Some(i), Some(j)) => {
+                    Some(judged(paired_ratio(&values[i], &values[j]), c.target, true))
+                }
+                _ => None,
+            };
+            let vulkan = vulkan
+                .and_then(|v| v.ratio(c.num, c.den))
+                .map(|(r, paired)| judged(r, c.target, paired));
+            SpeedClaim {
+                claim: c.claim,
+                num: c.num.into(),
+                den: c.den.into(),
+                claimed_below: c.target,
+                software,
+                vulkan,
+            }
+        })
+        .collect()
+}
+
+/// DIR/bench.json of `bench --engine software`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SoftwareBench {
+    pub schema_version: u32,
+    pub engine: &'static str,
+    pub provenance: Provenance,
+    pub cpu_model: String,
+    pub cpu_count: usize,
+    pub threads: usize,
+    pub command_line: Vec<String>,
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub triangles: usize,
+    pub repeat: usize,
+    pub warmup: usize,
+    pub rounds: RoundsReport,
+    pub ratio_interval: String,
+    pub clock: &'static str,
+    pub methods: Vec<SoftwareTiming>,
+    /// The bench.json the Vulkan verdicts come from, if any.
+    pub vulkan_bench: Option<String>,
+    pub claims: Vec<SpeedClaim>,
+    pub total_s: f64,
+}
+
+fn refuse(what: &str) -> Error {
+    Error::Usage(format!(
+        "{what} is not measured by bench --engine software (the Vulkan bench has it): use \
+         --engine vulkan"
+    ))
+}
+
+/// Runs the software bench and writes DIR/bench.json, claims.md and claims.json.
+pub fn bench(
+    scene: &Scene,
+    methods_: &[&'static Method],
+    out: &Path,
+    opts: &BenchOptions,
+    sw: &SoftwareOptions,
+) -> Result<SoftwareBench> {
+    let start = Instant::now();
+    if !opts.sweeps.is_empty() {
+        return Err(refuse("--sweep"));
+    }
+    if opts.baseline.is_some() {
+        return Err(refuse("--baseline"));
+    }
+    if opts.control {
+        return Err(refuse("--control"));
+    }
+    if opts.repeat == 0 {
+        return Err(Error::Usage("--repeat must be at least 1".into()));
+    }
+    // Read the Vulkan figures first: a bad path must not cost a whole run.
+    let vulkan = sw
+        .vulkan_bench
+        .as_deref()
+        .map(VulkanRatios::load)
+        .transpose()?;
+    let threads = sw.threads.max(1);
+    let exact = method::find("phong_exact")?;
+    let mut all = methods_.to_vec();
+    if !all.iter().any(|m| m.name == exact.name) {
+        all.push(exact);
+    }
+    let mut inputs: Vec<SceneInputs> = Vec::new();
+    for m in &all {
+        if !inputs.iter().any(|i| i.geometry == m.geometry) {
+            inputs.push(SceneInputs::new(scene, m.geometry));
+        }
+    }
+    let programs: Vec<(&'static Method, &SceneInputs)> = all
+        .iter()
+        .map(|&m| {
+            let i = inputs.iter().find(|i| i.geometry == m.geometry);
+            (m, i.unwrap_or(&inputs[0]))
+        })
+        .collect();
+    let names: Vec<String> = all.iter().map(|m| m.name.to_string()).collect();
+    let phong = names
+        .iter()
+        .position(|n| n == "phong_exact")
+        .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
+    let draws = Renders { programs, threads };
+    eprintln!(
+        "bench --engine software: {} programs on {threads} threads in the same interleaved \
+         rounds: {} warm-up renders each, then {} rounds{}",
+        draws.len(),
+        opts.warmup,
+        opts.repeat,
+        opts.until_ci_pct.map_or(String::new(), |p| format!(
+            " and more until every paired ratio interval is within +-{p} % (cap {} s)",
+            opts.max_time_s
+        ))
+    );
+    let mut rounds = Rounds::new(&draws, opts.warmup)?;
+    let t0 = Instant::now();
+    rounds.run(opts.repeat)?;
+    // Every program is its own "floor": the floor ratios are 1 and never the widest.
+    let own: Vec<usize> = (0..names.len()).collect();
+    let values_of = |r: &Rounds<Renders>| -> Vec<Vec<f64>> {
+        r.samples.iter().map(|s| round_values(s, "wall")).collect()
+    };
+    let (stopped, (w, which)) = loop {
+        let (p, f) = ratios(&values_of(&rounds), phong, &own);
+        let w = widest(&names, &p, &f);
+        let Some(target) = opts.until_ci_pct else {
+            break (Stop::FixedRepeat, w);
+        };
+        if let Some(stop) = until_ci_stop(w.0, target, t0.elapsed().as_secs_f64(), opts.max_time_s)
+        {
+            break (stop, w);
+        }
+        rounds.run(1)?;
+    };
+    let timing_s = t0.elapsed().as_secs_f64();
+    let values = values_of(&rounds);
+    let (to_phong, _) = ratios(&values, phong, &own);
+    let methods = names
+        .iter()
+        .zip(&values)
+        .zip(&to_phong)
+        .map(|((name, v), r)| {
+            let e = median_ci(v);
+            let form = software::form(name);
+            SoftwareTiming {
+                name: name.clone(),
+                scanline_form: form.scanline,
+                form: form.form,
+                median_ms: e.median,
+                ci95_low_ms: e.ci95_low,
+                ci95_high_ms: e.ci95_high,
+                samples: e.samples,
+                ratio_median: r.median,
+                ratio_ci95_low: r.ci95_low,
+                ratio_ci95_high: r.ci95_high,
+                ratio_rounds: r.rounds,
+                ratio_non_finite: r.non_finite,
+                ratio_confidence: r.confidence,
+                round_ms: v.clone(),
+            }
+        })
+        .collect();
+    let claims = judge_claims(&names, &values, vulkan.as_ref());
+    let mut report = SoftwareBench {
+        schema_version: SCHEMA_VERSION,
+        engine: "software",
+        provenance: Engine::Software { threads }.provenance(),
+        cpu_model: cpu_model(),
+        cpu_count: software::default_threads(),
+        threads,
+        command_line: opts.command_line.clone(),
+        scene: scene.name.clone(),
+        width: scene.width,
+        height: scene.height,
+        triangles: inputs[0].triangle_count(),
+        repeat: opts.repeat,
+        warmup: opts.warmup,
+        rounds: RoundsReport {
+            repeat: opts.repeat,
+            rounds: rounds.len(),
+            until_ci_pct: opts.until_ci_pct,
+            max_time_s: opts.until_ci_pct.map(|_| opts.max_time_s),
+            stopped,
+            timing_s,
+            widest_half_width_pct: w,
+            widest: which,
+        },
+        ratio_interval: RATIO_INTERVAL.into(),
+        clock: CLOCK,
+        methods,
+        vulkan_bench: vulkan.as_ref().map(|v| v.path.clone()),
+        claims,
+        total_s: 0.0,
+    };
+    report.total_s = start.elapsed().as_secs_f64();
+    let json =
+        serde_json::to_string_pretty(&report).map_err(|e| Error::output("bench.json", e))? + "\n";
+    output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())?;
+    let json = serde_json::to_string_pretty(&report.claims)
+        .map_err(|e| Error::output("claims.json", e))?
+        + "\n";
+    output::write_bytes_atomic(&out.join("claims.json"), json.as_bytes())?;
+    let md = claims_md(&report, vulkan.as_ref());
+    output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
+    Ok(report)
+}
+
+/// "median [low, high]" of a judged ratio, with its rounds and non-finite rounds.
+fn cell(j: &Option<Judged>) -> (String, &'static str) {
+    match j {
+        None => ("not in the run".into(), "not checked"),
+        Some(j) => (
+            format!(
+                "{:.4} [{:.4}, {:.4}], {} rounds{}{}",
+                j.median,
+                j.ci95_low,
+                j.ci95_high,
+                j.rounds,
+                if j.non_finite > 0 {
+                    format!(", {} non-finite", j.non_finite)
+                } else {
+                    String::new()
+                },
+                if j.paired { "" } else { ", not paired" }
+            ),
+            j.verdict.as_str(),
+        ),
+    }
+}
+
+/// claims.md: one table, software and Vulkan verdicts side by side.
+pub(crate) fn claims_md(r: &SoftwareBench, vulkan: Option<&VulkanRatios>) -> String {
+    let mut md = format!(
+        "# The seeds' speed claims in the software engine\n\n\
+         Scene {} at {}x{}, {} triangles; `software::render` on {} threads, {} interleaved \
+         rounds ({}), clock: {}.\n\n",
+        r.scene,
+        r.width,
+        r.height,
+        r.triangles,
+        r.threads,
+        r.rounds.rounds,
+        r.rounds.stopped.as_str(),
+        r.clock
+    );
+    match vulkan {
+        Some(v) => {
+            md += &format!(
+                "Vulkan column: the paired ratios of {} (scene {} at {}x{}, {} rounds): a \
+                 separate run, so a software and a Vulkan figure are not paired with each \
+                 other.\n",
+                v.path, v.scene, v.width, v.height, v.rounds
+            );
+            if v.scene != r.scene || v.width != r.width as u64 || v.height != r.height as u64 {
+                md += "**The Vulkan run drew another scene or size than this run.**\n";
+            }
+        }
+        None => {
+            md += "Vulkan column: not measured (pass `--vulkan-bench DIR/bench.json` of a \
+                   `shadelab bench` run of the same scene and size).\n"
+        }
+    }
+    md += "\nEach claim is a ratio of frame times per round that should lie below the claimed \
+           value: the verdict *agrees* when the whole 95% interval of the ratio lies below it, \
+           *disagrees* when the whole interval lies above it, and is *inconclusive* when the \
+           interval holds it or no round gave a finite ratio. Software intervals are of \
+           per-round ratios (sign test); a Vulkan ratio not against phong_exact is bounded \
+           from two intervals (not paired).\n\n";
+    md += "| claim | ratio per round | claimed below | software: median [95%] | software | Vulkan: median [95%] | Vulkan |\n";
+    md += "|---|---|---|---|---|---|---|\n";
+    for c in &r.claims {
+        let (s, sv) = cell(&c.software);
+        let (v, vv) = match (&c.vulkan, vulkan) {
+            (None, None) => ("-".to_string(), "-"),
+            (j, _) => cell(j),
+        };
+        md += &format!(
+            "| {} | {} / {} | {:.4} | {s} | {sv} | {v} | {vv} |\n",
+            c.claim.replace('|', "/"),
+            c.num,
+            c.den,
+            c.claimed_below
+        );
+    }
+    md
+}
+
+/// The text table of a run: every program's frame time and paired ratio to phong_exact.
+pub fn table(r: &SoftwareBench) -> String {
+    let mut t = format!(
+        "scene {} at {}x{}, {} triangles; software engine on {} threads; clock: wall; {} rounds ({}); widest paired ratio interval +-{:.2} % ({})\n",
+        r.scene,
+        r.width,
+        r.height,
+        r.triangles,
+        r.threads,
+        r.rounds.rounds,
+        r.rounds.stopped.as_str(),
+        r.rounds.widest_half_width_pct,
+        r.rounds.widest
+    );
+    t += &format!(
+        "{:<32} {:>9} {:>19} {:>30} {:>9}\n",
+        "method", "median ms", "95% CI ms", "/ phong_exact (paired)", "form"
+    );
+    let mut rows: Vec<&SoftwareTiming> = r.methods.iter().collect();
+    rows.sort_by(|a, b| a.median_ms.total_cmp(&b.median_ms));
+    for m in rows {
+        t += &format!(
+            "{:<32} {:>9.3} {:>19} {:>30} {:>9}\n",
+            m.name,
+            m.median_ms,
+            format!("[{:.3}, {:.3}]", m.ci95_low_ms, m.ci95_high_ms),
+            format!(
+                "{:.4} [{:.4}, {:.4}]{}",
+                m.ratio_median,
+                m.ratio_ci95_low,
+                m.ratio_ci95_high,
+                if m.ratio_non_finite > 0 {
+                    format!(" ({} non-finite)", m.ratio_non_finite)
+                } else {
+                    String::new()
+                }
+            ),
+            if m.scanline_form {
+                "scanline"
+            } else {
+                "per-pixel"
+            }
+        );
+    }
+    for c in &r.claims {
+        let (s, sv) = cell(&c.software);
+        let vk = c
+            .vulkan
+            .as_ref()
+            .map(|v| format!("; Vulkan: {}", v.verdict.as_str()))
+            .unwrap_or_default();
+        t += &format!(
+            "claim {} / {} < {:.4}: {s}: {sv}{vk}\n",
+            c.num, c.den, c.claimed_below
+        );
+    }
+    t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn est(lo: f64, mid: f64, hi: f64) -> RatioEstimate {
+        RatioEstimate {
+            median: mid,
+            ci95_low: lo,
+            ci95_high: hi,
+            rounds: 21,
+            non_finite: 0,
+            confidence: 0.97,
+        }
+    }
+
+    #[test]
+    fn a_verdict_follows_the_interval_and_flips_with_it() {
+        // spherical_angular "doubles the speed": ratio below 0.5
+        assert_eq!(judge(&est(0.30, 0.35, 0.40), 0.5), Verdict::Agrees);
+        // a tampered (too slow) ratio flips it
+        assert_eq!(judge(&est(0.60, 0.65, 0.70), 0.5), Verdict::Disagrees);
+        // an interval holding the claimed value decides nothing
+        assert_eq!(judge(&est(0.45, 0.50, 0.55), 0.5), Verdict::Inconclusive);
+        // no finite round, or a non-finite end, is never an agreement
+        let mut none = est(0.1, 0.1, 0.1);
+        none.rounds = 0;
+        assert_eq!(judge(&none, 0.5), Verdict::Inconclusive);
+        assert_eq!(judge(&est(f64::NAN, 0.3, 0.4), 0.5), Verdict::Inconclusive);
+    }
+
+    #[test]
+    fn claims_are_judged_from_per_round_values_and_count_non_finite_rounds() {
+        let names: Vec<String> = ["phong_exact", "gouraud", "spherical_angular"]
+            .map(String::from)
+            .to_vec();
+        let phong = vec![10.0; 21];
+        let fast = vec![4.0; 21]; // 0.4 of phong_exact: doubles the speed
+        let mut slow = vec![9.0; 21]; // 0.9: does not
+        slow[3] = f64::NAN;
+        let of = |c: &[SpeedClaim], num: &str| {
+            c.iter()
+                .find(|c| c.num == num)
+                .and_then(|c| c.software.clone())
+                .unwrap()
+        };
+        let good = judge_claims(&names, &[phong.clone(), slow.clone(), fast.clone()], None);
+        assert_eq!(of(&good, "spherical_angular").verdict, Verdict::Agrees);
+        // gouraud at 0.9 of Phong is far from 1/50
+        let g = of(&good, "gouraud");
+        assert_eq!(g.verdict, Verdict::Disagrees);
+        assert_eq!((g.rounds, g.non_finite), (20, 1));
+        // swapped inputs: the verdict flips
+        let bad = judge_claims(&names, &[phong, fast, slow], None);
+        assert_eq!(of(&bad, "spherical_angular").verdict, Verdict::Disagrees);
+        // a claim whose programs were not run is not judged
+        assert!(good
+            .iter()
+            .any(|c| c.num == "dichotomy_poly1" && c.software.is_none()));
+    }
+
+    fn bench_json(engine: Option<&str>) -> serde_json::Value {
+        let row = |name: &str, lo: f64, mid: f64, hi: f64| {
+            serde_json::json!({"name": name, "ratio_median": mid, "ratio_ci95_low": lo,
+                "ratio_ci95_high": hi, "ratio_rounds": 40, "ratio_non_finite": 0,
+                "ratio_confidence": 0.96})
+        };
+        let mut v = serde_json::json!({
+            "scene": "sphere_fine", "width": 512, "height": 512, "rounds": {"rounds": 40},
+            "methods": [row("phong_exact", 1.0, 1.0, 1.0), row("dichotomy_exact", 2.0, 2.2, 2.4),
+                        row("dichotomy_poly1", 0.9, 1.0, 1.1), row("newton_raphson", 1.01, 1.02, 1.03)]
+        });
+        if let Some(e) = engine {
+            v["engine"] = serde_json::json!(e);
+        }
+        v
+    }
+
+    #[test]
+    fn the_vulkan_column_reads_a_vulkan_bench_and_refuses_another_engine() {
+        let v = VulkanRatios::from_json(&bench_json(None), "old/bench.json").unwrap();
+        let (r, paired) = v.ratio("newton_raphson", "phong_exact").unwrap();
+        assert!(paired);
+        assert_eq!(judge(&r, 1.0), Verdict::Disagrees);
+        // dichotomy: poly1 / exact bounded from both intervals: [0.9/2.4, 1.1/2.0]
+        let (d, paired) = v.ratio("dichotomy_poly1", "dichotomy_exact").unwrap();
+        assert!(!paired);
+        assert!((d.ci95_low - 0.9 / 2.4).abs() < 1e-12 && (d.ci95_high - 0.55).abs() < 1e-12);
+        assert_eq!(judge(&d, 0.4), Verdict::Inconclusive);
+        assert!(v.ratio("gouraud", "phong_exact").is_none());
+        assert!(VulkanRatios::from_json(&bench_json(Some("vulkan")), "x").is_ok());
+        let err = VulkanRatios::from_json(&bench_json(Some("software")), "sw/bench.json")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("not \"vulkan\""), "{err}");
+    }
+}

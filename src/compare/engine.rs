@@ -1,0 +1,95 @@
+//! Which renderer draws the frames `compare` judges: the Vulkan pipeline (lavapipe) or the
+//! software scanline engine (src/software/). Everything after the frames (the f64 truth at the
+//! engine's own weights, the statistics, FLIP, the heatmaps, summary.json) is shared, so the
+//! two engines are judged the same way; only these few calls differ.
+use crate::error::{Error, Result};
+use crate::frame::{Frame, IdFrame};
+use crate::gpu::{Prepared, Renderer, Shading};
+use crate::method::Method;
+use crate::output::provenance::{cpu_model, Provenance};
+use crate::scene::{Scene, SceneInputs};
+use crate::software;
+
+/// How a frame is rendered.
+#[derive(Clone, Copy)]
+pub enum Engine<'a> {
+    /// The Vulkan pipeline of this renderer.
+    Vulkan(&'a Renderer),
+    /// [`software::render`] on `threads` threads.
+    Software { threads: usize },
+}
+
+impl Engine<'_> {
+    /// The engine's name in outputs (`engine` of summary.json and bench.json).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Engine::Vulkan(_) => "vulkan",
+            Engine::Software { .. } => "software",
+        }
+    }
+
+    /// Where a result came from: the Vulkan device, or the software engine on this CPU (no
+    /// Vulkan API, no Mesa or LLVM involved).
+    pub fn provenance(&self) -> Provenance {
+        match self {
+            Engine::Vulkan(r) => r.provenance(),
+            Engine::Software { threads } => Provenance::new(
+                &format!("shadelab software engine on {}", cpu_model()),
+                "software",
+                &format!("src/software, {threads} threads"),
+                "none",
+            ),
+        }
+    }
+}
+
+/// A scene made ready for an engine: the inputs of every geometry the methods draw, the
+/// scene's own triangles first.
+pub(crate) enum Ready<'a> {
+    Vulkan(&'a Renderer, Prepared),
+    Software {
+        threads: usize,
+        inputs: Vec<SceneInputs>,
+    },
+}
+
+impl<'a> Ready<'a> {
+    pub fn new(engine: Engine<'a>, scene: &Scene, methods: &[&Method]) -> Result<Self> {
+        match engine {
+            Engine::Vulkan(r) => Ok(Ready::Vulkan(r, r.prepare(scene, methods)?)),
+            Engine::Software { threads } => {
+                let mut inputs = vec![SceneInputs::new(scene, crate::method::Geometry::Mesh)];
+                for m in methods {
+                    if !inputs.iter().any(|i| i.geometry == m.geometry) {
+                        inputs.push(SceneInputs::new(scene, m.geometry));
+                    }
+                }
+                Ok(Ready::Software { threads, inputs })
+            }
+        }
+    }
+
+    /// The inputs of the scene's own triangles (the reference geometry).
+    pub fn base(&self) -> &SceneInputs {
+        match self {
+            Ready::Vulkan(_, p) => &p.base().inputs,
+            Ready::Software { inputs, .. } => &inputs[0],
+        }
+    }
+
+    /// Renders `m` (with the id frame when `with_ids`).
+    pub fn render(&self, m: &Method, with_ids: bool) -> Result<(Frame, Option<IdFrame>)> {
+        match self {
+            Ready::Vulkan(r, p) => r.render(p.for_method(m), Shading::Method(m), with_ids),
+            Ready::Software { threads, inputs } => {
+                let i = inputs
+                    .iter()
+                    .find(|i| i.geometry == m.geometry)
+                    .ok_or_else(|| {
+                        Error::Internal(format!("{}: its geometry was not prepared", m.name))
+                    })?;
+                software::render(i, m, *threads, with_ids)
+            }
+        }
+    }
+}
