@@ -33,11 +33,7 @@ fn bench_writes_its_files_in_the_documented_shape() {
     let bench: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("bench.json")).unwrap())
             .unwrap();
-    let schema: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(root().join("docs/bench.schema.json")).unwrap(),
-    )
-    .unwrap();
-    let validator = jsonschema::validator_for(&schema).unwrap();
+    let validator = schema_validator("docs/bench.schema.json");
     let errors: Vec<String> = validator
         .iter_errors(&bench)
         .map(|e| format!("{e} at {}", e.instance_path()))
@@ -594,11 +590,7 @@ fn bench_times_auto_and_its_budget_curve_like_a_method() {
     let bench: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("bench.json")).unwrap())
             .unwrap();
-    let schema: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(root().join("docs/bench.schema.json")).unwrap(),
-    )
-    .unwrap();
-    let validator = jsonschema::validator_for(&schema).unwrap();
+    let validator = schema_validator("docs/bench.schema.json");
     let errors: Vec<String> = validator
         .iter_errors(&bench)
         .map(|e| format!("{e} at {}", e.instance_path()))

@@ -100,3 +100,10 @@ pub fn model_files() -> Option<Vec<PathBuf>> {
     files.sort();
     Some(files)
 }
+
+/// The validator of a schema file of docs/ (e.g. `docs/bench.schema.json`).
+pub fn schema_validator(file: &str) -> jsonschema::Validator {
+    let schema: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root().join(file)).unwrap()).unwrap();
+    jsonschema::validator_for(&schema).unwrap()
+}

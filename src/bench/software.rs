@@ -157,18 +157,7 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
         "phong_exact",
         1.0,
     ));
-    for name in [
-        "newton_raphson",
-        "lyon_taylor",
-        "lyon_shift",
-        "hast_half_vector",
-        "mikami_const",
-        "mikami_linear",
-        "mikami_quadratic",
-        "romanyuk_poly",
-        "quaternion",
-        "quaternion_local",
-    ] {
+    for name in super::claims::SQRT_FREE {
         out.push(spec(
             "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)",
             name,
