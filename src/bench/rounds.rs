@@ -1,7 +1,8 @@
 //! Interleaved rounds of timed draws and the paired statistics they allow.
 //!
-//! Round r submits every program once, starting at program r mod n, so the drift of a shared
-//! machine hits every program alike and the samples of one round are paired: the ratio of a
+//! Round r submits every program once, in an order balanced over rounds for position and for
+//! the program just before ([`round_order`]), so the drift of a shared machine and the
+//! carry-over of one draw into the next hit every program alike and the samples of one round are paired: the ratio of a
 //! program's time to phong_exact's (or to its floor's) in the same round cancels what the
 //! machine did during that round. Each ratio is reported as the median of the per-round
 //! ratios with the sign-test 95% interval ([`paired_ratio`]).
@@ -54,19 +55,44 @@ impl<'d, D: Draws + ?Sized> Rounds<'d, D> {
         self.samples.first().map_or(0, Vec::len)
     }
 
-    /// Runs `count` more rounds, each visiting every draw once in an order rotated by one per
-    /// round.
+    /// Runs `count` more rounds, each visiting every draw once in the order of
+    /// [`round_order`].
     pub fn run(&mut self, count: usize) -> Result<()> {
         let n = self.draws.len();
         for _ in 0..count {
-            let round = self.len();
-            for k in 0..n {
-                let i = (k + round) % n;
+            for i in round_order(n, self.len()) {
                 self.samples[i].push(self.draws.run(i)?);
             }
         }
         Ok(())
     }
+}
+
+/// The order in which round `round` visits `n` programs: a Williams design, balanced for
+/// position and for the program just before. Round r is the sequence 0, 1, n-1, 2, n-2, ...
+/// shifted by r (mod n); for odd n, rounds n..2n-1 are those sequences reversed. Over every n
+/// rounds (2n for odd n) each program is in every position equally often and follows every
+/// other program equally often, so a carry-over (a draw running faster or slower after a
+/// heavy one) falls on every program alike. A plain rotation keeps each program behind the
+/// same neighbour in every round: on lavapipe that biased a paired ratio by ~5 % between two
+/// draws of identical work (`shadelab skips` on the cube, front-to-back order).
+pub(crate) fn round_order(n: usize, round: usize) -> Vec<usize> {
+    if n == 0 {
+        return Vec::new();
+    }
+    let first = (0..n).map(|k| {
+        if k % 2 == 1 {
+            k.div_ceil(2)
+        } else {
+            (n - k / 2) % n
+        }
+    });
+    let shift = round % n;
+    let mut order: Vec<usize> = first.map(|x| (x + shift) % n).collect();
+    if n % 2 == 1 && (round / n) % 2 == 1 {
+        order.reverse();
+    }
+    order
 }
 
 /// The per-round times of one program on `clock` (`timestamp` or `wall`); a round without a
@@ -177,4 +203,63 @@ pub struct RoundsReport {
     /// (null when some ratio had no finite round), and which one it was.
     pub widest_half_width_pct: f64,
     pub widest: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::round_order;
+
+    /// Every round is a permutation; over a full cycle every program takes every position
+    /// equally often and follows every other program equally often.
+    #[test]
+    fn round_orders_balance_position_and_predecessor() {
+        for n in 1..=9 {
+            let cycle = if n % 2 == 0 { n } else { 2 * n };
+            let mut position = vec![vec![0usize; n]; n];
+            let mut after = vec![vec![0usize; n]; n];
+            for r in 0..cycle {
+                let o = round_order(n, r);
+                let mut sorted = o.clone();
+                sorted.sort_unstable();
+                assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "n {n} round {r}: {o:?}");
+                for (k, &i) in o.iter().enumerate() {
+                    position[i][k] += 1;
+                }
+                for w in o.windows(2) {
+                    after[w[1]][w[0]] += 1;
+                }
+            }
+            let per_position = cycle / n;
+            assert!(
+                position.iter().flatten().all(|&c| c == per_position),
+                "n {n}: {position:?}"
+            );
+            let per_pair = if n > 1 {
+                cycle * (n - 1) / (n * (n - 1))
+            } else {
+                0
+            };
+            for (b, row) in after.iter().enumerate() {
+                for (a, &c) in row.iter().enumerate() {
+                    let want = if a == b { 0 } else { per_pair };
+                    assert_eq!(c, want, "n {n}: {a} before {b} {c} times");
+                }
+            }
+        }
+    }
+
+    /// Teeth: a plain rotation is balanced for position but not for the predecessor.
+    #[test]
+    fn a_plain_rotation_is_not_balanced_for_the_predecessor() {
+        let n = 4;
+        let mut after = vec![vec![0usize; n]; n];
+        for r in 0..n {
+            let o: Vec<usize> = (0..n).map(|k| (k + r) % n).collect();
+            for w in o.windows(2) {
+                after[w[1]][w[0]] += 1;
+            }
+        }
+        assert_eq!(after[1][0], 3, "1 follows 0 in three rounds of four");
+        assert_eq!(after[0][1], 0, "0 never follows 1");
+    }
 }
