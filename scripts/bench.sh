@@ -7,8 +7,10 @@
 #  3. `shadelab compare` of all methods at 1024x1024 on the fine sphere (renders, statistics,
 #     FLIP, every PNG): wall time and peak resident memory;
 #  4. `shadelab stress` of all methods: wall time and peak resident memory.
-# Usage: scripts/bench.sh skip: culling before/after per shipped scene, auto's error against its
-#  budget at 512x512 and 1024x1024 on every shipped scene and shared model.
+# Usage: scripts/bench.sh skip: per shipped scene and shared model, `shadelab skips` at 1024x1024
+#  (the draw before and after culling and leaving out the normal target, a depth pre-pass, front-to-back
+#  order and auto at 1/255, paired in the same rounds), then auto's error against its budget at
+#  512x512 and 1024x1024 (compare).
 # Usage: scripts/bench.sh paired [RUNS] [KEEP_DIR] [-- EXTRA BENCH ARGS]
 #  The paired-ratio bar of README "Bench": RUNS (default 3) runs of the default bench of all
 #  methods with the control on the fine sphere at 1024x1024; for each run, the paired ratio of
@@ -73,21 +75,27 @@ if [ "${1:-}" = skip ]; then
   #     its budget 1/255 (compare --methods auto), and what each method got.
   models=()
   [ -d ../shared/models ] && models=(../shared/models/*.obj)
-  echo "== culling: $bin bench --SCENE --size 1024x1024 --methods phong_exact --isolated-rounds 0 --repeat 20 --cull none|auto"
-  for sc in scenes/*.toml; do
-    for c in none auto; do
-      "$bin" bench --scene "$sc" --size 1024x1024 --methods phong_exact --isolated-rounds 0 --repeat 20 --cull $c --out "$tmp/cull_$c" >/dev/null 2>&1
-    done
-    python3 - "$sc" "$tmp/cull_none/bench.json" "$tmp/cull_auto/bench.json" <<'PY'
+  echo "== skips: $bin skips --SCENE --size 1024x1024 --repeat 30 (paired, same rounds); ratios to the default draw"
+  echo "| scene | triangles | culled | invocations none -> default | default / none | + pre-pass | + front to back | auto at 1/255 |"
+  echo "|---|---:|---|---|---|---|---|---|"
+  for sc in scenes/*.toml "${models[@]}"; do
+    flag=--scene; case "$sc" in *.obj) flag=--mesh ;; esac
+    "$bin" skips $flag "$sc" --size 1024x1024 --repeat 30 --out "$tmp/skips" >/dev/null 2>"$tmp/skips.err" || { cat "$tmp/skips.err" >&2; exit 2; }
+    python3 - "$sc" "$tmp/skips/skips.json" <<'PY'
 import json, sys
-rows = []
-for f in sys.argv[2:]:
-    b = json.load(open(f))
-    m = next(r for r in b["methods"] if r["name"] == "phong_exact")
-    rows.append((m["fragment_invocations"], m["covered_pixels"], m["median_ms"], m["ci95_low_ms"], m["ci95_high_ms"]))
-(n0, c0, t0, l0, h0), (n1, c1, t1, l1, h1) = rows
-print(f"{sys.argv[1]}: invocations {n0} -> {n1} ({n1 / n0:.3f}x), covered {c0} -> {c1}; "
-      f"phong_exact {t0:.2f} [{l0:.2f}, {h0:.2f}] -> {t1:.2f} [{l1:.2f}, {h1:.2f}] ms ({t1 / t0:.3f}x, not paired)")
+s = json.load(open(sys.argv[2]))
+rows = {r["name"]: r for r in s["rows"]}
+d = next(r for r in s["rows"] if r["is_default"])
+def ratio(r, k):
+    x = r[k]
+    return f"{x['median']:.3f} [{x['ci95_low']:.3f}, {x['ci95_high']:.3f}] {r['speed_vs_' + k.split('_to_')[1]]}"
+def extra(flag):
+    r = next((r for r in s["rows"] if r["variant"][flag] and not r["variant"]["auto"]), None)
+    return ratio(r, "ratio_to_default") if r else "n/a"
+auto = next(r for r in s["rows"] if r["variant"]["auto"])
+n0, n1 = rows["none"]["fragment_invocations"], d["fragment_invocations"]
+print(f"| {sys.argv[1].split('/')[-1]} | {s['triangles']} | {'yes' if s['culls'] else 'no'} | {n0:,} -> {n1:,} | "
+      f"{ratio(d, 'ratio_to_none')} | {extra('prepass')} | {extra('front_to_back')} | {ratio(auto, 'ratio_to_default')} |")
 PY
   done
   echo "== auto: $bin compare --SCENE --size S --methods auto,phong_exact --error-budget 0.00392156862745098"

@@ -345,6 +345,33 @@ pub fn plan(scene: &Scene) -> Plan {
             ),
         },
     }];
+    let mut skips = skips;
+    let normal = crate::gpu::TIMING_NORMAL_TARGET;
+    skips.push(Skip {
+        what: "normal target".into(),
+        applies: !normal,
+        why: if normal {
+            "drawn in every pass".into()
+        } else {
+            "drawn only when read: compare and verify read it, `render` only with --normals; \
+             timed draws (bench, skips) leave it out"
+                .into()
+        },
+    });
+    let prepass = crate::gpu::TIMING_PREPASS;
+    skips.push(Skip {
+        what: "occluded fragments (depth pre-pass or front-to-back order)".into(),
+        applies: prepass,
+        why: if prepass {
+            "a depth-only pre-pass draws every triangle first; the shading pass tests \
+             LESS_OR_EQUAL"
+                .into()
+        } else {
+            "not skipped by default: `shadelab skips` times a depth pre-pass and \
+             front-to-back order against the default draw of this scene, paired"
+                .into()
+        },
+    });
     Plan {
         schema_version: SCHEMA_VERSION,
         scene: scene.name.clone(),
@@ -524,6 +551,8 @@ mod tests {
         let n: usize = p.normal_angle_deg.histogram.iter().map(|h| h.2).sum();
         assert_eq!(n, p.triangles, "every triangle in one bin");
         assert!(p.skips[0].applies, "a closed torus is culled");
+        let normal = p.skips.iter().find(|k| k.what == "normal target").unwrap();
+        assert_eq!(normal.applies, !crate::gpu::TIMING_NORMAL_TARGET);
         let exact = p.methods.iter().find(|m| m.name == "phong_exact").unwrap();
         assert!(exact.inside);
     }

@@ -248,3 +248,43 @@ fn render_auto_stays_within_its_budget_of_exact_phong() {
         "auto at 16/255: {loose}"
     );
 }
+
+/// `render` without `--normals` draws without a normal target: the same colours, bit for bit,
+/// as with it (both under the validation layer), and the normals only when asked for.
+#[test]
+fn render_leaves_out_the_normal_target_unless_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |f: &str| dir.path().join(f).to_str().unwrap().to_string();
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "scenes/torus.toml",
+            "--size",
+            "80x80",
+            "--validate",
+        ];
+        args.extend_from_slice(extra);
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 0, "{err}");
+    };
+    let (a, b, n) = (p("a.npy"), p("b.npy"), p("n.npy"));
+    render(&["--out", &p("a.png"), "--float", &a]);
+    render(&["--out", &p("b.png"), "--float", &b, "--normals", &n]);
+    let (a, b, n) = (
+        npy_floats(std::path::Path::new(&a)),
+        npy_floats(std::path::Path::new(&b)),
+        npy_floats(std::path::Path::new(&n)),
+    );
+    assert_eq!(a.len(), b.len());
+    assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
+    let covered = a.chunks_exact(4).filter(|c| c[3] > 0.0).count();
+    assert!(covered > 500, "{covered}");
+    // The normals are there when asked: unit length on every covered pixel.
+    let unit = n
+        .chunks_exact(4)
+        .filter(|c| c[3] > 0.0)
+        .filter(|c| ((c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() - 1.0).abs() < 1e-3)
+        .count();
+    assert_eq!(unit, covered);
+}

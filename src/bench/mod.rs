@@ -17,6 +17,7 @@ pub mod clock;
 pub mod isolated;
 pub mod report;
 pub mod rounds;
+pub mod skips;
 pub mod software;
 pub mod sweep;
 #[cfg(test)]

@@ -302,6 +302,28 @@ enum Command {
         #[arg(long, default_value_t = 8)]
         refine: usize,
     },
+    /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
+    /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
+    /// front-to-back order, and `auto`; fragment invocations and paired frame-time ratios.
+    Skips {
+        #[command(flatten)]
+        scene: SceneArgs,
+        #[command(flatten)]
+        device: DeviceArgs,
+        /// Output directory (skips.json, skips.md).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Interleaved rounds (each draws every row once).
+        #[arg(long, default_value_t = 30)]
+        repeat: usize,
+        /// Discarded submissions per row (the first includes lavapipe's shader JIT).
+        #[arg(long, default_value_t = 3)]
+        warmup: usize,
+        /// The error budget of the `auto` row: max abs colour error, linear; `4/255` style
+        /// fractions accepted.
+        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
+        error_budget: f64,
+    },
     /// What a scene needs: topology (culling), the spread of its vertex normals against each
     /// method's measured validity range, triangle sizes and facing, lighting, what is skipped.
     Plan {
@@ -534,6 +556,32 @@ pub fn run() -> Result<ExitCode> {
             json,
             error_budget,
         } => cmd_plan(&scene, &device, json, error_budget),
+        Command::Skips {
+            scene,
+            device,
+            out,
+            repeat,
+            warmup,
+            error_budget,
+        } => {
+            if device.engine == EngineArg::Software {
+                return Err(Error::Usage(
+                    "skips measures the Vulkan renderer's draws: use --engine vulkan".into(),
+                ));
+            }
+            let scene = load_scene(&scene)?;
+            let r = renderer(&device)?;
+            let opts = crate::bench::skips::SkipOptions {
+                repeat,
+                warmup,
+                auto: auto_spec(&r, error_budget)?,
+                command_line: std::env::args().collect(),
+            };
+            let report = crate::bench::skips::skips(&r, &scene, &out, &opts)?;
+            print!("{}", report.markdown());
+            check_validation(r.context())?;
+            Ok(ExitCode::SUCCESS)
+        }
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,

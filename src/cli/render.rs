@@ -40,7 +40,13 @@ pub(super) fn cmd_render(
     }
     let r = renderer(dev)?;
     let prepared = r.prepare(&scene, &[method])?;
-    let (frame, _) = r.render(prepared.for_method(method), Shading::Method(method), false)?;
+    // The normal target only when its .npy is asked for.
+    let (frame, _) = r.render_with(
+        prepared.for_method(method),
+        Shading::Method(method),
+        false,
+        normals.is_some(),
+    )?;
     write_frame(&frame, out, float, normals)?;
     check_validation(r.context())?;
     Ok(ExitCode::SUCCESS)

@@ -375,13 +375,30 @@ impl Renderer {
         shading: Shading,
         with_ids: bool,
     ) -> Result<(Frame, Option<IdFrame>)> {
+        self.render_with(gpu, shading, with_ids, true)
+    }
+
+    /// [`Renderer::render`] with or without the normal target: without it (a PNG and nothing
+    /// else asked for) the shader's second output has no attachment and the frame's `normal`
+    /// is empty.
+    pub fn render_with(
+        &self,
+        gpu: &GpuScene,
+        shading: Shading,
+        with_ids: bool,
+        with_normal: bool,
+    ) -> Result<(Frame, Option<IdFrame>)> {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
         let n = gpu.inputs.positions.len() as u32;
         let (streams, buffers) = gpu.buffers(shading)?;
-        let pipeline =
-            self.pipeline(gpu, &self.program(gpu, shading), &streams, &[COLOR, COLOR])?;
-        let targets = Targets::new(&self.ctx, w, h)?;
-        let (color, normal, depth) = (&targets.color, targets.normal()?, &targets.depth);
+        let colors: &[Format] = if with_normal {
+            &[COLOR, COLOR]
+        } else {
+            &[COLOR]
+        };
+        let pipeline = self.pipeline(gpu, &self.program(gpu, shading), &streams, colors)?;
+        let targets = Targets::with_normal(&self.ctx, w, h, with_normal)?;
+        let (color, normal, depth) = (&targets.color, targets.normal.as_ref(), &targets.depth);
         let readback = |img: &Image| {
             Buffer::new(
                 &self.ctx,
@@ -392,7 +409,7 @@ impl Renderer {
             )
         };
         let color_buf = readback(color)?;
-        let normal_buf = readback(normal)?;
+        let normal_buf = normal.map(readback).transpose()?;
         let clear = Clear::Float([0.0; 4]);
 
         let mut cmd = OneShot::begin(&self.ctx)?;
@@ -400,7 +417,9 @@ impl Renderer {
         cmd.draw(&pipeline, Some(&gpu.set), &buffers, n);
         cmd.end_rendering();
         cmd.copy_image_to_buffer(color, &color_buf);
-        cmd.copy_image_to_buffer(normal, &normal_buf);
+        if let (Some(img), Some(buf)) = (normal, &normal_buf) {
+            cmd.copy_image_to_buffer(img, buf);
+        }
 
         let mut id_objects = None;
         if with_ids {
@@ -438,14 +457,17 @@ impl Renderer {
         // The work is done (synchronous submit): free the targets and the pipeline before the
         // copies out, and each readback buffer as soon as it is copied, so that a render's
         // peak memory is the frame plus one buffer, not every image of the pass at once.
-        let (color_size, normal_size) = (color.byte_size() as usize, normal.byte_size() as usize);
+        let (color_size, normal_size) = (
+            color.byte_size() as usize,
+            normal.map_or(0, |n| n.byte_size() as usize),
+        );
         drop(pipeline);
         drop(targets);
         let color: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&color_buf.bytes()[..color_size]);
         drop(color_buf);
-        let normal: Vec<[f32; 4]> =
-            bytemuck::pod_collect_to_vec(&normal_buf.bytes()[..normal_size]);
-        drop(normal_buf);
+        let normal: Vec<[f32; 4]> = normal_buf.map_or_else(Vec::new, |b| {
+            bytemuck::pod_collect_to_vec(&b.bytes()[..normal_size])
+        });
         let frame = Frame {
             width: w,
             height: h,
@@ -507,11 +529,41 @@ impl Renderer {
         Ok(AutoScene { gpu, groups })
     }
 
+    /// Uploads the scene's own triangles for `methods` in the order `order` gives (a
+    /// permutation of the triangle indices, e.g. front to back).
+    pub fn prepare_permuted(
+        &self,
+        scene: &Scene,
+        methods: &[&Method],
+        order: &dyn Fn(&SceneInputs) -> Vec<usize>,
+    ) -> Result<GpuScene> {
+        self.ctx.check_image_size(scene.width, scene.height)?;
+        if let Some(m) = methods.iter().find(|m| m.geometry != Geometry::Mesh) {
+            return Err(Error::Usage(format!(
+                "{} draws its own geometry: it cannot be drawn in another triangle order",
+                m.name
+            )));
+        }
+        let inputs = SceneInputs::new(scene, Geometry::Mesh);
+        let perm = order(&inputs);
+        let mut check = perm.clone();
+        check.sort_unstable();
+        if check != (0..inputs.triangle_count()).collect::<Vec<_>>() {
+            return Err(Error::Internal(
+                "prepare_permuted: the order is not a permutation of the triangles".into(),
+            ));
+        }
+        self.upload(inputs.permuted(&perm), methods)
+    }
+
     /// Renders `auto`: one pipeline per group, each drawing its range, in one pass.
     pub fn render_auto(&self, a: &AutoScene) -> Result<Frame> {
         let gpu = &a.gpu;
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
-        let draws = self.record_list(&a.draw_list())?;
+        // The image carries the normal too (compare reads it), whatever timing does.
+        let mut list = a.draw_list();
+        list.normal = true;
+        let draws = self.record_list(&list)?;
         let targets = Targets::new(&self.ctx, w, h)?;
         let readback = |img: &Image| {
             Buffer::new(
@@ -555,8 +607,8 @@ impl AutoScene {
                 .iter()
                 .map(|&(m, first, count)| (Shading::Method(m), first, count))
                 .collect(),
-            prepass: false,
-            normal: true,
+            prepass: crate::gpu::TIMING_PREPASS,
+            normal: crate::gpu::TIMING_NORMAL_TARGET,
         }
     }
 }

@@ -46,6 +46,13 @@ impl TimedDraws {
     }
 }
 
+/// Whether a timed draw renders the normal target by default. Nothing reads it when timing
+/// (the shader's second output is discarded without an attachment); `shadelab skips` measures
+/// what leaving it out saves.
+pub const TIMING_NORMAL_TARGET: bool = false;
+/// Whether a timed draw has a depth pre-pass by default (`shadelab skips` measures it).
+pub const TIMING_PREPASS: bool = false;
+
 /// What one timed program draws: ranges of one upload, each with its shading (one range for a
 /// method or the floor; one per group for `auto`), all in one rendering.
 #[derive(Clone)]
@@ -67,8 +74,8 @@ impl<'a> DrawList<'a> {
         DrawList {
             gpu,
             parts: vec![(shading, 0, gpu.inputs.positions.len() as u32)],
-            prepass: false,
-            normal: true,
+            prepass: TIMING_PREPASS,
+            normal: TIMING_NORMAL_TARGET,
         }
     }
 
@@ -81,7 +88,8 @@ impl<'a> DrawList<'a> {
 
 impl Renderer {
     /// Records, once, the draw of every (upload, shading) pair into shared targets (clear +
-    /// draw into the colour and normal targets, no readback), each bracketed by timestamps,
+    /// draw into the colour target, and the normal target when the list asks for it, no
+    /// readback), each bracketed by timestamps,
     /// for repeated submission by a benchmark. The uploads may hold different geometries (the
     /// scene's triangles, a PN tessellation), so that every program of a run can be timed in the
     /// same interleaved rounds; they must share one image size. Nothing but the draw and its
