@@ -4,15 +4,16 @@
 //! `software_bench SCENE.toml SIZE ROUNDS`.
 //!
 //! Clocks: the Vulkan figure is the submit-to-fence wall time of one recorded draw
-//! (`timed_draws`); the software figure is the wall time of `software::render` (set-up,
-//! binning, rasterization and shading; the images allocated and cleared inside it). Each round
-//! runs every program once, the order rotated by one per round (as `bench` does), so the
+//! (`timed_draws`: colour and depth, no normal target); the software figure is the wall time of
+//! `software::render_into` (set-up, binning, clearing, rasterization and shading into kept
+//! colour and depth images, no normal target). Each round runs every program once, in the
+//! balanced order of `bench` (`round_order`), so the
 //! per-round ratio software / lavapipe cancels what the machine did during that round; the
 //! median ratio is printed with its sign-test 95% interval (`paired_ratio`).
 //!
 //! Breakdown (all in the same rounds, medians of per-round differences): `set-up` is
 //! `raster::setup` (triangle set-up: snapping, edge functions, planes); `clear` is a draw of no
-//! triangles (image allocation and clearing, the band queue and its threads); `raster` is a
+//! triangles (clearing the kept images, the band queue and its threads); `raster` is a
 //! draw of the set-up triangles whose shader only tests depth and writes a constant (binning,
 //! coverage, depth), minus set-up and clear; `shade` is the whole phong_exact frame minus that.
 use std::time::Instant;
@@ -75,18 +76,21 @@ fn main() -> shadelab::Result<()> {
         Ok(t.elapsed().as_secs_f64() * 1e3)
     };
     // The programs of a round: lavapipe, software, set-up, clear, raster without shading.
+    // Kept images, no normal target: the draw lavapipe times (colour and depth).
+    let targets = std::cell::RefCell::new(software::Targets::new(size, size, false, false));
     let run = |k: usize| -> shadelab::Result<f64> {
+        let mut t = targets.borrow_mut();
         match k {
             0 => Ok(draws.run(0)?.wall_ms),
-            1 => timed(&mut || software::render(inputs, exact, threads, false).map(drop)),
+            1 => timed(&mut || software::render_into(inputs, exact, threads, &mut t)),
             2 => timed(&mut || raster::setup(inputs).map(drop)),
             3 => timed(&mut || {
-                raster::draw(size, size, &[], &NoShading, threads, false);
+                raster::draw_into(&mut t, &[], &NoShading, threads);
                 Ok(())
             }),
             _ => timed(&mut || {
                 let tris = raster::setup(inputs)?;
-                raster::draw(size, size, &tris, &NoShading, threads, false);
+                raster::draw_into(&mut t, &tris, &NoShading, threads);
                 Ok(())
             }),
         }
@@ -98,15 +102,14 @@ fn main() -> shadelab::Result<()> {
     }
     let mut t: Vec<Vec<f64>> = (0..N).map(|_| Vec::with_capacity(rounds)).collect();
     for round in 0..rounds {
-        for j in 0..N {
-            let k = (j + round) % N;
+        for k in shadelab::bench::rounds::round_order(N, round) {
             t[k].push(run(k)?);
         }
     }
     let med = |v: &[f64]| median_ci(v);
     let (vk, sw) = (med(&t[0]), med(&t[1]));
     println!(
-        "{} at {size}x{size}, {} triangles, {rounds} rounds (order rotated per round), software on {threads} threads",
+        "{} at {size}x{size}, {} triangles, {rounds} rounds (balanced order), software on {threads} threads",
         scene.name,
         inputs.triangle_count()
     );

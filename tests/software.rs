@@ -638,3 +638,26 @@ fn a_command_without_a_software_path_refuses_the_software_engine() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--engine software is for render"), "{err}");
 }
+
+/// Kept targets: a draw clears them first, so gouraud drawn into the targets phong_exact left
+/// gives exactly a fresh gouraud frame (without the clear every depth test would fail and the
+/// phong_exact colours would stay); without a normal target the frame has no normals.
+#[test]
+fn kept_targets_are_cleared_by_each_draw() {
+    let scene = shipped_scene("torus", 96);
+    let inputs = SceneInputs::new(&scene, Geometry::Mesh);
+    let (exact, gouraud) = (find("phong_exact").unwrap(), find("gouraud").unwrap());
+    let (fresh, _) = render(&inputs, gouraud, 2, false).unwrap();
+    let (phong, _) = render(&inputs, exact, 2, false).unwrap();
+    let mut kept = software::Targets::new(96, 96, false, false);
+    software::render_into(&inputs, exact, 2, &mut kept).unwrap();
+    software::render_into(&inputs, gouraud, 2, &mut kept).unwrap();
+    let (frame, ids) = kept.into_frames();
+    assert!(ids.is_none() && frame.normal.is_empty());
+    assert!(fresh.covered() > 1000);
+    assert_eq!(frame.color, fresh.color, "kept targets differ from a fresh frame");
+    assert_ne!(phong.color, fresh.color, "teeth: the two methods draw different colours");
+    // A target of another size is refused.
+    let mut small = software::Targets::new(64, 64, false, false);
+    assert!(software::render_into(&inputs, exact, 1, &mut small).is_err());
+}

@@ -2,7 +2,8 @@
 //! kernel of `stress` (glsl/evaluate.comp, the fragment code of the method) evaluates it K times
 //! per invocation in a dependency chain, for K in [`REPEATS`]; the least-squares slope of the
 //! dispatch time over K, divided by the invocations, is the cost of one evaluation. Rounds are
-//! interleaved (every method and K once per round, in rotated order), so the ratio to
+//! interleaved (every method and K once per round, in the balanced order of
+//! [`super::rounds::round_order`]), so the ratio to
 //! phong_exact's evaluation is paired per round; medians with order-statistic 95% intervals.
 use std::sync::Arc;
 use std::time::Duration;
@@ -206,8 +207,7 @@ pub fn measure(
             round + 1,
             opts.warmup + opts.rounds
         ));
-        for j in 0..list.len() {
-            let i = (j + round) % list.len();
+        for i in super::rounds::round_order(list.len(), round) {
             for (k, rec) in timed[i].recorded.iter().enumerate() {
                 let t: Duration = rec.submit()?;
                 if round >= opts.warmup {

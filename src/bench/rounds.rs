@@ -76,7 +76,7 @@ impl<'d, D: Draws + ?Sized> Rounds<'d, D> {
 /// heavy one) falls on every program alike. A plain rotation keeps each program behind the
 /// same neighbour in every round: on lavapipe that biased a paired ratio by ~5 % between two
 /// draws of identical work (`shadelab skips` on the cube, front-to-back order).
-pub(crate) fn round_order(n: usize, round: usize) -> Vec<usize> {
+pub fn round_order(n: usize, round: usize) -> Vec<usize> {
     if n == 0 {
         return Vec::new();
     }

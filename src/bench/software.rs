@@ -1,13 +1,13 @@
-//! `shadelab bench --engine software`: the frame time of [`software::render`] for every selected
-//! method and phong_exact, in the interleaved rounds of [`super::rounds`] (round r starts at
-//! program r mod n), each method's paired per-round ratio to phong_exact with the sign-test 95%
+//! `shadelab bench --engine software`: the frame time of [`software::render_into`] for every
+//! selected method and phong_exact, in the interleaved rounds of [`super::rounds`] (a balanced
+//! order), each method's paired per-round ratio to phong_exact with the sign-test 95%
 //! interval ([`paired_ratio`]), and the seeds' speed claims judged by those intervals
 //! (claims.md / claims.json), beside the verdict of a Vulkan bench.json when one is given
 //! (`--vulkan-bench`).
 //!
-//! Clock: the wall time of one `software::render` call, from set-up to finished images (the
-//! colour, normal and depth images are allocated and cleared inside it); the frame is freed
-//! after the clock stops. The software engine has no constant-colour floor program, no
+//! Clock: the wall time of one `software::render_into` call, from set-up to finished images,
+//! into one kept set of colour and depth images (cleared by each draw, band by band; no normal
+//! target, as in the Vulkan bench's timed draws). The software engine has no constant-colour floor program, no
 //! isolated-cost kernel and no sweeps: those stay with the Vulkan bench.
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -30,8 +30,8 @@ use crate::software;
 /// Version of the software bench.json layout.
 pub const SCHEMA_VERSION: u32 = 1;
 /// The clock, as bench.json states it.
-pub const CLOCK: &str = "wall: one software::render call, set-up to finished images (their \
-     allocation and clearing included, freeing excluded)";
+pub const CLOCK: &str = "wall: one software::render_into call, set-up to finished images \
+     (kept colour and depth images, cleared inside it; no normal target)";
 
 /// What the software bench needs besides [`BenchOptions`].
 #[derive(Debug, Clone)]
@@ -46,6 +46,9 @@ pub struct SoftwareOptions {
 struct Renders<'a> {
     programs: Vec<(&'static Method, &'a SceneInputs)>,
     threads: usize,
+    /// One set of images for every draw (all programs share the image size): colour and depth,
+    /// no normal target (nobody reads it when timing, as in the Vulkan bench).
+    targets: std::cell::RefCell<software::Targets>,
 }
 
 impl Draws for Renders<'_> {
@@ -55,10 +58,10 @@ impl Draws for Renders<'_> {
 
     fn run(&self, i: usize) -> Result<Sample> {
         let (m, inputs) = self.programs[i];
+        let mut targets = self.targets.borrow_mut();
         let t = Instant::now();
-        let frame = software::render(inputs, m, self.threads, false)?;
+        software::render_into(inputs, m, self.threads, &mut targets)?;
         let wall_ms = t.elapsed().as_secs_f64() * 1e3;
-        drop(frame);
         Ok(Sample {
             wall_ms,
             timestamp_ms: None,
@@ -428,7 +431,16 @@ pub fn bench(
         .iter()
         .position(|n| n == "phong_exact")
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
-    let draws = Renders { programs, threads };
+    let draws = Renders {
+        programs,
+        threads,
+        targets: std::cell::RefCell::new(software::Targets::new(
+            scene.width,
+            scene.height,
+            false,
+            false,
+        )),
+    };
     eprintln!(
         "bench --engine software: {} programs on {threads} threads in the same interleaved \
          rounds: {} warm-up renders each, then {} rounds{}",
@@ -560,7 +572,7 @@ fn cell(j: &Option<Judged>) -> (String, &'static str) {
 pub(crate) fn claims_md(r: &SoftwareBench, vulkan: Option<&VulkanRatios>) -> String {
     let mut md = format!(
         "# The seeds' speed claims in the software engine\n\n\
-         Scene {} at {}x{}, {} triangles; `software::render` on {} threads, {} interleaved \
+         Scene {} at {}x{}, {} triangles; `software::render_into` on {} threads, {} interleaved \
          rounds ({}), clock: {}.\n\n",
         r.scene,
         r.width,

@@ -21,7 +21,8 @@ use crate::frame::{Frame, IdFrame};
 use crate::method::{specular_table, Method};
 use crate::scene::{Interpolation, SceneInputs};
 use formulas::{self as f, Lighting32};
-use raster::{draw, Shader, Tri};
+pub use raster::Targets;
+use raster::{draw_into, Shader, Tri};
 use spans::{n4, stepped, Along, SpanShader};
 
 /// How a method runs in the software engine: `scanline` when it has an incremental form along
@@ -93,6 +94,19 @@ pub fn render(
     threads: usize,
     with_ids: bool,
 ) -> Result<(Frame, Option<IdFrame>)> {
+    let mut targets = Targets::new(inputs.width, inputs.height, true, with_ids);
+    render_into(inputs, method, threads, &mut targets)?;
+    Ok(targets.into_frames())
+}
+
+/// [`render`] into kept targets (cleared by the draw; of the inputs' size), which allocates no
+/// image: a timed draw (`bench --engine software`) keeps one set, without a normal target.
+pub fn render_into(
+    inputs: &SceneInputs,
+    method: &Method,
+    threads: usize,
+    targets: &mut Targets,
+) -> Result<()> {
     if inputs.interpolation == Interpolation::Perspective {
         return Err(Error::Usage(format!(
             "the software engine interpolates screen-linearly only; {} asks for perspective: \
@@ -106,45 +120,40 @@ pub fn render(
             method.name, method.geometry, inputs.geometry
         )));
     }
+    if (targets.width, targets.height) != (inputs.width, inputs.height) {
+        return Err(Error::Internal(format!(
+            "software targets {}x{} for a {}x{} scene",
+            targets.width, targets.height, inputs.width, inputs.height
+        )));
+    }
     let tris = raster::setup(inputs)?;
     let lit = Lighting32::new(&inputs.params, inputs.light_count);
-    let (w, h) = (inputs.width, inputs.height);
-    let go = |s: &dyn Fn() -> (Frame, Option<IdFrame>)| Ok(s());
-    fn run<S: Shader>(
-        w: u32,
-        h: u32,
-        t: &[Tri],
-        s: S,
-        n: usize,
-        ids: bool,
-    ) -> (Frame, Option<IdFrame>) {
-        draw(w, h, t, &s, n, ids)
+    fn run<S: Shader>(targets: &mut Targets, t: &[Tri], s: S, n: usize) -> Result<()> {
+        draw_into(targets, t, &s, n);
+        Ok(())
     }
     let normal = |t: &Tri| (t.n, ());
     let span = |along| SpanShader { along, lit };
     macro_rules! scalar {
         ($k:expr) => {
-            go(&|| {
+            {
                 run(
-                    w,
-                    h,
+                    targets,
                     &tris,
                     stepped(normal, move |v: Vec3, _: &()| {
                         let m = v * $k(v.dot(v));
                         (lit.shade(m), n4(m))
                     }),
                     threads,
-                    with_ids,
                 )
-            })
+            }
         };
     }
     macro_rules! mikami {
         ($beta:expr) => {
-            go(&|| {
+            {
                 run(
-                    w,
-                    h,
+                    targets,
                     &tris,
                     stepped(normal, move |v: Vec3, _: &()| {
                         let z = v.dot(v);
@@ -152,31 +161,30 @@ pub fn render(
                         (lit.shade(m), n4(m))
                     }),
                     threads,
-                    with_ids,
                 )
-            })
+            }
         };
     }
     macro_rules! along {
         ($a:expr) => {
-            go(&|| run(w, h, &tris, span($a), threads, with_ids))
+            run(targets, &tris, span($a), threads)
         };
     }
     match method.name {
-        "flat" => go(&|| {
+        "flat" => {
             let s = stepped(
                 |t: &Tri| ([Vec3::ZERO; 3], (lit.shade(t.flat), t.flat)),
                 |_, d: &(Vec3, Vec3)| (d.0, n4(d.1)),
             );
-            run(w, h, &tris, s, threads, with_ids)
-        }),
-        "gouraud" | "trueform" => go(&|| {
+            run(targets, &tris, s, threads)
+        }
+        "gouraud" | "trueform" => {
             let s = stepped(
                 |t: &Tri| (t.n.map(|n| lit.shade(n)), ()),
                 |c, _: &()| (c, [0.0; 4]),
             );
-            run(w, h, &tris, s, threads, with_ids)
-        }),
+            run(targets, &tris, s, threads)
+        }
         "phong_exact" => scalar!(|z: f32| 1.0 / z.sqrt()),
         "phong_unnormalized" => scalar!(|_: f32| 1.0),
         "newton_raphson" => scalar!(f::k_newton),
@@ -186,7 +194,7 @@ pub fn render(
         "mikami_const" => mikami!(f::beta_const),
         "mikami_linear" => mikami!(f::beta_linear),
         "mikami_quadratic" => mikami!(f::beta_quadratic),
-        "hast_half_vector" => go(&|| {
+        "hast_half_vector" => {
             let s = stepped(
                 |t: &Tri| (t.n, t.flat),
                 move |v, flat: &Vec3| {
@@ -194,9 +202,9 @@ pub fn render(
                     (lit.shade(m), n4(m))
                 },
             );
-            run(w, h, &tris, s, threads, with_ids)
-        }),
-        "quaternion" => go(&|| {
+            run(targets, &tris, s, threads)
+        }
+        "quaternion" => {
             let s = stepped(
                 |t: &Tri| (t.n.map(f::quat_from_normal), ()),
                 move |q, _: &()| {
@@ -204,9 +212,9 @@ pub fn render(
                     (lit.shade(m), n4(m))
                 },
             );
-            run(w, h, &tris, s, threads, with_ids)
-        }),
-        "quaternion_local" => go(&|| {
+            run(targets, &tris, s, threads)
+        }
+        "quaternion_local" => {
             let s = stepped(
                 |t: &Tri| {
                     let (tt, b) = f::onb(t.flat);
@@ -221,9 +229,9 @@ pub fn render(
                     (lit.shade(m), n4(m))
                 },
             );
-            run(w, h, &tris, s, threads, with_ids)
-        }),
-        "barycentric_quadratic" | "barycentric_quadratic_exact_mid" => go(&|| {
+            run(targets, &tris, s, threads)
+        }
+        "barycentric_quadratic" | "barycentric_quadratic_exact_mid" => {
             let mid = if method.name == "barycentric_quadratic" {
                 f::m_ij
             } else {
@@ -242,9 +250,9 @@ pub fn render(
                     (lit.shade(m), n4(m))
                 },
             );
-            run(w, h, &tris, s, threads, with_ids)
-        }),
-        "pn_normals" => go(&|| {
+            run(targets, &tris, s, threads)
+        }
+        "pn_normals" => {
             let s = stepped(
                 |t: &Tri| ([Vec3::X, Vec3::Y, Vec3::Z], (t.n, t.pn)),
                 move |c, d: &([Vec3; 3], [Vec3; 3])| {
@@ -252,9 +260,9 @@ pub fn render(
                     (lit.shade(m), n4(m))
                 },
             );
-            run(w, h, &tris, s, threads, with_ids)
-        }),
-        "specular_lut" => go(&|| {
+            run(targets, &tris, s, threads)
+        }
+        "specular_lut" => {
             let table = specular_table();
             let (rows, samples) = (
                 crate::method::formulas::LUT_ROWS,
@@ -271,8 +279,8 @@ pub fn render(
                 }
                 (c, n4(m))
             });
-            run(w, h, &tris, s, threads, with_ids)
-        }),
+            run(targets, &tris, s, threads)
+        }
         "slerp" => along!(Along::Slerp),
         "spherical_angular" => along!(Along::Chebyshev),
         "quadratic_scanline" => along!(Along::Quadratic { approx_mid: false }),

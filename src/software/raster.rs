@@ -188,7 +188,8 @@ pub fn setup(inputs: &SceneInputs) -> Result<Vec<Tri>> {
 /// One row of a band: the images' pixels of that row.
 pub struct RowOut<'a> {
     pub color: &'a mut [[f32; 4]],
-    pub normal: &'a mut [[f32; 4]],
+    /// The normal target, when the draw has one.
+    pub normal: Option<&'a mut [[f32; 4]]>,
     pub depth: &'a mut [f32],
     /// Triangle ids and weights, when the draw records them.
     pub ids: Option<(&'a mut [u32], &'a mut [[f32; 4]])>,
@@ -215,7 +216,9 @@ impl RowOut<'_> {
     #[inline(always)]
     pub fn put(&mut self, i: usize, c: Vec3, n: [f32; 4]) {
         self.color[i] = [c.x, c.y, c.z, 1.0];
-        self.normal[i] = n;
+        if let Some(normal) = &mut self.normal {
+            normal[i] = n;
+        }
     }
 }
 
@@ -258,13 +261,61 @@ pub trait Shader: Sync {
 struct Band<'a> {
     first: u32,
     color: &'a mut [[f32; 4]],
-    normal: &'a mut [[f32; 4]],
+    normal: Option<&'a mut [[f32; 4]]>,
     depth: &'a mut [f32],
     prim: Option<&'a mut [u32]>,
     weights: Option<&'a mut [[f32; 4]]>,
 }
 
-/// Draws the set-up triangles with `shader` on `threads` threads (at least 1).
+/// The images of a software draw, reusable: a draw clears each band of rows just before it
+/// draws that band (on the thread that draws it), so a timed draw into kept targets touches no
+/// fresh memory (a fresh 1024x1024 frame is 36 MB of page faults).
+pub struct Targets {
+    pub width: u32,
+    pub height: u32,
+    color: Vec<[f32; 4]>,
+    /// None: no normal target (nobody reads it).
+    normal: Option<Vec<[f32; 4]>>,
+    depth: Vec<f32>,
+    /// Triangle ids and weights (the id frame), when asked for.
+    ids: Option<(Vec<u32>, Vec<[f32; 4]>)>,
+}
+
+impl Targets {
+    /// Colour and depth, and the normal target and the id frame when asked for.
+    pub fn new(width: u32, height: u32, normal: bool, ids: bool) -> Self {
+        let n = width as usize * height as usize;
+        Targets {
+            width,
+            height,
+            color: vec![[0.0; 4]; n],
+            normal: normal.then(|| vec![[0.0; 4]; n]),
+            depth: vec![1.0; n],
+            ids: ids.then(|| (vec![0; n], vec![[0.0; 4]; n])),
+        }
+    }
+
+    /// The images as the Vulkan renderer returns them (`normal` empty without a normal target).
+    pub fn into_frames(self) -> (Frame, Option<IdFrame>) {
+        let (width, height) = (self.width, self.height);
+        let frame = Frame {
+            width,
+            height,
+            color: self.color,
+            normal: self.normal.unwrap_or_default(),
+        };
+        let ids = self.ids.map(|(prim, weights)| IdFrame {
+            width,
+            height,
+            prim,
+            weights,
+        });
+        (frame, ids)
+    }
+}
+
+/// Draws the set-up triangles with `shader` on `threads` threads (at least 1) into new
+/// targets (with a normal target).
 pub fn draw<S: Shader>(
     width: u32,
     height: u32,
@@ -273,7 +324,16 @@ pub fn draw<S: Shader>(
     threads: usize,
     with_ids: bool,
 ) -> (Frame, Option<IdFrame>) {
-    let (w, h) = (width as usize, height as usize);
+    let mut targets = Targets::new(width, height, true, with_ids);
+    draw_into(&mut targets, tris, shader, threads);
+    targets.into_frames()
+}
+
+/// Draws the set-up triangles with `shader` on `threads` threads (at least 1) into `targets`,
+/// clearing them first (colour and normal 0, depth 1, ids 0).
+pub fn draw_into<S: Shader>(targets: &mut Targets, tris: &[Tri], shader: &S, threads: usize) {
+    let (width, height) = (targets.width, targets.height);
+    let w = width as usize;
     let setups: Vec<S::Setup> = tris.iter().map(|t| shader.setup(t)).collect();
     let bands = (height as usize).div_ceil(BAND as usize);
     let mut bins: Vec<Vec<u32>> = vec![Vec::new(); bands];
@@ -282,67 +342,48 @@ pub fn draw<S: Shader>(
             bins[b as usize].push(k as u32);
         }
     }
-    let mut color = vec![[0.0f32; 4]; w * h];
-    let mut normal = vec![[0.0f32; 4]; w * h];
-    let mut depth = vec![1.0f32; w * h];
-    let mut prim = if with_ids {
-        vec![0u32; w * h]
-    } else {
-        Vec::new()
-    };
-    let mut weights = if with_ids {
-        vec![[0.0f32; 4]; w * h]
-    } else {
-        Vec::new()
-    };
-    {
-        let rows = BAND as usize * w;
-        let mut prim_chunks = prim.chunks_mut(rows);
-        let mut weight_chunks = weights.chunks_mut(rows);
-        let jobs: Vec<Band> = color
-            .chunks_mut(rows)
-            .zip(normal.chunks_mut(rows))
-            .zip(depth.chunks_mut(rows))
-            .enumerate()
-            .map(|(b, ((color, normal), depth))| Band {
-                first: b as u32 * BAND,
-                color,
-                normal,
-                depth,
-                prim: prim_chunks.next(),
-                weights: weight_chunks.next(),
-            })
-            .collect();
-        let queue = Mutex::new(jobs.into_iter());
-        let work = || {
-            let mut scratch = Vec::with_capacity(1 << 13);
-            loop {
-                let job = queue.lock().map(|mut q| q.next()).unwrap_or(None);
-                let Some(band) = job else { break };
-                draw_band(band, width, tris, &setups, &bins, shader, &mut scratch);
-            }
-        };
-        let threads = threads.clamp(1, bands.max(1));
-        std::thread::scope(|s| {
-            for _ in 1..threads {
-                s.spawn(work);
-            }
-            work();
-        });
-    }
-    let frame = Frame {
-        width,
-        height,
+    let rows = BAND as usize * w;
+    let Targets {
         color,
         normal,
+        depth,
+        ids,
+        ..
+    } = targets;
+    let mut normal_chunks = normal.as_mut().map(|n| n.chunks_mut(rows));
+    let (mut prim_chunks, mut weight_chunks) = match ids {
+        Some((p, wt)) => (Some(p.chunks_mut(rows)), Some(wt.chunks_mut(rows))),
+        None => (None, None),
     };
-    let ids = with_ids.then(|| IdFrame {
-        width,
-        height,
-        prim,
-        weights,
+    let jobs: Vec<Band> = color
+        .chunks_mut(rows)
+        .zip(depth.chunks_mut(rows))
+        .enumerate()
+        .map(|(b, (color, depth))| Band {
+            first: b as u32 * BAND,
+            color,
+            normal: normal_chunks.as_mut().and_then(Iterator::next),
+            depth,
+            prim: prim_chunks.as_mut().and_then(Iterator::next),
+            weights: weight_chunks.as_mut().and_then(Iterator::next),
+        })
+        .collect();
+    let queue = Mutex::new(jobs.into_iter());
+    let work = || {
+        let mut scratch = Vec::with_capacity(1 << 13);
+        loop {
+            let job = queue.lock().map(|mut q| q.next()).unwrap_or(None);
+            let Some(band) = job else { break };
+            draw_band(band, width, tris, &setups, &bins, shader, &mut scratch);
+        }
+    };
+    let threads = threads.clamp(1, bands.max(1));
+    std::thread::scope(|s| {
+        for _ in 1..threads {
+            s.spawn(work);
+        }
+        work();
     });
-    (frame, ids)
 }
 
 fn draw_band<S: Shader>(
@@ -360,11 +401,21 @@ fn draw_band<S: Shader>(
     let Band {
         first,
         color,
-        normal,
+        mut normal,
         depth,
         mut prim,
         mut weights,
     } = band;
+    // Clear this band where it is drawn (the thread's own cache, no other thread's rows).
+    color.fill([0.0; 4]);
+    depth.fill(1.0);
+    if let Some(n) = &mut normal {
+        n.fill([0.0; 4]);
+    }
+    if let (Some(p), Some(wt)) = (&mut prim, &mut weights) {
+        p.fill(0);
+        wt.fill([0.0; 4]);
+    }
     for &k in &bins[(first / BAND) as usize] {
         let tri = &tris[k as usize];
         for y in tri.rows.0.max(first)..=tri.rows.1.min(last) {
@@ -378,7 +429,7 @@ fn draw_band<S: Shader>(
             };
             let mut out = RowOut {
                 color: &mut color[r..r + w],
-                normal: &mut normal[r..r + w],
+                normal: normal.as_mut().map(|n| &mut n[r..r + w]),
                 depth: &mut depth[r..r + w],
                 ids,
             };
