@@ -655,8 +655,14 @@ fn kept_targets_are_cleared_by_each_draw() {
     let (frame, ids) = kept.into_frames();
     assert!(ids.is_none() && frame.normal.is_empty());
     assert!(fresh.covered() > 1000);
-    assert_eq!(frame.color, fresh.color, "kept targets differ from a fresh frame");
-    assert_ne!(phong.color, fresh.color, "teeth: the two methods draw different colours");
+    assert_eq!(
+        frame.color, fresh.color,
+        "kept targets differ from a fresh frame"
+    );
+    assert_ne!(
+        phong.color, fresh.color,
+        "teeth: the two methods draw different colours"
+    );
     // A target of another size is refused.
     let mut small = software::Targets::new(64, 64, false, false);
     assert!(software::render_into(&inputs, exact, 1, &mut small).is_err());

@@ -135,35 +135,31 @@ pub fn render_into(
     let normal = |t: &Tri| (t.n, ());
     let span = |along| SpanShader { along, lit };
     macro_rules! scalar {
-        ($k:expr) => {
-            {
-                run(
-                    targets,
-                    &tris,
-                    stepped(normal, move |v: Vec3, _: &()| {
-                        let m = v * $k(v.dot(v));
-                        (lit.shade(m), n4(m))
-                    }),
-                    threads,
-                )
-            }
-        };
+        ($k:expr) => {{
+            run(
+                targets,
+                &tris,
+                stepped(normal, move |v: Vec3, _: &()| {
+                    let m = v * $k(v.dot(v));
+                    (lit.shade(m), n4(m))
+                }),
+                threads,
+            )
+        }};
     }
     macro_rules! mikami {
-        ($beta:expr) => {
-            {
-                run(
-                    targets,
-                    &tris,
-                    stepped(normal, move |v: Vec3, _: &()| {
-                        let z = v.dot(v);
-                        let m = v / f::mikami_sqrt(z, $beta(z));
-                        (lit.shade(m), n4(m))
-                    }),
-                    threads,
-                )
-            }
-        };
+        ($beta:expr) => {{
+            run(
+                targets,
+                &tris,
+                stepped(normal, move |v: Vec3, _: &()| {
+                    let z = v.dot(v);
+                    let m = v / f::mikami_sqrt(z, $beta(z));
+                    (lit.shade(m), n4(m))
+                }),
+                threads,
+            )
+        }};
     }
     macro_rules! along {
         ($a:expr) => {
