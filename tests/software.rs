@@ -481,6 +481,123 @@ fn bench_with_the_software_engine_writes_paired_ratios_and_computed_verdicts() {
     assert!(err.contains("not \"vulkan\""), "{err}");
 }
 
+/// `--vulkan-paired`: lavapipe draws the same methods in the same rounds (under the validation
+/// layer), so every Vulkan verdict is paired, the dichotomy ratio too (bounded from two
+/// intervals, not paired, when it comes from a file), and software / lavapipe is reported.
+#[test]
+fn bench_with_the_software_engine_pairs_lavapipe_in_the_same_rounds() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = |extra: &[&str], out: &str| {
+        let mut a: Vec<String> = [
+            "bench",
+            "--scene",
+            "scenes/torus.toml",
+            "--size",
+            "64x64",
+            "--engine",
+            "software",
+            "--validate",
+            "--methods",
+            "gouraud,dichotomy_exact,dichotomy_poly1",
+            "--repeat",
+            "6",
+            "--warmup",
+            "1",
+            "--out",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        a.push(dir.path().join(out).to_str().unwrap().to_string());
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let run_s = |a: Vec<String>| {
+        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+        run(&refs)
+    };
+    let (code, stdout, err) = run_s(args(&["--vulkan-paired"], "paired"));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains("software / lavapipe phong_exact per round"),
+        "{stdout}"
+    );
+    let b = read_json(&dir.path().join("paired/bench.json"));
+    assert_eq!(b["vulkan_paired"], true);
+    assert!(b["vulkan_bench"].is_null());
+    let a = &b["software_to_lavapipe"];
+    assert_eq!(
+        a["rounds"].as_u64().unwrap() + a["non_finite"].as_u64().unwrap(),
+        6
+    );
+    let (lo, hi) = (
+        a["ci95_low"].as_f64().unwrap(),
+        a["ci95_high"].as_f64().unwrap(),
+    );
+    assert!(lo > 0.0 && lo <= hi, "{a}");
+    assert_eq!(b["vulkan_median_ms"].as_array().unwrap().len(), 4);
+    let claim = |b: &serde_json::Value, num: &str| {
+        b["claims"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["num"] == num)
+            .unwrap()["vulkan"]
+            .clone()
+    };
+    for num in ["gouraud", "dichotomy_poly1"] {
+        let v = claim(&b, num);
+        assert_eq!(v["paired"], true, "{num}: {v}");
+        assert_eq!(
+            v["rounds"].as_u64().unwrap() + v["non_finite"].as_u64().unwrap(),
+            6
+        );
+        assert_eq!(v["verdict"], verdict_of(&v, v_target(&b, num)));
+    }
+    // Teeth: the same Vulkan figures read from a file leave the dichotomy ratio unpaired.
+    let vk = serde_json::json!({"scene": "torus", "width": 64, "height": 64,
+        "rounds": {"rounds": 6},
+        "methods": b["vulkan_median_ms"].as_array().unwrap().iter().map(|p| {
+            serde_json::json!({"name": p[0], "ratio_median": 1.0, "ratio_ci95_low": 0.9,
+                "ratio_ci95_high": 1.1, "ratio_rounds": 6, "ratio_non_finite": 0})
+        }).collect::<Vec<_>>()});
+    let vk_path = dir.path().join("vk.json");
+    std::fs::write(&vk_path, vk.to_string()).unwrap();
+    let (code, _, err) = run_s(args(&["--vulkan-bench", vk_path.to_str().unwrap()], "file"));
+    assert_eq!(code, 0, "{err}");
+    let f = read_json(&dir.path().join("file/bench.json"));
+    assert_eq!(f["vulkan_paired"], false);
+    assert!(f["software_to_lavapipe"].is_null());
+    assert_eq!(claim(&f, "dichotomy_poly1")["paired"], false);
+    // Both sources at once, or either with the Vulkan engine, are refused (exit 2).
+    let (code, _, _) = run_s(args(
+        &[
+            "--vulkan-paired",
+            "--vulkan-bench",
+            vk_path.to_str().unwrap(),
+        ],
+        "both",
+    ));
+    assert_eq!(code, 2);
+    let mut vulkan_engine = args(&["--vulkan-paired"], "vk_engine");
+    let k = vulkan_engine.iter().position(|a| a == "software").unwrap();
+    vulkan_engine[k] = "vulkan".into();
+    let (code, _, err) = run_s(vulkan_engine);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// The claimed bound of the claim whose numerator is `num`.
+fn v_target(b: &serde_json::Value, num: &str) -> f64 {
+    b["claims"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["num"] == num)
+        .unwrap()["claimed_below"]
+        .as_f64()
+        .unwrap()
+}
+
 #[test]
 fn software_verify_passes_on_every_shared_model_at_256() {
     // Skipped with a printed message when the models folder is absent (support::models_dir).

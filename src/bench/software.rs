@@ -69,6 +69,27 @@ impl Draws for Renders<'_> {
     }
 }
 
+/// The software renders, then (with `--vulkan-paired`) the same methods drawn by lavapipe:
+/// programs `0..n` software, `n..2n` lavapipe, all in the same rounds.
+struct Both<'a> {
+    software: Renders<'a>,
+    vulkan: Option<crate::gpu::TimedDraws>,
+}
+
+impl Draws for Both<'_> {
+    fn len(&self) -> usize {
+        self.software.len() + self.vulkan.as_ref().map_or(0, |v| v.len())
+    }
+
+    fn run(&self, i: usize) -> Result<Sample> {
+        let n = self.software.len();
+        match &self.vulkan {
+            Some(v) if i >= n => v.run(i - n),
+            _ => self.software.run(i),
+        }
+    }
+}
+
 /// One method's frame time and its paired ratio to phong_exact (the ratio fields are named as
 /// in the Vulkan bench.json, so one reader serves both).
 #[derive(Debug, Clone, Serialize)]
@@ -209,6 +230,9 @@ pub(crate) struct VulkanRatios {
     pub rounds: u64,
     /// (method, its paired ratio to phong_exact).
     pub ratios: Vec<(String, RatioEstimate)>,
+    /// Timed in the same rounds as the software programs (`--vulkan-paired`): every program's
+    /// per-round times, so any ratio of two of them is paired.
+    pub same_rounds: Option<(Vec<String>, Vec<Vec<f64>>)>,
 }
 
 impl VulkanRatios {
@@ -278,6 +302,30 @@ impl VulkanRatios {
                 .and_then(|r| r.as_u64())
                 .unwrap_or(0),
             ratios,
+            same_rounds: None,
+        })
+    }
+
+    /// Ratios from lavapipe draws timed in the same rounds as the software ones (`values[i]`:
+    /// program `names[i]`, one time per round).
+    pub fn paired(names: Vec<String>, values: Vec<Vec<f64>>, scene: &Scene) -> Result<Self> {
+        let phong = names
+            .iter()
+            .position(|n| n == "phong_exact")
+            .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
+        let ratios = names
+            .iter()
+            .zip(&values)
+            .map(|(n, v)| (n.clone(), paired_ratio(v, &values[phong])))
+            .collect();
+        Ok(VulkanRatios {
+            path: "the same rounds".into(),
+            scene: scene.name.clone(),
+            width: scene.width.into(),
+            height: scene.height.into(),
+            rounds: values.first().map_or(0, Vec::len) as u64,
+            ratios,
+            same_rounds: Some((names, values)),
         })
     }
 
@@ -291,6 +339,11 @@ impl VulkanRatios {
     /// `num / den`: the paired ratio when `den` is phong_exact, otherwise the quotient of the
     /// two ratios to phong_exact with bounds from both intervals (not paired: widest ends).
     pub fn ratio(&self, num: &str, den: &str) -> Option<(RatioEstimate, bool)> {
+        if let Some((names, values)) = &self.same_rounds {
+            let at = |n: &str| names.iter().position(|x| x == n);
+            let (i, j) = (at(num)?, at(den)?);
+            return (i != j).then(|| (paired_ratio(&values[i], &values[j]), true));
+        }
         let a = self.to_phong(num)?;
         if den == "phong_exact" {
             return Some((a, true));
@@ -369,6 +422,14 @@ pub struct SoftwareBench {
     pub methods: Vec<SoftwareTiming>,
     /// The bench.json the Vulkan verdicts come from, if any.
     pub vulkan_bench: Option<String>,
+    /// Whether lavapipe drew the same methods in the same rounds (`--vulkan-paired`): the
+    /// Vulkan verdicts are then paired per round, the dichotomy ratio too.
+    pub vulkan_paired: bool,
+    /// With `vulkan_paired`: lavapipe's median frame time per method (wall clock).
+    pub vulkan_median_ms: Vec<(String, f64)>,
+    /// With `vulkan_paired`: software phong_exact over lavapipe phong_exact per round (the
+    /// anchor of issue 13: within 2x when the interval's upper end is <= 2).
+    pub software_to_lavapipe: Option<RatioEstimate>,
     pub claims: Vec<SpeedClaim>,
     pub total_s: f64,
 }
@@ -387,6 +448,7 @@ pub fn bench(
     out: &Path,
     opts: &BenchOptions,
     sw: &SoftwareOptions,
+    paired_vulkan: Option<&crate::gpu::Renderer>,
 ) -> Result<SoftwareBench> {
     let start = Instant::now();
     if !opts.sweeps.is_empty() {
@@ -401,8 +463,15 @@ pub fn bench(
     if opts.repeat == 0 {
         return Err(Error::Usage("--repeat must be at least 1".into()));
     }
+    if paired_vulkan.is_some() && sw.vulkan_bench.is_some() {
+        return Err(Error::Usage(
+            "--vulkan-paired times lavapipe in the same rounds; --vulkan-bench reads another \
+             run: give one of them"
+                .into(),
+        ));
+    }
     // Read the Vulkan figures first: a bad path must not cost a whole run.
-    let vulkan = sw
+    let file_vulkan = sw
         .vulkan_bench
         .as_deref()
         .map(VulkanRatios::load)
@@ -431,7 +500,7 @@ pub fn bench(
         .iter()
         .position(|n| n == "phong_exact")
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
-    let draws = Renders {
+    let software = Renders {
         programs,
         threads,
         targets: std::cell::RefCell::new(software::Targets::new(
@@ -440,6 +509,24 @@ pub fn bench(
             false,
             false,
         )),
+    };
+    // lavapipe's draws of the same methods (colour and depth, as timed by `bench`).
+    let (prepared, vulkan_draws) = match paired_vulkan {
+        Some(r) => {
+            let prepared = r.prepare(scene, &all)?;
+            let list: Vec<(&crate::gpu::GpuScene, crate::gpu::Shading)> = all
+                .iter()
+                .map(|&m| (prepared.for_method(m), crate::gpu::Shading::Method(m)))
+                .collect();
+            let draws = r.timed_draws(&list)?;
+            (Some(prepared), Some(draws))
+        }
+        None => (None, None),
+    };
+    let n = names.len();
+    let draws = Both {
+        software,
+        vulkan: vulkan_draws,
     };
     eprintln!(
         "bench --engine software: {} programs on {threads} threads in the same interleaved \
@@ -457,8 +544,12 @@ pub fn bench(
     rounds.run(opts.repeat)?;
     // Every program is its own "floor": the floor ratios are 1 and never the widest.
     let own: Vec<usize> = (0..names.len()).collect();
-    let values_of = |r: &Rounds<Renders>| -> Vec<Vec<f64>> {
-        r.samples.iter().map(|s| round_values(s, "wall")).collect()
+    // The software programs' times (the first n); lavapipe's are the rest.
+    let values_of = |r: &Rounds<Both>| -> Vec<Vec<f64>> {
+        r.samples[..n]
+            .iter()
+            .map(|s| round_values(s, "wall"))
+            .collect()
     };
     let (stopped, (w, which)) = loop {
         let (p, f) = ratios(&values_of(&rounds), phong, &own);
@@ -474,6 +565,33 @@ pub fn bench(
     };
     let timing_s = t0.elapsed().as_secs_f64();
     let values = values_of(&rounds);
+    let vulkan = match &draws.vulkan {
+        Some(_) => {
+            let vk: Vec<Vec<f64>> = rounds.samples[n..]
+                .iter()
+                .map(|s| round_values(s, "wall"))
+                .collect();
+            Some(VulkanRatios::paired(names.clone(), vk, scene)?)
+        }
+        None => file_vulkan,
+    };
+    drop(prepared);
+    // The anchor: software phong_exact over lavapipe's, per round.
+    let software_to_lavapipe = vulkan
+        .as_ref()
+        .and_then(|v| v.same_rounds.as_ref())
+        .map(|(_, vk)| paired_ratio(&values[phong], &vk[phong]));
+    let vulkan_median_ms: Vec<(String, f64)> = vulkan
+        .as_ref()
+        .and_then(|v| v.same_rounds.as_ref())
+        .map(|(names, vk)| {
+            names
+                .iter()
+                .zip(vk)
+                .map(|(n, v)| (n.clone(), median_ci(v).median))
+                .collect()
+        })
+        .unwrap_or_default();
     let (to_phong, _) = ratios(&values, phong, &own);
     let methods = names
         .iter()
@@ -528,7 +646,13 @@ pub fn bench(
         ratio_interval: RATIO_INTERVAL.into(),
         clock: CLOCK,
         methods,
-        vulkan_bench: vulkan.as_ref().map(|v| v.path.clone()),
+        vulkan_bench: vulkan
+            .as_ref()
+            .filter(|v| v.same_rounds.is_none())
+            .map(|v| v.path.clone()),
+        vulkan_paired: software_to_lavapipe.is_some(),
+        vulkan_median_ms,
+        software_to_lavapipe,
         claims,
         total_s: 0.0,
     };
@@ -543,6 +667,20 @@ pub fn bench(
     let md = claims_md(&report, vulkan.as_ref());
     output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
     Ok(report)
+}
+
+/// Whether the software engine is within 2x of lavapipe, from the paired interval: "yes" when
+/// its upper end is at most 2, "no" when its lower end is above 2, else undecided.
+pub fn within_2x(r: &RatioEstimate) -> &'static str {
+    if r.rounds == 0 || !(r.ci95_low.is_finite() && r.ci95_high.is_finite()) {
+        "within 2x: undecided (no finite ratio)"
+    } else if r.ci95_high <= 2.0 {
+        "within 2x: yes"
+    } else if r.ci95_low > 2.0 {
+        "within 2x: no"
+    } else {
+        "within 2x: undecided (the interval holds 2)"
+    }
 }
 
 /// "median [low, high]" of a judged ratio, with its rounds and non-finite rounds.
@@ -584,6 +722,23 @@ pub(crate) fn claims_md(r: &SoftwareBench, vulkan: Option<&VulkanRatios>) -> Str
         r.clock
     );
     match vulkan {
+        Some(v) if v.same_rounds.is_some() => {
+            md += &format!(
+                "Vulkan column: lavapipe drew the same methods in the same {} rounds \
+                 (`--vulkan-paired`, wall clock: submit to fence), so every Vulkan ratio is \
+                 paired per round, the dichotomy ratio too.\n",
+                v.rounds
+            );
+            if let Some(a) = &r.software_to_lavapipe {
+                md += &format!(
+                    "Software / lavapipe phong_exact per round: {:.3} [{:.3}, {:.3}] ({}).\n",
+                    a.median,
+                    a.ci95_low,
+                    a.ci95_high,
+                    within_2x(a)
+                );
+            }
+        }
         Some(v) => {
             md += &format!(
                 "Vulkan column: the paired ratios of {} (scene {} at {}x{}, {} rounds): a \
@@ -596,16 +751,17 @@ pub(crate) fn claims_md(r: &SoftwareBench, vulkan: Option<&VulkanRatios>) -> Str
             }
         }
         None => {
-            md += "Vulkan column: not measured (pass `--vulkan-bench DIR/bench.json` of a \
-                   `shadelab bench` run of the same scene and size).\n"
+            md += "Vulkan column: not measured (pass `--vulkan-paired` to time lavapipe in the \
+                   same rounds, or `--vulkan-bench DIR/bench.json` of a `shadelab bench` run of \
+                   the same scene and size).\n"
         }
     }
     md += "\nEach claim is a ratio of frame times per round that should lie below the claimed \
            value: the verdict *agrees* when the whole 95% interval of the ratio lies below it, \
            *disagrees* when the whole interval lies above it, and is *inconclusive* when the \
-           interval holds it or no round gave a finite ratio. Software intervals are of \
-           per-round ratios (sign test); a Vulkan ratio not against phong_exact is bounded \
-           from two intervals (not paired).\n\n";
+           interval holds it or no round gave a finite ratio. Intervals are of per-round \
+           ratios (sign test); a Vulkan ratio read from another run's bench.json and not \
+           against phong_exact is bounded from two intervals (marked not paired).\n\n";
     md += "| claim | ratio per round | claimed below | software: median [95%] | software | Vulkan: median [95%] | Vulkan |\n";
     md += "|---|---|---|---|---|---|---|\n";
     for c in &r.claims {
@@ -679,6 +835,21 @@ pub fn table(r: &SoftwareBench) -> String {
         t += &format!(
             "claim {} / {} < {:.4}: {s}: {sv}{vk}\n",
             c.num, c.den, c.claimed_below
+        );
+    }
+    if let Some(a) = &r.software_to_lavapipe {
+        let vk = r
+            .vulkan_median_ms
+            .iter()
+            .find(|(n, _)| n == "phong_exact")
+            .map_or(f64::NAN, |(_, ms)| *ms);
+        t += &format!(
+            "software / lavapipe phong_exact per round (same rounds; lavapipe median {vk:.3} ms): \
+             {:.3} [{:.3}, {:.3}]; {}\n",
+            a.median,
+            a.ci95_low,
+            a.ci95_high,
+            within_2x(a)
         );
     }
     t

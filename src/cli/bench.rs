@@ -13,6 +13,7 @@ pub(super) fn cmd_bench(
     budgets: Option<(f64, Vec<f64>)>,
     mut opts: crate::bench::BenchOptions,
     vulkan_bench: Option<&Path>,
+    vulkan_paired: bool,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let scene = load_scene(scene_args)?;
@@ -28,9 +29,24 @@ pub(super) fn cmd_bench(
             threads: threads.map_or_else(crate::software::default_threads, |n| n as usize),
             vulkan_bench: vulkan_bench.map(Path::to_path_buf),
         };
-        let report = crate::bench::software::bench(&scene, &methods, out, &opts, &sw)?;
+        let vk = if vulkan_paired {
+            Some(vulkan_renderer(dev)?)
+        } else {
+            None
+        };
+        let report = crate::bench::software::bench(&scene, &methods, out, &opts, &sw, vk.as_ref())?;
         print!("{}", crate::bench::software::table(&report));
+        if let Some(r) = &vk {
+            check_validation(r.context())?;
+        }
         return Ok(ExitCode::SUCCESS);
+    }
+    if vulkan_paired || vulkan_bench.is_some() {
+        return Err(Error::Usage(
+            "--vulkan-paired and --vulkan-bench give the Vulkan column of a software bench: \
+             use them with --engine software"
+                .into(),
+        ));
     }
     if let Some(n) = threads {
         // lavapipe reads LP_NUM_THREADS when its device is created: this must come before the

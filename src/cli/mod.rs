@@ -280,6 +280,10 @@ enum Command {
         /// paired ratios are judged beside the software ones in claims.md.
         #[arg(long, value_name = "DIR/bench.json")]
         vulkan_bench: Option<PathBuf>,
+        /// With --engine software: also draw every method with lavapipe in the same rounds,
+        /// so the Vulkan verdicts of claims.md and software / lavapipe are paired per round.
+        #[arg(long, conflicts_with = "vulkan_bench")]
+        vulkan_paired: bool,
     },
     /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
     /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
@@ -498,6 +502,7 @@ pub fn run() -> Result<ExitCode> {
             error_budget,
             auto_curve,
             vulkan_bench,
+            vulkan_paired,
         } => {
             let (methods, with_auto) = split_auto(&methods);
             let budgets = if with_auto {
@@ -528,6 +533,7 @@ pub fn run() -> Result<ExitCode> {
                 budgets,
                 opts,
                 vulkan_bench.as_deref(),
+                vulkan_paired,
             )
         }
         Command::Stress {
@@ -667,6 +673,12 @@ fn renderer(args: &DeviceArgs) -> Result<Renderer> {
                 .into(),
         ));
     }
+    vulkan_renderer(args)
+}
+
+/// The Vulkan renderer whatever `--engine` says: for a software bench's lavapipe column
+/// (`--vulkan-paired`), which draws on both.
+fn vulkan_renderer(args: &DeviceArgs) -> Result<Renderer> {
     let ctx = Context::new(&ContextDesc {
         device: args.device.clone(),
         validate: args.validate,
