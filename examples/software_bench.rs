@@ -123,18 +123,10 @@ fn main() -> shadelab::Result<()> {
     );
     let ratio = paired_ratio(&t[1], &t[0]);
     // Within 2x when the whole interval is at or below 2, not when it lies above, otherwise
-    // undecided at this number of rounds.
-    let within = if ratio.rounds == 0 || !ratio.ci95_high.is_finite() {
-        "undecided (no finite ratio)"
-    } else if ratio.ci95_high <= 2.0 {
-        "yes"
-    } else if ratio.ci95_low > 2.0 {
-        "no"
-    } else {
-        "undecided (the interval holds 2)"
-    };
+    // undecided at this number of rounds (the rule of bench --engine software --vulkan-paired).
+    let within = shadelab::bench::software::within_2x(&ratio);
     println!(
-        "software / lavapipe per round: median {:.3}, 95% interval [{:.3}, {:.3}] over {} rounds{}; within 2x: {within}",
+        "software / lavapipe per round: median {:.3}, 95% interval [{:.3}, {:.3}] over {} rounds{}; {within}",
         ratio.median,
         ratio.ci95_low,
         ratio.ci95_high,
