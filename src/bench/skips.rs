@@ -329,11 +329,10 @@ pub fn skips(
         rows,
         total_s: start.elapsed().as_secs_f64(),
     };
-    let json = serde_json::to_string_pretty(&report).map_err(|e| Error::output("skips.json", e))?;
-    let path = out.join("skips.json");
-    std::fs::write(&path, json).map_err(|e| Error::io(&path, e))?;
-    let path = out.join("skips.md");
-    std::fs::write(&path, report.markdown()).map_err(|e| Error::io(&path, e))?;
+    let json =
+        serde_json::to_string_pretty(&report).map_err(|e| Error::output("skips.json", e))? + "\n";
+    crate::output::write_bytes_atomic(&out.join("skips.json"), json.as_bytes())?;
+    crate::output::write_bytes_atomic(&out.join("skips.md"), report.markdown().as_bytes())?;
     Ok(report)
 }
 
