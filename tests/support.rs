@@ -76,6 +76,8 @@ pub fn models_dir() -> Option<PathBuf> {
 pub fn bin() -> std::process::Command {
     let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_shadelab"));
     c.current_dir(root());
+    // No disk cache of `auto`'s choice from the tests (the unit tests cover it).
+    c.env("SHADELAB_CACHE_DIR", "");
     c
 }
 

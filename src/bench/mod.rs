@@ -300,11 +300,13 @@ pub fn bench(
     let mut auto_summaries = Vec::new();
     for spec in &opts.auto {
         let t = Instant::now();
-        let pick = crate::scene::auto::choose(&prepared.base().inputs, &spec.order, spec.budget);
+        let choice =
+            crate::scene::auto::choose_cached(&prepared.base().inputs, &spec.order, spec.budget);
+        let pick = choice.pick;
         let choice_ms = t.elapsed().as_secs_f64() * 1e3;
-        let summary = crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms);
+        let summary = crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms, choice.source);
         eprintln!(
-            "bench: {} (budget {:.3e}): {} ({choice_ms:.0} ms to choose)",
+            "bench: {} (budget {:.3e}): {} ({choice_ms:.0} ms to choose, {:?})",
             spec.name,
             spec.budget,
             summary
@@ -313,7 +315,8 @@ pub fn bench(
                 .filter(|(_, k)| *k > 0)
                 .map(|(m, k)| format!("{m} {k}"))
                 .collect::<Vec<_>>()
-                .join(", ")
+                .join(", "),
+            summary.source
         );
         auto_summaries.push(summary);
         autos.push((

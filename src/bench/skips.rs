@@ -221,10 +221,18 @@ pub fn skips(
     let culls = culled.base().inputs.cull_front.is_some();
     let sorted = renderer.prepare_permuted(scene, &[exact], &front_to_back)?;
     let t = Instant::now();
-    let pick =
-        crate::scene::auto::choose(&culled.base().inputs, &opts.auto.order, opts.auto.budget);
-    let auto_summary =
-        crate::scene::auto::AutoSummary::new(&opts.auto, &pick, t.elapsed().as_secs_f64() * 1e3);
+    let choice = crate::scene::auto::choose_cached(
+        &culled.base().inputs,
+        &opts.auto.order,
+        opts.auto.budget,
+    );
+    let pick = choice.pick;
+    let auto_summary = crate::scene::auto::AutoSummary::new(
+        &opts.auto,
+        &pick,
+        t.elapsed().as_secs_f64() * 1e3,
+        choice.source,
+    );
     let auto = renderer.prepare_auto(scene, &opts.auto.order, &pick)?;
 
     let variants = variants(culls);

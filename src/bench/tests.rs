@@ -532,6 +532,7 @@ fn auto_summary(name: &str, budget: f64) -> crate::scene::auto::AutoSummary {
         samples_per_triangle: 28,
         triangles: Vec::new(),
         choice_ms: 0.0,
+        source: crate::scene::auto::ChoiceSource::Computed,
     }
 }
 

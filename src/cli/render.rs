@@ -73,12 +73,22 @@ fn render_auto(
     let spec = auto_spec(&r, budget)?;
     let t = std::time::Instant::now();
     let inputs = crate::scene::SceneInputs::new(&scene, crate::method::Geometry::Mesh);
-    let pick = crate::scene::auto::choose(&inputs, &spec.order, spec.budget);
-    let summary =
-        crate::scene::auto::AutoSummary::new(&spec, &pick, t.elapsed().as_secs_f64() * 1e3);
+    let choice = crate::scene::auto::choose_cached(&inputs, &spec.order, spec.budget);
+    let pick = choice.pick;
+    let summary = crate::scene::auto::AutoSummary::new(
+        &spec,
+        &pick,
+        t.elapsed().as_secs_f64() * 1e3,
+        choice.source,
+    );
     eprintln!(
-        "auto (budget {:.3e}, chosen in {:.0} ms): {}",
+        "auto (budget {:.3e}, {} in {:.0} ms): {}",
         spec.budget,
+        match summary.source {
+            crate::scene::auto::ChoiceSource::Computed => "chosen",
+            crate::scene::auto::ChoiceSource::Memory => "found in this run's cache",
+            crate::scene::auto::ChoiceSource::Disk => "found in the disk cache",
+        },
         summary.choice_ms,
         summary
             .triangles

@@ -436,9 +436,15 @@ pub fn compare_with(
                 break;
             };
             let t = Instant::now();
-            let pick = crate::scene::auto::choose(base, &spec.order, spec.budget);
+            let choice = crate::scene::auto::choose_cached(base, &spec.order, spec.budget);
+            let pick = choice.pick;
             let choice_ms = t.elapsed().as_secs_f64() * 1e3;
-            auto_summaries.push(crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms));
+            auto_summaries.push(crate::scene::auto::AutoSummary::new(
+                spec,
+                &pick,
+                choice_ms,
+                choice.source,
+            ));
             let t = Instant::now();
             let scene_auto = renderer.prepare_auto(scene, &spec.order, &pick)?;
             let frame = renderer.render_auto(&scene_auto)?;

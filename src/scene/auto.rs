@@ -53,13 +53,20 @@ pub struct AutoSummary {
     pub samples_per_triangle: usize,
     /// (method, triangles), cheapest first.
     pub triangles: Vec<(String, usize)>,
-    /// Time to choose, ms.
+    /// Time to choose (or to find the cached choice), ms.
     pub choice_ms: f64,
+    /// Where the choice came from: computed, or cached in this process or on disk.
+    #[serde(default = "computed")]
+    pub source: ChoiceSource,
+}
+
+fn computed() -> ChoiceSource {
+    ChoiceSource::Computed
 }
 
 impl AutoSummary {
     /// The summary of `pick` (indices into `spec.order`).
-    pub fn new(spec: &AutoSpec, pick: &[usize], choice_ms: f64) -> Self {
+    pub fn new(spec: &AutoSpec, pick: &[usize], choice_ms: f64, source: ChoiceSource) -> Self {
         AutoSummary {
             name: spec.name.clone(),
             budget: spec.budget,
@@ -72,6 +79,7 @@ impl AutoSummary {
                 .map(|(i, m)| (m.name.to_string(), pick.iter().filter(|&&k| k == i).count()))
                 .collect(),
             choice_ms,
+            source,
         }
     }
 }
@@ -139,4 +147,183 @@ pub fn choose(
             .flat_map(|h| h.join().unwrap_or_default())
             .collect()
     })
+}
+
+/// Where a choice came from: computed now, or found in the cache of this process or on disk.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ChoiceSource {
+    Computed,
+    Memory,
+    Disk,
+}
+
+/// A cached per-triangle choice and where it came from.
+#[derive(Debug, Clone)]
+pub struct Choice {
+    pub pick: Vec<usize>,
+    pub source: ChoiceSource,
+}
+
+/// The cache key of a choice: SHA-256 of everything [`choose`] reads (the triangles' window
+/// corners and normals, the lighting and material as uploaded, the candidates in order, the
+/// budget, the margin and the sample grid) and the crate version.
+pub fn cache_key(
+    inputs: &SceneInputs,
+    order: &[&'static crate::method::Method],
+    budget: f64,
+) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    h.update(b"shadelab auto choice 1\0");
+    h.update(env!("CARGO_PKG_VERSION").as_bytes());
+    h.update(AUTO_MARGIN.to_le_bytes());
+    h.update((AUTO_GRID as u64).to_le_bytes());
+    h.update(budget.to_le_bytes());
+    for m in order {
+        h.update(m.name.as_bytes());
+        h.update(b"\0");
+    }
+    h.update((inputs.triangle_count() as u64).to_le_bytes());
+    h.update(bytemuck::cast_slice::<[f32; 2], u8>(&inputs.window));
+    h.update(bytemuck::cast_slice::<[f32; 3], u8>(&inputs.view_normals));
+    h.update(bytemuck::cast_slice::<[f32; 3], u8>(&inputs.flat_normals));
+    h.update(bytemuck::cast_slice::<[[f32; 3]; 3], u8>(&inputs.pn_mids));
+    h.update(bytemuck::bytes_of(&inputs.params));
+    h.update(inputs.light_count.to_le_bytes());
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The folder of the on-disk cache: `$SHADELAB_CACHE_DIR` (empty: no disk cache), else
+/// `$XDG_CACHE_HOME/shadelab`, else `$HOME/.cache/shadelab`.
+pub fn cache_dir() -> Option<std::path::PathBuf> {
+    use std::path::PathBuf;
+    let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty());
+    if let Some(v) = std::env::var_os("SHADELAB_CACHE_DIR") {
+        return (!v.is_empty()).then(|| PathBuf::from(v));
+    }
+    var("XDG_CACHE_HOME")
+        .map(|d| PathBuf::from(d).join("shadelab"))
+        .or_else(|| var("HOME").map(|h| PathBuf::from(h).join(".cache").join("shadelab")))
+}
+
+static MEMORY: std::sync::Mutex<Vec<(String, Vec<usize>)>> = std::sync::Mutex::new(Vec::new());
+
+/// [`choose`], cached per mesh, camera, lights, material, candidates and budget ([`cache_key`]):
+/// first in this process, then on disk (`<cache_dir>/auto/<key>.json`, written atomically); an
+/// entry that does not fit the scene (wrong length, an index beyond the candidates) is ignored
+/// and recomputed. A cache that cannot be written is skipped with a note on stderr.
+pub fn choose_cached(
+    inputs: &SceneInputs,
+    order: &[&'static crate::method::Method],
+    budget: f64,
+) -> Choice {
+    choose_cached_in(inputs, order, budget, cache_dir().as_deref())
+}
+
+/// [`choose_cached`] with the disk cache in `dir` (None: this process's cache only).
+pub fn choose_cached_in(
+    inputs: &SceneInputs,
+    order: &[&'static crate::method::Method],
+    budget: f64,
+    dir: Option<&std::path::Path>,
+) -> Choice {
+    let key = cache_key(inputs, order, budget);
+    let fits =
+        |p: &[usize]| p.len() == inputs.triangle_count() && p.iter().all(|&k| k < order.len());
+    if let Ok(m) = MEMORY.lock() {
+        if let Some((_, p)) = m.iter().find(|(k, p)| *k == key && fits(p)) {
+            return Choice {
+                pick: p.clone(),
+                source: ChoiceSource::Memory,
+            };
+        }
+    }
+    let file = dir.map(|d| d.join("auto").join(format!("{key}.json")));
+    let from_disk = file
+        .as_ref()
+        .and_then(|f| std::fs::read(f).ok())
+        .and_then(|b| serde_json::from_slice::<Vec<usize>>(&b).ok())
+        .filter(|p| fits(p));
+    let (pick, source) = match from_disk {
+        Some(p) => (p, ChoiceSource::Disk),
+        None => {
+            let p = choose(inputs, order, budget);
+            if let Some(f) = &file {
+                let written = serde_json::to_vec(&p)
+                    .map_err(|e| e.to_string())
+                    .and_then(|b| {
+                        if let Some(d) = f.parent() {
+                            std::fs::create_dir_all(d).map_err(|e| e.to_string())?;
+                        }
+                        crate::output::write_bytes_atomic(f, &b).map_err(|e| e.to_string())
+                    });
+                if let Err(e) = written {
+                    eprintln!("auto: choice not cached on disk ({}): {e}", f.display());
+                }
+            }
+            (p, ChoiceSource::Computed)
+        }
+    };
+    if let Ok(mut m) = MEMORY.lock() {
+        m.push((key, pick.clone()));
+    }
+    Choice { pick, source }
+}
+
+/// Drops `key` from this process's cache (tests).
+#[cfg(test)]
+fn forget(key: &str) {
+    if let Ok(mut m) = MEMORY.lock() {
+        m.retain(|(k, _)| k != key);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn torus() -> SceneInputs {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/torus.toml");
+        let scene = crate::scene::load_scene(&path).unwrap();
+        SceneInputs::new(&scene, crate::method::Geometry::Mesh)
+    }
+
+    fn order() -> Vec<&'static crate::method::Method> {
+        ["gouraud", "newton_raphson", "phong_exact"]
+            .iter()
+            .map(|n| crate::method::find(n).unwrap())
+            .collect()
+    }
+
+    /// Computed once, then found in memory, then on disk; the same choice every time; a disk
+    /// entry that does not fit the scene is recomputed; another budget is another entry.
+    #[test]
+    fn a_choice_is_cached_in_memory_and_on_disk() {
+        let dir = tempfile::tempdir().unwrap();
+        let (inputs, order) = (torus(), order());
+        // A budget no other test uses, so that no other test fills this entry.
+        let budget = 0.003_141_59;
+        let key = cache_key(&inputs, &order, budget);
+        let first = choose_cached_in(&inputs, &order, budget, Some(dir.path()));
+        assert_eq!(first.source, ChoiceSource::Computed);
+        assert_eq!(first.pick, choose(&inputs, &order, budget));
+        let second = choose_cached_in(&inputs, &order, budget, Some(dir.path()));
+        assert_eq!(second.source, ChoiceSource::Memory);
+        assert_eq!(second.pick, first.pick);
+        forget(&key);
+        let third = choose_cached_in(&inputs, &order, budget, Some(dir.path()));
+        assert_eq!(third.source, ChoiceSource::Disk);
+        assert_eq!(third.pick, first.pick);
+        // Teeth: a disk entry of the wrong length is not used.
+        forget(&key);
+        let file = dir.path().join("auto").join(format!("{key}.json"));
+        std::fs::write(&file, "[0, 1]").unwrap();
+        let fourth = choose_cached_in(&inputs, &order, budget, Some(dir.path()));
+        assert_eq!(fourth.source, ChoiceSource::Computed);
+        assert_eq!(fourth.pick, first.pick);
+        // The key follows the budget and the candidates.
+        assert_ne!(cache_key(&inputs, &order, budget * 2.0), key);
+        assert_ne!(cache_key(&inputs, &order[1..], budget), key);
+    }
 }
