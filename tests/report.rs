@@ -125,6 +125,8 @@ fn report_links_resolve_and_every_method_has_its_parts() {
         "id=\"stress--claims\"",
         "id=\"provenance\"",
         "id=\"plan\"",
+        "id=\"skips\"",
+        "skips/skips.json",
         "git revision",
         "Mesa",
         "LLVM",
@@ -132,6 +134,25 @@ fn report_links_resolve_and_every_method_has_its_parts() {
     ] {
         assert!(html.contains(part), "the page lacks {part}");
     }
+
+    // The skips row of the scene: computed from its skips.json (the icosphere is closed and
+    // culled; the default draw has half the fragments or fewer).
+    let skips: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("scenes/tiny/skips/skips.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(skips["culls"], true);
+    let rows = skips["rows"].as_array().unwrap();
+    let inv = |r: &serde_json::Value| r["fragment_invocations"].as_u64().unwrap();
+    let default = rows.iter().find(|r| r["is_default"] == true).unwrap();
+    assert!(inv(default) * 2 <= inv(&rows[0]) + 64, "{skips}");
+    let shown = format!(
+        "<td>{}</td><td>{}</td><td>{:.3} [",
+        inv(&rows[0]),
+        inv(default),
+        default["ratio_to_none"]["median"].as_f64().unwrap()
+    );
+    assert!(html.contains(&shown), "the skips table lacks {shown}");
 
     // Teeth: a page with a dangling image, a missing anchor or a method without its section
     // or row fails the same checks.

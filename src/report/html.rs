@@ -6,7 +6,6 @@ use std::fmt::Write as _;
 use super::*;
 use crate::compare::{MethodReport, METRICS};
 
-/// Escapes text for HTML content and double- or single-quoted attribute values.
 /// `shadelab plan` per scene: the figures that decide what is skipped, and the whole text.
 fn plan_section(d: &ReportData) -> String {
     let mut h = String::from(
@@ -52,6 +51,69 @@ fn plan_section(d: &ReportData) -> String {
     h
 }
 
+/// `shadelab skips` per scene: phong_exact before and after each skip, paired per round.
+fn skips_section(d: &ReportData) -> String {
+    let mut h = String::from(
+        "<section id=\"skips\"><h2>Skips</h2><p>What each skip saves (<code>shadelab \
+         skips</code>): phong_exact drawn as milestone 1 drew it (<em>none</em>: no culling, a \
+         normal target), the renderer's default (culling where the mesh allows it, no normal \
+         target), and the default with a depth pre-pass, with the triangles sorted front to \
+         back, and <code>auto</code> at 1/255, all in the same interleaved rounds. Ratios are \
+         medians of per-round ratios with sign-test 95% intervals; a verdict is faster or slower \
+         only when the whole interval is on one side of 1.</p>\
+         <table><thead><tr><th>scene</th><th>culled</th><th>fragment invocations none</th>\
+         <th>default</th><th>default / none</th><th>pre-pass / default</th>\
+         <th>front to back / default</th><th>auto / default</th><th>JSON</th></tr></thead><tbody>",
+    );
+    let ratio = |r: Option<&crate::bench::skips::SkipRow>, to_none: bool| match r {
+        None => "n/a".to_string(),
+        Some(r) => {
+            let (x, v) = if to_none {
+                (&r.ratio_to_none, r.speed_vs_none)
+            } else {
+                (&r.ratio_to_default, r.speed_vs_default)
+            };
+            format!(
+                "{:.3} [{:.3}, {:.3}] {}",
+                x.median,
+                x.ci95_low,
+                x.ci95_high,
+                v.as_str()
+            )
+        }
+    };
+    for s in &d.scenes {
+        let k = &s.skips;
+        let row = |f: &dyn Fn(&crate::bench::skips::Variant) -> bool| {
+            k.rows.iter().find(|r| f(&r.variant))
+        };
+        let none = k.rows.first();
+        let default = k.rows.iter().find(|r| r.is_default);
+        let inv = |r: Option<&crate::bench::skips::SkipRow>| {
+            r.and_then(|r| r.fragment_invocations)
+                .map_or("n/a".into(), |n| n.to_string())
+        };
+        let _ = write!(
+            h,
+            "<tr><td><a href=\"#scene-{}\">{}</a></td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{}</td><td>{}</td><td>{}</td><td>{}</td><td><a href=\"{}/skips.json\">skips.json</a></td></tr>",
+            esc(&s.id),
+            esc(&k.scene),
+            if k.culls { "yes" } else { "no" },
+            inv(none),
+            inv(default),
+            esc(&ratio(default, true)),
+            esc(&ratio(row(&|v| v.prepass && !v.auto), false)),
+            esc(&ratio(row(&|v| v.front_to_back && !v.auto), false)),
+            esc(&ratio(row(&|v| v.auto), false)),
+            esc(&s.skips_dir)
+        );
+    }
+    h += "</tbody></table></section>";
+    h
+}
+
+/// Escapes text for HTML content and double- or single-quoted attribute values.
 pub fn esc(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
@@ -553,13 +615,14 @@ pub fn page(d: &ReportData, dims: Dims) -> Result<String> {
             esc(&s.summary.scene)
         );
     }
-    h += "<li><a href=\"#stress\">stress</a></li><li><a href=\"#plan\">plan</a></li>\
+    h += "<li><a href=\"#stress\">stress</a></li><li><a href=\"#plan\">plan</a></li><li><a href=\"#skips\">skips</a></li>\
           <li><a href=\"#provenance\">provenance</a></li></ul></nav></header><main>";
     for s in &d.scenes {
         h += &scene_section(s, dims);
     }
     h += &stress_section(d, dims);
     h += &plan_section(d);
+    h += &skips_section(d);
     h += &provenance_section(d);
     h += "</main></body></html>\n";
     Ok(h)

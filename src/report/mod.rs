@@ -69,6 +69,9 @@ pub struct SceneResult {
     /// What the scene needs (`shadelab plan`), also written as scenes/<id>/plan.json.
     pub plan: crate::plan::Plan,
     pub plan_json: String,
+    /// What each skip saves (`shadelab skips`, in scenes/<id>/skips/).
+    pub skips: crate::bench::skips::SkipReport,
+    pub skips_dir: String,
 }
 
 /// What the page says about the run itself.
@@ -217,8 +220,17 @@ pub fn run(
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let methods = with_references(methods);
     let (repeat, warmup, refine) = if opts.full { (40, 3, 8) } else { (10, 2, 2) };
-    // Steps: compare and bench per scene, stress, the page.
-    let bar = output::progress_bar(opts.progress, 2 * scenes.len() as u64 + 2);
+    // Steps: compare, bench and skips per scene, stress, the page.
+    let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
+    // `auto`'s candidates for the skips rows, by isolated cost: measured once for all scenes.
+    let auto = crate::scene::auto::AutoSpec {
+        name: "auto".into(),
+        order: crate::plan::auto_order(renderer.context())?
+            .into_iter()
+            .map(|(m, _)| m)
+            .collect(),
+        budget: 1.0 / 255.0,
+    };
     let mut results: Vec<SceneResult> = Vec::new();
     for s in scenes {
         let taken: Vec<String> = results.iter().map(|r| r.id.clone()).collect();
@@ -264,6 +276,18 @@ pub fn run(
             bar.suspend(|| crate::bench::bench(renderer, &s.scene, &methods, &bdir, &bopts))?;
         bar.inc(1);
         let pareto = pareto_charts(&bdir, &bench_dir)?;
+        bar.set_message(format!("{id}: skips"));
+        let skips_dir = format!("scenes/{id}/skips");
+        let sopts = crate::bench::skips::SkipOptions {
+            repeat: repeat.max(6),
+            warmup,
+            auto: auto.clone(),
+            command_line: std::env::args().collect(),
+        };
+        let skips = bar.suspend(|| {
+            crate::bench::skips::skips(renderer, &s.scene, &out.join(&skips_dir), &sopts)
+        })?;
+        bar.inc(1);
         let plan = crate::plan::plan(&s.scene);
         let plan_json = format!("scenes/{id}/plan.json");
         let text =
@@ -272,6 +296,8 @@ pub fn run(
         results.push(SceneResult {
             plan,
             plan_json,
+            skips,
+            skips_dir,
             id,
             source: s.source.display().to_string(),
             summary,
