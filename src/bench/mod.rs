@@ -679,16 +679,7 @@ fn time_rounds(
             opts.until_ci_pct.unwrap_or(f64::NAN)
         ),
     }
-    let report = RoundsReport {
-        repeat: opts.repeat,
-        rounds: rounds.len(),
-        until_ci_pct: opts.until_ci_pct,
-        max_time_s: opts.until_ci_pct.map(|_| opts.max_time_s),
-        stopped,
-        timing_s,
-        widest_half_width_pct: w,
-        widest: which,
-    };
+    let report = RoundsReport::new(opts, rounds.len(), stopped, timing_s, (w, which));
     Ok((rounds.samples, report))
 }
 

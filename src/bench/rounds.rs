@@ -205,6 +205,29 @@ pub struct RoundsReport {
     pub widest: String,
 }
 
+impl RoundsReport {
+    /// The report of `rounds` rounds run under `opts`, stopped for `stopped` after `timing_s`
+    /// seconds with `widest` (half-width in percent, and whose) the widest interval.
+    pub(crate) fn new(
+        opts: &super::BenchOptions,
+        rounds: usize,
+        stopped: Stop,
+        timing_s: f64,
+        widest: (f64, String),
+    ) -> Self {
+        RoundsReport {
+            repeat: opts.repeat,
+            rounds,
+            until_ci_pct: opts.until_ci_pct,
+            max_time_s: opts.until_ci_pct.map(|_| opts.max_time_s),
+            stopped,
+            timing_s,
+            widest_half_width_pct: widest.0,
+            widest: widest.1,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::round_order;

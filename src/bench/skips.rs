@@ -98,7 +98,6 @@ pub fn variants(culls: bool) -> Vec<Variant> {
         ..lean
     });
     out.push(default_variant(culls, true));
-    out.dedup();
     // The default may coincide with a row above: keep each once, in order.
     let mut seen = Vec::new();
     out.retain(|v| {
@@ -257,11 +256,6 @@ pub fn skips(
             list
         })
         .collect();
-    if variants.iter().any(|v| v.front_to_back && v.cull != culls) {
-        return Err(Error::Internal(
-            "skips: a sorted row culls unlike the scene".into(),
-        ));
-    }
     let names: Vec<String> = variants.iter().map(Variant::name).collect();
     let default_row = variants
         .iter()
@@ -413,6 +407,8 @@ mod tests {
             let d = default_variant(culls, false);
             assert_eq!(v.iter().filter(|x| **x == d).count(), 1, "{culls}");
             assert!(v.iter().any(|x| x.auto), "auto is a row");
+            // The sorted upload culls as the scene does: so must every sorted row.
+            assert!(v.iter().all(|x| !x.front_to_back || x.cull == culls));
             assert_eq!(
                 v.iter().any(|x| x.cull),
                 culls,

@@ -222,6 +222,15 @@ pub struct Renderer {
 }
 
 pub(crate) const COLOR: Format = Format::Rgba32Float;
+
+/// The colour attachments of a method pass: colour, and the normal target when there is one.
+pub(super) fn color_formats(normal: bool) -> &'static [Format] {
+    if normal {
+        &[COLOR, COLOR]
+    } else {
+        &[COLOR]
+    }
+}
 pub(crate) const PRIM: Format = Format::R32Uint;
 
 impl Renderer {
@@ -391,11 +400,7 @@ impl Renderer {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
         let n = gpu.inputs.positions.len() as u32;
         let (streams, buffers) = gpu.buffers(shading)?;
-        let colors: &[Format] = if with_normal {
-            &[COLOR, COLOR]
-        } else {
-            &[COLOR]
-        };
+        let colors = color_formats(with_normal);
         let pipeline = self.pipeline(gpu, &self.program(gpu, shading), &streams, colors)?;
         let targets = Targets::with_normal(&self.ctx, w, h, with_normal)?;
         let (color, normal, depth) = (&targets.color, targets.normal.as_ref(), &targets.depth);

@@ -177,11 +177,7 @@ impl Renderer {
         )>,
     > {
         let gpu = list.gpu;
-        let colors: &[crate::gpu::vk::Format] = if list.normal {
-            &[COLOR, COLOR]
-        } else {
-            &[COLOR]
-        };
+        let colors = color_formats(list.normal);
         let mut out = Vec::new();
         let depth = if list.prepass {
             let (streams, buffers) = gpu.buffers(Shading::Constant)?;
