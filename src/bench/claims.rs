@@ -5,22 +5,7 @@ use super::*;
 
 use crate::bench::isolated::Comparison;
 use crate::gpu::spirv::OpCountsDelta;
-use crate::method::Verdict;
-
-/// The methods the seeds call square-root-free (S000, S004 l.159-172): each claimed faster than
-/// exact normalisation, in the GPU bench and the software bench alike.
-pub(crate) const SQRT_FREE: [&str; 10] = [
-    "newton_raphson",
-    "lyon_taylor",
-    "lyon_shift",
-    "hast_half_vector",
-    "mikami_const",
-    "mikami_linear",
-    "mikami_quadratic",
-    "romanyuk_poly",
-    "quaternion",
-    "quaternion_local",
-];
+use crate::method::{Property, Verdict};
 
 fn ratio_text(r: &MethodTiming, phong: &MethodTiming) -> String {
     format!(
@@ -419,7 +404,7 @@ pub(crate) fn claims(rows: &[MethodTiming], floor: &MethodTiming) -> Vec<ClaimCh
     if let Some(g) = find("gouraud") {
         out.push(phong_50x_gouraud(phong, g, floor));
     }
-    for n in SQRT_FREE {
+    for n in crate::method::with_property(Property::SqrtFree).map(|m| m.name) {
         if let Some(r) = find(n) {
             out.push(faster_than_exact(r, phong));
             if r.isolated_ratio_to_phong_exact.is_some() {

@@ -86,6 +86,87 @@ pub enum Reference {
     PhongAndSlerp,
 }
 
+/// The family a method belongs to: how it gets its shading normal (or colour). Charts draw one
+/// panel per family, so a family stays small enough to read (at most 9 methods).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Family {
+    /// The exact reference and the baselines every method sits between (flat, Gouraud,
+    /// unnormalised Phong, exact Phong).
+    Reference,
+    /// The interpolated normal, normalised (or its lighting corrected) per pixel without an exact
+    /// square root: Newton-Raphson, Taylor and polynomial fits, Mikami, Hast, a cos^n table.
+    PerPixelNormalisation,
+    /// Something other than the normal interpolated across the triangle: quaternions,
+    /// quadratic normal fields over the triangle, TrueForm's vertex colours.
+    VertexAttribute,
+    /// Along the scanline span: angle interpolation, quadratic and Taylor forms, dichotomy.
+    Scanline,
+    /// Combined methods: exact shading at the ends of 2^k-pixel digital segments, interpolation
+    /// between them.
+    DigitalSegments,
+}
+
+impl Family {
+    /// Every family, in presentation order.
+    pub const ALL: [Family; 5] = [
+        Family::Reference,
+        Family::PerPixelNormalisation,
+        Family::VertexAttribute,
+        Family::Scanline,
+        Family::DigitalSegments,
+    ];
+
+    /// The snake_case name, as in the JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Family::Reference => "reference",
+            Family::PerPixelNormalisation => "per_pixel_normalisation",
+            Family::VertexAttribute => "vertex_attribute",
+            Family::Scanline => "scanline",
+            Family::DigitalSegments => "digital_segments",
+        }
+    }
+}
+
+/// A property of a method that code used to infer from its name. Each is a column of the table,
+/// so a new method states it once and every consumer (claims, the software engine, stress,
+/// tests) reads it from the row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Property {
+    /// The exact reference every method is measured against ([`PHONG_EXACT`]).
+    ExactReference,
+    /// Avoids the square root and division of exact normalisation (S000, S004 l.159-172): each
+    /// is claimed faster than exact normalisation.
+    SqrtFree,
+    /// Interpolates the angle between the span's end normals, not the normal itself (judged
+    /// against exact slerp as well as exact Phong, [`Reference::PhongAndSlerp`]).
+    InterpolatesAngles,
+    /// Steps along the span incrementally, so its rounding error grows with the span's length
+    /// (the software engine's drift allowance applies).
+    DriftsWithSpanLength,
+    /// Reads the span through the fragment's row: the triangle's window-space corners and unit
+    /// vertex normals ([`Input::ScanlineSpan`]).
+    NeedsSpanCorners,
+    /// The software engine runs it in its incremental span form (the others run per pixel there).
+    SoftwareSpanForm,
+}
+
+/// The identifier of the exact reference, [`Property::ExactReference`]. Use this constant, never
+/// the literal, so the reference is named in one place.
+pub const PHONG_EXACT: &str = "phong_exact";
+
+/// The exact reference's row.
+pub fn phong_exact() -> &'static Method {
+    find(PHONG_EXACT).expect("the method table has phong_exact")
+}
+
+/// The methods with `property`, in table order.
+pub fn with_property(property: Property) -> impl Iterator<Item = &'static Method> {
+    METHODS.iter().filter(move |m| m.has(property))
+}
+
 /// A verdict on a claim, computed from a measurement (never written by hand).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -167,6 +248,10 @@ pub struct Method {
     pub citation: &'static str,
     /// Pipeline inputs it needs; only these varyings and vertex streams are set up.
     pub inputs: &'static [Input],
+    /// Its family (one chart panel each).
+    pub family: Family,
+    /// What code must know about it beyond its inputs (serialised as snake_case strings).
+    pub properties: &'static [Property],
     /// The geometry it draws.
     pub geometry: Geometry,
     /// Whether it produces a per-pixel shading normal (normal metrics are null otherwise).
@@ -183,6 +268,13 @@ pub struct Method {
     #[serde(skip)]
     pub eval_f64: fn(&Fragment, &Lighting) -> Shaded,
 }
+impl Method {
+    /// Whether the row lists `property`.
+    pub fn has(&self, property: Property) -> bool {
+        self.properties.contains(&property)
+    }
+}
+
 /// Looks a method up by identifier; the error lists the valid ones.
 pub fn find(name: &str) -> Result<&'static Method> {
     METHODS.iter().find(|m| m.name == name).ok_or_else(|| {

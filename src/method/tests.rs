@@ -154,3 +154,55 @@ fn serialised_claims_carry_the_measurement_their_check_makes_now() {
         }
     }
 }
+
+#[test]
+fn properties_agree_with_the_columns_they_summarise() {
+    let references: Vec<_> = with_property(Property::ExactReference)
+        .map(|m| m.name)
+        .collect();
+    assert_eq!(references, [PHONG_EXACT], "exactly one exact reference");
+    assert_eq!(phong_exact().name, PHONG_EXACT);
+    for m in METHODS {
+        assert_eq!(
+            m.has(Property::NeedsSpanCorners),
+            m.inputs.contains(&Input::ScanlineSpan),
+            "{}: needs_span_corners must match its inputs",
+            m.name
+        );
+        assert_eq!(
+            m.has(Property::InterpolatesAngles),
+            m.reference == Reference::PhongAndSlerp,
+            "{}: interpolates_angles must match its reference",
+            m.name
+        );
+        assert!(
+            !m.has(Property::DriftsWithSpanLength) || m.has(Property::SoftwareSpanForm),
+            "{}: only a span form can drift with the span's length",
+            m.name
+        );
+        let mut seen = m.properties.to_vec();
+        seen.dedup();
+        assert_eq!(
+            seen.len(),
+            m.properties.len(),
+            "{}: a property twice",
+            m.name
+        );
+    }
+    for family in Family::ALL {
+        let n = METHODS.iter().filter(|m| m.family == family).count();
+        assert!(
+            (1..=9).contains(&n),
+            "{}: {n} methods (a chart panel holds 1..=9)",
+            family.as_str()
+        );
+    }
+    // The seeds' square-root-free methods (S000, S004 l.159-172) are all per-pixel forms.
+    for m in with_property(Property::SqrtFree) {
+        assert!(
+            m.inputs.iter().all(|i| !matches!(i, Input::ScanlineSpan)),
+            "{}",
+            m.name
+        );
+    }
+}

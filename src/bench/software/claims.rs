@@ -81,7 +81,8 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
         "phong_exact",
         1.0,
     ));
-    for name in crate::bench::claims::SQRT_FREE {
+    let sqrt_free = crate::method::with_property(crate::method::Property::SqrtFree);
+    for name in sqrt_free.map(|m| m.name) {
         out.push(spec(
             "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)",
             name,
