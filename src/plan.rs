@@ -465,6 +465,25 @@ mod tests {
         let p = plan(&torus());
         assert!(p.closed_and_oriented);
         assert_eq!(p.triangles, 2304);
+        // Facing counted independently of the product's view-space test: by the sign of each
+        // triangle's window-space area (the winding on screen). Which sign is "back" depends on
+        // the winding convention, so either count may match; a torus shows both sides.
+        let inputs = SceneInputs::new(&torus(), Geometry::Mesh);
+        let negative = (0..p.triangles)
+            .filter(|&t| {
+                let w = [0, 1, 2].map(|k| inputs.window[3 * t + k].map(f64::from));
+                (w[1][0] - w[0][0]) * (w[2][1] - w[0][1])
+                    - (w[2][0] - w[0][0]) * (w[1][1] - w[0][1])
+                    < 0.0
+            })
+            .count();
+        assert!(
+            p.back_facing == negative || p.back_facing == p.triangles - negative,
+            "back {} front {}, negative window area {negative}",
+            p.back_facing,
+            p.front_facing
+        );
+        assert!(p.back_facing > 0 && p.front_facing > 0, "{p:?}");
         assert_eq!(p.front_facing + p.back_facing, p.triangles);
         let spread = p.normal_angle_deg.max;
         assert!(spread > 10.0 && spread < 20.0, "{spread}");

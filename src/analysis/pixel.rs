@@ -158,9 +158,18 @@ impl PixelErrors {
     /// The summary statistics (`verify`'s columns; `compare` reports more of the same fields).
     pub fn stats(&self) -> ErrorStats {
         let n = self.counts.measured;
-        let mean = |s: f64| if n > 0 { s / n as f64 } else { 0.0 };
+        // No measured pixel: no error figure exists (NaN, not 0; a limit fails on it).
+        let mean = |s: f64| if n > 0 { s / n as f64 } else { f64::NAN };
         let inf = self.non_finite();
-        let or_inf = |v: f64| if inf { f64::INFINITY } else { v };
+        let or_inf = |v: f64| {
+            if inf {
+                f64::INFINITY
+            } else if n == 0 {
+                f64::NAN
+            } else {
+                v
+            }
+        };
         let normal = |v: f64| self.has_normal.then_some(or_inf(v));
         let [sum_abs, max_abs, sum_angle, max_angle] = self.sums;
         ErrorStats {
@@ -422,18 +431,22 @@ pub fn intensity_stats(
         above += usize::from(a > threshold);
     }
     let n = abs.len();
-    let mse = if n > 0 { sq / n as f64 } else { 0.0 };
+    // No measured pixel: no error figure exists. NaN (JSON null), not 0, so that nothing reads
+    // as "exact" and every limit fails (compare::exceeded also says why).
+    let per = |x: f64| if n > 0 { x / n as f64 } else { f64::NAN };
+    let mse = per(sq);
+    let pct = |abs: &mut Vec<f64>, p| if n > 0 { percentile(abs, p) } else { f64::NAN };
     IntensityStats {
-        mean_abs_error: if n > 0 { sum / n as f64 } else { 0.0 },
-        max_abs_error: max,
+        mean_abs_error: per(sum),
+        max_abs_error: if n > 0 { max } else { f64::NAN },
         max_error_pixel: at,
-        p50_abs_error: percentile(&mut abs, 50.0),
-        p95_abs_error: percentile(&mut abs, 95.0),
-        p99_abs_error: percentile(&mut abs, 99.0),
+        p50_abs_error: pct(&mut abs, 50.0),
+        p95_abs_error: pct(&mut abs, 95.0),
+        p99_abs_error: pct(&mut abs, 99.0),
         rmse: mse.sqrt(),
         psnr_db: (mse > 0.0).then(|| 10.0 * (1.0 / mse).log10()),
         pixels_above_threshold: Some(above),
-        fraction_above_threshold: if n > 0 { above as f64 / n as f64 } else { 0.0 },
+        fraction_above_threshold: per(above as f64),
     }
 }
 

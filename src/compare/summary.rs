@@ -347,6 +347,8 @@ pub struct Exceeded {
     pub value: f64,
     /// The method's non-finite pixels (its error metrics are infinite when > 0).
     pub non_finite_pixels: usize,
+    /// The method's measured pixels: 0 fails every limit (no figure was measured).
+    pub measured_pixels: usize,
 }
 
 impl std::fmt::Display for Exceeded {
@@ -363,6 +365,13 @@ impl std::fmt::Display for Exceeded {
         if self.non_finite_pixels > 0 {
             write!(f, " ({} non-finite pixels)", self.non_finite_pixels)?;
         }
+        if self.measured_pixels == 0 {
+            write!(
+                f,
+                " (no pixel measured: the method covers none of the reference's pixels, so no \
+                 limit can be met)"
+            )?;
+        }
         Ok(())
     }
 }
@@ -370,25 +379,32 @@ impl std::fmt::Display for Exceeded {
 /// Every (method, limit) the method does not meet: a value strictly above its `--fail-above`
 /// limit or strictly below its `--fail-below` one. Metrics that do not apply (`None`: normal
 /// metrics of methods without normals, PSNR of an exact match) never fail; infinite ones (every
-/// error metric of a method with non-finite pixels) always do.
+/// error metric of a method with non-finite pixels) always do, and so does every limit of a
+/// method with no measured pixel (it covers none of the reference's pixels: nothing was
+/// measured, whatever the metric).
 pub fn exceeded(s: &Summary, limits: &[Limit]) -> Vec<Exceeded> {
     let mut out = Vec::new();
     for r in &s.methods {
         for l in limits {
-            let Some(v) = r.metric(&l.metric) else {
-                continue;
+            let none = r.covered_pixels == 0;
+            let v = match r.metric(&l.metric) {
+                _ if none => r.metric(&l.metric).unwrap_or(f64::NAN),
+                Some(v) => v,
+                None => continue,
             };
             // written so that a NaN value fails too
-            let ok = match l.bound {
-                Bound::Above => v <= l.value,
-                Bound::Below => v >= l.value,
-            };
+            let ok = !none
+                && match l.bound {
+                    Bound::Above => v <= l.value,
+                    Bound::Below => v >= l.value,
+                };
             if !ok {
                 out.push(Exceeded {
                     method: r.name.clone(),
                     limit: l.clone(),
                     value: v,
                     non_finite_pixels: r.non_finite_pixels,
+                    measured_pixels: r.covered_pixels,
                 });
             }
         }

@@ -287,6 +287,34 @@ fn non_finite_pixels_make_every_error_infinite_sort_last_and_fail_every_limit() 
     }
 }
 
+#[test]
+fn a_method_that_measures_no_pixel_reports_no_error_and_fails_every_limit() {
+    // the method covers none of the reference's three pixels
+    let (mut frame, truth) = synthetic(&[[0.4; 3]; 3], DVec3::splat(0.4), &[false; 3]);
+    frame.color.iter_mut().for_each(|c| c[3] = 0.0);
+    let r = report(&frame, &truth);
+    assert_eq!((r.covered_pixels, r.coverage_mismatch_pixels), (0, 3));
+    // no figure: NaN (null in JSON), not the 0 of an exact match
+    assert!(r.intensity.max_abs_error.is_nan() && r.intensity.mean_abs_error.is_nan());
+    assert!(error_stats(&frame, true, &truth).max_abs_error.is_nan());
+    let s = summary_of(vec![r]);
+    for m in METRICS {
+        let bound = if HIGHER_IS_BETTER.contains(m) {
+            Bound::Below
+        } else {
+            Bound::Above
+        };
+        let v = if bound == Bound::Below { -1e30 } else { 1e30 };
+        let over = exceeded(&s, &[parse_limit(&format!("{m}={v:e}"), bound).unwrap()]);
+        assert_eq!(over.len(), 1, "{m}: {over:?}");
+        assert!(
+            over[0].to_string().contains("no pixel measured"),
+            "{}",
+            over[0]
+        );
+    }
+}
+
 fn summary_of(methods: Vec<MethodReport>) -> Summary {
     Summary {
         schema_version: SCHEMA_VERSION,

@@ -602,17 +602,26 @@ mod tests {
 
     #[test]
     fn normalize_and_length_cost_what_their_expansions_cost() {
-        // The counter prices GLSL.std.450 Normalize and Length by their definitions; the
-        // compiler keeps them as single instructions, so compare each with its expansion
-        // written out in core instructions.
+        // The counter prices GLSL.std.450 Normalize and Length by their definitions (the
+        // counter's price, not a driver's compiled count); the compiler keeps them as single
+        // instructions. Each price is checked against the figure read off the definition, so a
+        // wrong price fails even where the counter's dot would be wrong the same way on both
+        // sides of a comparison with the written-out expansion (which follows).
         let (normalize, ins) = compiled("normalize(v)");
         assert!(
             has_glsl_inst(&ins, GLSL_NORMALIZE),
             "Normalize was expanded"
         );
+        // vec3: the dot (3 mul, 2 add), 1 inversesqrt, 3 mul
+        assert_eq!(
+            normalize,
+            only(|c| (c.mul, c.add, c.inverse_sqrt) = (6, 2, 1))
+        );
         assert_eq!(normalize, compiled("v * inversesqrt(dot(v, v))").0);
         let (length, ins) = compiled("v * length(v)");
         assert!(has_glsl_inst(&ins, GLSL_LENGTH), "Length was expanded");
+        // the dot (3 mul, 2 add), 1 sqrt, and v * scalar (3 mul)
+        assert_eq!(length, only(|c| (c.mul, c.add, c.sqrt) = (6, 2, 1)));
         assert_eq!(length, compiled("v * sqrt(dot(v, v))").0);
     }
 

@@ -299,7 +299,8 @@ pub fn pn_tessellate(p: [DVec3; 3], n: [DVec3; 3], level: u32) -> Vec<([DVec3; 3
 
 /// Exponent rows of the default table, n = 1..=255 (S004 l.201).
 pub const LUT_ROWS: usize = 255;
-/// Cosine samples per row of the default table (4096 x 255 x f32 = 4.18 MB, the seed's "> 4 MB").
+/// Cosine samples per row of the default table (4096 x 255 x f32 = 4.18 MB: chosen to match the
+/// seed's "> 4 MB", which is why that claim is `not_checked`).
 pub const LUT_SAMPLES: usize = 4096;
 
 /// Table of `cos^n`: rows `n = 1..=rows`, `samples` cosines uniform on [0, 1] (index i <-> i/(samples-1)),
@@ -1026,9 +1027,10 @@ mod tests {
         // S004 l.201-203: "> 4 MB" for n = 1..255. Our f32 table with 4096 samples has the
         // byte count of FORMULAS.md 2.20's illustration (255 x 8192 x 16 bit = 4 177 920 B).
         assert_eq!(std::mem::size_of_val(table.as_slice()), 4_177_920);
-        // The claim's check builds the same table and reaches the same verdict.
+        // The claim's check builds the same table and prints its size, without a verdict: the
+        // size follows from the sample count and entry size, which the seed does not give.
         let m = crate::method::checks::specular_lut_over_4_mb();
-        assert_eq!(m.verdict, crate::method::Verdict::Agrees, "{m:?}");
+        assert_eq!(m.verdict, crate::method::Verdict::NotChecked, "{m:?}");
         assert!(m.measured.contains("= 4177920 bytes"), "{m:?}");
         // row-major layout, value cos^n rounded to f32
         assert_eq!(

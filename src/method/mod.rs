@@ -173,6 +173,9 @@ pub fn with_property(property: Property) -> impl Iterator<Item = &'static Method
 pub enum Verdict {
     /// The measurement supports the claim.
     Agrees,
+    /// The measurement exceeds the claimed figure but rounds to it at the figure's printed
+    /// significant digits (the claim is a rounded value): not `agrees`, named apart.
+    AgreesRounded,
     /// Some of the claim holds and some does not (each part is named in `measured`).
     Partly,
     /// The measurement contradicts the claim.
@@ -188,6 +191,7 @@ impl Verdict {
     pub fn as_str(self) -> &'static str {
         match self {
             Verdict::Agrees => "agrees",
+            Verdict::AgreesRounded => "agrees_rounded",
             Verdict::Partly => "partly",
             Verdict::Disagrees => "disagrees",
             Verdict::Inconclusive => "inconclusive",

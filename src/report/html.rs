@@ -155,7 +155,7 @@ pub fn number(x: Option<f64>) -> (String, String) {
     (format!("{x:e}"), text)
 }
 
-fn num_td(x: Option<f64>) -> String {
+pub(crate) fn num_td(x: Option<f64>) -> String {
     let (k, t) = number(x);
     let class = match t.as_str() {
         "n/a" => " class=\"na\"",
@@ -209,25 +209,44 @@ fn heatmap_caption(file: &str) -> String {
     }
 }
 
+/// The numeric fields at the top level of a serialised row. Taken through TOML, which keeps
+/// NaN and inf as numbers where JSON writes null: a NaN figure stays NaN (shown "NaN"), a field
+/// that does not apply (`None`) is absent (shown "n/a"). Should TOML refuse the row, the JSON
+/// numbers (non-finite ones then lost to null) are the fallback.
+pub(crate) fn row_numbers(row: &impl serde::Serialize) -> std::collections::BTreeMap<String, f64> {
+    if let Ok(toml::Value::Table(t)) = toml::Value::try_from(row) {
+        return t
+            .into_iter()
+            .filter_map(|(k, v)| match v {
+                toml::Value::Float(f) => Some((k, f)),
+                toml::Value::Integer(i) => Some((k, i as f64)),
+                _ => None,
+            })
+            .collect();
+    }
+    match serde_json::to_value(row) {
+        Ok(serde_json::Value::Object(map)) => map
+            .into_iter()
+            .filter_map(|(k, v)| v.as_f64().map(|f| (k, f)))
+            .collect(),
+        _ => Default::default(),
+    }
+}
+
 /// The bench columns: every key at the top level of a bench.json row that holds a number in
-/// some row (so fields bench adds later appear here without a change), sorted by name.
+/// some row, NaN included (so fields bench adds later appear here without a change, and a
+/// column that is NaN in every row is shown, not dropped), sorted by name.
 fn bench_columns(scene: &SceneResult) -> Vec<String> {
     let mut keys = std::collections::BTreeSet::new();
     for row in &scene.bench.methods {
-        if let Ok(serde_json::Value::Object(map)) = serde_json::to_value(row) {
-            keys.extend(
-                map.into_iter()
-                    .filter(|(_, v)| v.is_number())
-                    .map(|(k, _)| k),
-            );
-        }
+        keys.extend(row_numbers(row).into_keys());
     }
     keys.into_iter().collect()
 }
 
 fn bench_value(scene: &SceneResult, method: &str, key: &str) -> Option<f64> {
     let row = scene.bench.methods.iter().find(|r| r.name == method)?;
-    serde_json::to_value(row).ok()?.get(key)?.as_f64()
+    row_numbers(row).get(key).copied()
 }
 
 fn sortable_head(groups: &[(&str, usize)], columns: &[String]) -> String {
@@ -432,10 +451,11 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
     };
     let _ = write!(
         h,
-        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} partly, {} disagree, \
-         {} inconclusive, {} not checked</summary>",
+        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} agree to the claim's \
+         printed digits, {} partly, {} disagree, {} inconclusive, {} not checked</summary>",
         s.bench.claims.len(),
         count("agrees"),
+        count("agrees_rounded"),
         count("partly"),
         count("disagrees"),
         count("inconclusive"),
@@ -485,11 +505,17 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
     h += &sortable_head(&[("stress.json per method", cols.len())], &cols);
     h += "<tbody>";
     for m in &r.methods {
-        // stress.json writes a worst error of null when a case was non-finite.
+        // stress.json writes a worst error of null when a case was non-finite: shown as inf
+        // (non-finite), on the device and in f64 alike, never as n/a (does not apply).
         let worst = if m.non_finite_cases > 0 {
             Some(f64::INFINITY)
         } else {
             m.worst_abs_error
+        };
+        let worst_f64 = if m.non_finite_cases_f64 > 0 {
+            Some(f64::INFINITY)
+        } else {
+            m.worst_abs_error_f64
         };
         let _ = write!(
             h,
@@ -501,7 +527,7 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
             num_td(Some(m.non_finite_cases_f64 as f64)),
             num_td(worst),
             num_td(m.worst_finite_abs_error),
-            num_td(m.worst_abs_error_f64),
+            num_td(worst_f64),
             num_td(m.max_valid_angle_deg),
             num_td(m.max_valid_angle_deg_f64),
         );

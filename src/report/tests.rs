@@ -94,3 +94,35 @@ fn link_checker_flags_every_kind_of_broken_link() {
         );
     }
 }
+
+/// A NaN figure stays a number (shown "NaN", styled non-finite) where JSON would write null and
+/// the column would read "n/a" or be dropped; a field that does not apply stays absent ("n/a").
+#[test]
+fn bench_numbers_keep_nan_apart_from_does_not_apply() {
+    #[derive(serde::Serialize)]
+    struct Row {
+        name: String,
+        median_ms: f64,
+        ratio: f64,
+        overdraw: Option<f64>,
+        samples: usize,
+    }
+    let row = Row {
+        name: "m".into(),
+        median_ms: 1.5,
+        ratio: f64::NAN,
+        overdraw: None,
+        samples: 3,
+    };
+    let n = super::html::row_numbers(&row);
+    assert_eq!(n.get("median_ms"), Some(&1.5));
+    assert!(n.get("ratio").is_some_and(|v| v.is_nan()), "{n:?}");
+    assert_eq!(n.get("overdraw"), None);
+    assert_eq!(n.get("samples"), Some(&3.0));
+    // the old JSON route lost the NaN: the column of a NaN in every row was dropped
+    let json = serde_json::to_value(&row).unwrap();
+    assert!(json["ratio"].is_null());
+    // shown as such, styled
+    assert!(super::html::num_td(Some(f64::NAN)).contains("class=\"nonfinite\">NaN<"));
+    assert!(super::html::num_td(None).contains("class=\"na\">n/a<"));
+}

@@ -317,38 +317,48 @@ impl Shader for SpanShader {
                 let w = walk(tri, &span);
                 let c = lit.cosines();
                 let (na, nb) = (w.sp.na, w.sp.nb);
-                let ww = w.sp.xb - w.sp.xa;
                 let (mut v, mut d1, mut d2) = (
                     [0.0f32; 2 * MAX_LIGHTS],
                     [0.0; 2 * MAX_LIGHTS],
                     [0.0; 2 * MAX_LIGHTS],
                 );
+                let mut ends = [(0.0f32, 0.0f32); 2 * MAX_LIGHTS];
+                // Seeded at the first pixel's own t, not clamped (as Chebyshev): a covered
+                // centre a rounding outside [xA, xB] takes the end value the twin's clamped t
+                // gives, and the rest of the span stays on its own grid.
+                let (t, dt) = (w.t, w.dt);
                 for k in 0..c {
                     let dir = lit.dirs[k];
                     let i0 = dir.dot(na) / na.length();
-                    if !(ww > 0.0) {
+                    if !(w.sp.xb - w.sp.xa > 0.0) {
                         v[k] = i0;
+                        ends[k] = (i0, i0);
                         continue;
                     }
                     let i1 = dir.dot(nb) / nb.length();
                     let dn = nb - na;
-                    let (s0, s1) = (f::cosine_slope(dir, na, dn), f::cosine_slope(dir, nb, dn));
-                    let h = 1.0 / ww;
-                    let j = w.t.clamp(0.0, 1.0) * ww;
-                    let iw = i0 + h * (ww * s0 + (s1 - s0) * (ww - 1.0) / 2.0);
-                    let e = i1 - iw;
-                    v[k] = i0 + h * (j * s0 + (s1 - s0) * j * (j - 1.0) / (2.0 * ww)) + e * j / ww;
-                    d1[k] = h * (s0 + (s1 - s0) * j / ww) + e / ww;
-                    d2[k] = h * (s1 - s0) / ww;
+                    let half = 0.5 * (f::cosine_slope(dir, nb, dn) - f::cosine_slope(dir, na, dn));
+                    let di = i1 - i0;
+                    v[k] = i0 + t * di + half * t * (t - 1.0);
+                    d1[k] = dt * di + half * dt * (2.0 * t + dt - 1.0);
+                    d2[k] = 2.0 * half * dt * dt;
+                    ends[k] = (i0, i1);
                 }
+                let mut t = t;
                 for i in span.i0..=span.i1 {
                     if out.test(tri, i, z, span.centre(i)) {
-                        out.put(i, lit.shade_cosines(|k| v[k]), [0.0; 4]);
+                        let at = |k: usize| match t {
+                            t if t < 0.0 => ends[k].0,
+                            t if t > 1.0 => ends[k].1,
+                            _ => v[k],
+                        };
+                        out.put(i, lit.shade_cosines(at), [0.0; 4]);
                     }
                     for k in 0..c {
                         v[k] += d1[k];
                         d1[k] += d2[k];
                     }
+                    t += dt;
                     z += span.dz;
                 }
             }

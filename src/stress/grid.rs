@@ -473,6 +473,29 @@ fn worst_between(m: &MethodStress, lo: f64, hi: f64) -> Worst {
     w
 }
 
+/// "Accuracy collapses beyond 90 degrees", from the worst errors at 60-90 (`upto`) and 90-120
+/// degrees (`beyond`) against the stress threshold (the criterion of every validity claim
+/// here): collapses = within it before 90 and above it after. Agrees when so; disagrees when
+/// still within it after 90; partly when above it on both sides (the loss starts before 90);
+/// inconclusive when any case is non-finite (it has no error: neither a collapse nor its
+/// absence) or nothing was measured.
+pub(crate) fn collapse_verdict(upto: &Worst, beyond: &Worst, threshold: f64) -> Verdict {
+    let within =
+        |w: &Worst| w.count > 0 && w.non_finite == 0 && w.max.is_some_and(|m| m <= threshold);
+    let above = |w: &Worst| w.non_finite == 0 && w.max.is_some_and(|m| m > threshold);
+    if upto.non_finite + beyond.non_finite > 0 {
+        Verdict::Inconclusive
+    } else if within(upto) && above(beyond) {
+        Verdict::Agrees
+    } else if within(beyond) {
+        Verdict::Disagrees
+    } else if above(upto) && above(beyond) {
+        Verdict::Partly
+    } else {
+        Verdict::Inconclusive
+    }
+}
+
 /// Verdicts of the validity claims and S002's specular bound, from the sweeps.
 pub fn claims(
     methods: &[MethodStress],
@@ -500,7 +523,9 @@ pub fn claims(
             method: name.into(),
             claim: claim.into(),
             measured: format!(
-                "valid up to {} degrees on the device ({} in f64); worst error up to {range} degrees {} ({} non-finite)",
+                "colour criterion (within {threshold:.6} = 1/255 on the device): valid up to {} \
+                 degrees on the device ({} in f64); worst error up to {range} degrees {} ({} \
+                 non-finite)",
                 fmt(v),
                 fmt(m.max_valid_angle_deg_f64),
                 fmt(at.max),
@@ -516,34 +541,29 @@ pub fn claims(
         };
         let upto = worst_between(m, 60.0, 90.0);
         let beyond = worst_between(m, 90.0, 120.0);
-        let ratio = match (upto.max, beyond.max) {
-            (Some(a), Some(b)) if a > 0.0 => Some(b / a),
-            _ => None,
-        };
-        let verdict = match (ratio, beyond.non_finite) {
-            (_, n) if n > 0 => Verdict::Agrees,
-            (Some(r), _) if r >= 10.0 => Verdict::Agrees,
-            (Some(r), _) if r < 3.0 => Verdict::Disagrees,
-            (Some(_), _) => Verdict::Partly,
-            (None, _) => Verdict::Inconclusive,
-        };
+        let verdict = collapse_verdict(&upto, &beyond, threshold);
         out.push(StressClaim {
             method: name.into(),
             claim:
                 "accuracy collapses beyond 90 degrees between the end normals (FORMULAS.md 2.12)"
                     .into(),
             measured: format!(
-                "worst error at 60-90 degrees {}, at 90-120 degrees {} ({} non-finite): ratio {}",
+                "worst error at 60-90 degrees {} ({} non-finite), at 90-120 degrees {} ({} \
+                 non-finite); threshold {threshold:.6}",
                 fmt(upto.max),
+                upto.non_finite,
                 fmt(beyond.max),
                 beyond.non_finite,
-                fmt(ratio)
             ),
             verdict,
-            how: "worst device error over the facing cases of the angle sweep; agrees when the \
-                  error at 90-120 degrees is at least 10x the error at 60-90 (or non-finite), \
-                  disagrees under 3x, partly between"
-                .into(),
+            how: format!(
+                "worst device error over the facing cases of the angle sweep, against the \
+                 stress threshold {threshold:.6} (1/255, the criterion of every validity claim \
+                 here): collapses = within it at 60-90 degrees and above it at 90-120; agrees \
+                 when so, disagrees when still within it at 90-120, partly when above it at \
+                 both (the loss starts before 90), inconclusive when any case is non-finite \
+                 (no error to judge) or nothing was measured"
+            ),
         });
     }
     for s in specular {

@@ -230,12 +230,18 @@ pub struct MethodStress {
     /// The worst on the grid alone (before the local search).
     pub worst_grid_abs_error: Option<f64>,
     pub worst_abs_error_f64: Option<f64>,
-    /// Against exact slerp along the span (angle-interpolating methods).
+    /// Against exact slerp along the span (angle-interpolating methods): the largest finite
+    /// value; `non_finite_vs_slerp` counts the cases that had none.
     pub worst_abs_error_vs_slerp: Option<f64>,
+    pub non_finite_vs_slerp: usize,
     pub worst_case: Option<CaseReport>,
     pub non_finite_example: Option<CaseReport>,
+    /// Largest finite normal angle error; `non_finite_angle` counts the non-finite ones.
     pub worst_angle_deg: Option<f64>,
+    pub non_finite_angle: usize,
+    /// Largest finite normal length error; `non_finite_length` counts the non-finite ones.
     pub worst_length_error: Option<f64>,
+    pub non_finite_length: usize,
     /// Largest vertex-normal angle up to which every case facing the viewer (elevation under
     /// 90 degrees) of the angle sweep is finite and within the threshold, on the device
     /// (null: not even at 0 degrees).
@@ -389,10 +395,13 @@ pub fn stress_method(
             all_f64.max
         },
         worst_abs_error_vs_slerp: vs_slerp.max,
+        non_finite_vs_slerp: vs_slerp.non_finite,
         worst_case,
         non_finite_example,
         worst_angle_deg: angle.max,
+        non_finite_angle: angle.non_finite,
         worst_length_error: length.max,
+        non_finite_length: length.non_finite,
         max_valid_angle_deg: max_valid,
         max_valid_angle_deg_f64: max_valid_f64,
         error_vs_angle: curves.angle,
@@ -509,13 +518,18 @@ pub fn table(r: &StressReport) -> String {
         rb.0.cmp(&ra.0).then(rb.1.total_cmp(&ra.1))
     });
     let fmt = |x: Option<f64>, p: usize| x.map_or("-".to_string(), |v| format!("{v:.p$e}"));
+    // a finite worst with the count of non-finite values beside it, never the worst alone
+    let with_count = |x: Option<f64>, n: usize| match n {
+        0 => fmt(x, 2),
+        n => format!("{} +{n} NaN", fmt(x, 2)),
+    };
     let mut s = format!(
-        "{:<32} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9}\n",
+        "{:<32} {:>8} {:>10} {:>10} {:>10} {:>16} {:>9}\n",
         "method", "cases", "non-finite", "worst", "worst f64", "max angle", "valid to"
     );
     for m in rows {
         s += &format!(
-            "{:<32} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9}\n",
+            "{:<32} {:>8} {:>10} {:>10} {:>10} {:>16} {:>9}\n",
             m.name,
             m.cases,
             if m.device_evaluated {
@@ -525,7 +539,7 @@ pub fn table(r: &StressReport) -> String {
             },
             fmt(m.worst_finite_abs_error, 2),
             fmt(m.worst_abs_error_f64, 2),
-            fmt(m.worst_angle_deg, 2),
+            with_count(m.worst_angle_deg, m.non_finite_angle),
             m.max_valid_angle_deg
                 .map_or("none".to_string(), |a| format!("{a} deg")),
         );

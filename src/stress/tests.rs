@@ -189,8 +189,22 @@ fn the_worst_case_replays_bit_for_bit() {
         ..StressOptions::default()
     };
     let r = stress_method(&ctx, m, &g, &opts).unwrap();
-    assert!(r.worst_finite_abs_error >= r.worst_grid_abs_error);
+    // The reported worsts are measured errors: the grid's is the largest error `measure` gives
+    // on the grid's cases, and the refined one is the error of the worst case's own spec,
+    // measured again (a wrong figure or a case that does not give it fails here).
+    let mut k = Some(Kernel::new(&ctx, m).unwrap());
+    let grid_max = measure(&mut k.as_mut(), m, &g.cases)
+        .unwrap()
+        .iter()
+        .map(|(e, _)| *e)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(r.worst_grid_abs_error, Some(grid_max));
     let worst = r.worst_case.clone().unwrap();
+    let (again, _) = measure(&mut k.as_mut(), m, &[Case::new(worst.spec)])
+        .unwrap()
+        .remove(0);
+    assert_eq!(r.worst_finite_abs_error, Some(again), "{worst:?}");
+    assert!(again >= grid_max, "the local search lost the grid's worst");
     let again = replay::replay(&ctx, &worst).unwrap();
     assert_eq!(again.bit_identical, Some(true));
     let mut tampered = worst.clone();
@@ -257,5 +271,80 @@ fn bad_case_files_are_refused_with_the_reason() {
     assert!(
         e.contains("case.json") && e.contains("not a stress case"),
         "{e}"
+    );
+}
+
+/// The worst angle, length and slerp errors keep the count of non-finite cases beside the
+/// finite maximum (stress.json and the table), never the finite maximum alone.
+#[test]
+fn the_worst_figures_keep_their_non_finite_counts() {
+    let ctx = context();
+    let bq = method::find("barycentric_quadratic_exact_mid").unwrap();
+    let mut g = small_grid();
+    // antipodal vertex normals: NaN for this method (the_worst_case_replays_bit_for_bit)
+    let c = Case::new(CaseSpec {
+        theta_deg: 180.0,
+        ..CaseSpec::default()
+    });
+    g.gpu.push(GpuCase::new(&c.fragment, &c.lighting).unwrap());
+    g.cases.push(c);
+    g.kinds.push(Sweep::Angle);
+    let r = stress_method(&ctx, bq, &g, &StressOptions::default()).unwrap();
+    assert!(r.non_finite_cases >= 1, "{}", r.non_finite_cases);
+    assert_eq!(r.non_finite_angle, r.non_finite_cases);
+    assert_eq!(r.non_finite_length, r.non_finite_cases);
+    assert!(r.worst_angle_deg.is_some_and(f64::is_finite));
+    let json = serde_json::to_value(&r).unwrap();
+    assert_eq!(json["non_finite_angle"], r.non_finite_cases);
+    let report = StressReport {
+        schema_version: 0,
+        threshold: 1.0 / 255.0,
+        device: String::new(),
+        cases_per_method: g.cases.len(),
+        sweeps: Vec::new(),
+        methods: vec![r],
+        specular_bound: Vec::new(),
+        claims: Vec::new(),
+        seconds: 0.0,
+        provenance: crate::output::provenance::Provenance {
+            tool: String::new(),
+            version: String::new(),
+            git_revision: String::new(),
+            device: String::new(),
+            driver: String::new(),
+            driver_info: String::new(),
+            vulkan_api: String::new(),
+            mesa_version: None,
+            llvm_version: None,
+        },
+    };
+    let t = table(&report);
+    assert!(
+        t.contains(&format!("+{} NaN", report.methods[0].non_finite_angle)),
+        "{t}"
+    );
+}
+
+/// The collapse rule: within the threshold before 90 and above it after; a non-finite case is
+/// never agreement (the old rule counted any as a collapse), and no 10x/3x ratio decides.
+#[test]
+fn the_collapse_rule_uses_the_threshold_and_never_agrees_on_non_finite() {
+    let t = 1.0 / 255.0;
+    let w = |max: f64, non_finite: usize| Worst {
+        max: Some(max),
+        non_finite,
+        count: 10,
+    };
+    use grid::collapse_verdict as v;
+    assert_eq!(v(&w(0.001, 0), &w(0.5, 0), t), Verdict::Agrees);
+    assert_eq!(v(&w(0.001, 0), &w(0.002, 0), t), Verdict::Disagrees);
+    // 100x, but above the threshold on both sides: the loss starts before 90
+    assert_eq!(v(&w(0.01, 0), &w(1.0, 0), t), Verdict::Partly);
+    // non-finite beyond 90 (the old rule: agrees)
+    assert_eq!(v(&w(0.001, 0), &w(0.5, 3), t), Verdict::Inconclusive);
+    assert_eq!(v(&w(0.001, 1), &w(0.5, 0), t), Verdict::Inconclusive);
+    assert_eq!(
+        v(&Worst::default(), &Worst::default(), t),
+        Verdict::Inconclusive
     );
 }

@@ -1,0 +1,14 @@
+//! The software engine (src/software/) against the Vulkan pipeline and against the f64 twins,
+//! one module per topic:
+//!
+//! - `engines`: software against Vulkan (coverage, colours), every method against its f64 twin
+//!   on the shipped scenes, kept targets, refusals.
+//! - `drift`: the recurrences' float32 drift along long spans against derived bounds.
+//! - `outputs`: compare and bench with `--engine software` (summary.json, bench.json, claims).
+//! - `models`: `verify --engine software` on every shared model at 64, 128 and 256.
+//! - `loops`: the span and pixel loops allocate nothing.
+mod drift;
+mod engines;
+mod loops;
+mod models;
+mod outputs;
