@@ -163,30 +163,6 @@ pub fn case_report(m: &Method, case: &Case, dev: Option<&Output>) -> Result<Case
     })
 }
 
-/// Max of finite values and how many were not finite.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-pub struct Worst {
-    /// Largest finite value (null when there was none).
-    pub max: Option<f64>,
-    pub non_finite: usize,
-    pub count: usize,
-}
-
-impl Worst {
-    fn add(&mut self, v: f64) {
-        self.count += 1;
-        if v.is_finite() {
-            self.max = Some(self.max.map_or(v, |m| m.max(v)));
-        } else {
-            self.non_finite += 1;
-        }
-    }
-
-    /// Within `threshold` on every case (no non-finite case, at least one case).
-    pub fn valid(&self, threshold: f64) -> bool {
-        self.count > 0 && self.non_finite == 0 && self.max.is_some_and(|m| m <= threshold)
-    }
-}
 
 /// One point of a curve: the worst error of the cases that share the key, both ways.
 #[derive(Debug, Clone, Serialize)]
