@@ -1,3 +1,13 @@
+//! The sweeps of the cases: which cases each holds ([`Grid`]), which methods each applies to,
+//! and the largest valid angle of the angle sweep; [`Worst`] folds their errors. Built once and
+//! shared by `stress`, `bench`'s isolated cost and `plan`.
+use serde::Serialize;
+
+use super::{Case, CaseSpec, Errors, Shape};
+use crate::error::Result;
+use crate::gpu::evaluate::GpuCase;
+use crate::method::{Input, Method};
+
 /// The sweep a case belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -269,7 +279,8 @@ pub struct Worst {
 }
 
 impl Worst {
-    fn add(&mut self, v: f64) {
+    /// Counts `v`: the largest finite value so far, or one more non-finite.
+    pub fn add(&mut self, v: f64) {
         self.count += 1;
         if v.is_finite() {
             self.max = Some(self.max.map_or(v, |m| m.max(v)));

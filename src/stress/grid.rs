@@ -1,15 +1,14 @@
-//! The sweeps of `stress`: which cases each holds, which methods each applies to, and how the
-//! per-case errors fold into curves, the validity map, the largest valid angle and the claims.
+//! What `stress` makes of the sweeps of [`crate::cases::grid`]: the per-case errors folded into
+//! curves and the validity map, the local search's neighbours, S002's specular bound and the
+//! claims.
 use std::collections::HashMap;
 
 use serde::Serialize;
 
-use super::cases::{Case, CaseSpec, Errors, Shape};
-use super::{CurvePoint, MethodStress, StressClaim, ValidityMap, Worst};
-use crate::error::Result;
-use crate::gpu::evaluate::GpuCase;
-use crate::method::{Input, Method, Verdict};
-
+use super::{CurvePoint, MethodStress, StressClaim, ValidityMap};
+use crate::cases::grid::{Grid, Sweep, Worst, ANGLES, ELEVATIONS};
+use crate::cases::{CaseSpec, Errors, Shape};
+use crate::method::Verdict;
 
 /// Folds cases into points keyed by `key` (insertion order kept).
 fn fold(
@@ -109,7 +108,6 @@ pub fn curves(grid: &Grid, applies: &[bool], primary: &[Errors], twin: &[Errors]
         ),
     }
 }
-
 
 /// Worst error per (elevation, angle) cell of the angle sweep.
 pub fn validity_map(grid: &Grid, errs: &[Errors]) -> ValidityMap {
