@@ -1,21 +1,6 @@
-/// Test generators: the shipped ones plus other parameters.
-fn all_generators() -> Vec<Generator> {
-    let mut g: Vec<Generator> = SHIPPED.iter().map(|(_, g)| g.clone()).collect();
-    g.extend([
-        Generator::UvSphere {
-            segments: 3,
-            rings: 2,
-        },
-        Generator::Icosphere { subdivisions: 2 },
-        Generator::Torus {
-            major_radius: 2.0,
-            minor_radius: 1.9,
-            major_segments: 3,
-            minor_segments: 5,
-        },
-    ]);
-    g
-}
+//! The procedural generators: outward unit normals, parameters and their errors, the shipped
+//! meshes' normal spreads and freshness.
+use super::*;
 
 /// The point each corner's normal should point away from.
 fn inner_point(g: &Generator, p: DVec3) -> DVec3 {

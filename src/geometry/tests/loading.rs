@@ -1,3 +1,7 @@
+//! OBJ loading: triangulation, indices, comments, weights, malformed and empty files,
+//! zero-area triangles, fitting to the unit sphere.
+use super::*;
+
 #[test]
 fn quads_and_polygons_are_triangulated_as_fans() {
     let (mesh, report) =

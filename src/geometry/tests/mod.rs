@@ -1,4 +1,11 @@
-//! Tests of OBJ loading, normals, fitting, writing and the generators.
+//! Tests of the geometry module, one file per topic: OBJ loading, validation and fitting
+//! ([`loading`]), normals given and computed ([`normals`]), the procedural generators and the
+//! shipped meshes ([`generators`]), OBJ writing ([`writing`]); the helpers they share are here.
+mod generators;
+mod loading;
+mod normals;
+mod writing;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -59,3 +66,22 @@ f 4 8 7 3
 f 1 5 8 4
 f 2 3 7 6
 ";
+
+/// Test generators: the shipped ones plus other parameters.
+fn all_generators() -> Vec<Generator> {
+    let mut g: Vec<Generator> = SHIPPED.iter().map(|(_, g)| g.clone()).collect();
+    g.extend([
+        Generator::UvSphere {
+            segments: 3,
+            rings: 2,
+        },
+        Generator::Icosphere { subdivisions: 2 },
+        Generator::Torus {
+            major_radius: 2.0,
+            minor_radius: 1.9,
+            major_segments: 3,
+            minor_segments: 5,
+        },
+    ]);
+    g
+}

@@ -1,3 +1,7 @@
+//! Normals: computed (angle-weighted, per position index) where the file has none, given ones
+//! kept split and normalised.
+use super::*;
+
 #[test]
 fn missing_normals_are_computed_angle_weighted_per_position() {
     let (mesh, report) = load_text(UNIT_CUBE).unwrap();

@@ -1,3 +1,6 @@
+//! OBJ writing: round trips through the loader, deduplication, the header.
+use super::*;
+
 #[test]
 fn obj_text_round_trips_through_the_loader() {
     for g in all_generators() {
