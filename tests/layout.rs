@@ -301,7 +301,8 @@ fn test_lines(text: &str) -> Vec<bool> {
 }
 
 /// Files of tests, not production: every tests.rs, every file under `#![cfg(test)]`, and every
-/// module its parent declares under `#[cfg(test)]` (src/testutil.rs).
+/// module its parent declares under `#[cfg(test)]` (src/testutil.rs), with the folder of such a
+/// module (src/geometry/tests/). A file is a test file when it is one or lies in one.
 fn test_files(files: &[(PathBuf, String)]) -> Vec<PathBuf> {
     let mut out: Vec<PathBuf> = files
         .iter()
@@ -330,12 +331,18 @@ fn test_files(files: &[(PathBuf, String)]) -> Vec<PathBuf> {
                 .trim_start_matches("pub ")
                 .trim_start_matches("pub(crate) ");
             if let Some(name) = decl.strip_prefix("mod ").and_then(|d| d.strip_suffix(';')) {
+                // NAME.rs, or the folder NAME/ (its mod.rs and the modules it declares).
                 out.push(dir.join(format!("{name}.rs")));
-                out.push(dir.join(name).join("mod.rs"));
+                out.push(dir.join(name));
             }
         }
     }
     out
+}
+
+/// Whether `p` is, or lies in a folder of, [`test_files`].
+fn is_test_file(tests: &[PathBuf], p: &Path) -> bool {
+    tests.iter().any(|t| p.starts_with(t))
 }
 
 /// Production files (tests' files left out) longer than [`MAX_PRODUCTION_LINES`], counting every
@@ -344,7 +351,7 @@ fn long_files(files: &[(PathBuf, String)]) -> Vec<String> {
     let tests = test_files(files);
     files
         .iter()
-        .filter(|(p, _)| !tests.contains(p))
+        .filter(|(p, _)| !is_test_file(&tests, p))
         .filter_map(|(p, text)| {
             let n = test_lines(text).iter().filter(|&&t| !t).count();
             (n > MAX_PRODUCTION_LINES).then(|| format!("{}: {n} lines", p.display()))
@@ -358,7 +365,7 @@ fn long_files(files: &[(PathBuf, String)]) -> Vec<String> {
 fn long_functions(files: &[(PathBuf, String)]) -> Vec<(String, String, usize)> {
     let tests = test_files(files);
     let mut out = Vec::new();
-    for (p, text) in files.iter().filter(|(p, _)| !tests.contains(p)) {
+    for (p, text) in files.iter().filter(|(p, _)| !is_test_file(&tests, p)) {
         let mask = test_lines(text);
         let code: Vec<char> = code_only(text).chars().collect();
         let lines = line_of(&code);
@@ -528,6 +535,24 @@ fn the_file_length_check_counts_whole_production_files() {
         ("output/mod.rs", "fn h() {}\n"),
     ]);
     assert_eq!(long_files(&files), Vec::<String>::new());
+    let folder = tree(&[
+        (
+            "geometry/mod.rs",
+            "#[cfg(test)]\nmod tests;\npub mod obj;\n",
+        ),
+        ("geometry/tests/mod.rs", "mod loading;\n"),
+        ("geometry/tests/loading.rs", &body),
+        ("geometry/obj.rs", "fn h() {}\n"),
+    ]);
+    assert_eq!(long_files(&folder), Vec::<String>::new());
+    let v = long_files(&tree(&[
+        (
+            "geometry/mod.rs",
+            "#[cfg(test)]\nmod tests;\npub mod obj;\n",
+        ),
+        ("geometry/obj.rs", &body),
+    ]));
+    assert_eq!(v.len(), 1, "{v:?}");
     // ... but the same text as a production module is counted.
     let v = long_files(&tree(&[("lib.rs", declared), ("output/mod.rs", &body)]));
     assert_eq!(v.len(), 1, "{v:?}");
