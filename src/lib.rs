@@ -8,8 +8,8 @@
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
 //! | report | [`report`] | the main job: compare, bench and stress per scene, one offline HTML page |
 //! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain |
-//! | judgement | [`analysis`], [`truth`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; `auto`'s budget, candidates and per-triangle choice |
-//! | device | [`gpu`], [`software`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form) |
+//! | judgement | [`analysis`], [`truth`], [`cases`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; the cases of the sweeps, shared by the jobs that sweep; `auto`'s budget, candidates and per-triangle choice |
+//! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
 //! | base | [`output`], [`error`] | atomic files, PNG/NPY, figures, provenance; the error type |
@@ -36,8 +36,10 @@
 pub mod analysis;
 pub mod auto;
 pub mod bench;
+pub mod cases;
 pub mod cli;
 pub mod compare;
+pub mod engine;
 pub mod error;
 pub mod frame;
 pub mod geometry;

@@ -8,11 +8,11 @@ use glam::DVec3;
 use serde::Serialize;
 
 use crate::analysis::stats::percentile;
+use crate::cases::grid::{self, Grid, Sweep};
+use crate::cases::Case;
 use crate::geometry::{topology, Topology};
 use crate::method::{Geometry, METHODS};
 use crate::scene::{Cull, Scene, SceneInputs};
-use crate::stress::cases::Case;
-use crate::stress::grid::{self, Grid, Sweep};
 
 /// Version of the plan JSON.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -161,7 +161,7 @@ pub fn validity_ranges() -> &'static Vec<(&'static str, Option<f64>)> {
                                     .iter()
                                     .map(|c| {
                                         let r = (m.eval_f64)(&c.fragment, &c.lighting);
-                                        crate::stress::cases::errors(c, r.color, r.normal)
+                                        crate::cases::errors(c, r.color, r.normal)
                                     })
                                     .collect();
                                 (m.name, grid::max_valid_angle(g, &errs, THRESHOLD))

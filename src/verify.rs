@@ -2,14 +2,13 @@
 //! of the module doc of [`crate::truth`]), and its error against f64 exact Phong (the per-pixel
 //! error of [`crate::analysis::pixel`], the same definition `compare` uses).
 use crate::analysis::pixel::{error_stats, ErrorStats};
+use crate::engine::{Engine, Ready};
 use crate::error::{Error, Result};
 use crate::frame::IdFrame;
-use crate::gpu::{Renderer, Shading};
 use crate::method::scanline;
 use crate::method::{self, Method};
 use crate::scene::{Scene, SceneInputs};
 use crate::software;
-
 use crate::truth::{agreement, evaluate, Agreement, Truth};
 
 /// One method's verdict.
@@ -131,32 +130,31 @@ impl VerifyReport {
     }
 }
 
-/// [`verify`] with the software engine (src/software/) on `threads` threads: each method drawn
-/// in its span form, judged by its f64 twin at the software rasterizer's own weights, and
-/// against f64 exact Phong at those weights.
-pub fn verify_software(
+/// Renders every method of `methods` on `scene` with `engine` and judges its image by its own
+/// f64 formula (or by `against`'s) within the float32 bound, evaluated at the engine's own
+/// rasterizer weights (widened by the recurrence drift where the engine's form of the method
+/// drifts: [`Engine::drifts`]), and against f64 exact Phong at those weights.
+pub fn verify(
+    engine: Engine,
     scene: &Scene,
     methods: &[&'static Method],
     against: Option<&'static Method>,
-    threads: usize,
 ) -> Result<VerifyReport> {
-    let exact = method::find("phong_exact")?;
-    let id_pass = || Error::Internal("the software engine returned no id frame".into());
-    let base = SceneInputs::new(scene, exact.geometry);
-    let (_, base_ids) = software::render(&base, exact, threads, true)?;
-    let reference = evaluate(&base, &base_ids.ok_or_else(id_pass)?, exact);
+    let exact = method::phong_exact();
+    let mut all = methods.to_vec();
+    all.push(exact);
+    let ready = Ready::new(engine, scene, &all)?;
+    let id_pass = || Error::Internal(format!("{}: no id frame came back", engine.name()));
+    // The reference: f64 exact Phong at the engine's weights on the scene's own triangles.
+    let (_, base_ids) = ready.render(exact, true)?;
+    let reference = evaluate(ready.base(), &base_ids.ok_or_else(id_pass)?, exact);
     let mut rows = Vec::new();
     for &m in methods {
-        let inputs = if m.geometry == base.geometry {
-            None
-        } else {
-            Some(SceneInputs::new(scene, m.geometry))
-        };
-        let inputs = inputs.as_ref().unwrap_or(&base);
-        let (frame, ids) = software::render(inputs, m, threads, true)?;
+        let (frame, ids) = ready.render(m, true)?;
         let ids = ids.ok_or_else(id_pass)?;
+        let inputs = ready.inputs(m)?;
         let mut truth = evaluate(inputs, &ids, against.unwrap_or(m));
-        if software::form(m.name).drifts {
+        if engine.drifts(m) {
             widen_for_drift(&mut truth, inputs, &ids);
         }
         rows.push(VerifyRow {
@@ -172,6 +170,16 @@ pub fn verify_software(
         against: against.map(|a| a.name),
         rows,
     })
+}
+
+/// [`verify`] with the software engine (src/software/) on `threads` threads.
+pub fn verify_software(
+    scene: &Scene,
+    methods: &[&'static Method],
+    against: Option<&'static Method>,
+    threads: usize,
+) -> Result<VerifyReport> {
+    verify(Engine::Software { threads }, scene, methods, against)
 }
 
 /// Adds the recurrence drift of [`software::drift_allowance`] to each pixel's bound: `n` is the
@@ -200,44 +208,4 @@ fn widen_for_drift(truth: &mut Truth, inputs: &SceneInputs, ids: &IdFrame) {
         p.normal_bound += d * len;
         p.color_bound += d * len * slope;
     }
-}
-
-/// Renders every method of `methods` on `scene` and judges its image by its own f64 formula
-/// (or by `against`'s) within the float32 bound, and against f64 exact Phong.
-pub fn verify(
-    r: &Renderer,
-    scene: &Scene,
-    methods: &[&'static Method],
-    against: Option<&'static Method>,
-) -> Result<VerifyReport> {
-    let exact = method::find("phong_exact")?;
-    let mut all = methods.to_vec();
-    all.push(exact);
-    let prepared = r.prepare(scene, &all)?;
-    let id_pass = || Error::Internal("the id pass returned nothing".into());
-    // The reference: f64 exact Phong at the rasterizer's weights on the scene's own triangles.
-    let (_, base_ids) = r.render(prepared.base(), Shading::Method(exact), true)?;
-    let reference = evaluate(
-        &prepared.base().inputs,
-        &base_ids.ok_or_else(id_pass)?,
-        exact,
-    );
-    let mut rows = Vec::new();
-    for &m in methods {
-        let gpu = prepared.for_method(m);
-        let (frame, ids) = r.render(gpu, Shading::Method(m), true)?;
-        let ids = ids.ok_or_else(id_pass)?;
-        rows.push(VerifyRow {
-            method: m.name,
-            agreement: agreement(&frame, &evaluate(&gpu.inputs, &ids, against.unwrap_or(m))),
-            errors: error_stats(&frame, m.has_normal, &reference),
-        });
-    }
-    Ok(VerifyReport {
-        scene: scene.name.clone(),
-        width: scene.width,
-        height: scene.height,
-        against: against.map(|a| a.name),
-        rows,
-    })
 }

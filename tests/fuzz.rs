@@ -142,7 +142,7 @@ fn cube() -> &'static (Mesh, LoadReport) {
 fn fuzz_replay(bytes: &[u8]) -> Result<()> {
     let r = shadelab::stress::replay::parse(Path::new(FUZZ_PATH), bytes)?;
     assert!(shadelab::method::find(&r.method).is_ok(), "{}", r.method);
-    let case = shadelab::stress::cases::Case::new(r.spec);
+    let case = shadelab::cases::Case::new(r.spec);
     let gpu = shadelab::gpu::evaluate::GpuCase::new(&case.fragment, &case.lighting)?;
     let words: &[f32] = bytemuck::cast_slice(std::slice::from_ref(&gpu));
     assert!(words.iter().all(|x| x.is_finite()), "{:?}", r.spec);

@@ -8,7 +8,7 @@ use shadelab::truth;
 use crate::support::*;
 
 /// GPU `phong_exact` agrees with the f64 evaluation at the rasterizer's weights on every
-/// covered pixel, within the float32 bound derived in src/truth.rs (per pixel).
+/// covered pixel, within the float32 bound derived in src/truth/mod.rs (per pixel).
 fn exact_phong_agrees(scene_name: &str, size: u32, interpolation: Interpolation) {
     let r = validated_renderer();
     let mut scene = shipped_scene(scene_name, size);

@@ -11,12 +11,12 @@ use std::time::Duration;
 use serde::Serialize;
 
 use crate::analysis::stats::median_ci;
+use crate::cases::{Case, CaseSpec};
 use crate::error::{Error, Result};
 use crate::gpu::evaluate::{GpuCase, Kernel};
 use crate::gpu::shaders::has_evaluate_program;
 use crate::gpu::vk::{Context, Recorded};
 use crate::method::Method;
-use crate::stress::cases::{Case, CaseSpec};
 
 /// Evaluations per invocation.
 pub const REPEATS: [u32; 4] = [0, 1, 16, 64];
@@ -113,8 +113,8 @@ fn timed_cases(n: usize) -> Result<(Vec<Case>, Vec<GpuCase>)> {
     let mut specs = Vec::new();
     for theta in [4.0, 15.0, 30.0, 45.0] {
         for elevation in [0.0, 30.0, 60.0] {
-            for &(az, roll) in &crate::stress::grid::FRAMES {
-                for &(light, out_of_plane) in &crate::stress::grid::LIGHTS {
+            for &(az, roll) in &crate::cases::grid::FRAMES {
+                for &(light, out_of_plane) in &crate::cases::grid::LIGHTS {
                     for pixel in (0..64).step_by(4) {
                         specs.push(CaseSpec {
                             theta_deg: theta,

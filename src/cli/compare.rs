@@ -65,9 +65,9 @@ pub(super) fn cmd_compare(
             if with_auto {
                 opts.auto = vec![auto_spec(r, budget)?];
             }
-            compare::Engine::Vulkan(r)
+            crate::engine::Engine::Vulkan(r)
         }
-        None => compare::Engine::Software {
+        None => crate::engine::Engine::Software {
             threads: crate::software::default_threads(),
         },
     };

@@ -21,7 +21,8 @@ pub(super) fn cmd_verify(
         return verdict(&report);
     }
     let r = renderer(dev)?;
-    let report = crate::verify::verify(&r, &scene, &methods, against)?;
+    let report =
+        crate::verify::verify(crate::engine::Engine::Vulkan(&r), &scene, &methods, against)?;
     print!("{}", report.table());
     check_validation(r.context())?;
     verdict(&report)

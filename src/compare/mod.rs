@@ -6,12 +6,10 @@
 //! ill-conditioned and non-finite pixels are counted and left out of every statistic (FLIP
 //! included), and a method with any non-finite pixel has every error metric infinite (null in
 //! JSON, beside its `non_finite_pixels` count), sorts last and fails every limit.
-pub mod engine;
 pub mod summary;
 #[cfg(test)]
 mod tests;
 
-pub use engine::Engine;
 pub use summary::*;
 
 use std::path::Path;
@@ -25,6 +23,7 @@ use crate::analysis::pixel::{
     channel_stats, d3, intensity_stats, pixel_errors, stats_against_twin, IntensityStats,
 };
 use crate::analysis::stats::percentile;
+use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
 use crate::gpu::Renderer;

@@ -137,142 +137,159 @@ fn validate_obj(path: &Path, text: &str) -> Result<Parsed> {
         };
         let args: Vec<&str> = words.collect();
         match keyword {
-            "v" => {
-                // x y z, optionally w (tobj divides by it) or r g b (a common extension).
-                if args.len() < 3 {
-                    return Err(err(format!(
-                        "vertex needs 3 coordinates (x y z), found {}: `{}`",
-                        args.len(),
-                        content.trim()
-                    )));
-                }
-                if !matches!(args.len(), 3 | 4 | 6) {
-                    return Err(err(format!(
-                        "vertex has {} numbers; expected x y z, optionally followed by w or by r g b",
-                        args.len()
-                    )));
-                }
-                let mut xyz = [0f32; 3];
-                for (k, tok) in args[..3].iter().enumerate() {
-                    xyz[k] = parse_coord(tok, "vertex coordinate", k + 1).map_err(&err)?;
-                }
-                if args.len() == 4 {
-                    let w = parse_coord(args[3], "vertex coordinate", 4).map_err(&err)?;
-                    if w == 0.0 {
-                        return Err(err(
-                            "vertex weight w is 0, which would divide the position by zero".into(),
-                        ));
-                    }
-                    // Same f32 arithmetic as tobj, so the cross-check compares equal values.
-                    for c in &mut xyz {
-                        *c /= w;
-                    }
-                    if xyz.iter().any(|c| !c.is_finite()) {
-                        return Err(err(format!(
-                            "vertex divided by its weight w = {w} is not finite"
-                        )));
-                    }
-                    writeln!(
-                        p.tobj_text,
-                        "v {} {} {} {}",
-                        args[0], args[1], args[2], args[3]
-                    )
-                    .ok();
-                } else {
-                    for tok in &args[3..] {
-                        parse_coord(tok, "vertex colour component", 1).map_err(&err)?;
-                    }
-                    writeln!(p.tobj_text, "v {} {} {}", args[0], args[1], args[2]).ok();
-                }
-                p.positions.push(xyz);
-            }
-            "vn" => {
-                if args.len() != 3 {
-                    return Err(err(format!(
-                        "normal needs exactly 3 coordinates (x y z), found {}: `{}`",
-                        args.len(),
-                        content.trim()
-                    )));
-                }
-                let mut n = [0f32; 3];
-                for (k, tok) in args.iter().enumerate() {
-                    n[k] = parse_coord(tok, "normal coordinate", k + 1).map_err(&err)?;
-                }
-                writeln!(p.tobj_text, "vn {} {} {}", args[0], args[1], args[2]).ok();
-                p.normals.push(n);
-            }
-            "vt" => {
-                if args.is_empty() || args.len() > 3 {
-                    return Err(err(format!(
-                        "texture coordinate needs 1 to 3 numbers (u [v [w]]), found {}",
-                        args.len()
-                    )));
-                }
-                for (k, tok) in args.iter().enumerate() {
-                    parse_coord(tok, "texture coordinate", k + 1).map_err(&err)?;
-                }
-                p.texcoord_count += 1;
-            }
-            "f" => {
-                if args.len() < 3 {
-                    return Err(err(format!(
-                        "face has {} vertices; a face needs at least 3 (points and lines belong on `p`/`l` statements)",
-                        args.len()
-                    )));
-                }
-                let first = p.corners.len();
-                p.tobj_text.push('f');
-                for tok in &args {
-                    let parts: Vec<&str> = tok.split('/').collect();
-                    if parts.len() > 3 {
-                        return Err(err(format!(
-                            "face vertex `{tok}` has {} '/'-separated parts; expected v, v/vt, v//vn or v/vt/vn",
-                            parts.len()
-                        )));
-                    }
-                    if parts[0].is_empty() {
-                        return Err(err(format!("face vertex `{tok}` has no position index")));
-                    }
-                    let position =
-                        resolve_index(parts[0], p.positions.len(), "", "vertex", "vertices")
-                            .map_err(&err)?;
-                    if let Some(vt) = parts.get(1).filter(|s| !s.is_empty()) {
-                        resolve_index(
-                            vt,
-                            p.texcoord_count,
-                            "texture coordinate ",
-                            "texture coordinate",
-                            "texture coordinates",
-                        )
-                        .map_err(&err)?;
-                    }
-                    let normal = match parts.get(2).filter(|s| !s.is_empty()) {
-                        Some(vn) => Some(
-                            resolve_index(vn, p.normals.len(), "normal ", "normal", "normals")
-                                .map_err(&err)?,
-                        ),
-                        None => None,
-                    };
-                    // Absolute indices: tobj's relative-index handling never comes into play.
-                    match normal {
-                        Some(n) => write!(p.tobj_text, " {}//{}", position + 1, n + 1).ok(),
-                        None => write!(p.tobj_text, " {}", position + 1).ok(),
-                    };
-                    p.corners.push(Corner { position, normal });
-                }
-                p.tobj_text.push('\n');
-                p.had_polygons |= args.len() > 3;
-                p.faces.push(Face {
-                    first,
-                    len: args.len(),
-                });
-            }
+            "v" => p.vertex(&args, content).map_err(err)?,
+            "vn" => p.normal(&args, content).map_err(err)?,
+            "vt" => p.texcoord(&args).map_err(err)?,
+            "f" => p.face(&args).map_err(err)?,
             "l" | "p" => p.skipped_elements += 1,
             // Groups, objects, smoothing groups, materials, free-form geometry: not ours to draw.
             _ => {}
         }
     }
     Ok(p)
+}
+
+/// The statements of the validation pass, each checked and recorded; an error is the message
+/// for the statement's line.
+impl Parsed {
+    /// `v`: x y z, optionally w (tobj divides by it) or r g b (a common extension).
+    fn vertex(&mut self, args: &[&str], content: &str) -> std::result::Result<(), String> {
+        if args.len() < 3 {
+            return Err(format!(
+                "vertex needs 3 coordinates (x y z), found {}: `{}`",
+                args.len(),
+                content.trim()
+            ));
+        }
+        if !matches!(args.len(), 3 | 4 | 6) {
+            return Err(format!(
+                "vertex has {} numbers; expected x y z, optionally followed by w or by r g b",
+                args.len()
+            ));
+        }
+        let mut xyz = [0f32; 3];
+        for (k, tok) in args[..3].iter().enumerate() {
+            xyz[k] = parse_coord(tok, "vertex coordinate", k + 1)?;
+        }
+        if args.len() == 4 {
+            let w = parse_coord(args[3], "vertex coordinate", 4)?;
+            if w == 0.0 {
+                return Err("vertex weight w is 0, which would divide the position by zero".into());
+            }
+            // Same f32 arithmetic as tobj, so the cross-check compares equal values.
+            for c in &mut xyz {
+                *c /= w;
+            }
+            if xyz.iter().any(|c| !c.is_finite()) {
+                return Err(format!(
+                    "vertex divided by its weight w = {w} is not finite"
+                ));
+            }
+            writeln!(
+                self.tobj_text,
+                "v {} {} {} {}",
+                args[0], args[1], args[2], args[3]
+            )
+            .ok();
+        } else {
+            for tok in &args[3..] {
+                parse_coord(tok, "vertex colour component", 1)?;
+            }
+            writeln!(self.tobj_text, "v {} {} {}", args[0], args[1], args[2]).ok();
+        }
+        self.positions.push(xyz);
+        Ok(())
+    }
+
+    /// `vn`: x y z.
+    fn normal(&mut self, args: &[&str], content: &str) -> std::result::Result<(), String> {
+        if args.len() != 3 {
+            return Err(format!(
+                "normal needs exactly 3 coordinates (x y z), found {}: `{}`",
+                args.len(),
+                content.trim()
+            ));
+        }
+        let mut n = [0f32; 3];
+        for (k, tok) in args.iter().enumerate() {
+            n[k] = parse_coord(tok, "normal coordinate", k + 1)?;
+        }
+        writeln!(self.tobj_text, "vn {} {} {}", args[0], args[1], args[2]).ok();
+        self.normals.push(n);
+        Ok(())
+    }
+
+    /// `vt`: u [v [w]], validated and counted (for the face indices), then ignored.
+    fn texcoord(&mut self, args: &[&str]) -> std::result::Result<(), String> {
+        if args.is_empty() || args.len() > 3 {
+            return Err(format!(
+                "texture coordinate needs 1 to 3 numbers (u [v [w]]), found {}",
+                args.len()
+            ));
+        }
+        for (k, tok) in args.iter().enumerate() {
+            parse_coord(tok, "texture coordinate", k + 1)?;
+        }
+        self.texcoord_count += 1;
+        Ok(())
+    }
+
+    /// `f`: at least 3 corners, each v, v/vt, v//vn or v/vt/vn.
+    fn face(&mut self, args: &[&str]) -> std::result::Result<(), String> {
+        if args.len() < 3 {
+            return Err(format!(
+                "face has {} vertices; a face needs at least 3 (points and lines belong on `p`/`l` statements)",
+                args.len()
+            ));
+        }
+        let first = self.corners.len();
+        self.tobj_text.push('f');
+        for tok in args {
+            let parts: Vec<&str> = tok.split('/').collect();
+            if parts.len() > 3 {
+                return Err(format!(
+                    "face vertex `{tok}` has {} '/'-separated parts; expected v, v/vt, v//vn or v/vt/vn",
+                    parts.len()
+                ));
+            }
+            if parts[0].is_empty() {
+                return Err(format!("face vertex `{tok}` has no position index"));
+            }
+            let position = resolve_index(parts[0], self.positions.len(), "", "vertex", "vertices")?;
+            if let Some(vt) = parts.get(1).filter(|s| !s.is_empty()) {
+                resolve_index(
+                    vt,
+                    self.texcoord_count,
+                    "texture coordinate ",
+                    "texture coordinate",
+                    "texture coordinates",
+                )?;
+            }
+            let normal = match parts.get(2).filter(|s| !s.is_empty()) {
+                Some(vn) => Some(resolve_index(
+                    vn,
+                    self.normals.len(),
+                    "normal ",
+                    "normal",
+                    "normals",
+                )?),
+                None => None,
+            };
+            // Absolute indices: tobj's relative-index handling never comes into play.
+            match normal {
+                Some(n) => write!(self.tobj_text, " {}//{}", position + 1, n + 1).ok(),
+                None => write!(self.tobj_text, " {}", position + 1).ok(),
+            };
+            self.corners.push(Corner { position, normal });
+        }
+        self.tobj_text.push('\n');
+        self.had_polygons |= args.len() > 3;
+        self.faces.push(Face {
+            first,
+            len: args.len(),
+        });
+        Ok(())
+    }
 }
 /// Runs tobj on the normalized text; tobj errors carry no line (our pass should have caught
 /// everything tobj rejects, so reaching this is unexpected).
@@ -304,6 +321,49 @@ fn build_from_parsed(
     parsed: &Parsed,
     models: &[tobj::Model],
 ) -> Result<(Mesh, LoadReport)> {
+    let tri_corners = triangle_corners(path, parsed, models)?;
+
+    // Drop zero-area triangles.
+    let mut kept: Vec<[Corner; 3]> = Vec::with_capacity(tri_corners.len());
+    for tri in &tri_corners {
+        let [a, b, c] = tri.map(|k| dvec(parsed.positions[k.position]));
+        if !is_zero_area(a, b, c) {
+            kept.push(*tri);
+        }
+    }
+    let mut dropped = tri_corners.len() - kept.len();
+    if kept.is_empty() {
+        return Err(Error::input(
+            path,
+            None,
+            format!(
+                "no triangles: all {} of the file's triangles have zero area",
+                tri_corners.len()
+            ),
+        ));
+    }
+
+    let (mut mesh, counts) = corner_normals(path, parsed, &kept);
+    dropped += fit_dropping_collapsed(path, &mut mesh, tri_corners.len())?;
+    let warnings = load_warnings(parsed, &kept, dropped, &counts);
+    let report = LoadReport {
+        triangles: mesh.triangle_count(),
+        dropped_zero_area: dropped,
+        computed_normals: counts.computed > 0,
+        had_quads_or_polygons: parsed.had_polygons,
+        warnings,
+    };
+    Ok((mesh, report))
+}
+
+/// The source corners of every triangle tobj made, in file order, after checking that tobj's
+/// triangles are the validation pass's: tobj triangulates each face as a fan (0, k+1, k+2) and
+/// keeps faces in file order; models follow each other in file order.
+fn triangle_corners(
+    path: &Path,
+    parsed: &Parsed,
+    models: &[tobj::Model],
+) -> Result<Vec<[Corner; 3]>> {
     let expected: usize = parsed.faces.iter().map(|f| f.len - 2).sum();
     let got: usize = models.iter().map(|m| m.mesh.indices.len() / 3).sum();
     let mismatch = |what: String| {
@@ -319,8 +379,6 @@ fn build_from_parsed(
         )));
     }
 
-    // Source corners of every triangle, in file order: tobj triangulates each face as a fan
-    // (0, k+1, k+2) and keeps faces in file order; models follow each other in file order.
     let mut tri_corners: Vec<[Corner; 3]> = Vec::with_capacity(expected);
     for f in &parsed.faces {
         let c = &parsed.corners[f.first..f.first + f.len];
@@ -359,50 +417,37 @@ fn build_from_parsed(
         }
         t += mesh.indices.len() / 3;
     }
+    Ok(tri_corners)
+}
 
-    // Drop zero-area triangles.
-    let mut kept: Vec<[Corner; 3]> = Vec::with_capacity(tri_corners.len());
-    for tri in &tri_corners {
-        let [a, b, c] = tri.map(|k| dvec(parsed.positions[k.position]));
-        if !is_zero_area(a, b, c) {
-            kept.push(*tri);
-        }
-    }
-    let mut dropped = tri_corners.len() - kept.len();
-    if kept.is_empty() {
-        return Err(Error::input(
-            path,
-            None,
-            format!(
-                "no triangles: all {} of the file's triangles have zero area",
-                tri_corners.len()
-            ),
-        ));
-    }
+/// Whether a corner lacks a usable normal in the file (none, or of zero length).
+fn lacks_normal(parsed: &Parsed, c: &Corner) -> bool {
+    c.normal.is_none_or(|n| parsed.normals[n] == [0.0; 3])
+}
 
-    // Given normals, normalized; zero-length ones count as missing.
-    let mut zero_given = 0usize;
-    let mut given_count = 0usize;
-    let given = |c: &Corner, zero_given: &mut usize| -> Option<DVec3> {
-        let n = dvec(parsed.normals[c.normal?]);
-        let len = n.length();
-        if len > 0.0 {
-            Some(n / len)
-        } else {
-            *zero_given += 1;
-            None
-        }
-    };
+/// How the corners' normals were found, for the load report's warnings.
+#[derive(Clone, Copy)]
+struct NormalCounts {
+    /// Taken from the file.
+    given: usize,
+    /// Given in the file with zero length (computed instead).
+    zero_given: usize,
+    /// Computed (smooth, or the face normal where the smooth one cancels out).
+    computed: usize,
+    /// Computed where the neighbouring face normals cancel out: the face normal.
+    cancelled: usize,
+}
 
-    // Smooth normals, accumulated per position index, only if some corner needs one.
-    let lacks_normal = |c: &Corner| c.normal.is_none_or(|n| parsed.normals[n] == [0.0; 3]);
-    let needs_smooth = kept.iter().flatten().any(lacks_normal);
+/// Smooth normals accumulated per position index over `kept` (weighted by corner angle), and
+/// the total corner angle per position; empty when every corner has a usable normal.
+fn smooth_normals(parsed: &Parsed, kept: &[[Corner; 3]]) -> (Vec<DVec3>, Vec<f64>) {
+    let needs_smooth = kept.iter().flatten().any(|c| lacks_normal(parsed, c));
     let mut acc = Vec::new();
     let mut weight = Vec::new();
     if needs_smooth {
         acc = vec![DVec3::ZERO; parsed.positions.len()];
         weight = vec![0f64; parsed.positions.len()];
-        for tri in &kept {
+        for tri in kept {
             let p = tri.map(|k| dvec(parsed.positions[k.position]));
             let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
             for j in 0..3 {
@@ -415,22 +460,42 @@ fn build_from_parsed(
             }
         }
     }
+    (acc, weight)
+}
 
+/// The triangle soup of `kept`: positions, and each corner's normal, given (normalised; a
+/// zero-length one counts as missing) or computed smooth.
+fn corner_normals(path: &Path, parsed: &Parsed, kept: &[[Corner; 3]]) -> (Mesh, NormalCounts) {
+    let mut counts = NormalCounts {
+        given: 0,
+        zero_given: 0,
+        computed: 0,
+        cancelled: 0,
+    };
+    let given = |c: &Corner, zero_given: &mut usize| -> Option<DVec3> {
+        let n = dvec(parsed.normals[c.normal?]);
+        let len = n.length();
+        if len > 0.0 {
+            Some(n / len)
+        } else {
+            *zero_given += 1;
+            None
+        }
+    };
+    let (acc, weight) = smooth_normals(parsed, kept);
     let mut positions = Vec::with_capacity(kept.len() * 3);
     let mut normals = Vec::with_capacity(kept.len() * 3);
-    let mut computed = 0usize;
-    let mut cancelled = 0usize;
-    for tri in &kept {
+    for tri in kept {
         let p = tri.map(|k| dvec(parsed.positions[k.position]));
         for c in tri {
             positions.push(parsed.positions[c.position]);
-            let n = match given(c, &mut zero_given) {
+            let n = match given(c, &mut counts.zero_given) {
                 Some(n) => {
-                    given_count += 1;
+                    counts.given += 1;
                     n
                 }
                 None => {
-                    computed += 1;
+                    counts.computed += 1;
                     let s = acc[c.position];
                     let len = s.length();
                     // Cancellation: neighbouring faces point in (nearly) opposite directions, so
@@ -439,7 +504,7 @@ fn build_from_parsed(
                     if len > 1e-6 * weight[c.position] && len > 0.0 {
                         s / len
                     } else {
-                        cancelled += 1;
+                        counts.cancelled += 1;
                         (p[1] - p[0]).cross(p[2] - p[0]).normalize()
                     }
                 }
@@ -447,20 +512,26 @@ fn build_from_parsed(
             normals.push(n.as_vec3().to_array());
         }
     }
-
-    let mut mesh = Mesh {
+    let mesh = Mesh {
         positions,
         normals,
         source: path.display().to_string(),
     };
+    (mesh, counts)
+}
+
+/// Fits `mesh` to the unit sphere, dropping the triangles the fit collapses; returns how many.
+/// `triangles` (the file's count) is for the message when none is left.
+fn fit_dropping_collapsed(path: &Path, mesh: &mut Mesh, triangles: usize) -> Result<usize> {
     // Fitting rounds to f32 in the fitted frame: beside a far-away vertex, a triangle with an
     // area in the file's coordinates can collapse (found by the fuzz harness: one cube vertex
     // moved to x = -2147483648). Drop those too and refit; a refit only happens when something
     // was dropped, so other meshes keep their bits. Each round drops at least one triangle;
     // the bound keeps an adversarial file linear.
-    fit_unit(&mut mesh);
+    let mut dropped = 0;
+    fit_unit(mesh);
     for _ in 0..4 {
-        let collapsed = drop_zero_area(&mut mesh);
+        let collapsed = drop_zero_area(mesh);
         if collapsed == 0 {
             break;
         }
@@ -470,14 +541,28 @@ fn build_from_parsed(
                 path,
                 None,
                 format!(
-                    "no triangles: all {} of the file's triangles have zero area once fitted to the unit sphere (a vertex far from the others?)",
-                    tri_corners.len()
+                    "no triangles: all {triangles} of the file's triangles have zero area once fitted to the unit sphere (a vertex far from the others?)",
                 ),
             ));
         }
-        fit_unit(&mut mesh);
+        fit_unit(mesh);
     }
+    Ok(dropped)
+}
 
+/// The load report's notes: dropped triangles, ignored elements, computed normals.
+fn load_warnings(
+    parsed: &Parsed,
+    kept: &[[Corner; 3]],
+    dropped: usize,
+    counts: &NormalCounts,
+) -> Vec<String> {
+    let NormalCounts {
+        given: given_count,
+        zero_given,
+        computed,
+        cancelled,
+    } = *counts;
     let mut warnings = Vec::new();
     if dropped > 0 {
         warnings.push(format!(
@@ -511,7 +596,7 @@ fn build_from_parsed(
     // written twice (the Utah teapot's patch seams) therefore splits the shading there.
     let mut first_index: HashMap<[u32; 3], usize> = HashMap::new();
     let mut repeated: HashMap<[u32; 3], ()> = HashMap::new();
-    for c in kept.iter().flatten().filter(|c| lacks_normal(c)) {
+    for c in kept.iter().flatten().filter(|c| lacks_normal(parsed, c)) {
         let key = parsed.positions[c.position].map(f32::to_bits);
         if *first_index.entry(key).or_insert(c.position) != c.position {
             repeated.insert(key, ());
@@ -529,15 +614,7 @@ fn build_from_parsed(
             plural(cancelled, "face corner", "face corners")
         ));
     }
-
-    let report = LoadReport {
-        triangles: mesh.triangle_count(),
-        dropped_zero_area: dropped,
-        computed_normals: computed > 0,
-        had_quads_or_polygons: parsed.had_polygons,
-        warnings,
-    };
-    Ok((mesh, report))
+    warnings
 }
 /// Removes the triangles of `mesh` that [`is_zero_area`] rejects; returns how many.
 fn drop_zero_area(mesh: &mut Mesh) -> usize {

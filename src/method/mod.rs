@@ -1,6 +1,6 @@
 //! The table of shading methods: the single source of truth for the CLI (`shadelab list`), the
-//! shader variants (src/shaders.rs), the vertex streams a run uploads (src/render.rs), the f64
-//! twins (src/formulas.rs) and every output. Identifiers are snake_case and appear unchanged in
+//! shader variants (src/gpu/shaders.rs), the vertex streams a run uploads (src/gpu/renderer.rs),
+//! the f64 twins (src/method/) and every output. Identifiers are snake_case and appear unchanged in
 //! file names, CLI arguments, CSV and JSON.
 pub mod checks;
 pub mod formulas;

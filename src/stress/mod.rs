@@ -4,7 +4,6 @@
 //! slerp along the span). Non-finite results are counted per method and rank above every finite
 //! error. After the grid, a local search around the worst case looks for a worse one (a grid
 //! misses maxima). Outputs: stress.json, charts, one validity map per method.
-pub mod cases;
 pub mod chart;
 pub mod grid;
 pub mod replay;
@@ -18,13 +17,15 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::Serialize;
 
+use crate::cases::grid::{self as sweeps, Grid};
+use crate::cases::{errors, Case, CaseSpec, Errors};
 use crate::error::{Error, Result};
 use crate::gpu::evaluate::{Evaluated, GpuCase, Kernel};
 use crate::gpu::shaders::has_evaluate_program;
 use crate::gpu::vk::Context;
 use crate::method::{Method, Reference};
-use cases::{errors, Case, CaseSpec, Errors};
-use grid::Grid;
+
+use crate::cases::grid::Worst;
 
 /// Version of stress.json (docs/stress.schema.json).
 pub const SCHEMA_VERSION: u32 = 1;
@@ -163,31 +164,6 @@ pub fn case_report(m: &Method, case: &Case, dev: Option<&Output>) -> Result<Case
     })
 }
 
-/// Max of finite values and how many were not finite.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-pub struct Worst {
-    /// Largest finite value (null when there was none).
-    pub max: Option<f64>,
-    pub non_finite: usize,
-    pub count: usize,
-}
-
-impl Worst {
-    fn add(&mut self, v: f64) {
-        self.count += 1;
-        if v.is_finite() {
-            self.max = Some(self.max.map_or(v, |m| m.max(v)));
-        } else {
-            self.non_finite += 1;
-        }
-    }
-
-    /// Within `threshold` on every case (no non-finite case, at least one case).
-    pub fn valid(&self, threshold: f64) -> bool {
-        self.count > 0 && self.non_finite == 0 && self.max.is_some_and(|m| m <= threshold)
-    }
-}
-
 /// One point of a curve: the worst error of the cases that share the key, both ways.
 #[derive(Debug, Clone, Serialize)]
 pub struct CurvePoint {
@@ -218,7 +194,7 @@ pub struct MethodStress {
     pub device_evaluated: bool,
     pub cases: usize,
     /// Ill-conditioned cases with a finite result, left out of the errors (see
-    /// [`cases::Case::ill_conditioned`]; with a non-finite result they count as non-finite).
+    /// [`crate::cases::Case::ill_conditioned`]; with a non-finite result they count as non-finite).
     pub ill_conditioned_cases: usize,
     /// Cases with a NaN or infinite colour or normal, on the device and in f64.
     pub non_finite_cases: usize,
@@ -310,7 +286,7 @@ pub fn stress_method(
         None
     };
     let (dev, twin) = evaluate(kernel.as_mut(), m, &grid.cases, &grid.gpu)?;
-    let applies: Vec<bool> = grid.kinds.iter().map(|&k| grid::applies(m, k)).collect();
+    let applies: Vec<bool> = grid.kinds.iter().map(|&k| sweeps::applies(m, k)).collect();
     let dev_err: Option<Vec<Errors>> = dev.as_ref().map(|d| {
         grid.cases
             .iter()
@@ -373,8 +349,8 @@ pub fn stress_method(
         }
     }
     let curves = grid::curves(grid, &applies, primary, &f64_err);
-    let max_valid = grid::max_valid_angle(grid, primary, opts.threshold);
-    let max_valid_f64 = grid::max_valid_angle(grid, &f64_err, opts.threshold);
+    let max_valid = sweeps::max_valid_angle(grid, primary, opts.threshold);
+    let max_valid_f64 = sweeps::max_valid_angle(grid, &f64_err, opts.threshold);
     Ok(MethodStress {
         name: m.name.to_string(),
         device_evaluated: dev.is_some(),
@@ -486,7 +462,7 @@ pub struct StressReport {
     pub threshold: f64,
     pub device: String,
     pub cases_per_method: usize,
-    pub sweeps: Vec<grid::SweepInfo>,
+    pub sweeps: Vec<sweeps::SweepInfo>,
     pub methods: Vec<MethodStress>,
     pub specular_bound: Vec<grid::SpecularBound>,
     pub claims: Vec<StressClaim>,

@@ -5,8 +5,8 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::cases::{Case, CaseSpec, Shape};
 use super::{case_report, measure, CaseReport, Output};
+use crate::cases::{Case, CaseSpec, Shape};
 use crate::error::{Error, Result};
 use crate::gpu::evaluate::Kernel;
 use crate::gpu::shaders::has_evaluate_program;

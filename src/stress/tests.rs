@@ -1,6 +1,7 @@
-use super::cases::{Case, CaseSpec};
-use super::grid::{self, Grid, Sweep, ANGLES};
+use super::grid;
 use super::*;
+use crate::cases::grid::{self as sweeps, Grid, Sweep, ANGLES};
+use crate::cases::{Case, CaseSpec};
 use crate::gpu::vk::ContextDesc;
 use crate::method::{self, Verdict, METHODS};
 
@@ -14,8 +15,8 @@ fn moderate_cases() -> Vec<Case> {
     let mut out = Vec::new();
     for theta in [0.5, 4.0, 30.0, 45.0] {
         for elevation in [0.0, 30.0, 60.0] {
-            for &(az, roll) in &grid::FRAMES {
-                for &(light, out_of_plane) in &grid::LIGHTS {
+            for &(az, roll) in &sweeps::FRAMES {
+                for &(light, out_of_plane) in &sweeps::LIGHTS {
                     for pixel in [0, 5, 21, 32, 47, 63] {
                         out.push(Case::new(CaseSpec {
                             theta_deg: theta,
@@ -124,7 +125,7 @@ fn errs(grid: &Grid, f: impl Fn(&CaseSpec) -> f64) -> Vec<Errors> {
         .iter()
         .map(|c| {
             let v = f(&c.spec);
-            cases::errors(c, c.phong + DVec3::splat(v), None)
+            crate::cases::errors(c, c.phong + DVec3::splat(v), None)
         })
         .collect()
 }
@@ -134,16 +135,16 @@ fn max_valid_angle_stops_at_the_first_bad_facing_angle() {
     let g = small_grid();
     let t = 0.01;
     assert_eq!(
-        grid::max_valid_angle(&g, &errs(&g, |_| 0.0), t),
+        sweeps::max_valid_angle(&g, &errs(&g, |_| 0.0), t),
         Some(ANGLES[4])
     );
     let bad_at_2 = errs(&g, |s| if s.theta_deg == ANGLES[2] { 0.1 } else { 0.0 });
-    assert_eq!(grid::max_valid_angle(&g, &bad_at_2, t), Some(ANGLES[1]));
+    assert_eq!(sweeps::max_valid_angle(&g, &bad_at_2, t), Some(ANGLES[1]));
     let nan_at_0 = errs(&g, |s| if s.theta_deg == 0.0 { f64::NAN } else { 0.0 });
-    assert_eq!(grid::max_valid_angle(&g, &nan_at_0, t), None);
+    assert_eq!(sweeps::max_valid_angle(&g, &nan_at_0, t), None);
     // back-facing cases do not decide it
     let bad_behind = errs(&g, |s| if s.elevation_deg > 90.0 { 0.5 } else { 0.0 });
-    assert_eq!(grid::max_valid_angle(&g, &bad_behind, t), Some(ANGLES[4]));
+    assert_eq!(sweeps::max_valid_angle(&g, &bad_behind, t), Some(ANGLES[4]));
     // ... but they are in the validity map, NaN as non-finite
     let map = grid::validity_map(&g, &nan_at_0);
     assert_eq!(map.cells[0][0].non_finite, 1);

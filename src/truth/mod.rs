@@ -1,5 +1,5 @@
 //! The f64 truth: per covered pixel, the triangle index and interpolation weights the
-//! rasterizer used (the id pass of src/render.rs), and every method's formula evaluated in f64
+//! rasterizer used (the id pass of src/gpu/renderer.rs), and every method's formula evaluated in f64
 //! at those weights from the exact f32 inputs the GPU received.
 //!
 //! # The float32 bound (why GPU and f64 may differ, and by how much)

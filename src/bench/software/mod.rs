@@ -17,7 +17,7 @@ use serde::Serialize;
 use super::rounds::{ratios, round_values, until_ci_stop, widest, Draws, Rounds};
 use super::{BenchOptions, RoundsReport, Stop, RATIO_INTERVAL};
 use crate::analysis::stats::{median_ci, paired_ratio, RatioEstimate};
-use crate::compare::Engine;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::gpu::Sample;
 use crate::method::{self, Method};

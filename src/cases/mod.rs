@@ -1,5 +1,7 @@
-//! The stress cases: a few named parameters ([`CaseSpec`]) that build one fragment of one
-//! triangle ([`Case`]), and the exact references it is judged against.
+//! The cases of the sweeps, shared by the jobs that sweep a method's input domain (`stress`,
+//! the isolated cost of `bench`, `plan`): a few named parameters ([`CaseSpec`]) that build one
+//! fragment of one triangle ([`Case`]), and the exact references it is judged against; the
+//! sweeps themselves are in [`grid`].
 //!
 //! Geometry of a case. The two vertex normals N0, N1 make the angle `theta_deg` about their
 //! bisector M, which points `elevation_deg` away from the viewer (+Z; 90 is edge-on, 180 faces
@@ -11,6 +13,8 @@
 //! [`Shape`]; the pixel is `pixel` (a pixel index along the span, or along the shape). In 3-D
 //! the triangle is flat across M (flat normal M), which gives the PN mid-edge normals. Every value is
 //! rounded to f32 once, so the device and the f64 twin see the same numbers.
+pub mod grid;
+
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 

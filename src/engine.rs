@@ -1,7 +1,9 @@
-//! Which renderer draws the frames `compare` judges: the Vulkan pipeline (lavapipe) or the
-//! software scanline engine (src/software/). Everything after the frames (the f64 truth at the
-//! engine's own weights, the statistics, FLIP, the heatmaps, summary.json) is shared, so the
-//! two engines are judged the same way; only these few calls differ.
+//! Which renderer draws the frames the jobs judge: the Vulkan pipeline (lavapipe) or the
+//! software scanline engine (src/software/). `compare` and `verify` render through [`Ready`]
+//! and `bench`'s software timing names its [`Engine::provenance`]; everything after the frames
+//! (the f64 truth at the engine's own weights, the statistics, FLIP, the heatmaps,
+//! summary.json) is shared, so the two engines are judged the same way and only these few calls
+//! differ.
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
 use crate::gpu::{Prepared, Renderer, Shading};
@@ -41,6 +43,16 @@ impl Engine<'_> {
             ),
         }
     }
+
+    /// Whether this engine's image of `m` drifts along the span, so that its bound must widen
+    /// with the distance from the span's start: the software engine's recurrences
+    /// ([`software::Form::drifts`]); the Vulkan pipeline evaluates each pixel afresh.
+    pub fn drifts(&self, m: &Method) -> bool {
+        match self {
+            Engine::Vulkan(_) => false,
+            Engine::Software { .. } => software::form(m.name).drifts,
+        }
+    }
 }
 
 /// A scene made ready for an engine: the inputs of every geometry the methods draw, the
@@ -77,18 +89,25 @@ impl<'a> Ready<'a> {
         }
     }
 
+    /// The inputs `m` is drawn from (its geometry's).
+    pub fn inputs(&self, m: &Method) -> Result<&SceneInputs> {
+        match self {
+            Ready::Vulkan(_, p) => Ok(&p.for_method(m).inputs),
+            Ready::Software { inputs, .. } => inputs
+                .iter()
+                .find(|i| i.geometry == m.geometry)
+                .ok_or_else(|| {
+                    Error::Internal(format!("{}: its geometry was not prepared", m.name))
+                }),
+        }
+    }
+
     /// Renders `m` (with the id frame when `with_ids`).
     pub fn render(&self, m: &Method, with_ids: bool) -> Result<(Frame, Option<IdFrame>)> {
         match self {
             Ready::Vulkan(r, p) => r.render(p.for_method(m), Shading::Method(m), with_ids),
-            Ready::Software { threads, inputs } => {
-                let i = inputs
-                    .iter()
-                    .find(|i| i.geometry == m.geometry)
-                    .ok_or_else(|| {
-                        Error::Internal(format!("{}: its geometry was not prepared", m.name))
-                    })?;
-                software::render(i, m, *threads, with_ids)
+            Ready::Software { threads, .. } => {
+                software::render(self.inputs(m)?, m, *threads, with_ids)
             }
         }
     }
