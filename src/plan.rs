@@ -233,6 +233,57 @@ pub fn plan_with_auto(
     p
 }
 
+/// What the renderer skips for a scene culled as `cull` says (`culls`: whether it does), and why.
+fn skips(cull: Cull, culls: bool, topo: &Topology, back: usize) -> Vec<Skip> {
+    let mut skips = vec![Skip {
+        what: "back faces".into(),
+        applies: culls,
+        why: match (cull, topo.closed_and_oriented()) {
+            (Cull::None, _) => "cull = \"none\" in the scene".into(),
+            (Cull::Back, _) => "cull = \"back\" in the scene".into(),
+            (Cull::Auto, true) if culls => format!(
+                "the mesh is closed and consistently oriented: the {back} back-facing triangles \
+                 are hidden by front faces; culled in every pass (the id pass too)"
+            ),
+            (Cull::Auto, true) => "closed and oriented, but its winding disagrees with its \
+                                   vertex normals on most triangles: not culled"
+                .into(),
+            (Cull::Auto, false) => format!(
+                "not closed or not consistently oriented ({} boundary, {} non-manifold, {} \
+                 inconsistent edges): a back face may be visible, nothing is culled",
+                topo.boundary_edges, topo.non_manifold_edges, topo.inconsistent_edges
+            ),
+        },
+    }];
+    let normal = crate::gpu::TIMING_NORMAL_TARGET;
+    skips.push(Skip {
+        what: "normal target".into(),
+        applies: !normal,
+        why: if normal {
+            "drawn in every pass".into()
+        } else {
+            "drawn only when read: compare and verify read it, `render` only with --normals; \
+             timed draws (bench, skips) leave it out"
+                .into()
+        },
+    });
+    let prepass = crate::gpu::TIMING_PREPASS;
+    skips.push(Skip {
+        what: "occluded fragments (depth pre-pass or front-to-back order)".into(),
+        applies: prepass,
+        why: if prepass {
+            "a depth-only pre-pass draws every triangle first; the shading pass tests \
+             LESS_OR_EQUAL"
+                .into()
+        } else {
+            "not skipped by default: `shadelab skips` times a depth pre-pass and \
+             front-to-back order against the default draw of this scene, paired"
+                .into()
+        },
+    });
+    skips
+}
+
 /// Measures what `scene` needs.
 pub fn plan(scene: &Scene) -> Plan {
     let topo = topology(&scene.mesh);
@@ -300,53 +351,7 @@ pub fn plan(scene: &Scene) -> Plan {
     let specular = m.specular.max_element() > 0.0;
     let cull = scene.cull;
     let culls = crate::scene::culls_back(cull, &topo, with, against);
-    let skips = vec![Skip {
-        what: "back faces".into(),
-        applies: culls,
-        why: match (cull, topo.closed_and_oriented()) {
-            (Cull::None, _) => "cull = \"none\" in the scene".into(),
-            (Cull::Back, _) => "cull = \"back\" in the scene".into(),
-            (Cull::Auto, true) if culls => format!(
-                "the mesh is closed and consistently oriented: the {back} back-facing triangles \
-                 are hidden by front faces; culled in every pass (the id pass too)"
-            ),
-            (Cull::Auto, true) => "closed and oriented, but its winding disagrees with its \
-                                   vertex normals on most triangles: not culled"
-                .into(),
-            (Cull::Auto, false) => format!(
-                "not closed or not consistently oriented ({} boundary, {} non-manifold, {} \
-                 inconsistent edges): a back face may be visible, nothing is culled",
-                topo.boundary_edges, topo.non_manifold_edges, topo.inconsistent_edges
-            ),
-        },
-    }];
-    let mut skips = skips;
-    let normal = crate::gpu::TIMING_NORMAL_TARGET;
-    skips.push(Skip {
-        what: "normal target".into(),
-        applies: !normal,
-        why: if normal {
-            "drawn in every pass".into()
-        } else {
-            "drawn only when read: compare and verify read it, `render` only with --normals; \
-             timed draws (bench, skips) leave it out"
-                .into()
-        },
-    });
-    let prepass = crate::gpu::TIMING_PREPASS;
-    skips.push(Skip {
-        what: "occluded fragments (depth pre-pass or front-to-back order)".into(),
-        applies: prepass,
-        why: if prepass {
-            "a depth-only pre-pass draws every triangle first; the shading pass tests \
-             LESS_OR_EQUAL"
-                .into()
-        } else {
-            "not skipped by default: `shadelab skips` times a depth pre-pass and \
-             front-to-back order against the default draw of this scene, paired"
-                .into()
-        },
-    });
+    let skips = skips(cull, culls, &topo, back);
     Plan {
         schema_version: SCHEMA_VERSION,
         scene: scene.name.clone(),

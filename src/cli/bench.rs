@@ -1,24 +1,29 @@
 //! `shadelab bench`: timed draws, clock check, paired ratios, sweeps, claims, baseline.
-use std::path::Path;
 use std::process::ExitCode;
 
 use super::*;
 use crate::error::{Error, Result};
-pub(super) fn cmd_bench(
-    scene_args: &SceneArgs,
-    dev: &DeviceArgs,
-    list: &str,
-    out: &Path,
-    threads: Option<u32>,
-    budgets: Option<(ErrorBudget, Vec<ErrorBudget>)>,
-    mut opts: crate::bench::BenchOptions,
-    vulkan_bench: Option<&Path>,
-    vulkan_paired: bool,
-) -> Result<ExitCode> {
-    let methods = select_methods(list)?;
-    let scene = load_scene(scene_args)?;
+pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
+    let (list, with_auto) = crate::auto::split_methods(&b.methods);
+    let methods = select_methods(&list)?;
+    let scene = load_scene(&b.scene)?;
+    let mut opts = crate::bench::BenchOptions {
+        repeat: b.repeat,
+        warmup: b.warmup,
+        error_metric: b.error_metric,
+        control: b.control,
+        sweeps: b.sweep.into_iter().map(Into::into).collect(),
+        until_ci_pct: b.until_ci,
+        max_time_s: b.max_time,
+        baseline: b.baseline,
+        fail_slower_pct: b.fail_slower,
+        command_line: std::env::args().collect(),
+        isolated_rounds: b.isolated_rounds,
+        auto: Vec::new(),
+    };
+    let (dev, out) = (&b.device, b.out.as_path());
     if dev.engine == EngineArg::Software {
-        if budgets.is_some() {
+        if with_auto {
             return Err(Error::Usage(
                 "auto is drawn by the Vulkan pipeline only: leave it out of --methods with \
                  --engine software"
@@ -26,10 +31,12 @@ pub(super) fn cmd_bench(
             ));
         }
         let sw = crate::bench::software::SoftwareOptions {
-            threads: threads.map_or_else(crate::software::default_threads, |n| n as usize),
-            vulkan_bench: vulkan_bench.map(Path::to_path_buf),
+            threads: b
+                .threads
+                .map_or_else(crate::software::default_threads, |n| n as usize),
+            vulkan_bench: b.vulkan_bench,
         };
-        let vk = if vulkan_paired {
+        let vk = if b.vulkan_paired {
             Some(vulkan_renderer(dev)?)
         } else {
             None
@@ -41,24 +48,37 @@ pub(super) fn cmd_bench(
         }
         return Ok(ExitCode::SUCCESS);
     }
-    if vulkan_paired || vulkan_bench.is_some() {
+    if b.vulkan_paired || b.vulkan_bench.is_some() {
         return Err(Error::Usage(
             "--vulkan-paired and --vulkan-bench give the Vulkan column of a software bench: \
              use them with --engine software"
                 .into(),
         ));
     }
-    if let Some(n) = threads {
+    if let Some(n) = b.threads {
         // lavapipe reads LP_NUM_THREADS when its device is created: this must come before the
         // Vulkan instance (the renderer below). Nothing else runs yet: no other thread reads
         // the environment while it changes.
         std::env::set_var("LP_NUM_THREADS", n.to_string());
     }
     let r = renderer(dev)?;
-    if let Some((budget, curve)) = budgets {
-        opts.auto = auto_spec(&r, budget)?.with_curve(&curve);
+    if with_auto {
+        opts.auto = auto_spec(&r, b.error_budget.budget)?.with_curve(&b.auto_curve);
     }
     let report = crate::bench::bench(&r, &scene, &methods, out, &opts)?;
+    print_table(&report);
+    print_notes(&report);
+    eprintln!(
+        "wrote {} ({:.1} s)",
+        out.join("bench.json").display(),
+        report.total_s
+    );
+    check_validation(r.context())?;
+    Ok(print_baseline(&report))
+}
+
+/// The timing table: the floors first, then the methods by median.
+fn print_table(report: &crate::bench::BenchReport) {
     println!(
         "scene {} at {}x{}, {} triangles; clock: {}; LP_NUM_THREADS={}; {} rounds ({})",
         report.scene,
@@ -135,6 +155,10 @@ pub(super) fn cmd_bench(
             m.ratio_to_floor_ci95_high
         );
     }
+}
+
+/// auto's curve, how the rounds stopped, the sweeps' slopes.
+fn print_notes(report: &crate::bench::BenchReport) {
     for (a, c) in report.auto_curve.iter().zip(&report.auto) {
         let chosen: Vec<String> = c
             .triangles
@@ -183,14 +207,12 @@ pub(super) fn cmd_bench(
             );
         }
     }
-    eprintln!(
-        "wrote {} ({:.1} s)",
-        out.join("bench.json").display(),
-        report.total_s
-    );
-    check_validation(r.context())?;
+}
+
+/// The comparison with `--baseline` (exit 1 when a program is slower beyond --fail-slower).
+fn print_baseline(report: &crate::bench::BenchReport) -> ExitCode {
     let Some(b) = &report.baseline else {
-        return Ok(ExitCode::SUCCESS);
+        return ExitCode::SUCCESS;
     };
     println!("baseline {}: {}", b.path, b.note);
     for d in &b.setup_differences {
@@ -230,7 +252,7 @@ pub(super) fn cmd_bench(
         for n in &b.not_comparable {
             eprintln!("shadelab: {n} cannot be compared with the baseline (a median or interval end is missing or not finite)");
         }
-        return Ok(ExitCode::from(EXIT_THRESHOLD));
+        return ExitCode::from(EXIT_THRESHOLD);
     }
-    Ok(ExitCode::SUCCESS)
+    ExitCode::SUCCESS
 }

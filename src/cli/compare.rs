@@ -33,11 +33,6 @@ pub(super) fn cmd_compare(
                 .map(|s| compare::parse_limit(s, Bound::Below)),
         )
         .collect::<Result<Vec<_>>>()?;
-    if !(threshold.is_finite() && threshold >= 0.0) {
-        return Err(Error::Usage(format!(
-            "--threshold must be a finite number >= 0, got {threshold}"
-        )));
-    }
     let (list, with_auto) = crate::auto::split_methods(list);
     let methods = select_methods(&list)?;
     let scene = load_scene(scene_args)?;

@@ -1,29 +1,18 @@
 //! `shadelab demo`: every shipped scene rendered with phong_exact.
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use super::*;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::Shading;
 use crate::method::{self};
 use crate::output;
 use crate::scene::{self};
 pub(super) fn cmd_demo(scenes_dir: &Path, out: &Path, dev: &DeviceArgs) -> Result<ExitCode> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(scenes_dir)
-        .map_err(|e| Error::io(scenes_dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    if files.is_empty() {
-        return Err(Error::Usage(format!(
-            "no scene files (*.toml) in {}",
-            scenes_dir.display()
-        )));
-    }
+    let files = super::report::scene_files(scenes_dir)?;
     let r = renderer(dev)?;
-    let method = method::find("phong_exact")?;
+    let method = method::phong_exact();
     for (i, f) in files.iter().enumerate() {
         let start = Instant::now();
         let scene = scene::load_scene(f)?;

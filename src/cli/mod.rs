@@ -9,6 +9,7 @@ mod plan;
 mod render;
 mod report;
 mod shaders;
+mod skips;
 mod stress;
 mod verify;
 
@@ -21,6 +22,7 @@ use self::plan::cmd_plan;
 use self::render::cmd_render;
 use self::report::{cmd_report, Sources};
 use self::shaders::cmd_shaders;
+use self::skips::cmd_skips;
 use self::stress::cmd_stress;
 use self::verify::cmd_verify;
 use std::path::PathBuf;
@@ -214,84 +216,13 @@ enum Command {
         scale: ScaleArg,
         /// Linear luminance error above which a pixel counts in pixels_above_threshold
         /// (default 1/255 of linear luminance; not an sRGB 8-bit step).
-        #[arg(long, default_value_t = 1.0 / 255.0)]
+        #[arg(long, default_value_t = 1.0 / 255.0, value_parser = parse_threshold)]
         threshold: f64,
         #[command(flatten)]
         error_budget: BudgetArgs,
     },
     /// Run time against error: validated timing, Pareto chart, the papers' claims, sweeps.
-    Bench {
-        #[command(flatten)]
-        scene: SceneArgs,
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "all")]
-        methods: String,
-        /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// Timed submissions per program (interleaved rounds).
-        #[arg(long, default_value_t = 40)]
-        repeat: usize,
-        /// Discarded submissions per program (the first includes lavapipe's shader JIT).
-        #[arg(long, default_value_t = 3)]
-        warmup: usize,
-        /// The compare metric on the Pareto chart's y axis.
-        #[arg(long, default_value = "p99_abs_error")]
-        error_metric: String,
-        /// Also time phong_exact's program under a second name (a precision control).
-        #[arg(long)]
-        control: bool,
-        /// Also sweep image size (128..2048) or triangle count (~100..~1,000,000); repeatable.
-        /// Each sweep point takes 20 to 40 timed draws per program (--repeat, clamped).
-        #[arg(long, value_enum)]
-        sweep: Vec<SweepArg>,
-        /// After --repeat rounds, add rounds until every paired ratio interval (to phong_exact
-        /// and to the floor) is within +-PCT percent of its median, or --max-time is reached.
-        #[arg(long, value_name = "PCT")]
-        until_ci: Option<f64>,
-        /// Time cap of --until-ci: seconds of timed rounds.
-        #[arg(long, value_name = "SECONDS", default_value_t = crate::bench::DEFAULT_MAX_TIME_S)]
-        max_time: f64,
-        /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
-        /// (0: render on the submitting thread). Recorded in bench.json. With --engine
-        /// software: the software engine's threads (default: all cores).
-        #[arg(long, value_name = "N")]
-        threads: Option<u32>,
-        /// Compare with the bench.json of an earlier run (not paired: the runs were not
-        /// interleaved). Written to bench.json `baseline` and printed.
-        #[arg(long, value_name = "OLD/bench.json")]
-        baseline: Option<PathBuf>,
-        /// With --baseline: exit 1 when a program's 95% interval lies above the baseline's by
-        /// more than PCT percent (or cannot be compared), naming each.
-        #[arg(long, value_name = "PCT", requires = "baseline")]
-        fail_slower: Option<f64>,
-        /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
-        /// 1, 16, 64 times per invocation; 0: skip it).
-        #[arg(long, value_name = "N", default_value_t = crate::bench::isolated::IsolatedOptions::default().rounds)]
-        isolated_rounds: usize,
-        #[command(flatten)]
-        error_budget: BudgetArgs,
-        /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),
-        /// drawn as a curve on the Pareto chart; `none` for no curve.
-        #[arg(
-            long,
-            value_name = "E,E,...",
-            default_value = "1/1024,1/255,4/255,16/255",
-            value_parser = ErrorBudget::parse_list
-        )]
-        // Fully qualified: one value (a list), not a repeatable option.
-        auto_curve: ::std::vec::Vec<ErrorBudget>,
-        /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
-        /// paired ratios are judged beside the software ones in claims.md.
-        #[arg(long, value_name = "DIR/bench.json")]
-        vulkan_bench: Option<PathBuf>,
-        /// With --engine software: also draw every method with lavapipe in the same rounds,
-        /// so the Vulkan verdicts of claims.md and software / lavapipe are paired per round.
-        #[arg(long, conflicts_with = "vulkan_bench")]
-        vulkan_paired: bool,
-    },
+    Bench(BenchCmd),
     /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
     /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
     Stress {
@@ -307,7 +238,7 @@ enum Command {
         #[arg(long, value_name = "CASE.json", conflicts_with = "out")]
         replay: Option<PathBuf>,
         /// Max abs colour error (linear) within which a case is valid.
-        #[arg(long, default_value_t = 1.0 / 255.0)]
+        #[arg(long, default_value_t = 1.0 / 255.0, value_parser = parse_threshold)]
         threshold: f64,
         /// Local-search rounds around each method's worst case (0: grid only).
         #[arg(long, default_value_t = 8)]
@@ -316,23 +247,7 @@ enum Command {
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
     /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
     /// front-to-back order, and `auto`; fragment invocations and paired frame-time ratios.
-    Skips {
-        #[command(flatten)]
-        scene: SceneArgs,
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// Output directory (skips.json, skips.md).
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// Interleaved rounds (each draws every row once).
-        #[arg(long, default_value_t = 30)]
-        repeat: usize,
-        /// Discarded submissions per row (the first includes lavapipe's shader JIT).
-        #[arg(long, default_value_t = 3)]
-        warmup: usize,
-        #[command(flatten)]
-        error_budget: BudgetArgs,
-    },
+    Skips(SkipsCmd),
     /// What a scene needs: topology (culling), the spread of its vertex normals against each
     /// method's measured validity range, triangle sizes and facing, lighting, what is skipped.
     Plan {
@@ -424,6 +339,101 @@ enum Command {
     Devices,
 }
 
+// `shadelab bench` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+struct BenchCmd {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// Comma-separated method identifiers, or `all`.
+    #[arg(long, default_value = "all")]
+    methods: String,
+    /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Timed submissions per program (interleaved rounds).
+    #[arg(long, default_value_t = 40)]
+    repeat: usize,
+    /// Discarded submissions per program (the first includes lavapipe's shader JIT).
+    #[arg(long, default_value_t = 3)]
+    warmup: usize,
+    /// The compare metric on the Pareto chart's y axis.
+    #[arg(long, default_value = "p99_abs_error")]
+    error_metric: String,
+    /// Also time phong_exact's program under a second name (a precision control).
+    #[arg(long)]
+    control: bool,
+    /// Also sweep image size (128..2048) or triangle count (~100..~1,000,000); repeatable.
+    /// Each sweep point takes 20 to 40 timed draws per program (--repeat, clamped).
+    #[arg(long, value_enum)]
+    sweep: Vec<SweepArg>,
+    /// After --repeat rounds, add rounds until every paired ratio interval (to phong_exact
+    /// and to the floor) is within +-PCT percent of its median, or --max-time is reached.
+    #[arg(long, value_name = "PCT")]
+    until_ci: Option<f64>,
+    /// Time cap of --until-ci: seconds of timed rounds.
+    #[arg(long, value_name = "SECONDS", default_value_t = crate::bench::DEFAULT_MAX_TIME_S)]
+    max_time: f64,
+    /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
+    /// (0: render on the submitting thread). Recorded in bench.json. With --engine
+    /// software: the software engine's threads (default: all cores).
+    #[arg(long, value_name = "N")]
+    threads: Option<u32>,
+    /// Compare with the bench.json of an earlier run (not paired: the runs were not
+    /// interleaved). Written to bench.json `baseline` and printed.
+    #[arg(long, value_name = "OLD/bench.json")]
+    baseline: Option<PathBuf>,
+    /// With --baseline: exit 1 when a program's 95% interval lies above the baseline's by
+    /// more than PCT percent (or cannot be compared), naming each.
+    #[arg(long, value_name = "PCT", requires = "baseline")]
+    fail_slower: Option<f64>,
+    /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
+    /// 1, 16, 64 times per invocation; 0: skip it).
+    #[arg(long, value_name = "N", default_value_t = crate::bench::isolated::IsolatedOptions::default().rounds)]
+    isolated_rounds: usize,
+    #[command(flatten)]
+    error_budget: BudgetArgs,
+    /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),
+    /// drawn as a curve on the Pareto chart; `none` for no curve.
+    #[arg(
+        long,
+        value_name = "E,E,...",
+        default_value = "1/1024,1/255,4/255,16/255",
+        value_parser = ErrorBudget::parse_list
+    )]
+    // Fully qualified: one value (a list), not a repeatable option.
+    auto_curve: ::std::vec::Vec<ErrorBudget>,
+    /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
+    /// paired ratios are judged beside the software ones in claims.md.
+    #[arg(long, value_name = "DIR/bench.json")]
+    vulkan_bench: Option<PathBuf>,
+    /// With --engine software: also draw every method with lavapipe in the same rounds,
+    /// so the Vulkan verdicts of claims.md and software / lavapipe are paired per round.
+    #[arg(long, conflicts_with = "vulkan_bench")]
+    vulkan_paired: bool,
+}
+
+// `shadelab skips` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+struct SkipsCmd {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// Output directory (skips.json, skips.md).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Interleaved rounds (each draws every row once).
+    #[arg(long, default_value_t = 30)]
+    repeat: usize,
+    /// Discarded submissions per row (the first includes lavapipe's shader JIT).
+    #[arg(long, default_value_t = 3)]
+    warmup: usize,
+    #[command(flatten)]
+    error_budget: BudgetArgs,
+}
+
 fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -434,6 +444,19 @@ fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
             .map_err(|_| format!("expected WIDTHxHEIGHT such as 512x512, got {s:?}"))
     };
     Ok((parse(w)?, parse(h)?))
+}
+
+/// `--threshold` of compare and stress: a colour error, finite and >= 0 (a number or a fraction
+/// like 1/255), validated here once.
+fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
+    let num = |x: &str| x.trim().parse::<f64>().ok();
+    let v = match s.trim().split_once('/') {
+        Some((a, b)) => num(a).zip(num(b)).map(|(a, b)| a / b),
+        None => num(s),
+    };
+    v.filter(|v| v.is_finite() && *v >= 0.0).ok_or_else(|| {
+        format!("{s:?} is not a threshold: expected a colour error >= 0 (linear), a number or a fraction like 1/255")
+    })
 }
 
 /// Parses the command line and runs it. Errors are printed once by the caller.
@@ -489,55 +512,7 @@ pub fn run() -> Result<ExitCode> {
             methods,
             against,
         } => cmd_verify(&scene, &device, &methods, against.as_deref()),
-        Command::Bench {
-            scene,
-            device,
-            methods,
-            out,
-            repeat,
-            warmup,
-            error_metric,
-            control,
-            sweep,
-            until_ci,
-            max_time,
-            threads,
-            baseline,
-            fail_slower,
-            isolated_rounds,
-            error_budget,
-            auto_curve,
-            vulkan_bench,
-            vulkan_paired,
-        } => {
-            let (methods, with_auto) = crate::auto::split_methods(&methods);
-            let budgets = with_auto.then_some((error_budget.budget, auto_curve));
-            let opts = crate::bench::BenchOptions {
-                repeat,
-                warmup,
-                error_metric,
-                control,
-                sweeps: sweep.into_iter().map(Into::into).collect(),
-                until_ci_pct: until_ci,
-                max_time_s: max_time,
-                baseline,
-                fail_slower_pct: fail_slower,
-                command_line: std::env::args().collect(),
-                isolated_rounds,
-                auto: Vec::new(),
-            };
-            cmd_bench(
-                &scene,
-                &device,
-                &methods,
-                &out,
-                threads,
-                budgets,
-                opts,
-                vulkan_bench.as_deref(),
-                vulkan_paired,
-            )
-        }
+        Command::Bench(b) => cmd_bench(b),
         Command::Stress {
             device,
             methods,
@@ -546,11 +521,6 @@ pub fn run() -> Result<ExitCode> {
             threshold,
             refine,
         } => {
-            if !(threshold.is_finite() && threshold >= 0.0) {
-                return Err(Error::Usage(format!(
-                    "--threshold {threshold}: expected a finite value >= 0"
-                )));
-            }
             let opts = crate::stress::StressOptions {
                 threshold,
                 refine_rounds: refine,
@@ -564,32 +534,7 @@ pub fn run() -> Result<ExitCode> {
             json,
             error_budget,
         } => cmd_plan(&scene, &device, json, error_budget),
-        Command::Skips {
-            scene,
-            device,
-            out,
-            repeat,
-            warmup,
-            error_budget,
-        } => {
-            if device.engine == EngineArg::Software {
-                return Err(Error::Usage(
-                    "skips measures the Vulkan renderer's draws: use --engine vulkan".into(),
-                ));
-            }
-            let scene = load_scene(&scene)?;
-            let r = renderer(&device)?;
-            let opts = crate::bench::skips::SkipOptions {
-                repeat,
-                warmup,
-                auto: auto_spec(&r, error_budget.budget)?,
-                command_line: std::env::args().collect(),
-            };
-            let report = crate::bench::skips::skips(&r, &scene, &out, &opts)?;
-            print!("{}", report.markdown());
-            check_validation(r.context())?;
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Skips(k) => cmd_skips(k),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,

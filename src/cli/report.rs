@@ -9,8 +9,8 @@ use crate::report::{self, ReportOptions, ReportScene};
 /// What the page of the shipped scenes may weigh, everything under DIR included (issue 14).
 const PAGE_BUDGET_BYTES: u64 = 50_000_000;
 
-/// The scene files (*.toml) of a folder, sorted.
-fn scene_files(dir: &Path) -> Result<Vec<PathBuf>> {
+/// The scene files (*.toml) of a folder, sorted (an error when there is none).
+pub(super) fn scene_files(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(|e| Error::io(dir, e))?
         .filter_map(|e| e.ok().map(|e| e.path()))

@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::flip::{flip, srgb_rgb8};
 use crate::analysis::pixel::{
     channel_stats, d3, intensity_stats, pixel_errors, stats_against_twin, IntensityStats,
+    PixelErrors,
 };
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
@@ -171,56 +172,17 @@ impl Analysis<'_> {
     /// Statistics, render.png, the heatmaps and FLIP of one method's frame, in that order: the
     /// frame and the per-pixel maps are freed before FLIP, whose own float images (about 80 MB
     /// at 1024x1024) are then the worker's only large allocation.
-    fn analyse(&self, m: Subject, frame: Frame) -> Result<(MethodReport, PhaseTimes)> {
+    /// Writes the method's heatmaps (|dI|, dI, and the normal angle where it has a normal)
+    /// into its folder, adding each file to `files`.
+    fn write_heatmaps(
+        &self,
+        m: Subject,
+        f: &PixelErrors,
+        (abs_scale, signed_scale, angle_scale): (Scale, Scale, Scale),
+        files: &mut Vec<String>,
+    ) -> Result<()> {
         let (w, h) = (self.width, self.height);
-        let t = Instant::now();
-        // First, so that its per-pixel errors are freed before the main ones are made.
-        let against_slerp = self.against_slerp(m, &frame);
-        let mut f = pixel_errors(&frame, m.has_normal, self.reference);
-        let nf = f.non_finite();
-        let intensity = if nf {
-            IntensityStats::non_finite(f.first_non_finite)
-        } else {
-            intensity_stats(f.errors(), self.opts.threshold)
-        };
-        let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
-        let stats = f.stats();
-        let p99_a = m.has_normal.then(|| {
-            if nf {
-                f64::INFINITY
-            } else {
-                percentile(&mut f.angles(), 99.0)
-            }
-        });
-        let (max_a, mean_a) = (stats.max_normal_angle_deg, stats.mean_normal_angle_deg);
-        let metrics_ms = t.elapsed().as_secs_f64() * 1e3;
-
-        let t = Instant::now();
         let dir = self.out.join(m.name);
-        let mut files = Vec::new();
-        if self.opts.images {
-            files.push(rel(m.name, "render.png"));
-            output::write_png_srgb(&dir.join("render.png"), w, h, &frame.color)?;
-        }
-        let (abs_scale, signed_scale, angle_scale) = match self.opts.scale {
-            ScaleMode::Fixed => (FIXED_ABS, FIXED_SIGNED, FIXED_ANGLE),
-            ScaleMode::Auto => {
-                // a method with non-finite pixels has no range of its own: the fixed span
-                let finite_or = |v: f64, d: f64| if v.is_finite() { v } else { d };
-                let mx = finite_or(intensity.max_abs_error, 1.0).max(1e-9);
-                (
-                    Scale::Log {
-                        lo: mx * 1e-4,
-                        hi: mx,
-                    },
-                    Scale::Linear { lo: -mx, hi: mx },
-                    Scale::Linear {
-                        lo: 0.0,
-                        hi: finite_or(max_a.unwrap_or(0.0), 10.0).max(1e-6),
-                    },
-                )
-            }
-        };
         let abs = |i: usize| f.signed(i).map(f64::abs);
         let signed = |i: usize| f.signed(i);
         let angle = |i: usize| f.angle(i);
@@ -267,6 +229,43 @@ impl Analysis<'_> {
             heatmap::write_png(&dir.join(file), &fig)?;
             files.push(rel(m.name, file));
         }
+        Ok(())
+    }
+
+    fn analyse(&self, m: Subject, frame: Frame) -> Result<(MethodReport, PhaseTimes)> {
+        let (w, h) = (self.width, self.height);
+        let t = Instant::now();
+        // First, so that its per-pixel errors are freed before the main ones are made.
+        let against_slerp = self.against_slerp(m, &frame);
+        let mut f = pixel_errors(&frame, m.has_normal, self.reference);
+        let nf = f.non_finite();
+        let intensity = if nf {
+            IntensityStats::non_finite(f.first_non_finite)
+        } else {
+            intensity_stats(f.errors(), self.opts.threshold)
+        };
+        let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
+        let stats = f.stats();
+        let p99_a = m.has_normal.then(|| {
+            if nf {
+                f64::INFINITY
+            } else {
+                percentile(&mut f.angles(), 99.0)
+            }
+        });
+        let (max_a, mean_a) = (stats.max_normal_angle_deg, stats.mean_normal_angle_deg);
+        let metrics_ms = t.elapsed().as_secs_f64() * 1e3;
+
+        let t = Instant::now();
+        let dir = self.out.join(m.name);
+        let mut files = Vec::new();
+        if self.opts.images {
+            files.push(rel(m.name, "render.png"));
+            output::write_png_srgb(&dir.join("render.png"), w, h, &frame.color)?;
+        }
+        let (abs_scale, signed_scale, angle_scale) =
+            heatmap_scales(self.opts.scale, intensity.max_abs_error, max_a);
+        self.write_heatmaps(m, &f, (abs_scale, signed_scale, angle_scale), &mut files)?;
         let png_ms = t.elapsed().as_secs_f64() * 1e3;
 
         // FLIP over the same pixels as every other statistic; a method with NaN/Inf has none.
@@ -325,6 +324,155 @@ pub fn compare(
 /// [`compare`] with the frames drawn by `engine`: the reference is f64 exact Phong at that
 /// engine's own weights (its id pass), so each engine is judged on the pixels it covers.
 /// `auto` is drawn by the Vulkan pipeline only.
+/// Writes the reference as reference.png (sRGB, alpha 0 on the background).
+fn write_reference_png(reference: &Values, out: &Path, w: u32, h: u32) -> Result<()> {
+    let ref_rgba: Vec<[f32; 4]> = reference
+        .pixels()
+        .map(|p| {
+            p.map(|p| [p.color.x as f32, p.color.y as f32, p.color.z as f32, 1.0])
+                .unwrap_or([0.0; 4])
+        })
+        .collect();
+    output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)
+}
+
+/// The reports of `results` (the first error, if any), their phase times summed and the
+/// covered pixels they measured; an error when fewer than `subjects` came back.
+fn gather(results: Analysed, subjects: usize) -> Result<(Vec<MethodReport>, PhaseTimes, usize)> {
+    let mut t = PhaseTimes {
+        metrics_ms: 0.0,
+        flip_ms: 0.0,
+        png_ms: 0.0,
+    };
+    let (mut reports, mut metric_pixels) = (Vec::new(), 0usize);
+    for r in results {
+        let (report, p) = r?;
+        t.metrics_ms += p.metrics_ms;
+        t.flip_ms += p.flip_ms;
+        t.png_ms += p.png_ms;
+        metric_pixels += report.covered_pixels;
+        reports.push(report);
+    }
+    if reports.len() != subjects {
+        return Err(Error::Internal("a compare worker stopped early".into()));
+    }
+    Ok((reports, t, metric_pixels))
+}
+
+/// The scales of the three heatmaps (|dI|, dI, normal angle): fixed, or from this method's own
+/// largest errors (`max_abs`, `max_angle`); a method with non-finite pixels has no range of its
+/// own and gets the fixed span.
+fn heatmap_scales(mode: ScaleMode, max_abs: f64, max_angle: Option<f64>) -> (Scale, Scale, Scale) {
+    match mode {
+        ScaleMode::Fixed => (FIXED_ABS, FIXED_SIGNED, FIXED_ANGLE),
+        ScaleMode::Auto => {
+            let finite_or = |v: f64, d: f64| if v.is_finite() { v } else { d };
+            let mx = finite_or(max_abs, 1.0).max(1e-9);
+            (
+                Scale::Log {
+                    lo: mx * 1e-4,
+                    hi: mx,
+                },
+                Scale::Linear { lo: -mx, hi: mx },
+                Scale::Linear {
+                    lo: 0.0,
+                    hi: finite_or(max_angle.unwrap_or(0.0), 10.0).max(1e-6),
+                },
+            )
+        }
+    }
+}
+
+/// What a comparison draws: the methods, then `auto` at each spec (Vulkan only).
+struct Run<'a> {
+    engine: Engine<'a>,
+    prepared: &'a engine::Ready<'a>,
+    scene: &'a Scene,
+    methods: &'a [&'static Method],
+    auto: &'a [crate::auto::AutoSpec],
+}
+
+/// Each subject's report and phase times, in order.
+type Analysed = Vec<Result<(MethodReport, PhaseTimes)>>;
+
+impl Run<'_> {
+    /// Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
+    /// into statistics, FLIP and PNGs. The channel is a rendezvous: a frame is handed over only
+    /// when a worker takes it, so at most three frames (32 MB each at 1024x1024) exist at once.
+    /// Returns the reports in order, the render time (ms) and `auto`'s choices.
+    fn render_and_analyse(
+        &self,
+        ctx: &Analysis,
+        bar: &indicatif::ProgressBar,
+    ) -> Result<(Analysed, f64, Vec<crate::auto::AutoSummary>)> {
+        let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Subject, Frame)>(0);
+        let rx = std::sync::Mutex::new(rx);
+        let results = std::sync::Mutex::new(Vec::new());
+        let mut render_ms = 0.0;
+        let mut auto_summaries = Vec::new();
+        let render_result: Result<()> = std::thread::scope(|scope| {
+            for _ in 0..2 {
+                scope.spawn(|| loop {
+                    let job = match rx.lock() {
+                        Ok(r) => r.recv(),
+                        Err(_) => return,
+                    };
+                    let Ok((i, m, frame)) = job else { return };
+                    bar.set_message(m.name.to_string());
+                    let r = ctx.analyse(m, frame);
+                    bar.inc(1);
+                    if let Ok(mut v) = results.lock() {
+                        v.push((i, r));
+                    }
+                });
+            }
+            for (i, m) in self.methods.iter().enumerate() {
+                let t = Instant::now();
+                let (frame, _) = self.prepared.render(m, false)?;
+                render_ms += t.elapsed().as_secs_f64() * 1e3;
+                if tx.send((i, Subject::from(*m), frame)).is_err() {
+                    break;
+                }
+            }
+            for (k, spec) in self.auto.iter().enumerate() {
+                // refused at the start for any other engine
+                let Engine::Vulkan(renderer) = self.engine else {
+                    break;
+                };
+                let (pick, summary) = crate::auto::choose_summarised(
+                    self.prepared.base(),
+                    spec,
+                    crate::auto::Cache::Use,
+                );
+                auto_summaries.push(summary);
+                let t = Instant::now();
+                let scene_auto = renderer.prepare_auto(self.scene, &spec.order, &pick)?;
+                let frame = renderer.render_auto(&scene_auto)?;
+                drop(scene_auto);
+                render_ms += t.elapsed().as_secs_f64() * 1e3;
+                if tx
+                    .send((self.methods.len() + k, auto_subject(&spec.name), frame))
+                    .is_err()
+                {
+                    break;
+                }
+            }
+            drop(tx);
+            Ok(())
+        });
+        render_result?;
+        let mut results = results
+            .into_inner()
+            .map_err(|_| Error::Internal("a compare worker panicked".into()))?;
+        results.sort_by_key(|(i, _)| *i);
+        Ok((
+            results.into_iter().map(|(_, r)| r).collect(),
+            render_ms,
+            auto_summaries,
+        ))
+    }
+}
+
 pub fn compare_with(
     engine: Engine,
     scene: &Scene,
@@ -375,22 +523,12 @@ pub fn compare_with(
             .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
     );
     if opts.images {
-        let ref_rgba: Vec<[f32; 4]> = reference
-            .pixels()
-            .map(|p| {
-                p.map(|p| [p.color.x as f32, p.color.y as f32, p.color.z as f32, 1.0])
-                    .unwrap_or([0.0; 4])
-            })
-            .collect();
-        output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)?;
+        write_reference_png(&reference, out, w, h)?;
     }
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
 
     let subjects = methods_.len() + opts.auto.len();
     let bar = crate::output::progress_bar(opts.progress, subjects as u64);
-    // Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
-    // into statistics, FLIP and PNGs. The channel is a rendezvous: a frame is handed over only
-    // when a worker takes it, so at most three frames (32 MB each at 1024x1024) exist at once.
     let ctx = Analysis {
         reference: &reference,
         slerp,
@@ -400,77 +538,21 @@ pub fn compare_with(
         width: w,
         height: h,
     };
-    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Subject, Frame)>(0);
-    let rx = std::sync::Mutex::new(rx);
-    let results = std::sync::Mutex::new(Vec::new());
-    let mut render_ms = 0.0;
-    let mut auto_summaries = Vec::new();
-    let render_result: Result<()> = std::thread::scope(|scope| {
-        for _ in 0..2 {
-            scope.spawn(|| loop {
-                let job = match rx.lock() {
-                    Ok(r) => r.recv(),
-                    Err(_) => return,
-                };
-                let Ok((i, m, frame)) = job else { return };
-                bar.set_message(m.name.to_string());
-                let r = ctx.analyse(m, frame);
-                bar.inc(1);
-                if let Ok(mut v) = results.lock() {
-                    v.push((i, r));
-                }
-            });
-        }
-        for (i, m) in methods_.iter().enumerate() {
-            let t = Instant::now();
-            let (frame, _) = prepared.render(m, false)?;
-            render_ms += t.elapsed().as_secs_f64() * 1e3;
-            if tx.send((i, Subject::from(*m), frame)).is_err() {
-                break;
-            }
-        }
-        for (k, spec) in opts.auto.iter().enumerate() {
-            // refused at the start for any other engine
-            let Engine::Vulkan(renderer) = engine else {
-                break;
-            };
-            let (pick, summary) =
-                crate::auto::choose_summarised(base, spec, crate::auto::Cache::Use);
-            auto_summaries.push(summary);
-            let t = Instant::now();
-            let scene_auto = renderer.prepare_auto(scene, &spec.order, &pick)?;
-            let frame = renderer.render_auto(&scene_auto)?;
-            drop(scene_auto);
-            render_ms += t.elapsed().as_secs_f64() * 1e3;
-            if tx
-                .send((methods_.len() + k, auto_subject(&spec.name), frame))
-                .is_err()
-            {
-                break;
-            }
-        }
-        drop(tx);
-        Ok(())
-    });
-    render_result?;
+    let run = Run {
+        engine,
+        prepared: &prepared,
+        scene,
+        methods: methods_,
+        auto: &opts.auto,
+    };
+    let (results, render_ms, auto_summaries) = run.render_and_analyse(&ctx, &bar)?;
     bar.finish_and_clear();
-    let mut results = results
-        .into_inner()
-        .map_err(|_| Error::Internal("a compare worker panicked".into()))?;
-    results.sort_by_key(|(i, _)| *i);
-    let (mut metrics_ms, mut flip_ms, mut png_ms, mut metric_pixels) = (0.0, 0.0, 0.0, 0usize);
-    let mut reports = Vec::new();
-    for (_, r) in results {
-        let (report, t) = r?;
-        metrics_ms += t.metrics_ms;
-        flip_ms += t.flip_ms;
-        png_ms += t.png_ms;
-        metric_pixels += report.covered_pixels;
-        reports.push(report);
-    }
-    if reports.len() != subjects {
-        return Err(Error::Internal("a compare worker stopped early".into()));
-    }
+    let (reports, t, metric_pixels) = gather(results, subjects)?;
+    let PhaseTimes {
+        metrics_ms,
+        flip_ms,
+        png_ms,
+    } = t;
     let secs = |ms: f64| (ms / 1e3).max(1e-9);
     let summary = Summary {
         schema_version: SCHEMA_VERSION,

@@ -54,59 +54,204 @@ pub struct AgainstReference {
     pub mean_normal_angle_deg: Option<f64>,
 }
 
-/// The numeric per-method metrics `--fail-above` / `--fail-below` accept (their JSON names).
-/// Every one is better lower except those of [`HIGHER_IS_BETTER`].
-pub const METRICS: &[&str] = &[
-    "mean_abs_error",
-    "max_abs_error",
-    "p50_abs_error",
-    "p95_abs_error",
-    "p99_abs_error",
-    "rmse",
-    "psnr_db",
-    "pixels_above_threshold",
-    "fraction_above_threshold",
-    "max_normal_angle_deg",
-    "mean_normal_angle_deg",
-    "p99_normal_angle_deg",
-    "max_normal_length_error",
-    "flip_mean",
-    "flip_p95",
-    "non_finite_pixels",
-    "coverage_mismatch_pixels",
-];
+/// A numeric per-method metric of summary.json, by name in `--fail-above` / `--fail-below`,
+/// bench's `--error-metric` and the report's tables. Each is one row of [`METRIC_ROWS`] (in
+/// this order): its name, its direction, whether it counts pixels, and its accessor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Metric {
+    MeanAbsError,
+    MaxAbsError,
+    P50AbsError,
+    P95AbsError,
+    P99AbsError,
+    Rmse,
+    PsnrDb,
+    PixelsAboveThreshold,
+    FractionAboveThreshold,
+    MaxNormalAngleDeg,
+    MeanNormalAngleDeg,
+    P99NormalAngleDeg,
+    MaxNormalLengthError,
+    FlipMean,
+    FlipP95,
+    NonFinitePixels,
+    CoverageMismatchPixels,
+}
+
+/// One metric: its JSON (and CSV) name, its direction, whether it counts pixels (written as an
+/// integer in CSV), and its value for a method: `None` when it does not apply (normal metrics
+/// of methods without a per-pixel normal, PSNR of an exact match). For a method with non-finite
+/// pixels every error metric is infinite (+inf, -inf for PSNR), though JSON writes it as null;
+/// the counts stay counts.
+pub struct MetricRow {
+    pub metric: Metric,
+    pub name: &'static str,
+    /// Higher is better (a limit on it is a floor: `--fail-below`); lower otherwise.
+    pub higher_is_better: bool,
+    pub count: bool,
+    pub value: fn(&MethodReport) -> Option<f64>,
+}
+
+const fn row(
+    metric: Metric,
+    name: &'static str,
+    count: bool,
+    value: fn(&MethodReport) -> Option<f64>,
+) -> MetricRow {
+    MetricRow {
+        metric,
+        name,
+        higher_is_better: false,
+        count,
+        value,
+    }
+}
+
+/// Every metric, in the order of [`Metric`]'s variants (a test checks it).
+pub const METRIC_ROWS: [MetricRow; 17] = {
+    use Metric as M;
+    [
+        row(M::MeanAbsError, "mean_abs_error", false, |r| {
+            Some(r.intensity.mean_abs_error)
+        }),
+        row(M::MaxAbsError, "max_abs_error", false, |r| {
+            Some(r.intensity.max_abs_error)
+        }),
+        row(M::P50AbsError, "p50_abs_error", false, |r| {
+            Some(r.intensity.p50_abs_error)
+        }),
+        row(M::P95AbsError, "p95_abs_error", false, |r| {
+            Some(r.intensity.p95_abs_error)
+        }),
+        row(M::P99AbsError, "p99_abs_error", false, |r| {
+            Some(r.intensity.p99_abs_error)
+        }),
+        row(M::Rmse, "rmse", false, |r| Some(r.intensity.rmse)),
+        MetricRow {
+            higher_is_better: true,
+            ..row(M::PsnrDb, "psnr_db", false, |r| r.intensity.psnr_db)
+        },
+        row(
+            M::PixelsAboveThreshold,
+            "pixels_above_threshold",
+            true,
+            |r| {
+                Some(
+                    r.intensity
+                        .pixels_above_threshold
+                        .map_or(f64::INFINITY, |n| n as f64),
+                )
+            },
+        ),
+        row(
+            M::FractionAboveThreshold,
+            "fraction_above_threshold",
+            false,
+            |r| Some(r.intensity.fraction_above_threshold),
+        ),
+        row(M::MaxNormalAngleDeg, "max_normal_angle_deg", false, |r| {
+            r.max_normal_angle_deg
+        }),
+        row(M::MeanNormalAngleDeg, "mean_normal_angle_deg", false, |r| {
+            r.mean_normal_angle_deg
+        }),
+        row(M::P99NormalAngleDeg, "p99_normal_angle_deg", false, |r| {
+            r.p99_normal_angle_deg
+        }),
+        row(
+            M::MaxNormalLengthError,
+            "max_normal_length_error",
+            false,
+            |r| r.max_normal_length_error,
+        ),
+        row(M::FlipMean, "flip_mean", false, |r| Some(r.flip_mean)),
+        row(M::FlipP95, "flip_p95", false, |r| Some(r.flip_p95)),
+        row(M::NonFinitePixels, "non_finite_pixels", true, |r| {
+            Some(r.non_finite_pixels as f64)
+        }),
+        row(
+            M::CoverageMismatchPixels,
+            "coverage_mismatch_pixels",
+            true,
+            |r| Some(r.coverage_mismatch_pixels as f64),
+        ),
+    ]
+};
+
+impl Metric {
+    /// Its row of [`METRIC_ROWS`].
+    pub fn row(self) -> &'static MetricRow {
+        &METRIC_ROWS[self as usize]
+    }
+
+    /// The metric named `name` (its JSON name).
+    pub fn from_name(name: &str) -> Option<Metric> {
+        METRIC_ROWS
+            .iter()
+            .find(|r| r.name == name)
+            .map(|r| r.metric)
+    }
+
+    /// The JSON name.
+    pub fn name(self) -> &'static str {
+        self.row().name
+    }
+
+    /// Its value for `r` (see [`MetricRow`]).
+    pub fn of(self, r: &MethodReport) -> Option<f64> {
+        (self.row().value)(r)
+    }
+
+    /// The CSV cell: a count as an integer (inf when it cannot be counted), any other number
+    /// in `{:e}` notation, empty when it does not apply.
+    fn csv(self, r: &MethodReport) -> String {
+        match self.of(r) {
+            Some(v) if self.row().count && v.is_finite() => (v as u64).to_string(),
+            Some(v) => format!("{v:e}"),
+            None => String::new(),
+        }
+    }
+}
+
+const fn names<const N: usize>(higher: Option<bool>) -> [&'static str; N] {
+    let mut out = [""; N];
+    let (mut i, mut k) = (0, 0);
+    while i < METRIC_ROWS.len() {
+        let take = match higher {
+            Some(h) => METRIC_ROWS[i].higher_is_better == h,
+            None => true,
+        };
+        if take {
+            out[k] = METRIC_ROWS[i].name;
+            k += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
+const fn count_higher() -> usize {
+    let (mut i, mut k) = (0, 0);
+    while i < METRIC_ROWS.len() {
+        if METRIC_ROWS[i].higher_is_better {
+            k += 1;
+        }
+        i += 1;
+    }
+    k
+}
+
+/// The names of [`METRIC_ROWS`], in order.
+pub const METRICS: &[&str] = &names::<{ METRIC_ROWS.len() }>(None);
 
 /// The metrics of [`METRICS`] where higher is better (a limit on them is a floor: `--fail-below`).
-pub const HIGHER_IS_BETTER: &[&str] = &["psnr_db"];
+pub const HIGHER_IS_BETTER: &[&str] = &names::<{ count_higher() }>(Some(true));
 
 impl MethodReport {
-    /// A metric by its JSON name, as a number: `None` when it does not apply (normal metrics of
-    /// methods without a per-pixel normal, PSNR of an exact match) or the name is unknown.
-    /// For a method with non-finite pixels every error metric is infinite (+inf, -inf for PSNR),
-    /// though JSON writes it as null; the counts stay counts.
+    /// A metric by its JSON name, as a number ([`Metric::of`]); `None` when the name is unknown
+    /// too.
     pub fn metric(&self, name: &str) -> Option<f64> {
-        let i = &self.intensity;
-        let inf = f64::INFINITY;
-        Some(match name {
-            "mean_abs_error" => i.mean_abs_error,
-            "max_abs_error" => i.max_abs_error,
-            "p50_abs_error" => i.p50_abs_error,
-            "p95_abs_error" => i.p95_abs_error,
-            "p99_abs_error" => i.p99_abs_error,
-            "rmse" => i.rmse,
-            "psnr_db" => return i.psnr_db,
-            "pixels_above_threshold" => i.pixels_above_threshold.map_or(inf, |n| n as f64),
-            "fraction_above_threshold" => i.fraction_above_threshold,
-            "max_normal_angle_deg" => return self.max_normal_angle_deg,
-            "mean_normal_angle_deg" => return self.mean_normal_angle_deg,
-            "p99_normal_angle_deg" => return self.p99_normal_angle_deg,
-            "max_normal_length_error" => return self.max_normal_length_error,
-            "flip_mean" => self.flip_mean,
-            "flip_p95" => self.flip_p95,
-            "non_finite_pixels" => self.non_finite_pixels as f64,
-            "coverage_mismatch_pixels" => self.coverage_mismatch_pixels as f64,
-            _ => return None,
-        })
+        Metric::from_name(name).and_then(|m| m.of(self))
     }
 }
 /// Wall time of the phases, and the metric throughput.
@@ -161,96 +306,110 @@ fn vulkan() -> String {
 
 /// The reference's name in outputs.
 pub const REFERENCE: &str = "phong_exact_f64";
-/// The CSV columns, in order (one row per method; channel stats flattened as r_/g_/b_).
-pub fn csv_header() -> Vec<String> {
-    let mut h: Vec<String> = [
-        "name",
-        "reference",
-        "covered_pixels",
-        "coverage_mismatch_pixels",
-        "ill_conditioned_pixels",
-        "non_finite_pixels",
-        "mean_abs_error",
-        "max_abs_error",
-        "max_error_x",
-        "max_error_y",
-        "p50_abs_error",
-        "p95_abs_error",
-        "p99_abs_error",
-        "rmse",
-        "psnr_db",
-        "pixels_above_threshold",
-        "fraction_above_threshold",
+/// A column of summary.csv: a metric of [`METRIC_ROWS`], another field of the row, or the
+/// channel statistics (flattened as r_/g_/b_ mean_abs_error, max_abs_error, rmse).
+enum Column {
+    Metric(Metric),
+    Field(&'static str, fn(&MethodReport) -> String),
+    Channels,
+}
+
+/// The columns of summary.csv, in order.
+const CSV_COLUMNS: &[Column] = {
+    use Column::{Channels, Field, Metric as C};
+    use Metric as M;
+    fn e(v: f64) -> String {
+        format!("{v:e}")
+    }
+    fn o(v: Option<f64>) -> String {
+        v.map(e).unwrap_or_default()
+    }
+    &[
+        Field("name", |r| r.name.clone()),
+        Field("reference", |r| r.reference.clone()),
+        Field("covered_pixels", |r| r.covered_pixels.to_string()),
+        C(M::CoverageMismatchPixels),
+        Field("ill_conditioned_pixels", |r| {
+            r.ill_conditioned_pixels.to_string()
+        }),
+        C(M::NonFinitePixels),
+        C(M::MeanAbsError),
+        C(M::MaxAbsError),
+        Field("max_error_x", |r| {
+            r.intensity
+                .max_error_pixel
+                .map(|p| p[0].to_string())
+                .unwrap_or_default()
+        }),
+        Field("max_error_y", |r| {
+            r.intensity
+                .max_error_pixel
+                .map(|p| p[1].to_string())
+                .unwrap_or_default()
+        }),
+        C(M::P50AbsError),
+        C(M::P95AbsError),
+        C(M::P99AbsError),
+        C(M::Rmse),
+        C(M::PsnrDb),
+        C(M::PixelsAboveThreshold),
+        C(M::FractionAboveThreshold),
+        Channels,
+        C(M::MaxNormalAngleDeg),
+        C(M::MeanNormalAngleDeg),
+        C(M::P99NormalAngleDeg),
+        C(M::MaxNormalLengthError),
+        C(M::FlipMean),
+        C(M::FlipP95),
+        Field("against_slerp_mean_abs_error", |r| {
+            o(r.against_slerp.as_ref().map(|s| s.mean_abs_error))
+        }),
+        Field("against_slerp_max_abs_error", |r| {
+            o(r.against_slerp.as_ref().map(|s| s.max_abs_error))
+        }),
+        Field("against_slerp_max_normal_angle_deg", |r| {
+            o(r.against_slerp
+                .as_ref()
+                .and_then(|s| s.max_normal_angle_deg))
+        }),
     ]
-    .map(String::from)
-    .to_vec();
-    for c in ["r", "g", "b"] {
-        for s in ["mean_abs_error", "max_abs_error", "rmse"] {
-            h.push(format!("{c}_{s}"));
+};
+
+/// The channel statistics' CSV names, in order.
+const CHANNEL_STATS: [&str; 3] = ["mean_abs_error", "max_abs_error", "rmse"];
+
+/// The CSV columns, in order (one row per method).
+pub fn csv_header() -> Vec<String> {
+    let mut h = Vec::new();
+    for c in CSV_COLUMNS {
+        match c {
+            Column::Metric(m) => h.push(m.name().to_string()),
+            Column::Field(name, _) => h.push(name.to_string()),
+            Column::Channels => {
+                for ch in ["r", "g", "b"] {
+                    h.extend(CHANNEL_STATS.map(|s| format!("{ch}_{s}")));
+                }
+            }
         }
     }
-    h.extend(
-        [
-            "max_normal_angle_deg",
-            "mean_normal_angle_deg",
-            "p99_normal_angle_deg",
-            "max_normal_length_error",
-            "flip_mean",
-            "flip_p95",
-            "against_slerp_mean_abs_error",
-            "against_slerp_max_abs_error",
-            "against_slerp_max_normal_angle_deg",
-        ]
-        .map(String::from),
-    );
     h
 }
 
 pub(crate) fn csv_row(r: &MethodReport) -> Vec<String> {
-    let f = |v: f64| format!("{v:e}");
-    let o = |v: Option<f64>| v.map(f).unwrap_or_default();
-    let i = &r.intensity;
-    let mut row = vec![
-        r.name.clone(),
-        r.reference.clone(),
-        r.covered_pixels.to_string(),
-        r.coverage_mismatch_pixels.to_string(),
-        r.ill_conditioned_pixels.to_string(),
-        r.non_finite_pixels.to_string(),
-        f(i.mean_abs_error),
-        f(i.max_abs_error),
-        i.max_error_pixel
-            .map(|p| p[0].to_string())
-            .unwrap_or_default(),
-        i.max_error_pixel
-            .map(|p| p[1].to_string())
-            .unwrap_or_default(),
-        f(i.p50_abs_error),
-        f(i.p95_abs_error),
-        f(i.p99_abs_error),
-        f(i.rmse),
-        o(i.psnr_db),
-        i.pixels_above_threshold
-            .map_or_else(|| f(f64::INFINITY), |n| n.to_string()),
-        f(i.fraction_above_threshold),
-    ];
-    for c in &r.channels {
-        row.extend([f(c.mean_abs_error), f(c.max_abs_error), f(c.rmse)]);
+    let mut row = Vec::new();
+    for c in CSV_COLUMNS {
+        match c {
+            Column::Metric(m) => row.push(m.csv(r)),
+            Column::Field(_, value) => row.push(value(r)),
+            Column::Channels => {
+                for c in &r.channels {
+                    row.extend(
+                        [c.mean_abs_error, c.max_abs_error, c.rmse].map(|v| format!("{v:e}")),
+                    );
+                }
+            }
+        }
     }
-    row.extend([
-        o(r.max_normal_angle_deg),
-        o(r.mean_normal_angle_deg),
-        o(r.p99_normal_angle_deg),
-        o(r.max_normal_length_error),
-        f(r.flip_mean),
-        f(r.flip_p95),
-    ]);
-    let s = r.against_slerp.as_ref();
-    row.extend([
-        o(s.map(|s| s.mean_abs_error)),
-        o(s.map(|s| s.max_abs_error)),
-        o(s.and_then(|s| s.max_normal_angle_deg)),
-    ]);
     row
 }
 

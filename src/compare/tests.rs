@@ -118,12 +118,67 @@ fn csv_rows_match_the_header() {
     assert_eq!(csv_row(&r).len(), csv_header().len());
     assert_eq!(r.metric("max_abs_error"), Some(0.25));
     assert_eq!(r.metric("max_normal_angle_deg"), None);
+    assert_eq!(r.metric("non_finite_pixels"), Some(0.0));
+    assert_eq!(r.metric("covered_pixels"), None, "not a metric");
+    let cell = |name: &str| {
+        let i = csv_header().iter().position(|h| h == name).unwrap();
+        csv_row(&r)[i].clone()
+    };
+    assert_eq!(cell("max_abs_error"), "2.5e-1");
+    assert_eq!(cell("non_finite_pixels"), "0");
+    assert_eq!(cell("max_normal_angle_deg"), "");
+    assert_eq!(cell("against_slerp_max_abs_error"), "1e0");
+    assert_eq!(cell("g_rmse"), "0e0");
     for m in METRICS {
         assert!(
             csv_header().iter().any(|h| h == m),
             "metric {m} missing from the CSV"
         );
     }
+}
+
+/// Where a metric table breaks the one-row-per-variant rule: a row out of its variant's place,
+/// or a name used twice.
+fn metric_table_faults(rows: &[MetricRow]) -> Vec<String> {
+    let mut bad = Vec::new();
+    for (i, r) in rows.iter().enumerate() {
+        if r.metric as usize != i {
+            bad.push(format!(
+                "{} at row {i}, variant {}",
+                r.name, r.metric as usize
+            ));
+        }
+        if rows[..i].iter().any(|q| q.name == r.name) {
+            bad.push(format!("{} twice", r.name));
+        }
+    }
+    bad
+}
+
+/// Each metric is one row: in its variant's place, named once; by name, each gives the field
+/// it names (the CSV cell of a count is an integer), and only psnr_db is higher-is-better.
+#[test]
+fn metrics_are_one_typed_table() {
+    assert_eq!(metric_table_faults(&METRIC_ROWS), Vec::<String>::new());
+    assert_eq!(METRICS.len(), METRIC_ROWS.len());
+    assert_eq!(HIGHER_IS_BETTER, ["psnr_db"]);
+    for r in &METRIC_ROWS {
+        assert_eq!(Metric::from_name(r.name), Some(r.metric));
+        assert_eq!(r.metric.name(), r.name);
+    }
+    assert_eq!(Metric::from_name("luminance"), None);
+    // Teeth: a swapped and a duplicated row are found.
+    let (a, b) = (&METRIC_ROWS[0], &METRIC_ROWS[1]);
+    let swapped = [MetricRow { ..*b }, MetricRow { ..*a }];
+    assert_eq!(metric_table_faults(&swapped).len(), 2);
+    let twice = [
+        MetricRow { ..*a },
+        MetricRow {
+            metric: b.metric,
+            ..*a
+        },
+    ];
+    assert_eq!(metric_table_faults(&twice), ["mean_abs_error twice"]);
 }
 
 /// A frame of `n` covered pixels with the given colours (normal +z), and its truth: colour

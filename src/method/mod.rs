@@ -167,6 +167,82 @@ pub fn with_property(property: Property) -> impl Iterator<Item = &'static Method
     METHODS.iter().filter(move |m| m.has(property))
 }
 
+/// The kernel the software engine (src/software/) runs for a method: one variant per distinct
+/// incremental or per-pixel form. The engine matches it exhaustively, so a row without a kernel,
+/// or a kernel without code, does not compile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SoftwareKernel {
+    /// One colour per triangle.
+    Flat,
+    /// The colours lit at the vertices, stepped along the span.
+    VertexColour,
+    /// The interpolated normal stepped, scaled per pixel by a function of its squared length.
+    Scaled(Scale),
+    /// The interpolated normal stepped, divided by Mikami's square-root approximation.
+    Mikami(MikamiBeta),
+    /// The interpolated normal stepped, Hast's half-vector correction against the flat normal.
+    HastHalfVector,
+    /// A quaternion per vertex stepped, the normal recovered per pixel.
+    Quaternion,
+    /// [`SoftwareKernel::Quaternion`] in the triangle's frame (+Z the flat normal).
+    QuaternionLocal,
+    /// The weights stepped, the quadratic normal field evaluated per pixel (the mid-edge
+    /// normals by the paper's formula, or exactly).
+    BarycentricQuadratic { exact_mid: bool },
+    /// The weights stepped, the PN quadratic normal evaluated and normalised per pixel.
+    PnNormals,
+    /// The normal stepped and normalised, the specular term read from the cos^n table.
+    SpecularLut,
+    /// Along the span through the pixel's row.
+    Span(SpanKernel),
+}
+
+/// The scale of [`SoftwareKernel::Scaled`]: 1/|v| exactly, 1, or an approximation of 1/|v|.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    Exact,
+    Unnormalised,
+    NewtonRaphson,
+    LyonTaylor,
+    LyonShift,
+    RomanyukPoly,
+}
+
+/// Mikami's beta (the square root's correction) of [`SoftwareKernel::Mikami`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MikamiBeta {
+    Const,
+    Linear,
+    Quadratic,
+}
+
+/// The span kernels of [`SoftwareKernel::Span`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpanKernel {
+    /// slerp at each pixel's t (the closed form).
+    Slerp,
+    /// spherical_angular's Chebyshev recurrence.
+    Chebyshev,
+    /// G t^2 + P t + Q by second-order forward differences.
+    Quadratic { approx_mid: bool },
+    /// The span's grid filled by halving, with this inverse square root.
+    Dichotomy(InvRoot),
+    /// 2^k-pixel segments: ends shaded, the colour stepped (or dichotomy inside with a root).
+    Segments(u32, Option<InvRoot>),
+    /// Each cosine's Taylor polynomial by forward differences.
+    BishopWeimer,
+    /// Each cosine by Euler steps with the end-error correction.
+    HastEuler,
+}
+
+/// The inverse square root of the dichotomy and segment kernels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InvRoot {
+    Exact,
+    Poly1,
+    Poly2,
+}
+
 /// A verdict on a claim, computed from a measurement (never written by hand).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -271,6 +347,10 @@ pub struct Method {
     /// The same method in f64 at one pixel.
     #[serde(skip)]
     pub eval_f64: fn(&Fragment, &Lighting) -> Shaded,
+    /// The kernel the software engine runs for it (its words and flags: `software_forms` of
+    /// `shadelab list --json`).
+    #[serde(skip)]
+    pub software: SoftwareKernel,
 }
 impl Method {
     /// Whether the row lists `property`.

@@ -18,7 +18,9 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
-use crate::method::{specular_table, Method};
+use crate::method::{
+    specular_table, InvRoot, Method, MikamiBeta, Property, Scale, SoftwareKernel, SpanKernel,
+};
 use crate::scene::{Interpolation, SceneInputs};
 use formulas::{self as f, Lighting32};
 pub use raster::Targets;
@@ -48,35 +50,47 @@ pub fn drift_allowance(n: f64) -> f64 {
     u * (4.0 * (n + 1.0) * (n + 1.0) + 64.0 * (n + 1.0))
 }
 
-/// The form `method` takes in the software engine.
-pub fn form(method: &str) -> Form {
-    let (scanline, form) = match method {
-        "flat" => (false, "one colour per triangle"),
-        "gouraud" | "trueform" => (true, "vertex colours, the colour stepped by forward differences"),
-        "slerp" => (false, "per-pixel form along the span: t stepped, sin per pixel (its recurrence is spherical_angular)"),
-        "spherical_angular" => (true, "Chebyshev recurrence N(k+1) = 2 cos(phi) N(k) - N(k-1), seeded by the closed form"),
-        "quadratic_scanline" | "quadratic_scanline_approx_mid" => (true, "G t^2 + P t + Q by second-order forward differences"),
-        "dichotomy_exact" | "dichotomy_poly1" | "dichotomy_poly2" => (true, "the span's grid m/2^K filled by halving, one midpoint per grid point"),
-        "segments_k1" | "segments_k2" | "segments_k3" => (true, "segment ends shaded once, colour stepped by (I_p - I_l)/2^k, last segment extrapolated"),
-        "segments_k2_poly1" | "segments_k2_poly2" | "segments_k3_poly1" | "segments_k3_poly2" => (true, "segment ends normalised, normals inside by halving"),
-        "bishop_weimer" => (true, "Taylor polynomial per cosine by forward differences (2 additions per cosine per pixel)"),
-        "hast_euler" => (true, "Euler integration per cosine with the end-error correction (2 additions per cosine per pixel)"),
-        "quaternion" | "quaternion_local" => (false, "per-pixel form: quaternion stepped by forward differences, normal recovered per pixel"),
-        "barycentric_quadratic" | "barycentric_quadratic_exact_mid" | "pn_normals" => (false, "per-pixel form: weights stepped by forward differences, quadratic evaluated per pixel"),
-        _ => (false, "per-pixel form: normal stepped by forward differences, then the method's normalisation"),
-    };
-    let drifts = matches!(
-        method,
-        "spherical_angular"
-            | "quadratic_scanline"
-            | "quadratic_scanline_approx_mid"
-            | "bishop_weimer"
-            | "hast_euler"
-    );
+/// The form `method` takes in the software engine: the scanline flag and the drift from the
+/// row's properties ([`Property::SoftwareSpanForm`], [`Property::DriftsWithSpanLength`]), the
+/// words from its kernel ([`SoftwareKernel`], matched exhaustively).
+pub fn form_of(method: &Method) -> Form {
     Form {
-        scanline,
-        drifts,
-        form,
+        scanline: method.has(Property::SoftwareSpanForm),
+        drifts: method.has(Property::DriftsWithSpanLength),
+        form: kernel_words(method.software),
+    }
+}
+
+/// [`form_of`] the method named `name`; a name that is not in the table has no form (neither
+/// flag, and words that say so).
+pub fn form(name: &str) -> Form {
+    crate::method::find(name).map_or(
+        Form {
+            scanline: false,
+            drifts: false,
+            form: "not a method of the table",
+        },
+        form_of,
+    )
+}
+
+/// What a kernel does, in words (`software_forms` of `shadelab list --json`).
+pub fn kernel_words(k: SoftwareKernel) -> &'static str {
+    use SoftwareKernel as K;
+    match k {
+        K::Flat => "one colour per triangle",
+        K::VertexColour => "vertex colours, the colour stepped by forward differences",
+        K::Span(SpanKernel::Slerp) => "per-pixel form along the span: t stepped, sin per pixel (its recurrence is spherical_angular)",
+        K::Span(SpanKernel::Chebyshev) => "Chebyshev recurrence N(k+1) = 2 cos(phi) N(k) - N(k-1), seeded by the closed form",
+        K::Span(SpanKernel::Quadratic { .. }) => "G t^2 + P t + Q by second-order forward differences",
+        K::Span(SpanKernel::Dichotomy(_)) => "the span's grid m/2^K filled by halving, one midpoint per grid point",
+        K::Span(SpanKernel::Segments(_, None)) => "segment ends shaded once, colour stepped by (I_p - I_l)/2^k, last segment extrapolated",
+        K::Span(SpanKernel::Segments(_, Some(_))) => "segment ends normalised, normals inside by halving",
+        K::Span(SpanKernel::BishopWeimer) => "Taylor polynomial per cosine by forward differences (2 additions per cosine per pixel)",
+        K::Span(SpanKernel::HastEuler) => "Euler integration per cosine with the end-error correction (2 additions per cosine per pixel)",
+        K::Quaternion | K::QuaternionLocal => "per-pixel form: quaternion stepped by forward differences, normal recovered per pixel",
+        K::BarycentricQuadratic { .. } | K::PnNormals => "per-pixel form: weights stepped by forward differences, quadratic evaluated per pixel",
+        K::Scaled(_) | K::Mikami(_) | K::HastHalfVector | K::SpecularLut => "per-pixel form: normal stepped by forward differences, then the method's normalisation",
     }
 }
 
@@ -127,174 +141,212 @@ pub fn render_into(
         )));
     }
     let tris = raster::setup(inputs)?;
-    let lit = Lighting32::new(&inputs.params, inputs.light_count);
-    fn run<S: Shader>(targets: &mut Targets, t: &[Tri], s: S, n: usize) -> Result<()> {
-        draw_into(targets, t, &s, n);
-        Ok(())
+    let d = Draw {
+        targets,
+        tris: &tris,
+        lit: Lighting32::new(&inputs.params, inputs.light_count),
+        threads,
+    };
+    use SoftwareKernel as K;
+    match method.software {
+        K::Span(k) => {
+            let lit = d.lit;
+            d.run(SpanShader {
+                along: along(k),
+                lit,
+            })
+        }
+        K::Flat => flat(d),
+        K::VertexColour => vertex_colour(d),
+        K::Scaled(k) => scaled_by(d, k),
+        K::Mikami(b) => mikami_by(d, b),
+        K::HastHalfVector => hast_half_vector(d),
+        K::Quaternion => quaternion(d),
+        K::QuaternionLocal => quaternion_local(d),
+        K::BarycentricQuadratic { exact_mid } => barycentric_quadratic(d, exact_mid),
+        K::PnNormals => pn_normals(d),
+        K::SpecularLut => specular_lut(d),
     }
-    let normal = |t: &Tri| (t.n, ());
-    let span = |along| SpanShader { along, lit };
-    macro_rules! scalar {
-        ($k:expr) => {{
-            run(
-                targets,
-                &tris,
-                stepped(normal, move |v: Vec3, _: &()| {
-                    let m = v * $k(v.dot(v));
-                    (lit.shade(m), n4(m))
-                }),
-                threads,
+    Ok(())
+}
+
+/// One draw: the targets, the set-up triangles, the lighting and the threads.
+struct Draw<'a> {
+    targets: &'a mut Targets,
+    tris: &'a [Tri],
+    lit: Lighting32,
+    threads: usize,
+}
+
+impl Draw<'_> {
+    fn run<S: Shader>(self, s: S) {
+        draw_into(self.targets, self.tris, &s, self.threads);
+    }
+}
+
+/// The span kernel's shader state.
+fn along(k: SpanKernel) -> Along {
+    let root = |r: InvRoot| -> fn(f32) -> f32 {
+        match r {
+            InvRoot::Exact => f::inv_root_exact,
+            InvRoot::Poly1 => f::inv_root_poly1,
+            InvRoot::Poly2 => f::inv_root_poly2,
+        }
+    };
+    match k {
+        SpanKernel::Slerp => Along::Slerp,
+        SpanKernel::Chebyshev => Along::Chebyshev,
+        SpanKernel::Quadratic { approx_mid } => Along::Quadratic { approx_mid },
+        SpanKernel::Dichotomy(r) => Along::Dichotomy(root(r)),
+        SpanKernel::Segments(k, r) => Along::Segments(k, r.map(root)),
+        SpanKernel::BishopWeimer => Along::BishopWeimer,
+        SpanKernel::HastEuler => Along::HastEuler,
+    }
+}
+
+/// [`SoftwareKernel::Scaled`]: each factor a function of the squared length, passed as its own
+/// type so that the draw is compiled for it (no call through a pointer per pixel).
+fn scaled_by(d: Draw, k: Scale) {
+    match k {
+        Scale::Exact => scaled(d, |z: f32| 1.0 / z.sqrt()),
+        Scale::Unnormalised => scaled(d, |_: f32| 1.0),
+        Scale::NewtonRaphson => scaled(d, f::k_newton),
+        Scale::LyonTaylor => scaled(d, f::k_lyon2),
+        Scale::LyonShift => scaled(d, f::k_lyon_shift),
+        Scale::RomanyukPoly => scaled(d, f::k_romanyuk),
+    }
+}
+
+/// [`SoftwareKernel::Mikami`], each beta compiled in like [`scaled_by`]'s factors.
+fn mikami_by(d: Draw, b: MikamiBeta) {
+    match b {
+        MikamiBeta::Const => mikami(d, f::beta_const),
+        MikamiBeta::Linear => mikami(d, f::beta_linear),
+        MikamiBeta::Quadratic => mikami(d, f::beta_quadratic),
+    }
+}
+
+fn normal(t: &Tri) -> ([Vec3; 3], ()) {
+    (t.n, ())
+}
+
+fn flat(d: Draw) {
+    let lit = d.lit;
+    d.run(stepped(
+        |t: &Tri| ([Vec3::ZERO; 3], (lit.shade(t.flat), t.flat)),
+        |_, c: &(Vec3, Vec3)| (c.0, n4(c.1)),
+    ))
+}
+
+fn vertex_colour(d: Draw) {
+    let lit = d.lit;
+    d.run(stepped(
+        |t: &Tri| (t.n.map(|n| lit.shade(n)), ()),
+        |c, _: &()| (c, [0.0; 4]),
+    ))
+}
+
+fn scaled(d: Draw, k: impl Fn(f32) -> f32 + Copy + Sync) {
+    let lit = d.lit;
+    d.run(stepped(normal, move |v: Vec3, _: &()| {
+        let m = v * k(v.dot(v));
+        (lit.shade(m), n4(m))
+    }))
+}
+
+fn mikami(d: Draw, beta: impl Fn(f32) -> f32 + Copy + Sync) {
+    let lit = d.lit;
+    d.run(stepped(normal, move |v: Vec3, _: &()| {
+        let z = v.dot(v);
+        let m = v / f::mikami_sqrt(z, beta(z));
+        (lit.shade(m), n4(m))
+    }))
+}
+
+fn hast_half_vector(d: Draw) {
+    let lit = d.lit;
+    d.run(stepped(
+        |t: &Tri| (t.n, t.flat),
+        move |v, flat: &Vec3| {
+            let m = f::hbb(v, *flat);
+            (lit.shade(m), n4(m))
+        },
+    ))
+}
+
+fn quaternion(d: Draw) {
+    let lit = d.lit;
+    d.run(stepped(
+        |t: &Tri| (t.n.map(f::quat_from_normal), ()),
+        move |q, _: &()| {
+            let m = f::normal_from_quat(q);
+            (lit.shade(m), n4(m))
+        },
+    ))
+}
+
+fn quaternion_local(d: Draw) {
+    let lit = d.lit;
+    d.run(stepped(
+        |t: &Tri| {
+            let (tt, b) = f::onb(t.flat);
+            let q =
+                t.n.map(|v| f::quat_from_normal(Vec3::new(v.dot(tt), v.dot(b), v.dot(t.flat))));
+            (q, (tt, b, t.flat))
+        },
+        move |q, fr: &(Vec3, Vec3, Vec3)| {
+            let l = f::normal_from_quat(q);
+            let m = fr.0 * l.x + fr.1 * l.y + fr.2 * l.z;
+            (lit.shade(m), n4(m))
+        },
+    ))
+}
+
+fn barycentric_quadratic(d: Draw, exact_mid: bool) {
+    let lit = d.lit;
+    let mid = if exact_mid { f::m_ij_exact } else { f::m_ij };
+    d.run(stepped(
+        move |t: &Tri| {
+            let n = t.n;
+            (
+                [Vec3::X, Vec3::Y, Vec3::Z],
+                (n, [mid(n[0], n[1]), mid(n[1], n[2]), mid(n[2], n[0])]),
             )
-        }};
-    }
-    macro_rules! mikami {
-        ($beta:expr) => {{
-            run(
-                targets,
-                &tris,
-                stepped(normal, move |v: Vec3, _: &()| {
-                    let z = v.dot(v);
-                    let m = v / f::mikami_sqrt(z, $beta(z));
-                    (lit.shade(m), n4(m))
-                }),
-                threads,
-            )
-        }};
-    }
-    macro_rules! along {
-        ($a:expr) => {
-            run(targets, &tris, span($a), threads)
-        };
-    }
-    match method.name {
-        "flat" => {
-            let s = stepped(
-                |t: &Tri| ([Vec3::ZERO; 3], (lit.shade(t.flat), t.flat)),
-                |_, d: &(Vec3, Vec3)| (d.0, n4(d.1)),
-            );
-            run(targets, &tris, s, threads)
+        },
+        move |c, q: &([Vec3; 3], [Vec3; 3])| {
+            let m = f::bary_quad(&q.0, &q.1, c);
+            (lit.shade(m), n4(m))
+        },
+    ))
+}
+
+fn pn_normals(d: Draw) {
+    let lit = d.lit;
+    d.run(stepped(
+        |t: &Tri| ([Vec3::X, Vec3::Y, Vec3::Z], (t.n, t.pn)),
+        move |c, q: &([Vec3; 3], [Vec3; 3])| {
+            let m = f::normalize_exact(f::pn_normal(&q.0, &q.1, c));
+            (lit.shade(m), n4(m))
+        },
+    ))
+}
+
+fn specular_lut(d: Draw) {
+    let lit = d.lit;
+    let table = specular_table();
+    let (rows, samples) = (
+        crate::method::formulas::LUT_ROWS,
+        crate::method::formulas::LUT_SAMPLES,
+    );
+    d.run(stepped(normal, move |v, _: &()| {
+        let m = f::normalize_exact(v);
+        let mut c = lit.ambient;
+        for i in 0..lit.count {
+            let dif = m.dot(lit.dirs[2 * i]).max(0.0);
+            let s = m.dot(lit.dirs[2 * i + 1]).max(0.0);
+            let sp = f::lut_lookup(table, rows, samples, lit.shininess, s);
+            c += lit.colors[i] * (lit.diffuse * dif + lit.specular * sp);
         }
-        "gouraud" | "trueform" => {
-            let s = stepped(
-                |t: &Tri| (t.n.map(|n| lit.shade(n)), ()),
-                |c, _: &()| (c, [0.0; 4]),
-            );
-            run(targets, &tris, s, threads)
-        }
-        "phong_exact" => scalar!(|z: f32| 1.0 / z.sqrt()),
-        "phong_unnormalized" => scalar!(|_: f32| 1.0),
-        "newton_raphson" => scalar!(f::k_newton),
-        "lyon_taylor" => scalar!(f::k_lyon2),
-        "lyon_shift" => scalar!(f::k_lyon_shift),
-        "romanyuk_poly" => scalar!(f::k_romanyuk),
-        "mikami_const" => mikami!(f::beta_const),
-        "mikami_linear" => mikami!(f::beta_linear),
-        "mikami_quadratic" => mikami!(f::beta_quadratic),
-        "hast_half_vector" => {
-            let s = stepped(
-                |t: &Tri| (t.n, t.flat),
-                move |v, flat: &Vec3| {
-                    let m = f::hbb(v, *flat);
-                    (lit.shade(m), n4(m))
-                },
-            );
-            run(targets, &tris, s, threads)
-        }
-        "quaternion" => {
-            let s = stepped(
-                |t: &Tri| (t.n.map(f::quat_from_normal), ()),
-                move |q, _: &()| {
-                    let m = f::normal_from_quat(q);
-                    (lit.shade(m), n4(m))
-                },
-            );
-            run(targets, &tris, s, threads)
-        }
-        "quaternion_local" => {
-            let s = stepped(
-                |t: &Tri| {
-                    let (tt, b) = f::onb(t.flat);
-                    let q = t.n.map(|v| {
-                        f::quat_from_normal(Vec3::new(v.dot(tt), v.dot(b), v.dot(t.flat)))
-                    });
-                    (q, (tt, b, t.flat))
-                },
-                move |q, fr: &(Vec3, Vec3, Vec3)| {
-                    let l = f::normal_from_quat(q);
-                    let m = fr.0 * l.x + fr.1 * l.y + fr.2 * l.z;
-                    (lit.shade(m), n4(m))
-                },
-            );
-            run(targets, &tris, s, threads)
-        }
-        "barycentric_quadratic" | "barycentric_quadratic_exact_mid" => {
-            let mid = if method.name == "barycentric_quadratic" {
-                f::m_ij
-            } else {
-                f::m_ij_exact
-            };
-            let s = stepped(
-                move |t: &Tri| {
-                    let n = t.n;
-                    (
-                        [Vec3::X, Vec3::Y, Vec3::Z],
-                        (n, [mid(n[0], n[1]), mid(n[1], n[2]), mid(n[2], n[0])]),
-                    )
-                },
-                move |c, d: &([Vec3; 3], [Vec3; 3])| {
-                    let m = f::bary_quad(&d.0, &d.1, c);
-                    (lit.shade(m), n4(m))
-                },
-            );
-            run(targets, &tris, s, threads)
-        }
-        "pn_normals" => {
-            let s = stepped(
-                |t: &Tri| ([Vec3::X, Vec3::Y, Vec3::Z], (t.n, t.pn)),
-                move |c, d: &([Vec3; 3], [Vec3; 3])| {
-                    let m = f::normalize_exact(f::pn_normal(&d.0, &d.1, c));
-                    (lit.shade(m), n4(m))
-                },
-            );
-            run(targets, &tris, s, threads)
-        }
-        "specular_lut" => {
-            let table = specular_table();
-            let (rows, samples) = (
-                crate::method::formulas::LUT_ROWS,
-                crate::method::formulas::LUT_SAMPLES,
-            );
-            let s = stepped(normal, move |v, _: &()| {
-                let m = f::normalize_exact(v);
-                let mut c = lit.ambient;
-                for i in 0..lit.count {
-                    let d = m.dot(lit.dirs[2 * i]).max(0.0);
-                    let s = m.dot(lit.dirs[2 * i + 1]).max(0.0);
-                    let sp = f::lut_lookup(table, rows, samples, lit.shininess, s);
-                    c += lit.colors[i] * (lit.diffuse * d + lit.specular * sp);
-                }
-                (c, n4(m))
-            });
-            run(targets, &tris, s, threads)
-        }
-        "slerp" => along!(Along::Slerp),
-        "spherical_angular" => along!(Along::Chebyshev),
-        "quadratic_scanline" => along!(Along::Quadratic { approx_mid: false }),
-        "quadratic_scanline_approx_mid" => along!(Along::Quadratic { approx_mid: true }),
-        "dichotomy_exact" => along!(Along::Dichotomy(f::inv_root_exact)),
-        "dichotomy_poly1" => along!(Along::Dichotomy(f::inv_root_poly1)),
-        "dichotomy_poly2" => along!(Along::Dichotomy(f::inv_root_poly2)),
-        "segments_k1" => along!(Along::Segments(1, None)),
-        "segments_k2" => along!(Along::Segments(2, None)),
-        "segments_k3" => along!(Along::Segments(3, None)),
-        "segments_k2_poly1" => along!(Along::Segments(2, Some(f::inv_root_poly1))),
-        "segments_k2_poly2" => along!(Along::Segments(2, Some(f::inv_root_poly2))),
-        "segments_k3_poly1" => along!(Along::Segments(3, Some(f::inv_root_poly1))),
-        "segments_k3_poly2" => along!(Along::Segments(3, Some(f::inv_root_poly2))),
-        "bishop_weimer" => along!(Along::BishopWeimer),
-        "hast_euler" => along!(Along::HastEuler),
-        other => Err(Error::Usage(format!(
-            "the software engine has no form for method {other:?}"
-        ))),
-    }
+        (c, n4(m))
+    }))
 }

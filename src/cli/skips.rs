@@ -1,0 +1,25 @@
+//! `shadelab skips`: what skipping saves on one scene ([`crate::bench::skips`]).
+use std::process::ExitCode;
+
+use super::*;
+use crate::error::{Error, Result};
+
+pub(super) fn cmd_skips(k: SkipsCmd) -> Result<ExitCode> {
+    if k.device.engine == EngineArg::Software {
+        return Err(Error::Usage(
+            "skips measures the Vulkan renderer's draws: use --engine vulkan".into(),
+        ));
+    }
+    let scene = load_scene(&k.scene)?;
+    let r = renderer(&k.device)?;
+    let opts = crate::bench::skips::SkipOptions {
+        repeat: k.repeat,
+        warmup: k.warmup,
+        auto: auto_spec(&r, k.error_budget.budget)?,
+        command_line: std::env::args().collect(),
+    };
+    let report = crate::bench::skips::skips(&r, &scene, &k.out, &opts)?;
+    print!("{}", report.markdown());
+    check_validation(r.context())?;
+    Ok(ExitCode::SUCCESS)
+}
