@@ -10,6 +10,7 @@ pub mod table;
 #[cfg(test)]
 mod tests;
 pub mod twins;
+mod worst;
 
 pub use table::METHODS;
 pub use twins::*;

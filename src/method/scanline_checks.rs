@@ -134,10 +134,11 @@ fn solve(m: &mut [Vec<f64>]) -> Vec<f64> {
             .max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs()))
             .unwrap_or(c);
         m.swap(c, p);
-        for r in c + 1..n {
-            let k = m[r][c] / m[c][c];
-            for j in c..=n {
-                m[r][j] -= k * m[c][j];
+        let pivot = m[c].clone();
+        for row in m.iter_mut().skip(c + 1) {
+            let k = row[c] / pivot[c];
+            for (x, p) in row[c..].iter_mut().zip(&pivot[c..]) {
+                *x -= k * p;
             }
         }
     }
@@ -304,7 +305,7 @@ pub fn segments_diffuse_bound() -> Measurement {
 pub(crate) fn segments_diffuse_bound_with(interpolate: fn(f64, f64) -> f64) -> Measurement {
     let theta = 4.0;
     let brute = segment_diffuse_error(theta, interpolate);
-    let formula = 1.0 - (0.5 * theta as f64).to_radians().cos();
+    let formula = 1.0 - (0.5 * theta).to_radians().cos();
     let agrees = brute.non_finite == 0 && (brute.finite - formula).abs() <= 0.01 * formula;
     Measurement {
         measured: format!(
