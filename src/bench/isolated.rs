@@ -238,14 +238,11 @@ pub fn measure(
         .enumerate()
         .filter(|(_, m)| methods.iter().any(|x| x.name == m.name))
         .map(|(i, m)| {
-            let ratio = (i != e).then(|| {
-                let r: Vec<f64> = slopes[i]
-                    .iter()
-                    .zip(&slopes[e])
-                    .map(|(a, b)| a / b)
-                    .collect();
-                Interval::of(&r)
-            });
+            let ratio = if i == e {
+                None
+            } else {
+                ratio_interval(&slopes[i], &slopes[e])
+            };
             IsolatedCost {
                 name: m.name.to_string(),
                 ns_per_eval: Interval::of(&slopes[i]),
@@ -260,6 +257,20 @@ pub fn measure(
             }
         })
         .collect())
+}
+
+/// The per-round ratios `num[r] / den[r]` of two methods' slopes, median and 95% interval. A
+/// round whose denominator (phong_exact's slope) is not a positive finite number, or whose
+/// numerator is not finite, gives no ratio (a zero or negative slope is noise, not a cost: its
+/// ratio would read as "cheaper"); `None` when no round gives one.
+pub(crate) fn ratio_interval(num: &[f64], den: &[f64]) -> Option<Interval> {
+    let r: Vec<f64> = num
+        .iter()
+        .zip(den)
+        .filter(|(a, b)| a.is_finite() && b.is_finite() && **b > 0.0)
+        .map(|(a, b)| a / b)
+        .collect();
+    (!r.is_empty()).then(|| Interval::of(&r))
 }
 
 /// The methods not dominated by isolated cost: one is dominated only when another has an error
@@ -299,5 +310,18 @@ mod tests {
         assert_eq!(Comparison::of(&iv(0.5, 0.9)), Comparison::Cheaper);
         assert_eq!(Comparison::of(&iv(1.1, 1.3)), Comparison::Dearer);
         assert_eq!(Comparison::of(&iv(0.9, 1.1)), Comparison::Indistinguishable);
+    }
+
+    /// Teeth: a zero or negative phong_exact slope gives no ratio, never "cheaper".
+    #[test]
+    fn ratios_need_a_positive_denominator() {
+        let r = ratio_interval(&[1.0, 1.1, 0.9], &[2.0, 2.0, 2.0]).unwrap();
+        assert_eq!(Comparison::of(&r), Comparison::Cheaper);
+        assert!((r.median - 0.5).abs() < 1e-12);
+        assert!(ratio_interval(&[1.0, 1.1, 0.9], &[0.0, -2.0, -1.0]).is_none());
+        assert!(ratio_interval(&[1.0; 3], &[f64::NAN, f64::INFINITY, 0.0]).is_none());
+        // the rounds with a positive denominator alone are used
+        let r = ratio_interval(&[3.0, 1.0, 3.0], &[-1.0, 1.0, 0.0]).unwrap();
+        assert_eq!((r.median, r.ci95_low, r.ci95_high), (1.0, 1.0, 1.0));
     }
 }

@@ -477,7 +477,8 @@ pub fn bench(
         }
     }
     let front_isolated = isolated::pareto_front(&rows, &errors);
-    let claims = claims::claims(&rows, &floor);
+    let len2 = claims::interpolated_len2_range(&prepared.base().inputs.view_normals);
+    let claims = claims::claims(&rows, &floor, len2);
 
     let mut sweeps = Vec::new();
     for &sw in &opts.sweeps {
