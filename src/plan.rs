@@ -206,6 +206,7 @@ pub fn auto_order(
         rounds: 7,
         warmup: 1,
         invocations: 4096,
+        ..Default::default()
     };
     let costs = crate::bench::isolated::measure(ctx, &ms, &opts, &|_| {})?;
     let mut order: Vec<(&'static crate::method::Method, f64)> = ms

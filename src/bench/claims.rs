@@ -55,6 +55,10 @@ pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> Claim
             Verdict::Inconclusive,
             "no round gave a finite ratio (see ratio_non_finite): nothing to judge",
         ),
+        Speed::TooNoisy => (
+            Verdict::Inconclusive,
+            "the machine is too noisy: phong_exact_control came out faster or slower than phong_exact across runs, so no speed verdict is given",
+        ),
     };
     ClaimCheck {
         method: r.name.clone(),
@@ -311,7 +315,7 @@ pub(crate) fn cheaper_isolated(r: &MethodTiming) -> ClaimCheck {
             match c {
                 Comparison::Cheaper => Verdict::Agrees,
                 Comparison::Dearer => Verdict::Disagrees,
-                Comparison::Indistinguishable => Verdict::Inconclusive,
+                Comparison::Indistinguishable | Comparison::TooNoisy => Verdict::Inconclusive,
             },
             format!(
                 "{} / phong_exact isolated cost per round: median {:.4}, 95% interval [{:.4}, {:.4}] ({c:?})",

@@ -8,7 +8,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::median_ci;
 use crate::error::{Error, Result};
@@ -30,6 +30,9 @@ pub struct IsolatedOptions {
     pub warmup: usize,
     /// Invocations per dispatch.
     pub invocations: usize,
+    /// Also time phong_exact's kernels a second time, as `phong_exact_control` (an A/A
+    /// control: its ratio to phong_exact is the noise floor of `bench --runs`).
+    pub control: bool,
 }
 
 impl Default for IsolatedOptions {
@@ -38,12 +41,13 @@ impl Default for IsolatedOptions {
             rounds: 21,
             warmup: 2,
             invocations: 16384,
+            control: false,
         }
     }
 }
 
 /// A median with its distribution-free 95% interval.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Interval {
     pub median: f64,
     pub ci95_low: f64,
@@ -63,12 +67,15 @@ impl Interval {
 
 /// Cheaper, dearer or indistinguishable from phong_exact's evaluation: from whether the paired
 /// ratio's 95% interval lies below 1, above 1, or holds 1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Comparison {
     Cheaper,
     Dearer,
     Indistinguishable,
+    /// `bench --runs`: phong_exact_control's isolated cost came out cheaper or dearer than
+    /// phong_exact's across runs; nothing is judged.
+    TooNoisy,
 }
 
 impl Comparison {
@@ -84,7 +91,7 @@ impl Comparison {
 }
 
 /// One method's isolated cost.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct IsolatedCost {
     pub name: String,
     /// ns per evaluation (per-round slopes: median and 95% interval).
@@ -165,6 +172,11 @@ pub fn measure(
     if !list.iter().any(|m| m.name == exact.name) {
         list.insert(0, exact);
     }
+    // The control: phong_exact's kernels again, last.
+    let control = opts.control.then_some(list.len());
+    if control.is_some() {
+        list.push(exact);
+    }
     let (cases, gpu) = timed_cases(opts.invocations)?;
     let mut timed = Vec::with_capacity(list.len());
     let mut k1_diff = Vec::with_capacity(list.len());
@@ -236,7 +248,7 @@ pub fn measure(
     Ok(list
         .iter()
         .enumerate()
-        .filter(|(_, m)| methods.iter().any(|x| x.name == m.name))
+        .filter(|&(i, m)| Some(i) == control || methods.iter().any(|x| x.name == m.name))
         .map(|(i, m)| {
             let ratio = if i == e {
                 None
@@ -244,7 +256,11 @@ pub fn measure(
                 ratio_interval(&slopes[i], &slopes[e])
             };
             IsolatedCost {
-                name: m.name.to_string(),
+                name: if Some(i) == control {
+                    crate::gpu::Shading::Control(m).name()
+                } else {
+                    m.name.to_string()
+                },
                 ns_per_eval: Interval::of(&slopes[i]),
                 versus_phong_exact: ratio.as_ref().map(Comparison::of),
                 ratio_to_phong_exact: ratio,

@@ -17,6 +17,7 @@ pub mod clock;
 pub mod isolated;
 pub mod report;
 pub mod rounds;
+pub mod runs;
 pub mod skips;
 pub mod software;
 pub mod sweep;
@@ -26,6 +27,7 @@ mod tests;
 pub use clock::*;
 pub use report::*;
 pub use rounds::{RoundsReport, Stop};
+pub use runs::Runs;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -99,6 +101,8 @@ pub struct BenchOptions {
     /// `auto` (named `auto`) and the points of its budget curve (`auto_<k>_255`, `auto_1_<k>`), timed and
     /// judged like the methods.
     pub auto: Vec<crate::scene::auto::AutoSpec>,
+    /// One run in this process, or N fresh processes ([`runs`]).
+    pub runs: Runs,
 }
 
 impl Default for BenchOptions {
@@ -116,6 +120,7 @@ impl Default for BenchOptions {
             fail_slower_pct: None,
             command_line: Vec::new(),
             auto: Vec::new(),
+            runs: Runs::One,
         }
     }
 }
@@ -266,23 +271,25 @@ fn programs<'a>(
     out
 }
 
-/// Runs the bench and writes DIR/bench.json, bench.csv, pareto.svg/png, claims.json/md (and
-/// sweep files).
-pub fn bench(
+/// What every run of a bench times: the methods with the references, the clock, the prepared
+/// scene and `auto`'s scenes.
+struct Setup {
+    all: Vec<&'static Method>,
+    exact: &'static Method,
+    clock: ClockCheck,
+    prepared: Prepared,
+    autos: Vec<(String, crate::gpu::AutoScene)>,
+    auto_summaries: Vec<crate::scene::auto::AutoSummary>,
+}
+
+/// The methods with phong_exact and phong_unnormalized added, the clock (checked now, or the
+/// parent's in a measurement run), the prepared scene and `auto`'s choices.
+fn setup(
     renderer: &Renderer,
     scene: &Scene,
     methods_: &[&'static Method],
-    out: &Path,
     opts: &BenchOptions,
-) -> Result<BenchReport> {
-    let start = Instant::now();
-    check_options(opts)?;
-    // Read the baseline first: a bad path must not cost a whole run.
-    let baseline = opts
-        .baseline
-        .as_ref()
-        .map(|p| baseline::load(p).map(|v| (p, v)))
-        .transpose()?;
+) -> Result<Setup> {
     let exact = method::find("phong_exact")?;
     let unnormalized = method::find("phong_unnormalized")?;
     let mut all = methods_.to_vec();
@@ -291,9 +298,19 @@ pub fn bench(
             all.push(m);
         }
     }
-    eprintln!("bench: checking the clock at sizes {SIZES:?}");
-    let clock = check_clock(renderer, scene)?;
-    eprintln!("bench: clock = {} ({})", clock.clock, clock.reason);
+    let clock = match &opts.runs {
+        Runs::Child { clock, .. } => ClockCheck {
+            clock: clock.clone(),
+            reason: "chosen by the parent run's clock check".into(),
+            points: Vec::new(),
+        },
+        _ => {
+            eprintln!("bench: checking the clock at sizes {SIZES:?}");
+            let clock = check_clock(renderer, scene)?;
+            eprintln!("bench: clock = {} ({})", clock.clock, clock.reason);
+            clock
+        }
+    };
 
     let prepared = renderer.prepare(scene, &all)?;
     let mut autos = Vec::new();
@@ -324,14 +341,145 @@ pub fn bench(
             renderer.prepare_auto(scene, &spec.order, &pick)?,
         ));
     }
-    let programs = programs(&prepared, &all, opts.control.then_some(exact), &autos);
+    Ok(Setup {
+        all,
+        exact,
+        clock,
+        prepared,
+        autos,
+        auto_summaries,
+    })
+}
+
+/// Whether the programs include `phong_exact_control`: asked for, or a bench of several runs
+/// (their noise floor).
+fn with_control(opts: &BenchOptions) -> bool {
+    opts.control || !matches!(opts.runs, Runs::One)
+}
+
+/// One measurement run of a `--runs N` bench, in this (fresh) process: the programs' warm-up
+/// and rounds and the isolated costs, written to `file` for the parent ([`runs`]).
+pub fn measure_run(
+    renderer: &Renderer,
+    scene: &Scene,
+    methods_: &[&'static Method],
+    opts: &BenchOptions,
+) -> Result<()> {
+    check_options(opts)?;
+    let Runs::Child { file, .. } = &opts.runs else {
+        return Err(Error::Internal(
+            "measure_run outside a run of a --runs bench".into(),
+        ));
+    };
+    let s = setup(renderer, scene, methods_, opts)?;
+    let programs = programs(&s.prepared, &s.all, Some(s.exact), &s.autos);
+    let (samples, rounds) = time_rounds(renderer, &programs, &s.clock.clock, opts)?;
+    let methods: Vec<&'static Method> = s.all.clone();
+    let isolated = isolated_costs(renderer, &methods, opts)?;
+    runs::RunFigures {
+        rounds: rounds.rounds,
+        timing_s: rounds.timing_s,
+        programs: programs
+            .iter()
+            .zip(&samples)
+            .map(|(p, s)| runs::ProgramRounds::new(&p.name, s))
+            .collect(),
+        isolated,
+    }
+    .write(file)
+}
+
+/// The isolated cost of `methods` (with the control in a bench of several runs), or nothing
+/// with `isolated_rounds` 0.
+fn isolated_costs(
+    renderer: &Renderer,
+    methods: &[&'static Method],
+    opts: &BenchOptions,
+) -> Result<Vec<isolated::IsolatedCost>> {
+    if opts.isolated_rounds == 0 {
+        return Ok(Vec::new());
+    }
+    let iso_opts = isolated::IsolatedOptions {
+        rounds: opts.isolated_rounds,
+        control: !matches!(opts.runs, Runs::One),
+        ..isolated::IsolatedOptions::default()
+    };
+    let bar = crate::output::progress_bar(true, 0);
+    let costs = isolated::measure(renderer.context(), methods, &iso_opts, &|msg| {
+        bar.set_message(format!("isolated cost: {msg}"));
+        bar.tick();
+    })?;
+    bar.finish_and_clear();
+    Ok(costs)
+}
+
+/// The timed rounds of every program: in this process (one run), or pooled from `--runs N`
+/// fresh processes (run after run, each in its own rounds) with each run's figures.
+fn timed(
+    renderer: &Renderer,
+    programs: &[Program],
+    clock: &str,
+    opts: &BenchOptions,
+) -> Result<(
+    Vec<Vec<crate::gpu::Sample>>,
+    RoundsReport,
+    Vec<runs::RunFigures>,
+)> {
+    let Runs::Many { count, launcher } = &opts.runs else {
+        let (samples, report) = time_rounds(renderer, programs, clock, opts)?;
+        return Ok((samples, report, Vec::new()));
+    };
+    let figures = runs::run_all(*count, launcher, clock)?;
+    let samples: Vec<Vec<crate::gpu::Sample>> = programs
+        .iter()
+        .map(|p| figures.iter().flat_map(|f| f.samples_of(&p.name)).collect())
+        .collect();
+    let rounds = samples.first().map_or(0, Vec::len);
+    let timing_s = figures.iter().map(|f| f.timing_s).sum();
+    let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
+    let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
+    let phong = names.iter().position(|n| n == "phong_exact").unwrap_or(0);
+    let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
+    let (p, f) = ratios(&values, phong, &floors);
+    let report = RoundsReport::new(
+        opts,
+        rounds,
+        Stop::FixedRepeat,
+        timing_s,
+        widest(&names, &p, &f),
+    );
+    Ok((samples, report, figures))
+}
+
+/// Runs the bench and writes DIR/bench.json, bench.csv, pareto.svg/png, claims.json/md (and
+/// sweep files). With `--runs N` the timing comes from N fresh processes ([`runs`]) and the
+/// verdicts from the interval across them.
+pub fn bench(
+    renderer: &Renderer,
+    scene: &Scene,
+    methods_: &[&'static Method],
+    out: &Path,
+    opts: &BenchOptions,
+) -> Result<BenchReport> {
+    let start = Instant::now();
+    check_options(opts)?;
+    // Read the baseline first: a bad path must not cost a whole run.
+    let baseline = opts
+        .baseline
+        .as_ref()
+        .map(|p| baseline::load(p).map(|v| (p, v)))
+        .transpose()?;
+    let s = setup(renderer, scene, methods_, opts)?;
+    let (all, clock) = (&s.all, s.clock.clone());
+    let control = with_control(opts).then_some(s.exact);
+    let programs = programs(&s.prepared, all, control, &s.autos);
     let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
     let phong = names
         .iter()
         .position(|n| n == "phong_exact")
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
-    let (samples, rounds_report) = time_rounds(renderer, &programs, &clock.clock, opts)?;
+    let (samples, rounds_report, run_figures) = timed(renderer, &programs, &clock.clock, opts)?;
     let values: Vec<Vec<f64>> = samples
         .iter()
         .map(|s| round_values(s, &clock.clock))
@@ -350,68 +498,26 @@ pub fn bench(
         auto: opts.auto.clone(),
         ..CompareOptions::default()
     };
-    let summary = compare::compare(renderer, scene, &all, out, &copts)?;
-
+    let summary = compare::compare(renderer, scene, all, out, &copts)?;
     let mut rows = Vec::new();
     for (i, p) in programs.iter().enumerate() {
-        // Coverage from each image itself.
-        let frame = p.render(renderer)?;
-        let (e, used_clock, wall, ts) = estimate(&samples[i], &clock.clock);
-        let covered = frame.covered();
-        // The control's error is phong_exact's (the same program); auto's is its own.
-        let judged = p.method().map_or(p.name.as_str(), |m| m.name);
-        let error = match p.what {
-            What::Floor => None,
-            _ => summary.methods.iter().find(|r| r.name == judged).cloned(),
+        let (rp, rf) = (&to_phong[i], &to_floor[i]);
+        let ops = match p.what {
+            What::Auto(_) => None,
+            _ => static_ops(
+                p.method().map_or("constant", |m| m.name),
+                scene.interpolation,
+            ),
         };
-        let (rp, rf) = (to_phong[i], to_floor[i]);
-        rows.push(MethodTiming {
-            name: p.name.clone(),
-            floor_program: names[p.floor].clone(),
-            median_ms: e.median,
-            ci95_low_ms: e.ci95_low,
-            ci95_high_ms: e.ci95_high,
-            samples: e.samples,
-            clock: used_clock.into(),
-            wall_median_ms: wall,
-            timestamp_median_ms: ts,
-            covered_pixels: covered,
-            fragment_invocations: invocations[i],
-            invocations_exact: invocations[i].map(|n| n as usize == covered),
-            overdraw: invocations[i]
-                .filter(|_| covered > 0)
-                .map(|n| n as f64 / covered as f64),
-            ns_per_pixel: e.median * 1e6 / covered.max(1) as f64,
-            above_floor_ms: 0.0,
-            ratio_to_phong_exact: 0.0,
-            ratio_above_floor_to_phong_exact: 0.0,
-            ratio_median: rp.median,
-            ratio_ci95_low: rp.ci95_low,
-            ratio_ci95_high: rp.ci95_high,
-            ratio_rounds: rp.rounds,
-            ratio_non_finite: rp.non_finite,
-            ratio_confidence: rp.confidence,
-            ratio_to_floor_median: rf.median,
-            ratio_to_floor_ci95_low: rf.ci95_low,
-            ratio_to_floor_ci95_high: rf.ci95_high,
-            ratio_to_floor_non_finite: rf.non_finite,
-            speed_vs_phong_exact: Speed::from_ratio(&rp),
-            static_ops: match p.what {
-                What::Auto(_) => None,
-                _ => static_ops(
-                    p.method().map_or("constant", |m| m.name),
-                    scene.interpolation,
-                ),
-            },
-            static_ops_above_unnormalized: None,
-            error,
-            isolated_ns_per_eval: None,
-            isolated_ci95_low_ns: None,
-            isolated_ci95_high_ns: None,
-            isolated_ratio_to_phong_exact: None,
-            isolated_vs_phong_exact: None,
-            isolated_k1_max_abs_diff_vs_f64: None,
-        });
+        let mut r = timing_row(renderer, p, &samples[i], &clock.clock, (rp, rf), &summary)?;
+        r.floor_program = names[p.floor].clone();
+        r.fragment_invocations = invocations[i];
+        r.invocations_exact = invocations[i].map(|n| n as usize == r.covered_pixels);
+        r.overdraw = invocations[i]
+            .filter(|_| r.covered_pixels > 0)
+            .map(|n| n as f64 / r.covered_pixels as f64);
+        r.static_ops = ops;
+        rows.push(r);
     }
     let medians: Vec<f64> = rows.iter().map(|r| r.median_ms).collect();
     let (phong_ms, floor_ms) = (medians[phong], medians[0]);
@@ -429,6 +535,8 @@ pub fn bench(
             _ => None,
         };
     }
+    let runs_report =
+        (!run_figures.is_empty()).then(|| runs::apply(&mut rows, &run_figures, &clock.clock));
     // Split: the floors (programs without a method), then the methods with their round values.
     let is_floor: Vec<bool> = programs
         .iter()
@@ -446,38 +554,27 @@ pub fn bench(
         }
     }
     let floor = floors_rows.remove(0);
-    let rows = method_rows;
+    let mut rows = method_rows;
     let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| e.metric(&opts.error_metric));
     let errors: Vec<f64> = rows.iter().map(|r| metric(r).unwrap_or(f64::NAN)).collect();
     let front: Vec<String> = pareto_front_paired(&errors, &method_values)
         .into_iter()
         .map(|i| rows[i].name.clone())
         .collect();
-    let auto_curve = auto_points(&rows, &errors, &method_values, &auto_summaries);
-    let mut rows = rows;
-    if opts.isolated_rounds > 0 {
+    let auto_curve = auto_points(&rows, &errors, &method_values, &s.auto_summaries);
+    if run_figures.is_empty() {
         let methods: Vec<&'static Method> = rows
             .iter()
             .filter_map(|r| crate::method::find(&r.name).ok())
             .collect();
-        let iso_opts = isolated::IsolatedOptions {
-            rounds: opts.isolated_rounds,
-            ..isolated::IsolatedOptions::default()
-        };
-        let bar = crate::output::progress_bar(true, 0);
-        let costs = isolated::measure(renderer.context(), &methods, &iso_opts, &|msg| {
-            bar.set_message(format!("isolated cost: {msg}"));
-            bar.tick();
-        })?;
-        bar.finish_and_clear();
-        for c in &costs {
+        for c in &isolated_costs(renderer, &methods, opts)? {
             if let Some(r) = rows.iter_mut().find(|r| r.name == c.name) {
                 r.set_isolated(c);
             }
         }
     }
     let front_isolated = isolated::pareto_front(&rows, &errors);
-    let len2 = claims::interpolated_len2_range(&prepared.base().inputs.view_normals);
+    let len2 = claims::interpolated_len2_range(&s.prepared.base().inputs.view_normals);
     let claims = claims::claims(&rows, &floor, len2);
 
     let mut sweeps = Vec::new();
@@ -495,11 +592,16 @@ pub fn bench(
         scene: scene.name.clone(),
         width: scene.width,
         height: scene.height,
-        triangles: prepared.base().inputs.triangle_count(),
+        triangles: s.prepared.base().inputs.triangle_count(),
         repeat: opts.repeat,
         warmup: opts.warmup,
         rounds: rounds_report,
-        ratio_interval: RATIO_INTERVAL.into(),
+        runs: runs_report,
+        ratio_interval: if run_figures.is_empty() {
+            RATIO_INTERVAL.into()
+        } else {
+            runs::RUNS_INTERVAL.into()
+        },
         clock,
         error_metric: opts.error_metric.clone(),
         floor,
@@ -508,7 +610,7 @@ pub fn bench(
         pareto_front: front,
         pareto_front_isolated: front_isolated,
         claims,
-        auto: auto_summaries,
+        auto: s.auto_summaries.clone(),
         auto_curve,
         sweeps,
         baseline: None,
@@ -526,6 +628,70 @@ pub fn bench(
     report.total_s = start.elapsed().as_secs_f64();
     write(out, &report)?;
     Ok(report)
+}
+
+/// A program's row from its rounds, its image and compare's statistics (the fields that need
+/// every row, the invocations and the op counts are filled in by [`bench`]).
+fn timing_row(
+    renderer: &Renderer,
+    p: &Program,
+    samples: &[crate::gpu::Sample],
+    clock: &str,
+    (rp, rf): (&RatioEstimate, &RatioEstimate),
+    summary: &compare::Summary,
+) -> Result<MethodTiming> {
+    // Coverage from each image itself.
+    let frame = p.render(renderer)?;
+    let (e, used_clock, wall, ts) = estimate(samples, clock);
+    let covered = frame.covered();
+    // The control's error is phong_exact's (the same program); auto's is its own.
+    let judged = p.method().map_or(p.name.as_str(), |m| m.name);
+    let error = match p.what {
+        What::Floor => None,
+        _ => summary.methods.iter().find(|r| r.name == judged).cloned(),
+    };
+    Ok(MethodTiming {
+        name: p.name.clone(),
+        floor_program: String::new(),
+        median_ms: e.median,
+        ci95_low_ms: e.ci95_low,
+        ci95_high_ms: e.ci95_high,
+        samples: e.samples,
+        clock: used_clock.into(),
+        wall_median_ms: wall,
+        timestamp_median_ms: ts,
+        covered_pixels: covered,
+        fragment_invocations: None,
+        invocations_exact: None,
+        overdraw: None,
+        ns_per_pixel: e.median * 1e6 / covered.max(1) as f64,
+        above_floor_ms: 0.0,
+        ratio_to_phong_exact: 0.0,
+        ratio_above_floor_to_phong_exact: 0.0,
+        ratio_median: rp.median,
+        ratio_ci95_low: rp.ci95_low,
+        ratio_ci95_high: rp.ci95_high,
+        ratio_rounds: rp.rounds,
+        ratio_non_finite: rp.non_finite,
+        ratio_confidence: rp.confidence,
+        ratio_to_floor_median: rf.median,
+        ratio_to_floor_ci95_low: rf.ci95_low,
+        ratio_to_floor_ci95_high: rf.ci95_high,
+        ratio_to_floor_non_finite: rf.non_finite,
+        speed_vs_phong_exact: Speed::from_ratio(rp),
+        static_ops: None,
+        static_ops_above_unnormalized: None,
+        error,
+        isolated_ns_per_eval: None,
+        isolated_ci95_low_ns: None,
+        isolated_ci95_high_ns: None,
+        isolated_ratio_to_phong_exact: None,
+        isolated_vs_phong_exact: None,
+        isolated_k1_max_abs_diff_vs_f64: None,
+        runs: None,
+        isolated_runs: None,
+        run_figures: Vec::new(),
+    })
 }
 
 /// Every `auto` row against the fixed methods (rows that are not `auto`), by the paired rule of
@@ -578,6 +744,18 @@ fn check_options(opts: &BenchOptions) -> Result<()> {
     }
     if opts.repeat == 0 {
         return Err(Error::Usage("--repeat must be at least 1".into()));
+    }
+    if let Runs::Many { count, .. } = &opts.runs {
+        if *count < 2 {
+            return Err(Error::Usage(format!(
+                "several runs need at least 2, got {count}"
+            )));
+        }
+        if opts.until_ci_pct.is_some() {
+            return Err(Error::Usage(
+                "--until-ci adds rounds within one run: use it with --runs 1".into(),
+            ));
+        }
     }
     let positive = |v: f64| v.is_finite() && v > 0.0;
     if let Some(p) = opts.until_ci_pct.filter(|p| !positive(*p)) {

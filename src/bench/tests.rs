@@ -271,6 +271,9 @@ fn row(name: &str, median: f64, ratio: (f64, f64, f64)) -> MethodTiming {
         isolated_ratio_to_phong_exact: None,
         isolated_vs_phong_exact: None,
         isolated_k1_max_abs_diff_vs_f64: None,
+        runs: None,
+        isolated_runs: None,
+        run_figures: Vec::new(),
     }
 }
 

@@ -4,6 +4,35 @@ use std::process::ExitCode;
 
 use super::*;
 use crate::error::{Error, Result};
+
+/// `--runs`: one run here, N fresh processes of this binary with the same arguments, or (with
+/// [`crate::bench::runs::RUN_FILE_ENV`] set by such a parent) one of those runs.
+pub(super) fn bench_runs(runs: Option<usize>, software: bool) -> Result<crate::bench::Runs> {
+    use crate::bench::runs::{Launcher, CLOCK_ENV, DEFAULT_RUNS, RUN_FILE_ENV};
+    use crate::bench::Runs;
+    if let Some(file) = std::env::var_os(RUN_FILE_ENV) {
+        return Ok(Runs::Child {
+            file: file.into(),
+            clock: std::env::var(CLOCK_ENV).unwrap_or_else(|_| "wall".into()),
+        });
+    }
+    match (runs, software) {
+        (Some(0), _) => Err(Error::Usage("--runs must be at least 1".into())),
+        (Some(n), true) if n > 1 => Err(Error::Usage(
+            "--runs N > 1 is measured by the Vulkan bench only: use --runs 1 with --engine software"
+                .into(),
+        )),
+        (None, true) | (Some(1), _) => Ok(Runs::One),
+        (n, false) | (n @ Some(_), true) => Ok(Runs::Many {
+            count: n.unwrap_or(DEFAULT_RUNS),
+            launcher: Launcher {
+                exe: std::env::current_exe().map_err(|e| Error::io(Path::new("shadelab"), e))?,
+                args: std::env::args().skip(1).collect(),
+            },
+        }),
+    }
+}
+
 pub(super) fn cmd_bench(
     scene_args: &SceneArgs,
     dev: &DeviceArgs,
@@ -68,6 +97,10 @@ pub(super) fn cmd_bench(
             }
         }
         opts.auto = specs;
+    }
+    if matches!(opts.runs, crate::bench::Runs::Child { .. }) {
+        crate::bench::measure_run(&r, &scene, &methods, &opts)?;
+        return Ok(ExitCode::SUCCESS);
     }
     let report = crate::bench::bench(&r, &scene, &methods, out, &opts)?;
     println!(
@@ -169,6 +202,20 @@ pub(super) fn cmd_bench(
                 format!("beaten by {}", a.beaten_by.join(", "))
             },
             chosen.join(", ")
+        );
+    }
+    if let Some(runs) = &report.runs {
+        println!(
+            "{} runs, each a fresh process; speed from the interval across runs (coverage {:.2} %), \
+             beyond phong_exact_control's spread +-{:.2} %{}",
+            runs.count,
+            runs.confidence * 100.0,
+            runs.control.spread * 100.0,
+            if runs.note.is_empty() {
+                String::new()
+            } else {
+                format!("; {}", runs.note)
+            }
         );
     }
     let rr = &report.rounds;

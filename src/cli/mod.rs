@@ -12,7 +12,7 @@ mod shaders;
 mod stress;
 mod verify;
 
-use self::bench::cmd_bench;
+use self::bench::{bench_runs, cmd_bench};
 use self::compare::cmd_compare;
 use self::demo::cmd_demo;
 use self::list::cmd_list;
@@ -224,9 +224,16 @@ enum Command {
         /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
-        /// Timed submissions per program (interleaved rounds).
-        #[arg(long, default_value_t = 40)]
-        repeat: usize,
+        /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
+        /// --runs 1, 10 with more runs).
+        #[arg(long)]
+        repeat: Option<usize>,
+        /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,
+        /// warm-up and rounds); the verdicts come from the interval across runs, against
+        /// phong_exact_control's spread (default 5; 1: one run in this process; the software
+        /// engine: 1).
+        #[arg(long, value_name = "N")]
+        runs: Option<usize>,
         /// Discarded submissions per program (the first includes lavapipe's shader JIT).
         #[arg(long, default_value_t = 3)]
         warmup: usize,
@@ -262,8 +269,9 @@ enum Command {
         fail_slower: Option<f64>,
         /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
         /// 1, 16, 64 times per invocation; 0: skip it).
-        #[arg(long, value_name = "N", default_value_t = crate::bench::isolated::IsolatedOptions::default().rounds)]
-        isolated_rounds: usize,
+        /// (default: 21 with --runs 1, 7 per run with more runs).
+        #[arg(long, value_name = "N")]
+        isolated_rounds: Option<usize>,
         /// The error budget of `auto` (in --methods): max abs colour error, linear; `4/255`
         /// style fractions accepted.
         #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
@@ -489,6 +497,7 @@ pub fn run() -> Result<ExitCode> {
             methods,
             out,
             repeat,
+            runs,
             warmup,
             error_metric,
             control,
@@ -510,8 +519,14 @@ pub fn run() -> Result<ExitCode> {
             } else {
                 None
             };
+            let runs = bench_runs(runs, device.engine == EngineArg::Software)?;
+            let many = !matches!(runs, crate::bench::Runs::One);
             let opts = crate::bench::BenchOptions {
-                repeat,
+                repeat: repeat.unwrap_or(if many {
+                    crate::bench::runs::RUN_REPEAT
+                } else {
+                    crate::bench::BenchOptions::default().repeat
+                }),
                 warmup,
                 error_metric,
                 control,
@@ -521,8 +536,13 @@ pub fn run() -> Result<ExitCode> {
                 baseline,
                 fail_slower_pct: fail_slower,
                 command_line: std::env::args().collect(),
-                isolated_rounds,
+                isolated_rounds: isolated_rounds.unwrap_or(if many {
+                    crate::bench::runs::RUN_ISOLATED_ROUNDS
+                } else {
+                    crate::bench::BenchOptions::default().isolated_rounds
+                }),
                 auto: Vec::new(),
+                runs,
             };
             cmd_bench(
                 &scene,
