@@ -54,16 +54,29 @@ pub(super) fn cmd_bench(
                     .into(),
             ));
         }
+        let vulkan_only = [
+            ("--sweep", !opts.sweeps.is_empty()),
+            ("--baseline", opts.baseline.is_some()),
+            ("--control", opts.control),
+        ];
+        if let Some((flag, _)) = vulkan_only.iter().find(|(_, given)| *given) {
+            return Err(Error::Usage(format!(
+                "{flag} is not measured by bench --engine software (the Vulkan bench has it): \
+                 use --engine vulkan"
+            )));
+        }
         let sw = crate::bench::software::SoftwareOptions {
+            rounds: opts.rounds_plan(),
             threads: threads.map_or_else(crate::software::default_threads, |n| n as usize),
             vulkan_bench: vulkan_bench.map(Path::to_path_buf),
+            command_line: opts.command_line.clone(),
         };
         let vk = if vulkan_paired {
             Some(vulkan_renderer(dev)?)
         } else {
             None
         };
-        let report = crate::bench::software::bench(&scene, &methods, out, &opts, &sw, vk.as_ref())?;
+        let report = crate::bench::software::bench(&scene, &methods, out, &sw, vk.as_ref())?;
         print!("{}", crate::bench::software::table(&report));
         if let Some(r) = &vk {
             check_validation(r.context())?;

@@ -132,6 +132,20 @@ pub(crate) struct VulkanRatios {
 }
 
 impl VulkanRatios {
+    /// lavapipe's median frame time per method, when timed in the same rounds (else none).
+    pub fn medians(&self) -> Vec<(String, f64)> {
+        self.same_rounds
+            .as_ref()
+            .map(|(names, vk)| {
+                names
+                    .iter()
+                    .zip(vk)
+                    .map(|(n, v)| (n.clone(), crate::analysis::stats::median_ci(v).median))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
     /// Reads `path`; refuses a bench.json of another engine (`engine` other than `vulkan`; a
     /// bench.json without the field was written by the Vulkan bench).
     pub fn load(path: &Path) -> Result<Self> {
