@@ -8,7 +8,7 @@
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
 //! | report | [`report`] | the main job: compare, bench and stress per scene, one offline HTML page |
 //! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain |
-//! | judgement | [`analysis`], [`truth`] | per-pixel error (one definition), statistics; f64 truth and bound |
+//! | judgement | [`analysis`], [`truth`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; `auto`'s budget, candidates and per-triangle choice |
 //! | device | [`gpu`], [`software`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form) |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
@@ -34,6 +34,7 @@
 //! Vulkan objects own an `Arc` of their [`gpu::vk::Context`]; every submission waits on its fence,
 //! so nothing is in flight when a call returns (see [`gpu::vk`]).
 pub mod analysis;
+pub mod auto;
 pub mod bench;
 pub mod cli;
 pub mod compare;

@@ -108,20 +108,9 @@ pub struct Plan {
     pub auto: Option<AutoChoice>,
 }
 
-/// The methods `auto` chooses from (gouraud and flat included), ordered at run time by their
-/// measured isolated cost.
-pub const AUTO_CANDIDATES: [&str; 5] = [
-    "gouraud",
-    "flat",
-    "phong_unnormalized",
-    "newton_raphson",
-    "phong_exact",
-];
-pub use crate::scene::auto::{choose, AUTO_GRID, AUTO_MARGIN};
-
-/// The choice of `auto`: per triangle, the cheapest candidate whose f64 error on that triangle
-/// (max over a barycentric grid of samples and the colour channels, against exact Phong with
-/// the scene's lighting), times 1 + [`AUTO_MARGIN`], stays within the budget.
+/// The choice of `auto` ([`crate::auto`]): per triangle, the cheapest candidate whose f64 error
+/// on that triangle ([`crate::auto::colour_error`], max over a barycentric grid of samples,
+/// against exact Phong with the scene's lighting), times 1 + margin, stays within the budget.
 #[derive(Debug, Clone, Serialize)]
 pub struct AutoChoice {
     pub budget: f64,
@@ -193,67 +182,53 @@ fn d3(v: [f32; 3]) -> DVec3 {
     DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
 }
 
-/// The candidates of `auto` ordered by isolated cost measured now on `ctx` (cheapest first),
-/// with the costs; phong_exact stays last as the fallback whatever it costs.
+/// The candidates of `auto` ordered by isolated cost measured now on `ctx` (cheapest first,
+/// [`crate::auto::order_by_cost`]), with the costs (ns per evaluation, median).
 pub fn auto_order(
     ctx: &std::sync::Arc<crate::gpu::vk::Context>,
 ) -> crate::error::Result<Vec<(&'static crate::method::Method, f64)>> {
-    let ms: Vec<&'static crate::method::Method> = AUTO_CANDIDATES
-        .iter()
-        .map(|n| crate::method::find(n))
-        .collect::<crate::error::Result<_>>()?;
-    let opts = crate::bench::isolated::IsolatedOptions {
-        rounds: 7,
-        warmup: 1,
-        invocations: 4096,
-        ..Default::default()
-    };
-    let costs = crate::bench::isolated::measure(ctx, &ms, &opts, &|_| {})?;
-    let mut order: Vec<(&'static crate::method::Method, f64)> = ms
-        .iter()
-        .map(|m| {
-            let c = costs
-                .iter()
-                .find(|c| c.name == m.name)
-                .map_or(f64::INFINITY, |c| c.ns_per_eval.median);
-            (*m, c)
-        })
-        .collect();
-    order.sort_by(|a, b| {
-        (a.0.name == "phong_exact")
-            .cmp(&(b.0.name == "phong_exact"))
-            .then(a.1.total_cmp(&b.1))
-    });
-    Ok(order)
+    crate::auto::order_by_cost(|ms| {
+        let opts = crate::bench::isolated::IsolatedOptions {
+            rounds: 7,
+            warmup: 1,
+            invocations: 4096,
+            ..Default::default()
+        };
+        let costs = crate::bench::isolated::measure(ctx, ms, &opts, &|_| {})?;
+        Ok(ms
+            .iter()
+            .map(|m| {
+                costs
+                    .iter()
+                    .find(|c| c.name == m.name)
+                    .map_or(f64::INFINITY, |c| c.ns_per_eval.median)
+            })
+            .collect())
+    })
 }
 
-/// The plan with `auto`'s choice at `budget`, its candidates ordered by `order`.
+/// The plan with `auto`'s choice at `budget`, its candidates ordered by `order`
+/// ([`auto_order`]); the choice is computed now (not cached) to time it.
 pub fn plan_with_auto(
     scene: &Scene,
     order: &[(&'static crate::method::Method, f64)],
-    budget: f64,
+    budget: crate::auto::ErrorBudget,
     cost_ms: f64,
 ) -> Plan {
     let mut p = plan(scene);
     let inputs = SceneInputs::new(scene, Geometry::Mesh);
-    let ms: Vec<&'static crate::method::Method> = order.iter().map(|(m, _)| *m).collect();
-    let start = std::time::Instant::now();
-    let pick = choose(&inputs, &ms, budget);
-    let choice_ms = start.elapsed().as_secs_f64() * 1e3;
+    let spec = crate::auto::AutoSpec::new(budget, order);
+    let (_, s) = crate::auto::choose_summarised(&inputs, &spec, crate::auto::Cache::Bypass);
     p.auto = Some(AutoChoice {
-        budget,
-        margin: AUTO_MARGIN,
-        samples_per_triangle: (AUTO_GRID + 1) * (AUTO_GRID + 2) / 2,
+        budget: s.budget,
+        margin: s.margin,
+        samples_per_triangle: s.samples_per_triangle,
         order: order
             .iter()
             .map(|(m, c)| (m.name.to_string(), *c))
             .collect(),
-        triangles: ms
-            .iter()
-            .enumerate()
-            .map(|(i, m)| (m.name.to_string(), pick.iter().filter(|&&k| k == i).count()))
-            .collect(),
-        choice_ms,
+        triangles: s.triangles,
+        choice_ms: s.choice_ms,
         cost_ms,
     });
     p
@@ -480,65 +455,10 @@ impl Plan {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::method::find;
 
     fn torus() -> Scene {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/torus.toml");
         crate::scene::load_scene(&path).unwrap()
-    }
-
-    fn order() -> Vec<&'static crate::method::Method> {
-        ["gouraud", "newton_raphson", "phong_exact"]
-            .iter()
-            .map(|n| find(n).unwrap())
-            .collect()
-    }
-
-    /// The budget decides: a tiny budget leaves mostly phong_exact (the fallback), a huge one
-    /// takes the cheapest everywhere, and 1/255 mixes; every choice but the fallback keeps its
-    /// sampled error within half the budget.
-    #[test]
-    fn auto_chooses_the_cheapest_method_within_the_budget() {
-        let scene = torus();
-        let inputs = SceneInputs::new(&scene, Geometry::Mesh);
-        let ms = order();
-        let all = |pick: &[usize], k: usize| pick.iter().all(|&i| i == k);
-        // a tiny budget: exact Phong, but where a cheaper method is exact too (triangles in
-        // shadow, lit by the ambient term alone)
-        let tiny = choose(&inputs, &ms, 1e-12);
-        assert!(tiny.iter().filter(|&&k| k == 2).count() > tiny.len() / 2);
-        assert!(
-            all(&choose(&inputs, &ms, 10.0), 0),
-            "anything passes a huge budget"
-        );
-        let pick = choose(&inputs, &ms, 1.0 / 255.0);
-        assert_eq!(pick.len(), inputs.triangle_count());
-        let used: std::collections::BTreeSet<usize> = pick.iter().copied().collect();
-        assert!(
-            used.len() >= 2,
-            "the torus needs more than one method: {used:?}"
-        );
-        let lighting = inputs.lighting();
-        for (t, &k) in pick.iter().enumerate().filter(|(_, &k)| k < 2) {
-            for w in [
-                DVec3::new(1.0, 0.0, 0.0),
-                DVec3::splat(1.0 / 3.0),
-                DVec3::new(0.5, 0.5, 0.0),
-            ] {
-                let f = inputs.fragment(t, w, glam::DVec2::ZERO);
-                let e = lighting.shade(crate::method::formulas::normalize_exact(
-                    f.interpolated_normal(),
-                ));
-                let err = ((ms[k].eval_f64)(&f, &lighting).color - e)
-                    .abs()
-                    .max_element();
-                assert!(
-                    err * 2.0 <= 1.0 / 255.0 + 1e-12,
-                    "triangle {t}: {} {err}",
-                    ms[k].name
-                );
-            }
-        }
     }
 
     #[test]

@@ -9,7 +9,7 @@ const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["report"],
     &["compare", "bench", "verify", "stress", "plan"],
-    &["analysis", "truth"],
+    &["analysis", "truth", "auto"],
     &["gpu", "software"],
     &["scene", "frame"],
     &["method", "geometry"],

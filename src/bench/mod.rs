@@ -103,7 +103,7 @@ pub struct BenchOptions {
     pub isolated_rounds: usize,
     /// `auto` (named `auto`) and the points of its budget curve (`auto_<k>_255`, `auto_1_<k>`), timed and
     /// judged like the methods.
-    pub auto: Vec<crate::scene::auto::AutoSpec>,
+    pub auto: Vec<crate::auto::AutoSpec>,
     /// One run in this process, or N fresh processes ([`runs`]).
     pub runs: Runs,
 }
@@ -185,7 +185,7 @@ struct Setup {
     clock: ClockCheck,
     prepared: Prepared,
     autos: Vec<(String, crate::gpu::AutoScene)>,
-    auto_summaries: Vec<crate::scene::auto::AutoSummary>,
+    auto_summaries: Vec<crate::auto::AutoSummary>,
 }
 
 /// The methods with phong_exact and phong_unnormalized added, the clock (checked now, or the
@@ -222,25 +222,9 @@ fn setup(
     let mut autos = Vec::new();
     let mut auto_summaries = Vec::new();
     for spec in &opts.auto {
-        let t = Instant::now();
-        let choice =
-            crate::scene::auto::choose_cached(&prepared.base().inputs, &spec.order, spec.budget);
-        let pick = choice.pick;
-        let choice_ms = t.elapsed().as_secs_f64() * 1e3;
-        let summary = crate::scene::auto::AutoSummary::new(spec, &pick, choice_ms, choice.source);
-        eprintln!(
-            "bench: {} (budget {:.3e}): {} ({choice_ms:.0} ms to choose, {:?})",
-            spec.name,
-            spec.budget,
-            summary
-                .triangles
-                .iter()
-                .filter(|(_, k)| *k > 0)
-                .map(|(m, k)| format!("{m} {k}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            summary.source
-        );
+        let (pick, summary) =
+            crate::auto::choose_summarised(&prepared.base().inputs, spec, crate::auto::Cache::Use);
+        eprintln!("bench: {}", summary.line());
         auto_summaries.push(summary);
         autos.push((
             spec.name.clone(),
@@ -668,7 +652,7 @@ fn auto_points(
     rows: &[MethodTiming],
     errors: &[f64],
     values: &[Vec<f64>],
-    autos: &[crate::scene::auto::AutoSummary],
+    autos: &[crate::auto::AutoSummary],
 ) -> Vec<AutoPoint> {
     let is_auto = |name: &str| autos.iter().any(|a| a.name == name);
     autos
@@ -676,11 +660,10 @@ fn auto_points(
         .filter_map(|a| {
             let i = rows.iter().position(|r| r.name == a.name)?;
             let r = &rows[i];
-            let max_abs = r
-                .error
-                .as_ref()
-                .and_then(|e| e.metric("max_abs_error"))
-                .unwrap_or(f64::NAN);
+            // The error the budget bounds (auto's definition): the largest channel's.
+            let max_abs = r.error.as_ref().map_or(f64::NAN, |e| {
+                crate::auto::colour_error(e.channels.each_ref().map(|c| c.max_abs_error))
+            });
             let beaten_by = crate::analysis::stats::dominators(errors, values, i)
                 .into_iter()
                 .filter(|&j| !is_auto(&rows[j].name))

@@ -154,7 +154,8 @@ impl MethodTiming {
 pub struct AutoPoint {
     pub name: String,
     pub budget: f64,
-    /// Max abs colour error over the covered pixels (compare's `max_abs_error`).
+    /// Max abs colour error over the covered pixels and the channels (compare's per-channel
+    /// `max_abs_error`, [`crate::auto::colour_error`]): the error a budget bounds.
     pub max_abs_error: f64,
     /// Whether `max_abs_error` <= `budget`.
     pub within_budget: bool,
@@ -258,7 +259,7 @@ pub struct BenchReport {
     pub pareto_front_isolated: Vec<String>,
     pub claims: Vec<ClaimCheck>,
     /// What `auto` chose at each budget of the run (empty without `auto`).
-    pub auto: Vec<crate::scene::auto::AutoSummary>,
+    pub auto: Vec<crate::auto::AutoSummary>,
     /// `auto` at each budget against the fixed methods: its paired ratio to phong_exact, its
     /// error, and the fixed methods that beat it (error at most its own, faster beyond the
     /// paired interval).

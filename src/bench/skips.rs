@@ -159,7 +159,7 @@ pub struct SkipReport {
     pub rounds: usize,
     pub ratio_interval: String,
     /// `auto`'s budget and choice.
-    pub auto: crate::scene::auto::AutoSummary,
+    pub auto: crate::auto::AutoSummary,
     /// The default phong_exact row's name.
     pub default: String,
     pub rows: Vec<SkipRow>,
@@ -171,7 +171,7 @@ pub struct SkipReport {
 pub struct SkipOptions {
     pub repeat: usize,
     pub warmup: usize,
-    pub auto: crate::scene::auto::AutoSpec,
+    pub auto: crate::auto::AutoSpec,
     pub command_line: Vec<String>,
 }
 
@@ -219,19 +219,8 @@ pub fn skips(
     let culled = renderer.prepare(scene, &[exact])?;
     let culls = culled.base().inputs.cull_front.is_some();
     let sorted = renderer.prepare_permuted(scene, &[exact], &front_to_back)?;
-    let t = Instant::now();
-    let choice = crate::scene::auto::choose_cached(
-        &culled.base().inputs,
-        &opts.auto.order,
-        opts.auto.budget,
-    );
-    let pick = choice.pick;
-    let auto_summary = crate::scene::auto::AutoSummary::new(
-        &opts.auto,
-        &pick,
-        t.elapsed().as_secs_f64() * 1e3,
-        choice.source,
-    );
+    let (pick, auto_summary) =
+        crate::auto::choose_summarised(&culled.base().inputs, &opts.auto, crate::auto::Cache::Use);
     let auto = renderer.prepare_auto(scene, &opts.auto.order, &pick)?;
 
     let variants = variants(culls);

@@ -533,15 +533,15 @@ fn the_isolated_front_needs_separate_intervals() {
     assert_eq!(front, vec!["b"]);
 }
 
-fn auto_summary(name: &str, budget: f64) -> crate::scene::auto::AutoSummary {
-    crate::scene::auto::AutoSummary {
+fn auto_summary(name: &str, budget: f64) -> crate::auto::AutoSummary {
+    crate::auto::AutoSummary {
         name: name.into(),
         budget,
         margin: 1.0,
         samples_per_triangle: 28,
         triangles: Vec::new(),
         choice_ms: 0.0,
-        source: crate::scene::auto::ChoiceSource::Computed,
+        source: crate::auto::ChoiceSource::Computed,
     }
 }
 

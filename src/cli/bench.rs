@@ -39,7 +39,7 @@ pub(super) fn cmd_bench(
     list: &str,
     out: &Path,
     threads: Option<u32>,
-    budgets: Option<(f64, Vec<f64>)>,
+    budgets: Option<(ErrorBudget, Vec<ErrorBudget>)>,
     mut opts: crate::bench::BenchOptions,
     vulkan_bench: Option<&Path>,
     vulkan_paired: bool,
@@ -98,18 +98,7 @@ pub(super) fn cmd_bench(
     }
     let r = renderer(dev)?;
     if let Some((budget, curve)) = budgets {
-        let main = auto_spec(&r, budget)?;
-        let mut specs = vec![main.clone()];
-        for b in curve {
-            if (b - budget).abs() > 1e-12 * budget && !specs.iter().any(|s| s.budget == b) {
-                specs.push(crate::scene::auto::AutoSpec {
-                    name: crate::scene::auto::curve_name(b),
-                    budget: b,
-                    ..main.clone()
-                });
-            }
-        }
-        opts.auto = specs;
+        opts.auto = auto_spec(&r, budget)?.with_curve(&curve);
     }
     if matches!(opts.runs, crate::bench::Runs::Child { .. }) {
         crate::bench::measure_run(&r, &scene, &methods, &opts)?;

@@ -20,7 +20,7 @@ pub(super) fn cmd_compare(
     limits: &Limits,
     scale: compare::ScaleMode,
     threshold: f64,
-    budget: f64,
+    budget: crate::auto::ErrorBudget,
 ) -> Result<ExitCode> {
     let limits = limits
         .above
@@ -38,7 +38,7 @@ pub(super) fn cmd_compare(
             "--threshold must be a finite number >= 0, got {threshold}"
         )));
     }
-    let (list, with_auto) = split_auto(list);
+    let (list, with_auto) = crate::auto::split_methods(list);
     let methods = select_methods(&list)?;
     let scene = load_scene(scene_args)?;
     let mut opts = compare::CompareOptions {

@@ -29,6 +29,7 @@ use std::sync::Arc;
 
 use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 
+use crate::auto::ErrorBudget;
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Context, ContextDesc};
 use crate::gpu::Renderer;
@@ -97,6 +98,16 @@ struct DeviceArgs {
     engine: EngineArg,
 }
 
+/// `--error-budget`, shared by every command that draws `auto`.
+#[derive(Args, Debug, Clone, Copy)]
+struct BudgetArgs {
+    /// The error budget of `auto` (`--methods ...,auto`, `--method auto`, skips' auto row): the
+    /// largest colour error (linear, max over the channels) it may make; a number or a fraction
+    /// like 4/255.
+    #[arg(long = "error-budget", value_name = "E", default_value = "1/255", value_parser = ErrorBudget::parse)]
+    budget: ErrorBudget,
+}
+
 /// `--engine`.
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 enum EngineArg {
@@ -163,10 +174,8 @@ enum Command {
         /// Also write the shading normal as .npy, shape (H, W, 4), float32 (w 1 where defined).
         #[arg(long, value_name = "FILE.npy")]
         normals: Option<PathBuf>,
-        /// The error budget of `--method auto`: max abs colour error, linear; `4/255` style
-        /// fractions accepted.
-        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
-        error_budget: f64,
+        #[command(flatten)]
+        error_budget: BudgetArgs,
     },
     /// Check GPU methods against their own formula evaluated in f64 at the rasterizer's weights.
     Verify {
@@ -207,10 +216,8 @@ enum Command {
         /// (default 1/255 of linear luminance; not an sRGB 8-bit step).
         #[arg(long, default_value_t = 1.0 / 255.0)]
         threshold: f64,
-        /// The error budget of `auto` (in --methods): max abs colour error, linear; `4/255`
-        /// style fractions accepted.
-        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
-        error_budget: f64,
+        #[command(flatten)]
+        error_budget: BudgetArgs,
     },
     /// Run time against error: validated timing, Pareto chart, the papers' claims, sweeps.
     Bench {
@@ -272,18 +279,18 @@ enum Command {
         /// (default: 21 with --runs 1, 7 per run with more runs).
         #[arg(long, value_name = "N")]
         isolated_rounds: Option<usize>,
-        /// The error budget of `auto` (in --methods): max abs colour error, linear; `4/255`
-        /// style fractions accepted.
-        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
-        error_budget: f64,
+        #[command(flatten)]
+        error_budget: BudgetArgs,
         /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),
         /// drawn as a curve on the Pareto chart; `none` for no curve.
         #[arg(
             long,
             value_name = "E,E,...",
-            default_value = "1/1024,1/255,4/255,16/255"
+            default_value = "1/1024,1/255,4/255,16/255",
+            value_parser = ErrorBudget::parse_list
         )]
-        auto_curve: String,
+        // Fully qualified: one value (a list), not a repeatable option.
+        auto_curve: ::std::vec::Vec<ErrorBudget>,
         /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
         /// paired ratios are judged beside the software ones in claims.md.
         #[arg(long, value_name = "DIR/bench.json")]
@@ -331,10 +338,8 @@ enum Command {
         /// Discarded submissions per row (the first includes lavapipe's shader JIT).
         #[arg(long, default_value_t = 3)]
         warmup: usize,
-        /// The error budget of the `auto` row: max abs colour error, linear; `4/255` style
-        /// fractions accepted.
-        #[arg(long, value_name = "E", default_value = "1/255", value_parser = parse_budget)]
-        error_budget: f64,
+        #[command(flatten)]
+        error_budget: BudgetArgs,
     },
     /// What a scene needs: topology (culling), the spread of its vertex normals against each
     /// method's measured validity range, triangle sizes and facing, lighting, what is skipped.
@@ -347,9 +352,10 @@ enum Command {
         #[arg(long)]
         json: bool,
         /// Also choose per triangle the cheapest method whose f64 error stays within this
-        /// budget (max abs colour error, linear), as `auto` would, and count them.
-        #[arg(long, value_name = "E")]
-        error_budget: Option<f64>,
+        /// budget (the largest colour error, linear, max over the channels; a number or a
+        /// fraction like 4/255), as `auto` would, and count them.
+        #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
+        error_budget: Option<ErrorBudget>,
     },
     /// List the methods (`--json` for machines).
     List {
@@ -465,7 +471,7 @@ pub fn run() -> Result<ExitCode> {
                 &limits,
                 scale.into(),
                 threshold,
-                error_budget,
+                error_budget.budget,
             )
         }
         Command::Render {
@@ -483,7 +489,7 @@ pub fn run() -> Result<ExitCode> {
             &out,
             float.as_deref(),
             normals.as_deref(),
-            error_budget,
+            error_budget.budget,
         ),
         Command::Verify {
             scene,
@@ -513,12 +519,8 @@ pub fn run() -> Result<ExitCode> {
             vulkan_bench,
             vulkan_paired,
         } => {
-            let (methods, with_auto) = split_auto(&methods);
-            let budgets = if with_auto {
-                Some((error_budget, parse_budgets(&auto_curve)?))
-            } else {
-                None
-            };
+            let (methods, with_auto) = crate::auto::split_methods(&methods);
+            let budgets = with_auto.then_some((error_budget.budget, auto_curve));
             let runs = bench_runs(runs, device.engine == EngineArg::Software)?;
             let many = !matches!(runs, crate::bench::Runs::One);
             let opts = crate::bench::BenchOptions {
@@ -600,7 +602,7 @@ pub fn run() -> Result<ExitCode> {
             let opts = crate::bench::skips::SkipOptions {
                 repeat,
                 warmup,
-                auto: auto_spec(&r, error_budget)?,
+                auto: auto_spec(&r, error_budget.budget)?,
                 command_line: std::env::args().collect(),
             };
             let report = crate::bench::skips::skips(&r, &scene, &out, &opts)?;
@@ -721,72 +723,17 @@ fn check_validation(ctx: &Arc<Context>) -> Result<()> {
     )))
 }
 
-/// `list` without `auto`, and whether `auto` was in it.
-fn split_auto(list: &str) -> (String, bool) {
-    let parts: Vec<&str> = list.split(',').map(str::trim).collect();
-    let with = parts.contains(&"auto");
-    let rest: Vec<&str> = parts.into_iter().filter(|p| *p != "auto").collect();
-    (rest.join(","), with)
-}
-
-/// An error budget: a number or a fraction `a/b` (`4/255`), finite and > 0.
-fn parse_budget(s: &str) -> std::result::Result<f64, String> {
-    let v = match s.trim().split_once('/') {
-        Some((a, b)) => {
-            let num = |x: &str| {
-                x.trim()
-                    .parse::<f64>()
-                    .map_err(|_| format!("{s:?}: expected a number or a fraction like 4/255"))
-            };
-            num(a)? / num(b)?
-        }
-        None => s
-            .trim()
-            .parse::<f64>()
-            .map_err(|_| format!("{s:?}: expected a number or a fraction like 4/255"))?,
-    };
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(format!(
-            "{s:?}: expected a colour error > 0 (linear; 1/255 = 0.0039)"
-        ))
-    }
-}
-
-/// `--auto-curve`: budgets separated by commas, or `none`.
-fn parse_budgets(list: &str) -> Result<Vec<f64>> {
-    if list.trim() == "none" {
-        return Ok(Vec::new());
-    }
-    list.split(',')
-        .map(|s| parse_budget(s).map_err(|e| Error::Usage(format!("--auto-curve: {e}"))))
-        .collect()
-}
-
-/// `auto`'s candidates ordered by their isolated cost, measured now on the run's device.
-fn auto_spec(r: &Renderer, budget: f64) -> Result<crate::scene::auto::AutoSpec> {
-    if !(budget.is_finite() && budget > 0.0) {
-        return Err(Error::Usage(format!(
-            "--error-budget {budget}: expected a colour error > 0 (linear; 1/255 = 0.0039)"
-        )));
-    }
+/// `auto` at `budget`, its candidates ordered by their isolated cost measured now on the run's
+/// device.
+fn auto_spec(r: &Renderer, budget: ErrorBudget) -> Result<crate::auto::AutoSpec> {
     let t = std::time::Instant::now();
     let order = crate::plan::auto_order(r.context())?;
     eprintln!(
         "auto: candidates by isolated cost (measured in {:.1} s): {}",
         t.elapsed().as_secs_f64(),
-        order
-            .iter()
-            .map(|(m, c)| format!("{} {c:.2} ns", m.name))
-            .collect::<Vec<_>>()
-            .join(", ")
+        crate::auto::order_line(&order)
     );
-    Ok(crate::scene::auto::AutoSpec {
-        name: "auto".into(),
-        order: order.into_iter().map(|(m, _)| m).collect(),
-        budget,
-    })
+    Ok(crate::auto::AutoSpec::new(budget, &order))
 }
 
 fn select_methods(list: &str) -> Result<Vec<&'static Method>> {

@@ -8,17 +8,12 @@ pub(super) fn cmd_plan(
     scene_args: &SceneArgs,
     dev: &DeviceArgs,
     json: bool,
-    budget: Option<f64>,
+    budget: Option<crate::auto::ErrorBudget>,
 ) -> Result<ExitCode> {
     let scene = load_scene(scene_args)?;
     let p = match budget {
         None => crate::plan::plan(&scene),
         Some(b) => {
-            if !(b.is_finite() && b > 0.0) {
-                return Err(Error::Usage(format!(
-                    "--error-budget {b}: expected a colour error > 0 (linear, e.g. 0.0039 = 1/255)"
-                )));
-            }
             let r = renderer(dev)?;
             let start = std::time::Instant::now();
             let order = crate::plan::auto_order(r.context())?;

@@ -14,7 +14,7 @@ pub(super) fn cmd_render(
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
-    error_budget: f64,
+    error_budget: crate::auto::ErrorBudget,
 ) -> Result<ExitCode> {
     if method == "auto" {
         return render_auto(scene_args, dev, out, float, normals, error_budget);
@@ -60,7 +60,7 @@ fn render_auto(
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
-    budget: f64,
+    budget: crate::auto::ErrorBudget,
 ) -> Result<ExitCode> {
     if dev.engine == EngineArg::Software {
         return Err(crate::error::Error::Usage(
@@ -71,33 +71,9 @@ fn render_auto(
     let scene = load_scene(scene_args)?;
     let r = renderer(dev)?;
     let spec = auto_spec(&r, budget)?;
-    let t = std::time::Instant::now();
     let inputs = crate::scene::SceneInputs::new(&scene, crate::method::Geometry::Mesh);
-    let choice = crate::scene::auto::choose_cached(&inputs, &spec.order, spec.budget);
-    let pick = choice.pick;
-    let summary = crate::scene::auto::AutoSummary::new(
-        &spec,
-        &pick,
-        t.elapsed().as_secs_f64() * 1e3,
-        choice.source,
-    );
-    eprintln!(
-        "auto (budget {:.3e}, {} in {:.0} ms): {}",
-        spec.budget,
-        match summary.source {
-            crate::scene::auto::ChoiceSource::Computed => "chosen",
-            crate::scene::auto::ChoiceSource::Memory => "found in this run's cache",
-            crate::scene::auto::ChoiceSource::Disk => "found in the disk cache",
-        },
-        summary.choice_ms,
-        summary
-            .triangles
-            .iter()
-            .filter(|(_, k)| *k > 0)
-            .map(|(m, k)| format!("{m} {k}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    let (pick, summary) = crate::auto::choose_summarised(&inputs, &spec, crate::auto::Cache::Use);
+    eprintln!("{}", summary.line());
     let a = r.prepare_auto(&scene, &spec.order, &pick)?;
     let frame = r.render_auto(&a)?;
     write_frame(&frame, out, float, normals)?;

@@ -63,7 +63,7 @@ pub struct CompareOptions {
     pub images: bool,
     /// Also compare `auto` (per triangle the cheapest method within a budget), each spec under
     /// its name (`auto`, or `auto_4_255` and the like for the points of bench's curve).
-    pub auto: Vec<crate::scene::auto::AutoSpec>,
+    pub auto: Vec<crate::auto::AutoSpec>,
 }
 
 impl Default for CompareOptions {
@@ -435,16 +435,9 @@ pub fn compare_with(
             let Engine::Vulkan(renderer) = engine else {
                 break;
             };
-            let t = Instant::now();
-            let choice = crate::scene::auto::choose_cached(base, &spec.order, spec.budget);
-            let pick = choice.pick;
-            let choice_ms = t.elapsed().as_secs_f64() * 1e3;
-            auto_summaries.push(crate::scene::auto::AutoSummary::new(
-                spec,
-                &pick,
-                choice_ms,
-                choice.source,
-            ));
+            let (pick, summary) =
+                crate::auto::choose_summarised(base, spec, crate::auto::Cache::Use);
+            auto_summaries.push(summary);
             let t = Instant::now();
             let scene_auto = renderer.prepare_auto(scene, &spec.order, &pick)?;
             let frame = renderer.render_auto(&scene_auto)?;

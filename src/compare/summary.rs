@@ -149,10 +149,10 @@ pub struct Summary {
     pub methods: Vec<MethodReport>,
     /// `auto`'s per-triangle choice when it was compared (its row in `methods` is `auto`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub auto: Option<crate::scene::auto::AutoSummary>,
+    pub auto: Option<crate::auto::AutoSummary>,
     /// Further budgets of `auto` compared in the same run (bench's curve), each under its name.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub auto_curve: Vec<crate::scene::auto::AutoSummary>,
+    pub auto_curve: Vec<crate::auto::AutoSummary>,
 }
 
 fn vulkan() -> String {

@@ -223,14 +223,10 @@ pub fn run(
     // Steps: compare, bench and skips per scene, stress, the page.
     let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
     // `auto`'s candidates for the skips rows, by isolated cost: measured once for all scenes.
-    let auto = crate::scene::auto::AutoSpec {
-        name: "auto".into(),
-        order: crate::plan::auto_order(renderer.context())?
-            .into_iter()
-            .map(|(m, _)| m)
-            .collect(),
-        budget: 1.0 / 255.0,
-    };
+    let auto = crate::auto::AutoSpec::new(
+        crate::auto::ErrorBudget::DEFAULT,
+        &crate::plan::auto_order(renderer.context())?,
+    );
     let mut results: Vec<SceneResult> = Vec::new();
     for s in scenes {
         let taken: Vec<String> = results.iter().map(|r| r.id.clone()).collect();

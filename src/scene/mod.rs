@@ -50,7 +50,7 @@
 //!
 //! Meshes, OBJ or generated, are fitted to the unit sphere on load. Unknown keys, wrong types
 //! and values out of range are errors naming `file:line`.
-pub mod auto;
+
 pub mod camera;
 pub mod file;
 mod inputs;

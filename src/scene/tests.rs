@@ -479,20 +479,3 @@ fn obj_errors_inside_scenes_name_the_obj_file_and_line() {
         other => panic!("expected an OBJ input error, got {other:?}"),
     }
 }
-
-#[test]
-fn auto_curve_names_are_identifiers_that_tell_the_budget() {
-    use crate::scene::auto::curve_name;
-    assert_eq!(curve_name(4.0 / 255.0), "auto_4_255");
-    assert_eq!(curve_name(1.0 / 1024.0), "auto_1_1024");
-    assert_eq!(curve_name(0.002), "auto_1_500");
-    assert_eq!(curve_name(0.0123), "auto_12300e_6");
-    for b in [4.0 / 255.0, 1.0 / 1024.0, 0.0123, 0.5] {
-        let n = curve_name(b);
-        assert!(
-            n.chars()
-                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_'),
-            "{n}"
-        );
-    }
-}

@@ -1,6 +1,7 @@
-//! `auto`'s choice: per triangle, the cheapest method (in a given cost order) whose f64 error on
-//! that triangle stays within an error budget, judged before drawing from the triangle's vertex
-//! normals and the scene's lighting (lights, H, shininess) at a grid of barycentric samples.
+//! `auto`'s per-triangle choice: the cheapest method (in a given cost order) whose f64 error on
+//! each triangle stays within the budget, judged before drawing from the triangle's vertex
+//! normals and the scene's lighting (lights, H, shininess) at a grid of barycentric samples; and
+//! its cache (this process, then disk).
 use glam::DVec3;
 
 use crate::scene::SceneInputs;
@@ -10,83 +11,6 @@ use crate::scene::SceneInputs;
 pub const AUTO_MARGIN: f64 = 1.0;
 /// Subdivisions of the barycentric sample grid per triangle edge ((n+1)(n+2)/2 samples).
 pub const AUTO_GRID: usize = 6;
-
-/// What `auto` needs: the candidates cheapest first (the last is the fallback) and the budget.
-#[derive(Debug, Clone)]
-pub struct AutoSpec {
-    /// `auto` for the run's budget; `auto_<k>_255` and the like for a point of the budget curve
-    /// ([`curve_name`]).
-    pub name: String,
-    pub order: Vec<&'static crate::method::Method>,
-    /// Max abs colour error, linear.
-    pub budget: f64,
-}
-
-/// The budgets of `auto`'s curve on bench's Pareto chart (issue 12): 1/1024, 1/255, 4/255,
-/// 16/255.
-pub const CURVE_BUDGETS: [f64; 4] = [1.0 / 1024.0, 1.0 / 255.0, 4.0 / 255.0, 16.0 / 255.0];
-
-/// The name of `auto` at `budget` on the curve, an identifier like a method's:
-/// `auto_<k>_255` or `auto_1_<k>` when the budget is k/255 or 1/k (to 1e-9), else
-/// `auto_<budget in millionths>e_6`.
-pub fn curve_name(budget: f64) -> String {
-    let near = |a: f64| (a - a.round()).abs() < 1e-9 * a.abs().max(1.0);
-    let k = budget * 255.0;
-    if near(k) && k.round() >= 1.0 {
-        return format!("auto_{}_255", k.round() as u64);
-    }
-    let inv = 1.0 / budget;
-    if near(inv) && inv.round() >= 1.0 {
-        return format!("auto_1_{}", inv.round() as u64);
-    }
-    format!("auto_{}e_6", (budget * 1e6).round() as u64)
-}
-
-/// What `auto` chose for a scene, for the outputs.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct AutoSummary {
-    /// `auto`, or [`curve_name`] for a point of bench's budget curve.
-    #[serde(default = "auto_name")]
-    pub name: String,
-    pub budget: f64,
-    pub margin: f64,
-    pub samples_per_triangle: usize,
-    /// (method, triangles), cheapest first.
-    pub triangles: Vec<(String, usize)>,
-    /// Time to choose (or to find the cached choice), ms.
-    pub choice_ms: f64,
-    /// Where the choice came from: computed, or cached in this process or on disk.
-    #[serde(default = "computed")]
-    pub source: ChoiceSource,
-}
-
-fn computed() -> ChoiceSource {
-    ChoiceSource::Computed
-}
-
-impl AutoSummary {
-    /// The summary of `pick` (indices into `spec.order`).
-    pub fn new(spec: &AutoSpec, pick: &[usize], choice_ms: f64, source: ChoiceSource) -> Self {
-        AutoSummary {
-            name: spec.name.clone(),
-            budget: spec.budget,
-            margin: AUTO_MARGIN,
-            samples_per_triangle: (AUTO_GRID + 1) * (AUTO_GRID + 2) / 2,
-            triangles: spec
-                .order
-                .iter()
-                .enumerate()
-                .map(|(i, m)| (m.name.to_string(), pick.iter().filter(|&&k| k == i).count()))
-                .collect(),
-            choice_ms,
-            source,
-        }
-    }
-}
-
-fn auto_name() -> String {
-    "auto".into()
-}
 
 /// The per-triangle choice: index into `order` for every triangle of `inputs`.
 pub fn choose(
@@ -124,7 +48,7 @@ pub fn choose(
             .position(|m| {
                 frags.iter().zip(&exact).all(|(f, e)| {
                     let c = (m.eval_f64)(f, &lighting).color;
-                    let err = (c - *e).abs().max_element();
+                    let err = super::colour_error((c - *e).abs().to_array());
                     err.is_finite() && err * (1.0 + AUTO_MARGIN) <= budget
                 })
             })
@@ -290,10 +214,12 @@ mod tests {
     }
 
     fn order() -> Vec<&'static crate::method::Method> {
-        ["gouraud", "newton_raphson", "phong_exact"]
-            .iter()
-            .map(|n| crate::method::find(n).unwrap())
-            .collect()
+        let m = |n| crate::method::find(n).unwrap();
+        vec![
+            m("gouraud"),
+            m("newton_raphson"),
+            crate::method::phong_exact(),
+        ]
     }
 
     /// Computed once, then found in memory, then on disk; the same choice every time; a disk

@@ -1,0 +1,238 @@
+//! Tests of `auto`: the budget type (every accepted and refused form, one message), the error it
+//! bounds, the candidates' order, the budget curve's names and the per-triangle choice.
+use glam::DVec3;
+
+use super::*;
+use crate::method::Geometry;
+
+fn find(name: &str) -> &'static Method {
+    method::find(name).unwrap()
+}
+
+fn torus() -> SceneInputs {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/torus.toml");
+    let scene = crate::scene::load_scene(&path).unwrap();
+    SceneInputs::new(&scene, Geometry::Mesh)
+}
+
+/// Numbers and fractions, spaces around them, are budgets; the value is the number's.
+#[test]
+fn a_budget_is_a_number_or_a_fraction() {
+    let ok = |s: &str| {
+        ErrorBudget::parse(s)
+            .unwrap_or_else(|e| panic!("{s}: {e}"))
+            .get()
+    };
+    assert_eq!(ok("4/255"), 4.0 / 255.0);
+    assert_eq!(ok(" 4 / 255 "), 4.0 / 255.0);
+    assert_eq!(ok("1/1024"), 1.0 / 1024.0);
+    assert_eq!(ok("0.0039"), 0.0039);
+    assert_eq!(ok("1e-3"), 1e-3);
+    assert_eq!(ok("16"), 16.0);
+    assert_eq!(
+        "4/255".parse::<ErrorBudget>().unwrap(),
+        ErrorBudget::parse("4/255").unwrap()
+    );
+    assert_eq!(ErrorBudget::DEFAULT.get(), 1.0 / 255.0);
+    assert_eq!(ErrorBudget::new(0.5).unwrap().get(), 0.5);
+}
+
+/// Zero, negatives, non-finite values, division by zero and anything that is not a number are
+/// refused, every one with the same message naming the input.
+#[test]
+fn a_budget_that_is_not_finite_and_positive_is_refused_with_one_message() {
+    for s in [
+        "0", "0/255", "-1/255", "-0.1", "1/0", "0/0", "inf", "NaN", "-inf", "", "/", "4/", "/255",
+        "abc", "4/255/2", "1e999", "0x10",
+    ] {
+        let e = ErrorBudget::parse(s).expect_err(s);
+        assert_eq!(
+            e,
+            format!(
+                "{s:?} is not an error budget: expected a colour error > 0 (linear), a number \
+                 or a fraction like 4/255 (1/255 = 0.0039)"
+            )
+        );
+    }
+    for v in [0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let e = ErrorBudget::new(v).expect_err("refused");
+        assert!(e.contains("is not an error budget"), "{e}");
+    }
+}
+
+#[test]
+fn a_budget_list_is_budgets_separated_by_commas_or_none() {
+    let l = ErrorBudget::parse_list("1/1024,1/255, 4/255").unwrap();
+    let v: Vec<f64> = l.iter().map(|b| b.get()).collect();
+    assert_eq!(v, [1.0 / 1024.0, 1.0 / 255.0, 4.0 / 255.0]);
+    assert!(ErrorBudget::parse_list("none").unwrap().is_empty());
+    let e = ErrorBudget::parse_list("1/255,0").unwrap_err();
+    assert_eq!(e, ErrorBudget::parse("0").unwrap_err());
+}
+
+/// The error a budget bounds is the largest channel's; a non-finite channel is an infinite
+/// error (it never fits a budget).
+#[test]
+fn the_error_a_budget_bounds_is_the_largest_channel_error() {
+    assert_eq!(colour_error([0.1, 0.3, 0.2]), 0.3);
+    assert_eq!(colour_error([0.0, 0.0, 0.0]), 0.0);
+    for bad in [f64::NAN, f64::INFINITY] {
+        assert_eq!(colour_error([0.1, bad, 0.2]), f64::INFINITY);
+        assert_eq!(colour_error([bad, 0.1, 0.2]), f64::INFINITY);
+    }
+}
+
+/// Cheapest first, an unmeasured (NaN) cost last among the others, phong_exact last whatever
+/// it costs; a cost list of the wrong length is an error.
+#[test]
+fn candidates_are_ordered_by_cost_with_the_fallback_last() {
+    let order = order_by_cost(|ms| {
+        Ok(ms
+            .iter()
+            .map(|m| match m.name {
+                "gouraud" => 3.0,
+                "flat" => f64::NAN,
+                "phong_unnormalized" => 1.0,
+                "newton_raphson" => 2.0,
+                _ => 0.5,
+            })
+            .collect())
+    })
+    .unwrap();
+    let names: Vec<&str> = order.iter().map(|(m, _)| m.name).collect();
+    assert_eq!(
+        names,
+        [
+            "phong_unnormalized",
+            "newton_raphson",
+            "gouraud",
+            "flat",
+            method::PHONG_EXACT
+        ]
+    );
+    assert_eq!(order[3].1, f64::INFINITY);
+    assert!(order_by_cost(|_| Ok(vec![1.0])).is_err());
+    let spec = AutoSpec::new(ErrorBudget::DEFAULT, &order);
+    assert_eq!(spec.order.last().map(|m| m.name), Some(method::PHONG_EXACT));
+}
+
+/// The curve adds one spec per other budget, named by it; the run's own budget and repeats
+/// are not added twice.
+#[test]
+fn the_budget_curve_adds_each_other_budget_once() {
+    let spec = AutoSpec::new(ErrorBudget::DEFAULT, &[(method::phong_exact(), 1.0)]);
+    let curve = ErrorBudget::parse_list("1/1024,1/255,4/255,4/255").unwrap();
+    let names: Vec<String> = spec
+        .with_curve(&curve)
+        .into_iter()
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(names, ["auto", "auto_1_1024", "auto_4_255"]);
+}
+
+#[test]
+fn split_methods_takes_auto_out_of_a_list() {
+    assert_eq!(
+        split_methods("flat, auto,gouraud"),
+        ("flat,gouraud".into(), true)
+    );
+    assert_eq!(
+        split_methods("flat,gouraud"),
+        ("flat,gouraud".into(), false)
+    );
+    assert_eq!(split_methods("auto"), (String::new(), true));
+}
+
+/// The summary counts the triangles per candidate, in the spec's order.
+#[test]
+fn the_summary_counts_the_choice() {
+    let inputs = torus();
+    let spec = AutoSpec {
+        name: "auto".into(),
+        order: order(),
+        budget: ErrorBudget::new(1.0 / 255.0).unwrap(),
+    };
+    let (pick, s) = choose_summarised(&inputs, &spec, Cache::Bypass);
+    assert_eq!(s.source, ChoiceSource::Computed);
+    let total: usize = s.triangles.iter().map(|(_, k)| k).sum();
+    assert_eq!(total, inputs.triangle_count());
+    for (i, (name, k)) in s.triangles.iter().enumerate() {
+        assert_eq!(name, spec.order[i].name);
+        assert_eq!(*k, pick.iter().filter(|&&p| p == i).count());
+    }
+    assert!(
+        s.line().starts_with("auto (budget 3.922e-3, chosen in"),
+        "{}",
+        s.line()
+    );
+}
+
+fn order() -> Vec<&'static Method> {
+    vec![
+        find("gouraud"),
+        find("newton_raphson"),
+        method::phong_exact(),
+    ]
+}
+
+/// The budget decides: a tiny budget leaves mostly phong_exact (the fallback), a huge one
+/// takes the cheapest everywhere, and 1/255 mixes; every choice but the fallback keeps its
+/// sampled error within half the budget.
+#[test]
+fn auto_chooses_the_cheapest_method_within_the_budget() {
+    let inputs = torus();
+    let ms = order();
+    let all = |pick: &[usize], k: usize| pick.iter().all(|&i| i == k);
+    // a tiny budget: exact Phong, but where a cheaper method is exact too (triangles in
+    // shadow, lit by the ambient term alone)
+    let tiny = choose(&inputs, &ms, 1e-12);
+    assert!(tiny.iter().filter(|&&k| k == 2).count() > tiny.len() / 2);
+    assert!(
+        all(&choose(&inputs, &ms, 10.0), 0),
+        "anything passes a huge budget"
+    );
+    let pick = choose(&inputs, &ms, 1.0 / 255.0);
+    assert_eq!(pick.len(), inputs.triangle_count());
+    let used: std::collections::BTreeSet<usize> = pick.iter().copied().collect();
+    assert!(
+        used.len() >= 2,
+        "the torus needs more than one method: {used:?}"
+    );
+    let lighting = inputs.lighting();
+    for (t, &k) in pick.iter().enumerate().filter(|(_, &k)| k < 2) {
+        for w in [
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::splat(1.0 / 3.0),
+            DVec3::new(0.5, 0.5, 0.0),
+        ] {
+            let f = inputs.fragment(t, w, glam::DVec2::ZERO);
+            let e = lighting.shade(crate::method::formulas::normalize_exact(
+                f.interpolated_normal(),
+            ));
+            let err = ((ms[k].eval_f64)(&f, &lighting).color - e)
+                .abs()
+                .max_element();
+            assert!(
+                err * 2.0 <= 1.0 / 255.0 + 1e-12,
+                "triangle {t}: {} {err}",
+                ms[k].name
+            );
+        }
+    }
+}
+
+#[test]
+fn auto_curve_names_are_identifiers_that_tell_the_budget() {
+    assert_eq!(curve_name(4.0 / 255.0), "auto_4_255");
+    assert_eq!(curve_name(1.0 / 1024.0), "auto_1_1024");
+    assert_eq!(curve_name(0.002), "auto_1_500");
+    assert_eq!(curve_name(0.0123), "auto_12300e_6");
+    for b in [4.0 / 255.0, 1.0 / 1024.0, 0.0123, 0.5] {
+        let n = curve_name(b);
+        assert!(
+            n.chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_'),
+            "{n}"
+        );
+    }
+}
