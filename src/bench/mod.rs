@@ -527,7 +527,7 @@ fn rows_of(
                 scene.interpolation,
             ),
         };
-        let mut r = timing_row(renderer, p, &samples[i], clock, (rp, rf), &summary)?;
+        let mut r = timing_row(renderer, p, &samples[i], clock, (rp, rf), summary)?;
         r.floor_program = names[p.floor].to_string();
         r.fragment_invocations = invocations[i];
         r.invocations_exact = invocations[i].map(|n| n as usize == r.covered_pixels);
