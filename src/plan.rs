@@ -192,6 +192,7 @@ pub fn auto_order(
             rounds: 7,
             warmup: 1,
             invocations: 4096,
+            ..Default::default()
         };
         let costs = crate::bench::isolated::measure(ctx, ms, &opts, &|_| {})?;
         Ok(ms

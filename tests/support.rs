@@ -109,3 +109,32 @@ pub fn schema_validator(file: &str) -> jsonschema::Validator {
         serde_json::from_str(&std::fs::read_to_string(root().join(file)).unwrap()).unwrap();
     jsonschema::validator_for(&schema).unwrap()
 }
+
+/// Checks `value` against the schema file `file` of docs/, listing every error, and that the
+/// check has teeth: `value` without `field` of the object at `pointer` (a JSON pointer, e.g.
+/// `/methods/0`) must fail it. The one schema check of every output file's test.
+pub fn assert_schema(value: &serde_json::Value, file: &str, pointer: &str, field: &str) {
+    let validator = schema_validator(file);
+    let errors: Vec<String> = validator
+        .iter_errors(value)
+        .map(|e| format!("{e} at {}", e.instance_path()))
+        .collect();
+    assert!(
+        errors.is_empty(),
+        "the output does not match {file}:\n{}",
+        errors.join("\n")
+    );
+    let mut broken = value.clone();
+    let removed = broken
+        .pointer_mut(pointer)
+        .and_then(|o| o.as_object_mut())
+        .and_then(|o| o.remove(field));
+    assert!(
+        removed.is_some(),
+        "{pointer}/{field} is not in the output: the teeth would bite nothing"
+    );
+    assert!(
+        !validator.is_valid(&broken),
+        "{file}: the schema check has no teeth (the output without {pointer}/{field} passes)"
+    );
+}

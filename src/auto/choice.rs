@@ -82,6 +82,18 @@ pub enum ChoiceSource {
     Disk,
 }
 
+/// The code a choice depends on: this file, the budget's error definition, and the f64 methods it
+/// evaluates. Part of [`cache_key`] (a stale cache entry from a build with other formulas was
+/// read as valid before).
+pub const CHOICE_SOURCES: [&str; 6] = [
+    include_str!("choice.rs"),
+    include_str!("mod.rs"),
+    include_str!("../method/formulas.rs"),
+    include_str!("../method/scanline.rs"),
+    include_str!("../method/twins.rs"),
+    include_str!("../method/table.rs"),
+];
+
 /// A cached per-triangle choice and where it came from.
 #[derive(Debug, Clone)]
 pub struct Choice {
@@ -91,7 +103,9 @@ pub struct Choice {
 
 /// The cache key of a choice: SHA-256 of everything [`choose`] reads (the triangles' window
 /// corners and normals, the lighting and material as uploaded, the candidates in order, the
-/// budget, the margin and the sample grid) and the crate version.
+/// budget, the margin and the sample grid), the crate version, and the source of the code that
+/// computes the choice ([`CHOICE_SOURCES`]), so a build whose formulas or error definition differ
+/// never reads another build's choices.
 pub fn cache_key(
     inputs: &SceneInputs,
     order: &[&'static crate::method::Method],
@@ -101,6 +115,9 @@ pub fn cache_key(
     let mut h = Sha256::new();
     h.update(b"shadelab auto choice 1\0");
     h.update(env!("CARGO_PKG_VERSION").as_bytes());
+    for source in CHOICE_SOURCES {
+        h.update(source.as_bytes());
+    }
     h.update(AUTO_MARGIN.to_le_bytes());
     h.update((AUTO_GRID as u64).to_le_bytes());
     h.update(budget.to_le_bytes());

@@ -8,7 +8,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::median_ci;
 use crate::cases::{Case, CaseSpec};
@@ -30,6 +30,9 @@ pub struct IsolatedOptions {
     pub warmup: usize,
     /// Invocations per dispatch.
     pub invocations: usize,
+    /// Also time phong_exact's kernels a second time, as `phong_exact_control` (an A/A
+    /// control: its ratio to phong_exact is the noise floor of `bench --runs`).
+    pub control: bool,
 }
 
 impl Default for IsolatedOptions {
@@ -38,12 +41,13 @@ impl Default for IsolatedOptions {
             rounds: 21,
             warmup: 2,
             invocations: 16384,
+            control: false,
         }
     }
 }
 
 /// A median with its distribution-free 95% interval.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Interval {
     pub median: f64,
     pub ci95_low: f64,
@@ -63,12 +67,15 @@ impl Interval {
 
 /// Cheaper, dearer or indistinguishable from phong_exact's evaluation: from whether the paired
 /// ratio's 95% interval lies below 1, above 1, or holds 1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Comparison {
     Cheaper,
     Dearer,
     Indistinguishable,
+    /// `bench --runs`: phong_exact_control's isolated cost came out cheaper or dearer than
+    /// phong_exact's across runs; nothing is judged.
+    TooNoisy,
 }
 
 impl Comparison {
@@ -84,7 +91,7 @@ impl Comparison {
 }
 
 /// One method's isolated cost.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct IsolatedCost {
     pub name: String,
     /// ns per evaluation (per-round slopes: median and 95% interval).
@@ -165,6 +172,11 @@ pub fn measure(
     if !list.iter().any(|m| m.name == exact.name) {
         list.insert(0, exact);
     }
+    // The control: phong_exact's kernels again, last.
+    let control = opts.control.then_some(list.len());
+    if control.is_some() {
+        list.push(exact);
+    }
     let (cases, gpu) = timed_cases(opts.invocations)?;
     let mut timed = Vec::with_capacity(list.len());
     let mut k1_diff = Vec::with_capacity(list.len());
@@ -236,18 +248,19 @@ pub fn measure(
     Ok(list
         .iter()
         .enumerate()
-        .filter(|(_, m)| methods.iter().any(|x| x.name == m.name))
+        .filter(|&(i, m)| Some(i) == control || methods.iter().any(|x| x.name == m.name))
         .map(|(i, m)| {
-            let ratio = (i != e).then(|| {
-                let r: Vec<f64> = slopes[i]
-                    .iter()
-                    .zip(&slopes[e])
-                    .map(|(a, b)| a / b)
-                    .collect();
-                Interval::of(&r)
-            });
+            let ratio = if i == e {
+                None
+            } else {
+                ratio_interval(&slopes[i], &slopes[e])
+            };
             IsolatedCost {
-                name: m.name.to_string(),
+                name: if Some(i) == control {
+                    crate::gpu::Shading::Control(m).name()
+                } else {
+                    m.name.to_string()
+                },
                 ns_per_eval: Interval::of(&slopes[i]),
                 versus_phong_exact: ratio.as_ref().map(Comparison::of),
                 ratio_to_phong_exact: ratio,
@@ -260,6 +273,20 @@ pub fn measure(
             }
         })
         .collect())
+}
+
+/// The per-round ratios `num[r] / den[r]` of two methods' slopes, median and 95% interval. A
+/// round whose denominator (phong_exact's slope) is not a positive finite number, or whose
+/// numerator is not finite, gives no ratio (a zero or negative slope is noise, not a cost: its
+/// ratio would read as "cheaper"); `None` when no round gives one.
+pub(crate) fn ratio_interval(num: &[f64], den: &[f64]) -> Option<Interval> {
+    let r: Vec<f64> = num
+        .iter()
+        .zip(den)
+        .filter(|(a, b)| a.is_finite() && b.is_finite() && **b > 0.0)
+        .map(|(a, b)| a / b)
+        .collect();
+    (!r.is_empty()).then(|| Interval::of(&r))
 }
 
 /// The methods not dominated by isolated cost: one is dominated only when another has an error
@@ -299,5 +326,18 @@ mod tests {
         assert_eq!(Comparison::of(&iv(0.5, 0.9)), Comparison::Cheaper);
         assert_eq!(Comparison::of(&iv(1.1, 1.3)), Comparison::Dearer);
         assert_eq!(Comparison::of(&iv(0.9, 1.1)), Comparison::Indistinguishable);
+    }
+
+    /// Teeth: a zero or negative phong_exact slope gives no ratio, never "cheaper".
+    #[test]
+    fn ratios_need_a_positive_denominator() {
+        let r = ratio_interval(&[1.0, 1.1, 0.9], &[2.0, 2.0, 2.0]).unwrap();
+        assert_eq!(Comparison::of(&r), Comparison::Cheaper);
+        assert!((r.median - 0.5).abs() < 1e-12);
+        assert!(ratio_interval(&[1.0, 1.1, 0.9], &[0.0, -2.0, -1.0]).is_none());
+        assert!(ratio_interval(&[1.0; 3], &[f64::NAN, f64::INFINITY, 0.0]).is_none());
+        // the rounds with a positive denominator alone are used
+        let r = ratio_interval(&[3.0, 1.0, 3.0], &[-1.0, 1.0, 0.0]).unwrap();
+        assert_eq!((r.median, r.ci95_low, r.ci95_high), (1.0, 1.0, 1.0));
     }
 }

@@ -15,8 +15,10 @@ pub mod chart;
 pub mod claims;
 pub mod clock;
 pub mod isolated;
+mod programs;
 pub mod report;
 pub mod rounds;
+pub mod runs;
 pub mod skips;
 pub mod software;
 pub mod sweep;
@@ -24,8 +26,11 @@ pub mod sweep;
 mod tests;
 
 pub use clock::*;
+pub use programs::floor_name;
+use programs::{programs, Program, What};
 pub use report::*;
-pub use rounds::{RoundsReport, Stop};
+pub use rounds::{RoundsPlan, RoundsReport, Stop};
+pub use runs::Runs;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -36,11 +41,11 @@ use crate::analysis::stats::{median_ci, pareto_front_paired, Estimate, RatioEsti
 use crate::compare::{self, CompareOptions};
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{self, OpCounts};
-use crate::gpu::{DrawList, GpuScene, Prepared, Renderer, Shading, TimedDraws};
-use crate::method::{self, Geometry, Method};
+use crate::gpu::{DrawList, Prepared, Renderer, TimedDraws};
+use crate::method::{self, Method};
 use crate::output::provenance::cpu_model;
 use crate::scene::Scene;
-use rounds::{ratios, round_values, until_ci_stop, widest, Rounds};
+use rounds::{ratios, round_values, widest, Rounds};
 
 /// Version of the bench.json layout (2: paired ratios, rounds, other floors, overdraw,
 /// command line, baseline).
@@ -99,6 +104,20 @@ pub struct BenchOptions {
     /// `auto` (named `auto`) and the points of its budget curve (`auto_<k>_255`, `auto_1_<k>`), timed and
     /// judged like the methods.
     pub auto: Vec<crate::auto::AutoSpec>,
+    /// One run in this process, or N fresh processes ([`runs`]).
+    pub runs: Runs,
+}
+
+impl BenchOptions {
+    /// The rounds of each run.
+    pub fn rounds_plan(&self) -> RoundsPlan {
+        RoundsPlan {
+            repeat: self.repeat,
+            warmup: self.warmup,
+            until_ci_pct: self.until_ci_pct,
+            max_time_s: self.max_time_s,
+        }
+    }
 }
 
 impl Default for BenchOptions {
@@ -116,6 +135,7 @@ impl Default for BenchOptions {
             fail_slower_pct: None,
             command_line: Vec::new(),
             auto: Vec::new(),
+            runs: Runs::One,
         }
     }
 }
@@ -157,117 +177,173 @@ fn static_ops(program: &str, interp: crate::scene::Interpolation) -> Option<OpCo
     spirv::count_ops(bytes).ok()
 }
 
-/// The name of the constant-colour program on geometry `g`.
-pub fn floor_name(g: Geometry) -> String {
-    match g {
-        Geometry::Mesh => "constant".into(),
-        Geometry::PnTessellated(level) => format!("constant_pn_tessellated_{level}"),
-    }
+/// What every run of a bench times: the methods with the references, the clock, the prepared
+/// scene and `auto`'s scenes.
+struct Setup {
+    all: Vec<&'static Method>,
+    exact: &'static Method,
+    clock: ClockCheck,
+    prepared: Prepared,
+    autos: Vec<(String, crate::gpu::AutoScene)>,
+    auto_summaries: Vec<crate::auto::AutoSummary>,
 }
 
-/// What a timed program shades with.
-#[derive(Clone, Copy)]
-enum What<'a> {
-    /// The constant colour (a floor).
-    Floor,
-    Method(&'a Method),
-    /// phong_exact's program under another name.
-    Control(&'a Method),
-    /// `auto`: its groups, each with the method chosen for its triangles.
-    Auto(&'a crate::gpu::AutoScene),
+/// The methods with phong_exact and phong_unnormalized added, the clock (checked now, or the
+/// parent's in a measurement run), the prepared scene and `auto`'s choices.
+fn setup(
+    renderer: &Renderer,
+    scene: &Scene,
+    methods_: &[&'static Method],
+    opts: &BenchOptions,
+) -> Result<Setup> {
+    let exact = method::find("phong_exact")?;
+    let unnormalized = method::find("phong_unnormalized")?;
+    let mut all = methods_.to_vec();
+    for m in [exact, unnormalized] {
+        if !all.iter().any(|x| x.name == m.name) {
+            all.push(m);
+        }
+    }
+    let clock = match &opts.runs {
+        Runs::Child { clock, .. } => ClockCheck {
+            clock: clock.clone(),
+            reason: "chosen by the parent run's clock check".into(),
+            points: Vec::new(),
+        },
+        _ => {
+            eprintln!("bench: checking the clock at sizes {SIZES:?}");
+            let clock = check_clock(renderer, scene)?;
+            eprintln!("bench: clock = {} ({})", clock.clock, clock.reason);
+            clock
+        }
+    };
+
+    let prepared = renderer.prepare(scene, &all)?;
+    let mut autos = Vec::new();
+    let mut auto_summaries = Vec::new();
+    for spec in &opts.auto {
+        let (pick, summary) =
+            crate::auto::choose_summarised(&prepared.base().inputs, spec, crate::auto::Cache::Use);
+        eprintln!("bench: {}", summary.line());
+        auto_summaries.push(summary);
+        autos.push((
+            spec.name.clone(),
+            renderer.prepare_auto(scene, &spec.order, &pick)?,
+        ));
+    }
+    Ok(Setup {
+        all,
+        exact,
+        clock,
+        prepared,
+        autos,
+        auto_summaries,
+    })
 }
 
-/// A timed program of a run: what it draws and the floor it is measured against.
-struct Program<'a> {
-    name: String,
-    gpu: &'a GpuScene,
-    what: What<'a>,
-    /// Index of its floor among the programs (the scene's floor, 0, is its own).
-    floor: usize,
+/// Whether the programs include `phong_exact_control`: asked for, or a bench of several runs
+/// (their noise floor).
+fn with_control(opts: &BenchOptions) -> bool {
+    opts.control || !matches!(opts.runs, Runs::One)
 }
 
-impl<'a> Program<'a> {
-    /// The draw as timed and counted.
-    fn list(&self) -> DrawList<'a> {
-        match self.what {
-            What::Floor => DrawList::whole(self.gpu, Shading::Constant),
-            What::Method(m) => DrawList::whole(self.gpu, Shading::Method(m)),
-            What::Control(m) => DrawList::whole(self.gpu, Shading::Control(m)),
-            What::Auto(a) => a.draw_list(),
-        }
+/// One measurement run of a `--runs N` bench, in this (fresh) process: the programs' warm-up
+/// and rounds and the isolated costs, written to `file` for the parent ([`runs`]).
+pub fn measure_run(
+    renderer: &Renderer,
+    scene: &Scene,
+    methods_: &[&'static Method],
+    opts: &BenchOptions,
+) -> Result<()> {
+    check_options(opts)?;
+    let Runs::Child { file, .. } = &opts.runs else {
+        return Err(Error::Internal(
+            "measure_run outside a run of a --runs bench".into(),
+        ));
+    };
+    let s = setup(renderer, scene, methods_, opts)?;
+    let programs = programs(&s.prepared, &s.all, Some(s.exact), &s.autos);
+    let (samples, rounds) = time_rounds(renderer, &programs, &s.clock.clock, opts)?;
+    let methods: Vec<&'static Method> = s.all.clone();
+    let isolated = isolated_costs(renderer, &methods, opts)?;
+    runs::RunFigures {
+        rounds: rounds.rounds,
+        timing_s: rounds.timing_s,
+        programs: programs
+            .iter()
+            .zip(&samples)
+            .map(|(p, s)| runs::ProgramRounds::new(&p.name, s))
+            .collect(),
+        isolated,
     }
-
-    /// The method of the table whose program this is (none for a floor or `auto`).
-    fn method(&self) -> Option<&'a Method> {
-        match self.what {
-            What::Method(m) | What::Control(m) => Some(m),
-            What::Floor | What::Auto(_) => None,
-        }
-    }
-
-    /// The image, for its coverage.
-    fn render(&self, renderer: &Renderer) -> Result<crate::frame::Frame> {
-        match self.what {
-            What::Floor => Ok(renderer.render(self.gpu, Shading::Constant, false)?.0),
-            What::Method(m) => Ok(renderer.render(self.gpu, Shading::Method(m), false)?.0),
-            What::Control(m) => Ok(renderer.render(self.gpu, Shading::Control(m), false)?.0),
-            What::Auto(a) => renderer.render_auto(a),
-        }
-    }
+    .write(file)
 }
 
-/// The programs of a run, all timed in the same rounds: the floor of the scene's triangles
-/// first, then the floor of every other geometry (measured against the first: the cost of
-/// that geometry), the methods (each against the floor of its geometry), the control and
-/// `auto` (on the scene's triangles, against the first floor).
-fn programs<'a>(
-    prepared: &'a Prepared,
-    methods: &[&'a Method],
-    control: Option<&'a Method>,
-    autos: &'a [(String, crate::gpu::AutoScene)],
-) -> Vec<Program<'a>> {
-    let geometries = prepared.geometries();
-    let mut out: Vec<Program> = Vec::new();
-    for g in &geometries {
-        if let Some(gpu) = prepared.for_geometry(*g) {
-            out.push(Program {
-                name: floor_name(*g),
-                gpu,
-                what: What::Floor,
-                floor: 0,
-            });
-        }
+/// The isolated cost of `methods` (with the control in a bench of several runs), or nothing
+/// with `isolated_rounds` 0.
+fn isolated_costs(
+    renderer: &Renderer,
+    methods: &[&'static Method],
+    opts: &BenchOptions,
+) -> Result<Vec<isolated::IsolatedCost>> {
+    if opts.isolated_rounds == 0 {
+        return Ok(Vec::new());
     }
-    let floor_of = |g: Geometry| geometries.iter().position(|x| *x == g).unwrap_or(0);
-    for m in methods {
-        out.push(Program {
-            name: m.name.to_string(),
-            gpu: prepared.for_method(m),
-            what: What::Method(m),
-            floor: floor_of(m.geometry),
-        });
-    }
-    if let Some(m) = control {
-        out.push(Program {
-            name: Shading::Control(m).name(),
-            gpu: prepared.for_method(m),
-            what: What::Control(m),
-            floor: floor_of(m.geometry),
-        });
-    }
-    for (name, a) in autos {
-        out.push(Program {
-            name: name.clone(),
-            gpu: &a.gpu,
-            what: What::Auto(a),
-            floor: 0,
-        });
-    }
-    out
+    let iso_opts = isolated::IsolatedOptions {
+        rounds: opts.isolated_rounds,
+        control: !matches!(opts.runs, Runs::One),
+        ..isolated::IsolatedOptions::default()
+    };
+    let bar = crate::output::progress_bar(true, 0);
+    let costs = isolated::measure(renderer.context(), methods, &iso_opts, &|msg| {
+        bar.set_message(format!("isolated cost: {msg}"));
+        bar.tick();
+    })?;
+    bar.finish_and_clear();
+    Ok(costs)
+}
+
+/// The timed rounds of every program: in this process (one run), or pooled from `--runs N`
+/// fresh processes (run after run, each in its own rounds) with each run's figures.
+fn timed(
+    renderer: &Renderer,
+    programs: &[Program],
+    clock: &str,
+    opts: &BenchOptions,
+) -> Result<(
+    Vec<Vec<crate::gpu::Sample>>,
+    RoundsReport,
+    Vec<runs::RunFigures>,
+)> {
+    let Runs::Many { count, launcher } = &opts.runs else {
+        let (samples, report) = time_rounds(renderer, programs, clock, opts)?;
+        return Ok((samples, report, Vec::new()));
+    };
+    let figures = runs::run_all(*count, launcher, clock)?;
+    let samples: Vec<Vec<crate::gpu::Sample>> = programs
+        .iter()
+        .map(|p| figures.iter().flat_map(|f| f.samples_of(&p.name)).collect())
+        .collect();
+    let rounds = samples.first().map_or(0, Vec::len);
+    let timing_s = figures.iter().map(|f| f.timing_s).sum();
+    let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
+    let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
+    let phong = names.iter().position(|n| n == "phong_exact").unwrap_or(0);
+    let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
+    let (p, f) = ratios(&values, phong, &floors);
+    let report = RoundsReport::new(
+        &opts.rounds_plan(),
+        rounds,
+        Stop::FixedRepeat,
+        timing_s,
+        widest(&names, &p, &f),
+    );
+    Ok((samples, report, figures))
 }
 
 /// Runs the bench and writes DIR/bench.json, bench.csv, pareto.svg/png, claims.json/md (and
-/// sweep files).
+/// sweep files). With `--runs N` the timing comes from N fresh processes ([`runs`]) and the
+/// verdicts from the interval across them.
 pub fn bench(
     renderer: &Renderer,
     scene: &Scene,
@@ -283,191 +359,58 @@ pub fn bench(
         .as_ref()
         .map(|p| baseline::load(p).map(|v| (p, v)))
         .transpose()?;
-    let exact = method::find("phong_exact")?;
-    let unnormalized = method::find("phong_unnormalized")?;
-    let mut all = methods_.to_vec();
-    for m in [exact, unnormalized] {
-        if !all.iter().any(|x| x.name == m.name) {
-            all.push(m);
-        }
-    }
-    eprintln!("bench: checking the clock at sizes {SIZES:?}");
-    let clock = check_clock(renderer, scene)?;
-    eprintln!("bench: clock = {} ({})", clock.clock, clock.reason);
-
-    let prepared = renderer.prepare(scene, &all)?;
-    let mut autos = Vec::new();
-    let mut auto_summaries = Vec::new();
-    for spec in &opts.auto {
-        let (pick, summary) =
-            crate::auto::choose_summarised(&prepared.base().inputs, spec, crate::auto::Cache::Use);
-        eprintln!("bench: {}", summary.line());
-        auto_summaries.push(summary);
-        autos.push((
-            spec.name.clone(),
-            renderer.prepare_auto(scene, &spec.order, &pick)?,
-        ));
-    }
-    let programs = programs(&prepared, &all, opts.control.then_some(exact), &autos);
-    let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
+    let s = setup(renderer, scene, methods_, opts)?;
+    let (all, clock) = (&s.all, s.clock.clone());
+    let control = with_control(opts).then_some(s.exact);
+    let programs = programs(&s.prepared, all, control, &s.autos);
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
-    let phong = names
+    let phong = programs
         .iter()
-        .position(|n| n == "phong_exact")
+        .position(|p| p.name == "phong_exact")
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
-    let (samples, rounds_report) = time_rounds(renderer, &programs, &clock.clock, opts)?;
+    let (samples, rounds_report, run_figures) = timed(renderer, &programs, &clock.clock, opts)?;
     let values: Vec<Vec<f64>> = samples
         .iter()
         .map(|s| round_values(s, &clock.clock))
         .collect();
     let (to_phong, to_floor) = ratios(&values, phong, &floors);
-
-    eprintln!("bench: fragment invocations (untimed, one submission per program)");
-    let invocations = programs
-        .iter()
-        .map(|p| renderer.fragment_invocations_list(&p.list()))
-        .collect::<Result<Vec<_>>>()?;
-
-    eprintln!("bench: error metrics (compare, without images)");
-    let copts = CompareOptions {
-        images: false,
-        auto: opts.auto.clone(),
-        ..CompareOptions::default()
-    };
-    let summary = compare::compare(renderer, scene, &all, out, &copts)?;
-
-    let mut rows = Vec::new();
-    for (i, p) in programs.iter().enumerate() {
-        // Coverage from each image itself.
-        let frame = p.render(renderer)?;
-        let (e, used_clock, wall, ts) = estimate(&samples[i], &clock.clock);
-        let covered = frame.covered();
-        // The control's error is phong_exact's (the same program); auto's is its own.
-        let judged = p.method().map_or(p.name.as_str(), |m| m.name);
-        let error = match p.what {
-            What::Floor => None,
-            _ => summary.methods.iter().find(|r| r.name == judged).cloned(),
-        };
-        let (rp, rf) = (to_phong[i], to_floor[i]);
-        rows.push(MethodTiming {
-            name: p.name.clone(),
-            floor_program: names[p.floor].clone(),
-            median_ms: e.median,
-            ci95_low_ms: e.ci95_low,
-            ci95_high_ms: e.ci95_high,
-            samples: e.samples,
-            clock: used_clock.into(),
-            wall_median_ms: wall,
-            timestamp_median_ms: ts,
-            covered_pixels: covered,
-            fragment_invocations: invocations[i],
-            invocations_exact: invocations[i].map(|n| n as usize == covered),
-            overdraw: invocations[i]
-                .filter(|_| covered > 0)
-                .map(|n| n as f64 / covered as f64),
-            ns_per_pixel: e.median * 1e6 / covered.max(1) as f64,
-            above_floor_ms: 0.0,
-            ratio_to_phong_exact: 0.0,
-            ratio_above_floor_to_phong_exact: 0.0,
-            ratio_median: rp.median,
-            ratio_ci95_low: rp.ci95_low,
-            ratio_ci95_high: rp.ci95_high,
-            ratio_rounds: rp.rounds,
-            ratio_non_finite: rp.non_finite,
-            ratio_confidence: rp.confidence,
-            ratio_to_floor_median: rf.median,
-            ratio_to_floor_ci95_low: rf.ci95_low,
-            ratio_to_floor_ci95_high: rf.ci95_high,
-            ratio_to_floor_non_finite: rf.non_finite,
-            speed_vs_phong_exact: Speed::from_ratio(&rp),
-            static_ops: match p.what {
-                What::Auto(_) => None,
-                _ => static_ops(
-                    p.method().map_or("constant", |m| m.name),
-                    scene.interpolation,
-                ),
-            },
-            static_ops_above_unnormalized: None,
-            error,
-            isolated_ns_per_eval: None,
-            isolated_ci95_low_ns: None,
-            isolated_ci95_high_ns: None,
-            isolated_ratio_to_phong_exact: None,
-            isolated_vs_phong_exact: None,
-            isolated_k1_max_abs_diff_vs_f64: None,
-        });
-    }
-    let medians: Vec<f64> = rows.iter().map(|r| r.median_ms).collect();
-    let (phong_ms, floor_ms) = (medians[phong], medians[0]);
-    let base_ops = rows
-        .iter()
-        .find(|r| r.name == "phong_unnormalized")
-        .and_then(|r| r.static_ops);
-    for (r, p) in rows.iter_mut().zip(&programs) {
-        let own_floor = medians[p.floor];
-        r.above_floor_ms = r.median_ms - own_floor;
-        r.ratio_to_phong_exact = r.median_ms / phong_ms;
-        r.ratio_above_floor_to_phong_exact = (r.median_ms - own_floor) / (phong_ms - floor_ms);
-        r.static_ops_above_unnormalized = match (r.static_ops, base_ops) {
-            (Some(a), Some(b)) => Some(a.minus(&b)),
-            _ => None,
-        };
-    }
-    // Split: the floors (programs without a method), then the methods with their round values.
-    let is_floor: Vec<bool> = programs
-        .iter()
-        .map(|p| matches!(p.what, What::Floor))
-        .collect();
-    let mut floors_rows = Vec::new();
-    let mut method_rows = Vec::new();
-    let mut method_values = Vec::new();
-    for ((r, f), v) in rows.into_iter().zip(is_floor).zip(values) {
-        if f {
-            floors_rows.push(r);
-        } else {
-            method_rows.push(r);
-            method_values.push(v);
-        }
-    }
+    let (invocations, summary) = untimed(renderer, scene, all, out, opts, &programs)?;
+    let mut rows = rows_of(
+        renderer,
+        scene,
+        &programs,
+        &samples,
+        &clock.clock,
+        (&to_phong, &to_floor),
+        &summary,
+        &invocations,
+    )?;
+    let runs_report =
+        (!run_figures.is_empty()).then(|| runs::apply(&mut rows, &run_figures, &clock.clock));
+    let (mut floors_rows, method_rows, method_values) = split_floors(rows, &programs, values);
     let floor = floors_rows.remove(0);
-    let rows = method_rows;
+    let mut rows = method_rows;
     let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| e.metric(&opts.error_metric));
     let errors: Vec<f64> = rows.iter().map(|r| metric(r).unwrap_or(f64::NAN)).collect();
     let front: Vec<String> = pareto_front_paired(&errors, &method_values)
         .into_iter()
         .map(|i| rows[i].name.clone())
         .collect();
-    let auto_curve = auto_points(&rows, &errors, &method_values, &auto_summaries);
-    let mut rows = rows;
-    if opts.isolated_rounds > 0 {
-        let methods: Vec<&'static Method> = rows
-            .iter()
-            .filter_map(|r| crate::method::find(&r.name).ok())
-            .collect();
-        let iso_opts = isolated::IsolatedOptions {
-            rounds: opts.isolated_rounds,
-            ..isolated::IsolatedOptions::default()
-        };
-        let bar = crate::output::progress_bar(true, 0);
-        let costs = isolated::measure(renderer.context(), &methods, &iso_opts, &|msg| {
-            bar.set_message(format!("isolated cost: {msg}"));
-            bar.tick();
-        })?;
-        bar.finish_and_clear();
-        for c in &costs {
-            if let Some(r) = rows.iter_mut().find(|r| r.name == c.name) {
-                r.set_isolated(c);
-            }
-        }
+    let auto_curve = auto_points(&rows, &errors, &method_values, &s.auto_summaries);
+    if run_figures.is_empty() {
+        set_isolated(renderer, &mut rows, opts)?;
     }
     let front_isolated = isolated::pareto_front(&rows, &errors);
-    let claims = claims::claims(&rows, &floor);
-
-    let mut sweeps = Vec::new();
-    for &sw in &opts.sweeps {
-        eprintln!("bench: sweep {sw:?}");
-        sweeps.push(sweep::sweep(renderer, scene, sw, opts)?);
-    }
+    let len2 = claims::interpolated_len2_range(&s.prepared.base().inputs.view_normals);
+    let claims = claims::claims(&rows, &floor, len2);
+    let sweeps = opts
+        .sweeps
+        .iter()
+        .map(|&sw| {
+            eprintln!("bench: sweep {sw:?}");
+            sweep::sweep(renderer, scene, sw, opts)
+        })
+        .collect::<Result<Vec<_>>>()?;
     let mut report = BenchReport {
         schema_version: SCHEMA_VERSION,
         provenance: renderer.provenance(),
@@ -478,11 +421,17 @@ pub fn bench(
         scene: scene.name.clone(),
         width: scene.width,
         height: scene.height,
-        triangles: prepared.base().inputs.triangle_count(),
+        triangles: s.prepared.base().inputs.triangle_count(),
         repeat: opts.repeat,
         warmup: opts.warmup,
         rounds: rounds_report,
-        ratio_interval: RATIO_INTERVAL.into(),
+        runs: runs_report,
+        ratio_interval: (if run_figures.is_empty() {
+            RATIO_INTERVAL
+        } else {
+            runs::RUNS_INTERVAL
+        })
+        .into(),
         clock,
         error_metric: opts.error_metric.clone(),
         floor,
@@ -491,7 +440,7 @@ pub fn bench(
         pareto_front: front,
         pareto_front_isolated: front_isolated,
         claims,
-        auto: auto_summaries,
+        auto: s.auto_summaries.clone(),
         auto_curve,
         sweeps,
         baseline: None,
@@ -509,6 +458,192 @@ pub fn bench(
     report.total_s = start.elapsed().as_secs_f64();
     write(out, &report)?;
     Ok(report)
+}
+
+/// What the timing leaves out: every program's fragment invocations (untimed, one
+/// submission each) and compare's error metrics.
+fn untimed(
+    renderer: &Renderer,
+    scene: &Scene,
+    all: &[&'static Method],
+    out: &Path,
+    opts: &BenchOptions,
+    programs: &[Program],
+) -> Result<(Vec<Option<u64>>, compare::Summary)> {
+    eprintln!("bench: fragment invocations (untimed, one submission per program)");
+    let invocations = programs
+        .iter()
+        .map(|p| renderer.fragment_invocations_list(&p.list()))
+        .collect::<Result<Vec<_>>>()?;
+    eprintln!("bench: error metrics (compare, without images)");
+    let copts = CompareOptions {
+        images: false,
+        auto: opts.auto.clone(),
+        ..CompareOptions::default()
+    };
+    let summary = compare::compare(renderer, scene, all, out, &copts)?;
+    Ok((invocations, summary))
+}
+
+/// The isolated cost of every method row, measured in this process.
+fn set_isolated(renderer: &Renderer, rows: &mut [MethodTiming], opts: &BenchOptions) -> Result<()> {
+    let methods: Vec<&'static Method> = rows
+        .iter()
+        .filter_map(|r| crate::method::find(&r.name).ok())
+        .collect();
+    for c in &isolated_costs(renderer, &methods, opts)? {
+        if let Some(r) = rows.iter_mut().find(|r| r.name == c.name) {
+            r.set_isolated(c);
+        }
+    }
+    Ok(())
+}
+
+/// Every program's row: its rounds, image and errors ([`timing_row`]), invocations, op
+/// counts, and the figures against its floor and phong_exact.
+#[allow(clippy::too_many_arguments)]
+fn rows_of(
+    renderer: &Renderer,
+    scene: &Scene,
+    programs: &[Program],
+    samples: &[Vec<crate::gpu::Sample>],
+    clock: &str,
+    (to_phong, to_floor): (&[RatioEstimate], &[RatioEstimate]),
+    summary: &compare::Summary,
+    invocations: &[Option<u64>],
+) -> Result<Vec<MethodTiming>> {
+    let names: Vec<&str> = programs.iter().map(|p| p.name.as_str()).collect();
+    let phong = names
+        .iter()
+        .position(|n| *n == "phong_exact")
+        .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
+    let mut rows = Vec::new();
+    for (i, p) in programs.iter().enumerate() {
+        let (rp, rf) = (&to_phong[i], &to_floor[i]);
+        let ops = match p.what {
+            What::Auto(_) => None,
+            _ => static_ops(
+                p.method().map_or("constant", |m| m.name),
+                scene.interpolation,
+            ),
+        };
+        let mut r = timing_row(renderer, p, &samples[i], clock, (rp, rf), summary)?;
+        r.floor_program = names[p.floor].to_string();
+        r.fragment_invocations = invocations[i];
+        r.invocations_exact = invocations[i].map(|n| n as usize == r.covered_pixels);
+        r.overdraw = invocations[i]
+            .filter(|_| r.covered_pixels > 0)
+            .map(|n| n as f64 / r.covered_pixels as f64);
+        r.static_ops = ops;
+        rows.push(r);
+    }
+    let medians: Vec<f64> = rows.iter().map(|r| r.median_ms).collect();
+    let (phong_ms, floor_ms) = (medians[phong], medians[0]);
+    let base_ops = rows
+        .iter()
+        .find(|r| r.name == "phong_unnormalized")
+        .and_then(|r| r.static_ops);
+    for (r, p) in rows.iter_mut().zip(programs) {
+        let own_floor = medians[p.floor];
+        r.above_floor_ms = r.median_ms - own_floor;
+        r.ratio_to_phong_exact = r.median_ms / phong_ms;
+        r.ratio_above_floor_to_phong_exact = (r.median_ms - own_floor) / (phong_ms - floor_ms);
+        r.static_ops_above_unnormalized = match (r.static_ops, base_ops) {
+            (Some(a), Some(b)) => Some(a.minus(&b)),
+            _ => None,
+        };
+    }
+    Ok(rows)
+}
+
+/// The floors' rows (programs without a method), then the methods' rows with their round
+/// values.
+#[allow(clippy::type_complexity)]
+fn split_floors(
+    rows: Vec<MethodTiming>,
+    programs: &[Program],
+    values: Vec<Vec<f64>>,
+) -> (Vec<MethodTiming>, Vec<MethodTiming>, Vec<Vec<f64>>) {
+    let is_floor: Vec<bool> = programs
+        .iter()
+        .map(|p| matches!(p.what, What::Floor))
+        .collect();
+    let mut floors_rows = Vec::new();
+    let mut method_rows = Vec::new();
+    let mut method_values = Vec::new();
+    for ((r, f), v) in rows.into_iter().zip(is_floor).zip(values) {
+        if f {
+            floors_rows.push(r);
+        } else {
+            method_rows.push(r);
+            method_values.push(v);
+        }
+    }
+    (floors_rows, method_rows, method_values)
+}
+
+/// A program's row from its rounds, its image and compare's statistics (the fields that need
+/// every row, the invocations and the op counts are filled in by [`bench`]).
+fn timing_row(
+    renderer: &Renderer,
+    p: &Program,
+    samples: &[crate::gpu::Sample],
+    clock: &str,
+    (rp, rf): (&RatioEstimate, &RatioEstimate),
+    summary: &compare::Summary,
+) -> Result<MethodTiming> {
+    // Coverage from each image itself.
+    let frame = p.render(renderer)?;
+    let (e, used_clock, wall, ts) = estimate(samples, clock);
+    let covered = frame.covered();
+    // The control's error is phong_exact's (the same program); auto's is its own.
+    let judged = p.method().map_or(p.name.as_str(), |m| m.name);
+    let error = match p.what {
+        What::Floor => None,
+        _ => summary.methods.iter().find(|r| r.name == judged).cloned(),
+    };
+    Ok(MethodTiming {
+        name: p.name.clone(),
+        floor_program: String::new(),
+        median_ms: e.median,
+        ci95_low_ms: e.ci95_low,
+        ci95_high_ms: e.ci95_high,
+        samples: e.samples,
+        clock: used_clock.into(),
+        wall_median_ms: wall,
+        timestamp_median_ms: ts,
+        covered_pixels: covered,
+        fragment_invocations: None,
+        invocations_exact: None,
+        overdraw: None,
+        ns_per_pixel: e.median * 1e6 / covered.max(1) as f64,
+        above_floor_ms: 0.0,
+        ratio_to_phong_exact: 0.0,
+        ratio_above_floor_to_phong_exact: 0.0,
+        ratio_median: rp.median,
+        ratio_ci95_low: rp.ci95_low,
+        ratio_ci95_high: rp.ci95_high,
+        ratio_rounds: rp.rounds,
+        ratio_non_finite: rp.non_finite,
+        ratio_confidence: rp.confidence,
+        ratio_to_floor_median: rf.median,
+        ratio_to_floor_ci95_low: rf.ci95_low,
+        ratio_to_floor_ci95_high: rf.ci95_high,
+        ratio_to_floor_non_finite: rf.non_finite,
+        speed_vs_phong_exact: Speed::from_ratio(rp),
+        static_ops: None,
+        static_ops_above_unnormalized: None,
+        error,
+        isolated_ns_per_eval: None,
+        isolated_ci95_low_ns: None,
+        isolated_ci95_high_ns: None,
+        isolated_ratio_to_phong_exact: None,
+        isolated_vs_phong_exact: None,
+        isolated_k1_max_abs_diff_vs_f64: None,
+        runs: None,
+        isolated_runs: None,
+        run_figures: Vec::new(),
+    })
 }
 
 /// Every `auto` row against the fixed methods (rows that are not `auto`), by the paired rule of
@@ -558,20 +693,18 @@ fn check_options(opts: &BenchOptions) -> Result<()> {
             compare::METRICS.join(", ")
         )));
     }
-    if opts.repeat == 0 {
-        return Err(Error::Usage("--repeat must be at least 1".into()));
-    }
-    let positive = |v: f64| v.is_finite() && v > 0.0;
-    if let Some(p) = opts.until_ci_pct.filter(|p| !positive(*p)) {
-        return Err(Error::Usage(format!(
-            "--until-ci must be a percentage > 0, got {p}"
-        )));
-    }
-    if !positive(opts.max_time_s) {
-        return Err(Error::Usage(format!(
-            "--max-time must be a number of seconds > 0, got {}",
-            opts.max_time_s
-        )));
+    opts.rounds_plan().check()?;
+    if let Runs::Many { count, .. } = &opts.runs {
+        if *count < 2 {
+            return Err(Error::Usage(format!(
+                "several runs need at least 2, got {count}"
+            )));
+        }
+        if opts.until_ci_pct.is_some() {
+            return Err(Error::Usage(
+                "--until-ci adds rounds within one run: use it with --runs 1".into(),
+            ));
+        }
     }
     if let Some(p) = opts.fail_slower_pct {
         if !(p.is_finite() && p >= 0.0) {
@@ -588,9 +721,7 @@ fn check_options(opts: &BenchOptions) -> Result<()> {
     Ok(())
 }
 
-/// Times every program in the same interleaved rounds: `repeat` rounds, then with
-/// `until_ci_pct` one round at a time until every paired ratio interval is within +-PCT % or
-/// `max_time_s` of rounds has passed. Says on stderr which happened.
+/// Times every program in the same interleaved rounds ([`rounds::run_rounds`]).
 fn time_rounds(
     renderer: &Renderer,
     programs: &[Program],
@@ -601,69 +732,18 @@ fn time_rounds(
     let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
     let phong = names.iter().position(|n| n == "phong_exact").unwrap_or(0);
+    let plan = opts.rounds_plan();
     eprintln!(
-        "bench: timing {} programs in the same interleaved rounds: {} warm-up submissions each, \
-         then {} rounds{}",
+        "bench: timing {} programs in the same interleaved rounds: {}",
         programs.len(),
-        opts.warmup,
-        opts.repeat,
-        opts.until_ci_pct.map_or(String::new(), |p| format!(
-            " and more until every paired ratio interval is within +-{p} % (cap {} s)",
-            opts.max_time_s
-        ))
+        plan.describe()
     );
     let draws = renderer.timed_draw_lists(&lists)?;
-    let mut rounds = Rounds::new(&draws, opts.warmup)?;
-    let t0 = Instant::now();
-    rounds.run(opts.repeat)?;
-    let widest_now = |rounds: &Rounds| {
-        let values: Vec<Vec<f64>> = rounds
-            .samples
-            .iter()
-            .map(|s| round_values(s, clock))
-            .collect();
+    rounds::run_rounds(&draws, &plan, "bench", |samples| {
+        let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
         let (p, f) = ratios(&values, phong, &floors);
         widest(&names, &p, &f)
-    };
-    let (stopped, (w, which)) = loop {
-        let w = widest_now(&rounds);
-        let Some(target) = opts.until_ci_pct else {
-            break (Stop::FixedRepeat, w);
-        };
-        if let Some(stop) = until_ci_stop(w.0, target, t0.elapsed().as_secs_f64(), opts.max_time_s)
-        {
-            break (stop, w);
-        }
-        if rounds.len() % 10 == 0 {
-            eprintln!(
-                "bench: {} rounds, widest paired ratio interval +-{:.2} % ({})",
-                rounds.len(),
-                w.0,
-                w.1
-            );
-        }
-        rounds.run(1)?;
-    };
-    let timing_s = t0.elapsed().as_secs_f64();
-    match stopped {
-        Stop::FixedRepeat => eprintln!(
-            "bench: {} rounds in {timing_s:.1} s; widest paired ratio interval +-{w:.2} % ({which})",
-            rounds.len()
-        ),
-        Stop::TargetReached => eprintln!(
-            "bench: stopped: target reached: every paired ratio interval within +-{} % after {} rounds ({timing_s:.1} s); widest +-{w:.2} % ({which})",
-            opts.until_ci_pct.unwrap_or(f64::NAN),
-            rounds.len()
-        ),
-        Stop::TimeCap => eprintln!(
-            "bench: stopped: time cap of {} s reached after {} rounds; target +-{} % NOT reached: widest paired ratio interval +-{w:.2} % ({which})",
-            opts.max_time_s,
-            rounds.len(),
-            opts.until_ci_pct.unwrap_or(f64::NAN)
-        ),
-    }
-    let report = RoundsReport::new(opts, rounds.len(), stopped, timing_s, (w, which));
-    Ok((rounds.samples, report))
+    })
 }
 
 /// The paired ratio estimate a row carries against phong_exact (for claims and tests).

@@ -24,6 +24,8 @@ pub enum Speed {
     Inconclusive,
     /// No round gave a finite ratio.
     Unmeasured,
+    /// `--runs N`: the control came out faster or slower across runs; nothing is judged.
+    TooNoisy,
 }
 
 impl Speed {
@@ -47,6 +49,7 @@ impl Speed {
             Speed::Slower => "slower",
             Speed::Inconclusive => "inconclusive",
             Speed::Unmeasured => "unmeasured",
+            Speed::TooNoisy => "too_noisy",
         }
     }
 }
@@ -123,6 +126,15 @@ pub struct MethodTiming {
     /// The K = 1 kernel against the method's f64 twin on the timed cases (max colour
     /// difference): the timed code is the method.
     pub isolated_k1_max_abs_diff_vs_f64: Option<f64>,
+    /// `--runs N` (N >= 2): the paired frame ratio to phong_exact across runs (the unit: a
+    /// run's median ratio), with the verdict that `speed_vs_phong_exact` then repeats; the
+    /// `ratio_*` fields above are then these figures too. Null with one run.
+    pub runs: Option<crate::bench::runs::RunsSummary>,
+    /// The same of the isolated cost (then also `isolated_ratio_to_phong_exact` and
+    /// `isolated_vs_phong_exact`); null with one run or without an isolated cost.
+    pub isolated_runs: Option<crate::bench::runs::RunsSummary>,
+    /// Each run's own figures (empty with one run).
+    pub run_figures: Vec<crate::bench::runs::RunFigure>,
 }
 
 impl MethodTiming {
@@ -225,6 +237,9 @@ pub struct BenchReport {
     pub warmup: usize,
     /// How many rounds were run and why they stopped.
     pub rounds: RoundsReport,
+    /// `--runs N` (N >= 2): the runs, the coverage of their intervals and the control's noise
+    /// floor; null with one run.
+    pub runs: Option<crate::bench::runs::RunsReport>,
     /// How the paired ratio intervals are computed.
     pub ratio_interval: String,
     pub clock: ClockCheck,

@@ -9,7 +9,7 @@
 use serde::Serialize;
 
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::gpu::{Sample, TimedDraws};
 
 /// Programs that can be timed one at a time, in any order: lavapipe's recorded draws, or the
@@ -146,6 +146,104 @@ pub(crate) fn widest(
     worst
 }
 
+/// How many rounds a run times, the part of a bench's options every engine shares: `warmup`
+/// discarded submissions of each program, `repeat` rounds, then with `until_ci_pct` one round
+/// at a time until every paired ratio interval is within +-PCT % or `max_time_s` of rounds has
+/// passed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoundsPlan {
+    pub repeat: usize,
+    pub warmup: usize,
+    pub until_ci_pct: Option<f64>,
+    pub max_time_s: f64,
+}
+
+impl RoundsPlan {
+    /// Refuses a plan that cannot run: no round, a target or a cap that is not a positive
+    /// number.
+    pub fn check(&self) -> Result<()> {
+        if self.repeat == 0 {
+            return Err(Error::Usage("--repeat must be at least 1".into()));
+        }
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if let Some(p) = self.until_ci_pct.filter(|p| !positive(*p)) {
+            return Err(Error::Usage(format!(
+                "--until-ci must be a percentage > 0, got {p}"
+            )));
+        }
+        if !positive(self.max_time_s) {
+            return Err(Error::Usage(format!(
+                "--max-time must be a number of seconds > 0, got {}",
+                self.max_time_s
+            )));
+        }
+        Ok(())
+    }
+
+    /// "W warm-up submissions each, then R rounds[ and more until ...]".
+    pub(crate) fn describe(&self) -> String {
+        format!(
+            "{} warm-up submissions each, then {} rounds{}",
+            self.warmup,
+            self.repeat,
+            self.until_ci_pct.map_or(String::new(), |p| format!(
+                " and more until every paired ratio interval is within +-{p} % (cap {} s)",
+                self.max_time_s
+            ))
+        )
+    }
+}
+
+/// The warm-up and rounds of `draws` by `plan` (see [`RoundsPlan`]); `widest_of` gives the
+/// widest paired ratio interval (+- percent, and whose) of the rounds so far. Says on stderr,
+/// after `who`, how the rounds went and why they stopped. Shared by every engine's bench.
+pub(crate) fn run_rounds<D: Draws + ?Sized>(
+    draws: &D,
+    plan: &RoundsPlan,
+    who: &str,
+    widest_of: impl Fn(&[Vec<Sample>]) -> (f64, String),
+) -> Result<(Vec<Vec<Sample>>, RoundsReport)> {
+    let mut rounds = Rounds::new(draws, plan.warmup)?;
+    let t0 = std::time::Instant::now();
+    rounds.run(plan.repeat)?;
+    let (stopped, (w, which)) = loop {
+        let w = widest_of(&rounds.samples);
+        let Some(target) = plan.until_ci_pct else {
+            break (Stop::FixedRepeat, w);
+        };
+        if let Some(stop) = until_ci_stop(w.0, target, t0.elapsed().as_secs_f64(), plan.max_time_s)
+        {
+            break (stop, w);
+        }
+        if rounds.len() % 10 == 0 {
+            eprintln!(
+                "{who}: {} rounds, widest paired ratio interval +-{:.2} % ({})",
+                rounds.len(),
+                w.0,
+                w.1
+            );
+        }
+        rounds.run(1)?;
+    };
+    let timing_s = t0.elapsed().as_secs_f64();
+    let n = rounds.len();
+    let target = plan.until_ci_pct.unwrap_or(f64::NAN);
+    match stopped {
+        Stop::FixedRepeat => eprintln!(
+            "{who}: {n} rounds in {timing_s:.1} s; widest paired ratio interval +-{w:.2} % ({which})"
+        ),
+        Stop::TargetReached => eprintln!(
+            "{who}: stopped: target reached: every paired ratio interval within +-{target} % after {n} rounds ({timing_s:.1} s); widest +-{w:.2} % ({which})"
+        ),
+        Stop::TimeCap => eprintln!(
+            "{who}: stopped: time cap of {} s reached after {n} rounds; target +-{target} % NOT reached: widest paired ratio interval +-{w:.2} % ({which})",
+            plan.max_time_s
+        ),
+    }
+    let report = RoundsReport::new(plan, n, stopped, timing_s, (w, which));
+    Ok((rounds.samples, report))
+}
+
 /// Why a run stopped adding rounds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -206,10 +304,10 @@ pub struct RoundsReport {
 }
 
 impl RoundsReport {
-    /// The report of `rounds` rounds run under `opts`, stopped for `stopped` after `timing_s`
+    /// The report of `rounds` rounds run by `opts`, stopped for `stopped` after `timing_s`
     /// seconds with `widest` (half-width in percent, and whose) the widest interval.
     pub(crate) fn new(
-        opts: &super::BenchOptions,
+        opts: &RoundsPlan,
         rounds: usize,
         stopped: Stop,
         timing_s: f64,

@@ -271,6 +271,9 @@ fn row(name: &str, median: f64, ratio: (f64, f64, f64)) -> MethodTiming {
         isolated_ratio_to_phong_exact: None,
         isolated_vs_phong_exact: None,
         isolated_k1_max_abs_diff_vs_f64: None,
+        runs: None,
+        isolated_runs: None,
+        run_figures: Vec::new(),
     }
 }
 
@@ -478,10 +481,16 @@ fn factor_claims_follow_the_ratio_of_each_measure() {
         factor_claim(&slow, "2x", 2.0, Measure::FrameTime).verdict,
         Verdict::Disagrees
     );
-    // an interval reaching 1/F is consistent with the claim
+    // an interval that straddles 1/F (speed-up 1.67x to 2.04x, median 1.82x) decides nothing
     let edge = row("spherical_angular", 1.0, (0.49, 0.55, 0.6));
     assert_eq!(
         factor_claim(&edge, "2x", 2.0, Measure::FrameTime).verdict,
+        Verdict::Inconclusive
+    );
+    // the whole interval reaching 1/F (its high end exactly 1/F) agrees
+    let reach = row("spherical_angular", 1.0, (0.4, 0.45, 0.5));
+    assert_eq!(
+        factor_claim(&reach, "2x", 2.0, Measure::FrameTime).verdict,
         Verdict::Agrees
     );
     // isolated cost: unmeasured is inconclusive, measured follows its own interval
@@ -567,4 +576,107 @@ fn auto_is_beaten_only_by_a_fixed_method_with_no_more_error_and_a_faster_paired_
     assert!(p[0].beaten_by.is_empty(), "{:?}", p[0].beaten_by);
     // No error measured (rows without compare's statistics): never within budget.
     assert!(p[0].max_abs_error.is_nan() && !p[0].within_budget);
+}
+
+/// One rule for every "k times faster" claim: the Vulkan frame-time and isolated-cost claims
+/// and the software engine's judge all follow [`claims::factor_verdict`].
+#[test]
+fn one_factor_rule_for_every_engine_and_cost_model() {
+    use super::claims::{factor_claim, factor_verdict, Measure};
+    use super::software::judge;
+    use crate::bench::isolated::Interval;
+    let target = 0.5; // a 2x claim
+    let cases = [
+        ((0.30, 0.35, 0.40), Verdict::Agrees),
+        ((0.40, 0.45, 0.50), Verdict::Agrees),
+        ((0.45, 0.50, 0.55), Verdict::Inconclusive),
+        ((0.49, 0.55, 0.60), Verdict::Inconclusive),
+        ((0.51, 0.55, 0.60), Verdict::Disagrees),
+        ((f64::NAN, 0.4, 0.45), Verdict::Inconclusive),
+        ((0.3, 0.4, f64::INFINITY), Verdict::Inconclusive),
+        ((-0.2, -0.1, 0.0), Verdict::Inconclusive),
+    ];
+    for ((lo, mid, hi), want) in cases {
+        assert_eq!(factor_verdict(lo, hi, target), want, "[{lo}, {hi}]");
+        let r = RatioEstimate {
+            median: mid,
+            ci95_low: lo,
+            ci95_high: hi,
+            rounds: 21,
+            non_finite: 0,
+            confidence: 0.97,
+        };
+        assert_eq!(judge(&r, target), want, "software [{lo}, {hi}]");
+        let mut frame = row("spherical_angular", 1.0, (lo, mid, hi));
+        if lo.is_finite() && hi.is_finite() {
+            assert_eq!(
+                factor_claim(&frame, "2x", 2.0, Measure::FrameTime).verdict,
+                want,
+                "frame [{lo}, {hi}]"
+            );
+        }
+        frame.isolated_ratio_to_phong_exact = Some(Interval {
+            median: mid,
+            ci95_low: lo,
+            ci95_high: hi,
+        });
+        assert_eq!(
+            factor_claim(&frame, "2x", 2.0, Measure::IsolatedCost).verdict,
+            want,
+            "isolated [{lo}, {hi}]"
+        );
+    }
+}
+
+/// The |n|^2 range Mikami's GPU bound sees: one at the corners, below it inside a triangle
+/// of spread normals, and said in the claim.
+#[test]
+fn the_mikami_bound_says_the_len2_range_it_saw() {
+    use super::claims::interpolated_len2_range;
+    let spread = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let (lo, hi) = interpolated_len2_range(&spread).unwrap();
+    assert!((hi - 1.0).abs() < 1e-12, "{hi}");
+    // the centroid has 1/3; the nearest sampled point (3, 3, 2) / 8 has 22/64
+    assert!((lo - 22.0 / 64.0).abs() < 1e-12, "{lo}");
+    let same = [[0.0, 0.0, 1.0]; 3];
+    assert_eq!(interpolated_len2_range(&same), Some((1.0, 1.0)));
+    assert_eq!(interpolated_len2_range(&[]), None);
+    assert_eq!(
+        interpolated_len2_range(&[[f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+        None
+    );
+    let mut m = row("mikami_quadratic", 1.0, (0.9, 1.0, 1.1));
+    let phong = row("phong_exact", 1.0, (1.0, 1.0, 1.0));
+    m.error = Some(crate::compare::MethodReport {
+        name: m.name.clone(),
+        reference: "phong_f64".into(),
+        covered_pixels: 1,
+        coverage_mismatch_pixels: 0,
+        ill_conditioned_pixels: 0,
+        non_finite_pixels: 0,
+        intensity: crate::analysis::pixel::intensity_stats([(0, 0, 0.25)], 0.1),
+        channels: [0, 1, 2].map(|_| crate::analysis::pixel::ChannelStats {
+            mean_abs_error: 0.0,
+            max_abs_error: 0.0,
+            rmse: 0.0,
+        }),
+        max_normal_angle_deg: None,
+        mean_normal_angle_deg: None,
+        p99_normal_angle_deg: None,
+        max_normal_length_error: Some(0.001),
+        flip_mean: 0.0,
+        flip_p95: 0.0,
+        files: vec![],
+        against_slerp: None,
+    });
+    let c = claims(&[phong.clone(), m.clone()], &phong, Some((lo, hi)));
+    let mk = c
+        .iter()
+        .find(|c| c.method == "mikami_quadratic" && c.claim.contains("1.5 %"));
+    let mk = mk.expect("the Mikami bound is judged");
+    assert!(mk.measured.contains("[0.3438, 1.0000]"), "{}", mk.measured);
+    assert!(mk.measured.contains("never reaches"), "{}", mk.measured);
+    let c = claims(&[phong.clone(), m], &phong, Some((0.2, 1.0)));
+    let mk = c.iter().find(|c| c.claim.contains("1.5 %")).unwrap();
+    assert!(!mk.measured.contains("never reaches"), "{}", mk.measured);
 }

@@ -3,12 +3,47 @@ use std::process::ExitCode;
 
 use super::*;
 use crate::error::{Error, Result};
+/// `--runs`: one run here, N fresh processes of this binary with the same arguments, or (with
+/// [`crate::bench::runs::RUN_FILE_ENV`] set by such a parent) one of those runs.
+pub(super) fn bench_runs(runs: Option<usize>, software: bool) -> Result<crate::bench::Runs> {
+    use crate::bench::runs::{Launcher, CLOCK_ENV, DEFAULT_RUNS, RUN_FILE_ENV};
+    use crate::bench::Runs;
+    if let Some(file) = std::env::var_os(RUN_FILE_ENV) {
+        return Ok(Runs::Child {
+            file: file.into(),
+            clock: std::env::var(CLOCK_ENV).unwrap_or_else(|_| "wall".into()),
+        });
+    }
+    match (runs, software) {
+        (Some(0), _) => Err(Error::Usage("--runs must be at least 1".into())),
+        (Some(n), true) if n > 1 => Err(Error::Usage(
+            "--runs N > 1 is measured by the Vulkan bench only: use --runs 1 with --engine software"
+                .into(),
+        )),
+        (None, true) | (Some(1), _) => Ok(Runs::One),
+        (n, false) | (n @ Some(_), true) => Ok(Runs::Many {
+            count: n.unwrap_or(DEFAULT_RUNS),
+            launcher: Launcher {
+                exe: std::env::current_exe().map_err(|e| Error::io(std::path::Path::new("shadelab"), e))?,
+                args: std::env::args().skip(1).collect(),
+            },
+        }),
+    }
+}
+
 pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     let (list, with_auto) = crate::auto::split_methods(&b.methods);
     let methods = select_methods(&list)?;
     let scene = load_scene(&b.scene)?;
+    let runs = bench_runs(b.runs, b.device.engine == EngineArg::Software)?;
+    let many = !matches!(runs, crate::bench::Runs::One);
+    let defaults = crate::bench::BenchOptions::default();
     let mut opts = crate::bench::BenchOptions {
-        repeat: b.repeat,
+        repeat: b.repeat.unwrap_or(if many {
+            crate::bench::runs::RUN_REPEAT
+        } else {
+            defaults.repeat
+        }),
         warmup: b.warmup,
         error_metric: b.error_metric,
         control: b.control,
@@ -18,8 +53,13 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         baseline: b.baseline,
         fail_slower_pct: b.fail_slower,
         command_line: std::env::args().collect(),
-        isolated_rounds: b.isolated_rounds,
+        isolated_rounds: b.isolated_rounds.unwrap_or(if many {
+            crate::bench::runs::RUN_ISOLATED_ROUNDS
+        } else {
+            defaults.isolated_rounds
+        }),
         auto: Vec::new(),
+        runs,
     };
     let (dev, out) = (&b.device, b.out.as_path());
     if dev.engine == EngineArg::Software {
@@ -30,18 +70,31 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
                     .into(),
             ));
         }
+        let vulkan_only = [
+            ("--sweep", !opts.sweeps.is_empty()),
+            ("--baseline", opts.baseline.is_some()),
+            ("--control", opts.control),
+        ];
+        if let Some((flag, _)) = vulkan_only.iter().find(|(_, given)| *given) {
+            return Err(Error::Usage(format!(
+                "{flag} is not measured by bench --engine software (the Vulkan bench has it): \
+                 use --engine vulkan"
+            )));
+        }
         let sw = crate::bench::software::SoftwareOptions {
+            rounds: opts.rounds_plan(),
             threads: b
                 .threads
                 .map_or_else(crate::software::default_threads, |n| n as usize),
             vulkan_bench: b.vulkan_bench,
+            command_line: opts.command_line.clone(),
         };
         let vk = if b.vulkan_paired {
             Some(vulkan_renderer(dev)?)
         } else {
             None
         };
-        let report = crate::bench::software::bench(&scene, &methods, out, &opts, &sw, vk.as_ref())?;
+        let report = crate::bench::software::bench(&scene, &methods, out, &sw, vk.as_ref())?;
         print!("{}", crate::bench::software::table(&report));
         if let Some(r) = &vk {
             check_validation(r.context())?;
@@ -64,6 +117,10 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     let r = renderer(dev)?;
     if with_auto {
         opts.auto = auto_spec(&r, b.error_budget.budget)?.with_curve(&b.auto_curve);
+    }
+    if matches!(opts.runs, crate::bench::Runs::Child { .. }) {
+        crate::bench::measure_run(&r, &scene, &methods, &opts)?;
+        return Ok(ExitCode::SUCCESS);
     }
     let report = crate::bench::bench(&r, &scene, &methods, out, &opts)?;
     print_table(&report);
@@ -182,6 +239,20 @@ fn print_notes(report: &crate::bench::BenchReport) {
                 format!("beaten by {}", a.beaten_by.join(", "))
             },
             chosen.join(", ")
+        );
+    }
+    if let Some(runs) = &report.runs {
+        println!(
+            "{} runs, each a fresh process; speed from the interval across runs (coverage {:.2} %), \
+             beyond phong_exact_control's spread +-{:.2} %{}",
+            runs.count,
+            runs.confidence * 100.0,
+            runs.control.spread * 100.0,
+            if runs.note.is_empty() {
+                String::new()
+            } else {
+                format!("; {}", runs.note)
+            }
         );
     }
     let rr = &report.rounds;

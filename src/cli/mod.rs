@@ -352,9 +352,16 @@ struct BenchCmd {
     /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
-    /// Timed submissions per program (interleaved rounds).
-    #[arg(long, default_value_t = 40)]
-    repeat: usize,
+    /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
+    /// --runs 1, 10 with more runs).
+    #[arg(long)]
+    repeat: Option<usize>,
+    /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,
+    /// warm-up and rounds); the verdicts come from the interval across runs, against
+    /// phong_exact_control's spread (default 5; 1: one run in this process; the software
+    /// engine: 1).
+    #[arg(long, value_name = "N")]
+    runs: Option<usize>,
     /// Discarded submissions per program (the first includes lavapipe's shader JIT).
     #[arg(long, default_value_t = 3)]
     warmup: usize,
@@ -389,9 +396,10 @@ struct BenchCmd {
     #[arg(long, value_name = "PCT", requires = "baseline")]
     fail_slower: Option<f64>,
     /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
-    /// 1, 16, 64 times per invocation; 0: skip it).
-    #[arg(long, value_name = "N", default_value_t = crate::bench::isolated::IsolatedOptions::default().rounds)]
-    isolated_rounds: usize,
+    /// 1, 16, 64 times per invocation; 0: skip it)
+    /// (default: 21 with --runs 1, 7 per run with more runs).
+    #[arg(long, value_name = "N")]
+    isolated_rounds: Option<usize>,
     #[command(flatten)]
     error_budget: BudgetArgs,
     /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::SoftwareBench;
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
-use crate::bench::claims::{FACTOR_CLAIMS, GOURAUD_FACTOR};
+use crate::bench::claims::{factor_verdict, FACTOR_CLAIMS, GOURAUD_FACTOR};
 use crate::error::{Error, Result};
 use crate::method::Verdict;
 use crate::scene::Scene;
@@ -36,7 +36,7 @@ pub struct SpeedClaim {
     /// The ratio judged: `num / den` of frame times per round.
     pub num: String,
     pub den: String,
-    /// The claim holds when `num / den` is below this.
+    /// The claim holds when `num / den` is at most this ([`judge`]).
     pub claimed_below: f64,
     /// `None` when a program of the ratio was not in the run.
     pub software: Option<Judged>,
@@ -93,19 +93,14 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
     out
 }
 
-/// The verdict of a claim "`num / den` is below `target`" from the ratio's 95% interval:
-/// agrees when the whole interval lies below the target, disagrees when it lies wholly above,
-/// inconclusive when it holds the target or when no round gave a finite ratio.
+/// The verdict of a claim "`num / den` is at most `target`" from the ratio's 95% interval, by
+/// the rule of every engine ([`factor_verdict`]); inconclusive when no round gave a finite
+/// ratio.
 pub(crate) fn judge(r: &RatioEstimate, target: f64) -> Verdict {
-    let (lo, hi) = (r.ci95_low, r.ci95_high);
-    if r.rounds == 0 || !lo.is_finite() || !hi.is_finite() {
+    if r.rounds == 0 {
         Verdict::Inconclusive
-    } else if hi < target {
-        Verdict::Agrees
-    } else if lo > target {
-        Verdict::Disagrees
     } else {
-        Verdict::Inconclusive
+        factor_verdict(r.ci95_low, r.ci95_high, target)
     }
 }
 
@@ -137,6 +132,20 @@ pub(crate) struct VulkanRatios {
 }
 
 impl VulkanRatios {
+    /// lavapipe's median frame time per method, when timed in the same rounds (else none).
+    pub fn medians(&self) -> Vec<(String, f64)> {
+        self.same_rounds
+            .as_ref()
+            .map(|(names, vk)| {
+                names
+                    .iter()
+                    .zip(vk)
+                    .map(|(n, v)| (n.clone(), crate::analysis::stats::median_ci(v).median))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
     /// Reads `path`; refuses a bench.json of another engine (`engine` other than `vulkan`; a
     /// bench.json without the field was written by the Vulkan bench).
     pub fn load(path: &Path) -> Result<Self> {

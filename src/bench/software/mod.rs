@@ -8,14 +8,15 @@
 //! Clock: the wall time of one `software::render_into` call, from set-up to finished images,
 //! into one kept set of colour and depth images (cleared by each draw, band by band; no normal
 //! target, as in the Vulkan bench's timed draws). The software engine has no constant-colour floor program, no
-//! isolated-cost kernel and no sweeps: those stay with the Vulkan bench.
+//! isolated-cost kernel, no control, no baseline, no sweeps and one run: those stay with the
+//! Vulkan bench, and [`SoftwareOptions`] cannot ask for them.
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use serde::Serialize;
 
-use super::rounds::{ratios, round_values, until_ci_stop, widest, Draws, Rounds};
-use super::{BenchOptions, RoundsReport, Stop, RATIO_INTERVAL};
+use super::rounds::{ratios, round_values, run_rounds, widest, Draws};
+use super::{RoundsPlan, RoundsReport, RATIO_INTERVAL};
 use crate::analysis::stats::{median_ci, paired_ratio, RatioEstimate};
 use crate::engine::Engine;
 use crate::error::{Error, Result};
@@ -35,13 +36,18 @@ pub const SCHEMA_VERSION: u32 = 1;
 pub const CLOCK: &str = "wall: one software::render_into call, set-up to finished images \
      (kept colour and depth images, cleared inside it; no normal target)";
 
-/// What the software bench needs besides [`BenchOptions`].
+/// Options of the software bench (typed: what the Vulkan bench alone measures, sweeps,
+/// baselines, the control, the floors, cannot be asked for).
 #[derive(Debug, Clone)]
 pub struct SoftwareOptions {
+    /// The rounds, as the Vulkan bench runs them.
+    pub rounds: RoundsPlan,
     /// Threads of the software engine (at least 1).
     pub threads: usize,
     /// A Vulkan run's bench.json whose paired ratios are judged beside this run's.
     pub vulkan_bench: Option<PathBuf>,
+    /// The command line, recorded in bench.json.
+    pub command_line: Vec<String>,
 }
 
 /// The programs of a run: each method drawn by the software engine on its own geometry.
@@ -148,41 +154,23 @@ pub struct SoftwareBench {
     pub total_s: f64,
 }
 
-fn refuse(what: &str) -> Error {
-    Error::Usage(format!(
-        "{what} is not measured by bench --engine software (the Vulkan bench has it): use \
-         --engine vulkan"
-    ))
-}
+/// Refused: a Vulkan column both timed in the same rounds and read from another run.
+const BOTH_VULKAN_COLUMNS: &str = "--vulkan-paired times lavapipe in the same rounds; \
+     --vulkan-bench reads another run: give one of them";
 
 /// Runs the software bench and writes DIR/bench.json, claims.md and claims.json.
 pub fn bench(
     scene: &Scene,
     methods_: &[&'static Method],
     out: &Path,
-    opts: &BenchOptions,
     sw: &SoftwareOptions,
     paired_vulkan: Option<&crate::gpu::Renderer>,
 ) -> Result<SoftwareBench> {
     let start = Instant::now();
-    if !opts.sweeps.is_empty() {
-        return Err(refuse("--sweep"));
-    }
-    if opts.baseline.is_some() {
-        return Err(refuse("--baseline"));
-    }
-    if opts.control {
-        return Err(refuse("--control"));
-    }
-    if opts.repeat == 0 {
-        return Err(Error::Usage("--repeat must be at least 1".into()));
-    }
+    let plan = &sw.rounds;
+    plan.check()?;
     if paired_vulkan.is_some() && sw.vulkan_bench.is_some() {
-        return Err(Error::Usage(
-            "--vulkan-paired times lavapipe in the same rounds; --vulkan-bench reads another \
-             run: give one of them"
-                .into(),
-        ));
+        return Err(Error::Usage(BOTH_VULKAN_COLUMNS.into()));
     }
     // Read the Vulkan figures first: a bad path must not cost a whole run.
     let file_vulkan = sw
@@ -196,12 +184,7 @@ pub fn bench(
     if !all.iter().any(|m| m.name == exact.name) {
         all.push(exact);
     }
-    let mut inputs: Vec<SceneInputs> = Vec::new();
-    for m in &all {
-        if !inputs.iter().any(|i| i.geometry == m.geometry) {
-            inputs.push(SceneInputs::new(scene, m.geometry));
-        }
-    }
+    let inputs = inputs_of(scene, &all);
     let programs: Vec<(&'static Method, &SceneInputs)> = all
         .iter()
         .map(|&m| {
@@ -226,15 +209,7 @@ pub fn bench(
     };
     // lavapipe's draws of the same methods (colour and depth, as timed by `bench`).
     let (prepared, vulkan_draws) = match paired_vulkan {
-        Some(r) => {
-            let prepared = r.prepare(scene, &all)?;
-            let list: Vec<(&crate::gpu::GpuScene, crate::gpu::Shading)> = all
-                .iter()
-                .map(|&m| (prepared.for_method(m), crate::gpu::Shading::Method(m)))
-                .collect();
-            let draws = r.timed_draws(&list)?;
-            (Some(prepared), Some(draws))
-        }
+        Some(r) => lavapipe_draws(r, scene, &all).map(|(p, d)| (Some(p), Some(d)))?,
         None => (None, None),
     };
     let n = names.len();
@@ -242,51 +217,14 @@ pub fn bench(
         software,
         vulkan: vulkan_draws,
     };
-    eprintln!(
-        "bench --engine software: {} programs on {threads} threads in the same interleaved \
-         rounds: {} warm-up renders each, then {} rounds{}",
-        draws.len(),
-        opts.warmup,
-        opts.repeat,
-        opts.until_ci_pct.map_or(String::new(), |p| format!(
-            " and more until every paired ratio interval is within +-{p} % (cap {} s)",
-            opts.max_time_s
-        ))
-    );
-    let mut rounds = Rounds::new(&draws, opts.warmup)?;
-    let t0 = Instant::now();
-    rounds.run(opts.repeat)?;
-    // Every program is its own "floor": the floor ratios are 1 and never the widest.
-    let own: Vec<usize> = (0..names.len()).collect();
-    // The software programs' times (the first n); lavapipe's are the rest.
-    let values_of = |r: &Rounds<Both>| -> Vec<Vec<f64>> {
-        r.samples[..n]
-            .iter()
-            .map(|s| round_values(s, "wall"))
-            .collect()
-    };
-    let (stopped, (w, which)) = loop {
-        let (p, f) = ratios(&values_of(&rounds), phong, &own);
-        let w = widest(&names, &p, &f);
-        let Some(target) = opts.until_ci_pct else {
-            break (Stop::FixedRepeat, w);
-        };
-        if let Some(stop) = until_ci_stop(w.0, target, t0.elapsed().as_secs_f64(), opts.max_time_s)
-        {
-            break (stop, w);
-        }
-        rounds.run(1)?;
-    };
-    let timing_s = t0.elapsed().as_secs_f64();
-    let values = values_of(&rounds);
+    let (samples, rounds) = time(&draws, plan, &names, phong, threads)?;
+    let values = values_all(&samples[..n]);
     let vulkan = match &draws.vulkan {
-        Some(_) => {
-            let vk: Vec<Vec<f64>> = rounds.samples[n..]
-                .iter()
-                .map(|s| round_values(s, "wall"))
-                .collect();
-            Some(VulkanRatios::paired(names.clone(), vk, scene)?)
-        }
+        Some(_) => Some(VulkanRatios::paired(
+            names.clone(),
+            values_all(&samples[n..]),
+            scene,
+        )?),
         None => file_vulkan,
     };
     drop(prepared);
@@ -295,22 +233,113 @@ pub fn bench(
         .as_ref()
         .and_then(|v| v.same_rounds.as_ref())
         .map(|(_, vk)| paired_ratio(&values[phong], &vk[phong]));
-    let vulkan_median_ms: Vec<(String, f64)> = vulkan
-        .as_ref()
-        .and_then(|v| v.same_rounds.as_ref())
-        .map(|(names, vk)| {
-            names
-                .iter()
-                .zip(vk)
-                .map(|(n, v)| (n.clone(), median_ci(v).median))
-                .collect()
-        })
-        .unwrap_or_default();
-    let (to_phong, _) = ratios(&values, phong, &own);
-    let methods = names
+    let to_phong: Vec<RatioEstimate> = values
         .iter()
-        .zip(&values)
-        .zip(&to_phong)
+        .map(|v| paired_ratio(v, &values[phong]))
+        .collect();
+    let methods = timings(&names, &values, &to_phong);
+    let claims = judge_claims(&names, &values, vulkan.as_ref());
+    let mut report = SoftwareBench {
+        schema_version: SCHEMA_VERSION,
+        engine: "software",
+        provenance: Engine::Software { threads }.provenance(),
+        cpu_model: cpu_model(),
+        cpu_count: software::default_threads(),
+        threads,
+        command_line: sw.command_line.clone(),
+        scene: scene.name.clone(),
+        width: scene.width,
+        height: scene.height,
+        triangles: inputs[0].triangle_count(),
+        repeat: plan.repeat,
+        warmup: plan.warmup,
+        rounds,
+        ratio_interval: RATIO_INTERVAL.into(),
+        clock: CLOCK,
+        methods,
+        vulkan_bench: vulkan
+            .as_ref()
+            .filter(|v| v.same_rounds.is_none())
+            .map(|v| v.path.clone()),
+        vulkan_paired: software_to_lavapipe.is_some(),
+        vulkan_median_ms: vulkan
+            .as_ref()
+            .map(VulkanRatios::medians)
+            .unwrap_or_default(),
+        software_to_lavapipe,
+        claims,
+        total_s: 0.0,
+    };
+    report.total_s = start.elapsed().as_secs_f64();
+    write_files(out, &report, vulkan.as_ref())?;
+    Ok(report)
+}
+
+/// The software renders (and lavapipe's, after them) in the same interleaved rounds; the
+/// widest interval is of the software programs' ratios.
+fn time(
+    draws: &Both,
+    plan: &RoundsPlan,
+    names: &[String],
+    phong: usize,
+    threads: usize,
+) -> Result<(Vec<Vec<Sample>>, RoundsReport)> {
+    let n = names.len();
+    eprintln!(
+        "bench --engine software: {} programs on {threads} threads in the same interleaved \
+         rounds: {}",
+        draws.len(),
+        plan.describe()
+    );
+    // Every program is its own "floor": the floor ratios are 1 and never the widest.
+    let own: Vec<usize> = (0..n).collect();
+    run_rounds(draws, plan, "bench --engine software", |samples| {
+        let (p, f) = ratios(&values_all(&samples[..n]), phong, &own);
+        widest(names, &p, &f)
+    })
+}
+
+/// Every program's per-round wall times.
+fn values_all(samples: &[Vec<Sample>]) -> Vec<Vec<f64>> {
+    samples.iter().map(|s| round_values(s, "wall")).collect()
+}
+
+/// The scene's inputs, one per geometry of `all`.
+fn inputs_of(scene: &Scene, all: &[&'static Method]) -> Vec<SceneInputs> {
+    let mut inputs: Vec<SceneInputs> = Vec::new();
+    for m in all {
+        if !inputs.iter().any(|i| i.geometry == m.geometry) {
+            inputs.push(SceneInputs::new(scene, m.geometry));
+        }
+    }
+    inputs
+}
+
+/// lavapipe's timed draws of `all` (`--vulkan-paired`), with the prepared scene they draw.
+fn lavapipe_draws(
+    r: &crate::gpu::Renderer,
+    scene: &Scene,
+    all: &[&'static Method],
+) -> Result<(crate::gpu::Prepared, crate::gpu::TimedDraws)> {
+    let prepared = r.prepare(scene, all)?;
+    let list: Vec<(&crate::gpu::GpuScene, crate::gpu::Shading)> = all
+        .iter()
+        .map(|&m| (prepared.for_method(m), crate::gpu::Shading::Method(m)))
+        .collect();
+    let draws = r.timed_draws(&list)?;
+    Ok((prepared, draws))
+}
+
+/// Every method's row: its frame times and its paired ratio to phong_exact.
+fn timings(
+    names: &[String],
+    values: &[Vec<f64>],
+    to_phong: &[RatioEstimate],
+) -> Vec<SoftwareTiming> {
+    names
+        .iter()
+        .zip(values)
+        .zip(to_phong)
         .map(|((name, v), r)| {
             let e = median_ci(v);
             let form = software::form(name);
@@ -331,47 +360,21 @@ pub fn bench(
                 round_ms: v.clone(),
             }
         })
-        .collect();
-    let claims = judge_claims(&names, &values, vulkan.as_ref());
-    let mut report = SoftwareBench {
-        schema_version: SCHEMA_VERSION,
-        engine: "software",
-        provenance: Engine::Software { threads }.provenance(),
-        cpu_model: cpu_model(),
-        cpu_count: software::default_threads(),
-        threads,
-        command_line: opts.command_line.clone(),
-        scene: scene.name.clone(),
-        width: scene.width,
-        height: scene.height,
-        triangles: inputs[0].triangle_count(),
-        repeat: opts.repeat,
-        warmup: opts.warmup,
-        rounds: RoundsReport::new(opts, rounds.len(), stopped, timing_s, (w, which)),
-        ratio_interval: RATIO_INTERVAL.into(),
-        clock: CLOCK,
-        methods,
-        vulkan_bench: vulkan
-            .as_ref()
-            .filter(|v| v.same_rounds.is_none())
-            .map(|v| v.path.clone()),
-        vulkan_paired: software_to_lavapipe.is_some(),
-        vulkan_median_ms,
-        software_to_lavapipe,
-        claims,
-        total_s: 0.0,
-    };
-    report.total_s = start.elapsed().as_secs_f64();
+        .collect()
+}
+
+/// DIR/bench.json, claims.json and claims.md.
+fn write_files(out: &Path, report: &SoftwareBench, vulkan: Option<&VulkanRatios>) -> Result<()> {
     let json =
-        serde_json::to_string_pretty(&report).map_err(|e| Error::output("bench.json", e))? + "\n";
+        serde_json::to_string_pretty(report).map_err(|e| Error::output("bench.json", e))? + "\n";
     output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())?;
     let json = serde_json::to_string_pretty(&report.claims)
         .map_err(|e| Error::output("claims.json", e))?
         + "\n";
     output::write_bytes_atomic(&out.join("claims.json"), json.as_bytes())?;
-    let md = claims_md(&report, vulkan.as_ref());
+    let md = claims_md(report, vulkan);
     output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
-    Ok(report)
+    Ok(())
 }
 
 /// The text table of a run: every program's frame time and paired ratio to phong_exact.

@@ -1,0 +1,507 @@
+//! `bench --runs N`: N independent measurement runs, each in a fresh process (its own Vulkan
+//! instance and device, its own JIT and memory layout), each with its own warm-up and
+//! balanced rounds; the parent merges them. The unit of analysis is a run's paired median
+//! ratio to phong_exact (frame time, and isolated cost): a run's interval holds its
+//! round-to-round noise, not the few percent by which whole processes differ (Kalibera and
+//! Jones 2013; Mytkowicz et al. 2009), so the verdicts come from the interval across runs
+//! ([`summarize`]), against the between-run spread of `phong_exact_control` (an A/A control,
+//! timed in every run) as the noise floor.
+//!
+//! A run is started by the [`Launcher`] the command line gives (the binary itself with the
+//! same arguments and [`RUN_FILE_ENV`] / [`CLOCK_ENV`] set); it measures, writes its
+//! [`RunFigures`] to that file and stops.
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::stats::{median_ci, paired_ratio};
+use crate::error::{Error, Result};
+use crate::gpu::Sample;
+
+use super::isolated::{Comparison, Interval, IsolatedCost};
+use super::rounds::round_values;
+use super::{MethodTiming, Speed};
+
+/// Environment variable naming the file a measurement run writes its figures to; set only by
+/// the parent of a `--runs N` bench.
+pub const RUN_FILE_ENV: &str = "SHADELAB_BENCH_RUN_FILE";
+/// Environment variable with the clock the parent's clock check chose (`timestamp` or `wall`).
+pub const CLOCK_ENV: &str = "SHADELAB_BENCH_CLOCK";
+/// The default number of runs of `bench` (the report too).
+pub const DEFAULT_RUNS: usize = 5;
+/// Rounds per run when `--runs` > 1 and `--repeat` is not given (the between-run spread
+/// dominates, so a run needs fewer rounds).
+pub const RUN_REPEAT: usize = 10;
+/// Isolated-cost rounds per run when `--runs` > 1 and `--isolated-rounds` is not given.
+pub const RUN_ISOLATED_ROUNDS: usize = 7;
+/// How the between-run intervals are computed (bench.json `runs.interval`).
+pub const RUNS_INTERVAL: &str = "across runs: the median of the N runs' paired median ratios \
+     with the order-statistic interval of that median [r(l), r(N+1-l)], l the largest rank with \
+     P(Bin(N, 1/2) < l) <= 2.5 % ([min, max] below 6 runs); its exact coverage is \
+     1 - 2 P(Bin(N, 1/2) < l) (5 runs: 93.75 %)";
+
+/// How many measurement runs a bench makes, and where this process stands.
+#[derive(Debug, Clone, Default)]
+pub enum Runs {
+    /// One run in this process (the rounds' own intervals give the verdicts).
+    #[default]
+    One,
+    /// `count` (>= 2) runs, each a fresh process started by `launcher`.
+    Many { count: usize, launcher: Launcher },
+    /// This process is one run of a parent's `Many`: measure with `clock`, write the figures
+    /// to `file`, stop.
+    Child { file: PathBuf, clock: String },
+}
+
+impl Runs {
+    /// The number of runs whose figures make the verdicts (1 for a child: it judges nothing).
+    pub fn count(&self) -> usize {
+        match self {
+            Runs::Many { count, .. } => *count,
+            _ => 1,
+        }
+    }
+}
+
+/// How to start one run: the program and its arguments (the parent's own command line).
+#[derive(Debug, Clone)]
+pub struct Launcher {
+    pub exe: PathBuf,
+    pub args: Vec<String>,
+}
+
+/// One program's figures in one run (bench.json `run_figures`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunFigure {
+    /// 1-based run number.
+    pub run: usize,
+    pub median_ms: f64,
+    /// The run's paired ratio to phong_exact over its rounds.
+    pub ratio_median: f64,
+    pub ratio_ci95_low: f64,
+    pub ratio_ci95_high: f64,
+    /// The run's isolated cost (ns per evaluation) and its paired ratio to phong_exact's.
+    pub isolated_ns_per_eval: Option<f64>,
+    pub isolated_ratio_median: Option<f64>,
+}
+
+/// One program's rounds in one run, as the run file carries them.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ProgramRounds {
+    pub name: String,
+    pub wall_ms: Vec<f64>,
+    pub timestamp_ms: Vec<Option<f64>>,
+}
+
+impl ProgramRounds {
+    pub fn new(name: &str, samples: &[Sample]) -> Self {
+        ProgramRounds {
+            name: name.into(),
+            wall_ms: samples.iter().map(|s| s.wall_ms).collect(),
+            timestamp_ms: samples.iter().map(|s| s.timestamp_ms).collect(),
+        }
+    }
+
+    pub fn samples(&self) -> Vec<Sample> {
+        self.wall_ms
+            .iter()
+            .zip(&self.timestamp_ms)
+            .map(|(&wall_ms, &timestamp_ms)| Sample {
+                wall_ms,
+                timestamp_ms,
+            })
+            .collect()
+    }
+}
+
+/// What one run writes: every program's rounds and the isolated costs.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunFigures {
+    pub rounds: usize,
+    pub timing_s: f64,
+    pub programs: Vec<ProgramRounds>,
+    pub isolated: Vec<IsolatedCost>,
+}
+
+impl RunFigures {
+    /// Writes the figures to `path` (a child's last act).
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let json = serde_json::to_string(self).map_err(|e| Error::output("run figures", e))?;
+        crate::output::write_bytes_atomic(path, json.as_bytes())
+    }
+
+    fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        serde_json::from_str(&text).map_err(|e| {
+            Error::Internal(format!(
+                "{}: not the figures of a bench run: {e}",
+                path.display()
+            ))
+        })
+    }
+
+    /// The rounds of program `name`, in round order (empty when the run lacks it).
+    pub fn samples_of(&self, name: &str) -> Vec<Sample> {
+        self.programs
+            .iter()
+            .find(|p| p.name == name)
+            .map(ProgramRounds::samples)
+            .unwrap_or_default()
+    }
+}
+
+/// Runs `count` measurement runs one after another, each a fresh process of `launcher` with
+/// `clock`, saying on stderr which run of N is going; returns their figures in run order.
+pub fn run_all(count: usize, launcher: &Launcher, clock: &str) -> Result<Vec<RunFigures>> {
+    let dir = tempfile::tempdir().map_err(|e| Error::io(Path::new("temporary directory"), e))?;
+    let mut out = Vec::with_capacity(count);
+    for k in 1..=count {
+        eprintln!("bench: run {k} of {count} (a fresh process: its own Vulkan device, JIT, warm-up and rounds)");
+        let file = dir.path().join(format!("run_{k}.json"));
+        let status = Command::new(&launcher.exe)
+            .args(&launcher.args)
+            .env(RUN_FILE_ENV, &file)
+            .env(CLOCK_ENV, clock)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .status()
+            .map_err(|e| Error::io(&launcher.exe, e))?;
+        if !status.success() {
+            return Err(Error::Internal(format!(
+                "bench: run {k} of {count} failed ({status}); its messages are above"
+            )));
+        }
+        out.push(RunFigures::read(&file)?);
+    }
+    Ok(out)
+}
+
+/// A verdict from the interval across runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunsVerdict {
+    /// Frame time: the interval across runs lies below 1 and the effect exceeds the control's
+    /// between-run spread.
+    Faster,
+    Slower,
+    /// The same, of the isolated cost.
+    Cheaper,
+    Dearer,
+    /// The interval holds 1, or the effect is within the control's spread.
+    Inconclusive,
+    /// No run gave a finite ratio.
+    Unmeasured,
+    /// The control itself came out faster or slower: no speed verdict is given.
+    TooNoisy,
+}
+
+impl RunsVerdict {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunsVerdict::Faster => "faster",
+            RunsVerdict::Slower => "slower",
+            RunsVerdict::Cheaper => "cheaper",
+            RunsVerdict::Dearer => "dearer",
+            RunsVerdict::Inconclusive => "inconclusive",
+            RunsVerdict::Unmeasured => "unmeasured",
+            RunsVerdict::TooNoisy => "too_noisy",
+        }
+    }
+}
+
+/// A program's ratio to phong_exact across runs (bench.json `runs` and `isolated_runs`).
+#[derive(Debug, Clone, Serialize)]
+pub struct RunsSummary {
+    /// Runs with a finite ratio.
+    pub count: usize,
+    pub ratio_median: f64,
+    pub ratio_ci95_low: f64,
+    pub ratio_ci95_high: f64,
+    /// The exact coverage of the interval (5 runs: 0.9375).
+    pub confidence: f64,
+    pub verdict: RunsVerdict,
+}
+
+/// The control's between-run figures: the noise floor of every verdict of one measure.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct NoiseFloor {
+    /// The largest distance of the control's interval across runs from 1 (the effect a
+    /// program must exceed).
+    pub spread: f64,
+    /// The control's interval across runs excludes 1: the machine is too noisy to judge.
+    pub too_noisy: bool,
+}
+
+impl NoiseFloor {
+    /// From the control's per-run ratios; without a finite one the floor is infinite (nothing
+    /// can be judged against an unmeasured control).
+    pub fn of(control: &[f64]) -> NoiseFloor {
+        let e = median_ci(control);
+        if e.samples == 0 {
+            return NoiseFloor {
+                spread: f64::INFINITY,
+                too_noisy: false,
+            };
+        }
+        NoiseFloor {
+            spread: (e.ci95_low - 1.0).abs().max((e.ci95_high - 1.0).abs()),
+            too_noisy: e.ci95_high < 1.0 || e.ci95_low > 1.0,
+        }
+    }
+}
+
+/// The verdict of per-run ratios `ratios` against 1, for `cost` (isolated cost: cheaper /
+/// dearer) or frame time (faster / slower): below 1 only when the whole interval across runs
+/// lies below 1 AND 1 - median exceeds the control's spread; above likewise; `TooNoisy` when
+/// the control came out faster or slower.
+pub fn summarize(ratios: &[f64], noise: NoiseFloor, cost: bool) -> RunsSummary {
+    let e = median_ci(ratios);
+    let verdict = if e.samples == 0 || !(e.ci95_low.is_finite() && e.ci95_high.is_finite()) {
+        RunsVerdict::Unmeasured
+    } else if noise.too_noisy {
+        RunsVerdict::TooNoisy
+    } else if e.ci95_high < 1.0 && 1.0 - e.median > noise.spread {
+        if cost {
+            RunsVerdict::Cheaper
+        } else {
+            RunsVerdict::Faster
+        }
+    } else if e.ci95_low > 1.0 && e.median - 1.0 > noise.spread {
+        if cost {
+            RunsVerdict::Dearer
+        } else {
+            RunsVerdict::Slower
+        }
+    } else {
+        RunsVerdict::Inconclusive
+    };
+    RunsSummary {
+        count: e.samples,
+        ratio_median: e.median,
+        ratio_ci95_low: e.ci95_low,
+        ratio_ci95_high: e.ci95_high,
+        confidence: e.confidence,
+        verdict,
+    }
+}
+
+/// The runs of a bench and its noise floors (bench.json `runs`).
+#[derive(Debug, Clone, Serialize)]
+pub struct RunsReport {
+    pub count: usize,
+    pub interval: String,
+    /// The exact coverage of the interval across `count` runs.
+    pub confidence: f64,
+    /// `phong_exact_control`'s frame ratio and isolated-cost ratio across runs.
+    pub control: NoiseFloor,
+    pub isolated_control: Option<NoiseFloor>,
+    /// What the run says when a control came out faster or slower.
+    pub note: String,
+    /// Seconds of timed rounds in each run.
+    pub timing_s: Vec<f64>,
+}
+
+impl RunsReport {
+    pub fn new(runs: &[RunFigures], control: NoiseFloor, isolated: Option<NoiseFloor>) -> Self {
+        let count = runs.len();
+        let noisy = control.too_noisy || isolated.is_some_and(|n| n.too_noisy);
+        RunsReport {
+            count,
+            interval: RUNS_INTERVAL.into(),
+            confidence: crate::analysis::stats::order_statistic_confidence(
+                count,
+                crate::analysis::stats::sign_test_rank(count),
+            ),
+            control,
+            isolated_control: isolated,
+            note: if noisy {
+                "the machine is too noisy: phong_exact_control, phong_exact's own program, came \
+                 out faster or slower than phong_exact across runs; no speed verdict is given"
+                    .into()
+            } else {
+                String::new()
+            },
+            timing_s: runs.iter().map(|r| r.timing_s).collect(),
+        }
+    }
+}
+
+/// Fills every row's `run_figures`, `runs` and `isolated_runs` from the runs' figures, and
+/// makes the row's paired ratio, its verdict and its isolated-cost ratio those across runs (so
+/// the claims, the chart and the table judge by them); returns the runs' report.
+pub(crate) fn apply(rows: &mut [MethodTiming], figures: &[RunFigures], clock: &str) -> RunsReport {
+    for (k, f) in figures.iter().enumerate() {
+        let phong = round_values(&f.samples_of("phong_exact"), clock);
+        for r in rows.iter_mut() {
+            let s = f.samples_of(&r.name);
+            let ratio = paired_ratio(&round_values(&s, clock), &phong);
+            let iso = f.isolated.iter().find(|c| c.name == r.name);
+            r.run_figures.push(RunFigure {
+                run: k + 1,
+                median_ms: super::estimate(&s, clock).0.median,
+                ratio_median: ratio.median,
+                ratio_ci95_low: ratio.ci95_low,
+                ratio_ci95_high: ratio.ci95_high,
+                isolated_ns_per_eval: iso.map(|c| c.ns_per_eval.median),
+                isolated_ratio_median: iso.and_then(|c| c.ratio_to_phong_exact.map(|i| i.median)),
+            });
+        }
+    }
+    let frame =
+        |r: &MethodTiming| -> Vec<f64> { r.run_figures.iter().map(|f| f.ratio_median).collect() };
+    let iso = |r: &MethodTiming| -> Vec<f64> {
+        r.run_figures
+            .iter()
+            .filter_map(|f| f.isolated_ratio_median)
+            .collect()
+    };
+    let control_name = format!("{}_control", crate::method::PHONG_EXACT);
+    let control = rows.iter().find(|r| r.name == control_name);
+    let noise = NoiseFloor::of(&control.map(frame).unwrap_or_default());
+    let iso_noise = control
+        .map(iso)
+        .filter(|v| !v.is_empty())
+        .map(|v| NoiseFloor::of(&v));
+    for r in rows.iter_mut() {
+        let s = summarize(&frame(r), noise, false);
+        r.ratio_median = s.ratio_median;
+        r.ratio_ci95_low = s.ratio_ci95_low;
+        r.ratio_ci95_high = s.ratio_ci95_high;
+        r.ratio_rounds = s.count;
+        r.ratio_non_finite = figures.len() - s.count;
+        r.ratio_confidence = s.confidence;
+        r.speed_vs_phong_exact = match s.verdict {
+            RunsVerdict::Faster => Speed::Faster,
+            RunsVerdict::Slower => Speed::Slower,
+            RunsVerdict::Unmeasured => Speed::Unmeasured,
+            RunsVerdict::TooNoisy => Speed::TooNoisy,
+            _ => Speed::Inconclusive,
+        };
+        r.runs = Some(s);
+        let ratios = iso(r);
+        let ns: Vec<f64> = r
+            .run_figures
+            .iter()
+            .filter_map(|f| f.isolated_ns_per_eval)
+            .collect();
+        if !ns.is_empty() {
+            let e = median_ci(&ns);
+            r.isolated_ns_per_eval = Some(e.median);
+            r.isolated_ci95_low_ns = Some(e.ci95_low);
+            r.isolated_ci95_high_ns = Some(e.ci95_high);
+            r.isolated_k1_max_abs_diff_vs_f64 = figures
+                .iter()
+                .filter_map(|f| f.isolated.iter().find(|c| c.name == r.name))
+                .map(|c| c.k1_max_abs_diff_vs_f64)
+                .reduce(|a, b| {
+                    if a.is_nan() || b.is_nan() {
+                        f64::NAN
+                    } else {
+                        a.max(b)
+                    }
+                });
+        }
+        if let (false, Some(n)) = (ratios.is_empty(), iso_noise) {
+            let s = summarize(&ratios, n, true);
+            r.isolated_ratio_to_phong_exact = Some(Interval {
+                median: s.ratio_median,
+                ci95_low: s.ratio_ci95_low,
+                ci95_high: s.ratio_ci95_high,
+            });
+            r.isolated_vs_phong_exact = Some(match s.verdict {
+                RunsVerdict::Cheaper => Comparison::Cheaper,
+                RunsVerdict::Dearer => Comparison::Dearer,
+                RunsVerdict::TooNoisy => Comparison::TooNoisy,
+                _ => Comparison::Indistinguishable,
+            });
+            r.isolated_runs = Some(s);
+        }
+    }
+    RunsReport::new(figures, noise, iso_noise)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const QUIET: NoiseFloor = NoiseFloor {
+        spread: 0.01,
+        too_noisy: false,
+    };
+
+    #[test]
+    fn five_runs_give_the_min_max_interval_with_its_coverage() {
+        let s = summarize(&[0.8, 0.82, 0.79, 0.81, 0.85], QUIET, false);
+        assert_eq!(s.count, 5);
+        assert_eq!((s.ratio_ci95_low, s.ratio_ci95_high), (0.79, 0.85));
+        assert!((s.confidence - 0.9375).abs() < 1e-12, "{}", s.confidence);
+        assert_eq!(s.verdict, RunsVerdict::Faster);
+        let s = summarize(&[1.2, 1.22, 1.19, 1.21, 1.25], QUIET, true);
+        assert_eq!(s.verdict, RunsVerdict::Dearer);
+    }
+
+    /// Teeth: one run on the other side of 1 makes it inconclusive; an effect within the
+    /// control's spread is never a verdict; a noisy control silences every verdict.
+    #[test]
+    fn a_verdict_needs_every_run_and_an_effect_above_the_noise_floor() {
+        let s = summarize(&[0.8, 0.82, 1.01, 0.81, 0.85], QUIET, false);
+        assert_eq!(s.verdict, RunsVerdict::Inconclusive);
+        let small = [0.98, 0.985, 0.975, 0.99, 0.98];
+        assert_eq!(summarize(&small, QUIET, false).verdict, RunsVerdict::Faster);
+        let wide = NoiseFloor {
+            spread: 0.03,
+            too_noisy: false,
+        };
+        assert_eq!(
+            summarize(&small, wide, false).verdict,
+            RunsVerdict::Inconclusive
+        );
+        let noisy = NoiseFloor::of(&[1.03, 1.02, 1.04, 1.05, 1.02]);
+        assert!(noisy.too_noisy);
+        assert!((noisy.spread - 0.05).abs() < 1e-12);
+        assert_eq!(
+            summarize(&[0.5; 5], noisy, false).verdict,
+            RunsVerdict::TooNoisy
+        );
+        let calm = NoiseFloor::of(&[1.01, 0.99, 1.02, 0.98, 1.0]);
+        assert!(!calm.too_noisy);
+        assert!((calm.spread - 0.02).abs() < 1e-12);
+        assert_eq!(
+            summarize(&[f64::NAN; 5], calm, false).verdict,
+            RunsVerdict::Unmeasured
+        );
+        assert!(NoiseFloor::of(&[]).spread.is_infinite());
+    }
+
+    #[test]
+    fn run_figures_round_trip_through_their_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.json");
+        let s = [
+            Sample {
+                wall_ms: 2.0,
+                timestamp_ms: Some(1.5),
+            },
+            Sample {
+                wall_ms: 3.0,
+                timestamp_ms: None,
+            },
+        ];
+        let f = RunFigures {
+            rounds: 2,
+            timing_s: 0.5,
+            programs: vec![ProgramRounds::new("phong_exact", &s)],
+            isolated: Vec::new(),
+        };
+        f.write(&p).unwrap();
+        let back = RunFigures::read(&p).unwrap();
+        let got = back.samples_of("phong_exact");
+        assert_eq!(got.len(), 2);
+        assert_eq!((got[0].wall_ms, got[0].timestamp_ms), (2.0, Some(1.5)));
+        assert_eq!(got[1].timestamp_ms, None);
+        assert!(back.samples_of("gouraud").is_empty());
+        std::fs::write(&p, "{}").unwrap();
+        assert!(RunFigures::read(&p).is_err());
+    }
+}
