@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["report"],
-    &["compare", "bench", "verify", "stress", "plan"],
+    &["compare", "bench", "verify", "stress", "plan", "isa"],
     &["analysis", "truth"],
     &["gpu", "software"],
     &["scene", "frame"],

@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod demo;
+mod isa;
 mod list;
 mod mesh;
 mod plan;
@@ -343,6 +344,9 @@ enum Command {
         #[arg(long, value_name = "E")]
         error_budget: Option<f64>,
     },
+    /// What each method compiles to on AMD GPU generations (RADV's null device, ACO's static
+    /// statistics and disassembly; no GPU needed).
+    Isa(self::isa::IsaArgs),
     /// List the methods (`--json` for machines).
     List {
         #[arg(long)]
@@ -588,6 +592,7 @@ pub fn run() -> Result<ExitCode> {
             check_validation(r.context())?;
             Ok(ExitCode::SUCCESS)
         }
+        Command::Isa(args) => self::isa::cmd_isa(args),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,
