@@ -31,6 +31,14 @@ pub(super) struct IsaArgs {
     /// default: the shipped generated torus.
     #[arg(long, value_name = "FILE")]
     scene: Option<PathBuf>,
+    /// A bench.json of `shadelab bench` (with isolated costs): per family, Spearman's rank
+    /// correlation between the static cost and lavapipe's isolated cost.
+    #[arg(long, value_name = "FILE.json")]
+    bench: Option<PathBuf>,
+    /// A `shadelab compare` output folder (its summary.json); repeatable, the worst error of
+    /// each method is taken. With it, a chart per family of error against inverse throughput.
+    #[arg(long, value_name = "DIR")]
+    compare: Vec<PathBuf>,
     /// Floating-point precision of the programs.
     #[arg(long, value_enum, default_value = "f32")]
     precision: PrecisionArg,
@@ -90,8 +98,31 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         },
         probes: args.probe,
     };
+    let bench = match &args.bench {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
+            Some(
+                serde_json::from_str::<serde_json::Value>(&text)
+                    .map_err(|e| Error::input(p, None, format!("not JSON: {e}")))?,
+            )
+        }
+        None => None,
+    };
     let start = Instant::now();
-    let report = isa::run(&opts, &|line| eprintln!("{line}"))?;
+    let mut report = isa::run(&opts, &|line| eprintln!("{line}"))?;
+    if let Some(b) = &bench {
+        report.spearman = isa::rank::against_bench(&report, b)?;
+    }
+    if args.compare.is_empty() {
+        report.charts_note = Some(
+            "no --compare folder: the error axis comes from `shadelab compare` summary.json \
+             files (docs/isa.md), so no chart was drawn"
+                .into(),
+        );
+    } else {
+        let err = isa::chart::errors(&args.compare)?;
+        report.charts = isa::chart::write(&out, &report, &err)?;
+    }
     isa::files::write(&out, &report)?;
     print!("{}", report.text_table());
     println!(

@@ -8,10 +8,12 @@
 //! environment before Vulkan loads: a family the driver refuses or crashes on (Mesa 22.3.6
 //! dies of SIGFPE on navi24) is reported as not supported, never fatal. [`table`] turns the
 //! children's reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv,
-//! the disassembly and the charts; [`rank`] holds the Spearman correlation and the op-count
-//! judgement. The figures are ACO's static model (issue and stall cycles, busy cycles per
+//! the disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated cost and
+//! [`claims`] the op-count judgement on the compiled instructions. The figures are ACO's static model (issue and stall cycles, busy cycles per
 //! wave), not timings: they rank programs, they do not time them.
+pub mod chart;
 pub mod child;
+pub mod claims;
 pub mod files;
 pub mod rank;
 pub mod table;

@@ -2,6 +2,44 @@
 //! family's inverse throughput and lavapipe's isolated cost (bench.json), per family.
 use serde::{Deserialize, Serialize};
 
+use super::table::IsaReport;
+use crate::error::{Error, Result};
+
+/// The measure compared with lavapipe's isolated cost.
+pub const MEASURE: &str =
+    "inverse_throughput of one kernel evaluation vs bench.json isolated_ns_per_eval";
+
+/// Per family, Spearman's rho between one kernel evaluation's inverse throughput and
+/// bench.json's `isolated_ns_per_eval`, over the methods both have.
+pub fn against_bench(report: &IsaReport, bench: &serde_json::Value) -> Result<Vec<Correlation>> {
+    let methods = bench["methods"].as_array().ok_or_else(|| {
+        Error::Usage("--bench: no `methods` list: not a bench.json of `shadelab bench`".into())
+    })?;
+    let isolated: Vec<(&str, f64)> = methods
+        .iter()
+        .filter_map(|m| Some((m["name"].as_str()?, m["isolated_ns_per_eval"].as_f64()?)))
+        .collect();
+    Ok(report
+        .supported()
+        .into_iter()
+        .map(|f| {
+            let (a, b): (Vec<f64>, Vec<f64>) = isolated
+                .iter()
+                .filter_map(|&(m, ns)| {
+                    let row = report.row(f, m, "compute", "evaluation")?;
+                    Some((*row.statistics.get("inverse_throughput")?, ns))
+                })
+                .unzip();
+            Correlation {
+                family: f.to_string(),
+                measure: MEASURE.into(),
+                methods: a.len(),
+                spearman: spearman(&a, &b),
+            }
+        })
+        .collect())
+}
+
 /// One family's agreement with lavapipe's isolated cost.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Correlation {

@@ -89,6 +89,9 @@ pub struct IsaReport {
     /// Per family, Spearman's rank correlation with lavapipe's isolated cost (`--bench`).
     #[serde(default)]
     pub spearman: Vec<super::rank::Correlation>,
+    /// Per family, the op-count claim judged on the compiled instructions.
+    #[serde(default)]
+    pub op_count: Vec<super::claims::OpCountVerdict>,
     /// (relative path, text) of each disassembly, written by [`super::files`].
     #[serde(skip)]
     pub disassembly: Vec<(String, String)>,
@@ -277,7 +280,7 @@ pub fn report(
         }
     }
     fill_ratios(&mut results);
-    Ok(IsaReport {
+    let mut report = IsaReport {
         version: 1,
         precision: opts.precision,
         scene: opts
@@ -294,8 +297,11 @@ pub fn report(
         charts: Vec::new(),
         charts_note: None,
         spearman: Vec::new(),
+        op_count: Vec::new(),
         disassembly,
-    })
+    };
+    report.op_count = super::claims::op_count(&report);
+    Ok(report)
 }
 
 impl IsaReport {
@@ -347,9 +353,72 @@ impl IsaReport {
             }
             s += "\n";
         }
+        for v in &self.op_count {
+            s += &format!(
+                "{}: op-count claim ({} operations for exact normalisation): {}; compiled: {} \
+                 extra instructions {:?}, inverse throughput x{:.3} over phong_unnormalized\n",
+                v.family,
+                v.claimed_operations,
+                v.verdict,
+                v.extra_instructions,
+                v.extra_by_class,
+                v.inverse_throughput_ratio
+            );
+        }
+        for c in &self.spearman {
+            let rho = c.spearman.map_or("undefined".into(), |r| format!("{r:.3}"));
+            s += &format!(
+                "{}: Spearman rho {rho} over {} methods ({})\n",
+                c.family, c.methods, c.measure
+            );
+        }
         for f in self.families.iter().filter(|f| !f.supported) {
             s += &format!("{}: {}\n", f.family, f.status);
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_are_snake_case_driver_names() {
+        assert_eq!(key("Inverse Throughput"), "inverse_throughput");
+        assert_eq!(key("Spilled VGPRs"), "spilled_vgprs");
+        assert_eq!(key("Pre-Sched SGPRs"), "pre_sched_sgprs");
+        assert_eq!(key("Code size"), "code_size");
+    }
+
+    fn row(method: &str, it: f64) -> Row {
+        Row {
+            family: "navi21".into(),
+            method: method.into(),
+            stage: "fragment".into(),
+            kind: "draw".into(),
+            program: method.into(),
+            statistics: [("inverse_throughput".to_string(), it)].into(),
+            ratio_to_phong_exact: BTreeMap::new(),
+            hash: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn ratios_are_to_phong_exact_and_skip_a_zero_base() {
+        let mut rows = vec![row("gouraud", 16.0), row(PHONG_EXACT, 64.0)];
+        fill_ratios(&mut rows);
+        assert_eq!(rows[0].ratio_to_phong_exact["inverse_throughput"], 0.25);
+        assert_eq!(rows[1].ratio_to_phong_exact["inverse_throughput"], 1.0);
+        // Teeth: a zero base gives no ratio (never inf or NaN).
+        let mut rows = vec![row("gouraud", 16.0), row(PHONG_EXACT, 0.0)];
+        fill_ratios(&mut rows);
+        assert!(rows[0].ratio_to_phong_exact.is_empty());
+        // Another family's phong_exact is not a base.
+        let mut other = row(PHONG_EXACT, 8.0);
+        other.family = "polaris10".into();
+        let mut rows = vec![row("gouraud", 16.0), other];
+        fill_ratios(&mut rows);
+        assert!(rows[0].ratio_to_phong_exact.is_empty());
     }
 }
