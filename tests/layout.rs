@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["report"],
-    &["compare", "bench", "verify", "stress", "plan"],
+    &["compare", "bench", "verify", "stress", "plan", "isa"],
     &["analysis", "truth", "cases", "auto"],
     &["gpu", "software", "engine"],
     &["scene", "frame"],

@@ -12,6 +12,8 @@
 //! - `software`: the software engine against Vulkan (coverage, colours) and its f64 twins.
 //! - `report`: the HTML report: links, every method's parts, escaping; headless Chromium (no
 //!   error, no failed resource, the script runs, a screenshot that is not blank), with teeth.
+//! - `isa`: RADV null-device statistics: identical runs, the Phong order per family, 16 extra
+//!   multiplications cost more, a refused family is reported, isa.json against its schema.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
@@ -20,6 +22,7 @@ mod cli;
 mod compare;
 mod fuzz;
 mod gpu;
+mod isa;
 mod layout;
 mod methods;
 mod models;

@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod demo;
+mod isa;
 mod list;
 mod mesh;
 mod plan;
@@ -264,6 +265,9 @@ enum Command {
         #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
         error_budget: Option<ErrorBudget>,
     },
+    /// What each method compiles to on AMD GPU generations (RADV's null device, ACO's static
+    /// statistics and disassembly; no GPU needed).
+    Isa(self::isa::IsaArgs),
     /// List the methods (`--json` for machines).
     List {
         #[arg(long)]
@@ -543,6 +547,7 @@ pub fn run() -> Result<ExitCode> {
             error_budget,
         } => cmd_plan(&scene, &device, json, error_budget),
         Command::Skips(k) => cmd_skips(k),
+        Command::Isa(args) => self::isa::cmd_isa(args),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,

@@ -185,6 +185,16 @@ impl Kernel {
 }
 
 impl Kernel {
+    /// What the driver compiled this kernel's compute pipeline into (a context made by
+    /// [`Context::for_executables`]; `shadelab isa`).
+    pub fn executables(&self) -> Result<Vec<crate::gpu::vk::Executable>> {
+        let (pipeline, _) = self
+            .pipeline
+            .as_ref()
+            .ok_or_else(|| Error::Internal("compute kernel without a pipeline".into()))?;
+        pipeline.executables()
+    }
+
     /// Uploads `cases` (at most one batch) and records their dispatch once, for repeated
     /// timed submissions ([`Recorded::submit`] returns the submit-to-fence wall time).
     pub fn record(&mut self, cases: &[GpuCase]) -> Result<Recorded> {

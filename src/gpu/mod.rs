@@ -1,6 +1,8 @@
 //! The GPU layer: Vulkan objects ([`vk`], the only user of `ash`), the SPIR-V programs
-//! ([`shaders`], [`spirv`]), the offscreen renderer ([`renderer`]), its timed draws ([`timing`])
-//! and methods evaluated on buffers of cases ([`evaluate`]).
+//! ([`shaders`], [`spirv`]), the offscreen renderer ([`renderer`]), its timed draws ([`timing`]),
+//! methods evaluated on buffers of cases ([`evaluate`]), and the timed draw's programs as a
+//! driver compiled them ([`compiled`], for `shadelab isa`).
+pub mod compiled;
 pub mod evaluate;
 pub mod renderer;
 pub mod shaders;

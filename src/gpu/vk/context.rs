@@ -56,6 +56,9 @@ pub struct Context {
     messages: Arc<MessageLog>,
     /// Serialises queue submissions (the queue is externally synchronised in Vulkan).
     pub(crate) queue_lock: Mutex<()>,
+    /// VK_KHR_pipeline_executable_properties, when the context was made by
+    /// [`Context::for_executables`]: pipelines are then created with the capture flags.
+    pub(crate) executables: Option<ash::khr::pipeline_executable_properties::Device>,
 }
 
 impl Context {
@@ -73,6 +76,36 @@ impl Context {
     /// Loads the Vulkan loader, creates an instance (with validation when asked), picks a device
     /// and creates it with dynamic rendering and synchronization2.
     pub fn new(desc: &ContextDesc) -> Result<Arc<Self>> {
+        Context::create(desc, false)
+    }
+
+    /// [`Context::new`] with VK_KHR_pipeline_executable_properties and its
+    /// `pipelineExecutableInfo` feature: every pipeline made from this context is created with
+    /// the CAPTURE_STATISTICS and CAPTURE_INTERNAL_REPRESENTATIONS flags, so that its compiler
+    /// statistics and disassembly can be read back (`shadelab isa`, on RADV's null device).
+    /// An error when the device lacks the extension.
+    pub fn for_executables(desc: &ContextDesc) -> Result<Arc<Self>> {
+        Context::create(desc, true)
+    }
+
+    /// Whether pipelines made from this context capture their statistics and internal
+    /// representations.
+    pub fn captures_executables(&self) -> bool {
+        self.executables.is_some()
+    }
+
+    /// The creation flags of every pipeline: the capture flags on a [`Context::for_executables`]
+    /// context, none otherwise.
+    pub(crate) fn pipeline_flags(&self) -> vk::PipelineCreateFlags {
+        if self.executables.is_some() {
+            vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR
+                | vk::PipelineCreateFlags::CAPTURE_INTERNAL_REPRESENTATIONS_KHR
+        } else {
+            vk::PipelineCreateFlags::empty()
+        }
+    }
+
+    fn create(desc: &ContextDesc, capture: bool) -> Result<Arc<Self>> {
         // SAFETY: loading libvulkan.so.1 runs its initialisers; the loader is a trusted system
         // library and the Entry keeps it loaded for as long as the context lives.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| {
@@ -179,10 +212,19 @@ impl Context {
             .maintenance4(true);
         let core = vk::PhysicalDeviceFeatures::default()
             .pipeline_statistics_query(info.pipeline_statistics);
-        let device_info = vk::DeviceCreateInfo::default()
+        let capture_ext = [ash::khr::pipeline_executable_properties::NAME.as_ptr()];
+        let mut capture_feature =
+            vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
+                .pipeline_executable_info(true);
+        let mut device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_features(&core)
             .push_next(&mut f13);
+        if capture {
+            device_info = device_info
+                .enabled_extension_names(&capture_ext)
+                .push_next(&mut capture_feature);
+        }
         let instance = guard.get();
         // SAFETY: physical belongs to instance; the create info references locals only.
         let device = unsafe { instance.create_device(physical, &device_info, None) };
@@ -223,8 +265,11 @@ impl Context {
         };
         // SAFETY: plain query.
         let memory_properties = unsafe { instance.get_physical_device_memory_properties(physical) };
+        let executables = capture
+            .then(|| ash::khr::pipeline_executable_properties::Device::new(instance, &device));
         let instance = guard.release();
         Ok(Arc::new(Context {
+            executables,
             _entry: entry,
             instance,
             device,
@@ -446,7 +491,11 @@ impl Drop for Context {
         // SAFETY: every object made from the device holds an Arc<Context>, so all are gone;
         // no work is in flight (synchronous submits). Destroy in reverse creation order.
         unsafe {
-            let _ = self.device.device_wait_idle();
+            // A capture context never submits (RADV's null device, whose queue has no wait:
+            // vkDeviceWaitIdle jumps to a null pointer there).
+            if self.executables.is_none() {
+                let _ = self.device.device_wait_idle();
+            }
             self.device.destroy_command_pool(self.command_pool, None);
             self.device.destroy_device(None);
             if let Some((loader, m)) = self.debug.take() {

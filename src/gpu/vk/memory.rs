@@ -24,6 +24,8 @@ pub struct Buffer {
     pub(crate) raw: vk::Buffer,
     memory: vk::DeviceMemory,
     mapped: *mut u8,
+    /// The host memory behind `mapped` on a capture context (empty otherwise).
+    host: Vec<u8>,
     size: u64,
     usage: BufferUsage,
 }
@@ -73,11 +75,20 @@ impl Buffer {
             raw,
             memory: vk::DeviceMemory::null(),
             mapped: std::ptr::null_mut(),
+            host: Vec::new(),
             size,
             usage: desc.usage,
         };
         // SAFETY: raw is a live buffer.
         let req = unsafe { d.get_buffer_memory_requirements(raw) };
+        if ctx.captures_executables() {
+            // A capture context (RADV's null device) has no memory type at all: the buffer
+            // stays unbound, with host memory of its own behind bytes()/bytes_mut(). Nothing
+            // ever reads it on the device (a capture context never submits).
+            this.host = vec![0u8; size as usize];
+            this.mapped = this.host.as_mut_ptr();
+            return Ok(this);
+        }
         let ty = find_memory_type(
             ctx,
             req.memory_type_bits,
@@ -142,7 +153,7 @@ impl Drop for Buffer {
     fn drop(&mut self) {
         // SAFETY: no GPU work in flight (synchronous submits); handles are owned by self.
         unsafe {
-            if !self.mapped.is_null() {
+            if self.memory != vk::DeviceMemory::null() && !self.mapped.is_null() {
                 self.ctx.device.unmap_memory(self.memory);
             }
             self.ctx.device.destroy_buffer(self.raw, None);

@@ -12,12 +12,14 @@
 //! [`memory`] buffers and memory-type choice; [`image`] render targets and readback;
 //! [`pipeline`] shader modules, descriptor sets, graphics pipelines (dynamic rendering) and
 //! compute pipelines;
+//! [`executables`] what the driver compiled a pipeline into (statistics, disassembly);
 //! [`commands`] one-shot and reusable command buffers, synchronous submit;
 //! [`queries`] timestamp query pools and their arithmetic; [`conv`] the project's names for
 //! formats, usages and clear values, and their one conversion to `ash`.
 pub mod commands;
 pub mod context;
 pub mod conv;
+pub mod executables;
 pub mod image;
 pub mod memory;
 pub mod pipeline;
@@ -26,6 +28,7 @@ pub mod queries;
 pub use commands::{ColorTarget, OneShot, Recorded};
 pub use context::{Context, ContextDesc, DeviceInfo};
 pub use conv::{BufferUsage, Clear, Format, FrontFace, ImageUsage};
+pub use executables::{Executable, Representation, StatValue, Statistic};
 pub use image::{Image, ImageDesc};
 pub use memory::{Buffer, BufferDesc};
 pub use pipeline::{

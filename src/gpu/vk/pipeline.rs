@@ -127,8 +127,12 @@ impl DescriptorSet {
                     .buffer_info(info)
             })
             .collect();
-        // SAFETY: writes reference live buffers and the set allocated above.
-        unsafe { d.update_descriptor_sets(&writes, &[]) };
+        // A capture context's buffers have no memory (RADV's null device has none), and its
+        // sets are never bound to work: only their layouts matter, so they stay unwritten.
+        if !ctx.captures_executables() {
+            // SAFETY: writes reference live buffers and the set allocated above.
+            unsafe { d.update_descriptor_sets(&writes, &[]) };
+        }
         Ok(this)
     }
 }
@@ -186,7 +190,7 @@ pub enum DepthMode {
 /// A graphics pipeline with its layout (triangle list, back faces culled or not, depth test
 /// LESS).
 pub struct GraphicsPipeline {
-    ctx: Arc<Context>,
+    pub(super) ctx: Arc<Context>,
     pub(crate) raw: vk::Pipeline,
     pub(crate) layout: vk::PipelineLayout,
 }
@@ -302,6 +306,7 @@ impl GraphicsPipeline {
             .color_blend_state(&blend)
             .dynamic_state(&dynamic)
             .layout(layout)
+            .flags(ctx.pipeline_flags())
             .push_next(&mut rendering);
         // SAFETY: every pointer in `info` refers to locals alive for the call.
         let pipelines =
@@ -331,7 +336,7 @@ fn specialization(constants: &[(u32, u32)]) -> (Vec<vk::SpecializationMapEntry>,
 
 /// A compute pipeline with its layout (one descriptor set).
 pub struct ComputePipeline {
-    ctx: Arc<Context>,
+    pub(super) ctx: Arc<Context>,
     pub(crate) raw: vk::Pipeline,
     pub(crate) layout: vk::PipelineLayout,
 }
@@ -366,7 +371,8 @@ impl ComputePipeline {
             .specialization_info(&spec);
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
-            .layout(layout);
+            .layout(layout)
+            .flags(ctx.pipeline_flags());
         // SAFETY: every pointer in `info` refers to locals alive for the call.
         let pipelines =
             unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }

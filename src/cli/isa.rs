@@ -1,0 +1,137 @@
+//! `shadelab isa`: the methods compiled for AMD GPU generations by RADV's null device (ACO's
+//! statistics and disassembly); see [`crate::isa`]. The hidden `--child REQUEST` runs one
+//! family inside the process the parent started with the driver selected in its environment.
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+
+use crate::error::{Error, Result};
+use crate::isa::{self, IsaOptions, Precision};
+
+#[derive(ValueEnum, Debug, Clone, Copy)]
+pub(super) enum PrecisionArg {
+    F32,
+}
+
+#[derive(Args, Debug)]
+pub(super) struct IsaArgs {
+    /// Comma-separated method identifiers, or `all` (phong_exact is always compiled: the ratios'
+    /// base).
+    #[arg(long, default_value = "all")]
+    methods: String,
+    /// Comma-separated Mesa chip names (RADV_FORCE_FAMILY), e.g. polaris10,navi21,gfx1100.
+    #[arg(long, default_value_t = isa::DEFAULT_FAMILIES.join(","))]
+    families: String,
+    /// The RADV Vulkan ICD manifest to load (VK_DRIVER_FILES), e.g. a Mesa 25 build (docs/isa.md).
+    #[arg(long, value_name = "JSON", default_value = isa::DEFAULT_DRIVER_FILES)]
+    driver_files: PathBuf,
+    /// Scene whose timed draw is compiled (specialization constants, streams, culling);
+    /// default: the shipped generated torus.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// A bench.json of `shadelab bench` (with isolated costs): per family, Spearman's rank
+    /// correlation between the static cost and lavapipe's isolated cost.
+    #[arg(long, value_name = "FILE.json")]
+    bench: Option<PathBuf>,
+    /// A `shadelab compare` output folder (its summary.json); repeatable, the worst error of
+    /// each method is taken. With it, a chart per family of error against inverse throughput.
+    #[arg(long, value_name = "DIR")]
+    compare: Vec<PathBuf>,
+    /// Floating-point precision of the programs.
+    #[arg(long, value_enum, default_value = "f32")]
+    precision: PrecisionArg,
+    /// Also compile this compute SPIR-V as is (one storage buffer at binding 0); repeatable.
+    #[arg(long, value_name = "FILE.spv", hide = true)]
+    probe: Vec<PathBuf>,
+    /// Output directory (isa.json, isa.csv, asm/).
+    #[arg(long, value_name = "DIR", required_unless_present = "child")]
+    out: Option<PathBuf>,
+    /// Internal: compile one family's request (JSON) on the device the environment selects and
+    /// print the report on stdout.
+    #[arg(long, value_name = "REQUEST", hide = true)]
+    child: Option<String>,
+}
+
+pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
+    if let Some(request) = &args.child {
+        let req: isa::ChildRequest = serde_json::from_str(request)
+            .map_err(|e| Error::Usage(format!("isa --child: not a request: {e}")))?;
+        let report = isa::child::compile(&req)?;
+        let text =
+            serde_json::to_string(&report).map_err(|e| Error::output("the child report", e))?;
+        println!("{text}");
+        return Ok(ExitCode::SUCCESS);
+    }
+    let Some(out) = args.out else {
+        return Err(Error::Usage("isa: give --out DIR".into()));
+    };
+    let mut methods = super::select_methods(&args.methods)?;
+    let exact = crate::method::phong_exact();
+    if !methods.iter().any(|m| m.name == exact.name) {
+        methods.insert(0, exact);
+    }
+    let families: Vec<String> = args
+        .families
+        .split(',')
+        .map(|s| s.trim().to_lowercase())
+        .filter(|s| !s.is_empty())
+        .collect();
+    if !args.driver_files.is_file() {
+        return Err(Error::Usage(format!(
+            "--driver-files {}: no such file; install mesa-vulkan-drivers (RADV) or point at \
+             another RADV build's ICD manifest (docs/isa.md)",
+            args.driver_files.display()
+        )));
+    }
+    let exe = std::env::current_exe()
+        .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
+    let opts = IsaOptions {
+        methods,
+        families,
+        driver_files: args.driver_files,
+        scene: args.scene,
+        exe,
+        precision: match args.precision {
+            PrecisionArg::F32 => Precision::F32,
+        },
+        probes: args.probe,
+    };
+    let bench = match &args.bench {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
+            Some(
+                serde_json::from_str::<serde_json::Value>(&text)
+                    .map_err(|e| Error::input(p, None, format!("not JSON: {e}")))?,
+            )
+        }
+        None => None,
+    };
+    let start = Instant::now();
+    let mut report = isa::run(&opts, &|line| eprintln!("{line}"))?;
+    if let Some(b) = &bench {
+        report.spearman = isa::rank::against_bench(&report, b)?;
+    }
+    if args.compare.is_empty() {
+        report.charts_note = Some(
+            "no --compare folder: the error axis comes from `shadelab compare` summary.json \
+             files (docs/isa.md), so no chart was drawn"
+                .into(),
+        );
+    } else {
+        let err = isa::chart::errors(&args.compare)?;
+        report.charts = isa::chart::write(&out, &report, &err)?;
+    }
+    isa::files::write(&out, &report)?;
+    print!("{}", report.text_table());
+    println!(
+        "{} families ({} compiled), {} rows in {:.2} s; {}",
+        report.families.len(),
+        report.supported().len(),
+        report.results.len(),
+        start.elapsed().as_secs_f64(),
+        out.join("isa.json").display()
+    );
+    Ok(ExitCode::SUCCESS)
+}

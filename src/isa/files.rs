@@ -1,0 +1,55 @@
+//! The files of `shadelab isa`: isa.json (docs/isa.schema.json), isa.csv (one line per row,
+//! the required statistics and their ratios to phong_exact), the disassembly under
+//! asm/<family>/<method>.<stage>.s (isolated kernels: `.compute.repeat<K>.s`) and, with
+//! compare results, a chart per family of error against inverse throughput with its Pareto
+//! front ([`super::rank`]).
+use std::io::Write;
+use std::path::Path;
+
+use super::table::{IsaReport, REQUIRED};
+use crate::error::{Error, Result};
+use crate::output::{write_atomic, write_bytes_atomic};
+
+/// Writes isa.json, isa.csv and the disassembly into `out`.
+pub fn write(out: &Path, report: &IsaReport) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    for (rel, text) in &report.disassembly {
+        let path = out.join(rel);
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        }
+        // Plain writes: hundreds of small files, re-made by every run (isa.json, written last
+        // and atomically, is the run's record).
+        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+    }
+    write_atomic(&out.join("isa.csv"), |w| csv(w, report))?;
+    let json = serde_json::to_vec_pretty(report).map_err(|e| Error::output("isa.json", e))?;
+    write_bytes_atomic(&out.join("isa.json"), &json)
+}
+
+fn csv(w: &mut dyn Write, r: &IsaReport) -> std::io::Result<()> {
+    write!(w, "family,method,stage,kind,program")?;
+    for k in REQUIRED {
+        write!(w, ",{k}")?;
+    }
+    for k in REQUIRED {
+        write!(w, ",ratio_{k}")?;
+    }
+    writeln!(w)?;
+    let num = |v: Option<&f64>| v.map_or(String::new(), |v| format!("{v}"));
+    for row in &r.results {
+        write!(
+            w,
+            "{},{},{},{},{}",
+            row.family, row.method, row.stage, row.kind, row.program
+        )?;
+        for k in REQUIRED {
+            write!(w, ",{}", num(row.statistics.get(k)))?;
+        }
+        for k in REQUIRED {
+            write!(w, ",{}", num(row.ratio_to_phong_exact.get(k)))?;
+        }
+        writeln!(w)?;
+    }
+    Ok(())
+}

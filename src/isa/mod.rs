@@ -1,0 +1,210 @@
+//! `shadelab isa`: what each method costs on real AMD GPU generations, without the GPUs.
+//! Mesa's RADV, with `RADV_FORCE_FAMILY=<chip>`, creates a null device whose pipelines go
+//! through the production ACO compiler; VK_KHR_pipeline_executable_properties returns its
+//! statistics and disassembly (../shared/TOOLCHAIN.md "RADV null device").
+//!
+//! Each family is compiled in a child process of its own ([`child`]: the binary re-executing
+//! itself with `isa --child FAMILY`), two at a time, with the driver selected in the child's
+//! environment before Vulkan loads: a family the driver refuses or crashes on (Mesa 22.3.6
+//! dies of SIGFPE on navi24) is reported as not supported, never fatal. [`table`] turns the
+//! children's reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv,
+//! the disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated cost and
+//! [`claims`] the op-count judgement on the compiled instructions. The figures are ACO's static model (issue and stall cycles, busy cycles per
+//! wave), not timings: they rank programs, they do not time them.
+pub mod chart;
+pub mod child;
+pub mod claims;
+pub mod files;
+pub mod rank;
+pub mod table;
+
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::method::Method;
+pub use child::{ChildReport, ChildRequest, Compiled};
+pub use table::{FamilyStatus, IsaReport, Row};
+
+/// The families compiled by default: a spread Mesa 22.3.6 accepts, oldest first (GCN1, GCN4,
+/// GCN5, RDNA1, RDNA2, RDNA3).
+pub const DEFAULT_FAMILIES: [&str; 6] = [
+    "tahiti",
+    "polaris10",
+    "vega10",
+    "navi10",
+    "navi21",
+    "gfx1100",
+];
+/// Debian's RADV ICD (mesa-vulkan-drivers).
+pub const DEFAULT_DRIVER_FILES: &str = "/usr/share/vulkan/icd.d/radeon_icd.x86_64.json";
+/// The isolated kernel's two evaluation counts: the cost of one evaluation is the difference.
+/// Both >= 2 so that both programs sum their results the same way (`REPEAT == 1` stores the
+/// colour alone), and small enough that NIR unrolls both loops fully (a loop left rolled would
+/// count once, weighted x8, whatever its trip count).
+pub const KERNEL_COUNTS: [u32; 2] = [2, 3];
+/// Children compiling at a time (the project's machines have two cores).
+pub const PARALLEL_CHILDREN: usize = 2;
+/// Lines of a failed child's stderr kept in the report.
+const STDERR_TAIL_LINES: usize = 6;
+
+/// The floating-point precision the programs are compiled at (issue 23 adds more).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Precision {
+    F32,
+}
+
+/// What `shadelab isa` runs.
+#[derive(Debug, Clone)]
+pub struct IsaOptions {
+    pub methods: Vec<&'static Method>,
+    pub families: Vec<String>,
+    /// The Vulkan ICD manifest of the RADV build to use (VK_DRIVER_FILES).
+    pub driver_files: PathBuf,
+    /// Scene whose timed draw is compiled; `None`: [`child::DEFAULT_SCENE`].
+    pub scene: Option<PathBuf>,
+    /// The shadelab binary the children run (`std::env::current_exe()` from the CLI; tests
+    /// pass Cargo's `CARGO_BIN_EXE_shadelab`).
+    pub exe: PathBuf,
+    pub precision: Precision,
+    /// Extra compute programs compiled as they are ([`ChildRequest::probes`]).
+    pub probes: Vec<PathBuf>,
+}
+
+/// How one child ended.
+#[derive(Debug)]
+pub enum ChildOutcome {
+    Compiled(ChildReport),
+    /// Not supported by this driver: what happened (signal, exit code, stderr tail).
+    Failed(String),
+}
+
+/// The environment of a child compiling for `family` with the ICD `driver_files`: set before
+/// the child's Vulkan loader starts, never in this process (tests run as threads, and the
+/// others use lavapipe).
+pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, String)> {
+    vec![
+        ("RADV_FORCE_FAMILY".into(), family.into()),
+        ("VK_DRIVER_FILES".into(), driver_files.display().to_string()),
+        // The loader's older name for the same setting (loaders before 1.3.207).
+        (
+            "VK_ICD_FILENAMES".into(),
+            driver_files.display().to_string(),
+        ),
+        ("NODEVICE_SELECT".into(), "1".into()),
+        ("MESA_SHADER_CACHE_DISABLE".into(), "true".into()),
+    ]
+}
+
+/// Runs one child and reads its report.
+pub fn run_child(opts: &IsaOptions, family: &str) -> ChildOutcome {
+    let req = ChildRequest {
+        family: family.to_string(),
+        methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
+        scene: opts.scene.clone(),
+        kernel_counts: KERNEL_COUNTS,
+        probes: opts.probes.clone(),
+    };
+    let request = match serde_json::to_string(&req) {
+        Ok(r) => r,
+        Err(e) => return ChildOutcome::Failed(format!("cannot encode the request: {e}")),
+    };
+    let mut cmd = Command::new(&opts.exe);
+    cmd.args(["isa", "--child", &request])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    for (k, v) in child_env(family, &opts.driver_files) {
+        cmd.env(k, v);
+    }
+    let out = match cmd.output() {
+        Ok(o) => o,
+        Err(e) => return ChildOutcome::Failed(format!("cannot start {}: {e}", opts.exe.display())),
+    };
+    if out.status.success() {
+        return match serde_json::from_slice::<ChildReport>(&out.stdout) {
+            Ok(r) => ChildOutcome::Compiled(r),
+            Err(e) => ChildOutcome::Failed(format!("the child's report is not readable: {e}")),
+        };
+    }
+    ChildOutcome::Failed(describe_failure(out.status, &out.stderr))
+}
+
+/// "killed by signal 8 (SIGFPE)" or "exit code 2", then the last lines of stderr.
+fn describe_failure(status: std::process::ExitStatus, stderr: &[u8]) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    let how = match (status.code(), status.signal()) {
+        (Some(c), _) => format!("exit code {c}"),
+        (None, Some(s)) => format!("killed by signal {s}{}", signal_name(s)),
+        (None, None) => format!("{status}"),
+    };
+    let text = String::from_utf8_lossy(stderr);
+    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    let tail = lines[lines.len().saturating_sub(STDERR_TAIL_LINES)..].join(" | ");
+    if tail.is_empty() {
+        how
+    } else {
+        format!("{how}; stderr: {tail}")
+    }
+}
+
+fn signal_name(s: i32) -> &'static str {
+    match s {
+        4 => " (SIGILL)",
+        6 => " (SIGABRT)",
+        8 => " (SIGFPE)",
+        9 => " (SIGKILL)",
+        11 => " (SIGSEGV)",
+        _ => "",
+    }
+}
+
+/// Compiles every family (children [`PARALLEL_CHILDREN`] at a time) and builds the report.
+pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaReport> {
+    if opts.families.is_empty() {
+        return Err(Error::Usage("--families: no family given".into()));
+    }
+    let start = Instant::now();
+    let queue: Mutex<Vec<(usize, String)>> =
+        Mutex::new(opts.families.iter().cloned().enumerate().rev().collect());
+    let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..PARALLEL_CHILDREN.min(opts.families.len()) {
+            s.spawn(|| loop {
+                let next = queue.lock().ok().and_then(|mut q| q.pop());
+                let Some((i, family)) = next else { break };
+                let outcome = run_child(opts, &family);
+                progress(&match &outcome {
+                    ChildOutcome::Compiled(r) => {
+                        format!("{family}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
+                    }
+                    ChildOutcome::Failed(why) => format!("{family}: not supported ({why})"),
+                });
+                if let Ok(mut d) = done.lock() {
+                    d.push((i, outcome));
+                }
+            });
+        }
+    });
+    let mut outcomes = done
+        .into_inner()
+        .map_err(|_| Error::Internal("isa: a child thread panicked".into()))?;
+    if outcomes.len() != opts.families.len() {
+        return Err(Error::Internal(format!(
+            "isa: {} of {} families came back",
+            outcomes.len(),
+            opts.families.len()
+        )));
+    }
+    outcomes.sort_by_key(|(i, _)| *i);
+    let outcomes: Vec<(String, ChildOutcome)> = outcomes
+        .into_iter()
+        .map(|(i, o)| (opts.families[i].clone(), o))
+        .collect();
+    table::report(opts, outcomes, start.elapsed().as_secs_f64())
+}

@@ -1,0 +1,424 @@
+//! The children's reports as one table: a row per (family, method, stage) with every statistic
+//! the driver gave under a snake_case key of its own name ("Inverse Throughput" ->
+//! `inverse_throughput`), the isolated kernel's cost of one evaluation (the difference of its
+//! two evaluation counts), each row's ratio to phong_exact's, and per family whether the
+//! driver compiled it, with the driver's names and descriptions of its statistics.
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use super::{ChildOutcome, IsaOptions, Precision, KERNEL_COUNTS};
+use crate::error::{Error, Result};
+use crate::gpu::vk::{Executable, StatValue};
+use crate::method::PHONG_EXACT;
+
+/// The statistics every row must carry (the schema requires them).
+pub const REQUIRED: [&str; 8] = [
+    "instructions",
+    "code_size",
+    "vgprs",
+    "sgprs",
+    "spilled_vgprs",
+    "spilled_sgprs",
+    "latency",
+    "inverse_throughput",
+];
+
+/// A statistic as the driver names and describes it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StatName {
+    pub key: String,
+    pub name: String,
+    pub description: String,
+}
+
+/// One family: compiled, or not supported by this driver (and what happened).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FamilyStatus {
+    pub family: String,
+    pub supported: bool,
+    /// "compiled", or "not supported by this driver: <signal / exit code, stderr tail>".
+    pub status: String,
+    pub device_name: Option<String>,
+    pub driver_name: Option<String>,
+    /// The driver's version string, e.g. "Mesa 22.3.6".
+    pub driver_info: Option<String>,
+    pub elapsed_ms: Option<f64>,
+    /// The statistics the driver reported, in its order, with its names and descriptions.
+    pub statistics: Vec<StatName>,
+}
+
+/// One compiled program's figures.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Row {
+    pub family: String,
+    pub method: String,
+    /// "fragment", "vertex" or "compute".
+    pub stage: String,
+    /// "draw": the timed draw's pipeline; "evaluation": one evaluation of the isolated kernel
+    /// (its statistics at the higher count minus the lower); "probe": a program given as is.
+    pub kind: String,
+    pub program: String,
+    pub statistics: BTreeMap<String, f64>,
+    /// This row's statistic over phong_exact's (same family, stage and kind); absent where
+    /// phong_exact's is zero.
+    pub ratio_to_phong_exact: BTreeMap<String, f64>,
+    /// The driver's hashes of the executable (those of both kernels for an evaluation).
+    pub hash: Vec<String>,
+}
+
+/// Everything `shadelab isa` found.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct IsaReport {
+    pub version: u32,
+    pub precision: Precision,
+    pub scene: String,
+    pub kernel_counts: [u32; 2],
+    pub model: String,
+    pub families: Vec<FamilyStatus>,
+    pub results: Vec<Row>,
+    pub elapsed_s: f64,
+    /// Disassembly files written under asm/ (relative to the output folder).
+    #[serde(default)]
+    pub asm: Vec<String>,
+    /// Charts written (relative paths), or why there are none.
+    #[serde(default)]
+    pub charts: Vec<String>,
+    #[serde(default)]
+    pub charts_note: Option<String>,
+    /// Per family, Spearman's rank correlation with lavapipe's isolated cost (`--bench`).
+    #[serde(default)]
+    pub spearman: Vec<super::rank::Correlation>,
+    /// Per family, the op-count claim judged on the compiled instructions.
+    #[serde(default)]
+    pub op_count: Vec<super::claims::OpCountVerdict>,
+    /// (relative path, text) of each disassembly, written by [`super::files`].
+    #[serde(skip)]
+    pub disassembly: Vec<(String, String)>,
+}
+
+/// What the figures are, for readers of isa.json.
+pub const MODEL_NOTE: &str = "ACO's static model on RADV's null device (Mesa): latency = issue \
+plus stall cycles, inverse_throughput = estimated busy cycles to execute one wave; loops \
+weighted x8, divergent branches 0.75. Use them to rank programs; they are not timings.";
+
+/// A driver statistic name as a snake_case key.
+pub fn key(name: &str) -> String {
+    let mut out = String::new();
+    for c in name.trim().chars() {
+        if c.is_ascii_alphanumeric() {
+            out.push(c.to_ascii_lowercase());
+        } else if !out.ends_with('_') && !out.is_empty() {
+            out.push('_');
+        }
+    }
+    out.trim_end_matches('_').to_string()
+}
+
+/// The executable's statistics by key, its hash apart.
+fn stats(e: &Executable) -> (BTreeMap<String, f64>, Vec<String>) {
+    let mut map = BTreeMap::new();
+    let mut hashes = Vec::new();
+    for s in &e.statistics {
+        let k = key(&s.name);
+        // Hashes ("Hash", "Driver pipeline hash") identify code; they are not costs.
+        if k == "hash" || k.ends_with("_hash") {
+            hashes.push(match s.value {
+                StatValue::Uint(u) => format!("{u:x}"),
+                StatValue::Int(i) => format!("{i:x}"),
+                v => format!("{}", v.as_f64()),
+            });
+        } else {
+            map.insert(k, s.value.as_f64());
+        }
+    }
+    (map, hashes)
+}
+
+/// A family's rows, the driver's statistic names, and (path, text) of each disassembly.
+type FamilyRows = (Vec<Row>, Vec<StatName>, Vec<(String, String)>);
+
+/// The rows and status of one compiled family.
+fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
+    let mut rows = Vec::new();
+    let mut names: Vec<StatName> = Vec::new();
+    let mut asm = Vec::new();
+    let mut kernels: BTreeMap<String, Vec<(u32, &Executable)>> = BTreeMap::new();
+    for c in &r.compiled {
+        for e in &c.executables {
+            for s in &e.statistics {
+                if !names.iter().any(|n| n.name == s.name) {
+                    names.push(StatName {
+                        key: key(&s.name),
+                        name: s.name.clone(),
+                        description: s.description.clone(),
+                    });
+                }
+            }
+            let suffix = c.repeat.map(|k| format!(".repeat{k}")).unwrap_or_default();
+            for rep in &e.representations {
+                asm.push((
+                    format!("asm/{}/{}.{}{suffix}.s", r.family, c.method, e.stage),
+                    rep.text.clone(),
+                ));
+            }
+            if let Some(k) = c.repeat {
+                kernels.entry(c.method.clone()).or_default().push((k, e));
+                continue;
+            }
+            let (statistics, hash) = stats(e);
+            rows.push(Row {
+                family: r.family.clone(),
+                method: c.method.clone(),
+                stage: e.stage.clone(),
+                kind: if c.kind == "probe" { "probe" } else { "draw" }.into(),
+                program: c.program.clone(),
+                statistics,
+                ratio_to_phong_exact: BTreeMap::new(),
+                hash,
+            });
+        }
+    }
+    for (method, mut list) in kernels {
+        list.sort_by_key(|(k, _)| *k);
+        let [(k0, lo), (k1, hi)] = list[..] else {
+            return Err(Error::Internal(format!(
+                "isa: {method} on {}: {} kernel executables, expected 2",
+                r.family,
+                list.len()
+            )));
+        };
+        let ((a, ha), (b, hb)) = (stats(lo), stats(hi));
+        let per: f64 = f64::from(k1 - k0);
+        let statistics = b
+            .iter()
+            .filter_map(|(k, v)| a.get(k).map(|w| (k.clone(), (v - w) / per)))
+            .collect();
+        rows.push(Row {
+            family: r.family.clone(),
+            program: crate::gpu::shaders::evaluate_program(&method),
+            method,
+            stage: hi.stage.clone(),
+            kind: "evaluation".into(),
+            statistics,
+            ratio_to_phong_exact: BTreeMap::new(),
+            hash: ha.into_iter().chain(hb).collect(),
+        });
+    }
+    Ok((rows, names, asm))
+}
+
+/// Fills each row's ratio to phong_exact's row of the same family, stage and kind.
+pub fn fill_ratios(rows: &mut [Row]) {
+    let bases: Vec<(String, String, String, BTreeMap<String, f64>)> = rows
+        .iter()
+        .filter(|r| r.method == PHONG_EXACT)
+        .map(|r| {
+            (
+                r.family.clone(),
+                r.stage.clone(),
+                r.kind.clone(),
+                r.statistics.clone(),
+            )
+        })
+        .collect();
+    for r in rows.iter_mut() {
+        let Some((.., base)) = bases
+            .iter()
+            .find(|(f, s, k, _)| *f == r.family && *s == r.stage && *k == r.kind)
+        else {
+            continue;
+        };
+        r.ratio_to_phong_exact = r
+            .statistics
+            .iter()
+            .filter_map(|(k, v)| {
+                let b = *base.get(k)?;
+                let q = v / b;
+                (b != 0.0 && q.is_finite()).then(|| (k.clone(), q))
+            })
+            .collect();
+    }
+}
+
+/// The report of every child's outcome.
+pub fn report(
+    opts: &IsaOptions,
+    outcomes: Vec<(String, ChildOutcome)>,
+    elapsed_s: f64,
+) -> Result<IsaReport> {
+    let mut families = Vec::new();
+    let mut results = Vec::new();
+    let mut disassembly = Vec::new();
+    for (family, outcome) in outcomes {
+        match outcome {
+            ChildOutcome::Compiled(r) => {
+                let (rows, names, asm) = family_rows(&r)?;
+                results.extend(rows);
+                disassembly.extend(asm);
+                families.push(FamilyStatus {
+                    family,
+                    supported: true,
+                    status: "compiled".into(),
+                    device_name: Some(r.device_name),
+                    driver_name: Some(r.driver_name),
+                    driver_info: Some(r.driver_info),
+                    elapsed_ms: Some(r.elapsed_ms),
+                    statistics: names,
+                });
+            }
+            ChildOutcome::Failed(why) => families.push(FamilyStatus {
+                family,
+                supported: false,
+                status: format!("not supported by this driver: {why}"),
+                device_name: None,
+                driver_name: None,
+                driver_info: None,
+                elapsed_ms: None,
+                statistics: Vec::new(),
+            }),
+        }
+    }
+    fill_ratios(&mut results);
+    let mut report = IsaReport {
+        version: 1,
+        precision: opts.precision,
+        scene: opts
+            .scene
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|| super::child::DEFAULT_SCENE_NAME.to_string()),
+        kernel_counts: KERNEL_COUNTS,
+        model: MODEL_NOTE.into(),
+        families,
+        results,
+        elapsed_s,
+        asm: disassembly.iter().map(|(p, _)| p.clone()).collect(),
+        charts: Vec::new(),
+        charts_note: None,
+        spearman: Vec::new(),
+        op_count: Vec::new(),
+        disassembly,
+    };
+    report.op_count = super::claims::op_count(&report);
+    Ok(report)
+}
+
+impl IsaReport {
+    /// The row of (family, method, stage, kind), if any.
+    pub fn row(&self, family: &str, method: &str, stage: &str, kind: &str) -> Option<&Row> {
+        self.results.iter().find(|r| {
+            r.family == family && r.method == method && r.stage == stage && r.kind == kind
+        })
+    }
+
+    /// The families the driver compiled.
+    pub fn supported(&self) -> Vec<&str> {
+        self.families
+            .iter()
+            .filter(|f| f.supported)
+            .map(|f| f.family.as_str())
+            .collect()
+    }
+
+    /// The text table: per method and family, the fragment shader's and one evaluation's
+    /// inverse throughput over phong_exact's.
+    pub fn text_table(&self) -> String {
+        let fams = self.supported();
+        let mut methods: Vec<&str> = Vec::new();
+        for r in &self.results {
+            if r.kind != "probe" && !methods.contains(&r.method.as_str()) {
+                methods.push(&r.method);
+            }
+        }
+        let mut s = String::from(
+            "inverse throughput / phong_exact's (ACO's static model, not a timing): \
+             fragment shader of the timed draw | one evaluation of the isolated kernel\n",
+        );
+        s += &format!("{:<30}", "method");
+        for f in &fams {
+            s += &format!(" {f:>15}");
+        }
+        s += "\n";
+        let cell = |r: Option<&Row>| {
+            r.and_then(|r| r.ratio_to_phong_exact.get("inverse_throughput"))
+                .map_or("  -  ".to_string(), |v| format!("{v:.3}"))
+        };
+        for m in methods {
+            s += &format!("{m:<30}");
+            for f in &fams {
+                let a = cell(self.row(f, m, "fragment", "draw"));
+                let b = cell(self.row(f, m, "compute", "evaluation"));
+                s += &format!(" {:>15}", format!("{a}|{b}"));
+            }
+            s += "\n";
+        }
+        for v in &self.op_count {
+            s += &format!(
+                "{}: op-count claim ({} operations for exact normalisation): {}; compiled: {} \
+                 extra instructions {:?}, inverse throughput x{:.3} over phong_unnormalized\n",
+                v.family,
+                v.claimed_operations,
+                v.verdict,
+                v.extra_instructions,
+                v.extra_by_class,
+                v.inverse_throughput_ratio
+            );
+        }
+        for c in &self.spearman {
+            let rho = c.spearman.map_or("undefined".into(), |r| format!("{r:.3}"));
+            s += &format!(
+                "{}: Spearman rho {rho} over {} methods ({})\n",
+                c.family, c.methods, c.measure
+            );
+        }
+        for f in self.families.iter().filter(|f| !f.supported) {
+            s += &format!("{}: {}\n", f.family, f.status);
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_are_snake_case_driver_names() {
+        assert_eq!(key("Inverse Throughput"), "inverse_throughput");
+        assert_eq!(key("Spilled VGPRs"), "spilled_vgprs");
+        assert_eq!(key("Pre-Sched SGPRs"), "pre_sched_sgprs");
+        assert_eq!(key("Code size"), "code_size");
+    }
+
+    fn row(method: &str, it: f64) -> Row {
+        Row {
+            family: "navi21".into(),
+            method: method.into(),
+            stage: "fragment".into(),
+            kind: "draw".into(),
+            program: method.into(),
+            statistics: [("inverse_throughput".to_string(), it)].into(),
+            ratio_to_phong_exact: BTreeMap::new(),
+            hash: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn ratios_are_to_phong_exact_and_skip_a_zero_base() {
+        let mut rows = vec![row("gouraud", 16.0), row(PHONG_EXACT, 64.0)];
+        fill_ratios(&mut rows);
+        assert_eq!(rows[0].ratio_to_phong_exact["inverse_throughput"], 0.25);
+        assert_eq!(rows[1].ratio_to_phong_exact["inverse_throughput"], 1.0);
+        // Teeth: a zero base gives no ratio (never inf or NaN).
+        let mut rows = vec![row("gouraud", 16.0), row(PHONG_EXACT, 0.0)];
+        fill_ratios(&mut rows);
+        assert!(rows[0].ratio_to_phong_exact.is_empty());
+        // Another family's phong_exact is not a base.
+        let mut other = row(PHONG_EXACT, 8.0);
+        other.family = "polaris10".into();
+        let mut rows = vec![row("gouraud", 16.0), other];
+        fill_ratios(&mut rows);
+        assert!(rows[0].ratio_to_phong_exact.is_empty());
+    }
+}
