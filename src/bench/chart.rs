@@ -96,36 +96,9 @@ fn draw_pareto<DB: DrawingBackend>(
 ) -> Result<()> {
     area.fill(&WHITE).map_err(plot_err)?;
     let pts = pareto_points(r, axis);
-    let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in &pts {
-        x0 = x0.min(p.lo);
-        x1 = x1.max(p.hi);
-        y0 = y0.min(p.e);
-        y1 = y1.max(p.e);
-    }
-    if pts.is_empty() {
-        (x0, x1, y0, y1) = (0.0, 1.0, 1e-6, 1.0);
-    }
-    let pad = ((x1 - x0) * 0.08).max(0.05);
-    let (x0, x1) = ((x0 - pad).max(0.0), x1 + pad * 3.0);
-    let (y0, y1) = (y0 / 3.0, y1 * 3.0);
-    let mut title = match axis {
-        Axis::FrameTime => format!(
-            "{} {}x{}: run time ({} clock, median, 95% CI) vs {}; front: dominated only beyond the paired interval",
-            r.scene, r.width, r.height, r.clock.clock, r.error_metric
-        ),
-        Axis::IsolatedCost => format!(
-            "{} {}x{}: isolated cost per evaluation (median, 95% CI) vs {}; front: dominated only when the intervals separate",
-            r.scene, r.width, r.height, r.error_metric
-        ),
-    };
-    let off = unplottable(r);
-    if !off.is_empty() {
-        title += &format!("; infinite error, not plotted: {}", off.join(", "));
-    }
+    let ((x0, x1), (y0, y1)) = pareto_ranges(&pts);
     let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 18))
+        .caption(pareto_title(r, axis), ("sans-serif", 18))
         .margin(16)
         .x_label_area_size(44)
         .y_label_area_size(76)
@@ -144,6 +117,54 @@ fn draw_pareto<DB: DrawingBackend>(
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(plot_err)?;
+    draw_pareto_series(&mut chart, &pts)
+}
+
+/// The axes' ranges: every interval and error, padded (a unit box when nothing is plotted).
+fn pareto_ranges(pts: &[Point]) -> ((f64, f64), (f64, f64)) {
+    let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in pts {
+        x0 = x0.min(p.lo);
+        x1 = x1.max(p.hi);
+        y0 = y0.min(p.e);
+        y1 = y1.max(p.e);
+    }
+    if pts.is_empty() {
+        (x0, x1, y0, y1) = (0.0, 1.0, 1e-6, 1.0);
+    }
+    let pad = ((x1 - x0) * 0.08).max(0.05);
+    (((x0 - pad).max(0.0), x1 + pad * 3.0), (y0 / 3.0, y1 * 3.0))
+}
+
+/// The chart's title: scene, size, clock, metric, the front's rule and what was left out.
+fn pareto_title(r: &BenchReport, axis: Axis) -> String {
+    let mut title = match axis {
+        Axis::FrameTime => format!(
+            "{} {}x{}: run time ({} clock, median, 95% CI) vs {}; front: dominated only beyond the paired interval",
+            r.scene, r.width, r.height, r.clock.clock, r.error_metric
+        ),
+        Axis::IsolatedCost => format!(
+            "{} {}x{}: isolated cost per evaluation (median, 95% CI) vs {}; front: dominated only when the intervals separate",
+            r.scene, r.width, r.height, r.error_metric
+        ),
+    };
+    let off = unplottable(r);
+    if !off.is_empty() {
+        title += &format!("; infinite error, not plotted: {}", off.join(", "));
+    }
+    title
+}
+
+/// Confidence bars, the front as a step line, auto's budget curve, the markers and their labels.
+fn draw_pareto_series<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, LogCoord<f64>>,
+    >,
+    pts: &[Point],
+) -> Result<()> {
     let blue = RGBColor(31, 119, 180);
     let grey = RGBColor(150, 150, 150);
     // confidence bars

@@ -15,7 +15,9 @@ use super::rounds::{round_values, Rounds};
 use super::{check_clock, estimate, ClockCheck, Speed};
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
 use crate::error::{Error, Result};
-use crate::gpu::{DrawList, GpuScene, Renderer, Shading, TIMING_NORMAL_TARGET, TIMING_PREPASS};
+use crate::gpu::{
+    DrawList, GpuScene, Renderer, Sample, Shading, TIMING_NORMAL_TARGET, TIMING_PREPASS,
+};
 use crate::method;
 use crate::output::provenance::Provenance;
 use crate::scene::{Cull, Scene};
@@ -250,31 +252,8 @@ pub fn skips(
         .iter()
         .position(|v| *v == default_variant(culls, false))
         .ok_or_else(|| Error::Internal("skips: the default draw is not among the rows".into()))?;
-    eprintln!(
-        "skips: timing {} draws of {} ({}) in the same interleaved rounds: {} warm-up \
-         submissions each, then {} rounds",
-        lists.len(),
-        scene.name,
-        names.join(", "),
-        opts.warmup,
-        opts.repeat
-    );
-    let draws = renderer.timed_draw_lists(&lists)?;
-    let mut rounds = Rounds::new(&draws, opts.warmup)?;
-    let bar = crate::output::progress_bar(true, opts.repeat as u64);
-    for _ in 0..opts.repeat {
-        rounds.run(1)?;
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
-    let values: Vec<Vec<f64>> = rounds
-        .samples
-        .iter()
-        .map(|s| round_values(s, &clock.clock))
-        .collect();
-    let samples = rounds.samples;
+    let (samples, values) = time_lists(renderer, &lists, &names, scene, opts, &clock.clock)?;
     let rounds_done = samples.first().map_or(0, Vec::len);
-    drop(draws);
 
     let mut rows = Vec::new();
     for (i, (v, list)) in variants.iter().zip(&lists).enumerate() {
@@ -320,11 +299,53 @@ pub fn skips(
         rows,
         total_s: start.elapsed().as_secs_f64(),
     };
-    let json =
-        serde_json::to_string_pretty(&report).map_err(|e| Error::output("skips.json", e))? + "\n";
-    crate::output::write_bytes_atomic(&out.join("skips.json"), json.as_bytes())?;
-    crate::output::write_bytes_atomic(&out.join("skips.md"), report.markdown().as_bytes())?;
+    write_files(out, &report)?;
     Ok(report)
+}
+
+/// Times every draw list in the same interleaved rounds: each round's samples, and their values
+/// in the checked clock.
+fn time_lists(
+    renderer: &Renderer,
+    lists: &[DrawList],
+    names: &[String],
+    scene: &Scene,
+    opts: &SkipOptions,
+    clock: &str,
+) -> Result<(Vec<Vec<Sample>>, Vec<Vec<f64>>)> {
+    eprintln!(
+        "skips: timing {} draws of {} ({}) in the same interleaved rounds: {} warm-up \
+         submissions each, then {} rounds",
+        lists.len(),
+        scene.name,
+        names.join(", "),
+        opts.warmup,
+        opts.repeat
+    );
+    let draws = renderer.timed_draw_lists(lists)?;
+    let mut rounds = Rounds::new(&draws, opts.warmup)?;
+    let bar = crate::output::progress_bar(true, opts.repeat as u64);
+    for _ in 0..opts.repeat {
+        rounds.run(1)?;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let values: Vec<Vec<f64>> = rounds
+        .samples
+        .iter()
+        .map(|s| round_values(s, clock))
+        .collect();
+    let samples = rounds.samples;
+    drop(draws);
+    Ok((samples, values))
+}
+
+/// DIR/skips.json and DIR/skips.md, each written atomically.
+fn write_files(out: &Path, report: &SkipReport) -> Result<()> {
+    let json =
+        serde_json::to_string_pretty(report).map_err(|e| Error::output("skips.json", e))? + "\n";
+    crate::output::write_bytes_atomic(&out.join("skips.json"), json.as_bytes())?;
+    crate::output::write_bytes_atomic(&out.join("skips.md"), report.markdown().as_bytes())
 }
 
 impl SkipReport {
