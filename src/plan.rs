@@ -498,7 +498,11 @@ mod tests {
         assert!(p.skips[0].applies, "a closed torus is culled");
         let normal = p.skips.iter().find(|k| k.what == "normal target").unwrap();
         assert_eq!(normal.applies, !crate::gpu::TIMING_NORMAL_TARGET);
-        let exact = p.methods.iter().find(|m| m.name == "phong_exact").unwrap();
+        let exact = p
+            .methods
+            .iter()
+            .find(|m| m.name == crate::method::PHONG_EXACT)
+            .unwrap();
         assert!(exact.inside);
     }
 }

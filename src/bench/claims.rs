@@ -173,7 +173,7 @@ pub(crate) fn normalization_ops(d: &OpCountsDelta) -> ClaimCheck {
         .map(|(name, _, _)| *name)
         .collect();
     ClaimCheck {
-        method: "phong_exact".into(),
+        method: crate::method::PHONG_EXACT.into(),
         claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
         measured: format!(
             "SPIR-V of phong_exact minus phong_unnormalized: {} div, {} sqrt, {} inverse sqrt, {} mul, {} add; {}",
@@ -427,7 +427,7 @@ pub(crate) fn claims(
 ) -> Vec<ClaimCheck> {
     let mut out = Vec::new();
     let find = |n: &str| rows.iter().find(|r| r.name == n);
-    let Some(phong) = find("phong_exact") else {
+    let Some(phong) = find(crate::method::PHONG_EXACT) else {
         return out;
     };
     if let Some(g) = find("gouraud") {

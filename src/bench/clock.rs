@@ -28,7 +28,7 @@ pub struct ClockCheck {
 }
 /// Checks the timestamp placement against the wall clock at every size of [`SIZES`].
 pub fn check_clock(renderer: &Renderer, scene: &Scene) -> Result<ClockCheck> {
-    let exact = method::find("phong_exact")?;
+    let exact = method::phong_exact();
     let max = renderer.context().info().max_image_dimension_2d;
     let mut points = Vec::new();
     for &size in SIZES.iter().filter(|&&s| s <= max) {

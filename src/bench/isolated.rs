@@ -160,7 +160,7 @@ pub fn measure(
     opts: &IsolatedOptions,
     progress: &dyn Fn(&str),
 ) -> Result<Vec<IsolatedCost>> {
-    let exact = crate::method::find("phong_exact")?;
+    let exact = crate::method::phong_exact();
     let mut list: Vec<&'static Method> = methods
         .iter()
         .copied()

@@ -196,7 +196,7 @@ fn setup(
     methods_: &[&'static Method],
     opts: &BenchOptions,
 ) -> Result<Setup> {
-    let exact = method::find("phong_exact")?;
+    let exact = method::phong_exact();
     let unnormalized = method::find("phong_unnormalized")?;
     let mut all = methods_.to_vec();
     for m in [exact, unnormalized] {
@@ -328,7 +328,10 @@ fn timed(
     let timing_s = figures.iter().map(|f| f.timing_s).sum();
     let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
-    let phong = names.iter().position(|n| n == "phong_exact").unwrap_or(0);
+    let phong = names
+        .iter()
+        .position(|n| n == crate::method::PHONG_EXACT)
+        .unwrap_or(0);
     let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
     let (p, f) = ratios(&values, phong, &floors);
     let report = RoundsReport::new(
@@ -366,7 +369,7 @@ pub fn bench(
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
     let phong = programs
         .iter()
-        .position(|p| p.name == "phong_exact")
+        .position(|p| p.name == crate::method::PHONG_EXACT)
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
     let (samples, rounds_report, run_figures) = timed(renderer, &programs, &clock.clock, opts)?;
     let values: Vec<Vec<f64>> = samples
@@ -515,7 +518,7 @@ fn rows_of(
     let names: Vec<&str> = programs.iter().map(|p| p.name.as_str()).collect();
     let phong = names
         .iter()
-        .position(|n| *n == "phong_exact")
+        .position(|n| *n == crate::method::PHONG_EXACT)
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
     let mut rows = Vec::new();
     for (i, p) in programs.iter().enumerate() {
@@ -731,7 +734,10 @@ fn time_rounds(
     let lists: Vec<DrawList> = programs.iter().map(Program::list).collect();
     let names: Vec<String> = programs.iter().map(|p| p.name.clone()).collect();
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
-    let phong = names.iter().position(|n| n == "phong_exact").unwrap_or(0);
+    let phong = names
+        .iter()
+        .position(|n| n == crate::method::PHONG_EXACT)
+        .unwrap_or(0);
     let plan = opts.rounds_plan();
     eprintln!(
         "bench: timing {} programs in the same interleaved rounds: {}",

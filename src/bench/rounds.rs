@@ -134,7 +134,10 @@ pub(crate) fn widest(
     to_floor: &[RatioEstimate],
 ) -> (f64, String) {
     let mut worst = (f64::NEG_INFINITY, String::new());
-    for (k, list) in [("phong_exact", to_phong), ("its floor", to_floor)] {
+    for (k, list) in [
+        (crate::method::PHONG_EXACT, to_phong),
+        ("its floor", to_floor),
+    ] {
         for (name, r) in names.iter().zip(list) {
             let w = r.half_width_pct();
             let w = if w.is_nan() { f64::INFINITY } else { w };

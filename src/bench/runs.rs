@@ -332,7 +332,7 @@ impl RunsReport {
 /// the claims, the chart and the table judge by them); returns the runs' report.
 pub(crate) fn apply(rows: &mut [MethodTiming], figures: &[RunFigures], clock: &str) -> RunsReport {
     for (k, f) in figures.iter().enumerate() {
-        let phong = round_values(&f.samples_of("phong_exact"), clock);
+        let phong = round_values(&f.samples_of(crate::method::PHONG_EXACT), clock);
         for r in rows.iter_mut() {
             let s = f.samples_of(&r.name);
             let ratio = paired_ratio(&round_values(&s, clock), &phong);
@@ -491,12 +491,12 @@ mod tests {
         let f = RunFigures {
             rounds: 2,
             timing_s: 0.5,
-            programs: vec![ProgramRounds::new("phong_exact", &s)],
+            programs: vec![ProgramRounds::new(crate::method::PHONG_EXACT, &s)],
             isolated: Vec::new(),
         };
         f.write(&p).unwrap();
         let back = RunFigures::read(&p).unwrap();
-        let got = back.samples_of("phong_exact");
+        let got = back.samples_of(crate::method::PHONG_EXACT);
         assert_eq!(got.len(), 2);
         assert_eq!((got[0].wall_ms, got[0].timestamp_ms), (2.0, Some(1.5)));
         assert_eq!(got[1].timestamp_ms, None);

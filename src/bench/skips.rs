@@ -210,7 +210,7 @@ pub fn skips(
         )));
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let exact = method::find("phong_exact")?;
+    let exact = method::phong_exact();
     eprintln!("skips: checking the clock");
     let clock = check_clock(renderer, scene)?;
     eprintln!("skips: clock = {} ({})", clock.clock, clock.reason);

@@ -15,7 +15,7 @@ pub(crate) fn sweep(
     which: Sweep,
     opts: &BenchOptions,
 ) -> Result<SweepResult> {
-    let exact = method::find("phong_exact")?;
+    let exact = method::phong_exact();
     let gouraud = method::find("gouraud")?;
     let shadings = [
         Shading::Constant,

@@ -166,7 +166,7 @@ enum Command {
         device: DeviceArgs,
         /// Method identifier (see `shadelab list`), or `auto` (per triangle the cheapest method
         /// within --error-budget).
-        #[arg(long, default_value = "phong_exact")]
+        #[arg(long, default_value = crate::method::PHONG_EXACT)]
         method: String,
         /// Output PNG (sRGB, alpha 0 on the background).
         #[arg(long, value_name = "FILE.png")]

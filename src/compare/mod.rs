@@ -488,7 +488,7 @@ pub fn compare_with(
             engine.name()
         )));
     }
-    let exact = method::find("phong_exact")?;
+    let exact = method::phong_exact();
     let mut all = methods_.to_vec();
     if !all.iter().any(|m| m.name == exact.name) {
         all.push(exact);

@@ -87,8 +87,10 @@ pub fn op_count(report: &IsaReport) -> Vec<OpCountVerdict> {
     let claimed: u32 = CLAIMED.iter().map(|(_, n)| n).sum();
     let mut out = Vec::new();
     for f in report.supported() {
-        let (Some(exact), Some(unnorm)) = (asm(f, "phong_exact"), asm(f, "phong_unnormalized"))
-        else {
+        let (Some(exact), Some(unnorm)) = (
+            asm(f, crate::method::PHONG_EXACT),
+            asm(f, "phong_unnormalized"),
+        ) else {
             continue;
         };
         let it = |m| {
@@ -96,7 +98,7 @@ pub fn op_count(report: &IsaReport) -> Vec<OpCountVerdict> {
                 .row(f, m, "fragment", "draw")
                 .and_then(|r| r.statistics.get("inverse_throughput").copied())
         };
-        let (Some(a), Some(b)) = (it("phong_exact"), it("phong_unnormalized")) else {
+        let (Some(a), Some(b)) = (it(crate::method::PHONG_EXACT), it("phong_unnormalized")) else {
             continue;
         };
         let (ce, cu) = (class_counts(exact), class_counts(unnorm));

@@ -112,7 +112,7 @@ pub struct Written {
 
 /// The methods a report always includes: the references of bench's ratios (bench times them
 /// whatever it is asked, and its rows and claims must have a method section to link to).
-pub const ALWAYS: [&str; 2] = ["phong_exact", "phong_unnormalized"];
+pub const ALWAYS: [&str; 2] = [crate::method::PHONG_EXACT, "phong_unnormalized"];
 
 /// A folder name / HTML id from a scene's file stem: `[A-Za-z0-9_-]`, unique among `taken`.
 pub fn scene_id(stem: &str, taken: &[String]) -> String {

@@ -63,11 +63,11 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
     let mut out = vec![spec(
         "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)",
         "gouraud",
-        "phong_exact",
+        crate::method::PHONG_EXACT,
         1.0 / GOURAUD_FACTOR,
     )];
     for (name, claim, factor) in FACTOR_CLAIMS {
-        out.push(spec(claim, name, "phong_exact", 1.0 / factor));
+        out.push(spec(claim, name, crate::method::PHONG_EXACT, 1.0 / factor));
     }
     out.push(spec(
         "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)",
@@ -78,7 +78,7 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
     out.push(spec(
         "Bishop-Weimer is cheap: per pixel 5 additions and 1 memory access (S004 l.124-128): faster than exact Phong",
         "bishop_weimer",
-        "phong_exact",
+        crate::method::PHONG_EXACT,
         1.0,
     ));
     let sqrt_free = crate::method::with_property(crate::method::Property::SqrtFree);
@@ -86,7 +86,7 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
         out.push(spec(
             "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)",
             name,
-            "phong_exact",
+            crate::method::PHONG_EXACT,
             1.0,
         ));
     }
@@ -221,7 +221,7 @@ impl VulkanRatios {
     pub fn paired(names: Vec<String>, values: Vec<Vec<f64>>, scene: &Scene) -> Result<Self> {
         let phong = names
             .iter()
-            .position(|n| n == "phong_exact")
+            .position(|n| n == crate::method::PHONG_EXACT)
             .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
         let ratios = names
             .iter()
@@ -240,7 +240,7 @@ impl VulkanRatios {
     }
 
     fn to_phong(&self, name: &str) -> Option<RatioEstimate> {
-        if name == "phong_exact" {
+        if name == crate::method::PHONG_EXACT {
             return None;
         }
         self.ratios.iter().find(|(n, _)| n == name).map(|(_, r)| *r)
@@ -255,7 +255,7 @@ impl VulkanRatios {
             return (i != j).then(|| (paired_ratio(&values[i], &values[j]), true));
         }
         let a = self.to_phong(num)?;
-        if den == "phong_exact" {
+        if den == crate::method::PHONG_EXACT {
             return Some((a, true));
         }
         let b = self.to_phong(den)?;

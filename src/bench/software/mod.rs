@@ -179,7 +179,7 @@ pub fn bench(
         .map(VulkanRatios::load)
         .transpose()?;
     let threads = sw.threads.max(1);
-    let exact = method::find("phong_exact")?;
+    let exact = method::phong_exact();
     let mut all = methods_.to_vec();
     if !all.iter().any(|m| m.name == exact.name) {
         all.push(exact);
@@ -195,7 +195,7 @@ pub fn bench(
     let names: Vec<String> = all.iter().map(|m| m.name.to_string()).collect();
     let phong = names
         .iter()
-        .position(|n| n == "phong_exact")
+        .position(|n| n == crate::method::PHONG_EXACT)
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
     let software = Renders {
         programs,
@@ -437,7 +437,7 @@ pub fn table(r: &SoftwareBench) -> String {
         let vk = r
             .vulkan_median_ms
             .iter()
-            .find(|(n, _)| n == "phong_exact")
+            .find(|(n, _)| n == crate::method::PHONG_EXACT)
             .map_or(f64::NAN, |(_, ms)| *ms);
         t += &format!(
             "software / lavapipe phong_exact per round (same rounds; lavapipe median {vk:.3} ms): \
@@ -484,7 +484,7 @@ mod tests {
 
     #[test]
     fn claims_are_judged_from_per_round_values_and_count_non_finite_rounds() {
-        let names: Vec<String> = ["phong_exact", "gouraud", "spherical_angular"]
+        let names: Vec<String> = [crate::method::PHONG_EXACT, "gouraud", "spherical_angular"]
             .map(String::from)
             .to_vec();
         let phong = vec![10.0; 21];
@@ -520,7 +520,7 @@ mod tests {
         };
         let mut v = serde_json::json!({
             "scene": "sphere_fine", "width": 512, "height": 512, "rounds": {"rounds": 40},
-            "methods": [row("phong_exact", 1.0, 1.0, 1.0), row("dichotomy_exact", 2.0, 2.2, 2.4),
+            "methods": [row(crate::method::PHONG_EXACT, 1.0, 1.0, 1.0), row("dichotomy_exact", 2.0, 2.2, 2.4),
                         row("dichotomy_poly1", 0.9, 1.0, 1.1), row("newton_raphson", 1.01, 1.02, 1.03)]
         });
         if let Some(e) = engine {
@@ -532,7 +532,9 @@ mod tests {
     #[test]
     fn the_vulkan_column_reads_a_vulkan_bench_and_refuses_another_engine() {
         let v = VulkanRatios::from_json(&bench_json(None), "old/bench.json").unwrap();
-        let (r, paired) = v.ratio("newton_raphson", "phong_exact").unwrap();
+        let (r, paired) = v
+            .ratio("newton_raphson", crate::method::PHONG_EXACT)
+            .unwrap();
         assert!(paired);
         assert_eq!(judge(&r, 1.0), Verdict::Disagrees);
         // dichotomy: poly1 / exact bounded from both intervals: [0.9/2.4, 1.1/2.0]
@@ -540,7 +542,7 @@ mod tests {
         assert!(!paired);
         assert!((d.ci95_low - 0.9 / 2.4).abs() < 1e-12 && (d.ci95_high - 0.55).abs() < 1e-12);
         assert_eq!(judge(&d, 0.4), Verdict::Inconclusive);
-        assert!(v.ratio("gouraud", "phong_exact").is_none());
+        assert!(v.ratio("gouraud", crate::method::PHONG_EXACT).is_none());
         assert!(VulkanRatios::from_json(&bench_json(Some("vulkan")), "x").is_ok());
         let err = VulkanRatios::from_json(&bench_json(Some("software")), "sw/bench.json")
             .unwrap_err()
