@@ -45,7 +45,6 @@ const PENDING_SPLIT: &[(&str, &str)] = &[
     ("gpu/vk/context.rs", "new"),
     ("gpu/vk/pipeline.rs", "new"),
     ("plan.rs", "plan"),
-    ("report/mod.rs", "run"),
     ("software/spans.rs", "row"),
     ("stress/grid.rs", "claims"),
 ];
