@@ -46,7 +46,6 @@ const PENDING_SPLIT: &[(&str, &str)] = &[
     ("gpu/vk/pipeline.rs", "new"),
     ("plan.rs", "plan"),
     ("software/spans.rs", "row"),
-    ("stress/grid.rs", "claims"),
 ];
 
 fn layer_of(module: &str) -> Option<usize> {
