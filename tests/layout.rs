@@ -45,7 +45,6 @@ const PENDING_SPLIT: &[(&str, &str)] = &[
     ("gpu/vk/context.rs", "new"),
     ("gpu/vk/pipeline.rs", "new"),
     ("plan.rs", "plan"),
-    ("software/spans.rs", "row"),
 ];
 
 fn layer_of(module: &str) -> Option<usize> {
