@@ -42,7 +42,6 @@ const PENDING_SPLIT: &[(&str, &str)] = &[
     ("bench/skips.rs", "skips"),
     ("compare/mod.rs", "analyse"),
     ("compare/mod.rs", "compare_with"),
-    ("gpu/vk/pipeline.rs", "new"),
     ("plan.rs", "plan"),
 ];
 
