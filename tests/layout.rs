@@ -29,20 +29,7 @@ const MAX_FUNCTION_LINES: usize = 120;
 /// fn name). Each must still be over the limit: once its split is merged,
 /// `no_production_function_is_too_long` fails until its entry is removed, so the list can only
 /// shrink, and must end empty.
-const PENDING_SPLIT: &[(&str, &str)] = &[
-    // Named by issue 20 §4 (190-260 lines), being split now on other branches.
-    ("bench/mod.rs", "bench"),          // benchA
-    ("bench/software/mod.rs", "bench"), // benchA
-    // Found by this check (121-189 lines), not named by the issue: each still to split, by
-    // whoever owns the file when the branches are merged.
-    ("bench/chart.rs", "draw_pareto"),
-    ("bench/skips.rs", "skips"),
-    ("gpu/vk/context.rs", "new"),
-    ("gpu/vk/pipeline.rs", "new"),
-    ("report/mod.rs", "run"),
-    ("software/spans.rs", "row"),
-    ("stress/grid.rs", "claims"),
-];
+const PENDING_SPLIT: &[(&str, &str)] = &[];
 
 fn layer_of(module: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&module))

@@ -205,6 +205,92 @@ pub fn tree_size(dir: &Path) -> Result<(u64, usize)> {
     Ok(total)
 }
 
+/// What every scene of one report run shares: [`SceneRun::scene`] runs one scene's jobs.
+struct SceneRun<'a> {
+    renderer: &'a Renderer,
+    methods: &'a [&'static Method],
+    out: &'a Path,
+    repeat: usize,
+    warmup: usize,
+    /// The first scene measures the isolated cost per formula; the others reuse it.
+    first: bool,
+    auto: &'a crate::auto::AutoSpec,
+    bar: &'a indicatif::ProgressBar,
+}
+
+impl SceneRun<'_> {
+    /// Compare, bench, skips and plan of scene `s` (id `id`), written under `scenes/<id>/`.
+    fn scene(&self, s: &ReportScene, id: String) -> Result<SceneResult> {
+        let compare_dir = format!("scenes/{id}/compare");
+        let bench_dir = format!("scenes/{id}/bench");
+        self.bar.set_message(format!("{id}: compare"));
+        let copts = CompareOptions {
+            progress: false,
+            ..CompareOptions::default()
+        };
+        let summary = crate::compare::compare(
+            self.renderer,
+            &s.scene,
+            self.methods,
+            &self.out.join(&compare_dir),
+            &copts,
+        )?;
+        self.bar.inc(1);
+        self.bar.set_message(format!("{id}: bench"));
+        // The isolated cost per formula does not depend on the scene: measured with the first
+        // scene's bench only (short: 5 rounds; --full: bench's default).
+        let isolated_rounds = match (self.first, self.repeat >= BenchOptions::default().repeat) {
+            (false, _) => 0,
+            (true, true) => BenchOptions::default().isolated_rounds,
+            (true, false) => 5,
+        };
+        let bopts = BenchOptions {
+            repeat: self.repeat,
+            warmup: self.warmup,
+            isolated_rounds,
+            command_line: std::env::args().collect(),
+            ..BenchOptions::default()
+        };
+        let bdir = self.out.join(&bench_dir);
+        std::fs::create_dir_all(&bdir).map_err(|e| Error::io(&bdir, e))?;
+        let bench = self.bar.suspend(|| {
+            crate::bench::bench(self.renderer, &s.scene, self.methods, &bdir, &bopts)
+        })?;
+        self.bar.inc(1);
+        let pareto = pareto_charts(&bdir, &bench_dir)?;
+        self.bar.set_message(format!("{id}: skips"));
+        let skips_dir = format!("scenes/{id}/skips");
+        let sopts = crate::bench::skips::SkipOptions {
+            repeat: self.repeat.max(6),
+            warmup: self.warmup,
+            auto: self.auto.clone(),
+            command_line: std::env::args().collect(),
+        };
+        let skips = self.bar.suspend(|| {
+            crate::bench::skips::skips(self.renderer, &s.scene, &self.out.join(&skips_dir), &sopts)
+        })?;
+        self.bar.inc(1);
+        let plan = crate::plan::plan(&s.scene);
+        let plan_json = format!("scenes/{id}/plan.json");
+        let text =
+            serde_json::to_string_pretty(&plan).map_err(|e| Error::output("plan.json", e))?;
+        crate::output::write_bytes_atomic(&self.out.join(&plan_json), (text + "\n").as_bytes())?;
+        Ok(SceneResult {
+            plan,
+            plan_json,
+            skips,
+            skips_dir,
+            id,
+            source: s.source.display().to_string(),
+            summary,
+            bench,
+            compare_dir,
+            bench_dir,
+            pareto_charts: pareto,
+        })
+    }
+}
+
 /// Runs compare and bench on every scene and stress once, then writes DIR/index.html.
 pub fn run(
     renderer: &Renderer,
@@ -236,72 +322,17 @@ pub fn run(
             .map(|x| x.to_string_lossy().into_owned())
             .unwrap_or_default();
         let id = scene_id(&stem, &taken);
-        let compare_dir = format!("scenes/{id}/compare");
-        let bench_dir = format!("scenes/{id}/bench");
-        bar.set_message(format!("{id}: compare"));
-        let copts = CompareOptions {
-            progress: false,
-            ..CompareOptions::default()
-        };
-        let summary = crate::compare::compare(
+        let run = SceneRun {
             renderer,
-            &s.scene,
-            &methods,
-            &out.join(&compare_dir),
-            &copts,
-        )?;
-        bar.inc(1);
-        bar.set_message(format!("{id}: bench"));
-        // The isolated cost per formula does not depend on the scene: measured with the first
-        // scene's bench only (short: 5 rounds; --full: bench's default).
-        let isolated_rounds = match (results.is_empty(), repeat >= BenchOptions::default().repeat) {
-            (false, _) => 0,
-            (true, true) => BenchOptions::default().isolated_rounds,
-            (true, false) => 5,
-        };
-        let bopts = BenchOptions {
+            methods: &methods,
+            out,
             repeat,
             warmup,
-            isolated_rounds,
-            command_line: std::env::args().collect(),
-            ..BenchOptions::default()
+            first: results.is_empty(),
+            auto: &auto,
+            bar: &bar,
         };
-        let bdir = out.join(&bench_dir);
-        std::fs::create_dir_all(&bdir).map_err(|e| Error::io(&bdir, e))?;
-        let bench =
-            bar.suspend(|| crate::bench::bench(renderer, &s.scene, &methods, &bdir, &bopts))?;
-        bar.inc(1);
-        let pareto = pareto_charts(&bdir, &bench_dir)?;
-        bar.set_message(format!("{id}: skips"));
-        let skips_dir = format!("scenes/{id}/skips");
-        let sopts = crate::bench::skips::SkipOptions {
-            repeat: repeat.max(6),
-            warmup,
-            auto: auto.clone(),
-            command_line: std::env::args().collect(),
-        };
-        let skips = bar.suspend(|| {
-            crate::bench::skips::skips(renderer, &s.scene, &out.join(&skips_dir), &sopts)
-        })?;
-        bar.inc(1);
-        let plan = crate::plan::plan(&s.scene);
-        let plan_json = format!("scenes/{id}/plan.json");
-        let text =
-            serde_json::to_string_pretty(&plan).map_err(|e| Error::output("plan.json", e))?;
-        crate::output::write_bytes_atomic(&out.join(&plan_json), (text + "\n").as_bytes())?;
-        results.push(SceneResult {
-            plan,
-            plan_json,
-            skips,
-            skips_dir,
-            id,
-            source: s.source.display().to_string(),
-            summary,
-            bench,
-            compare_dir,
-            bench_dir,
-            pareto_charts: pareto,
-        });
+        results.push(run.scene(s, id)?);
     }
     bar.set_message("stress");
     let sopts = StressOptions {

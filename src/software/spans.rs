@@ -180,193 +180,232 @@ impl Shader for SpanShader {
         out: &mut RowOut,
         scratch: &mut Vec<Vec3>,
     ) {
-        let lit = &self.lit;
-        let mut z = span.z;
         match self.along {
-            Along::Slerp => {
-                let w = walk(tri, &span);
-                let ang = f::angle(w.a, w.b);
-                let mut t = w.t;
-                for i in span.i0..=span.i1 {
-                    if out.test(tri, i, z, span.centre(i)) {
-                        let tc = t.clamp(0.0, 1.0);
-                        let n = match ang {
-                            Some((_, s, th)) => {
-                                (w.a * ((1.0 - tc) * th).sin() + w.b * (tc * th).sin()) / s
-                            }
-                            None => f::normalize_exact(w.a * (1.0 - tc) + w.b * tc),
-                        };
-                        out.put(i, lit.shade(n), n4(n));
-                    }
-                    t += w.dt;
-                    z += span.dz;
-                }
-            }
-            Along::Chebyshev => {
-                let w = walk(tri, &span);
-                // Seeded at the first pixel's own t, not clamped: a covered centre a rounding
-                // left of xA then stays on the same grid as the rest of the span.
-                let t0 = w.t;
-                match f::angle(w.a, w.b) {
-                    Some((_, _, th)) => {
-                        let k2 = 2.0 * (th * w.dt).cos();
-                        let mut cur = f::spherical_angular(w.a, w.b, t0);
-                        let mut next = f::spherical_angular(w.a, w.b, t0 + w.dt);
-                        // Outside [0, 1] (rounding at the span's ends, or the clamped top and
-                        // bottom rows) the twin clamps t: the end values there.
-                        let ends = (w.a, f::spherical_angular(w.a, w.b, 1.0));
-                        let mut t = t0;
-                        for i in span.i0..=span.i1 {
-                            if out.test(tri, i, z, span.centre(i)) {
-                                let n = clamped(t, cur, ends);
-                                out.put(i, lit.shade(n), n4(n));
-                            }
-                            let n2 = next * k2 - cur;
-                            cur = next;
-                            next = n2;
-                            t += w.dt;
-                            z += span.dz;
-                        }
-                    }
-                    None => {
-                        let mut t = w.t;
-                        for i in span.i0..=span.i1 {
-                            if out.test(tri, i, z, span.centre(i)) {
-                                let tc = t.clamp(0.0, 1.0);
-                                let n = f::normalize_exact(w.a * (1.0 - tc) + w.b * tc);
-                                out.put(i, lit.shade(n), n4(n));
-                            }
-                            t += w.dt;
-                            z += span.dz;
-                        }
-                    }
-                }
-            }
-            Along::Quadratic { approx_mid } => {
-                let w = walk(tri, &span);
-                let (nl, np) = (w.a, w.b);
-                let nc = if approx_mid {
-                    f::mid_approx(nl, np)
-                } else {
-                    f::mid_exact(nl, np)
-                };
-                let g = np * 2.0 - nc * 4.0 + nl * 2.0;
-                let p = nc * 4.0 - nl * 3.0 - np;
-                let (t, dt) = (w.t, w.dt);
-                let mut v = (g * t + p) * t + nl;
-                let mut d1 = g * (2.0 * t * dt + dt * dt) + p * dt;
-                let d2 = g * (2.0 * dt * dt);
-                let ends = (nl, (g + p) + nl);
-                let mut t = t;
-                for i in span.i0..=span.i1 {
-                    if out.test(tri, i, z, span.centre(i)) {
-                        let n = clamped(t, v, ends);
-                        out.put(i, lit.shade(n), n4(n));
-                    }
-                    v += d1;
-                    d1 += d2;
-                    t += dt;
-                    z += span.dz;
-                }
-            }
-            Along::Dichotomy(inv_root) => {
-                let w = walk(tri, &span);
-                let k = f::levels(w.sp.xb - w.sp.xa);
-                let n = 1u32 << k;
-                halve(scratch, w.a, w.b, k, inv_root);
-                let mut t = w.t;
-                for i in span.i0..=span.i1 {
-                    if out.test(tri, i, z, span.centre(i)) {
-                        let tc = t.clamp(0.0, 1.0);
-                        let m = ((tc * n as f32 + 0.5).floor() as u32).min(n);
-                        let v = scratch[m as usize];
-                        out.put(i, lit.shade(v), n4(v));
-                    }
-                    t += w.dt;
-                    z += span.dz;
-                }
-            }
+            Along::Slerp => self.slerp(tri, span, out),
+            Along::Chebyshev => self.chebyshev(tri, span, out),
+            Along::Quadratic { approx_mid } => self.quadratic(tri, span, out, approx_mid),
+            Along::Dichotomy(inv_root) => self.dichotomy(tri, span, out, scratch, inv_root),
             Along::Segments(k, inv_root) => self.segments(tri, span, out, scratch, k, inv_root),
-            Along::BishopWeimer => {
-                let c = lit.cosines();
-                let x = span.i0 as f32 + 0.5 - st.o.x;
-                let y = span.y as f32 + 0.5 - st.o.y;
-                let (mut v, mut d1, mut d2) = (
-                    [0.0f32; 2 * MAX_LIGHTS],
-                    [0.0; 2 * MAX_LIGHTS],
-                    [0.0; 2 * MAX_LIGHTS],
-                );
-                for k in 0..c {
-                    let [t0, t1, t2, t3, t4, t5] = st.taylor[k];
-                    v[k] = t5 * x * x + t4 * x * y + t3 * y * y + t2 * x + t1 * y + t0;
-                    d1[k] = t5 * (2.0 * x + 1.0) + t4 * y + t2;
-                    d2[k] = 2.0 * t5;
-                }
-                for i in span.i0..=span.i1 {
-                    if out.test(tri, i, z, span.centre(i)) {
-                        out.put(i, lit.shade_cosines(|k| v[k]), [0.0; 4]);
-                    }
-                    for k in 0..c {
-                        v[k] += d1[k];
-                        d1[k] += d2[k];
-                    }
-                    z += span.dz;
-                }
-            }
-            Along::HastEuler => {
-                let w = walk(tri, &span);
-                let c = lit.cosines();
-                let (na, nb) = (w.sp.na, w.sp.nb);
-                let (mut v, mut d1, mut d2) = (
-                    [0.0f32; 2 * MAX_LIGHTS],
-                    [0.0; 2 * MAX_LIGHTS],
-                    [0.0; 2 * MAX_LIGHTS],
-                );
-                let mut ends = [(0.0f32, 0.0f32); 2 * MAX_LIGHTS];
-                // Seeded at the first pixel's own t, not clamped (as Chebyshev): a covered
-                // centre a rounding outside [xA, xB] takes the end value the twin's clamped t
-                // gives, and the rest of the span stays on its own grid.
-                let (t, dt) = (w.t, w.dt);
-                for k in 0..c {
-                    let dir = lit.dirs[k];
-                    let i0 = dir.dot(na) / na.length();
-                    if !(w.sp.xb - w.sp.xa > 0.0) {
-                        v[k] = i0;
-                        ends[k] = (i0, i0);
-                        continue;
-                    }
-                    let i1 = dir.dot(nb) / nb.length();
-                    let dn = nb - na;
-                    let half = 0.5 * (f::cosine_slope(dir, nb, dn) - f::cosine_slope(dir, na, dn));
-                    let di = i1 - i0;
-                    v[k] = i0 + t * di + half * t * (t - 1.0);
-                    d1[k] = dt * di + half * dt * (2.0 * t + dt - 1.0);
-                    d2[k] = 2.0 * half * dt * dt;
-                    ends[k] = (i0, i1);
-                }
-                let mut t = t;
-                for i in span.i0..=span.i1 {
-                    if out.test(tri, i, z, span.centre(i)) {
-                        let at = |k: usize| match t {
-                            t if t < 0.0 => ends[k].0,
-                            t if t > 1.0 => ends[k].1,
-                            _ => v[k],
-                        };
-                        out.put(i, lit.shade_cosines(at), [0.0; 4]);
-                    }
-                    for k in 0..c {
-                        v[k] += d1[k];
-                        d1[k] += d2[k];
-                    }
-                    t += dt;
-                    z += span.dz;
-                }
-            }
+            Along::BishopWeimer => self.bishop_weimer(tri, st, span, out),
+            Along::HastEuler => self.hast_euler(tri, span, out),
         }
     }
 }
 
 impl SpanShader {
+    /// Interpolation by slerp at each pixel's t (the closed form).
+    #[inline]
+    fn slerp(&self, tri: &Tri, span: RowSpan, out: &mut RowOut) {
+        let lit = &self.lit;
+        let mut z = span.z;
+        let w = walk(tri, &span);
+        let ang = f::angle(w.a, w.b);
+        let mut t = w.t;
+        for i in span.i0..=span.i1 {
+            if out.test(tri, i, z, span.centre(i)) {
+                let tc = t.clamp(0.0, 1.0);
+                let n = match ang {
+                    Some((_, s, th)) => (w.a * ((1.0 - tc) * th).sin() + w.b * (tc * th).sin()) / s,
+                    None => f::normalize_exact(w.a * (1.0 - tc) + w.b * tc),
+                };
+                out.put(i, lit.shade(n), n4(n));
+            }
+            t += w.dt;
+            z += span.dz;
+        }
+    }
+
+    /// spherical_angular's Chebyshev recurrence, seeded by the closed form.
+    #[inline]
+    fn chebyshev(&self, tri: &Tri, span: RowSpan, out: &mut RowOut) {
+        let lit = &self.lit;
+        let mut z = span.z;
+        let w = walk(tri, &span);
+        // Seeded at the first pixel's own t, not clamped: a covered centre a rounding
+        // left of xA then stays on the same grid as the rest of the span.
+        let t0 = w.t;
+        match f::angle(w.a, w.b) {
+            Some((_, _, th)) => {
+                let k2 = 2.0 * (th * w.dt).cos();
+                let mut cur = f::spherical_angular(w.a, w.b, t0);
+                let mut next = f::spherical_angular(w.a, w.b, t0 + w.dt);
+                // Outside [0, 1] (rounding at the span's ends, or the clamped top and
+                // bottom rows) the twin clamps t: the end values there.
+                let ends = (w.a, f::spherical_angular(w.a, w.b, 1.0));
+                let mut t = t0;
+                for i in span.i0..=span.i1 {
+                    if out.test(tri, i, z, span.centre(i)) {
+                        let n = clamped(t, cur, ends);
+                        out.put(i, lit.shade(n), n4(n));
+                    }
+                    let n2 = next * k2 - cur;
+                    cur = next;
+                    next = n2;
+                    t += w.dt;
+                    z += span.dz;
+                }
+            }
+            None => {
+                let mut t = w.t;
+                for i in span.i0..=span.i1 {
+                    if out.test(tri, i, z, span.centre(i)) {
+                        let tc = t.clamp(0.0, 1.0);
+                        let n = f::normalize_exact(w.a * (1.0 - tc) + w.b * tc);
+                        out.put(i, lit.shade(n), n4(n));
+                    }
+                    t += w.dt;
+                    z += span.dz;
+                }
+            }
+        }
+    }
+
+    /// quadratic_scanline's second-order forward differences.
+    #[inline]
+    fn quadratic(&self, tri: &Tri, span: RowSpan, out: &mut RowOut, approx_mid: bool) {
+        let lit = &self.lit;
+        let mut z = span.z;
+        let w = walk(tri, &span);
+        let (nl, np) = (w.a, w.b);
+        let nc = if approx_mid {
+            f::mid_approx(nl, np)
+        } else {
+            f::mid_exact(nl, np)
+        };
+        let g = np * 2.0 - nc * 4.0 + nl * 2.0;
+        let p = nc * 4.0 - nl * 3.0 - np;
+        let (t, dt) = (w.t, w.dt);
+        let mut v = (g * t + p) * t + nl;
+        let mut d1 = g * (2.0 * t * dt + dt * dt) + p * dt;
+        let d2 = g * (2.0 * dt * dt);
+        let ends = (nl, (g + p) + nl);
+        let mut t = t;
+        for i in span.i0..=span.i1 {
+            if out.test(tri, i, z, span.centre(i)) {
+                let n = clamped(t, v, ends);
+                out.put(i, lit.shade(n), n4(n));
+            }
+            v += d1;
+            d1 += d2;
+            t += dt;
+            z += span.dz;
+        }
+    }
+
+    /// dichotomy_*: the span's grid filled by halving, each pixel takes its nearest sample.
+    #[inline]
+    fn dichotomy(
+        &self,
+        tri: &Tri,
+        span: RowSpan,
+        out: &mut RowOut,
+        scratch: &mut Vec<Vec3>,
+        inv_root: fn(f32) -> f32,
+    ) {
+        let lit = &self.lit;
+        let mut z = span.z;
+        let w = walk(tri, &span);
+        let k = f::levels(w.sp.xb - w.sp.xa);
+        let n = 1u32 << k;
+        halve(scratch, w.a, w.b, k, inv_root);
+        let mut t = w.t;
+        for i in span.i0..=span.i1 {
+            if out.test(tri, i, z, span.centre(i)) {
+                let tc = t.clamp(0.0, 1.0);
+                let m = ((tc * n as f32 + 0.5).floor() as u32).min(n);
+                let v = scratch[m as usize];
+                out.put(i, lit.shade(v), n4(v));
+            }
+            t += w.dt;
+            z += span.dz;
+        }
+    }
+
+    /// bishop_weimer: each cosine's Taylor polynomial by forward differences.
+    #[inline]
+    fn bishop_weimer(&self, tri: &Tri, st: &SpanSetup, span: RowSpan, out: &mut RowOut) {
+        let lit = &self.lit;
+        let mut z = span.z;
+        let c = lit.cosines();
+        let x = span.i0 as f32 + 0.5 - st.o.x;
+        let y = span.y as f32 + 0.5 - st.o.y;
+        let (mut v, mut d1, mut d2) = (
+            [0.0f32; 2 * MAX_LIGHTS],
+            [0.0; 2 * MAX_LIGHTS],
+            [0.0; 2 * MAX_LIGHTS],
+        );
+        for k in 0..c {
+            let [t0, t1, t2, t3, t4, t5] = st.taylor[k];
+            v[k] = t5 * x * x + t4 * x * y + t3 * y * y + t2 * x + t1 * y + t0;
+            d1[k] = t5 * (2.0 * x + 1.0) + t4 * y + t2;
+            d2[k] = 2.0 * t5;
+        }
+        for i in span.i0..=span.i1 {
+            if out.test(tri, i, z, span.centre(i)) {
+                out.put(i, lit.shade_cosines(|k| v[k]), [0.0; 4]);
+            }
+            for k in 0..c {
+                v[k] += d1[k];
+                d1[k] += d2[k];
+            }
+            z += span.dz;
+        }
+    }
+
+    /// hast_euler: each cosine by Euler steps with the end-error correction.
+    #[inline]
+    fn hast_euler(&self, tri: &Tri, span: RowSpan, out: &mut RowOut) {
+        let lit = &self.lit;
+        let mut z = span.z;
+        let w = walk(tri, &span);
+        let c = lit.cosines();
+        let (na, nb) = (w.sp.na, w.sp.nb);
+        let (mut v, mut d1, mut d2) = (
+            [0.0f32; 2 * MAX_LIGHTS],
+            [0.0; 2 * MAX_LIGHTS],
+            [0.0; 2 * MAX_LIGHTS],
+        );
+        let mut ends = [(0.0f32, 0.0f32); 2 * MAX_LIGHTS];
+        // Seeded at the first pixel's own t, not clamped (as Chebyshev): a covered
+        // centre a rounding outside [xA, xB] takes the end value the twin's clamped t
+        // gives, and the rest of the span stays on its own grid.
+        let (t, dt) = (w.t, w.dt);
+        for k in 0..c {
+            let dir = lit.dirs[k];
+            let i0 = dir.dot(na) / na.length();
+            if !(w.sp.xb - w.sp.xa > 0.0) {
+                v[k] = i0;
+                ends[k] = (i0, i0);
+                continue;
+            }
+            let i1 = dir.dot(nb) / nb.length();
+            let dn = nb - na;
+            let half = 0.5 * (f::cosine_slope(dir, nb, dn) - f::cosine_slope(dir, na, dn));
+            let di = i1 - i0;
+            v[k] = i0 + t * di + half * t * (t - 1.0);
+            d1[k] = dt * di + half * dt * (2.0 * t + dt - 1.0);
+            d2[k] = 2.0 * half * dt * dt;
+            ends[k] = (i0, i1);
+        }
+        let mut t = t;
+        for i in span.i0..=span.i1 {
+            if out.test(tri, i, z, span.centre(i)) {
+                let at = |k: usize| match t {
+                    t if t < 0.0 => ends[k].0,
+                    t if t > 1.0 => ends[k].1,
+                    _ => v[k],
+                };
+                out.put(i, lit.shade_cosines(at), [0.0; 4]);
+            }
+            for k in 0..c {
+                v[k] += d1[k];
+                d1[k] += d2[k];
+            }
+            t += dt;
+            z += span.dz;
+        }
+    }
+
     /// Digital segments (FORMULAS.md 2.16): segments of 2^k pixels from the span's first pixel
     /// centre; each end's normal by accumulating 2^k dN (the first from the span's formula),
     /// normalised and shaded once (the right end of one segment is the left of the next, the

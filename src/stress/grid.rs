@@ -242,6 +242,14 @@ pub fn claims(
     threshold: f64,
 ) -> Vec<StressClaim> {
     let mut out = Vec::new();
+    usable_up_to_claims(methods, threshold, &mut out);
+    collapse_claims(methods, threshold, &mut out);
+    specular_claims(specular, &mut out);
+    out
+}
+
+/// The claims of [`USABLE_UP_TO`]: valid up to the claimed angle on the device.
+fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<StressClaim>) {
     let how_valid = format!(
         "max_valid_angle_deg: the largest angle of the sweep up to which every case facing the \
          viewer (elevation < 90, 4 frames, 5 lights, shininess 20, 17 pixels) is finite and within \
@@ -274,6 +282,10 @@ pub fn claims(
             how: how_valid.clone(),
         });
     }
+}
+
+/// The claims of [`COLLAPSES_BEYOND_90`]: within the threshold at 60-90 degrees, above it beyond.
+fn collapse_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<StressClaim>) {
     for name in COLLAPSES_BEYOND_90 {
         let Some(m) = methods.iter().find(|m| m.name == name) else {
             continue;
@@ -305,6 +317,10 @@ pub fn claims(
             ),
         });
     }
+}
+
+/// S002's claim: within 4 % specular error for n <= 100 at 4 degrees between end normals.
+fn specular_claims(specular: &[SpecularBound], out: &mut Vec<StressClaim>) {
     for s in specular {
         let failing: Vec<f64> = s
             .shininess
@@ -356,5 +372,4 @@ pub fn claims(
                 .into(),
         });
     }
-    out
 }

@@ -3,7 +3,7 @@
 //!
 //! Validation messages are stored in the context (not a global), because `cargo test` runs tests
 //! as threads in one process and each test must see only its own messages.
-use std::ffi::{c_void, CStr};
+use std::ffi::{c_char, c_void, CStr};
 use std::sync::{Arc, Mutex};
 
 use ash::vk;
@@ -41,6 +41,9 @@ pub struct DeviceInfo {
 /// Messages the validation layer reported, shared with the debug callback.
 type MessageLog = Mutex<Vec<String>>;
 
+/// The debug-utils loader and messenger, present when validating.
+type Debug = Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>;
+
 /// The shared Vulkan context: instance, device, one graphics queue and its command pool.
 pub struct Context {
     /// Keeps libvulkan loaded for as long as the context lives.
@@ -51,7 +54,7 @@ pub struct Context {
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) memory_properties: vk::PhysicalDeviceMemoryProperties,
     info: DeviceInfo,
-    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    debug: Debug,
     /// Heap-allocated so its address, handed to the layer as user data, never moves.
     messages: Arc<MessageLog>,
     /// Serialises queue submissions (the queue is externally synchronised in Vulkan).
@@ -121,27 +124,7 @@ impl Context {
             .application_name(app_name)
             .engine_name(app_name)
             .api_version(vk::API_VERSION_1_3);
-        let mut layers: Vec<*const std::ffi::c_char> = Vec::new();
-        let mut extensions: Vec<*const std::ffi::c_char> = Vec::new();
-        if desc.validate {
-            // SAFETY: plain query of instance layer properties.
-            let available = unsafe { entry.enumerate_instance_layer_properties() }
-                .vk("vkEnumerateInstanceLayerProperties")?;
-            let found = available.iter().any(|l| {
-                l.layer_name_as_c_str()
-                    .map(|n| n == VALIDATION_LAYER)
-                    .unwrap_or(false)
-            });
-            if !found {
-                return Err(Error::Device(
-                    "--validate: the Khronos validation layer (VK_LAYER_KHRONOS_validation) is not \
-                     installed; install vulkan-validationlayers (scripts/install-deps.sh test)"
-                        .into(),
-                ));
-            }
-            layers.push(VALIDATION_LAYER.as_ptr());
-            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
-        }
+        let (layers, extensions) = instance_layers(&entry, desc.validate)?;
         let user_data = Arc::as_ptr(&messages) as *mut c_void;
         let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
             .message_severity(
@@ -202,67 +185,9 @@ impl Context {
                 }
             };
 
-        let priorities = [1.0f32];
-        let queue_info = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(queue_family)
-            .queue_priorities(&priorities)];
-        let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
-            .dynamic_rendering(true)
-            .synchronization2(true)
-            .maintenance4(true);
-        let core = vk::PhysicalDeviceFeatures::default()
-            .pipeline_statistics_query(info.pipeline_statistics);
-        let capture_ext = [ash::khr::pipeline_executable_properties::NAME.as_ptr()];
-        let mut capture_feature =
-            vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
-                .pipeline_executable_info(true);
-        let mut device_info = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&queue_info)
-            .enabled_features(&core)
-            .push_next(&mut f13);
-        if capture {
-            device_info = device_info
-                .enabled_extension_names(&capture_ext)
-                .push_next(&mut capture_feature);
-        }
         let instance = guard.get();
-        // SAFETY: physical belongs to instance; the create info references locals only.
-        let device = unsafe { instance.create_device(physical, &device_info, None) };
-        let device = match device {
-            Ok(d) => d,
-            Err(r) => {
-                if let Some((loader, m)) = &debug {
-                    // SAFETY: created above from this instance and not yet destroyed.
-                    unsafe { loader.destroy_debug_utils_messenger(*m, None) };
-                }
-                return Err(Error::Vulkan {
-                    call: "vkCreateDevice",
-                    result: format!("{r:?}"),
-                });
-            }
-        };
-        // SAFETY: queue family and index 0 were requested at device creation.
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: valid device.
-        let command_pool = unsafe { device.create_command_pool(&pool_info, None) };
-        let command_pool = match command_pool {
-            Ok(p) => p,
-            Err(r) => {
-                // SAFETY: nothing else was created from the device yet.
-                unsafe { device.destroy_device(None) };
-                if let Some((loader, m)) = &debug {
-                    // SAFETY: as above.
-                    unsafe { loader.destroy_debug_utils_messenger(*m, None) };
-                }
-                return Err(Error::Vulkan {
-                    call: "vkCreateCommandPool",
-                    result: format!("{r:?}"),
-                });
-            }
-        };
+        let (device, queue, command_pool) =
+            create_device(instance, physical, &info, queue_family, &debug, capture)?;
         // SAFETY: plain query.
         let memory_properties = unsafe { instance.get_physical_device_memory_properties(physical) };
         let executables = capture
@@ -329,6 +254,110 @@ impl Context {
         };
         device_names(guard.get())
     }
+}
+
+/// The instance layers and extensions [`Context::new`] enables: the Khronos validation layer and
+/// debug utils when `validate`, an error when that layer is not installed; none otherwise.
+fn instance_layers(
+    entry: &ash::Entry,
+    validate: bool,
+) -> Result<(Vec<*const c_char>, Vec<*const c_char>)> {
+    let mut layers: Vec<*const c_char> = Vec::new();
+    let mut extensions: Vec<*const c_char> = Vec::new();
+    if validate {
+        // SAFETY: plain query of instance layer properties.
+        let available = unsafe { entry.enumerate_instance_layer_properties() }
+            .vk("vkEnumerateInstanceLayerProperties")?;
+        let found = available.iter().any(|l| {
+            l.layer_name_as_c_str()
+                .map(|n| n == VALIDATION_LAYER)
+                .unwrap_or(false)
+        });
+        if !found {
+            return Err(Error::Device(
+                "--validate: the Khronos validation layer (VK_LAYER_KHRONOS_validation) is not \
+                 installed; install vulkan-validationlayers (scripts/install-deps.sh test)"
+                    .into(),
+            ));
+        }
+        layers.push(VALIDATION_LAYER.as_ptr());
+        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+    }
+    Ok((layers, extensions))
+}
+
+/// The logical device of [`Context::new`] (dynamic rendering, synchronization2, maintenance4,
+/// pipeline statistics when supported), its queue and command pool. On error, what was created
+/// here and the debug messenger are destroyed (the caller's guard destroys the instance).
+fn create_device(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    info: &DeviceInfo,
+    queue_family: u32,
+    debug: &Debug,
+    capture: bool,
+) -> Result<(ash::Device, vk::Queue, vk::CommandPool)> {
+    let priorities = [1.0f32];
+    let queue_info = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(queue_family)
+        .queue_priorities(&priorities)];
+    let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
+        .dynamic_rendering(true)
+        .synchronization2(true)
+        .maintenance4(true);
+    let core =
+        vk::PhysicalDeviceFeatures::default().pipeline_statistics_query(info.pipeline_statistics);
+    let capture_ext = [ash::khr::pipeline_executable_properties::NAME.as_ptr()];
+    let mut capture_feature = vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
+        .pipeline_executable_info(true);
+    let mut device_info = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queue_info)
+        .enabled_features(&core)
+        .push_next(&mut f13);
+    if capture {
+        // VK_KHR_pipeline_executable_properties (a capture context, `shadelab isa`).
+        device_info = device_info
+            .enabled_extension_names(&capture_ext)
+            .push_next(&mut capture_feature);
+    }
+    // SAFETY: physical belongs to instance; the create info references locals only.
+    let device = unsafe { instance.create_device(physical, &device_info, None) };
+    let device = match device {
+        Ok(d) => d,
+        Err(r) => {
+            if let Some((loader, m)) = debug {
+                // SAFETY: created by the caller from this instance and not yet destroyed.
+                unsafe { loader.destroy_debug_utils_messenger(*m, None) };
+            }
+            return Err(Error::Vulkan {
+                call: "vkCreateDevice",
+                result: format!("{r:?}"),
+            });
+        }
+    };
+    // SAFETY: queue family and index 0 were requested at device creation.
+    let queue = unsafe { device.get_device_queue(queue_family, 0) };
+    let pool_info = vk::CommandPoolCreateInfo::default()
+        .queue_family_index(queue_family)
+        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+    // SAFETY: valid device.
+    let command_pool = unsafe { device.create_command_pool(&pool_info, None) };
+    let command_pool = match command_pool {
+        Ok(p) => p,
+        Err(r) => {
+            // SAFETY: nothing else was created from the device yet.
+            unsafe { device.destroy_device(None) };
+            if let Some((loader, m)) = debug {
+                // SAFETY: as above.
+                unsafe { loader.destroy_debug_utils_messenger(*m, None) };
+            }
+            return Err(Error::Vulkan {
+                call: "vkCreateCommandPool",
+                result: format!("{r:?}"),
+            });
+        }
+    };
+    Ok((device, queue, command_pool))
 }
 
 /// Destroys an instance on early return during [`Context::new`].

@@ -225,25 +225,7 @@ impl GraphicsPipeline {
                 .name(c"main")
                 .specialization_info(&spec),
         ];
-        let bindings: Vec<_> = desc
-            .streams
-            .iter()
-            .map(|s| vk::VertexInputBindingDescription {
-                binding: s.location,
-                stride: s.stride,
-                input_rate: vk::VertexInputRate::VERTEX,
-            })
-            .collect();
-        let attributes: Vec<_> = desc
-            .streams
-            .iter()
-            .map(|s| vk::VertexInputAttributeDescription {
-                location: s.location,
-                binding: s.location,
-                format: s.format.raw(),
-                offset: 0,
-            })
-            .collect();
+        let (bindings, attributes) = vertex_streams(desc);
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(&bindings)
             .vertex_attribute_descriptions(&attributes);
@@ -252,28 +234,10 @@ impl GraphicsPipeline {
         let viewport = vk::PipelineViewportStateCreateInfo::default()
             .viewport_count(1)
             .scissor_count(1);
-        let raster = vk::PipelineRasterizationStateCreateInfo::default()
-            .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(if desc.cull_front.is_some() {
-                vk::CullModeFlags::BACK
-            } else {
-                vk::CullModeFlags::NONE
-            })
-            .front_face(
-                desc.cull_front
-                    .map_or(vk::FrontFace::COUNTER_CLOCKWISE, FrontFace::raw),
-            )
-            .line_width(1.0);
+        let raster = raster_state(desc);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let (compare, write) = match desc.depth {
-            DepthMode::Less => (vk::CompareOp::LESS, true),
-            DepthMode::EqualAfterPrepass => (vk::CompareOp::LESS_OR_EQUAL, false),
-        };
-        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(desc.depth_format.is_some())
-            .depth_write_enable(desc.depth_format.is_some() && write)
-            .depth_compare_op(compare);
+        let depth = depth_state(desc);
         let blend_attachments: Vec<_> = desc
             .color_formats
             .iter()
@@ -318,6 +282,65 @@ impl GraphicsPipeline {
         this.raw = pipelines[0];
         Ok(this)
     }
+}
+
+/// Vertex input of [`GraphicsPipeline::new`]: one binding per stream, at its location.
+fn vertex_streams(
+    desc: &PipelineDesc,
+) -> (
+    Vec<vk::VertexInputBindingDescription>,
+    Vec<vk::VertexInputAttributeDescription>,
+) {
+    let bindings: Vec<_> = desc
+        .streams
+        .iter()
+        .map(|s| vk::VertexInputBindingDescription {
+            binding: s.location,
+            stride: s.stride,
+            input_rate: vk::VertexInputRate::VERTEX,
+        })
+        .collect();
+    let attributes: Vec<_> = desc
+        .streams
+        .iter()
+        .map(|s| vk::VertexInputAttributeDescription {
+            location: s.location,
+            binding: s.location,
+            format: s.format.raw(),
+            offset: 0,
+        })
+        .collect();
+    (bindings, attributes)
+}
+
+/// Rasterisation state of [`GraphicsPipeline::new`]: filled, back faces culled when
+/// `cull_front` names the front face.
+fn raster_state(desc: &PipelineDesc) -> vk::PipelineRasterizationStateCreateInfo<'static> {
+    vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(if desc.cull_front.is_some() {
+            vk::CullModeFlags::BACK
+        } else {
+            vk::CullModeFlags::NONE
+        })
+        .front_face(
+            desc.cull_front
+                .map_or(vk::FrontFace::COUNTER_CLOCKWISE, FrontFace::raw),
+        )
+        .line_width(1.0)
+}
+
+/// Depth state of [`GraphicsPipeline::new`]: tested when there is a depth attachment, written
+/// unless equal-after-prepass.
+fn depth_state(desc: &PipelineDesc) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
+    let (compare, write) = match desc.depth {
+        DepthMode::Less => (vk::CompareOp::LESS, true),
+        DepthMode::EqualAfterPrepass => (vk::CompareOp::LESS_OR_EQUAL, false),
+    };
+    vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(desc.depth_format.is_some())
+        .depth_write_enable(desc.depth_format.is_some() && write)
+        .depth_compare_op(compare)
 }
 
 /// The map entries and data of specialization constants (constant id, u32 value).
