@@ -230,6 +230,10 @@ pub fn pixel_errors(
 pub trait ReferencePixels {
     /// Number of pixels, covered or not.
     fn len(&self) -> usize;
+    /// Whether there is no pixel at all.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
     /// Every pixel in row-major order, `None` on the background.
     fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_;
 }

@@ -86,6 +86,14 @@ impl<'a> DrawList<'a> {
     }
 }
 
+/// One recorded draw of a [`DrawList`]: its pipeline, bindings and vertex range (first, count).
+type RecordedDraw<'g> = (
+    GraphicsPipeline,
+    Vec<(u32, &'g crate::gpu::vk::Buffer)>,
+    u32,
+    u32,
+);
+
 impl Renderer {
     /// Records, once, the draw of every (upload, shading) pair into shared targets (clear +
     /// draw into the colour target, and the normal target when the list asks for it, no
@@ -165,17 +173,7 @@ impl Renderer {
     /// The pipeline, bindings and vertex range of every draw of `list`, in order: the depth
     /// pre-pass (the constant program, colour writes off, every vertex) when asked, then every
     /// part.
-    pub(super) fn record_list<'g>(
-        &self,
-        list: &DrawList<'g>,
-    ) -> Result<
-        Vec<(
-            GraphicsPipeline,
-            Vec<(u32, &'g crate::gpu::vk::Buffer)>,
-            u32,
-            u32,
-        )>,
-    > {
+    pub(super) fn record_list<'g>(&self, list: &DrawList<'g>) -> Result<Vec<RecordedDraw<'g>>> {
         let gpu = list.gpu;
         let colors = color_formats(list.normal);
         let mut out = Vec::new();

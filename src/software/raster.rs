@@ -103,9 +103,11 @@ pub fn setup(inputs: &SceneInputs) -> Result<Vec<Tri>> {
     let mut tris = Vec::with_capacity(inputs.triangle_count());
     for t in 0..inputs.triangle_count() {
         let s: [Vec2; 3] = [0, 1, 2].map(|k| Vec2::from(inputs.window[3 * t + k]));
-        if s.iter()
-            .any(|p| !((p.abs().max_element() as f64) < MAX_COORD))
-        {
+        if s.iter().any(|p| {
+            // Beyond MAX_COORD, or NaN.
+            let m = p.abs().max_element() as f64;
+            m.is_nan() || m >= MAX_COORD
+        }) {
             return Err(Error::Usage(format!(
                 "triangle {t} has a window coordinate beyond {MAX_COORD} pixels (or not finite); \
                  the software engine does not clip: use --engine vulkan"

@@ -373,7 +373,9 @@ impl SpanShader {
         for k in 0..c {
             let dir = lit.dirs[k];
             let i0 = dir.dot(na) / na.length();
-            if !(w.sp.xb - w.sp.xa > 0.0) {
+            // An empty span (or a NaN length): the value at xA throughout.
+            let len = w.sp.xb - w.sp.xa;
+            if len.is_nan() || len <= 0.0 {
                 v[k] = i0;
                 ends[k] = (i0, i0);
                 continue;

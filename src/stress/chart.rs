@@ -37,6 +37,11 @@ fn palette(i: usize) -> RGBColor {
     RGBColor(c.r, c.g, c.b)
 }
 
+/// One method's points as (x, worst error or `None` when non-finite).
+type Curve = Vec<(f64, Option<f64>)>;
+/// Plotted points (x, y).
+type Series = Vec<(f64, f64)>;
+
 /// One line per method through `points(m)` as (x, worst error or non-finite).
 fn draw_lines<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
@@ -44,7 +49,7 @@ fn draw_lines<DB: DrawingBackend>(
     caption: &str,
     x_desc: &str,
     x_log: bool,
-    points: &dyn Fn(&MethodStress) -> Vec<(f64, Option<f64>)>,
+    points: &dyn Fn(&MethodStress) -> Curve,
 ) -> Result<()> {
     area.fill(&WHITE).map_err(plot_err)?;
     let all: Vec<(f64, Option<f64>)> = r.methods.iter().flat_map(points).collect();
@@ -64,7 +69,7 @@ fn draw_lines<DB: DrawingBackend>(
         .x_label_area_size(40)
         .y_label_area_size(64);
     let y = (FLOOR..TOP * 2.0).log_scale();
-    let lines = |draw: &mut dyn FnMut(usize, Vec<(f64, f64)>, Vec<(f64, f64)>) -> Result<()>| {
+    let lines = |draw: &mut dyn FnMut(usize, Series, Series) -> Result<()>| {
         for (i, m) in r.methods.iter().enumerate() {
             let pts = points(m);
             let finite = pts
