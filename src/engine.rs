@@ -50,7 +50,7 @@ impl Engine<'_> {
     pub fn drifts(&self, m: &Method) -> bool {
         match self {
             Engine::Vulkan(_) => false,
-            Engine::Software { .. } => software::form(m.name).drifts,
+            Engine::Software { .. } => software::form_of(m).drifts,
         }
     }
 }

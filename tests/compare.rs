@@ -4,8 +4,7 @@ use std::path::Path;
 use crate::support::*;
 
 fn schema() -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(root().join("docs/summary.schema.json")).unwrap())
-        .unwrap()
+    read_json(root().join("docs/summary.schema.json"))
 }
 
 fn compare(out: &Path, extra: &[&str]) -> (i32, String, String) {
@@ -30,9 +29,7 @@ fn compare_writes_a_valid_summary_heatmaps_and_csv() {
     let dir = tempfile::tempdir().unwrap();
     let (code, stdout, stderr) = compare(dir.path(), &[]);
     assert_eq!(code, 0, "{stderr}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
-            .unwrap();
+    let summary = read_json(dir.path().join("summary.json"));
     assert_schema(
         &summary,
         "docs/summary.schema.json",
@@ -95,9 +92,7 @@ fn fail_above_exits_1_exactly_when_a_metric_exceeds_its_limit() {
     let dir = tempfile::tempdir().unwrap();
     let (code, _, err) = compare(dir.path(), &[]);
     assert_eq!(code, 0, "{err}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
-            .unwrap();
+    let summary = read_json(dir.path().join("summary.json"));
     let worst = summary["methods"]
         .as_array()
         .unwrap()
@@ -175,9 +170,7 @@ fn fail_below_exits_1_exactly_when_a_metric_is_below_its_limit() {
     let dir = tempfile::tempdir().unwrap();
     let (code, _, err) = compare(dir.path(), &[]);
     assert_eq!(code, 0, "{err}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
-            .unwrap();
+    let summary = read_json(dir.path().join("summary.json"));
     let psnr = |n: &str| {
         summary["methods"]
             .as_array()
@@ -249,8 +242,7 @@ fn a_method_that_is_nan_everywhere_fails_every_limit() {
     let (code, _, err) = run_with(&["--fail-below", "psnr_db=0"]);
     assert_eq!(code, 1, "{err}");
     // summary.json: null plus the count, still valid against the schema
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let summary = read_json(out.join("summary.json"));
     assert!(jsonschema::validator_for(&schema())
         .unwrap()
         .is_valid(&summary));
@@ -298,8 +290,7 @@ fn angle_interpolating_methods_report_a_second_reference() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let s = read_json(out.join("summary.json"));
     assert!(jsonschema::validator_for(&schema()).unwrap().is_valid(&s));
     let row = |n: &str| {
         s["methods"]
@@ -369,9 +360,7 @@ fn culling_and_specialization_change_nothing_visible() {
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{err}");
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
-                .unwrap();
+        let s = read_json(out.join("summary.json"));
         s
     };
     let shipped = root().join("scenes/torus.toml");

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use shadelab::isa::{self, IsaOptions, IsaReport, Precision};
 use shadelab::method;
 
-use crate::support::{run, schema_validator};
+use crate::support::{read_json, run, schema_validator};
 
 fn options(methods: &[&str], families: &[&str]) -> IsaOptions {
     IsaOptions {
@@ -86,9 +86,7 @@ fn identical_runs_and_the_phong_order_on_every_family() {
     // The files, and isa.json against its schema.
     let dir = tempfile::tempdir().unwrap();
     isa::files::write(dir.path(), &a).unwrap();
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("isa.json")).unwrap())
-            .unwrap();
+    let json = read_json(dir.path().join("isa.json"));
     let validator = schema_validator("docs/isa.schema.json");
     let errors: Vec<String> = validator
         .iter_errors(&json)

@@ -202,9 +202,7 @@ fn auto_meets_its_budget_on_every_scene_and_model() {
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{path}: {err}");
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
-                .unwrap();
+        let s = read_json(out.join("summary.json"));
         let a = s["methods"]
             .as_array()
             .unwrap()

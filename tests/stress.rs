@@ -18,8 +18,7 @@ fn stress_writes_its_files_counts_nan_and_replays_its_worst_case() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stderr}");
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("stress.json")).unwrap()).unwrap();
+    let report = read_json(out.join("stress.json"));
     assert_schema(
         &report,
         "docs/stress.schema.json",
@@ -94,8 +93,7 @@ fn stress_writes_its_files_counts_nan_and_replays_its_worst_case() {
         stdout.contains("reproduced: the device colour is bit-identical"),
         "{stdout}"
     );
-    let mut tampered: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&case).unwrap()).unwrap();
+    let mut tampered = read_json(&case);
     let b0 = tampered["device_color_bits"][0].as_u64().unwrap();
     tampered["device_color_bits"][0] = (b0 ^ 1).into();
     let bad = dir.path().join("tampered.json");

@@ -103,11 +103,16 @@ pub fn model_files() -> Option<Vec<PathBuf>> {
     Some(files)
 }
 
+/// The JSON file at `path`, parsed (panics with the path on a missing or malformed file).
+pub fn read_json(path: impl AsRef<Path>) -> serde_json::Value {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 /// The validator of a schema file of docs/ (e.g. `docs/bench.schema.json`).
 pub fn schema_validator(file: &str) -> jsonschema::Validator {
-    let schema: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(root().join(file)).unwrap()).unwrap();
-    jsonschema::validator_for(&schema).unwrap()
+    jsonschema::validator_for(&read_json(root().join(file))).unwrap()
 }
 
 /// Checks `value` against the schema file `file` of docs/, listing every error, and that the

@@ -12,7 +12,7 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
             // form, or its per-pixel form where it has none.
             "software_forms": METHODS
                 .iter()
-                .map(|m| (m.name, crate::software::form(m.name)))
+                .map(|m| (m.name, crate::software::form_of(m)))
                 .collect::<std::collections::BTreeMap<_, _>>(),
         }))
         .map_err(|e| Error::output("the method list", e))?;

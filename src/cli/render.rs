@@ -23,7 +23,7 @@ pub(super) fn cmd_render(
     let scene = load_scene(scene_args)?;
     if dev.engine == EngineArg::Software {
         let inputs = crate::scene::SceneInputs::new(&scene, method.geometry);
-        let form = crate::software::form(method.name);
+        let form = crate::software::form_of(method);
         eprintln!(
             "software engine: {} in its {} ({})",
             method.name,

@@ -26,9 +26,7 @@ fn bench_times_auto_and_its_budget_curve_like_a_method() {
         out,
     ]);
     assert_eq!(code, 0, "{stderr}");
-    let bench: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("bench.json")).unwrap())
-            .unwrap();
+    let bench = read_json(dir.path().join("bench.json"));
     assert_schema(
         &bench,
         "docs/bench.schema.json",

@@ -33,9 +33,7 @@ fn bench_writes_its_files_in_the_documented_shape() {
         out,
     ]);
     assert_eq!(code, 0, "{stderr}");
-    let bench: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("bench.json")).unwrap())
-            .unwrap();
+    let bench = read_json(dir.path().join("bench.json"));
     assert_schema(
         &bench,
         "docs/bench.schema.json",
@@ -393,8 +391,7 @@ fn bench_of_a_nan_method_keeps_it_off_the_front() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stderr}");
-    let bench: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).unwrap()).unwrap();
+    let bench = read_json(out.join("bench.json"));
     let front: Vec<&str> = bench["pareto_front"]
         .as_array()
         .unwrap()

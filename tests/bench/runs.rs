@@ -29,9 +29,7 @@ fn bench_runs_merges_fresh_processes_and_judges_across_them() {
     assert_eq!(code, 0, "{stderr}");
     assert!(stderr.contains("bench: run 1 of 2"), "{stderr}");
     assert!(stderr.contains("bench: run 2 of 2"), "{stderr}");
-    let bench: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("bench.json")).unwrap())
-            .unwrap();
+    let bench = read_json(dir.path().join("bench.json"));
     assert_schema(
         &bench,
         "docs/bench.schema.json",

@@ -27,9 +27,7 @@ fn skips_change_the_work_but_not_the_pixels() {
         let (code, stdout, stderr) = run(&args);
         assert_eq!(code, 0, "{stderr}");
         assert!(stdout.contains(" (default) |"), "{stdout}");
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("skips.json")).unwrap())
-                .unwrap();
+        let v = read_json(out.join("skips.json"));
         v
     };
     let v = study(&[]);

@@ -3,15 +3,6 @@
 //! software path refuse it.
 use crate::support::*;
 
-fn summary_schema() -> jsonschema::Validator {
-    let s = std::fs::read_to_string(root().join("docs/summary.schema.json")).unwrap();
-    jsonschema::validator_for(&serde_json::from_str(&s).unwrap()).unwrap()
-}
-
-fn read_json(path: &std::path::Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
 #[test]
 fn compare_with_the_software_engine_writes_a_valid_summary_that_names_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -37,7 +28,7 @@ fn compare_with_the_software_engine_writes_a_valid_summary_that_names_it() {
     };
     let sw = args("software", &out("sw"));
     let vk = args("vulkan", &out("vk"));
-    let schema = summary_schema();
+    let schema = schema_validator("docs/summary.schema.json");
     assert!(
         schema.is_valid(&sw),
         "software summary.json against the schema"
