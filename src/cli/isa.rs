@@ -5,15 +5,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 
 use crate::error::{Error, Result};
 use crate::isa::{self, IsaOptions, Precision};
-
-#[derive(ValueEnum, Debug, Clone, Copy)]
-pub(super) enum PrecisionArg {
-    F32,
-}
 
 #[derive(Args, Debug)]
 pub(super) struct IsaArgs {
@@ -41,7 +36,7 @@ pub(super) struct IsaArgs {
     compare: Vec<PathBuf>,
     /// Floating-point precision of the programs.
     #[arg(long, value_enum, default_value = "f32")]
-    precision: PrecisionArg,
+    precision: Precision,
     /// Also compile this compute SPIR-V as is (one storage buffer at binding 0); repeatable.
     #[arg(long, value_name = "FILE.spv", hide = true)]
     probe: Vec<PathBuf>,
@@ -78,6 +73,12 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         .map(|s| s.trim().to_lowercase())
         .filter(|s| !s.is_empty())
         .collect();
+    if args.precision == Precision::F16 {
+        // The float16 programs arrive with issue 23 (glsl/ in the precision-generic vocabulary).
+        return Err(Error::Usage(
+            "isa --precision f16: no float16 programs are built yet".into(),
+        ));
+    }
     if !args.driver_files.is_file() {
         return Err(Error::Usage(format!(
             "--driver-files {}: no such file; install mesa-vulkan-drivers (RADV) or point at \
@@ -93,9 +94,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         driver_files: args.driver_files,
         scene: args.scene,
         exe,
-        precision: match args.precision {
-            PrecisionArg::F32 => Precision::F32,
-        },
+        precision: args.precision,
         probes: args.probe,
     };
     let bench = match &args.bench {

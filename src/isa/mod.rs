@@ -23,8 +23,6 @@ use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result};
 use crate::method::Method;
 pub use child::{ChildReport, ChildRequest, Compiled};
@@ -52,12 +50,7 @@ pub const PARALLEL_CHILDREN: usize = 2;
 /// Lines of a failed child's stderr kept in the report.
 const STDERR_TAIL_LINES: usize = 6;
 
-/// The floating-point precision the programs are compiled at (issue 23 adds more).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Precision {
-    F32,
-}
+pub use crate::method::Precision;
 
 /// What `shadelab isa` runs.
 #[derive(Debug, Clone)]

@@ -4,6 +4,7 @@
 //! file names, CLI arguments, CSV and JSON.
 pub mod checks;
 pub mod formulas;
+pub mod precision;
 pub mod scanline;
 pub mod scanline_checks;
 pub mod table;
@@ -12,6 +13,7 @@ mod tests;
 pub mod twins;
 mod worst;
 
+pub use precision::Precision;
 pub use table::METHODS;
 pub use twins::*;
 
