@@ -5,8 +5,59 @@
 //   ATTR_*                          vertex streams the program reads (src/render.rs uploads only these)
 //   IN_*                            varyings the program needs (only those are declared)
 //   USE_LUT                         the specular lookup table (binding 1)
+//   SHADELAB_F16                    the float16 variant (program names `<method>.f16.<interp>`,
+//                                   `<method>.f16.evaluate`): `real` is float16_t
 // The Rust twin of `Params` is `render::Params` (#[repr(C)]); a test compares member offsets
 // parsed from the SPIR-V with the Rust offsets.
+
+// Precision-generic vocabulary (issue 23). Every method file and the files it includes are written
+// once in it; the float32 programs compile to the same SPIR-V as plain GLSL (the macros expand to
+// `float` and to bare parentheses), the float16 programs compute the method and the lighting in
+// float16_t (GL_EXT_shader_explicit_arithmetic_types_float16), as a mediump shader on a mobile GPU
+// would. Rules for a method file (tests/shaders.rs checks the float16 SPIR-V against them):
+//   1. Values are `real`, `real2`, `real3`, `real4`; never `float` or `vecN`.
+//   2. Every float literal in real arithmetic is written R(literal): R(0.5), R(2.0 / 3.0). GLSL has
+//      no implicit narrowing: a bare literal promotes the float16 expression to float32.
+//   3. Inputs (varyings vNormal, vBary, vN0.., params.*, lut[]) are float32: convert them where the
+//      method reads them, R(x) for a scalar, R2/R3/R4(x) for a vector: R3(vNormal),
+//      R3(params.lightDir[i].xyz). Never compute on them in float32 first.
+//   4. Window-space positions (gl_FragCoord through FRAG_COORD, vW0..vW2, span ends x) are `pix`,
+//      `pix2`: float32 in both variants, as GLSL ES keeps gl_FragCoord highp; a ratio of positions
+//      (a span fraction t) is converted with R() once computed.
+//   5. Constructors convert: real3(0.0), real(i) (an int) are fine.
+//   6. Results leave as float32 through F(x), F3(x), F4(x) (glsl/method_main.glsl does it).
+//   7. A constant that only makes sense at one precision (a threshold below float16's range) is
+//      BY_PRECISION(f32 value, f16 value).
+#ifdef SHADELAB_F16
+#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require
+#define real float16_t
+#define real2 f16vec2
+#define real3 f16vec3
+#define real4 f16vec4
+#define R(x) float16_t(x)
+#define R2(x) f16vec2(x)
+#define R3(x) f16vec3(x)
+#define R4(x) f16vec4(x)
+#define F(x) float(x)
+#define F3(x) vec3(x)
+#define F4(x) vec4(x)
+#define BY_PRECISION(f32, f16) (f16)
+#else
+#define real float
+#define real2 vec2
+#define real3 vec3
+#define real4 vec4
+#define R(x) (x)
+#define R2(x) (x)
+#define R3(x) (x)
+#define R4(x) (x)
+#define F(x) (x)
+#define F3(x) (x)
+#define F4(x) (x)
+#define BY_PRECISION(f32, f16) (f32)
+#endif
+#define pix float
+#define pix2 vec2
 
 // VARYING(loc, qualifier) declares a varying; in the compute stage it declares a global.
 #if defined(STAGE_VERTEX)

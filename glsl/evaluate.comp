@@ -123,17 +123,17 @@ void main() {
     vPn20 = c.pn[2].xyz;
 #endif
 #ifdef IN_COLOR
-    vColor = shade(n0) * w.x + shade(n1) * w.y + shade(n2) * w.z;   // as glsl/shade.vert
+    vColor = F3(shade(R3(n0))) * w.x + F3(shade(R3(n1))) * w.y + F3(shade(R3(n2))) * w.z;   // as glsl/shade.vert
 #endif
 #ifdef IN_QUAT
 #ifdef QUAT_LOCAL
-    vec3 t, b, nf = c.flatNormal.xyz;
+    real3 t, b, nf = R3(c.flatNormal.xyz);
     onb(nf, t, b);
-    vQuat = quatFromNormal(vec3(dot(n0, t), dot(n0, b), dot(n0, nf))) * w.x
-          + quatFromNormal(vec3(dot(n1, t), dot(n1, b), dot(n1, nf))) * w.y
-          + quatFromNormal(vec3(dot(n2, t), dot(n2, b), dot(n2, nf))) * w.z;
+    vQuat = F3(quatFromNormal(real3(dot(R3(n0), t), dot(R3(n0), b), dot(R3(n0), nf)))) * w.x
+          + F3(quatFromNormal(real3(dot(R3(n1), t), dot(R3(n1), b), dot(R3(n1), nf)))) * w.y
+          + F3(quatFromNormal(real3(dot(R3(n2), t), dot(R3(n2), b), dot(R3(n2), nf)))) * w.z;
 #else
-    vQuat = quatFromNormal(n0) * w.x + quatFromNormal(n1) * w.y + quatFromNormal(n2) * w.z;
+    vQuat = F3(quatFromNormal(R3(n0))) * w.x + F3(quatFromNormal(R3(n1))) * w.y + F3(quatFromNormal(R3(n2))) * w.z;
 #endif
 #endif
     if (REPEAT == 0) {

@@ -5,34 +5,34 @@
 // src/method/twins.rs segments().
 #include "scanline.glsl"
 
-vec3 segmentEnd(Span sp, float x) {
-    vec3 N = spanNormal(sp, x);
-    return normalize(dot(N, N) > 1e-12 ? N : sp.NA);   // an extrapolated end can pass through 0
+real3 segmentEnd(Span sp, pix x) {
+    real3 N = spanNormal(sp, x);
+    return normalize(dot(N, N) > R(1e-12) ? N : sp.NA);   // an extrapolated end can pass through 0
 }
 
 // The unit normals at the ends of the fragment's segment and its place t = v / 2^k in it.
-void segmentEnds(out vec3 Nl, out vec3 Np, out float t) {
+void segmentEnds(out real3 Nl, out real3 Np, out real t) {
     Span sp = spanAt(FRAG_COORD.y);
-    float xl, xp;
+    pix xl, xp;
     int v;
     segmentAt(sp, FRAG_COORD.x, SEGMENT_K, xl, xp, v);
     Nl = segmentEnd(sp, xl);
     Np = segmentEnd(sp, xp);
-    t = float(v) / float(1 << SEGMENT_K);
+    t = real(v) / real(1 << SEGMENT_K);
 }
 
 #ifdef INV_ROOT
-vec3 methodNormal() {
-    vec3 Nl, Np;
-    float t;
+real3 methodNormal() {
+    real3 Nl, Np;
+    real t;
     segmentEnds(Nl, Np, t);
     return dichotomy(Nl, Np, t, SEGMENT_K);
 }
 #else
 #define METHOD_COLOR
-vec3 methodColor() {
-    vec3 Nl, Np;
-    float t;
+real3 methodColor() {
+    real3 Nl, Np;
+    real t;
     segmentEnds(Nl, Np, t);
     return mix(shade(Nl), shade(Np), t);
 }

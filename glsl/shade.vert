@@ -69,15 +69,15 @@ void main() {
     vPn20 = inPn20;
 #endif
 #ifdef IN_COLOR
-    vColor = shade(inNormal);                  // Gouraud: light the vertex (FORMULAS.md 2.2)
+    vColor = F3(shade(R3(inNormal)));                  // Gouraud: light the vertex (FORMULAS.md 2.2)
 #endif
 #ifdef IN_QUAT
 #ifdef QUAT_LOCAL
-    vec3 t, b;                                 // per-triangle frame whose +Z is the flat normal
-    onb(inFlat, t, b);
-    vQuat = quatFromNormal(vec3(dot(inNormal, t), dot(inNormal, b), dot(inNormal, inFlat)));
+    real3 t, b;                                // per-triangle frame whose +Z is the flat normal
+    onb(R3(inFlat), t, b);
+    vQuat = F3(quatFromNormal(real3(dot(R3(inNormal), t), dot(R3(inNormal), b), dot(R3(inNormal), R3(inFlat)))));
 #else
-    vQuat = quatFromNormal(inNormal);          // view space
+    vQuat = F3(quatFromNormal(R3(inNormal)));  // view space
 #endif
 #endif
 }

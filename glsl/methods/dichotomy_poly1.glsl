@@ -2,10 +2,10 @@
 // the span's unit end normals, K = ceil(log2(span pixels)) levels (1..12), toward the grid point
 // m / 2^K nearest the pixel's t, with the degree-1 inverse root 0.64 - 0.07 z (S002 l.625-639).
 // Twin: src/method/scanline.rs dichotomy().
-#define INV_ROOT(z) (0.64 - 0.07 * (z))
+#define INV_ROOT(z) (R(0.64) - R(0.07) * (z))
 #include "scanline.glsl"
-vec3 methodNormal() {
+real3 methodNormal() {
     Span sp = spanAt(FRAG_COORD.y);
-    float t = spanT(sp, FRAG_COORD.x);
+    real t = spanT(sp, FRAG_COORD.x);
     return dichotomy(normalize(sp.NA), normalize(sp.NB), t, levels(sp.xB - sp.xA));
 }

@@ -2,10 +2,10 @@
 // the span's unit end normals, K = ceil(log2(span pixels)) levels (1..12), toward the grid point
 // m / 2^K nearest the pixel's t, with the degree-2 minimax inverse root 0.014253 z^2 - 0.118922 z + 0.680850 (FORMULAS.md 2.13).
 // Twin: src/method/scanline.rs dichotomy().
-#define INV_ROOT(z) ((0.014253 * (z) - 0.118922) * (z) + 0.680850)
+#define INV_ROOT(z) ((R(0.014253) * (z) - R(0.118922)) * (z) + R(0.680850))
 #include "scanline.glsl"
-vec3 methodNormal() {
+real3 methodNormal() {
     Span sp = spanAt(FRAG_COORD.y);
-    float t = spanT(sp, FRAG_COORD.x);
+    real t = spanT(sp, FRAG_COORD.x);
     return dichotomy(normalize(sp.NA), normalize(sp.NB), t, levels(sp.xB - sp.xA));
 }

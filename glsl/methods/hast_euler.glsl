@@ -9,35 +9,35 @@
 #include "scanline.glsl"
 
 Span heSpan;
-float heT;
+real heT;
 
 // dI/dt of v.N/|N| at N with dN/dt = D.
-float heSlope(vec3 v, vec3 N, vec3 D) {
-    float n2 = dot(N, N);
-    float n = sqrt(n2);
+real heSlope(real3 v, real3 N, real3 D) {
+    real n2 = dot(N, N);
+    real n = sqrt(n2);
     return dot(v, D) / n - dot(v, N) * dot(N, D) / (n2 * n);
 }
 
-float methodCosine(vec3 v) {
-    vec3 NA = heSpan.NA;
-    vec3 NB = heSpan.NB;
-    float W = heSpan.xB - heSpan.xA;
-    float I0 = dot(v, NA) / length(NA);
-    if (!(W > 0.0)) {
+real methodCosine(real3 v) {
+    real3 NA = heSpan.NA;
+    real3 NB = heSpan.NB;
+    real W = R(heSpan.xB - heSpan.xA);
+    real I0 = dot(v, NA) / length(NA);
+    if (!(W > R(0.0))) {
         return I0;
     }
-    float I1 = dot(v, NB) / length(NB);
-    vec3 D = NB - NA;
-    float d0 = heSlope(v, NA, D);
-    float d1 = heSlope(v, NB, D);
-    float h = 1.0 / W;
-    float j = heT * W;
-    float Ij = I0 + h * (j * d0 + (d1 - d0) * j * (j - 1.0) / (2.0 * W));
-    float IW = I0 + h * (W * d0 + (d1 - d0) * (W - 1.0) / 2.0);
+    real I1 = dot(v, NB) / length(NB);
+    real3 D = NB - NA;
+    real d0 = heSlope(v, NA, D);
+    real d1 = heSlope(v, NB, D);
+    real h = R(1.0) / W;
+    real j = heT * W;
+    real Ij = I0 + h * (j * d0 + (d1 - d0) * j * (j - R(1.0)) / (R(2.0) * W));
+    real IW = I0 + h * (W * d0 + (d1 - d0) * (W - R(1.0)) / R(2.0));
     return Ij + (I1 - IW) * j / W;
 }
 
-vec3 methodColor() {
+real3 methodColor() {
     heSpan = spanAt(FRAG_COORD.y);
     heT = spanT(heSpan, FRAG_COORD.x);
     return shadeCosines();

@@ -1,4 +1,4 @@
 // phong_exact (FORMULAS.md 2.3, S002 l.104-150): N' = N / |N|, the reference.
-vec3 methodNormal() {
-    return normalize(vNormal);
+real3 methodNormal() {
+    return normalize(R3(vNormal));
 }

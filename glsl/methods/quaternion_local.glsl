@@ -2,9 +2,9 @@
 // whose +Z is the flat normal, so the interpolated normals stay near +Z where the construction is
 // accurate; the local normal is turned back to view space with the same frame.
 #include "quaternion.glsl"
-vec3 methodNormal() {
-    vec3 t, b;
-    onb(vFlat, t, b);
-    vec3 l = normalFromQuat(vQuat);
-    return t * l.x + b * l.y + vFlat * l.z;
+real3 methodNormal() {
+    real3 t, b;
+    onb(R3(vFlat), t, b);
+    real3 l = normalFromQuat(R3(vQuat));
+    return t * l.x + b * l.y + R3(vFlat) * l.z;
 }

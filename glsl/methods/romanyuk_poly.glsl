@@ -1,5 +1,5 @@
 // romanyuk_poly (FORMULAS.md 2.9, S000 l.78-82): k(z) = 0.822 z^2 - 2.046 z + 2.227.
-vec3 methodNormal() {
-    float z = dot(vNormal, vNormal);
-    return vNormal * ((0.822 * z - 2.046) * z + 2.227);
+real3 methodNormal() {
+    real z = dot(R3(vNormal), R3(vNormal));
+    return R3(vNormal) * ((R(0.822) * z - R(2.046)) * z + R(2.227));
 }

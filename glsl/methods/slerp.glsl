@@ -3,13 +3,13 @@
 // fraction t of the span, as the seeds print it: (A sin((1-t) theta) + B sin(t theta)) / sin theta.
 // Twin: src/method/scanline.rs slerp().
 #include "scanline.glsl"
-vec3 methodNormal() {
-    vec3 A, B;
-    float t;
+real3 methodNormal() {
+    real3 A, B;
+    real t;
     spanEnds(A, B, t);
-    float c, s, th;
+    real c, s, th;
     if (!angleBetween(A, B, c, s, th)) {
         return normalize(mix(A, B, t));
     }
-    return (A * sin((1.0 - t) * th) + B * sin(t * th)) / s;
+    return (A * sin((R(1.0) - t) * th) + B * sin(t * th)) / s;
 }

@@ -3,26 +3,26 @@
 // the implementation, and the f64 twin in src/method/formulas.rs uses this same rule), clamped
 // to 1..255, then linear interpolation between the 4096 cosine samples on [0, 1].
 #define METHOD_SHADE
-vec3 methodNormal() {
-    return normalize(vNormal);
+real3 methodNormal() {
+    return normalize(R3(vNormal));
 }
-float lutLookup(float s) {
-    if (s <= 0.0) {
-        return 0.0;
+real lutLookup(real s) {
+    if (s <= R(0.0)) {
+        return R(0.0);
     }
     int row = clamp(int(floor(params.specular.w + 0.5)), 1, LUT_ROWS) - 1;
-    float f = min(s, 1.0) * float(LUT_SAMPLES - 1);
+    real f = min(s, R(1.0)) * real(LUT_SAMPLES - 1);
     int i0 = min(int(floor(f)), LUT_SAMPLES - 2);
-    float t = f - float(i0);
+    real t = f - real(i0);
     int base = row * LUT_SAMPLES + i0;
-    return mix(lut[base], lut[base + 1], t);
+    return mix(R(lut[base]), R(lut[base + 1]), t);
 }
-vec3 methodShade(vec3 N) {
-    vec3 c = params.ambient.rgb;
+real3 methodShade(real3 N) {
+    real3 c = R3(params.ambient.rgb);
     for (int i = 0; i < LIGHT_COUNT; ++i) {
-        float d = max(dot(N, params.lightDir[i].xyz), 0.0);
-        float s = max(dot(N, params.halfVec[i].xyz), 0.0);
-        c += params.lightColor[i].rgb * (params.diffuse.rgb * d + (HAS_SPECULAR ? params.specular.rgb * lutLookup(s) : vec3(0.0)));
+        real d = max(dot(N, R3(params.lightDir[i].xyz)), R(0.0));
+        real s = max(dot(N, R3(params.halfVec[i].xyz)), R(0.0));
+        c += R3(params.lightColor[i].rgb) * (R3(params.diffuse.rgb) * d + (HAS_SPECULAR ? R3(params.specular.rgb) * lutLookup(s) : real3(0.0)));
     }
     return c;
 }

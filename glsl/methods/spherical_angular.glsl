@@ -3,11 +3,11 @@
 // arithmetic. The seeds' recurrence N(k+1) = 2 cos(phi) N(k) - N(k-1) is sequential along the
 // span; a fragment shader evaluates the closed form. Twin: src/method/scanline.rs.
 #include "scanline.glsl"
-vec3 methodNormal() {
-    vec3 A, B;
-    float t;
+real3 methodNormal() {
+    real3 A, B;
+    real t;
     spanEnds(A, B, t);
-    float c, s, th;
+    real c, s, th;
     if (!angleBetween(A, B, c, s, th)) {
         return normalize(mix(A, B, t));
     }

@@ -2,6 +2,6 @@
 // replaced by 9 sub-triangles of its PN patch (tessellation level 3, on the CPU), lit at the
 // sub-vertices with the PN normals, Gouraud in between. No per-pixel normal.
 #define METHOD_COLOR
-vec3 methodColor() {
-    return vColor;
+real3 methodColor() {
+    return R3(vColor);
 }
