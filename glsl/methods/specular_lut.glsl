@@ -10,7 +10,7 @@ real lutLookup(real s) {
     if (s <= R(0.0)) {
         return R(0.0);
     }
-    int row = clamp(int(floor(params.specular.w + 0.5)), 1, LUT_ROWS) - 1;
+    int row = clamp(int(floor(R(params.specular.w) + R(0.5))), 1, LUT_ROWS) - 1;
     real f = min(s, R(1.0)) * real(LUT_SAMPLES - 1);
     int i0 = min(int(floor(f)), LUT_SAMPLES - 2);
     real t = f - real(i0);

@@ -10,6 +10,11 @@
 //! also gets an `evaluate` program: glsl/evaluate.comp, the same method code run on a buffer of
 //! cases (`shadelab stress`).
 //!
+//! Precision (issue 23): every method program exists twice, float32 (`<name>.<interpolation>`,
+//! `<name>.evaluate`) and float16 (`<name>.f16.<interpolation>`, `<name>.f16.evaluate`), compiled
+//! from the same GLSL with the define `SHADELAB_F16` (the vocabulary of glsl/common.glsl).
+//! [`F16_UNAVAILABLE`] lists the methods without a float16 program and why (none today).
+//!
 //! Freshness: spirv/manifest.json records a SHA-256 over every file of glsl/ and the program
 //! table (names + defines), and the SHA-256 of each .spv. [`check_fresh`] recomputes both, so a
 //! GLSL edit without `make spirv`, or a hand-edited .spv, fails the test suite.
@@ -19,7 +24,7 @@ use std::path::Path;
 use sha2::{Digest, Sha256};
 
 use crate::error::{Error, Result};
-use crate::method::METHODS;
+use crate::method::{Precision, METHODS};
 use crate::scene::Interpolation;
 
 include!(concat!(env!("OUT_DIR"), "/spirv_table.rs"));
@@ -50,10 +55,36 @@ pub fn interpolation_tag(i: Interpolation) -> (&'static str, &'static str) {
 
 const MODES: [Interpolation; 2] = [Interpolation::ScreenLinear, Interpolation::Perspective];
 
-/// The program name of a method's compute program (glsl/evaluate.comp).
+/// The program name of a method's float32 compute program (glsl/evaluate.comp).
 pub fn evaluate_program(method: &str) -> String {
-    format!("{method}.evaluate")
+    evaluate_program_in(method, Precision::F32)
 }
+
+/// The program name of a method's compute program in a precision.
+pub fn evaluate_program_in(method: &str, precision: Precision) -> String {
+    format!("{}evaluate", precision_prefix(method, precision))
+}
+
+/// `<base>.` in float32, `<base>.f16.` in float16.
+fn precision_prefix(base: &str, precision: Precision) -> String {
+    match precision {
+        Precision::F32 => format!("{base}."),
+        Precision::F16 => format!("{base}.f16."),
+    }
+}
+
+/// Methods that have no float16 program, with the reason: (method, why). Empty: every method's
+/// GLSL compiles in the float16 vocabulary (window positions stay float32 by rule 4 of
+/// glsl/common.glsl, so the scanline methods are expressible too).
+pub const F16_UNAVAILABLE: &[(&str, &str)] = &[];
+
+/// Whether `method` has programs in `precision`.
+pub fn has_precision(method: &str, precision: Precision) -> bool {
+    precision == Precision::F32 || !F16_UNAVAILABLE.iter().any(|(m, _)| *m == method)
+}
+
+/// The define that selects the float16 vocabulary (glsl/common.glsl).
+const F16_DEFINE: &str = "SHADELAB_F16";
 
 /// Whether a method has a compute program: those that draw the mesh as it is (a method that
 /// tessellates shades other geometry than the case describes).
@@ -73,9 +104,23 @@ fn method_defines(m: &crate::method::Method, defines: &mut Vec<(String, String)>
 
 const GRAPHICS: [(&str, &str); 2] = [("vert", "shade.vert"), ("frag", "shade.frag")];
 
-/// The program name of a method or internal program (`ids`, `constant`) in a mode.
+/// The program name of a method or internal program (`ids`, `constant`) in a mode (float32).
 pub fn program_name(base: &str, interp: Interpolation) -> String {
-    format!("{base}.{}", interpolation_tag(interp).0)
+    program_name_in(base, interp, Precision::F32)
+}
+
+/// The program name of a method in a mode and precision (`ids` and `constant` are float32 only).
+pub fn program_name_in(base: &str, interp: Interpolation, precision: Precision) -> String {
+    format!(
+        "{}{}",
+        precision_prefix(base, precision),
+        interpolation_tag(interp).0
+    )
+}
+
+fn f16_defines(mut defines: Vec<(String, String)>) -> Vec<(String, String)> {
+    defines.push((F16_DEFINE.to_string(), "1".to_string()));
+    defines
 }
 
 /// Every program, in a stable order.
@@ -91,6 +136,14 @@ pub fn programs() -> Vec<Program> {
         for m in METHODS {
             let mut defines = with(&[]);
             method_defines(m, &mut defines);
+            if has_precision(m.name, Precision::F16) {
+                out.push(Program {
+                    name: program_name_in(m.name, mode, Precision::F16),
+                    stages: GRAPHICS.to_vec(),
+                    method_file: Some(m.glsl),
+                    defines: f16_defines(defines.clone()),
+                });
+            }
             out.push(Program {
                 name: program_name(m.name, mode),
                 stages: GRAPHICS.to_vec(),
@@ -114,6 +167,14 @@ pub fn programs() -> Vec<Program> {
     for m in METHODS.iter().filter(|m| has_evaluate_program(m)) {
         let mut defines = Vec::new();
         method_defines(m, &mut defines);
+        if has_precision(m.name, Precision::F16) {
+            out.push(Program {
+                name: evaluate_program_in(m.name, Precision::F16),
+                stages: vec![("comp", "evaluate.comp")],
+                method_file: Some(m.glsl),
+                defines: f16_defines(defines.clone()),
+            });
+        }
         out.push(Program {
             name: evaluate_program(m.name),
             stages: vec![("comp", "evaluate.comp")],
@@ -325,5 +386,8 @@ mod tests {
         }
         assert!(ps.iter().any(|p| p.name == "phong_exact.screen_linear"));
         assert!(ps.iter().any(|p| p.name == "ids.perspective"));
+        assert!(ps.iter().any(|p| p.name == "phong_exact.f16.screen_linear"));
+        assert!(ps.iter().any(|p| p.name == "phong_exact.f16.evaluate"));
+        assert!(!ps.iter().any(|p| p.name == "ids.f16.perspective"));
     }
 }
