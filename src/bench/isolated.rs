@@ -33,6 +33,8 @@ pub struct IsolatedOptions {
     /// Also time phong_exact's kernels a second time, as `phong_exact_control` (an A/A
     /// control: its ratio to phong_exact is the noise floor of `bench --runs`).
     pub control: bool,
+    /// The precision of the kernels.
+    pub precision: crate::method::Precision,
 }
 
 impl Default for IsolatedOptions {
@@ -42,6 +44,7 @@ impl Default for IsolatedOptions {
             warmup: 2,
             invocations: 16384,
             control: false,
+            precision: crate::method::Precision::F32,
         }
     }
 }
@@ -185,7 +188,7 @@ pub fn measure(
         let mut kernels = Vec::new();
         let mut recorded = Vec::new();
         for &k in &REPEATS {
-            let mut kernel = Kernel::with_repeat(ctx, m, k)?;
+            let mut kernel = Kernel::with_precision(ctx, m, k, opts.precision)?;
             if k == 1 {
                 let out = kernel.run(&gpu)?;
                 let d = cases

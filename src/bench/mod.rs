@@ -170,10 +170,13 @@ pub(crate) fn estimate(
     (chosen, used, w.median, t.map(|t| t.median))
 }
 
-fn static_ops(program: &str, interp: crate::scene::Interpolation) -> Option<OpCounts> {
-    let bytes =
-        crate::gpu::shaders::embedded(&crate::gpu::shaders::program_name(program, interp), "frag")
-            .ok()?;
+fn static_ops(
+    program: &str,
+    interp: crate::scene::Interpolation,
+    precision: crate::method::Precision,
+) -> Option<OpCounts> {
+    let name = crate::gpu::shaders::program_name_in(program, interp, precision);
+    let bytes = crate::gpu::shaders::embedded(&name, "frag").ok()?;
     spirv::count_ops(bytes).ok()
 }
 
@@ -292,6 +295,7 @@ fn isolated_costs(
     let iso_opts = isolated::IsolatedOptions {
         rounds: opts.isolated_rounds,
         control: !matches!(opts.runs, Runs::One),
+        precision: renderer.precision(),
         ..isolated::IsolatedOptions::default()
     };
     let bar = crate::output::progress_bar(true, 0);
@@ -417,6 +421,7 @@ pub fn bench(
     let mut report = BenchReport {
         schema_version: SCHEMA_VERSION,
         provenance: renderer.provenance(),
+        precision: renderer.precision(),
         cpu_model: cpu_model(),
         cpu_count: std::thread::available_parallelism().map_or(0, |n| n.get()),
         lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
@@ -528,6 +533,11 @@ fn rows_of(
             _ => static_ops(
                 p.method().map_or("constant", |m| m.name),
                 scene.interpolation,
+                if p.method().is_some() {
+                    renderer.precision()
+                } else {
+                    crate::method::Precision::F32
+                },
             ),
         };
         let mut r = timing_row(renderer, p, &samples[i], clock, (rp, rf), summary)?;

@@ -221,6 +221,10 @@ pub struct SweepResult {
 pub struct BenchReport {
     pub schema_version: u32,
     pub provenance: Provenance,
+    /// The precision of the timed method programs and isolated kernels (`f32`, `f16`; issue
+    /// 23; the floors are float32 always). Absent in files written before: f32.
+    #[serde(default)]
+    pub precision: crate::method::Precision,
     pub cpu_model: String,
     /// Logical CPUs the process may use.
     pub cpu_count: usize,

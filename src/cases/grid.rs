@@ -58,6 +58,13 @@ pub const SPANS: [u32; 16] = [
 pub const LENGTHS: [f64; 16] = [
     0.0, 1e-45, 1e-40, 1e-38, 1e-30, 1e-20, 1e-10, 1e-3, 0.5, 1.0, 2.0, 1e3, 1e10, 1e20, 1e30, 1e38,
 ];
+/// The lengths a float16 run adds to [`LENGTHS`] (issue 23), around float16's limits: |n|^2
+/// is a float16 subnormal below |n| = 2^-7 (smallest normal 2^-14) and rounds to zero below
+/// about 1.7e-4 (2^-25); |n|^2 itself overflows 65504 above |n| = 255.9, and a method's own
+/// intermediate sooner (lyon_taylor's (|n|^2 - 1)^2 above |n| ~ 16, Mikami's s0^2 above ~ 20).
+pub const F16_LENGTHS: [f64; 12] = [
+    1e-5, 1e-4, 2.4e-4, 3e-3, 6.1e-3, 0.01, 16.0, 20.0, 100.0, 181.0, 256.0, 300.0,
+];
 /// Angles of the span, length and shape sweeps.
 pub const FEW_ANGLES: [f64; 3] = [4.0, 30.0, 90.0];
 /// The strip's span in the angle and shininess sweeps, and its sampled pixels.
@@ -210,7 +217,33 @@ impl Grid {
 
     /// Builds every case (f64 references and the device's f32 inputs).
     pub fn new() -> Result<Grid> {
-        let specs = Grid::specs();
+        Grid::from_specs(Grid::specs())
+    }
+
+    /// The grid of a stress run in `precision`: [`Grid::new`] for float32; float16 adds
+    /// [`F16_LENGTHS`] to the sweep of lengths.
+    pub fn for_precision(precision: crate::method::Precision) -> Result<Grid> {
+        let mut specs = Grid::specs();
+        if precision == crate::method::Precision::F16 {
+            let base = CaseSpec::default();
+            for &length in &F16_LENGTHS {
+                for &theta in &FEW_ANGLES {
+                    for pixel in pixels(SPAN, 17) {
+                        let spec = CaseSpec {
+                            theta_deg: theta,
+                            length,
+                            pixel,
+                            ..base
+                        };
+                        specs.push((Sweep::Length, spec));
+                    }
+                }
+            }
+        }
+        Grid::from_specs(specs)
+    }
+
+    fn from_specs(specs: Vec<(Sweep, CaseSpec)>) -> Result<Grid> {
         let mut cases = Vec::with_capacity(specs.len());
         let mut gpu = Vec::with_capacity(specs.len());
         let mut kinds = Vec::with_capacity(specs.len());

@@ -62,6 +62,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         runs,
     };
     let (dev, out) = (&b.device, b.out.as_path());
+    b.precision.check_engine(dev)?;
     if dev.engine == EngineArg::Software {
         if with_auto {
             return Err(Error::Usage(
@@ -114,7 +115,13 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         // the environment while it changes.
         std::env::set_var("LP_NUM_THREADS", n.to_string());
     }
-    let r = renderer(dev)?;
+    let r = b.precision.renderer(dev)?;
+    if with_auto && b.precision.precision != crate::method::Precision::F32 {
+        return Err(Error::Usage(
+            "auto chooses among float32 programs: leave it out of --methods with --precision f16"
+                .into(),
+        ));
+    }
     if with_auto {
         opts.auto = auto_spec(&r, b.error_budget.budget)?.with_curve(&b.auto_curve);
     }

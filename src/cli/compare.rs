@@ -10,6 +10,8 @@ use crate::error::{Error, Result};
 pub(super) struct Limits<'a> {
     pub above: &'a [String],
     pub below: &'a [String],
+    /// `--precision` (carried here to keep one argument list).
+    pub precision: PrecisionArgs,
 }
 
 pub(super) fn cmd_compare(
@@ -22,6 +24,8 @@ pub(super) fn cmd_compare(
     threshold: f64,
     budget: crate::auto::ErrorBudget,
 ) -> Result<ExitCode> {
+    let limits_precision = limits.precision;
+    limits_precision.check_engine(dev)?;
     let limits = limits
         .above
         .iter()
@@ -34,6 +38,12 @@ pub(super) fn cmd_compare(
         )
         .collect::<Result<Vec<_>>>()?;
     let (list, with_auto) = crate::auto::split_methods(list);
+    if with_auto && limits_precision.precision != crate::method::Precision::F32 {
+        return Err(Error::Usage(
+            "auto chooses among float32 programs: leave it out of --methods with --precision f16"
+                .into(),
+        ));
+    }
     let methods = select_methods(&list)?;
     let scene = load_scene(scene_args)?;
     let mut opts = compare::CompareOptions {
@@ -53,7 +63,7 @@ pub(super) fn cmd_compare(
         }
         None
     } else {
-        Some(renderer(dev)?)
+        Some(limits_precision.renderer(dev)?)
     };
     let engine = match &r {
         Some(r) => {

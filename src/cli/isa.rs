@@ -8,7 +8,7 @@ use std::time::Instant;
 use clap::Args;
 
 use crate::error::{Error, Result};
-use crate::isa::{self, IsaOptions, Precision};
+use crate::isa::{self, IsaOptions};
 
 #[derive(Args, Debug)]
 pub(super) struct IsaArgs {
@@ -34,9 +34,8 @@ pub(super) struct IsaArgs {
     /// each method is taken. With it, a chart per family of error against inverse throughput.
     #[arg(long, value_name = "DIR")]
     compare: Vec<PathBuf>,
-    /// Floating-point precision of the programs.
-    #[arg(long, value_enum, default_value = "f32")]
-    precision: Precision,
+    #[command(flatten)]
+    precision: super::PrecisionArgs,
     /// Also compile this compute SPIR-V as is (one storage buffer at binding 0); repeatable.
     #[arg(long, value_name = "FILE.spv", hide = true)]
     probe: Vec<PathBuf>,
@@ -73,12 +72,6 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         .map(|s| s.trim().to_lowercase())
         .filter(|s| !s.is_empty())
         .collect();
-    if args.precision == Precision::F16 {
-        // The float16 programs arrive with issue 23 (glsl/ in the precision-generic vocabulary).
-        return Err(Error::Usage(
-            "isa --precision f16: no float16 programs are built yet".into(),
-        ));
-    }
     if !args.driver_files.is_file() {
         return Err(Error::Usage(format!(
             "--driver-files {}: no such file; install mesa-vulkan-drivers (RADV) or point at \
@@ -94,7 +87,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         driver_files: args.driver_files,
         scene: args.scene,
         exe,
-        precision: args.precision,
+        precision: args.precision.precision,
         probes: args.probe,
     };
     let bench = match &args.bench {

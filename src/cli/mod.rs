@@ -101,6 +101,36 @@ struct DeviceArgs {
     engine: EngineArg,
 }
 
+/// `--precision`, shared by render, compare, stress, bench and isa (issue 23).
+#[derive(Args, Debug, Clone, Copy)]
+pub(super) struct PrecisionArgs {
+    /// Arithmetic of the method programs: f32, or f16 (the same GLSL compiled with float16_t:
+    /// the method and the lighting in float16, inputs converted where read; docs/float16.md).
+    /// f16 needs a device with shaderFloat16 (lavapipe has it) and --engine vulkan.
+    #[arg(long, value_enum, default_value = "f32")]
+    pub precision: crate::method::Precision,
+}
+
+impl PrecisionArgs {
+    /// An error (exit 2) for float16 on the software engine, which computes in float32.
+    fn check_engine(&self, dev: &DeviceArgs) -> Result<()> {
+        if self.precision != crate::method::Precision::F32 && dev.engine == EngineArg::Software {
+            return Err(crate::error::Error::Usage(format!(
+                "--precision {}: the software engine computes in float32; use --engine vulkan",
+                self.precision
+            )));
+        }
+        Ok(())
+    }
+
+    /// The Vulkan renderer of `dev` drawing in this precision (exit 2 when the device lacks
+    /// float16 arithmetic).
+    fn renderer(&self, dev: &DeviceArgs) -> Result<Renderer> {
+        self.check_engine(dev)?;
+        renderer(dev)?.with_precision(self.precision)
+    }
+}
+
 /// `--error-budget`, shared by every command that draws `auto`.
 #[derive(Args, Debug, Clone, Copy)]
 struct BudgetArgs {
@@ -179,6 +209,8 @@ enum Command {
         normals: Option<PathBuf>,
         #[command(flatten)]
         error_budget: BudgetArgs,
+        #[command(flatten)]
+        precision: PrecisionArgs,
     },
     /// Check GPU methods against their own formula evaluated in f64 at the rasterizer's weights.
     Verify {
@@ -221,6 +253,8 @@ enum Command {
         threshold: f64,
         #[command(flatten)]
         error_budget: BudgetArgs,
+        #[command(flatten)]
+        precision: PrecisionArgs,
     },
     /// Run time against error: validated timing, Pareto chart, the papers' claims, sweeps.
     Bench(BenchCmd),
@@ -244,6 +278,9 @@ enum Command {
         /// Local-search rounds around each method's worst case (0: grid only).
         #[arg(long, default_value_t = 8)]
         refine: usize,
+        /// (`--replay` takes the precision recorded in the case file.)
+        #[command(flatten)]
+        precision: PrecisionArgs,
     },
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
     /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
@@ -406,6 +443,8 @@ struct BenchCmd {
     isolated_rounds: Option<usize>,
     #[command(flatten)]
     error_budget: BudgetArgs,
+    #[command(flatten)]
+    precision: PrecisionArgs,
     /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),
     /// drawn as a curve on the Pareto chart; `none` for no curve.
     #[arg(
@@ -485,10 +524,12 @@ pub fn run() -> Result<ExitCode> {
             scale,
             threshold,
             error_budget,
+            precision,
         } => {
             let limits = self::compare::Limits {
                 above: &fail_above,
                 below: &fail_below,
+                precision,
             };
             cmd_compare(
                 &scene,
@@ -509,9 +550,10 @@ pub fn run() -> Result<ExitCode> {
             float,
             normals,
             error_budget,
+            precision,
         } => cmd_render(
             &scene,
-            &device,
+            &(device, precision),
             &method,
             &out,
             float.as_deref(),
@@ -532,11 +574,13 @@ pub fn run() -> Result<ExitCode> {
             replay,
             threshold,
             refine,
+            precision,
         } => {
             let opts = crate::stress::StressOptions {
                 threshold,
                 refine_rounds: refine,
                 progress: true,
+                precision: precision.precision,
             };
             cmd_stress(&device, &methods, out.as_deref(), replay.as_deref(), &opts)
         }

@@ -9,14 +9,20 @@ use crate::method::{self};
 use crate::output;
 pub(super) fn cmd_render(
     scene_args: &SceneArgs,
-    dev: &DeviceArgs,
+    (dev, precision): &(DeviceArgs, PrecisionArgs),
     method: &str,
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
     error_budget: crate::auto::ErrorBudget,
 ) -> Result<ExitCode> {
+    precision.check_engine(dev)?;
     if method == "auto" {
+        if precision.precision != crate::method::Precision::F32 {
+            return Err(crate::error::Error::Usage(
+                "--method auto chooses among float32 programs: leave out --precision f16".into(),
+            ));
+        }
         return render_auto(scene_args, dev, out, float, normals, error_budget);
     }
     let method = method::find(method)?;
@@ -38,7 +44,7 @@ pub(super) fn cmd_render(
             crate::software::render(&inputs, method, crate::software::default_threads(), false)?;
         return write_frame(&frame, out, float, normals);
     }
-    let r = renderer(dev)?;
+    let r = precision.renderer(dev)?;
     let prepared = r.prepare(&scene, &[method])?;
     // The normal target only when its .npy is asked for.
     let (frame, _) = r.render_with(

@@ -13,6 +13,10 @@ pub(super) fn cmd_stress(
     replay: Option<&Path>,
     opts: &StressOptions,
 ) -> Result<ExitCode> {
+    PrecisionArgs {
+        precision: opts.precision,
+    }
+    .check_engine(dev)?;
     let ctx = renderer(dev)?.context().clone();
     if let Some(path) = replay {
         let recorded = stress::replay::load(path)?;

@@ -558,6 +558,10 @@ pub fn compare_with(
         schema_version: SCHEMA_VERSION,
         provenance: engine.provenance(),
         engine: engine.name().to_string(),
+        precision: match engine {
+            Engine::Vulkan(r) => r.precision(),
+            Engine::Software { .. } => crate::method::Precision::F32,
+        },
         scene: scene.name.clone(),
         scene_source: scene.mesh.source.clone(),
         triangles: base.triangle_count(),

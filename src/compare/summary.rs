@@ -280,6 +280,10 @@ pub struct Summary {
     /// summary written before the field existed was drawn by Vulkan.
     #[serde(default = "vulkan")]
     pub engine: String,
+    /// The precision the method programs computed in (`f32`, `f16`; issue 23); absent in a
+    /// summary written before the field existed: f32.
+    #[serde(default)]
+    pub precision: crate::method::Precision,
     pub scene: String,
     pub scene_source: String,
     pub triangles: usize,

@@ -385,6 +385,7 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
             llvm_version: None,
         },
         engine: "vulkan".into(),
+        precision: crate::method::Precision::F32,
         scene: String::new(),
         scene_source: String::new(),
         triangles: 0,

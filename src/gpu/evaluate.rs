@@ -14,7 +14,7 @@ use crate::gpu::vk::{
     ShaderModule,
 };
 use crate::method::formulas::Lighting;
-use crate::method::{specular_table, Fragment, Input, Method};
+use crate::method::{specular_table, Fragment, Input, Method, Precision};
 
 /// One case as glsl/evaluate.comp reads it (`struct Case`, std430: every member a vec4).
 #[repr(C)]
@@ -100,13 +100,25 @@ impl Kernel {
     /// The compute program of `m` evaluating it `repeat` times per case in a dependency chain
     /// (0: loading and storing the case only); the results of `repeat` > 1 are sums, for timing.
     pub fn with_repeat(ctx: &Arc<Context>, m: &Method, repeat: u32) -> Result<Self> {
+        Kernel::with_precision(ctx, m, repeat, Precision::F32)
+    }
+
+    /// [`Kernel::with_repeat`] with the program of `precision` (an error, exit 2, when the
+    /// device cannot run it).
+    pub fn with_precision(
+        ctx: &Arc<Context>,
+        m: &Method,
+        repeat: u32,
+        precision: Precision,
+    ) -> Result<Self> {
+        ctx.require_precision(precision)?;
         if !shaders::has_evaluate_program(m) {
             return Err(Error::Usage(format!(
                 "{} draws its own geometry ({:?}): it has no per-case compute program",
                 m.name, m.geometry
             )));
         }
-        let program = shaders::evaluate_program(m.name);
+        let program = shaders::evaluate_program_in(m.name, precision);
         let module = ShaderModule::new(ctx, &program, shaders::embedded(&program, "comp")?)?;
         let lut = if m.inputs.contains(&Input::SpecularLut) {
             Some(Buffer::with_data(

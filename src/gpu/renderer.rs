@@ -10,7 +10,7 @@ use crate::gpu::vk::{
     FrontFace, GraphicsPipeline, Image, ImageDesc, OneShot, PipelineDesc, ShaderModule,
     VertexStream,
 };
-use crate::method::{specular_table, Geometry, Input, Method};
+use crate::method::{specular_table, Geometry, Input, Method, Precision};
 use crate::output::Provenance;
 use crate::scene::Scene;
 use crate::scene::{SceneInputs, Winding};
@@ -219,6 +219,9 @@ impl Targets {
 /// Renders scenes offscreen on one device.
 pub struct Renderer {
     pub(super) ctx: Arc<Context>,
+    /// The precision of the method programs it draws (the id pass and the constant floor are
+    /// float32 always).
+    precision: Precision,
 }
 
 pub(crate) const COLOR: Format = Format::Rgba32Float;
@@ -235,7 +238,23 @@ pub(crate) const PRIM: Format = Format::R32Uint;
 
 impl Renderer {
     pub fn new(ctx: Arc<Context>) -> Self {
-        Renderer { ctx }
+        Renderer {
+            ctx,
+            precision: Precision::F32,
+        }
+    }
+
+    /// The renderer drawing the methods' programs in `precision`; an error (exit 2) when the
+    /// device cannot run them (float16 without `shaderFloat16`).
+    pub fn with_precision(mut self, precision: Precision) -> Result<Self> {
+        self.ctx.require_precision(precision)?;
+        self.precision = precision;
+        Ok(self)
+    }
+
+    /// The precision of the method programs.
+    pub fn precision(&self) -> Precision {
+        self.precision
     }
 
     pub fn context(&self) -> &Arc<Context> {
@@ -372,8 +391,10 @@ impl Renderer {
     }
 
     pub(super) fn program(&self, gpu: &GpuScene, shading: Shading) -> String {
-        let base = shading.method().map(|m| m.name).unwrap_or("constant");
-        shaders::program_name(base, gpu.inputs.interpolation)
+        match shading.method() {
+            Some(m) => shaders::program_name_in(m.name, gpu.inputs.interpolation, self.precision),
+            None => shaders::program_name("constant", gpu.inputs.interpolation),
+        }
     }
 
     /// Renders one frame and reads back colour and normal; with `with_ids`, also runs the id

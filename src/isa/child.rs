@@ -37,6 +37,9 @@ pub struct ChildRequest {
     /// Extra compute programs (SPIR-V files, one storage buffer at binding 0), compiled as
     /// they are: the probes of the tests.
     pub probes: Vec<PathBuf>,
+    /// The precision of the method programs (issue 23; absent: f32).
+    #[serde(default)]
+    pub precision: crate::method::Precision,
 }
 
 /// One compiled program.
@@ -106,7 +109,8 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
         .collect::<Result<_>>()?;
     let mut compiled = Vec::new();
     if !methods.is_empty() {
-        let r = Renderer::new(ctx.clone());
+        // A family without float16 arithmetic (before Vega) fails here, reported as such.
+        let r = Renderer::new(ctx.clone()).with_precision(req.precision)?;
         let scene = scene(req)?;
         let prepared = r.prepare(&scene, &methods)?;
         for m in &methods {
@@ -114,7 +118,11 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
             let exes = r.compiled(gpu, Shading::Method(m))?;
             compiled.push(Compiled {
                 method: m.name.to_string(),
-                program: crate::gpu::shaders::program_name(m.name, gpu.inputs.interpolation),
+                program: crate::gpu::shaders::program_name_in(
+                    m.name,
+                    gpu.inputs.interpolation,
+                    req.precision,
+                ),
                 kind: "draw".into(),
                 repeat: None,
                 executables: keep_disassembly(exes),
@@ -123,10 +131,10 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
                 continue;
             }
             for &k in &req.kernel_counts {
-                let kernel = Kernel::with_repeat(&ctx, m, k)?;
+                let kernel = Kernel::with_precision(&ctx, m, k, req.precision)?;
                 compiled.push(Compiled {
                     method: m.name.to_string(),
-                    program: crate::gpu::shaders::evaluate_program(m.name),
+                    program: crate::gpu::shaders::evaluate_program_in(m.name, req.precision),
                     kind: "kernel".into(),
                     repeat: Some(k),
                     executables: keep_disassembly(kernel.executables()?),

@@ -102,6 +102,7 @@ pub fn run_child(opts: &IsaOptions, family: &str) -> ChildOutcome {
         scene: opts.scene.clone(),
         kernel_counts: KERNEL_COUNTS,
         probes: opts.probes.clone(),
+        precision: opts.precision,
     };
     let request = match serde_json::to_string(&req) {
         Ok(r) => r,

@@ -196,7 +196,7 @@ fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
             .collect();
         rows.push(Row {
             family: r.family.clone(),
-            program: crate::gpu::shaders::evaluate_program(&method),
+            program: crate::gpu::shaders::evaluate_program_in(&method, r_precision(r)),
             method,
             stage: hi.stage.clone(),
             kind: "evaluation".into(),
@@ -206,6 +206,16 @@ fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
         });
     }
     Ok((rows, names, asm))
+}
+
+/// The precision the child compiled its method programs in (from their names).
+fn r_precision(r: &super::ChildReport) -> Precision {
+    let f16 = r.compiled.iter().any(|c| c.program.contains(".f16."));
+    if f16 {
+        Precision::F16
+    } else {
+        Precision::F32
+    }
 }
 
 /// Fills each row's ratio to phong_exact's row of the same family, stage and kind.

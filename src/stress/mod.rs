@@ -4,6 +4,11 @@
 //! slerp along the span). Non-finite results are counted per method and rank above every finite
 //! error. After the grid, a local search around the worst case looks for a worse one (a grid
 //! misses maxima). Outputs: stress.json, charts, one validity map per method.
+//!
+//! `--precision f16` (issue 23) evaluates the float16 programs instead (same GLSL, float16_t
+//! arithmetic), adds float16's own lengths to the sweep of lengths (|n|^2 overflowing 65504
+//! from |n| ~ 181, and underflowing to float16 subnormals and zero), and reports each method's
+//! `max_valid_angle_deg_f32` (the float32 program on the same grid) next to its float16 one.
 pub mod chart;
 pub mod grid;
 pub mod replay;
@@ -23,7 +28,7 @@ use crate::error::{Error, Result};
 use crate::gpu::evaluate::{Evaluated, GpuCase, Kernel};
 use crate::gpu::shaders::has_evaluate_program;
 use crate::gpu::vk::Context;
-use crate::method::{Method, Reference};
+use crate::method::{Method, Precision, Reference};
 
 use crate::cases::grid::Worst;
 
@@ -39,6 +44,8 @@ pub struct StressOptions {
     pub refine_rounds: usize,
     /// Show a progress bar on stderr (drawn only when stderr is a terminal).
     pub progress: bool,
+    /// The precision of the device programs.
+    pub precision: Precision,
 }
 
 impl Default for StressOptions {
@@ -47,6 +54,7 @@ impl Default for StressOptions {
             threshold: 1.0 / 255.0,
             refine_rounds: 8,
             progress: false,
+            precision: Precision::F32,
         }
     }
 }
@@ -79,6 +87,9 @@ impl Output {
 #[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct CaseReport {
     pub method: String,
+    /// The precision of the device program (absent in files written before issue 23: f32).
+    #[serde(default)]
+    pub precision: Precision,
     pub spec: CaseSpec,
     /// The f32 inputs the device read (glsl/evaluate.comp `struct Case`), for a reader.
     pub inputs: Option<GpuCaseJson>,
@@ -142,13 +153,19 @@ fn finite_or_none(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
-/// The report of one case evaluated both ways.
-pub fn case_report(m: &Method, case: &Case, dev: Option<&Output>) -> Result<CaseReport> {
+/// The report of one case evaluated both ways (the device in `precision`).
+pub fn case_report(
+    m: &Method,
+    case: &Case,
+    dev: Option<&Output>,
+    precision: Precision,
+) -> Result<CaseReport> {
     let f = (m.eval_f64)(&case.fragment, &case.lighting);
     let ef = errors(case, f.color, f.normal);
     let ed = dev.map(|d| errors(case, d.color(), d.normal()));
     Ok(CaseReport {
         method: m.name.to_string(),
+        precision,
         spec: case.spec,
         inputs: Some(GpuCaseJson::from(&GpuCase::new(
             &case.fragment,
@@ -223,6 +240,11 @@ pub struct MethodStress {
     /// (null: not even at 0 degrees).
     pub max_valid_angle_deg: Option<f64>,
     pub max_valid_angle_deg_f64: Option<f64>,
+    /// In a float16 run: the same angle for the float32 program on the same grid (absent in a
+    /// float32 run, where it is `max_valid_angle_deg`; a method without a device program: its
+    /// f64 figure, as `max_valid_angle_deg`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_valid_angle_deg_f32: Option<Option<f64>>,
     pub error_vs_angle: Vec<CurvePoint>,
     pub error_vs_shininess: Vec<CurvePoint>,
     pub error_vs_span: Vec<CurvePoint>,
@@ -272,6 +294,34 @@ fn evaluate(
     Ok((dev, twin.into_iter().flatten().collect()))
 }
 
+/// In a float16 run, the largest valid angle of the float32 program on the same grid (the
+/// inner None: not even at 0 degrees; a method without a device program: filled in by the
+/// caller with its f64 figure); None in a float32 run.
+fn valid_angle_f32(
+    ctx: &Arc<Context>,
+    m: &Method,
+    grid: &Grid,
+    opts: &StressOptions,
+) -> Result<Option<Option<f64>>> {
+    if opts.precision == Precision::F32 {
+        return Ok(None);
+    }
+    if !has_evaluate_program(m) {
+        return Ok(Some(None));
+    }
+    let out = Kernel::new(ctx, m)?.run(&grid.gpu)?;
+    let errs: Vec<Errors> = grid
+        .cases
+        .iter()
+        .zip(&out)
+        .map(|(c, e)| {
+            let o = Output::from_device(e);
+            errors(c, o.color(), o.normal())
+        })
+        .collect();
+    Ok(Some(sweeps::max_valid_angle(grid, &errs, opts.threshold)))
+}
+
 /// Runs the sweeps for one method.
 pub fn stress_method(
     ctx: &Arc<Context>,
@@ -281,11 +331,12 @@ pub fn stress_method(
 ) -> Result<MethodStress> {
     let start = Instant::now();
     let mut kernel = if has_evaluate_program(m) {
-        Some(Kernel::new(ctx, m)?)
+        Some(Kernel::with_precision(ctx, m, 1, opts.precision)?)
     } else {
         None
     };
     let (dev, twin) = evaluate(kernel.as_mut(), m, &grid.cases, &grid.gpu)?;
+    let valid_f32 = valid_angle_f32(ctx, m, grid, opts)?;
     let applies: Vec<bool> = grid.kinds.iter().map(|&k| sweeps::applies(m, k)).collect();
     let dev_err: Option<Vec<Errors>> = dev.as_ref().map(|d| {
         grid.cases
@@ -335,7 +386,8 @@ pub fn stress_method(
             worst_i = Some(i);
         }
     }
-    let report = |i: usize, out: Option<&Output>| case_report(m, &grid.cases[i], out);
+    let report =
+        |i: usize, out: Option<&Output>| case_report(m, &grid.cases[i], out, opts.precision);
     let dev_out = |i: usize| dev.as_ref().map(|d| &d[i]);
     let mut worst_case = worst_i.map(|i| report(i, dev_out(i))).transpose()?;
     let non_finite_example = non_finite_i.map(|i| report(i, dev_out(i))).transpose()?;
@@ -345,7 +397,7 @@ pub fn stress_method(
         let found = refine(kernel.as_mut(), m, grid.cases[i].spec, primary[i].abs, opts)?;
         if let Some((case, out, err)) = found {
             worst_finite = Some(err);
-            worst_case = Some(case_report(m, &case, out.as_ref())?);
+            worst_case = Some(case_report(m, &case, out.as_ref(), opts.precision)?);
         }
     }
     let curves = grid::curves(grid, &applies, primary, &f64_err);
@@ -380,6 +432,8 @@ pub fn stress_method(
         non_finite_length: length.non_finite,
         max_valid_angle_deg: max_valid,
         max_valid_angle_deg_f64: max_valid_f64,
+        // a method without a device program is its f64 twin in both precisions
+        max_valid_angle_deg_f32: valid_f32.map(|v| if dev.is_some() { v } else { max_valid_f64 }),
         error_vs_angle: curves.angle,
         error_vs_shininess: curves.shininess,
         error_vs_span: curves.span,
@@ -459,6 +513,8 @@ fn refine(
 #[derive(Debug, Clone, Serialize)]
 pub struct StressReport {
     pub schema_version: u32,
+    /// The precision of the device programs (`f32`, `f16`).
+    pub precision: Precision,
     pub threshold: f64,
     pub device: String,
     pub cases_per_method: usize,
@@ -559,6 +615,7 @@ pub fn write(out: &Path, report: &StressReport) -> Result<()> {
 fn specular_bounds(
     ctx: &Arc<Context>,
     methods: &[&'static Method],
+    precision: Precision,
 ) -> Result<Vec<grid::SpecularBound>> {
     let mut out = Vec::new();
     for k in 1..=3u32 {
@@ -570,7 +627,7 @@ fn specular_bounds(
             .into_iter()
             .map(Case::new)
             .collect();
-        let mut kernel = Some(Kernel::new(ctx, m)?);
+        let mut kernel = Some(Kernel::with_precision(ctx, m, 1, precision)?);
         let measured = measure(&mut kernel.as_mut(), m, &cases)?;
         let half = (2.0f64).to_radians();
         out.push(grid::SpecularBound {
@@ -600,7 +657,8 @@ pub fn run(
     opts: &StressOptions,
 ) -> Result<StressReport> {
     let start = Instant::now();
-    let grid = Grid::new()?;
+    ctx.require_precision(opts.precision)?;
+    let grid = Grid::for_precision(opts.precision)?;
     let bar = crate::output::progress_bar(opts.progress, methods.len() as u64);
     let mut out = Vec::with_capacity(methods.len());
     for m in methods {
@@ -609,10 +667,11 @@ pub fn run(
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let specular = specular_bounds(ctx, methods)?;
+    let specular = specular_bounds(ctx, methods, opts.precision)?;
     let claims = grid::claims(&out, &specular, opts.threshold);
     Ok(StressReport {
         schema_version: SCHEMA_VERSION,
+        precision: opts.precision,
         threshold: opts.threshold,
         device: ctx.info().name.clone(),
         cases_per_method: grid.cases.len(),

@@ -89,13 +89,13 @@ pub fn replay(ctx: &Arc<Context>, recorded: &CaseReport) -> Result<Replayed> {
     let m = method::find(&recorded.method)?;
     let case = Case::new(recorded.spec);
     let mut kernel = if has_evaluate_program(m) {
-        Some(Kernel::new(ctx, m)?)
+        Some(Kernel::with_precision(ctx, m, 1, recorded.precision)?)
     } else {
         None
     };
     let measured = measure(&mut kernel.as_mut(), m, std::slice::from_ref(&case))?;
     let dev: Option<Output> = measured.into_iter().next().and_then(|(_, o)| o);
-    let now = case_report(m, &case, dev.as_ref())?;
+    let now = case_report(m, &case, dev.as_ref(), recorded.precision)?;
     // The recorded bits, or the recorded colour's where a hand-made file has no bits.
     let recorded_bits = recorded.device_color_bits.or_else(|| {
         recorded

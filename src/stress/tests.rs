@@ -231,7 +231,7 @@ fn the_worst_case_replays_bit_for_bit() {
         .unwrap()
         .remove(0);
     assert!(err.is_nan(), "antipodal normals make it NaN: {err}");
-    let nan = case_report(bq, &antipodal, out.as_ref()).unwrap();
+    let nan = case_report(bq, &antipodal, out.as_ref(), crate::method::Precision::F32).unwrap();
     let json = serde_json::to_vec(&nan).unwrap();
     let parsed = replay::parse(std::path::Path::new("case.json"), &json).unwrap();
     assert_eq!(

@@ -36,6 +36,11 @@ pub struct DeviceInfo {
     pub timestamp_valid_bits: u32,
     /// Whether pipeline-statistics queries are supported (and enabled on the device).
     pub pipeline_statistics: bool,
+    /// Whether float16 arithmetic in shaders (`shaderFloat16`, Vulkan 1.2) is supported (and
+    /// then enabled on the device): the float16 programs need it. Not in the outputs' device
+    /// record (their `precision` says what ran).
+    #[serde(skip)]
+    pub shader_float16: bool,
 }
 
 /// Messages the validation layer reported, shared with the debug callback.
@@ -89,6 +94,19 @@ impl Context {
     /// An error when the device lacks the extension.
     pub fn for_executables(desc: &ContextDesc) -> Result<Arc<Self>> {
         Context::create(desc, true)
+    }
+
+    /// An error (exit 2) when `precision` needs a device feature this device lacks: float16
+    /// programs need `shaderFloat16`.
+    pub fn require_precision(&self, precision: crate::method::Precision) -> Result<()> {
+        if precision == crate::method::Precision::F16 && !self.info.shader_float16 {
+            return Err(Error::Device(format!(
+                "--precision f16: {} does not support float16 shader arithmetic \
+                 (VkPhysicalDeviceVulkan12Features::shaderFloat16 is false)",
+                self.info.name
+            )));
+        }
+        Ok(())
     }
 
     /// Whether pipelines made from this context capture their statistics and internal
@@ -305,6 +323,9 @@ fn create_device(
         .dynamic_rendering(true)
         .synchronization2(true)
         .maintenance4(true);
+    // Only when supported: requesting it on a device without it fails device creation (RADV's
+    // polaris10 null device, ../shared/TOOLCHAIN.md).
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default().shader_float16(info.shader_float16);
     let core =
         vk::PhysicalDeviceFeatures::default().pipeline_statistics_query(info.pipeline_statistics);
     let capture_ext = [ash::khr::pipeline_executable_properties::NAME.as_ptr()];
@@ -313,7 +334,8 @@ fn create_device(
     let mut device_info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queue_info)
         .enabled_features(&core)
-        .push_next(&mut f13);
+        .push_next(&mut f13)
+        .push_next(&mut f12);
     if capture {
         // VK_KHR_pipeline_executable_properties (a capture context, `shadelab isa`).
         device_info = device_info
@@ -463,6 +485,11 @@ fn select_device(
         c.map(|c: &CStr| c.to_string_lossy().into_owned())
             .unwrap_or_default()
     };
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
+    // SAFETY: the chain references locals only; Vulkan 1.1+ core query.
+    unsafe { instance.get_physical_device_features2(physical, &mut features2) };
+    let shader_float16 = f12.shader_float16 == vk::TRUE;
     let v = props.api_version;
     let info = DeviceInfo {
         name: device_name(&props),
@@ -482,6 +509,7 @@ fn select_device(
         pipeline_statistics: unsafe { instance.get_physical_device_features(physical) }
             .pipeline_statistics_query
             == vk::TRUE,
+        shader_float16,
     };
     if vk::api_version_minor(v) < 3 && vk::api_version_major(v) == 1 {
         return Err(Error::Device(format!(
