@@ -8,6 +8,8 @@
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
+//! - `float16`: the float16 programs (issue 23): float32 SPIR-V unchanged, float16-only
+//!   arithmetic, binary16 rounding and overflow, compare/stress `--precision f16`, replay.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
 //! - `software`: the software engine against Vulkan (coverage, colours) and its f64 twins.
 //! - `report`: the HTML report: links, every method's parts, escaping; headless Chromium (no
@@ -20,6 +22,7 @@
 mod bench;
 mod cli;
 mod compare;
+mod float16;
 mod fuzz;
 mod gpu;
 mod isa;
