@@ -267,6 +267,7 @@ pub fn measure_run(
     let methods: Vec<&'static Method> = s.all.clone();
     let isolated = isolated_costs(renderer, &methods, opts)?;
     runs::RunFigures {
+        seed: runs::run_seed(),
         rounds: rounds.rounds,
         timing_s: rounds.timing_s,
         programs: programs
@@ -292,6 +293,12 @@ fn isolated_costs(
     let iso_opts = isolated::IsolatedOptions {
         rounds: opts.isolated_rounds,
         control: !matches!(opts.runs, Runs::One),
+        order_seed: runs::run_seed().filter(|_| matches!(opts.runs, Runs::Child { .. })),
+        warmup: if matches!(opts.runs, Runs::Child { .. }) {
+            runs::RUN_ISOLATED_WARMUP
+        } else {
+            isolated::IsolatedOptions::default().warmup
+        },
         ..isolated::IsolatedOptions::default()
     };
     let bar = crate::output::progress_bar(true, 0);
