@@ -5,6 +5,14 @@
 //! interleaved (every method and K once per round, in the balanced order of
 //! [`super::rounds::round_order`]), so the ratio to
 //! phong_exact's evaluation is paired per round; medians with order-statistic 95% intervals.
+//!
+//! With a seed ([`IsolatedOptions::order_seed`], one per run of `bench --runs`), the kernels
+//! are compiled in a seeded random order, the seed's parity decides whether phong_exact or its
+//! control is compiled first (so consecutive runs alternate), and the balanced round order is
+//! relabelled and started at a seeded round ([`Order`]). Without it, phong_exact was always
+//! compiled before every method and the control after all of them, and every run used the same
+//! first rounds of the same design: a placement or neighbour effect fixed by the code, the same
+//! in every run, which the runs could not average out.
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -35,6 +43,9 @@ pub struct IsolatedOptions {
     pub control: bool,
     /// The precision of the kernels.
     pub precision: crate::method::Precision,
+    /// Randomises the order of compilation and of the rounds ([`Order::seeded`]); `None`: the
+    /// fixed order (the methods' order, rounds from the design's first).
+    pub order_seed: Option<u64>,
 }
 
 impl Default for IsolatedOptions {
@@ -45,6 +56,7 @@ impl Default for IsolatedOptions {
             invocations: 16384,
             control: false,
             precision: crate::method::Precision::F32,
+            order_seed: None,
         }
     }
 }
@@ -149,10 +161,120 @@ fn timed_cases(n: usize) -> Result<(Vec<Case>, Vec<GpuCase>)> {
     Ok((cases, gpu))
 }
 
+/// The order of one measurement: which program's kernels are compiled when, and which program
+/// each slot of the balanced round design ([`super::rounds::round_order`]) is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Order {
+    /// Program indices in the order their kernels are compiled.
+    pub compile: Vec<usize>,
+    /// `slots[j]`: the program that takes slot j of the design (a relabelling keeps its
+    /// balance: every program in every position, after every other, equally often).
+    pub slots: Vec<usize>,
+    /// The design's round at which the timed rounds (after the warm-up) start.
+    pub first_round: usize,
+}
+
+impl Order {
+    /// The fixed order: compiled in list order, the design's own labels, from its first round.
+    pub fn fixed(n: usize) -> Order {
+        Order {
+            compile: (0..n).collect(),
+            slots: (0..n).collect(),
+            first_round: 0,
+        }
+    }
+
+    /// A seeded order of `n` programs where `a` and `b` are the two identical programs
+    /// (phong_exact and its control): both permutations drawn from `seed`, then `a` and `b`
+    /// swapped in the compile order where needed so that `a` is compiled first for an even
+    /// seed and `b` for an odd one; the start round drawn from the design's period (2n).
+    pub fn seeded(n: usize, seed: u64, pair: Option<(usize, usize)>) -> Order {
+        let mut rng = fastrand::Rng::with_seed(seed);
+        let mut compile: Vec<usize> = (0..n).collect();
+        rng.shuffle(&mut compile);
+        if let Some((a, b)) = pair {
+            let pa = compile.iter().position(|&i| i == a);
+            let pb = compile.iter().position(|&i| i == b);
+            if let (Some(pa), Some(pb)) = (pa, pb) {
+                if (pa < pb) != (seed % 2 == 0) {
+                    compile.swap(pa, pb);
+                }
+            }
+        }
+        let mut slots: Vec<usize> = (0..n).collect();
+        rng.shuffle(&mut slots);
+        Order {
+            compile,
+            slots,
+            first_round: rng.usize(0..(2 * n).max(1)),
+        }
+    }
+
+    /// The programs of timed round `round` (warm-up rounds included), in submission order.
+    pub fn round(&self, round: usize) -> Vec<usize> {
+        super::rounds::round_order(self.slots.len(), self.first_round + round)
+            .into_iter()
+            .map(|j| self.slots[j])
+            .collect()
+    }
+}
+
 /// A method's kernels at every K, recorded.
 struct Timed {
     _kernels: Vec<Kernel>,
     recorded: Vec<Recorded>,
+}
+
+/// Every program's kernels at every K, compiled and recorded in `order.compile`, with the K = 1
+/// kernel's largest difference from the method's f64 twin (indexed like `list`).
+fn compile(
+    ctx: &Arc<Context>,
+    list: &[&'static Method],
+    order: &Order,
+    cases: &[Case],
+    gpu: &[GpuCase],
+    precision: crate::method::Precision,
+    progress: &dyn Fn(&str),
+) -> Result<(Vec<Timed>, Vec<f64>)> {
+    let mut timed: Vec<Option<Timed>> = (0..list.len()).map(|_| None).collect();
+    let mut k1_diff = vec![f64::NAN; list.len()];
+    for &i in &order.compile {
+        let m = list[i];
+        progress(m.name);
+        let mut kernels = Vec::new();
+        let mut recorded = Vec::new();
+        for &k in &REPEATS {
+            let mut kernel = Kernel::with_precision(ctx, m, k, precision)?;
+            if k == 1 {
+                let out = kernel.run(gpu)?;
+                let d = cases
+                    .iter()
+                    .zip(&out)
+                    .map(|(c, o)| {
+                        let f = (m.eval_f64)(&c.fragment, &c.lighting);
+                        (0..3)
+                            .map(|i| (f64::from(o.color[i]) - f.color[i]).abs())
+                            .fold(0.0, f64::max)
+                    })
+                    .fold(
+                        0.0,
+                        |a: f64, b| if b.is_nan() { f64::INFINITY } else { a.max(b) },
+                    );
+                k1_diff[i] = d;
+            }
+            recorded.push(kernel.record(gpu)?);
+            kernels.push(kernel);
+        }
+        timed[i] = Some(Timed {
+            _kernels: kernels,
+            recorded,
+        });
+    }
+    let timed: Vec<Timed> = timed
+        .into_iter()
+        .collect::<Option<_>>()
+        .ok_or_else(|| Error::Internal("a program of the isolated cost was not compiled".into()))?;
+    Ok((timed, k1_diff))
 }
 
 /// Measures the isolated cost of every method with a compute program (phong_exact is measured
@@ -181,39 +303,15 @@ pub fn measure(
         list.push(exact);
     }
     let (cases, gpu) = timed_cases(opts.invocations)?;
-    let mut timed = Vec::with_capacity(list.len());
-    let mut k1_diff = Vec::with_capacity(list.len());
-    for m in &list {
-        progress(m.name);
-        let mut kernels = Vec::new();
-        let mut recorded = Vec::new();
-        for &k in &REPEATS {
-            let mut kernel = Kernel::with_precision(ctx, m, k, opts.precision)?;
-            if k == 1 {
-                let out = kernel.run(&gpu)?;
-                let d = cases
-                    .iter()
-                    .zip(&out)
-                    .map(|(c, o)| {
-                        let f = (m.eval_f64)(&c.fragment, &c.lighting);
-                        (0..3)
-                            .map(|i| (f64::from(o.color[i]) - f.color[i]).abs())
-                            .fold(0.0, f64::max)
-                    })
-                    .fold(
-                        0.0,
-                        |a: f64, b| if b.is_nan() { f64::INFINITY } else { a.max(b) },
-                    );
-                k1_diff.push(d);
-            }
-            recorded.push(kernel.record(&gpu)?);
-            kernels.push(kernel);
-        }
-        timed.push(Timed {
-            _kernels: kernels,
-            recorded,
-        });
-    }
+    let e = list
+        .iter()
+        .position(|m| m.name == exact.name)
+        .ok_or_else(|| Error::Internal("phong_exact missing from the isolated cost".into()))?;
+    let order = match opts.order_seed {
+        Some(seed) => Order::seeded(list.len(), seed, control.map(|c| (e, c))),
+        None => Order::fixed(list.len()),
+    };
+    let (timed, k1_diff) = compile(ctx, &list, &order, &cases, &gpu, opts.precision, progress)?;
     // times[method][k] over rounds, seconds
     let mut times = vec![vec![Vec::new(); REPEATS.len()]; list.len()];
     for round in 0..opts.warmup + opts.rounds {
@@ -222,7 +320,7 @@ pub fn measure(
             round + 1,
             opts.warmup + opts.rounds
         ));
-        for i in super::rounds::round_order(list.len(), round) {
+        for i in order.round(round) {
             for (k, rec) in timed[i].recorded.iter().enumerate() {
                 let t: Duration = rec.submit()?;
                 if round >= opts.warmup {
@@ -244,10 +342,6 @@ pub fn measure(
                 .collect()
         })
         .collect();
-    let e = list
-        .iter()
-        .position(|m| m.name == exact.name)
-        .ok_or_else(|| Error::Internal("phong_exact missing from the isolated cost".into()))?;
     Ok(list
         .iter()
         .enumerate()
@@ -329,6 +423,76 @@ mod tests {
         assert_eq!(Comparison::of(&iv(0.5, 0.9)), Comparison::Cheaper);
         assert_eq!(Comparison::of(&iv(1.1, 1.3)), Comparison::Dearer);
         assert_eq!(Comparison::of(&iv(0.9, 1.1)), Comparison::Indistinguishable);
+    }
+
+    /// Over 2n consecutive rounds of `order`, from any start: every program in every position
+    /// equally often and right after every other program equally often (the Williams design's
+    /// balance, which a relabelling and a later start must keep).
+    fn assert_balanced(order: &Order, start: usize) {
+        let n = order.slots.len();
+        let mut position = vec![vec![0usize; n]; n];
+        let mut after = vec![vec![0usize; n]; n];
+        for r in start..start + 2 * n {
+            let round = order.round(r);
+            let mut sorted = round.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "round {r}: {round:?}");
+            for (p, &i) in round.iter().enumerate() {
+                position[i][p] += 1;
+            }
+            for w in round.windows(2) {
+                after[w[0]][w[1]] += 1;
+            }
+        }
+        for i in 0..n {
+            assert!(
+                position[i].iter().all(|&c| c == 2),
+                "{order:?}: {position:?}"
+            );
+            let followers: Vec<usize> = (0..n).filter(|&j| j != i).map(|j| after[i][j]).collect();
+            assert!(
+                followers.iter().all(|&c| c == followers[0]),
+                "{order:?}: program {i} is followed unevenly {followers:?}"
+            );
+        }
+    }
+
+    /// The seeded order (issue 21: the isolated A/A control came out 2.9 % dearer in all five
+    /// runs of one bench, [1.002, 1.035]): the two identical programs alternate in which is
+    /// compiled first from one run's seed to the next, the compile order and the design's
+    /// labels are permutations that change with the seed, and the rounds keep their balance.
+    /// Teeth: the fixed order (the old behaviour: phong_exact first, the control last, in
+    /// every run) fails the alternation.
+    #[test]
+    fn seeded_orders_alternate_the_identical_pair_and_keep_the_balance() {
+        let first_of_pair =
+            |o: &Order, a: usize, b: usize| *o.compile.iter().find(|&&i| i == a || i == b).unwrap();
+        let alternates = |make: &dyn Fn(u64) -> Order| {
+            (1..=6u64).all(|k| {
+                let (o, next) = (make(1000 + k), make(1000 + k + 1));
+                first_of_pair(&o, 2, 9) != first_of_pair(&next, 2, 9)
+            })
+        };
+        assert!(alternates(&|seed| Order::seeded(10, seed, Some((2, 9)))));
+        assert!(!alternates(&|_| Order::fixed(10)), "teeth");
+        for n in [1, 2, 5, 10, 37] {
+            for seed in [0u64, 1, 41, 1 << 40] {
+                let o = Order::seeded(n, seed, (n > 3).then_some((0, n - 1)));
+                for v in [&o.compile, &o.slots] {
+                    let mut s = v.clone();
+                    s.sort_unstable();
+                    assert_eq!(s, (0..n).collect::<Vec<_>>());
+                }
+                assert!(o.first_round < 2 * n);
+                assert_balanced(&o, 0);
+                assert_balanced(&o, 3);
+                assert_eq!(o, Order::seeded(n, seed, (n > 3).then_some((0, n - 1))));
+            }
+        }
+        assert_balanced(&Order::fixed(7), 0);
+        let (a, b) = (Order::seeded(37, 5, None), Order::seeded(37, 6, None));
+        assert_ne!(a.compile, b.compile);
+        assert_ne!(a.slots, b.slots);
     }
 
     /// Teeth: a zero or negative phong_exact slope gives no ratio, never "cheaper".

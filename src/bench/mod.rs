@@ -270,6 +270,7 @@ pub fn measure_run(
     let methods: Vec<&'static Method> = s.all.clone();
     let isolated = isolated_costs(renderer, &methods, opts)?;
     runs::RunFigures {
+        seed: runs::run_seed(),
         rounds: rounds.rounds,
         timing_s: rounds.timing_s,
         programs: programs
@@ -296,6 +297,12 @@ fn isolated_costs(
         rounds: opts.isolated_rounds,
         control: !matches!(opts.runs, Runs::One),
         precision: renderer.precision(),
+        order_seed: runs::run_seed().filter(|_| matches!(opts.runs, Runs::Child { .. })),
+        warmup: if matches!(opts.runs, Runs::Child { .. }) {
+            runs::RUN_ISOLATED_WARMUP
+        } else {
+            isolated::IsolatedOptions::default().warmup
+        },
         ..isolated::IsolatedOptions::default()
     };
     let bar = crate::output::progress_bar(true, 0);

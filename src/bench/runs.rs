@@ -28,13 +28,37 @@ use super::{MethodTiming, Speed};
 pub const RUN_FILE_ENV: &str = "SHADELAB_BENCH_RUN_FILE";
 /// Environment variable with the clock the parent's clock check chose (`timestamp` or `wall`).
 pub const CLOCK_ENV: &str = "SHADELAB_BENCH_CLOCK";
+/// Environment variable with a run's seed: the order in which it compiles and times the
+/// isolated-cost kernels ([`super::isolated::Order::seeded`]). The parent gives run k (1-based)
+/// the seed `base + k`, so consecutive runs alternate which of phong_exact and its control is
+/// compiled first; bench.json `runs.seeds` records them.
+pub const SEED_ENV: &str = "SHADELAB_BENCH_RUN_SEED";
+
+/// The seed of this measurement run ([`SEED_ENV`]), if its parent gave one.
+pub fn run_seed() -> Option<u64> {
+    std::env::var(SEED_ENV).ok()?.parse().ok()
+}
+
+/// A base seed for the runs of one bench: from the clock (each bench its own orders).
+pub fn base_seed() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64)
+        & 0xffff_ffff_ffff
+}
+
 /// The default number of runs of `bench` (the report too).
 pub const DEFAULT_RUNS: usize = 5;
 /// Rounds per run when `--runs` > 1 and `--repeat` is not given (the between-run spread
-/// dominates, so a run needs fewer rounds).
-pub const RUN_REPEAT: usize = 10;
-/// Isolated-cost rounds per run when `--runs` > 1 and `--isolated-rounds` is not given.
-pub const RUN_ISOLATED_ROUNDS: usize = 7;
+/// dominates, so a run needs fewer rounds). 7 since issue 21's follow-up (was 10): the default
+/// bench took 149-158 s idle against a 150 s target, about 1 s per round and run.
+pub const RUN_REPEAT: usize = 7;
+/// Isolated-cost rounds per run when `--runs` > 1 and `--isolated-rounds` is not given (5, was
+/// 7), after [`RUN_ISOLATED_WARMUP`].
+pub const RUN_ISOLATED_ROUNDS: usize = 5;
+/// Discarded isolated-cost rounds per run (1, the in-process bench 2): the pipelines' JIT is
+/// done when they are created, and the K = 1 kernel has run once for its check already.
+pub const RUN_ISOLATED_WARMUP: usize = 1;
 /// How the between-run intervals are computed (bench.json `runs.interval`).
 pub const RUNS_INTERVAL: &str = "across runs: the median of the N runs' paired median ratios \
      with the order-statistic interval of that median [r(l), r(N+1-l)], l the largest rank with \
@@ -118,6 +142,9 @@ impl ProgramRounds {
 /// What one run writes: every program's rounds and the isolated costs.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RunFigures {
+    /// The run's seed ([`SEED_ENV`]): the order of its isolated-cost kernels.
+    #[serde(default)]
+    pub seed: Option<u64>,
     pub rounds: usize,
     pub timing_s: f64,
     pub programs: Vec<ProgramRounds>,
@@ -156,6 +183,7 @@ impl RunFigures {
 pub fn run_all(count: usize, launcher: &Launcher, clock: &str) -> Result<Vec<RunFigures>> {
     let dir = tempfile::tempdir().map_err(|e| Error::io(Path::new("temporary directory"), e))?;
     let mut out = Vec::with_capacity(count);
+    let base = base_seed();
     for k in 1..=count {
         eprintln!("bench: run {k} of {count} (a fresh process: its own Vulkan device, JIT, warm-up and rounds)");
         let file = dir.path().join(format!("run_{k}.json"));
@@ -163,6 +191,7 @@ pub fn run_all(count: usize, launcher: &Launcher, clock: &str) -> Result<Vec<Run
             .args(&launcher.args)
             .env(RUN_FILE_ENV, &file)
             .env(CLOCK_ENV, clock)
+            .env(SEED_ENV, (base + k as u64).to_string())
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .status()
@@ -300,6 +329,8 @@ pub struct RunsReport {
     pub note: String,
     /// Seconds of timed rounds in each run.
     pub timing_s: Vec<f64>,
+    /// Each run's seed of its isolated-cost order ([`SEED_ENV`]; null for a run without one).
+    pub seeds: Vec<Option<u64>>,
 }
 
 impl RunsReport {
@@ -323,6 +354,7 @@ impl RunsReport {
                 String::new()
             },
             timing_s: runs.iter().map(|r| r.timing_s).collect(),
+            seeds: runs.iter().map(|r| r.seed).collect(),
         }
     }
 }
@@ -474,6 +506,33 @@ mod tests {
         assert!(NoiseFloor::of(&[]).spread.is_infinite());
     }
 
+    /// The rule with the isolated control's per-run ratios measured idle in the three
+    /// invocations of scripts/verdict_stability.sh (2026-11-23, before the seeded order): the
+    /// third, every run above 1, is too noisy; the first two are not, and their spread is the
+    /// floor a program must exceed.
+    #[test]
+    fn the_control_rule_on_measured_runs() {
+        let inv1 = [1.0269, 1.0014, 0.9849, 0.9848, 1.0025];
+        let inv2 = [1.0068, 1.0048, 0.9873, 0.9424, 1.0099];
+        let inv3 = [1.0347, 1.0037, 1.031, 1.0286, 1.0023];
+        let f1 = NoiseFloor::of(&inv1);
+        assert!(!f1.too_noisy);
+        assert!((f1.spread - 0.0269).abs() < 1e-9, "{f1:?}");
+        let f2 = NoiseFloor::of(&inv2);
+        assert!(!f2.too_noisy);
+        assert!((f2.spread - 0.0576).abs() < 1e-9, "{f2:?}");
+        let f3 = NoiseFloor::of(&inv3);
+        assert!(f3.too_noisy, "{f3:?}");
+        assert_eq!(summarize(&inv3, f3, true).verdict, RunsVerdict::TooNoisy);
+        // a program 3 % dearer in every run is dearer above the first floor, not the second
+        let dearer = [1.03, 1.031, 1.035, 1.032, 1.04];
+        assert_eq!(summarize(&dearer, f1, true).verdict, RunsVerdict::Dearer);
+        assert_eq!(
+            summarize(&dearer, f2, true).verdict,
+            RunsVerdict::Inconclusive
+        );
+    }
+
     #[test]
     fn run_figures_round_trip_through_their_file() {
         let dir = tempfile::tempdir().unwrap();
@@ -489,6 +548,7 @@ mod tests {
             },
         ];
         let f = RunFigures {
+            seed: Some(7),
             rounds: 2,
             timing_s: 0.5,
             programs: vec![ProgramRounds::new(crate::method::PHONG_EXACT, &s)],

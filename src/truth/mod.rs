@@ -27,6 +27,16 @@
 //!    `S`, as if the pixel and each corner were off by `K_SPAN * u * S` in x and y; the twin
 //!    evaluated with each moved that far bounds the effect (jumps at segment boundaries
 //!    included).
+//! 4. Corner normals (methods that read them: the scanline methods). Their f32 formulas do
+//!    arithmetic on the unit corner normals themselves (the span ends' normals, Bishop-Weimer's
+//!    plane fit `N = A x + B y + C` and its Taylor coefficients), rounding as if each corner
+//!    normal's components were off by `K_FORMULA * u`; the twin evaluated with each component
+//!    moved that far each way bounds the effect, like 3. Item 2 alone takes a colour-only
+//!    method's cosine to be off by `K_FORMULA * u` absolutely, which holds for cosines of unit
+//!    size but not for Bishop-Weimer's, whose Taylor coefficients grow as `1/|C|^5` when the
+//!    normal at the centroid `C` is short (nearly opposite corner normals): there the f32
+//!    rounding of `C` (absolute, about `u`) is a large relative error (`random_normals` and
+//!    `opposite_normals` meshes, tests/software/stress_meshes.rs).
 //!
 //! The constants are few and each is stated below with its reason. The measured error/bound
 //! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
@@ -200,8 +210,9 @@ fn evaluator<'a>(
         };
         if scanline && bounds {
             let (c, n) = span_bound(&eval, &frag);
-            color_bound += c;
-            normal_bound += n;
+            let (cc, cn) = corner_normal_bound(&eval, &frag);
+            color_bound += c + cc;
+            normal_bound += n + cn;
         }
         Some(TruthPixel {
             color: shaded.color,
@@ -250,6 +261,30 @@ fn span_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64)
         }
     }
     (2.0 * dc, 2.0 * dn)
+}
+
+/// Item 4 of the module doc at one pixel: each corner normal's components moved by
+/// `K_FORMULA * U` each way, one at a time; the largest change per component, summed.
+fn corner_normal_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64) {
+    let here = eval(frag);
+    let (mut dc, mut dn) = (0.0, 0.0);
+    for corner in 0..3 {
+        for axis in 0..3 {
+            let (mut c, mut n) = (0.0f64, 0.0f64);
+            for k in [-1.0, 1.0] {
+                let mut moved = *frag;
+                moved.corner_normals[corner][axis] += k * K_FORMULA * U;
+                let moved = eval(&moved);
+                c = c.max(max_diff(moved.color, here.color));
+                if let (Some(a), Some(b)) = (moved.normal, here.normal) {
+                    n = n.max(max_diff(a, b));
+                }
+            }
+            dc += c;
+            dn += n;
+        }
+    }
+    (dc, dn)
 }
 
 /// The bounds of the module doc at one pixel.

@@ -7,8 +7,11 @@
 //! - `outputs`: compare and bench with `--engine software` (summary.json, bench.json, claims).
 //! - `models`: `verify --engine software` on every shared model at 64, 128 and 256.
 //! - `loops`: the span and pixel loops allocate nothing.
+//! - `stress_meshes`: `verify --engine software` on grids of random and nearly opposite corner
+//!   normals.
 mod drift;
 mod engines;
 mod loops;
 mod models;
 mod outputs;
+mod stress_meshes;

@@ -324,7 +324,7 @@ fn generator_arg_errors_list_the_valid_choices() {
         (
             "sphere",
             vec![],
-            "unknown variant `sphere`, expected one of `uv_sphere`, `icosphere`, `torus`, `cube`",
+            "unknown variant `sphere`, expected one of `uv_sphere`, `icosphere`, `torus`, `cube`, `random_normals`, `opposite_normals`",
         ),
         (
             "uv_sphere",
@@ -393,5 +393,89 @@ fn shipped_meshes_are_fresh() {
             actual == expected,
             "scenes/{name} is stale: run `make scenes`"
         );
+    }
+}
+
+/// The stress grids: 2 cells^2 triangles in z = 0 wound counter-clockwise from +z, unit corner
+/// normals (random ones in the hemisphere z > 0; the second corner of an opposite-normals
+/// triangle within `tilt_deg` of the first one reversed), the same mesh for the same seed and
+/// another for another seed, parameters validated and round-tripped through `describe`.
+#[test]
+fn stress_grids_have_the_stated_normals() {
+    let random = Generator::RandomNormals { cells: 5, seed: 3 };
+    let opposite = Generator::OppositeNormals {
+        cells: 5,
+        seed: 3,
+        tilt_deg: 10.0,
+    };
+    for g in [&random, &opposite] {
+        let m = g.build().unwrap();
+        assert_eq!(m.triangle_count() as u64, g.triangle_count());
+        assert_eq!(m.triangle_count(), 50);
+        for (ps, ns) in m.positions.chunks(3).zip(m.normals.chunks(3)) {
+            let p: Vec<DVec3> = ps.iter().map(|&v| DVec3::from(v.map(f64::from))).collect();
+            let n: Vec<DVec3> = ns.iter().map(|&v| DVec3::from(v.map(f64::from))).collect();
+            assert!(p
+                .iter()
+                .all(|v| v.z == 0.0 && v.x.abs() <= 1.0 && v.y.abs() <= 1.0));
+            assert!((p[1] - p[0]).cross(p[2] - p[0]).z > 0.0, "{p:?}");
+            assert!(n.iter().all(|v| (v.length() - 1.0).abs() < 1e-6), "{n:?}");
+            assert!(n[0].z > 0.0 && n[2].z > 0.0, "{n:?}");
+            match g {
+                Generator::OppositeNormals { .. } => {
+                    let deg = n[0].dot(n[1]).clamp(-1.0, 1.0).acos().to_degrees();
+                    assert!(deg >= 170.0 - 1e-3, "{deg}");
+                }
+                _ => assert!(n[1].z > 0.0),
+            }
+        }
+        let again = g.build().unwrap();
+        assert_eq!(m.normals, again.normals);
+        let desc = g.describe();
+        let mut words = desc.split_whitespace();
+        let name = words.next().unwrap();
+        let kv: Vec<String> = words.map(str::to_string).collect();
+        assert_eq!(&parse_generator_args(name, &kv).unwrap(), g);
+    }
+    let other = Generator::RandomNormals { cells: 5, seed: 4 }
+        .build()
+        .unwrap();
+    assert_ne!(other.normals, random.build().unwrap().normals);
+    // the tilt is used: with none, the second corner is exactly the first reversed
+    let none = Generator::OppositeNormals {
+        cells: 2,
+        seed: 1,
+        tilt_deg: 0.0,
+    };
+    for n in none.build().unwrap().normals.chunks(3) {
+        assert!((0..3).all(|k| (n[0][k] + n[1][k]).abs() < 1e-6), "{n:?}");
+    }
+    for (g, key) in [
+        (Generator::RandomNormals { cells: 0, seed: 1 }, "cells"),
+        (
+            Generator::OppositeNormals {
+                cells: 2,
+                seed: 1,
+                tilt_deg: 181.0,
+            },
+            "tilt_deg",
+        ),
+        (
+            Generator::OppositeNormals {
+                cells: 2,
+                seed: 1,
+                tilt_deg: f64::NAN,
+            },
+            "tilt_deg",
+        ),
+        (
+            Generator::RandomNormals {
+                cells: 800,
+                seed: 1,
+            },
+            "generator",
+        ),
+    ] {
+        assert_eq!(g.check().unwrap_err().0, key, "{g:?}");
     }
 }
