@@ -259,9 +259,12 @@ impl Analysis<'_> {
         let t = Instant::now();
         let dir = self.out.join(m.name);
         let mut files = Vec::new();
+        // The 8-bit sRGB image, once: render.png's colour and FLIP's test image (the same
+        // `srgb8` of the same f32 values that `output::write_png_srgb` would take).
+        let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
         if self.opts.images {
             files.push(rel(m.name, "render.png"));
-            output::write_png_srgb(&dir.join("render.png"), w, h, &frame.color)?;
+            write_render_png(&dir.join("render.png"), w, h, &test8, &frame.color)?;
         }
         let (abs_scale, signed_scale, angle_scale) =
             heatmap_scales(self.opts.scale, intensity.max_abs_error, max_a);
@@ -271,7 +274,7 @@ impl Analysis<'_> {
         // FLIP over the same pixels as every other statistic; a method with NaN/Inf has none.
         // It needs only the 8-bit test image and the mask: the frame and the maps go first.
         let t = Instant::now();
-        let test8 = (!nf).then(|| srgb_rgb8(frame.color.iter().map(|&c| d3(c))));
+        let test8 = (!nf).then_some(test8);
         drop(frame);
         let (counts, measured) = (f.counts, std::mem::take(&mut f.measured));
         drop(f);
@@ -308,6 +311,17 @@ impl Analysis<'_> {
             },
         ))
     }
+}
+
+/// Writes a frame as render.png from its 8-bit sRGB colour `rgb8` (of `color`) and the alpha of
+/// `color`: the bytes of `output::write_png_srgb(path, w, h, color)`.
+fn write_render_png(path: &Path, w: u32, h: u32, rgb8: &[u8], color: &[[f32; 4]]) -> Result<()> {
+    let rgba: Vec<u8> = rgb8
+        .chunks_exact(3)
+        .zip(color)
+        .flat_map(|(c, p)| [c[0], c[1], c[2], output::alpha8(p[3])])
+        .collect();
+    output::write_png_rgba8(path, w, h, &rgba)
 }
 
 /// Runs the comparison of `methods` on `scene` and writes everything into `out`.

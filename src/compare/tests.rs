@@ -411,3 +411,45 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
         auto_curve: Vec::new(),
     }
 }
+
+/// compare's FLIP over crops (src/analysis/flip.rs) against nv-flip over the whole image, on
+/// the shipped fine sphere at 160x120 drawn by the software engine: every method's 8-bit image
+/// against the f64 reference gives the same map bit for bit (an image equal to the
+/// reference's, no crop at all, included). Teeth: crops one pixel short of
+/// the filter radius change the map of at least one method.
+#[test]
+fn flip_crops_match_the_full_computation_on_a_scene() {
+    use crate::analysis::flip::{filter_radius_map_for_test, flip_map, flip_map_full};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sphere_fine.toml");
+    let mut scene = crate::scene::load_scene(&path).unwrap();
+    (scene.width, scene.height) = (160, 120);
+    let methods: Vec<&'static Method> = ["phong_exact", "gouraud", "lyon_taylor", "flat"]
+        .iter()
+        .map(|n| method::find(n).unwrap())
+        .collect();
+    let prepared = engine::Ready::new(Engine::Software { threads: 1 }, &scene, &methods).unwrap();
+    let (_, ids) = prepared.render(methods[0], true).unwrap();
+    let reference = truth::values(prepared.base(), &ids.unwrap(), methods[0]);
+    let ref8 = srgb_rgb8(
+        reference
+            .pixels()
+            .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
+    );
+    let (w, h) = (160, 120);
+    let (mut short_differs, mut errors) = (false, 0);
+    for m in &methods {
+        let (frame, _) = prepared.render(m, false).unwrap();
+        let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
+        let bits = |v: Vec<f32>| v.into_iter().map(f32::to_bits).collect::<Vec<_>>();
+        let full = bits(flip_map_full(&ref8, &test8, w, h));
+        errors += usize::from(full.iter().any(|&b| b != 0));
+        assert_eq!(bits(flip_map(&ref8, &test8, w, h)), full, "{}", m.name);
+        short_differs |= bits(filter_radius_map_for_test(&ref8, &test8, w, h, -1)) != full;
+    }
+    // phong_exact may equal the reference at 8 bits (no crop at all); flat and gouraud do not
+    assert!(errors >= 2, "only {errors} methods with a FLIP error");
+    assert!(
+        short_differs,
+        "crops of radius r - 1 should miss some error"
+    );
+}

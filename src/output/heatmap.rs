@@ -112,11 +112,24 @@ pub fn render(
     let fig_w = width + PANEL;
     let fig_h = height.max(200);
     let mut rgb = vec![255u8; (fig_w * fig_h * 3) as usize];
-    // The field itself, pixel for pixel.
+    // The field itself, pixel for pixel. Runs of the same colormap position (every error below
+    // a log scale's floor is at t = 0) reuse the colour of the previous pixel: same t bits,
+    // same colour, one spline evaluation.
+    let mut last: Option<(u64, [u8; 3])> = None;
     for y in 0..height {
         for x in 0..width {
             let c = match values((y * width + x) as usize) {
-                Some(v) if v.is_finite() => color_at(&desc.gradient, desc.scale.t(v)),
+                Some(v) if v.is_finite() => {
+                    let t = desc.scale.t(v);
+                    match last {
+                        Some((bits, c)) if bits == t.to_bits() => c,
+                        _ => {
+                            let c = color_at(&desc.gradient, t);
+                            last = Some((t.to_bits(), c));
+                            c
+                        }
+                    }
+                }
                 _ => NO_DATA,
             };
             let o = ((y * fig_w + x) * 3) as usize;

@@ -105,19 +105,17 @@ pub fn srgb8(linear: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
+/// An alpha value as 8 bits (clamped to [0, 1]; NaN becomes 0).
+pub fn alpha8(a: f32) -> u8 {
+    (a.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+}
+
 /// Writes a linear RGBA float image as an 8-bit sRGB PNG (alpha kept: 0 on the background).
 /// NaN and Inf become 0.
 pub fn write_png_srgb(path: &Path, width: u32, height: u32, pixels: &[[f32; 4]]) -> Result<()> {
     let bytes: Vec<u8> = pixels
         .iter()
-        .flat_map(|p| {
-            [
-                srgb8(p[0]),
-                srgb8(p[1]),
-                srgb8(p[2]),
-                (p[3].clamp(0.0, 1.0) * 255.0 + 0.5) as u8,
-            ]
-        })
+        .flat_map(|p| [srgb8(p[0]), srgb8(p[1]), srgb8(p[2]), alpha8(p[3])])
         .collect();
     write_png_rgba8(path, width, height, &bytes)
 }
