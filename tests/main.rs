@@ -6,6 +6,8 @@
 //! - `methods`: every method against its own f64 formula, swapped-shader teeth, paper bounds.
 //! - `bench`: bench.json against its schema, CSV, charts, claims (structure only, no speeds).
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
+//! - `corpus`: corpus shards merged == one unsharded run, merge's refusals, a corrupt OBJ, restart,
+//!   the Slurm example on a single-node Slurm (skipped unless root with slurm-wlm).
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
 //! - `shaders`: spirv/ freshness, spirv-val, the uniform-block layout against its Rust twin.
@@ -20,6 +22,7 @@
 mod bench;
 mod cli;
 mod compare;
+mod corpus;
 mod fuzz;
 mod gpu;
 mod isa;
