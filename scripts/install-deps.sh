@@ -3,7 +3,8 @@
 #   run time : libvulkan1 (the loader), mesa-vulkan-drivers (lavapipe)
 #   build    : libshaderc-dev (+ glslang-dev, spirv-tools: static libs shaderc-sys links)
 #   tests    : vulkan-validationlayers (Khronos validation), spirv-tools (spirv-val),
-#              chromium (headless: the HTML report's browser test)
+#              chromium (headless: the HTML report's browser test),
+#              slurm-wlm + munge (a single-node Slurm on localhost: the corpus job-array test)
 # Usage: scripts/install-deps.sh [run|build|test]...   (default: all three)
 set -euo pipefail
 
@@ -13,7 +14,7 @@ for set in "${@:-run build test}"; do
     case "$s" in
       run) want+=(libvulkan1 mesa-vulkan-drivers) ;;
       build) want+=(libshaderc-dev glslang-dev spirv-tools pkg-config) ;;
-      test) want+=(vulkan-validationlayers spirv-tools chromium) ;;
+      test) want+=(vulkan-validationlayers spirv-tools chromium slurm-wlm munge) ;;
       *) echo "install-deps: unknown set '$s' (expected run, build or test)" >&2; exit 2 ;;
     esac
   done

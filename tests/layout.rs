@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// within a layer, dependencies must not form a cycle.
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
-    &["report"],
+    &["report", "corpus"],
     &["compare", "bench", "verify", "stress", "plan", "isa"],
     &["analysis", "truth", "cases", "auto"],
     &["gpu", "software", "engine"],

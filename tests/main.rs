@@ -6,6 +6,8 @@
 //! - `methods`: every method against its own f64 formula, swapped-shader teeth, paper bounds.
 //! - `bench`: bench.json against its schema, CSV, charts, claims (structure only, no speeds).
 //! - `cli`: exit codes and exact error texts of the built `shadelab` binary.
+//! - `corpus`: corpus shards merged == one unsharded run, merge's refusals, a corrupt OBJ, restart,
+//!   the Slurm example on a single-node Slurm (skipped unless root with slurm-wlm).
 //! - `compare`: summary.json against its schema, heatmaps, CSV, --fail-above.
 //! - `stress`: stress.json against its schema, NaN counts, the specular claim, --replay.
 //! - `float16`: the float16 programs (issue 23): float32 SPIR-V unchanged, float16-only
@@ -22,6 +24,7 @@
 mod bench;
 mod cli;
 mod compare;
+mod corpus;
 mod float16;
 mod fuzz;
 mod gpu;

@@ -2,9 +2,11 @@
 //! [`run`] and maps its result to an exit code.
 mod bench;
 mod compare;
+mod corpus;
 mod demo;
 mod isa;
 mod list;
+mod merge;
 mod mesh;
 mod plan;
 mod render;
@@ -376,6 +378,12 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
+    /// Compare every OBJ of a mesh corpus, or one shard K/N of it (CI matrix, Slurm job
+    /// array): per-mesh results, a manifest, the static GPU cost once (docs/corpus.md).
+    Corpus(self::corpus::CorpusArgs),
+    /// Check the shards of a corpus (union, disjoint, same configuration) and write the corpus
+    /// tables: error over meshes per method, worst meshes, the answer per budget.
+    Merge(self::merge::MergeArgs),
     /// List the Vulkan devices the loader reports.
     Devices,
 }
@@ -623,6 +631,8 @@ pub fn run() -> Result<ExitCode> {
             };
             cmd_report(&src, size, interpolation, &device, &methods, &out, full)
         }
+        Command::Corpus(a) => self::corpus::cmd_corpus(a),
+        Command::Merge(a) => self::merge::cmd_merge(a),
         Command::Devices => {
             for d in Context::list_devices()? {
                 println!("{d}");

@@ -1,0 +1,59 @@
+//! `shadelab merge`: checks the shards of a corpus and writes the corpus tables (see
+//! [`crate::corpus::merge`] and [`crate::corpus::tables`]).
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use crate::corpus::{merge, tables};
+use crate::error::{Error, Result};
+
+#[derive(Args, Debug)]
+pub(super) struct MergeArgs {
+    /// The shards' output folders (each with its manifest.json).
+    #[arg(value_name = "SHARD_DIR", required = true)]
+    shards: Vec<PathBuf>,
+    /// Output folder (corpus.json, corpus.csv, index.html, meshes/<id>/result.json).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+}
+
+pub(super) fn cmd_merge(a: MergeArgs) -> Result<ExitCode> {
+    let shards = merge::check(&a.shards)?;
+    let meshes = merge::gather(&shards)?;
+    let isa = shards
+        .iter()
+        .map(|s| s.dir.join("isa").join("isa.json"))
+        .find(|p| p.is_file());
+    let isa_json = match &isa {
+        Some(p) => Some(
+            serde_json::from_slice::<serde_json::Value>(
+                &std::fs::read(p).map_err(|e| Error::io(p, e))?,
+            )
+            .map_err(|e| Error::input(p, None, format!("not an isa.json: {e}")))?,
+        ),
+        None => None,
+    };
+    let isa_path = isa.as_ref().map(|p| p.display().to_string());
+    let report = tables::report(&shards, &meshes, isa_path.as_deref().zip(isa_json.as_ref()));
+    tables::write(&a.out, &report, &meshes)?;
+    if report.mixed_machines {
+        eprintln!(
+            "merge: the shards ran on {} machines: error merged, time kept per machine",
+            report.machines.len()
+        );
+    }
+    println!("{}", a.out.join("index.html").display());
+    eprintln!(
+        "merge: {} shards, {} meshes, {} failed -> {}",
+        shards.len(),
+        report.meshes,
+        report.failed.len(),
+        a.out.join("corpus.json").display()
+    );
+    Ok(if report.failed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(super::EXIT_THRESHOLD)
+    })
+}

@@ -1,0 +1,453 @@
+//! The corpus tables of `shadelab merge`: per method the distribution of error over the meshes
+//! (median, p90 and max of the largest |dI| and of p99 |dI|; the share of meshes within each
+//! budget), the worst meshes with their worst pixel, and the answer over the corpus (per
+//! budget and cost model, the cheapest method within the budget on every mesh), written as
+//! corpus.json (docs/corpus.schema.json), corpus.csv and index.html. A non-finite error counts
+//! as infinite: it is never within a budget and sorts worst.
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use serde::Serialize;
+use serde_json::Value;
+
+use super::merge::{Merged, ShardDir};
+use crate::analysis::stats::percentile;
+use crate::error::{Error, Result};
+use crate::output::write_atomic;
+
+/// The budgets of the tables: the largest colour error a method may make (linear).
+pub const BUDGETS: [(&str, f64); 3] = [
+    ("1/1024", 1.0 / 1024.0),
+    ("1/255", 1.0 / 255.0),
+    ("4/255", 4.0 / 255.0),
+];
+/// The summary metrics judged against the budgets.
+pub const METRICS: [&str; 2] = ["max_abs_error", "p99_abs_error"];
+/// Worst meshes listed per method.
+pub const WORST: usize = 5;
+
+/// One metric's distribution over the meshes (null in JSON where infinite).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Distribution {
+    pub metric: String,
+    pub median: f64,
+    pub p90: f64,
+    pub max: f64,
+    /// Meshes where the method had non-finite pixels (counted as infinite).
+    pub non_finite_meshes: usize,
+    /// Per budget (`1/255`...), the share of meshes whose metric is within it.
+    pub share_within: BTreeMap<String, f64>,
+}
+
+/// A mesh among a method's worst.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WorstMesh {
+    pub id: String,
+    pub max_abs_error: f64,
+    pub p99_abs_error: f64,
+    /// (x, y) of the worst pixel in the mesh's image.
+    pub max_error_pixel: Option<[u32; 2]>,
+}
+
+/// One method over the corpus.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MethodTable {
+    pub name: String,
+    pub meshes: usize,
+    pub distributions: Vec<Distribution>,
+    pub worst: Vec<WorstMesh>,
+}
+
+/// The answer at one budget, by one metric and one cost model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnswerRow {
+    pub budget: String,
+    pub budget_value: f64,
+    pub metric: String,
+    /// `isa:<family>` (ACO's inverse throughput of the fragment program), `bench:<machine>`
+    /// (median over meshes of bench's paired ratio to phong_exact) or `none`.
+    pub cost_model: String,
+    /// The cheapest method within the budget on every mesh; None if no method is.
+    pub method: Option<String>,
+    pub cost: Option<f64>,
+    /// Every method within the budget on every mesh, cheapest first.
+    pub candidates: Vec<String>,
+}
+
+/// One value per method and mesh.
+type Figures = Vec<(String, Vec<(String, f64, f64, Option<[u32; 2]>)>)>;
+
+/// Per method, per ok mesh: (id, max, p99, worst pixel); non-finite or null is infinite.
+fn figures(meshes: &[Merged]) -> Figures {
+    let mut out: Figures = Vec::new();
+    for m in meshes.iter().filter(|m| m.result.status == "ok") {
+        let Some(s) = &m.result.summary else { continue };
+        for row in s["methods"].as_array().into_iter().flatten() {
+            let name = row["name"].as_str().unwrap_or("?").to_string();
+            let nf = row["non_finite_pixels"].as_u64().unwrap_or(0) > 0;
+            let val = |k: &str| match row[k].as_f64() {
+                Some(v) if !nf && v.is_finite() => v,
+                _ => f64::INFINITY,
+            };
+            let px = row["max_error_pixel"]
+                .as_array()
+                .and_then(|a| Some([a.first()?.as_u64()? as u32, a.get(1)?.as_u64()? as u32]));
+            let fig = (m.result.id.clone(), val(METRICS[0]), val(METRICS[1]), px);
+            match out.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, v)) => v.push(fig),
+                None => out.push((name, vec![fig])),
+            }
+        }
+    }
+    out
+}
+
+fn distribution(metric: &str, mut v: Vec<f64>) -> Distribution {
+    let n = v.len().max(1) as f64;
+    Distribution {
+        metric: metric.into(),
+        non_finite_meshes: v.iter().filter(|x| !x.is_finite()).count(),
+        share_within: BUDGETS
+            .iter()
+            .map(|(b, e)| {
+                let within = v.iter().filter(|x| **x <= *e).count();
+                (b.to_string(), within as f64 / n)
+            })
+            .collect(),
+        median: percentile(&mut v, 50.0),
+        p90: percentile(&mut v, 90.0),
+        max: v.iter().copied().fold(0.0, f64::max),
+    }
+}
+
+/// The per-method tables.
+pub fn method_tables(meshes: &[Merged]) -> Vec<MethodTable> {
+    figures(meshes)
+        .into_iter()
+        .map(|(name, v)| {
+            let mut worst: Vec<WorstMesh> = v
+                .iter()
+                .map(|(id, max, p99, px)| WorstMesh {
+                    id: id.clone(),
+                    max_abs_error: *max,
+                    p99_abs_error: *p99,
+                    max_error_pixel: *px,
+                })
+                .collect();
+            worst.sort_by(|a, b| {
+                b.max_abs_error
+                    .total_cmp(&a.max_abs_error)
+                    .then(a.id.cmp(&b.id))
+            });
+            worst.truncate(WORST);
+            MethodTable {
+                meshes: v.len(),
+                distributions: vec![
+                    distribution(METRICS[0], v.iter().map(|f| f.1).collect()),
+                    distribution(METRICS[1], v.iter().map(|f| f.2).collect()),
+                ],
+                worst,
+                name,
+            }
+        })
+        .collect()
+}
+
+/// Cost models: name and cost per method (lower is cheaper).
+pub type CostModel = (String, Vec<(String, f64)>);
+
+/// Per family, the fragment program's inverse throughput of isa.json (draw kind).
+pub fn isa_costs(isa: &Value) -> Vec<CostModel> {
+    let mut out: Vec<CostModel> = Vec::new();
+    for row in isa["results"].as_array().into_iter().flatten() {
+        if row["kind"] != "draw" || row["stage"] != "fragment" {
+            continue;
+        }
+        let (Some(f), Some(m), Some(c)) = (
+            row["family"].as_str(),
+            row["method"].as_str(),
+            row["statistics"]["inverse_throughput"].as_f64(),
+        ) else {
+            continue;
+        };
+        let key = format!("isa:{f}");
+        match out.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, v)) => v.push((m.into(), c)),
+            None => out.push((key, vec![(m.into(), c)])),
+        }
+    }
+    out
+}
+
+/// Per machine, the median over its meshes of bench's paired ratio to phong_exact.
+pub fn bench_costs(meshes: &[Merged]) -> Vec<CostModel> {
+    let mut per: Vec<(String, Vec<(String, Vec<f64>)>)> = Vec::new();
+    for m in meshes {
+        let Some(ratios) = m.timing["bench_ratio_median"].as_object() else {
+            continue;
+        };
+        let idx = match per.iter().position(|(k, _)| *k == m.machine) {
+            Some(i) => i,
+            None => {
+                per.push((m.machine.clone(), Vec::new()));
+                per.len() - 1
+            }
+        };
+        for (name, r) in ratios {
+            let r = r.as_f64().unwrap_or(f64::INFINITY);
+            let list = &mut per[idx].1;
+            match list.iter_mut().find(|(n, _)| n == name) {
+                Some((_, v)) => v.push(r),
+                None => list.push((name.clone(), vec![r])),
+            }
+        }
+    }
+    per.into_iter()
+        .map(|(machine, list)| {
+            let costs = list
+                .into_iter()
+                .map(|(n, mut v)| (n, percentile(&mut v, 50.0)))
+                .collect();
+            (format!("bench:{machine}"), costs)
+        })
+        .collect()
+}
+
+/// Per budget, metric and cost model: the cheapest method within the budget on every mesh.
+pub fn answer(tables: &[MethodTable], models: &[CostModel]) -> Vec<AnswerRow> {
+    let none: Vec<CostModel> = vec![("none".into(), Vec::new())];
+    let models = if models.is_empty() { &none } else { models };
+    let mut rows = Vec::new();
+    for (b, e) in BUDGETS {
+        for (mi, metric) in METRICS.iter().enumerate() {
+            let within: Vec<&str> = tables
+                .iter()
+                .filter(|t| t.meshes > 0)
+                .filter(|t| {
+                    let d = &t.distributions[mi];
+                    d.non_finite_meshes == 0 && d.max <= e
+                })
+                .map(|t| t.name.as_str())
+                .collect();
+            for (model, costs) in models {
+                let cost = |n: &str| costs.iter().find(|(m, _)| m == n).map(|(_, c)| *c);
+                let mut c: Vec<(&str, Option<f64>)> =
+                    within.iter().map(|n| (*n, cost(n))).collect();
+                c.sort_by(|a, b| {
+                    let key = |x: Option<f64>| x.filter(|v| v.is_finite()).unwrap_or(f64::INFINITY);
+                    key(a.1).total_cmp(&key(b.1)).then(a.0.cmp(b.0))
+                });
+                let best = c
+                    .iter()
+                    .find(|(_, k)| k.is_some_and(f64::is_finite))
+                    .filter(|_| model != "none");
+                rows.push(AnswerRow {
+                    budget: b.into(),
+                    budget_value: e,
+                    metric: metric.to_string(),
+                    cost_model: model.clone(),
+                    method: best.map(|(n, _)| n.to_string()),
+                    cost: best.and_then(|(_, k)| *k),
+                    candidates: c.iter().map(|(n, _)| n.to_string()).collect(),
+                });
+            }
+        }
+    }
+    rows
+}
+
+/// corpus.json.
+#[derive(Debug, Serialize)]
+pub struct CorpusReport {
+    pub schema_version: u32,
+    pub config: super::Config,
+    pub config_hash: String,
+    pub meshes: usize,
+    pub failed: Vec<FailedMesh>,
+    pub shards: Vec<ShardInfo>,
+    /// Whether the shards ran on more than one machine (time kept apart per machine).
+    pub mixed_machines: bool,
+    pub machines: Vec<String>,
+    pub isa: String,
+    pub methods: Vec<MethodTable>,
+    pub answer: Vec<AnswerRow>,
+}
+
+/// A mesh that failed, with its error.
+#[derive(Debug, Serialize)]
+pub struct FailedMesh {
+    pub id: String,
+    pub error: String,
+}
+
+/// A shard in corpus.json.
+#[derive(Debug, Serialize)]
+pub struct ShardInfo {
+    pub k: usize,
+    pub n: usize,
+    pub dir: String,
+    pub machine: String,
+}
+
+/// Builds corpus.json's content from the checked shards and their meshes.
+pub fn report(shards: &[ShardDir], meshes: &[Merged], isa: Option<(&str, &Value)>) -> CorpusReport {
+    let first = &shards[0].manifest;
+    let methods = method_tables(meshes);
+    let mut models = isa.map(|(_, v)| isa_costs(v)).unwrap_or_default();
+    models.extend(bench_costs(meshes));
+    let mut machines: Vec<String> = shards.iter().map(|s| s.manifest.machine.key()).collect();
+    machines.sort();
+    machines.dedup();
+    CorpusReport {
+        schema_version: super::SCHEMA_VERSION,
+        config: first.config.clone(),
+        config_hash: first.config_hash.clone(),
+        meshes: meshes.len(),
+        failed: meshes
+            .iter()
+            .filter(|m| m.result.status != "ok")
+            .map(|m| FailedMesh {
+                id: m.result.id.clone(),
+                error: m.result.error.clone().unwrap_or_default(),
+            })
+            .collect(),
+        shards: shards
+            .iter()
+            .map(|s| ShardInfo {
+                k: s.manifest.shard.k,
+                n: s.manifest.shard.n,
+                dir: s.dir.display().to_string(),
+                machine: s.manifest.machine.key(),
+            })
+            .collect(),
+        mixed_machines: machines.len() > 1,
+        machines,
+        isa: isa.map_or_else(
+            || "unavailable (no shard has isa/isa.json)".into(),
+            |(p, _)| p.to_string(),
+        ),
+        answer: answer(&methods, &models),
+        methods,
+    }
+}
+
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v}")
+    } else {
+        "inf".into()
+    }
+}
+
+/// corpus.csv: one line per method and metric.
+fn csv(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
+    write!(w, "method,metric,meshes,median,p90,max,non_finite_meshes")?;
+    for (b, _) in BUDGETS {
+        write!(w, ",within_{}", b.replace('/', "_"))?;
+    }
+    writeln!(w)?;
+    for t in &r.methods {
+        for d in &t.distributions {
+            write!(
+                w,
+                "{},{},{},{},{},{},{}",
+                t.name,
+                d.metric,
+                t.meshes,
+                num(d.median),
+                num(d.p90),
+                num(d.max),
+                d.non_finite_meshes
+            )?;
+            for (b, _) in BUDGETS {
+                write!(w, ",{}", d.share_within.get(b).copied().unwrap_or(0.0))?;
+            }
+            writeln!(w)?;
+        }
+    }
+    Ok(())
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// index.html: the answer, the distributions and the failures, one offline page.
+fn html(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
+    writeln!(
+        w,
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>shadelab corpus</title>"
+    )?;
+    writeln!(w, "<style>body{{font-family:sans-serif;margin:2em}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}td:first-child{{text-align:left}}</style></head><body>")?;
+    writeln!(
+        w,
+        "<h1>Corpus: {} meshes, {} failed, {}x{}</h1>",
+        r.meshes,
+        r.failed.len(),
+        r.config.width,
+        r.config.height
+    )?;
+    if r.mixed_machines {
+        writeln!(
+            w,
+            "<p><b>Shards ran on {} machines</b>: error merged, time kept per machine.</p>",
+            r.machines.len()
+        )?;
+    }
+    writeln!(w, "<h2>Answer: cheapest method within each budget on every mesh</h2><table><tr><th>budget</th><th>metric</th><th>cost model</th><th>method</th><th>cost</th><th>within</th></tr>")?;
+    for a in &r.answer {
+        writeln!(
+            w,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            esc(&a.budget),
+            a.metric,
+            esc(&a.cost_model),
+            esc(a.method.as_deref().unwrap_or("-")),
+            a.cost.map_or("-".into(), num),
+            a.candidates.len()
+        )?;
+    }
+    writeln!(w, "</table><h2>Error over meshes</h2><table><tr><th>method</th><th>metric</th><th>median</th><th>p90</th><th>max</th><th>non-finite</th>")?;
+    for (b, _) in BUDGETS {
+        write!(w, "<th>within {b}</th>")?;
+    }
+    writeln!(w, "<th>worst mesh (pixel)</th></tr>")?;
+    for t in &r.methods {
+        for d in &t.distributions {
+            let worst = t.worst.first().map_or(String::new(), |m| {
+                format!("{} {:?}", m.id, m.max_error_pixel.unwrap_or_default())
+            });
+            write!(w, "<tr><td>{}</td><td>{}</td><td>{:.3e}</td><td>{:.3e}</td><td>{:.3e}</td><td>{}</td>", esc(&t.name), d.metric, d.median, d.p90, d.max, d.non_finite_meshes)?;
+            for (b, _) in BUDGETS {
+                let s = d.share_within.get(b).copied().unwrap_or(0.0);
+                write!(w, "<td>{:.0}%</td>", s * 100.0)?;
+            }
+            writeln!(w, "<td>{}</td></tr>", esc(&worst))?;
+        }
+    }
+    writeln!(w, "</table><h2>Failed meshes</h2><ul>")?;
+    for f in &r.failed {
+        writeln!(w, "<li>{}: {}</li>", esc(&f.id), esc(&f.error))?;
+    }
+    writeln!(w, "</ul></body></html>")
+}
+
+/// Writes corpus.json, corpus.csv, index.html and each mesh's result.json (as the shard wrote
+/// it) into `out`.
+pub fn write(out: &Path, r: &CorpusReport, meshes: &[Merged]) -> Result<()> {
+    for m in meshes {
+        crate::output::write_bytes_atomic(
+            &out.join("meshes").join(&m.result.id).join("result.json"),
+            &m.bytes,
+        )?;
+    }
+    let mut json = serde_json::to_vec_pretty(r).map_err(|e| Error::output("corpus.json", e))?;
+    json.push(b'\n');
+    crate::output::write_bytes_atomic(&out.join("corpus.json"), &json)?;
+    write_atomic(&out.join("corpus.csv"), |w| csv(w, r))?;
+    write_atomic(&out.join("index.html"), |w| html(w, r))
+}
