@@ -35,7 +35,7 @@ pub(super) struct IsaArgs {
     #[arg(long, value_name = "DIR")]
     compare: Vec<PathBuf>,
     /// Floating-point precision of the programs.
-    #[arg(long, value_enum, default_value = "f32")]
+    #[arg(long, default_value = "f32", value_parser = super::parse_precision)]
     precision: Precision,
     /// Also compile this compute SPIR-V as is (one storage buffer at binding 0); repeatable.
     #[arg(long, value_name = "FILE.spv", hide = true)]

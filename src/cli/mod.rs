@@ -460,6 +460,11 @@ fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
 
 /// `--threshold` of compare and stress: a colour error, finite and >= 0 (a number or a fraction
 /// like 1/255), validated here once.
+/// `--precision f32|f16` ([`crate::method::Precision`]'s names; clap stays in this layer).
+fn parse_precision(s: &str) -> std::result::Result<crate::method::Precision, String> {
+    s.parse()
+}
+
 fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
     let num = |x: &str| x.trim().parse::<f64>().ok();
     let v = match s.trim().split_once('/') {
