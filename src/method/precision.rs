@@ -53,6 +53,18 @@ impl Precision {
     }
 }
 
+impl std::str::FromStr for Precision {
+    type Err = String;
+
+    /// The command-line name (`f32`, `f16`); the error lists the accepted ones.
+    fn from_str(s: &str) -> Result<Self, String> {
+        Precision::ALL
+            .into_iter()
+            .find(|p| p.as_str() == s)
+            .ok_or_else(|| format!("unknown precision {s:?}: use f32 or f16"))
+    }
+}
+
 impl std::fmt::Display for Precision {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.as_str())
@@ -86,5 +98,10 @@ mod tests {
             assert_eq!(serde_json::from_str::<Precision>(&text).unwrap(), p);
         }
         assert!(serde_json::from_str::<Precision>("\"f64\"").is_err());
+        for p in Precision::ALL {
+            assert_eq!(p.as_str().parse::<Precision>(), Ok(p));
+        }
+        assert!("f64".parse::<Precision>().is_err());
+        assert!("F32".parse::<Precision>().is_err());
     }
 }
