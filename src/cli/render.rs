@@ -14,7 +14,7 @@ pub(super) fn cmd_render(
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
-    error_budget: crate::auto::ErrorBudget,
+    error_budget: &super::BudgetArgs,
 ) -> Result<ExitCode> {
     if method == "auto" {
         return render_auto(scene_args, dev, out, float, normals, error_budget);
@@ -60,7 +60,7 @@ fn render_auto(
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
-    budget: crate::auto::ErrorBudget,
+    budget: &super::BudgetArgs,
 ) -> Result<ExitCode> {
     if dev.engine == EngineArg::Software {
         return Err(crate::error::Error::Usage(
