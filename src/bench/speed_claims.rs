@@ -399,3 +399,92 @@ pub fn judge(
     claims.extend(op_count_checks(&stat));
     (speed, stat)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_static_ratio_agrees_or_disagrees_and_equal_is_not_faster() {
+        assert_eq!(static_verdict(0.93, 1.0), Verdict::Agrees);
+        assert_eq!(static_verdict(1.0, 1.0), Verdict::Disagrees);
+        assert_eq!(static_verdict(1.06, 1.0), Verdict::Disagrees);
+        assert_eq!(static_verdict(0.5, 0.5), Verdict::Agrees);
+        assert_eq!(static_verdict(0.2, 0.02), Verdict::Disagrees);
+        // Not a figure: never sorted as agreeing.
+        assert_eq!(static_verdict(f64::NAN, 1.0), Verdict::Inconclusive);
+    }
+
+    fn report(families: &[(&str, bool)], costs: &[(&str, f64)]) -> IsaReport {
+        let fam = |(f, ok): &(&str, bool)| {
+            serde_json::json!({"family": f, "supported": ok,
+                "status": if *ok { "compiled".to_string() } else { "not supported by this driver: exit code 1".to_string() },
+                "device_name": null, "driver_name": null, "driver_info": null, "elapsed_ms": null,
+                "statistics": []})
+        };
+        let mut rows = Vec::new();
+        for (f, ok) in families.iter().filter(|(_, ok)| *ok) {
+            let _ = ok;
+            for (m, it) in costs {
+                rows.push(
+                    serde_json::json!({"family": f, "method": m, "stage": "fragment",
+                    "kind": "draw", "program": m, "statistics": {"inverse_throughput": it},
+                    "ratio_to_phong_exact": {}, "hash": []}),
+                );
+            }
+        }
+        serde_json::from_value(serde_json::json!({"version": 1, "precision": "f32",
+            "scene": "s", "kernel_counts": [2, 3], "model": "m",
+            "families": families.iter().map(fam).collect::<Vec<_>>(),
+            "results": rows, "elapsed_s": 0.0}))
+        .unwrap()
+    }
+
+    /// A refused family is a named not_supported cell; a compiled one is judged by its ratio.
+    #[test]
+    fn every_family_gets_a_named_cell() {
+        let r = report(
+            &[("navi21", true), ("bogus", false)],
+            &[
+                ("phong_exact", 70.0),
+                ("newton_raphson", 70.0),
+                ("gouraud", 14.0),
+            ],
+        );
+        let rows: Vec<MethodTiming> = Vec::new();
+        // No timing row: no claim (the table follows the run's methods).
+        assert!(table(&rows, Some(&r)).is_empty());
+        let c = static_cell(
+            &r,
+            "navi21",
+            "compiled",
+            "newton_raphson",
+            "phong_exact",
+            1.0,
+        );
+        assert_eq!(
+            (c.measure.as_str(), c.verdict.as_str()),
+            ("isa:navi21", "disagrees")
+        );
+        assert_eq!(c.ratio, Some(1.0));
+        assert_eq!(c.ci95_low, None);
+        let c = static_cell(&r, "navi21", "compiled", "gouraud", "phong_exact", 1.0);
+        assert_eq!(c.verdict, "agrees");
+        let c = static_cell(
+            &r,
+            "bogus",
+            &r.families[1].status,
+            "gouraud",
+            "phong_exact",
+            1.0,
+        );
+        assert_eq!(c.verdict, "not_supported");
+        assert!(
+            c.note.starts_with("not supported by this driver"),
+            "{}",
+            c.note
+        );
+        let c = static_cell(&r, "navi21", "compiled", "slerp", "phong_exact", 1.0);
+        assert_eq!(c.verdict, "not_measured");
+    }
+}
