@@ -213,3 +213,189 @@ fn a_refused_family_is_reported_not_fatal() {
     );
     assert!(r.results.is_empty());
 }
+
+/// The whole chain on the CLI: compare and bench (without the static cost) feed `isa
+/// --compare --bench` (charts, Spearman per family, a refused family reported), whose isa.json
+/// feeds `bench --isa` (a cell per family, the refused one `not_supported`, each compiled
+/// one judged by its own ratio). Both JSON files against their schemas.
+#[test]
+fn isa_with_compare_and_bench_then_bench_with_isa() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |s: &str| dir.path().join(s).to_str().unwrap().to_string();
+    let methods = "gouraud,phong_unnormalized,newton_raphson,phong_exact";
+    let scene = ["--scene", "scenes/cube.toml", "--size", "48x48"];
+    let ok = |args: &[&str]| {
+        let (code, out, err) = run(args);
+        assert_eq!(code, 0, "{args:?}\n{out}\n{err}");
+        out
+    };
+    let cmp = p("compare");
+    ok(&[
+        &["compare"][..],
+        &scene[..],
+        &["--methods", methods, "--out", cmp.as_str()][..],
+    ]
+    .concat());
+    let bench_args = |out: &str, extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<&str> = vec!["bench"];
+        a.extend(scene);
+        a.extend([
+            "--methods",
+            methods,
+            "--runs",
+            "1",
+            "--repeat",
+            "3",
+            "--warmup",
+            "1",
+            "--isolated-rounds",
+            "3",
+            "--out",
+            out,
+        ]);
+        a.extend(extra);
+        a.into_iter().map(String::from).collect()
+    };
+    let b1 = p("b1");
+    let args = bench_args(&b1, &["--no-isa"]);
+    ok(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let bench1 = read_json(dir.path().join("b1/bench.json"));
+    assert_eq!(bench1["static_cost"]["source"], "skipped (--no-isa)");
+    let cells = bench1["speed_claims"][0]["cells"].as_array().unwrap();
+    assert!(cells
+        .iter()
+        .all(|c| !c["measure"].as_str().unwrap().starts_with("isa:")));
+    let isa_dir = p("isa");
+    let bench1_json = dir.path().join("b1/bench.json");
+    ok(&[
+        "isa",
+        "--methods",
+        methods,
+        "--families",
+        "bogus,navi21",
+        "--compare",
+        cmp.as_str(),
+        "--bench",
+        bench1_json.to_str().unwrap(),
+        "--out",
+        isa_dir.as_str(),
+    ]);
+    let isa_json = read_json(dir.path().join("isa/isa.json"));
+    let schema = schema_validator("docs/isa.schema.json");
+    assert!(schema.is_valid(&isa_json), "isa.json vs its schema");
+    let charts: Vec<&str> = isa_json["charts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    assert_eq!(charts, ["charts/navi21.svg", "charts/navi21.png"]);
+    for c in &charts {
+        assert!(dir.path().join("isa").join(c).is_file(), "{c}");
+    }
+    let rho = &isa_json["spearman"];
+    assert_eq!(rho.as_array().unwrap().len(), 1, "{rho}");
+    assert_eq!(rho[0]["family"], "navi21");
+    assert_eq!(rho[0]["methods"], 4);
+    let r = rho[0]["spearman"]
+        .as_f64()
+        .expect("a rank correlation over 4 methods");
+    assert!((-1.0..=1.0).contains(&r), "{r}");
+    // bench reads the isa.json: a cell per family, named.
+    let b2 = p("b2");
+    let isa_file = dir.path().join("isa/isa.json");
+    let args = bench_args(&b2, &["--isa", isa_file.to_str().unwrap()]);
+    ok(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let bench2 = read_json(dir.path().join("b2/bench.json"));
+    assert!(schema_validator("docs/bench.schema.json").is_valid(&bench2));
+    assert!(bench2["static_cost"]["source"]
+        .as_str()
+        .unwrap()
+        .starts_with("read from"));
+    let report: IsaReport = serde_json::from_value(isa_json).unwrap();
+    let claims = bench2["speed_claims"].as_array().unwrap();
+    assert!(!claims.is_empty());
+    for c in claims {
+        let cells = c["cells"].as_array().unwrap();
+        let cell = |m: &str| {
+            cells
+                .iter()
+                .find(|x| x["measure"] == m)
+                .unwrap_or_else(|| panic!("no {m} cell"))
+        };
+        for m in [
+            "lavapipe frame time",
+            "lavapipe isolated cost",
+            "software engine",
+        ] {
+            cell(m);
+        }
+        assert_eq!(cell("isa:bogus")["verdict"], "not_supported");
+        let navi = cell("isa:navi21");
+        let it = |m: &serde_json::Value| {
+            inverse_throughput(&report, "navi21", m.as_str().unwrap(), "fragment", "draw")
+        };
+        let ratio = it(&c["num"]) / it(&c["den"]);
+        assert_eq!(navi["ratio"].as_f64().unwrap(), ratio);
+        let below = c["claimed_below"].as_f64().unwrap();
+        let agrees = if below == 1.0 {
+            ratio < 1.0
+        } else {
+            ratio <= below
+        };
+        assert_eq!(
+            navi["verdict"],
+            if agrees { "agrees" } else { "disagrees" },
+            "{c}"
+        );
+    }
+    // The op-count claim per compiled family, in the claims list.
+    let claims_list = bench2["claims"].as_array().unwrap();
+    assert!(claims_list.iter().any(|c| c["measured"]
+        .as_str()
+        .unwrap()
+        .starts_with("isa:navi21: phong_exact")));
+    // Teeth: a missing --isa file is a usage error.
+    let args = bench_args(&p("b3"), &["--isa", "/nonexistent/isa.json"]);
+    let (code, _, err) = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 2, "{err}");
+}
+
+/// `--cost-model isa:FAMILY` ranks auto's candidates by that family's static cost; a family
+/// the driver refuses is a clear error (exit 2), not a silent fallback.
+#[test]
+fn auto_ranks_by_a_gpu_family_and_refuses_an_unknown_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("a.png");
+    let base = [
+        "render",
+        "--scene",
+        "scenes/torus.toml",
+        "--size",
+        "64x64",
+        "--method",
+        "auto",
+        "--out",
+        png.to_str().unwrap(),
+        "--cost-model",
+    ];
+    let (code, _, err) = run(&[&base[..], &["isa:polaris10"]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("auto: candidates by isa:polaris10"), "{err}");
+    // gouraud is the cheapest on every family, phong_exact last (the fallback).
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("auto: candidates"))
+        .unwrap();
+    let order = line.split("): ").nth(1).unwrap();
+    assert!(order.starts_with("gouraud "), "{line}");
+    assert!(
+        err.contains(" by isa:polaris10: "),
+        "the grouping line: {err}"
+    );
+    let (code, _, err) = run(&[&base[..], &["isa:bogus"]].concat());
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("isa:bogus"), "{err}");
+    let (code, _, err) = run(&[&base[..], &["gpu"]].concat());
+    assert_eq!(code, 2, "{err}");
+}

@@ -12,6 +12,74 @@ pub const AUTO_MARGIN: f64 = 1.0;
 /// Subdivisions of the barycentric sample grid per triangle edge ((n+1)(n+2)/2 samples).
 pub const AUTO_GRID: usize = 6;
 
+/// The barycentric weights of the sample grid ([`AUTO_GRID`]).
+fn sample_weights() -> Vec<DVec3> {
+    let n = AUTO_GRID;
+    (0..=n)
+        .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let (a, b) = (i as f64 / n as f64, j as f64 / n as f64);
+            DVec3::new(1.0 - a - b, a, b)
+        })
+        .collect()
+}
+
+/// Triangle `t`'s samples and their exact colours.
+fn samples(
+    inputs: &SceneInputs,
+    lighting: &crate::method::formulas::Lighting,
+    weights: &[DVec3],
+    t: usize,
+) -> (Vec<crate::method::twins::Fragment>, Vec<DVec3>) {
+    let frags: Vec<_> = weights
+        .iter()
+        .map(|&w| inputs.fragment(t, w, glam::DVec2::ZERO))
+        .collect();
+    let exact = frags
+        .iter()
+        .map(|f| {
+            lighting.shade(crate::method::formulas::normalize_exact(
+                f.interpolated_normal(),
+            ))
+        })
+        .collect();
+    (frags, exact)
+}
+
+/// Whether `m` keeps the budget (with the margin) at every sample.
+fn passes(
+    m: &crate::method::Method,
+    lighting: &crate::method::formulas::Lighting,
+    (frags, exact): &(Vec<crate::method::twins::Fragment>, Vec<DVec3>),
+    budget: f64,
+) -> bool {
+    frags.iter().zip(exact).all(|(f, e)| {
+        let c = (m.eval_f64)(f, lighting).color;
+        let err = super::colour_error((c - *e).abs().to_array());
+        err.is_finite() && err * (1.0 + AUTO_MARGIN) <= budget
+    })
+}
+
+/// Whether `m` keeps the budget on every triangle of `triangles` by the same test as
+/// [`choose`] (the grouping's merges check what they move).
+pub fn within_budget(
+    inputs: &SceneInputs,
+    m: &crate::method::Method,
+    triangles: &[usize],
+    budget: f64,
+) -> bool {
+    let lighting = inputs.lighting();
+    let weights = sample_weights();
+    triangles.iter().all(|&t| {
+        passes(
+            m,
+            &lighting,
+            &samples(inputs, &lighting, &weights, t),
+            budget,
+        )
+    })
+}
+
 /// The per-triangle choice: index into `order` for every triangle of `inputs`.
 pub fn choose(
     inputs: &SceneInputs,
@@ -19,39 +87,15 @@ pub fn choose(
     budget: f64,
 ) -> Vec<usize> {
     let lighting = inputs.lighting();
-    let n = AUTO_GRID;
-    let weights: Vec<DVec3> = (0..=n)
-        .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
-        .map(|(i, j)| {
-            let (a, b) = (i as f64 / n as f64, j as f64 / n as f64);
-            DVec3::new(1.0 - a - b, a, b)
-        })
-        .collect();
+    let weights = sample_weights();
     let tris = inputs.triangle_count();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let chunk = tris.div_ceil(threads).max(1);
     let pick = |t: usize| -> usize {
-        let frags: Vec<_> = weights
-            .iter()
-            .map(|&w| inputs.fragment(t, w, glam::DVec2::ZERO))
-            .collect();
-        let exact: Vec<DVec3> = frags
-            .iter()
-            .map(|f| {
-                lighting.shade(crate::method::formulas::normalize_exact(
-                    f.interpolated_normal(),
-                ))
-            })
-            .collect();
+        let s = samples(inputs, &lighting, &weights, t);
         order
             .iter()
-            .position(|m| {
-                frags.iter().zip(&exact).all(|(f, e)| {
-                    let c = (m.eval_f64)(f, &lighting).color;
-                    let err = super::colour_error((c - *e).abs().to_array());
-                    err.is_finite() && err * (1.0 + AUTO_MARGIN) <= budget
-                })
-            })
+            .position(|m| passes(m, &lighting, &s, budget))
             .unwrap_or(order.len() - 1)
     };
     std::thread::scope(|s| {

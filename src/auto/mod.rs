@@ -1,15 +1,20 @@
 //! `auto` in one place: its error budget ([`ErrorBudget`], parsed and validated once) and the
 //! error the budget bounds ([`colour_error`]), its candidates and their order by cost, the run's
 //! specs ([`AutoSpec`], the budget curve's names), the per-triangle choice and its cache
-//! ([`choice`]), and what was chosen ([`AutoSummary`], [`choose_summarised`]).
+//! ([`choice`]), whether grouping pays ([`grouping`]: one program when the extra programs cost
+//! more than they save), and what was chosen ([`AutoSummary`], [`choose_summarised`]).
+//! [`CostModel`] names what ranks the candidates: lavapipe's isolated cost or a GPU family's
+//! static cost (`shadelab isa`).
 //!
 //! The cost of each candidate is measured by the jobs above (`plan::auto_order`, with bench's
 //! isolated kernels): this module sits below them, so it takes the costs as numbers.
 mod choice;
+mod grouping;
 #[cfg(test)]
 mod tests;
 
 pub use choice::*;
+pub use grouping::*;
 
 use std::time::Instant;
 
@@ -87,6 +92,58 @@ pub fn colour_error(abs_error_per_channel: [f64; 3]) -> f64 {
     abs_error_per_channel.into_iter().fold(0.0, f64::max)
 }
 
+/// What ranks `auto`'s candidates (`--cost-model`): lavapipe's isolated cost per evaluation
+/// (measured at start), or ACO's inverse throughput of the timed draw's fragment shader on an
+/// AMD GPU family (`isa:navi21`, compiled at start by `shadelab isa`'s children).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum CostModel {
+    Lavapipe,
+    Isa(String),
+}
+
+impl CostModel {
+    /// `lavapipe` or `isa:FAMILY`.
+    pub fn parse(s: &str) -> std::result::Result<Self, String> {
+        let s = s.trim();
+        match s.split_once(':') {
+            None if s == "lavapipe" => Ok(CostModel::Lavapipe),
+            Some(("isa", f))
+                if !f.trim().is_empty()
+                    && f.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') =>
+            {
+                Ok(CostModel::Isa(f.trim().to_lowercase()))
+            }
+            _ => Err(format!(
+                "{s:?} is not a cost model: expected lavapipe or isa:FAMILY (a Mesa chip name, \
+                 e.g. isa:navi21; see shadelab isa)"
+            )),
+        }
+    }
+
+    /// As written on the command line.
+    pub fn name(&self) -> String {
+        match self {
+            CostModel::Lavapipe => "lavapipe".into(),
+            CostModel::Isa(f) => format!("isa:{f}"),
+        }
+    }
+
+    /// The unit of its costs.
+    pub fn unit(&self) -> &'static str {
+        match self {
+            CostModel::Lavapipe => "ns per evaluation (lavapipe, isolated kernel)",
+            CostModel::Isa(_) => "busy cycles per wave (ACO inverse throughput, fragment shader)",
+        }
+    }
+}
+
+impl std::str::FromStr for CostModel {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Self::parse(s)
+    }
+}
+
 /// The methods `auto` chooses from (gouraud and flat included), ordered at run time by their
 /// measured cost ([`order_by_cost`]); phong_exact is the fallback.
 pub const CANDIDATES: [&str; 5] = [
@@ -130,11 +187,11 @@ pub fn order_by_cost(
     Ok(order)
 }
 
-/// One line telling the candidates' order and costs (ns per evaluation).
+/// One line telling the candidates' order and costs (in the cost model's unit).
 pub fn order_line(order: &[(&'static Method, f64)]) -> String {
     order
         .iter()
-        .map(|(m, c)| format!("{} {c:.2} ns", m.name))
+        .map(|(m, c)| format!("{} {c:.2}", m.name))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -155,6 +212,10 @@ pub struct AutoSpec {
     pub name: String,
     pub order: Vec<&'static Method>,
     pub budget: ErrorBudget,
+    /// The cost of each candidate of `order` in `cost_model` (what [`grouping`] compares).
+    pub costs: Vec<f64>,
+    /// [`CostModel::name`] of the costs.
+    pub cost_model: String,
 }
 
 impl AutoSpec {
@@ -164,6 +225,8 @@ impl AutoSpec {
             name: "auto".into(),
             order: order.iter().map(|(m, _)| *m).collect(),
             budget,
+            costs: order.iter().map(|(_, c)| *c).collect(),
+            cost_model: CostModel::Lavapipe.name(),
         }
     }
 
@@ -222,6 +285,9 @@ pub struct AutoSummary {
     /// Where the choice came from: computed, or cached in this process or on disk.
     #[serde(default = "computed")]
     pub source: ChoiceSource,
+    /// Whether grouping paid ([`grouping`]); `triangles` counts what is drawn after it.
+    #[serde(default)]
+    pub grouping: Option<Grouping>,
 }
 
 fn computed() -> ChoiceSource {
@@ -248,6 +314,7 @@ impl AutoSummary {
                 .collect(),
             choice_ms,
             source,
+            grouping: None,
         }
     }
 
@@ -270,7 +337,10 @@ impl AutoSummary {
                 .map(|(m, k)| format!("{m} {k}"))
                 .collect::<Vec<_>>()
                 .join(", ")
-        )
+        ) + &self
+            .grouping
+            .as_ref()
+            .map_or_else(String::new, |g| format!("; {}", g.line()))
     }
 }
 
@@ -282,7 +352,8 @@ pub enum Cache {
     Bypass,
 }
 
-/// `spec`'s per-triangle choice on `inputs` (indices into `spec.order`) and its summary, timed.
+/// `spec`'s per-triangle choice on `inputs` (indices into `spec.order`), after [`settle_on`]
+/// merged the groups that do not pay, and its summary, timed.
 pub fn choose_summarised(
     inputs: &SceneInputs,
     spec: &AutoSpec,
@@ -297,7 +368,10 @@ pub fn choose_summarised(
             source: ChoiceSource::Computed,
         },
     };
+    let mut pick = choice.pick;
+    let grouping = settle_on(inputs, spec, &mut pick);
     let ms = t.elapsed().as_secs_f64() * 1e3;
-    let summary = AutoSummary::new(spec, &choice.pick, ms, choice.source);
-    (choice.pick, summary)
+    let mut summary = AutoSummary::new(spec, &pick, ms, choice.source);
+    summary.grouping = Some(grouping);
+    (pick, summary)
 }

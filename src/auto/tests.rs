@@ -1,5 +1,6 @@
 //! Tests of `auto`: the budget type (every accepted and refused form, one message), the error it
-//! bounds, the candidates' order, the budget curve's names and the per-triangle choice.
+//! bounds, the candidates' order, the budget curve's names, the per-triangle choice, the cost
+//! model's names and the grouping's fallback to one program.
 use glam::DVec3;
 
 use super::*;
@@ -147,11 +148,7 @@ fn split_methods_takes_auto_out_of_a_list() {
 #[test]
 fn the_summary_counts_the_choice() {
     let inputs = torus();
-    let spec = AutoSpec {
-        name: "auto".into(),
-        order: order(),
-        budget: ErrorBudget::new(1.0 / 255.0).unwrap(),
-    };
+    let spec = spec_with_costs(&[1.0, 2.0, 3.0]);
     let (pick, s) = choose_summarised(&inputs, &spec, Cache::Bypass);
     assert_eq!(s.source, ChoiceSource::Computed);
     let total: usize = s.triangles.iter().map(|(_, k)| k).sum();
@@ -235,4 +232,131 @@ fn auto_curve_names_are_identifiers_that_tell_the_budget() {
             "{n}"
         );
     }
+}
+
+/// `auto` over [`order`] at 1/255 with these costs (gouraud, newton_raphson, phong_exact).
+fn spec_with_costs(costs: &[f64]) -> AutoSpec {
+    AutoSpec {
+        name: "auto".into(),
+        order: order(),
+        budget: ErrorBudget::new(1.0 / 255.0).unwrap(),
+        costs: costs.to_vec(),
+        cost_model: "test".into(),
+    }
+}
+
+#[test]
+fn cost_models_are_lavapipe_or_isa_with_a_family() {
+    assert_eq!(CostModel::parse("lavapipe"), Ok(CostModel::Lavapipe));
+    assert_eq!(
+        CostModel::parse(" isa:Navi21 "),
+        Ok(CostModel::Isa("navi21".into()))
+    );
+    assert_eq!(
+        CostModel::parse("isa:gfx1100").unwrap().name(),
+        "isa:gfx1100"
+    );
+    for bad in [
+        "",
+        "isa",
+        "isa:",
+        "isa:a b",
+        "gpu:navi21",
+        "lavapipe:x",
+        "isa:../x",
+    ] {
+        assert!(CostModel::parse(bad).is_err(), "{bad:?} accepted");
+    }
+}
+
+/// When the extra programs save less than a switch costs (every candidate as dear as the next)
+/// the torus is drawn with one program, however many the per-triangle choice used: drawing
+/// the choice as it is (the behaviour before) fails this. Where the cheap program saves much
+/// (gouraud at a tenth of the cost) the grouping is kept. Every triangle stays within budget.
+#[test]
+fn grouping_falls_back_to_one_program_when_the_switches_cost_more() {
+    let inputs = torus();
+    let ms = order();
+    let chosen = choose(&inputs, &ms, 1.0 / 255.0);
+    let programs = |p: &[usize]| p.iter().collect::<std::collections::BTreeSet<_>>().len();
+    assert!(
+        programs(&chosen) >= 2,
+        "the torus needs two programs or more"
+    );
+    let budget = 1.0 / 255.0;
+    let check_budget = |pick: &[usize]| {
+        for (k, m) in ms.iter().enumerate() {
+            let tris: Vec<usize> = (0..pick.len()).filter(|&t| pick[t] == k).collect();
+            assert!(within_budget(&inputs, m, &tris, budget), "{}", m.name);
+        }
+    };
+    // Equal costs: nothing to save, one program.
+    let flat = spec_with_costs(&[1.0, 1.0, 1.0]);
+    let (pick, s) = choose_summarised(&inputs, &flat, Cache::Bypass);
+    let g = s.grouping.clone().unwrap();
+    assert_eq!(programs(&pick), 1, "{}", s.line());
+    assert_eq!((g.programs_drawn, g.switches), (1, 0));
+    assert_eq!(g.programs_chosen, programs(&chosen));
+    assert_eq!(g.decision, "one program");
+    assert!(!g.merged.is_empty() && g.kept.is_empty());
+    check_budget(&pick);
+    // Cheap gouraud, newton_raphson as dear as phong_exact: gouraud kept (if it saves more
+    // than a switch), newton_raphson merged.
+    let cheap = spec_with_costs(&[0.1, 1.0, 1.0]);
+    let (pick, s) = choose_summarised(&inputs, &cheap, Cache::Bypass);
+    let g = s.grouping.clone().unwrap();
+    let gouraud_area: f64 = {
+        let areas = window_areas(&inputs);
+        let total: f64 = areas.iter().sum();
+        (0..chosen.len())
+            .filter(|&t| chosen[t] == 0)
+            .map(|t| areas[t])
+            .sum::<f64>()
+            * 0.9
+            / total
+    };
+    assert!(
+        gouraud_area > SWITCH_COST,
+        "the torus's gouraud share {gouraud_area}"
+    );
+    assert_eq!(g.decision, "grouped", "{}", s.line());
+    assert!(
+        g.kept.iter().any(|(m, _, _)| m == "gouraud"),
+        "{}",
+        s.line()
+    );
+    assert!(
+        !pick.contains(&1),
+        "newton_raphson saves nothing: {}",
+        s.line()
+    );
+    assert_eq!(g.switches, programs(&pick) - 1);
+    check_budget(&pick);
+}
+
+/// The one program is the dearest chosen when it keeps the budget everywhere, else the
+/// fallback; a non-finite cost leaves the choice as it is.
+#[test]
+fn settle_picks_the_single_program_and_refuses_non_finite_costs() {
+    let spec = spec_with_costs(&[1.0, 1.0, 1.0]);
+    let areas = [1.0; 4];
+    let mut pick = vec![0, 1, 0, 1];
+    let g = settle(&spec, &areas, &mut pick, &|_, _| true);
+    assert_eq!(g.single, "newton_raphson");
+    assert_eq!(pick, [1, 1, 1, 1]);
+    let mut pick = vec![0, 1, 0, 1];
+    let g = settle(&spec, &areas, &mut pick, &|k, _| k == 2);
+    assert_eq!(g.single, method::PHONG_EXACT);
+    assert_eq!(pick, [2, 2, 2, 2]);
+    let nan = spec_with_costs(&[f64::NAN, 1.0, 1.0]);
+    let mut pick = vec![0, 1, 0, 1];
+    let g = settle(&nan, &areas, &mut pick, &|_, _| true);
+    assert!(g.decision.starts_with("not judged"), "{}", g.decision);
+    assert_eq!(pick, [0, 1, 0, 1]);
+    // Savings above the switch cost keep the group.
+    let cheap = spec_with_costs(&[0.0, 1.0, 1.0]);
+    let mut pick = vec![0, 1, 0, 1];
+    let g = settle(&cheap, &areas, &mut pick, &|_, _| true);
+    assert_eq!(pick, [0, 1, 0, 1]);
+    assert_eq!(g.kept, vec![("gouraud".to_string(), 2, 0.5)]);
 }

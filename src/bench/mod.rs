@@ -21,6 +21,7 @@ pub mod rounds;
 pub mod runs;
 pub mod skips;
 pub mod software;
+pub mod speed_claims;
 pub mod sweep;
 #[cfg(test)]
 mod tests;
@@ -106,6 +107,8 @@ pub struct BenchOptions {
     pub auto: Vec<crate::auto::AutoSpec>,
     /// One run in this process, or N fresh processes ([`runs`]).
     pub runs: Runs,
+    /// Where the static cost of the speed claims' per-family columns comes from.
+    pub static_cost: speed_claims::StaticCostSource,
 }
 
 impl BenchOptions {
@@ -136,6 +139,7 @@ impl Default for BenchOptions {
             command_line: Vec::new(),
             auto: Vec::new(),
             runs: Runs::One,
+            static_cost: speed_claims::StaticCostSource::Skip,
         }
     }
 }
@@ -416,7 +420,9 @@ pub fn bench(
     }
     let front_isolated = isolated::pareto_front(&rows, &errors);
     let len2 = claims::interpolated_len2_range(&s.prepared.base().inputs.view_normals);
-    let claims = claims::claims(&rows, &floor, len2);
+    let mut claims = claims::claims(&rows, &floor, len2);
+    let (speed_claims, static_cost) =
+        speed_claims::judge(&opts.static_cost, methods_, &rows, &mut claims);
     let sweeps = opts
         .sweeps
         .iter()
@@ -455,6 +461,8 @@ pub fn bench(
         pareto_front: front,
         pareto_front_isolated: front_isolated,
         claims,
+        speed_claims,
+        static_cost,
         auto: s.auto_summaries.clone(),
         auto_curve,
         sweeps,

@@ -262,6 +262,11 @@ pub struct BenchReport {
     /// isolated cost).
     pub pareto_front_isolated: Vec<String>,
     pub claims: Vec<ClaimCheck>,
+    /// The seeds' speed claims, a cell per cost model (lavapipe frame time, isolated cost,
+    /// software engine, each GPU family's static cost).
+    pub speed_claims: Vec<crate::bench::speed_claims::SpeedClaim>,
+    /// Where the static cost came from, each family's status, the op-count claim per family.
+    pub static_cost: crate::bench::speed_claims::StaticCost,
     /// What `auto` chose at each budget of the run (empty without `auto`).
     pub auto: Vec<crate::auto::AutoSummary>,
     /// `auto` at each budget against the fixed methods: its paired ratio to phong_exact, its
@@ -382,6 +387,7 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
             c.method, c.claim, c.measured, c.verdict, c.how, c.reason
         );
     }
+    md += &crate::bench::speed_claims::markdown(&r.speed_claims, Some(&r.static_cost));
     output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
     crate::bench::chart::pareto(out, r)?;
     for s in &r.sweeps {

@@ -542,6 +542,7 @@ fn auto_summary(name: &str, budget: f64) -> crate::auto::AutoSummary {
         triangles: Vec::new(),
         choice_ms: 0.0,
         source: crate::auto::ChoiceSource::Computed,
+        grouping: None,
     }
 }
 

@@ -31,6 +31,23 @@ pub(super) fn bench_runs(runs: Option<usize>, software: bool) -> Result<crate::b
     }
 }
 
+/// `--isa FILE`, `--no-isa`, or compile now (the default) with this binary's children.
+fn static_cost_source(b: &BenchCmd) -> Result<crate::bench::speed_claims::StaticCostSource> {
+    use crate::bench::speed_claims::StaticCostSource;
+    Ok(match (&b.isa, b.no_isa) {
+        (_, true) => StaticCostSource::Skip,
+        (Some(p), _) if !p.is_file() => {
+            return Err(Error::Usage(format!("--isa {}: no such file", p.display())))
+        }
+        (Some(p), _) => StaticCostSource::File(p.clone()),
+        (None, false) => StaticCostSource::Run {
+            exe: std::env::current_exe()
+                .map_err(|e| Error::io(std::path::Path::new("shadelab"), e))?,
+            scene: b.scene.scene.clone(),
+        },
+    })
+}
+
 pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     let (list, with_auto) = crate::auto::split_methods(&b.methods);
     let methods = select_methods(&list)?;
@@ -38,6 +55,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     let runs = bench_runs(b.runs, b.device.engine == EngineArg::Software)?;
     let many = !matches!(runs, crate::bench::Runs::One);
     let defaults = crate::bench::BenchOptions::default();
+    let static_cost = static_cost_source(&b)?;
     let mut opts = crate::bench::BenchOptions {
         repeat: b.repeat.unwrap_or(if many {
             crate::bench::runs::RUN_REPEAT
@@ -60,6 +78,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         }),
         auto: Vec::new(),
         runs,
+        static_cost,
     };
     let (dev, out) = (&b.device, b.out.as_path());
     b.precision.check_engine(dev)?;
@@ -123,7 +142,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         ));
     }
     if with_auto {
-        opts.auto = auto_spec(&r, b.error_budget.budget)?.with_curve(&b.auto_curve);
+        opts.auto = auto_spec(&r, &b.error_budget)?.with_curve(&b.auto_curve);
     }
     if matches!(opts.runs, crate::bench::Runs::Child { .. }) {
         crate::bench::measure_run(&r, &scene, &methods, &opts)?;
@@ -132,6 +151,10 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     let report = crate::bench::bench(&r, &scene, &methods, out, &opts)?;
     print_table(&report);
     print_notes(&report);
+    print!(
+        "{}",
+        crate::bench::speed_claims::markdown(&report.speed_claims, Some(&report.static_cost))
+    );
     eprintln!(
         "wrote {} ({:.1} s)",
         out.join("bench.json").display(),

@@ -22,7 +22,7 @@ pub(super) fn cmd_compare(
     limits: &Limits,
     scale: compare::ScaleMode,
     threshold: f64,
-    budget: crate::auto::ErrorBudget,
+    budget: &super::BudgetArgs,
 ) -> Result<ExitCode> {
     let limits_precision = limits.precision;
     limits_precision.check_engine(dev)?;

@@ -133,14 +133,18 @@ impl PrecisionArgs {
     }
 }
 
-/// `--error-budget`, shared by every command that draws `auto`.
-#[derive(Args, Debug, Clone, Copy)]
+/// `--error-budget` and `--cost-model`, shared by every command that draws `auto`.
+#[derive(Args, Debug, Clone)]
 struct BudgetArgs {
     /// The error budget of `auto` (`--methods ...,auto`, `--method auto`, skips' auto row): the
     /// largest colour error (linear, max over the channels) it may make; a number or a fraction
     /// like 4/255.
     #[arg(long = "error-budget", value_name = "E", default_value = "1/255", value_parser = ErrorBudget::parse)]
     budget: ErrorBudget,
+    /// What ranks auto's candidates: `lavapipe` (isolated cost, measured at start) or
+    /// `isa:FAMILY` (ACO's static cost on that AMD GPU family, e.g. isa:navi21; docs/isa.md).
+    #[arg(long = "cost-model", value_name = "MODEL", default_value = "lavapipe", value_parser = crate::auto::CostModel::parse)]
+    cost_model: crate::auto::CostModel,
 }
 
 /// `--engine`.
@@ -471,6 +475,13 @@ struct BenchCmd {
     /// so the Vulkan verdicts of claims.md and software / lavapipe are paired per round.
     #[arg(long, conflicts_with = "vulkan_bench")]
     vulkan_paired: bool,
+    /// The claims' per-GPU-family static cost from this isa.json of `shadelab isa` instead of
+    /// compiling it now (by default bench compiles its methods on six families, a few s).
+    #[arg(long, value_name = "FILE.json", conflicts_with = "no_isa")]
+    isa: Option<PathBuf>,
+    /// No per-GPU-family static cost in the claims.
+    #[arg(long)]
+    no_isa: bool,
 }
 
 // `shadelab skips` (its help is the variant's doc comment).
@@ -552,7 +563,7 @@ pub fn run() -> Result<ExitCode> {
                 &limits,
                 scale.into(),
                 threshold,
-                error_budget.budget,
+                &error_budget,
             )
         }
         Command::Render {
@@ -571,7 +582,7 @@ pub fn run() -> Result<ExitCode> {
             &out,
             float.as_deref(),
             normals.as_deref(),
-            error_budget.budget,
+            &error_budget,
         ),
         Command::Verify {
             scene,
@@ -720,17 +731,24 @@ fn check_validation(ctx: &Arc<Context>) -> Result<()> {
     )))
 }
 
-/// `auto` at `budget`, its candidates ordered by their isolated cost measured now on the run's
-/// device.
-fn auto_spec(r: &Renderer, budget: ErrorBudget) -> Result<crate::auto::AutoSpec> {
+/// `auto` at the budget, its candidates ordered by the cost model: lavapipe's isolated cost
+/// measured now on the run's device, or a GPU family's static cost compiled now.
+fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
     let t = std::time::Instant::now();
-    let order = crate::plan::auto_order(r.context())?;
+    let order = match &b.cost_model {
+        crate::auto::CostModel::Lavapipe => crate::plan::auto_order(r.context())?,
+        crate::auto::CostModel::Isa(f) => crate::isa::auto_order(f)?,
+    };
     eprintln!(
-        "auto: candidates by isolated cost (measured in {:.1} s): {}",
+        "auto: candidates by {} in {} (measured in {:.1} s): {}",
+        b.cost_model.name(),
+        b.cost_model.unit(),
         t.elapsed().as_secs_f64(),
         crate::auto::order_line(&order)
     );
-    Ok(crate::auto::AutoSpec::new(budget, &order))
+    let mut spec = crate::auto::AutoSpec::new(b.budget, &order);
+    spec.cost_model = b.cost_model.name();
+    Ok(spec)
 }
 
 fn select_methods(list: &str) -> Result<Vec<&'static Method>> {

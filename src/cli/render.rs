@@ -14,7 +14,7 @@ pub(super) fn cmd_render(
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
-    error_budget: crate::auto::ErrorBudget,
+    error_budget: &super::BudgetArgs,
 ) -> Result<ExitCode> {
     precision.check_engine(dev)?;
     if method == "auto" {
@@ -66,7 +66,7 @@ fn render_auto(
     out: &Path,
     float: Option<&Path>,
     normals: Option<&Path>,
-    budget: crate::auto::ErrorBudget,
+    budget: &super::BudgetArgs,
 ) -> Result<ExitCode> {
     if dev.engine == EngineArg::Software {
         return Err(crate::error::Error::Usage(

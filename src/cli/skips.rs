@@ -15,7 +15,7 @@ pub(super) fn cmd_skips(k: SkipsCmd) -> Result<ExitCode> {
     let opts = crate::bench::skips::SkipOptions {
         repeat: k.repeat,
         warmup: k.warmup,
-        auto: auto_spec(&r, k.error_budget.budget)?,
+        auto: auto_spec(&r, &k.error_budget)?,
         command_line: std::env::args().collect(),
     };
     let report = crate::bench::skips::skips(&r, &scene, &k.out, &opts)?;

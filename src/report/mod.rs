@@ -13,6 +13,7 @@
 //! Layout of DIR: `index.html`, `report.css`, `report.js`, `scenes/<id>/compare/` (compare's
 //! outputs), `scenes/<id>/bench/` (bench's outputs), `stress/` (stress's outputs).
 pub mod html;
+pub mod isa;
 pub mod links;
 #[cfg(test)]
 mod tests;
@@ -364,6 +365,7 @@ pub fn run(
     output::write_bytes_atomic(&out.join("report.css"), CSS.as_bytes())?;
     output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
     let page = html::page(&data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
+    let page = isa::splice(&page, out, &methods, &data.scenes);
     let index = out.join("index.html");
     output::write_bytes_atomic(&index, page.as_bytes())?;
     bar.inc(1);
