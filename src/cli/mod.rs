@@ -107,8 +107,20 @@ pub(super) struct PrecisionArgs {
     /// Arithmetic of the method programs: f32, or f16 (the same GLSL compiled with float16_t:
     /// the method and the lighting in float16, inputs converted where read; docs/float16.md).
     /// f16 needs a device with shaderFloat16 (lavapipe has it) and --engine vulkan.
-    #[arg(long, value_enum, default_value = "f32")]
+    #[arg(long, default_value = "f32", value_parser = parse_precision())]
     pub precision: crate::method::Precision,
+}
+
+/// The parser of `--precision`: the names of [`crate::method::Precision::as_str`].
+fn parse_precision() -> impl clap::builder::TypedValueParser<Value = crate::method::Precision> {
+    use crate::method::Precision;
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Precision::ALL.map(Precision::as_str)).map(|s| {
+        Precision::ALL
+            .into_iter()
+            .find(|p| p.as_str() == s)
+            .unwrap_or_default()
+    })
 }
 
 impl PrecisionArgs {
