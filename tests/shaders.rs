@@ -18,7 +18,9 @@ fn edited_glsl_makes_spirv_stale() {
     copy_dir(&root().join("glsl"), &glsl);
     let f = glsl.join("methods/phong_exact.glsl");
     let text = std::fs::read_to_string(&f).unwrap();
-    std::fs::write(&f, text.replace("normalize(vNormal)", "vNormal")).unwrap();
+    let edited = text.replace("normalize(R3(vNormal))", "R3(vNormal)");
+    assert_ne!(edited, text, "the edit must change the file");
+    std::fs::write(&f, edited).unwrap();
     let e = shaders::check_fresh(&glsl, &root().join("spirv"))
         .unwrap_err()
         .to_string();

@@ -109,8 +109,20 @@ pub(super) struct PrecisionArgs {
     /// Arithmetic of the method programs: f32, or f16 (the same GLSL compiled with float16_t:
     /// the method and the lighting in float16, inputs converted where read; docs/float16.md).
     /// f16 needs a device with shaderFloat16 (lavapipe has it) and --engine vulkan.
-    #[arg(long, default_value = "f32", value_parser = parse_precision)]
+    #[arg(long, default_value = "f32", value_parser = parse_precision())]
     pub precision: crate::method::Precision,
+}
+
+/// The parser of `--precision`: the names of [`crate::method::Precision::as_str`].
+fn parse_precision() -> impl clap::builder::TypedValueParser<Value = crate::method::Precision> {
+    use crate::method::Precision;
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Precision::ALL.map(Precision::as_str)).map(|s| {
+        Precision::ALL
+            .into_iter()
+            .find(|p| p.as_str() == s)
+            .unwrap_or_default()
+    })
 }
 
 impl PrecisionArgs {
@@ -518,11 +530,6 @@ fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
 
 /// `--threshold` of compare and stress: a colour error, finite and >= 0 (a number or a fraction
 /// like 1/255), validated here once.
-/// `--precision f32|f16` ([`crate::method::Precision`]'s names; clap stays in this layer).
-fn parse_precision(s: &str) -> std::result::Result<crate::method::Precision, String> {
-    s.parse()
-}
-
 fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
     let num = |x: &str| x.trim().parse::<f64>().ok();
     let v = match s.trim().split_once('/') {

@@ -1,5 +1,6 @@
 //! The floating-point precision a method's programs compute in: one type for every command's
-//! `--precision` (render, compare, stress, bench, isa, verify) and every output that records it.
+//! `--precision` (render, compare, stress, bench, isa, verify; parsed in cli::PrecisionArgs, as
+//! clap stays in cli/) and every output that records it.
 //!
 //! `F32` is the shipped programs as they are. `F16` is the same method source compiled with the
 //! float16 vocabulary (issue 23): the method and the lighting computed in `float16_t`, inputs read
@@ -8,18 +9,7 @@ use serde::{Deserialize, Serialize};
 
 /// A program's arithmetic precision.
 #[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    Serialize,
-    Deserialize,
-    clap::ValueEnum,
-    Default,
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
 )]
 #[serde(rename_all = "snake_case")]
 pub enum Precision {

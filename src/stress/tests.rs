@@ -245,6 +245,7 @@ fn bad_case_files_are_refused_with_the_reason() {
     let p = std::path::Path::new("case.json");
     let ok = serde_json::to_value(CaseReport {
         method: "slerp".into(),
+        precision: crate::method::Precision::F32,
         spec: CaseSpec::default(),
         inputs: None,
         exact_phong: None,
@@ -299,6 +300,7 @@ fn the_worst_figures_keep_their_non_finite_counts() {
     assert_eq!(json["non_finite_angle"], r.non_finite_cases);
     let report = StressReport {
         schema_version: 0,
+        precision: crate::method::Precision::F32,
         threshold: 1.0 / 255.0,
         device: String::new(),
         cases_per_method: g.cases.len(),
