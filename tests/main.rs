@@ -20,6 +20,7 @@
 //!   multiplications cost more, a refused family is reported, isa.json against its schema.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
+//! - `prove`: proof.json against its schema, bounds above found values, --replay of a found input.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod cli;
@@ -32,6 +33,7 @@ mod isa;
 mod layout;
 mod methods;
 mod models;
+mod prove;
 mod report;
 mod shaders;
 mod software;

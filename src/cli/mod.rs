@@ -9,6 +9,7 @@ mod list;
 mod merge;
 mod mesh;
 mod plan;
+mod prove;
 mod render;
 mod report;
 mod shaders;
@@ -22,6 +23,7 @@ use self::demo::cmd_demo;
 use self::list::cmd_list;
 use self::mesh::cmd_mesh;
 use self::plan::cmd_plan;
+use self::prove::cmd_prove;
 use self::render::cmd_render;
 use self::report::{cmd_report, Sources};
 use self::shaders::cmd_shaders;
@@ -300,6 +302,9 @@ enum Command {
         #[command(flatten)]
         precision: PrecisionArgs,
     },
+    /// Proven upper bounds of each covered method's normal-space and colour errors over a
+    /// declared domain (interval branch-and-bound), beside the worst values found at real points.
+    Prove(self::prove::ProveArgs),
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
     /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
     /// front-to-back order, and `auto`; fragment invocations and paired frame-time ratios.
@@ -623,6 +628,7 @@ pub fn run() -> Result<ExitCode> {
         } => cmd_plan(&scene, &device, json, error_budget),
         Command::Skips(k) => cmd_skips(k),
         Command::Isa(args) => self::isa::cmd_isa(args),
+        Command::Prove(a) => cmd_prove(&a),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,

@@ -8,7 +8,13 @@
 //! `z = N.N` and `N' = k(z) N`; nothing here renormalises a result unless its doc says so.
 //! The tests pin appendix A's golden values and reproduce every section-3 measurement by
 //! sweeping these functions.
+//!
+//! The scalar factors (`k_*`, `mikami_sqrt`, `beta_*`) are generic over [`Real`]: the f64
+//! twins instantiate them with f64 (the same operations in the same order as before), `shadelab
+//! prove` with an outward-rounded interval, so the proof bounds this very formula.
 use glam::DVec3;
+
+use super::real::Real;
 
 /// Exact normalization `N / |N|` (FORMULAS.md 2.3). Returns the input unchanged when it has zero
 /// length (the GPU's `normalize` gives NaN there; no sane mesh reaches it, see the hazard in 2.3).
@@ -61,29 +67,29 @@ impl Lighting {
 /// Newton-Raphson one step for `1/sqrt(z)` from the start value 1 (Cutler/NVIDIA, FORMULAS.md 2.4,
 /// S000 l.33-38): `k(z) = (3 - z)/2`. Exact at `z = 1`; always too short for `z < 1`.
 /// (S004 l.169 prints `/3`, a seed typo: see the test `nvidia_formula_as_printed_in_s004_...`.)
-pub fn k_newton(z: f64) -> f64 {
-    0.5 * (3.0 - z)
+pub fn k_newton<T: Real>(z: T) -> T {
+    T::c(0.5) * (T::c(3.0) - z)
 }
 
 /// Lyon's second-degree Taylor form (FORMULAS.md 2.5, S000 l.45-50):
 /// `k(z) = 1 - d/2 + 3/8 d^2`, `d = z - 1`.
-pub fn k_lyon2(z: f64) -> f64 {
-    let d = z - 1.0;
-    1.0 - 0.5 * d + 0.375 * d * d
+pub fn k_lyon2<T: Real>(z: T) -> T {
+    let d = z - T::c(1.0);
+    T::c(1.0) - T::c(0.5) * d + T::c(0.375) * d * d
 }
 
 /// Lyon's shift form (FORMULAS.md 2.6, S000 l.52-53): `k(z) = 1 + (e + e^2)/2`, `e = 1 - z`
 /// (3/8 replaced by 1/2 so that only shifts remain). Too long for every `z > 0.704`.
-pub fn k_lyon_shift(z: f64) -> f64 {
-    let e = 1.0 - z;
-    1.0 + 0.5 * (e + e * e)
+pub fn k_lyon_shift<T: Real>(z: T) -> T {
+    let e = T::c(1.0) - z;
+    T::c(1.0) + T::c(0.5) * (e + e * e)
 }
 
 /// Romanyuk-Romanyuk-Pavlyk polynomial (FORMULAS.md 2.9, S000 l.78-82, signs reconstructed):
 /// `k(z) = (0.822 z - 2.046) z + 2.227`. Not exact at `z = 1` (`k(1) = 1.003`); designed for
 /// `z` in [0.5, 1], i.e. vertex normals up to 90 degrees apart.
-pub fn k_romanyuk(z: f64) -> f64 {
-    (0.822 * z - 2.046) * z + 2.227
+pub fn k_romanyuk<T: Real>(z: T) -> T {
+    (T::c(0.822) * z - T::c(2.046)) * z + T::c(2.227)
 }
 
 /// Mikami's NIIRF square root, first iteration (FORMULAS.md 2.8, S000 l.65-75):
@@ -91,26 +97,26 @@ pub fn k_romanyuk(z: f64) -> f64 {
 /// `N' = N / s1`, so the scalar factor is `1 / mikami_sqrt(z, beta)`. Design range
 /// `z` in [0.25, 1]; outside it the error grows fast (150 degrees: -23 %). The constant 0.35 is
 /// appendix C's (the original NIIRF constant is 0.354167, kept out of the library on purpose).
-pub fn mikami_sqrt(z: f64, beta: f64) -> f64 {
-    let s0 = (2.0 / 3.0) * z + 0.35;
+pub fn mikami_sqrt<T: Real>(z: T, beta: T) -> T {
+    let s0 = T::c(2.0 / 3.0) * z + T::c(0.35);
     beta * (z - s0 * s0) + s0
 }
 
 /// Mikami's constant `beta = 0.64` (one-iteration NIIRF constant; FORMULAS.md 2.8). Takes `z`
 /// only so that the three beta choices share one signature.
-pub fn beta_const(_z: f64) -> f64 {
-    0.64
+pub fn beta_const<T: Real>(_z: T) -> T {
+    T::c(0.64)
 }
 
 /// Mikami's linear `beta = 1.07 - 0.62 z` (FORMULAS.md 2.8, seed's rounding of 1.0688 - 0.61951 z).
-pub fn beta_linear(z: f64) -> f64 {
-    1.07 - 0.62 * z
+pub fn beta_linear<T: Real>(z: T) -> T {
+    T::c(1.07) - T::c(0.62) * z
 }
 
 /// Mikami's quadratic `beta = (0.763 z - 1.57) z + 1.31` (FORMULAS.md 2.8, seed's rounding of
 /// 0.763 z^2 - 1.5688 z + 1.314).
-pub fn beta_quadratic(z: f64) -> f64 {
-    (0.763 * z - 1.57) * z + 1.31
+pub fn beta_quadratic<T: Real>(z: T) -> T {
+    (T::c(0.763) * z - T::c(1.57)) * z + T::c(1.31)
 }
 
 // ---------------------------------------------------------------------------------------------

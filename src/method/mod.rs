@@ -5,6 +5,7 @@
 pub mod checks;
 pub mod formulas;
 pub mod precision;
+pub mod real;
 pub mod scanline;
 pub mod scanline_checks;
 pub mod table;

@@ -1,0 +1,44 @@
+//! `shadelab prove`: runs [`crate::prove::run`], prints its table and writes proof.json.
+use std::path::Path;
+use std::process::ExitCode;
+
+use super::*;
+use crate::error::Result;
+use crate::prove::{self, ProveOptions};
+
+/// The arguments of `shadelab prove`.
+#[derive(Debug, Args)]
+pub struct ProveArgs {
+    /// Comma-separated method identifiers, or `all` (methods out of reach are listed).
+    #[arg(long, default_value = "all")]
+    methods: String,
+    /// Largest angle between the vertex normals, degrees (0, 180].
+    #[arg(long, value_name = "DEG")]
+    max_angle: f64,
+    /// Relative gap at which a bound counts as tight.
+    #[arg(long, default_value_t = 0.01)]
+    tolerance: f64,
+    /// Phong exponent of the colour bound (default: the scenes' material).
+    #[arg(long)]
+    shininess: Option<f64>,
+    /// Output directory (proof.json, cases/<method>_<metric>.json).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+}
+
+pub(super) fn cmd_prove(a: &ProveArgs) -> Result<ExitCode> {
+    let methods = select_methods(&a.methods)?;
+    let out: &Path = &a.out;
+    let opts = ProveOptions {
+        max_angle_deg: a.max_angle,
+        tolerance: a.tolerance,
+        shininess: a.shininess.unwrap_or(scene::Material::default().shininess),
+        progress: true,
+        ..ProveOptions::default()
+    };
+    let report = prove::run(&methods, &opts)?;
+    prove::write(out, &report)?;
+    print!("{}", prove::table(&report));
+    println!("wrote {}", out.join("proof.json").display());
+    Ok(ExitCode::SUCCESS)
+}
