@@ -7,10 +7,12 @@
 //! - `outputs`: compare and bench with `--engine software` (summary.json, bench.json, claims).
 //! - `models`: `verify --engine software` on every shared model at 64, 128 and 256.
 //! - `loops`: the span and pixel loops allocate nothing.
+//! - `half`: the float16 engine (rounding, the float16 bound on every scene and model, the twin check).
 //! - `golden`: the float32 frames bit-identical to the engine before the generic kernels.
 mod drift;
 mod engines;
 mod golden;
+mod half;
 mod loops;
 mod models;
 mod outputs;
