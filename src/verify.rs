@@ -1,15 +1,17 @@
 //! `verify`: every method's GPU image against its own formula in f64 (within the float32 bound
-//! of the module doc of [`crate::truth`]), and its error against f64 exact Phong (the per-pixel
-//! error of [`crate::analysis::pixel`], the same definition `compare` uses).
+//! of the module doc of [`crate::truth`], or its float16 bound with `--precision f16`), and its
+//! error against f64 exact Phong (the per-pixel error of [`crate::analysis::pixel`], the same
+//! definition `compare` uses). In float16 the device's image is also judged against the
+//! software engine's float16 twin ([`twin_agreement`]).
 use crate::analysis::pixel::{error_stats, ErrorStats};
 use crate::engine::{Engine, Ready};
 use crate::error::{Error, Result};
-use crate::frame::IdFrame;
+use crate::frame::{Frame, IdFrame};
 use crate::method::scanline;
-use crate::method::{self, Method};
+use crate::method::{self, Method, Precision};
 use crate::scene::{Scene, SceneInputs};
 use crate::software;
-use crate::truth::{agreement, evaluate, Agreement, Truth};
+use crate::truth::{agreement_at, evaluate, evaluate_at, Agreement, Truth};
 
 /// One method's verdict.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -19,6 +21,9 @@ pub struct VerifyRow {
     pub agreement: Agreement,
     /// Against f64 exact Phong.
     pub errors: ErrorStats,
+    /// The Vulkan float16 image against the software engine's float16 image of the same
+    /// method, within the sum of their two float16 bounds (None: not a float16 Vulkan run).
+    pub twin: Option<Agreement>,
 }
 
 /// The result of [`verify`].
@@ -27,15 +32,18 @@ pub struct VerifyReport {
     pub scene: String,
     pub width: u32,
     pub height: u32,
+    /// The precision the programs computed in (the bound follows it).
+    pub precision: Precision,
     /// The method whose formula judged every image, when not each method's own.
     pub against: Option<&'static str>,
     pub rows: Vec<VerifyRow>,
 }
 
 impl VerifyRow {
-    /// Whether the image is within the float32 bound of the formula it was judged by.
+    /// Whether the image is within the bound of the formula it was judged by (and, in a
+    /// float16 Vulkan run, within the bound of the software float16 twin).
     pub fn passed(&self) -> bool {
-        self.agreement.within_bound()
+        self.agreement.within_bound() && self.twin.as_ref().is_none_or(Agreement::within_bound)
     }
 }
 
@@ -74,13 +82,14 @@ impl VerifyReport {
     /// The text table: a heading line, column names, one row per method.
     pub fn table(&self) -> String {
         let mut t = format!(
-            "scene {} at {}x{}: each method against {} f64 formula (error/bound <= 1 passes), \
-             and against f64 exact Phong: |dI| = linear luminance error (ill-conditioned sliver \
-             pixels left out; NaN/ill = non-finite pixels, well-/ill-conditioned; any makes the \
-             errors inf)\n",
+            "scene {} at {}x{} in {}: each method against {} f64 formula (error/bound <= 1 \
+             passes), and against f64 exact Phong: |dI| = linear luminance error (ill-conditioned \
+             sliver pixels left out; NaN/ill = non-finite pixels, well-/ill-conditioned; any \
+             makes the errors inf)\n",
             self.scene,
             self.width,
             self.height,
+            self.precision,
             self.against
                 .map(|a| format!("{a}'s"))
                 .unwrap_or_else(|| "its own".into())
@@ -140,6 +149,19 @@ pub fn verify(
     methods: &[&'static Method],
     against: Option<&'static Method>,
 ) -> Result<VerifyReport> {
+    verify_at(engine, scene, methods, against, Precision::F32)
+}
+
+/// [`verify`] of the programs computing in `precision`: each image judged by the bound of that
+/// precision ([`evaluate_at`]); in float16 on Vulkan, also against the software engine's
+/// float16 twin ([`twin_agreement`]). The reference (f64 exact Phong) is the same.
+pub fn verify_at(
+    engine: Engine,
+    scene: &Scene,
+    methods: &[&'static Method],
+    against: Option<&'static Method>,
+    precision: Precision,
+) -> Result<VerifyReport> {
     let exact = method::phong_exact();
     let mut all = methods.to_vec();
     all.push(exact);
@@ -150,23 +172,33 @@ pub fn verify(
     let reference = evaluate(ready.base(), &base_ids.ok_or_else(id_pass)?, exact);
     let mut rows = Vec::new();
     for &m in methods {
-        let (frame, ids) = ready.render(m, true)?;
+        let (frame, ids) = render_in(&ready, m, precision)?;
         let ids = ids.ok_or_else(id_pass)?;
         let inputs = ready.inputs(m)?;
-        let mut truth = evaluate(inputs, &ids, against.unwrap_or(m));
+        let mut truth = evaluate_at(inputs, &ids, against.unwrap_or(m), precision);
         if engine.drifts(m) {
-            widen_for_drift(&mut truth, inputs, &ids);
+            widen_for_drift(&mut truth, inputs, &ids, precision);
         }
+        let twin = match (&ready, precision) {
+            (Ready::Vulkan(..), Precision::F16) => {
+                let (sw, _) =
+                    software::render_at(inputs, m, software::default_threads(), false, precision)?;
+                Some(twin_agreement(&frame, &sw, &truth))
+            }
+            _ => None,
+        };
         rows.push(VerifyRow {
             method: m.name,
-            agreement: agreement(&frame, &truth),
+            agreement: agreement_at(&frame, &truth, precision),
             errors: error_stats(&frame, m.has_normal, &reference),
+            twin,
         });
     }
     Ok(VerifyReport {
         scene: scene.name.clone(),
         width: scene.width,
         height: scene.height,
+        precision,
         against: against.map(|a| a.name),
         rows,
     })
@@ -182,11 +214,82 @@ pub fn verify_software(
     verify(Engine::Software { threads }, scene, methods, against)
 }
 
+/// [`verify_at`] with the software engine on `threads` threads, computing in `precision`.
+pub fn verify_software_at(
+    scene: &Scene,
+    methods: &[&'static Method],
+    against: Option<&'static Method>,
+    threads: usize,
+    precision: Precision,
+) -> Result<VerifyReport> {
+    verify_at(
+        Engine::Software { threads },
+        scene,
+        methods,
+        against,
+        precision,
+    )
+}
+
+/// The frames of `m` computed in `precision`: the one place where a precision picks the
+/// programs. Float32 is what `ready` renders; the software engine computes in any precision;
+/// the Vulkan float16 programs are half23's (issue 23): the lead wires them here after the
+/// merge (the Vulkan arm's program lookup by method, interpolation and precision).
+pub(crate) fn render_in(
+    ready: &Ready,
+    m: &Method,
+    precision: Precision,
+) -> Result<(Frame, Option<IdFrame>)> {
+    match (ready, precision) {
+        (_, Precision::F32) => ready.render(m, true),
+        (Ready::Software { threads, .. }, p) => {
+            software::render_at(ready.inputs(m)?, m, *threads, true, p)
+        }
+        (Ready::Vulkan(..), Precision::F16) => Err(Error::Usage(format!(
+            "verify --precision f16 with the Vulkan engine: the float16 program of {} is not \
+             built yet (issue 23); use --engine software",
+            m.name
+        ))),
+    }
+}
+
+/// The device's float16 image against the software engine's float16 twin of the same method:
+/// both are judged by the same f64 truth (`truth`, with the float16 bound at the device's
+/// weights), so at every pixel they may differ by at most the sum of their bounds; the
+/// software image stands as the reference with twice the bound (the software engine's
+/// weights differ from the device's by rasterizer rounding, inside the bound's
+/// interpolation term). Non-finite pixels of either are failures, as everywhere.
+pub fn twin_agreement(device: &Frame, twin: &Frame, truth: &Truth) -> Agreement {
+    let pixels = truth
+        .pixels
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let t = (*t)?;
+            let (c, n) = (twin.color[i], twin.normal[i]);
+            let v = |a: [f32; 4]| glam::DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+            Some(crate::truth::TruthPixel {
+                color: v(c),
+                normal: t.normal.map(|_| v(n)),
+                color_bound: 2.0 * t.color_bound,
+                normal_bound: 2.0 * t.normal_bound,
+                ..t
+            })
+        })
+        .collect();
+    let reference = Truth {
+        width: truth.width,
+        height: truth.height,
+        pixels,
+    };
+    agreement_at(device, &reference, Precision::F16)
+}
+
 /// Adds the recurrence drift of [`software::drift_allowance`] to each pixel's bound: `n` is the
 /// pixel's distance from the first pixel centre of its triangle's span on that row (where the
 /// recurrence starts), the normal allowance times `|N|`, the colour allowance that times the
 /// largest slope of the lighting in a cosine (diffuse + shininess x specular, per light).
-fn widen_for_drift(truth: &mut Truth, inputs: &SceneInputs, ids: &IdFrame) {
+fn widen_for_drift(truth: &mut Truth, inputs: &SceneInputs, ids: &IdFrame, precision: Precision) {
     let lit = inputs.lighting();
     let slope: f64 = lit
         .lights
@@ -203,7 +306,7 @@ fn widen_for_drift(truth: &mut Truth, inputs: &SceneInputs, ids: &IdFrame) {
         let f = inputs.fragment(t, glam::DVec3::ZERO, glam::DVec2::new(x, y));
         let sp = scanline::span_at(y, f.window, f.corner_normals);
         let n = (x - ((sp.xa - 0.5).ceil() + 0.5)).max(0.0) + 1.0;
-        let d = software::drift_allowance(n);
+        let d = software::drift_allowance_at(n, precision);
         let len = p.normal.map_or(1.0, |v| v.length().max(1.0));
         p.normal_bound += d * len;
         p.color_bound += d * len * slope;

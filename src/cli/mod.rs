@@ -244,6 +244,10 @@ enum Command {
         /// Judge every method against this method's f64 formula instead of its own (teeth checks).
         #[arg(long, value_name = "METHOD")]
         against: Option<String>,
+        /// Precision of the programs: f16 judges them by the float16 bound (u = 2^-11) and,
+        /// on Vulkan, against the software engine's float16 twin.
+        #[arg(long, value_enum, default_value_t = crate::method::Precision::F32)]
+        precision: crate::method::Precision,
     },
     /// Compare methods against the f64 exact-Phong truth: statistics, heatmaps, JSON/CSV.
     Compare {
@@ -601,7 +605,8 @@ pub fn run() -> Result<ExitCode> {
             device,
             methods,
             against,
-        } => cmd_verify(&scene, &device, &methods, against.as_deref()),
+            precision,
+        } => cmd_verify(&scene, &device, &methods, against.as_deref(), precision),
         Command::Bench(b) => cmd_bench(b),
         Command::Stress {
             device,

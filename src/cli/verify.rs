@@ -10,19 +10,26 @@ pub(super) fn cmd_verify(
     dev: &DeviceArgs,
     list: &str,
     against: Option<&str>,
+    precision: method::Precision,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let against = against.map(method::find).transpose()?;
     let scene = load_scene(scene_args)?;
     if dev.engine == EngineArg::Software {
         let threads = crate::software::default_threads();
-        let report = crate::verify::verify_software(&scene, &methods, against, threads)?;
+        let report =
+            crate::verify::verify_software_at(&scene, &methods, against, threads, precision)?;
         print!("{}", report.table());
         return verdict(&report);
     }
     let r = renderer(dev)?;
-    let report =
-        crate::verify::verify(crate::engine::Engine::Vulkan(&r), &scene, &methods, against)?;
+    let report = crate::verify::verify_at(
+        crate::engine::Engine::Vulkan(&r),
+        &scene,
+        &methods,
+        against,
+        precision,
+    )?;
     print!("{}", report.table());
     check_validation(r.context())?;
     verdict(&report)
@@ -33,7 +40,8 @@ fn verdict(report: &crate::verify::VerifyReport) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     eprintln!(
-        "outside the float32 bound of {} formula: {}",
+        "outside the {} bound of {} formula (or of the float16 twin): {}",
+        report.precision,
         report.judged_by(),
         report.failures().join("; ")
     );

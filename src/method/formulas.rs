@@ -92,6 +92,30 @@ pub fn k_romanyuk<T: Real>(z: T) -> T {
     (T::c(0.822) * z - T::c(2.046)) * z + T::c(2.227)
 }
 
+/// Unity's `HALF_MIN` (Core RP Library, ShaderLibrary/Macros.hlsl): the smallest normal
+/// binary16, 2^-14 = 6.103515625e-05.
+pub const HALF_MIN: f64 = 6.103515625e-05;
+
+/// Filament's `MEDIUMP_FLT_MAX` (shaders/src/common_math.glsl): the largest binary16, 65504.
+pub const MEDIUMP_FLT_MAX: f64 = 65504.0;
+
+/// Unity's SafeNormalize (Core RP Library, ShaderLibrary/Common.hlsl:
+/// `inVec * rsqrt(max(REAL_MIN, dot(inVec, inVec)))`, REAL_MIN = HALF_MIN in half): the scale
+/// `1/sqrt(max(z, HALF_MIN))`. Exact normalisation wherever `z >= 2^-14` (|N| >= 2^-7); a
+/// shorter vector comes out shorter than unit instead of 0/0.
+pub fn k_safe(z: f64) -> f64 {
+    1.0 / z.max(HALF_MIN).sqrt()
+}
+
+/// Filament's mediump clamp (`saturateMediump(x) = min(x, MEDIUMP_FLT_MAX)`, common_math.glsl,
+/// applied in brdf.fs to the values that overflow mediump) applied to the squared length
+/// before normalising: `1/sqrt(min(z, 65504))`. Exact below z = 65504; above it (|N| > 256,
+/// where an f16 z overflows to inf and N/|N| gives 0 or NaN) the vector comes out longer than
+/// unit but finite.
+pub fn k_clamp(z: f64) -> f64 {
+    1.0 / z.min(MEDIUMP_FLT_MAX).sqrt()
+}
+
 /// Mikami's NIIRF square root, first iteration (FORMULAS.md 2.8, S000 l.65-75):
 /// `s0 = 2/3 z + 0.35`, `s1 = beta (z - s0^2) + s0 ~ sqrt(z)`. The normalised normal is
 /// `N' = N / s1`, so the scalar factor is `1 / mikami_sqrt(z, beta)`. Design range

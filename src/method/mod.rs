@@ -96,7 +96,8 @@ pub enum Reference {
 #[serde(rename_all = "snake_case")]
 pub enum Family {
     /// The exact reference and the baselines every method sits between (flat, Gouraud,
-    /// unnormalised Phong, exact Phong).
+    /// unnormalised Phong, exact Phong), and exact normalisation with the guards engines add
+    /// for float16 (Unity's SafeNormalize, Filament's mediump clamp).
     Reference,
     /// The interpolated normal, normalised (or its lighting corrected) per pixel without an exact
     /// square root: Newton-Raphson, Taylor and polynomial fits, Mikami, Hast, a cos^n table.
@@ -210,6 +211,10 @@ pub enum Scale {
     LyonTaylor,
     LyonShift,
     RomanyukPoly,
+    /// Unity's SafeNormalize: 1/sqrt(max(z, HALF_MIN)).
+    SafeNormalize,
+    /// Filament's mediump clamp before normalising: 1/sqrt(min(z, 65504)).
+    FilamentClamp,
 }
 
 /// Mikami's beta (the square root's correction) of [`SoftwareKernel::Mikami`].

@@ -36,6 +36,8 @@ fn every_identifier_of_the_issue_is_present() {
         "gouraud",
         "phong_exact",
         "phong_unnormalized",
+        "safe_normalize",
+        "filament_clamp",
         "newton_raphson",
         "lyon_taylor",
         "lyon_shift",

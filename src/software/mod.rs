@@ -1,4 +1,5 @@
-//! The software engine (`--engine software`, issue 13): a scanline rasterizer in Rust, float32,
+//! The software engine (`--engine software`, issue 13): a scanline rasterizer in Rust, float32
+//! (or float16, the twin of the device's f16 programs: [`render_at`], [`real`]),
 //! multi-threaded over bands of rows, with the Vulkan pipeline's conventions ([`raster`]), in
 //! which every method runs in the incremental form the seeds describe ([`spans`], with the f32
 //! twins of the f64 formulas in [`formulas`]). It returns the same [`Frame`] and [`IdFrame`]
@@ -10,21 +11,25 @@
 //! CPU like any mesh.
 pub mod formulas;
 pub mod raster;
+pub mod real;
 pub mod spans;
 #[cfg(test)]
 mod tests;
 
 use glam::Vec3;
+use half::f16;
 
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
 use crate::method::{
-    specular_table, InvRoot, Method, MikamiBeta, Property, Scale, SoftwareKernel, SpanKernel,
+    specular_table, InvRoot, Method, MikamiBeta, Precision, Property, Scale, SoftwareKernel,
+    SpanKernel,
 };
 use crate::scene::{Interpolation, SceneInputs};
-use formulas::{self as f, Lighting32};
+use formulas::{self as f, Lighting};
 pub use raster::Targets;
 use raster::{draw_into, Shader, Tri};
+use real::{Real, V3};
 use spans::{n4, stepped, Along, SpanShader};
 
 /// How a method runs in the software engine: `scanline` when it has an incremental form along
@@ -46,7 +51,13 @@ pub struct Form {
 /// like a formula: `K_FORMULA = 32` roundings, twice for value and step) carried along add
 /// `64 u (n + 1)`.
 pub fn drift_allowance(n: f64) -> f64 {
-    let u = 1.0 / 16_777_216.0;
+    drift_allowance_at(n, Precision::F32)
+}
+
+/// [`drift_allowance`] for a recurrence computed in `precision` (its unit roundoff u; the
+/// count of roundings is the same).
+pub fn drift_allowance_at(n: f64, precision: Precision) -> f64 {
+    let u = precision.unit_roundoff();
     u * (4.0 * (n + 1.0) * (n + 1.0) + 64.0 * (n + 1.0))
 }
 
@@ -108,8 +119,21 @@ pub fn render(
     threads: usize,
     with_ids: bool,
 ) -> Result<(Frame, Option<IdFrame>)> {
+    render_at(inputs, method, threads, with_ids, Precision::F32)
+}
+
+/// [`render`] computing in `precision`: float32 (the shipped engine), or float16, the twin of
+/// the device's f16 programs (every operation of the method and the lighting rounded to
+/// binary16, [`real`]).
+pub fn render_at(
+    inputs: &SceneInputs,
+    method: &Method,
+    threads: usize,
+    with_ids: bool,
+    precision: Precision,
+) -> Result<(Frame, Option<IdFrame>)> {
     let mut targets = Targets::new(inputs.width, inputs.height, true, with_ids);
-    render_into(inputs, method, threads, &mut targets)?;
+    render_into_at(inputs, method, threads, &mut targets, precision)?;
     Ok(targets.into_frames())
 }
 
@@ -120,6 +144,17 @@ pub fn render_into(
     method: &Method,
     threads: usize,
     targets: &mut Targets,
+) -> Result<()> {
+    render_into_at(inputs, method, threads, targets, Precision::F32)
+}
+
+/// [`render_into`] computing in `precision`.
+pub fn render_into_at(
+    inputs: &SceneInputs,
+    method: &Method,
+    threads: usize,
+    targets: &mut Targets,
+    precision: Precision,
 ) -> Result<()> {
     if inputs.interpolation == Interpolation::Perspective {
         return Err(Error::Usage(format!(
@@ -141,10 +176,25 @@ pub fn render_into(
         )));
     }
     let tris = raster::setup(inputs)?;
+    match precision {
+        Precision::F32 => dispatch::<f32>(inputs, method, threads, targets, &tris),
+        Precision::F16 => dispatch::<f16>(inputs, method, threads, targets, &tris),
+    }
+    Ok(())
+}
+
+/// The method's kernel in scalar `S`.
+fn dispatch<S: Real>(
+    inputs: &SceneInputs,
+    method: &Method,
+    threads: usize,
+    targets: &mut Targets,
+    tris: &[Tri],
+) {
     let d = Draw {
         targets,
-        tris: &tris,
-        lit: Lighting32::new(&inputs.params, inputs.light_count),
+        tris,
+        lit: Lighting::<S>::new(&inputs.params, inputs.light_count),
         threads,
     };
     use SoftwareKernel as K;
@@ -167,26 +217,25 @@ pub fn render_into(
         K::PnNormals => pn_normals(d),
         K::SpecularLut => specular_lut(d),
     }
-    Ok(())
 }
 
 /// One draw: the targets, the set-up triangles, the lighting and the threads.
-struct Draw<'a> {
+struct Draw<'a, S> {
     targets: &'a mut Targets,
     tris: &'a [Tri],
-    lit: Lighting32,
+    lit: Lighting<S>,
     threads: usize,
 }
 
-impl Draw<'_> {
-    fn run<S: Shader>(self, s: S) {
+impl<S> Draw<'_, S> {
+    fn run<H: Shader>(self, s: H) {
         draw_into(self.targets, self.tris, &s, self.threads);
     }
 }
 
 /// The span kernel's shader state.
-fn along(k: SpanKernel) -> Along {
-    let root = |r: InvRoot| -> fn(f32) -> f32 {
+fn along<S: Real>(k: SpanKernel) -> Along<S> {
+    let root = |r: InvRoot| -> fn(S) -> S {
         match r {
             InvRoot::Exact => f::inv_root_exact,
             InvRoot::Poly1 => f::inv_root_poly1,
@@ -206,19 +255,21 @@ fn along(k: SpanKernel) -> Along {
 
 /// [`SoftwareKernel::Scaled`]: each factor a function of the squared length, passed as its own
 /// type so that the draw is compiled for it (no call through a pointer per pixel).
-fn scaled_by(d: Draw, k: Scale) {
+fn scaled_by<S: Real>(d: Draw<S>, k: Scale) {
     match k {
-        Scale::Exact => scaled(d, |z: f32| 1.0 / z.sqrt()),
-        Scale::Unnormalised => scaled(d, |_: f32| 1.0),
+        Scale::Exact => scaled(d, |z: S| S::ONE / z.sqrt()),
+        Scale::Unnormalised => scaled(d, |_: S| S::ONE),
         Scale::NewtonRaphson => scaled(d, f::k_newton),
         Scale::LyonTaylor => scaled(d, f::k_lyon2),
         Scale::LyonShift => scaled(d, f::k_lyon_shift),
         Scale::RomanyukPoly => scaled(d, f::k_romanyuk),
+        Scale::SafeNormalize => scaled(d, f::k_safe),
+        Scale::FilamentClamp => scaled(d, f::k_clamp),
     }
 }
 
 /// [`SoftwareKernel::Mikami`], each beta compiled in like [`scaled_by`]'s factors.
-fn mikami_by(d: Draw, b: MikamiBeta) {
+fn mikami_by<S: Real>(d: Draw<S>, b: MikamiBeta) {
     match b {
         MikamiBeta::Const => mikami(d, f::beta_const),
         MikamiBeta::Linear => mikami(d, f::beta_linear),
@@ -230,108 +281,127 @@ fn normal(t: &Tri) -> ([Vec3; 3], ()) {
     (t.n, ())
 }
 
-fn flat(d: Draw) {
+/// The f32 colour of an `S` colour (exact).
+#[inline(always)]
+fn out<S: Real>(c: V3<S>) -> Vec3 {
+    c.f32()
+}
+
+fn flat<S: Real>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
-        |t: &Tri| ([Vec3::ZERO; 3], (lit.shade(t.flat), t.flat)),
-        |_, c: &(Vec3, Vec3)| (c.0, n4(c.1)),
+        |t: &Tri| {
+            let n = V3::<S>::of(t.flat);
+            ([Vec3::ZERO; 3], (out(lit.shade(n)), n))
+        },
+        |_, c: &(Vec3, V3<S>)| (c.0, n4(c.1)),
     ))
 }
 
-fn vertex_colour(d: Draw) {
+fn vertex_colour<S: Real>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
-        |t: &Tri| (t.n.map(|n| lit.shade(n)), ()),
+        |t: &Tri| (t.n.map(|n| out(lit.shade(V3::of(n)))), ()),
         |c, _: &()| (c, [0.0; 4]),
     ))
 }
 
-fn scaled(d: Draw, k: impl Fn(f32) -> f32 + Copy + Sync) {
+fn scaled<S: Real>(d: Draw<S>, k: impl Fn(S) -> S + Copy + Sync) {
     let lit = d.lit;
     d.run(stepped(normal, move |v: Vec3, _: &()| {
+        let v = V3::<S>::of(v);
         let m = v * k(v.dot(v));
-        (lit.shade(m), n4(m))
+        (out(lit.shade(m)), n4(m))
     }))
 }
 
-fn mikami(d: Draw, beta: impl Fn(f32) -> f32 + Copy + Sync) {
+fn mikami<S: Real>(d: Draw<S>, beta: impl Fn(S) -> S + Copy + Sync) {
     let lit = d.lit;
     d.run(stepped(normal, move |v: Vec3, _: &()| {
+        let v = V3::<S>::of(v);
         let z = v.dot(v);
         let m = v / f::mikami_sqrt(z, beta(z));
-        (lit.shade(m), n4(m))
+        (out(lit.shade(m)), n4(m))
     }))
 }
 
-fn hast_half_vector(d: Draw) {
+fn hast_half_vector<S: Real>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
-        |t: &Tri| (t.n, t.flat),
-        move |v, flat: &Vec3| {
-            let m = f::hbb(v, *flat);
-            (lit.shade(m), n4(m))
+        |t: &Tri| (t.n, V3::<S>::of(t.flat)),
+        move |v, flat: &V3<S>| {
+            let m = f::hbb(V3::of(v), *flat);
+            (out(lit.shade(m)), n4(m))
         },
     ))
 }
 
-fn quaternion(d: Draw) {
+fn quaternion<S: Real>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
-        |t: &Tri| (t.n.map(f::quat_from_normal), ()),
+        |t: &Tri| (t.n.map(|n| f::quat_from_normal(V3::<S>::of(n)).f32()), ()),
         move |q, _: &()| {
-            let m = f::normal_from_quat(q);
-            (lit.shade(m), n4(m))
+            let m = f::normal_from_quat(V3::<S>::of(q));
+            (out(lit.shade(m)), n4(m))
         },
     ))
 }
 
-fn quaternion_local(d: Draw) {
+fn quaternion_local<S: Real>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
         |t: &Tri| {
-            let (tt, b) = f::onb(t.flat);
-            let q =
-                t.n.map(|v| f::quat_from_normal(Vec3::new(v.dot(tt), v.dot(b), v.dot(t.flat))));
-            (q, (tt, b, t.flat))
+            let flat = V3::<S>::of(t.flat);
+            let (tt, b) = f::onb(flat);
+            let q = t.n.map(|v| {
+                let v = V3::<S>::of(v);
+                f::quat_from_normal(V3::new(v.dot(tt), v.dot(b), v.dot(flat))).f32()
+            });
+            (q, (tt, b, flat))
         },
-        move |q, fr: &(Vec3, Vec3, Vec3)| {
-            let l = f::normal_from_quat(q);
+        move |q, fr: &(V3<S>, V3<S>, V3<S>)| {
+            let l = f::normal_from_quat(V3::<S>::of(q));
             let m = fr.0 * l.x + fr.1 * l.y + fr.2 * l.z;
-            (lit.shade(m), n4(m))
+            (out(lit.shade(m)), n4(m))
         },
     ))
 }
 
-fn barycentric_quadratic(d: Draw, exact_mid: bool) {
+fn barycentric_quadratic<S: Real>(d: Draw<S>, exact_mid: bool) {
     let lit = d.lit;
     let mid = if exact_mid { f::m_ij_exact } else { f::m_ij };
     d.run(stepped(
         move |t: &Tri| {
-            let n = t.n;
+            let n = t.n.map(V3::<S>::of);
             (
                 [Vec3::X, Vec3::Y, Vec3::Z],
                 (n, [mid(n[0], n[1]), mid(n[1], n[2]), mid(n[2], n[0])]),
             )
         },
-        move |c, q: &([Vec3; 3], [Vec3; 3])| {
-            let m = f::bary_quad(&q.0, &q.1, c);
-            (lit.shade(m), n4(m))
+        move |c, q: &([V3<S>; 3], [V3<S>; 3])| {
+            let m = f::bary_quad(&q.0, &q.1, V3::of(c));
+            (out(lit.shade(m)), n4(m))
         },
     ))
 }
 
-fn pn_normals(d: Draw) {
+fn pn_normals<S: Real>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
-        |t: &Tri| ([Vec3::X, Vec3::Y, Vec3::Z], (t.n, t.pn)),
-        move |c, q: &([Vec3; 3], [Vec3; 3])| {
-            let m = f::normalize_exact(f::pn_normal(&q.0, &q.1, c));
-            (lit.shade(m), n4(m))
+        |t: &Tri| {
+            (
+                [Vec3::X, Vec3::Y, Vec3::Z],
+                (t.n.map(V3::<S>::of), t.pn.map(V3::<S>::of)),
+            )
+        },
+        move |c, q: &([V3<S>; 3], [V3<S>; 3])| {
+            let m = f::normalize_exact(f::pn_normal(&q.0, &q.1, V3::of(c)));
+            (out(lit.shade(m)), n4(m))
         },
     ))
 }
 
-fn specular_lut(d: Draw) {
+fn specular_lut<S: Real>(d: Draw<S>) {
     let lit = d.lit;
     let table = specular_table();
     let (rows, samples) = (
@@ -339,14 +409,14 @@ fn specular_lut(d: Draw) {
         crate::method::formulas::LUT_SAMPLES,
     );
     d.run(stepped(normal, move |v, _: &()| {
-        let m = f::normalize_exact(v);
+        let m = f::normalize_exact(V3::<S>::of(v));
         let mut c = lit.ambient;
         for i in 0..lit.count {
-            let dif = m.dot(lit.dirs[2 * i]).max(0.0);
-            let s = m.dot(lit.dirs[2 * i + 1]).max(0.0);
+            let dif = m.dot(lit.dirs[2 * i]).max(S::ZERO);
+            let s = m.dot(lit.dirs[2 * i + 1]).max(S::ZERO);
             let sp = f::lut_lookup(table, rows, samples, lit.shininess, s);
             c += lit.colors[i] * (lit.diffuse * dif + lit.specular * sp);
         }
-        (c, n4(m))
+        (out(c), n4(m))
     }))
 }

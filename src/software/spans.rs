@@ -2,19 +2,21 @@
 //! pixel. Per-pixel methods step their interpolated vector (normal, quaternion, weights or
 //! colour) by a forward difference and apply their formula; the scanline family walks the span
 //! with its own recurrence. Every per-pixel loop is allocation-free: state lives in locals, the
-//! dichotomy grids in the per-thread scratch.
+//! dichotomy grids in the per-thread scratch. Generic over the scalar `S` ([`Real`]): the
+//! positions (t, its step, z) stay f32, the normals, cosines and colours are `S`.
 use std::marker::PhantomData;
 
 use glam::{Vec2, Vec3};
 
-use super::formulas::{self as f, Lighting32, Span};
+use super::formulas::{self as f, Lighting, Span};
 use super::raster::{RowOut, RowSpan, Shader, Tri};
+use super::real::{Real, V3};
 use crate::scene::MAX_LIGHTS;
 
 /// The normal output of a method with a per-pixel normal (w = 1).
 #[inline(always)]
-pub fn n4(n: Vec3) -> [f32; 4] {
-    [n.x, n.y, n.z, 1.0]
+pub fn n4<S: Real>(n: V3<S>) -> [f32; 4] {
+    [n.x.f32(), n.y.f32(), n.z.f32(), 1.0]
 }
 
 /// Per-pixel methods: a per-corner vector (`attr`, with per-triangle data `D`) interpolated
@@ -65,15 +67,15 @@ where
 }
 
 /// The span through a row, its unit ends, and `t` with its step at the first pixel.
-struct Walk {
-    sp: Span,
-    a: Vec3,
-    b: Vec3,
+struct Walk<S> {
+    sp: Span<S>,
+    a: V3<S>,
+    b: V3<S>,
     t: f32,
     dt: f32,
 }
 
-fn walk(tri: &Tri, span: &RowSpan) -> Walk {
+fn walk<S: Real>(tri: &Tri, span: &RowSpan) -> Walk<S> {
     let sp = f::span_at(span.y as f32 + 0.5, &tri.s, &tri.n);
     let px = span.i0 as f32 + 0.5;
     let (t, dt) = if sp.xb > sp.xa {
@@ -94,7 +96,7 @@ fn walk(tri: &Tri, span: &RowSpan) -> Walk {
 /// A recurrence's value `v` at span fraction `t`, or the value at the nearer end when `t` lies
 /// outside [0, 1] (the twins clamp t there).
 #[inline(always)]
-fn clamped(t: f32, v: Vec3, ends: (Vec3, Vec3)) -> Vec3 {
+fn clamped<S: Real>(t: f32, v: V3<S>, ends: (V3<S>, V3<S>)) -> V3<S> {
     if t < 0.0 {
         ends.0
     } else if t > 1.0 {
@@ -106,7 +108,7 @@ fn clamped(t: f32, v: Vec3, ends: (Vec3, Vec3)) -> Vec3 {
 
 /// Which interpolation along the span.
 #[derive(Debug, Clone, Copy)]
-pub enum Along {
+pub enum Along<S> {
     /// slerp evaluated at each pixel's t (the closed form; its recurrence is `Chebyshev`).
     Slerp,
     /// spherical_angular: N(k+1) = 2 cos(phi) N(k) - N(k-1), seeded by the closed form.
@@ -114,9 +116,9 @@ pub enum Along {
     /// quadratic_scanline: G t^2 + P t + Q by second-order forward differences.
     Quadratic { approx_mid: bool },
     /// dichotomy_*: the span's grid m / 2^K filled by halving, each pixel takes its nearest.
-    Dichotomy(fn(f32) -> f32),
+    Dichotomy(fn(S) -> S),
     /// segments_k*: ends shaded, the colour stepped by 1/2^k (or dichotomy inside with a root).
-    Segments(u32, Option<fn(f32) -> f32>),
+    Segments(u32, Option<fn(S) -> S>),
     /// bishop_weimer: each cosine's Taylor polynomial by forward differences.
     BishopWeimer,
     /// hast_euler: each cosine by Euler steps with the end-error correction.
@@ -124,46 +126,46 @@ pub enum Along {
 }
 
 /// The scanline family's shader.
-pub struct SpanShader {
-    pub along: Along,
-    pub lit: Lighting32,
+pub struct SpanShader<S> {
+    pub along: Along<S>,
+    pub lit: Lighting<S>,
 }
 
 /// Per-triangle set-up of the scanline family (only Bishop-Weimer has any).
-pub struct SpanSetup {
+pub struct SpanSetup<S> {
     o: Vec2,
-    taylor: [[f32; 6]; 2 * MAX_LIGHTS],
+    taylor: [[S; 6]; 2 * MAX_LIGHTS],
 }
 
 /// Fills `grid[0..=n]` (n = 2^k) with the dichotomy samples between unit `a` and `b`: each
 /// midpoint `(lo + hi) f(2 lo.hi)` once, the same operations as `scanline::dichotomy` takes on
-/// its way to any one sample.
-fn halve(grid: &mut Vec<Vec3>, a: Vec3, b: Vec3, k: u32, inv_root: fn(f32) -> f32) {
+/// its way to any one sample. The grid holds the `S` values as f32 (exact).
+fn halve<S: Real>(grid: &mut Vec<Vec3>, a: V3<S>, b: V3<S>, k: u32, inv_root: fn(S) -> S) {
     let n = 1usize << k;
     grid.clear();
     grid.resize(n + 1, Vec3::ZERO);
-    grid[0] = a;
-    grid[n] = b;
+    grid[0] = a.f32();
+    grid[n] = b.f32();
     let mut step = n;
     while step > 1 {
         let half = step / 2;
         let mut j = 0;
         while j < n {
-            let (lo, hi) = (grid[j], grid[j + step]);
-            grid[j + half] = (lo + hi) * inv_root(2.0 * lo.dot(hi));
+            let (lo, hi) = (V3::<S>::of(grid[j]), V3::<S>::of(grid[j + step]));
+            grid[j + half] = ((lo + hi) * inv_root(S::of(2.0) * lo.dot(hi))).f32();
             j += step;
         }
         step = half;
     }
 }
 
-impl Shader for SpanShader {
-    type Setup = SpanSetup;
-    fn setup(&self, tri: &Tri) -> SpanSetup {
-        let mut taylor = [[0.0; 6]; 2 * MAX_LIGHTS];
+impl<S: Real> Shader for SpanShader<S> {
+    type Setup = SpanSetup<S>;
+    fn setup(&self, tri: &Tri) -> SpanSetup<S> {
+        let mut taylor = [[S::ZERO; 6]; 2 * MAX_LIGHTS];
         let mut o = Vec2::ZERO;
         if let Along::BishopWeimer = self.along {
-            let (a, b, c, origin) = f::plane_normal(&tri.s, &tri.n);
+            let (a, b, c, origin) = f::plane_normal::<S>(&tri.s, &tri.n);
             o = origin;
             for (k, t) in taylor.iter_mut().enumerate().take(self.lit.cosines()) {
                 *t = f::taylor_terms(self.lit.dirs[k], a, b, c);
@@ -175,7 +177,7 @@ impl Shader for SpanShader {
     fn row(
         &self,
         tri: &Tri,
-        st: &SpanSetup,
+        st: &SpanSetup<S>,
         span: RowSpan,
         out: &mut RowOut,
         scratch: &mut Vec<Vec3>,
@@ -192,23 +194,25 @@ impl Shader for SpanShader {
     }
 }
 
-impl SpanShader {
+impl<S: Real> SpanShader<S> {
     /// Interpolation by slerp at each pixel's t (the closed form).
     #[inline]
     fn slerp(&self, tri: &Tri, span: RowSpan, out: &mut RowOut) {
         let lit = &self.lit;
         let mut z = span.z;
-        let w = walk(tri, &span);
+        let w = walk::<S>(tri, &span);
         let ang = f::angle(w.a, w.b);
         let mut t = w.t;
         for i in span.i0..=span.i1 {
             if out.test(tri, i, z, span.centre(i)) {
-                let tc = t.clamp(0.0, 1.0);
+                let tc = S::of(t.clamp(0.0, 1.0));
                 let n = match ang {
-                    Some((_, s, th)) => (w.a * ((1.0 - tc) * th).sin() + w.b * (tc * th).sin()) / s,
-                    None => f::normalize_exact(w.a * (1.0 - tc) + w.b * tc),
+                    Some((_, s, th)) => {
+                        (w.a * ((S::ONE - tc) * th).sin() + w.b * (tc * th).sin()) / s
+                    }
+                    None => f::normalize_exact(w.a * (S::ONE - tc) + w.b * tc),
                 };
-                out.put(i, lit.shade(n), n4(n));
+                out.put(i, lit.shade(n).f32(), n4(n));
             }
             t += w.dt;
             z += span.dz;
@@ -220,23 +224,23 @@ impl SpanShader {
     fn chebyshev(&self, tri: &Tri, span: RowSpan, out: &mut RowOut) {
         let lit = &self.lit;
         let mut z = span.z;
-        let w = walk(tri, &span);
+        let w = walk::<S>(tri, &span);
         // Seeded at the first pixel's own t, not clamped: a covered centre a rounding
         // left of xA then stays on the same grid as the rest of the span.
         let t0 = w.t;
         match f::angle(w.a, w.b) {
             Some((_, _, th)) => {
-                let k2 = 2.0 * (th * w.dt).cos();
-                let mut cur = f::spherical_angular(w.a, w.b, t0);
-                let mut next = f::spherical_angular(w.a, w.b, t0 + w.dt);
+                let k2 = S::of(2.0) * (th * S::of(w.dt)).cos();
+                let mut cur = f::spherical_angular(w.a, w.b, S::of(t0));
+                let mut next = f::spherical_angular(w.a, w.b, S::of(t0 + w.dt));
                 // Outside [0, 1] (rounding at the span's ends, or the clamped top and
                 // bottom rows) the twin clamps t: the end values there.
-                let ends = (w.a, f::spherical_angular(w.a, w.b, 1.0));
+                let ends = (w.a, f::spherical_angular(w.a, w.b, S::ONE));
                 let mut t = t0;
                 for i in span.i0..=span.i1 {
                     if out.test(tri, i, z, span.centre(i)) {
                         let n = clamped(t, cur, ends);
-                        out.put(i, lit.shade(n), n4(n));
+                        out.put(i, lit.shade(n).f32(), n4(n));
                     }
                     let n2 = next * k2 - cur;
                     cur = next;
@@ -249,9 +253,9 @@ impl SpanShader {
                 let mut t = w.t;
                 for i in span.i0..=span.i1 {
                     if out.test(tri, i, z, span.centre(i)) {
-                        let tc = t.clamp(0.0, 1.0);
-                        let n = f::normalize_exact(w.a * (1.0 - tc) + w.b * tc);
-                        out.put(i, lit.shade(n), n4(n));
+                        let tc = S::of(t.clamp(0.0, 1.0));
+                        let n = f::normalize_exact(w.a * (S::ONE - tc) + w.b * tc);
+                        out.put(i, lit.shade(n).f32(), n4(n));
                     }
                     t += w.dt;
                     z += span.dz;
@@ -265,25 +269,26 @@ impl SpanShader {
     fn quadratic(&self, tri: &Tri, span: RowSpan, out: &mut RowOut, approx_mid: bool) {
         let lit = &self.lit;
         let mut z = span.z;
-        let w = walk(tri, &span);
+        let w = walk::<S>(tri, &span);
         let (nl, np) = (w.a, w.b);
         let nc = if approx_mid {
             f::mid_approx(nl, np)
         } else {
             f::mid_exact(nl, np)
         };
-        let g = np * 2.0 - nc * 4.0 + nl * 2.0;
-        let p = nc * 4.0 - nl * 3.0 - np;
-        let (t, dt) = (w.t, w.dt);
-        let mut v = (g * t + p) * t + nl;
-        let mut d1 = g * (2.0 * t * dt + dt * dt) + p * dt;
-        let d2 = g * (2.0 * dt * dt);
+        let (two, three, four) = (S::of(2.0), S::of(3.0), S::of(4.0));
+        let g = np * two - nc * four + nl * two;
+        let p = nc * four - nl * three - np;
+        let (ts, dts) = (S::of(w.t), S::of(w.dt));
+        let mut v = (g * ts + p) * ts + nl;
+        let mut d1 = g * (two * ts * dts + dts * dts) + p * dts;
+        let d2 = g * (two * dts * dts);
         let ends = (nl, (g + p) + nl);
-        let mut t = t;
+        let (mut t, dt) = (w.t, w.dt);
         for i in span.i0..=span.i1 {
             if out.test(tri, i, z, span.centre(i)) {
                 let n = clamped(t, v, ends);
-                out.put(i, lit.shade(n), n4(n));
+                out.put(i, lit.shade(n).f32(), n4(n));
             }
             v += d1;
             d1 += d2;
@@ -300,11 +305,11 @@ impl SpanShader {
         span: RowSpan,
         out: &mut RowOut,
         scratch: &mut Vec<Vec3>,
-        inv_root: fn(f32) -> f32,
+        inv_root: fn(S) -> S,
     ) {
         let lit = &self.lit;
         let mut z = span.z;
-        let w = walk(tri, &span);
+        let w = walk::<S>(tri, &span);
         let k = f::levels(w.sp.xb - w.sp.xa);
         let n = 1u32 << k;
         halve(scratch, w.a, w.b, k, inv_root);
@@ -313,8 +318,8 @@ impl SpanShader {
             if out.test(tri, i, z, span.centre(i)) {
                 let tc = t.clamp(0.0, 1.0);
                 let m = ((tc * n as f32 + 0.5).floor() as u32).min(n);
-                let v = scratch[m as usize];
-                out.put(i, lit.shade(v), n4(v));
+                let v = V3::<S>::of(scratch[m as usize]);
+                out.put(i, lit.shade(v).f32(), n4(v));
             }
             t += w.dt;
             z += span.dz;
@@ -323,26 +328,27 @@ impl SpanShader {
 
     /// bishop_weimer: each cosine's Taylor polynomial by forward differences.
     #[inline]
-    fn bishop_weimer(&self, tri: &Tri, st: &SpanSetup, span: RowSpan, out: &mut RowOut) {
+    fn bishop_weimer(&self, tri: &Tri, st: &SpanSetup<S>, span: RowSpan, out: &mut RowOut) {
         let lit = &self.lit;
         let mut z = span.z;
         let c = lit.cosines();
-        let x = span.i0 as f32 + 0.5 - st.o.x;
-        let y = span.y as f32 + 0.5 - st.o.y;
+        let x = S::of(span.i0 as f32 + 0.5 - st.o.x);
+        let y = S::of(span.y as f32 + 0.5 - st.o.y);
         let (mut v, mut d1, mut d2) = (
-            [0.0f32; 2 * MAX_LIGHTS],
-            [0.0; 2 * MAX_LIGHTS],
-            [0.0; 2 * MAX_LIGHTS],
+            [S::ZERO; 2 * MAX_LIGHTS],
+            [S::ZERO; 2 * MAX_LIGHTS],
+            [S::ZERO; 2 * MAX_LIGHTS],
         );
+        let two = S::of(2.0);
         for k in 0..c {
             let [t0, t1, t2, t3, t4, t5] = st.taylor[k];
             v[k] = t5 * x * x + t4 * x * y + t3 * y * y + t2 * x + t1 * y + t0;
-            d1[k] = t5 * (2.0 * x + 1.0) + t4 * y + t2;
-            d2[k] = 2.0 * t5;
+            d1[k] = t5 * (two * x + S::ONE) + t4 * y + t2;
+            d2[k] = two * t5;
         }
         for i in span.i0..=span.i1 {
             if out.test(tri, i, z, span.centre(i)) {
-                out.put(i, lit.shade_cosines(|k| v[k]), [0.0; 4]);
+                out.put(i, lit.shade_cosines(|k| v[k]).f32(), [0.0; 4]);
             }
             for k in 0..c {
                 v[k] += d1[k];
@@ -357,19 +363,20 @@ impl SpanShader {
     fn hast_euler(&self, tri: &Tri, span: RowSpan, out: &mut RowOut) {
         let lit = &self.lit;
         let mut z = span.z;
-        let w = walk(tri, &span);
+        let w = walk::<S>(tri, &span);
         let c = lit.cosines();
         let (na, nb) = (w.sp.na, w.sp.nb);
         let (mut v, mut d1, mut d2) = (
-            [0.0f32; 2 * MAX_LIGHTS],
-            [0.0; 2 * MAX_LIGHTS],
-            [0.0; 2 * MAX_LIGHTS],
+            [S::ZERO; 2 * MAX_LIGHTS],
+            [S::ZERO; 2 * MAX_LIGHTS],
+            [S::ZERO; 2 * MAX_LIGHTS],
         );
-        let mut ends = [(0.0f32, 0.0f32); 2 * MAX_LIGHTS];
+        let mut ends = [(S::ZERO, S::ZERO); 2 * MAX_LIGHTS];
         // Seeded at the first pixel's own t, not clamped (as Chebyshev): a covered
         // centre a rounding outside [xA, xB] takes the end value the twin's clamped t
         // gives, and the rest of the span stays on its own grid.
         let (t, dt) = (w.t, w.dt);
+        let (ts, dts, two) = (S::of(t), S::of(dt), S::of(2.0));
         for k in 0..c {
             let dir = lit.dirs[k];
             let i0 = dir.dot(na) / na.length();
@@ -382,11 +389,11 @@ impl SpanShader {
             }
             let i1 = dir.dot(nb) / nb.length();
             let dn = nb - na;
-            let half = 0.5 * (f::cosine_slope(dir, nb, dn) - f::cosine_slope(dir, na, dn));
+            let half = S::of(0.5) * (f::cosine_slope(dir, nb, dn) - f::cosine_slope(dir, na, dn));
             let di = i1 - i0;
-            v[k] = i0 + t * di + half * t * (t - 1.0);
-            d1[k] = dt * di + half * dt * (2.0 * t + dt - 1.0);
-            d2[k] = 2.0 * half * dt * dt;
+            v[k] = i0 + ts * di + half * ts * (ts - S::ONE);
+            d1[k] = dts * di + half * dts * (two * ts + dts - S::ONE);
+            d2[k] = two * half * dts * dts;
             ends[k] = (i0, i1);
         }
         let mut t = t;
@@ -397,7 +404,7 @@ impl SpanShader {
                     t if t > 1.0 => ends[k].1,
                     _ => v[k],
                 };
-                out.put(i, lit.shade_cosines(at), [0.0; 4]);
+                out.put(i, lit.shade_cosines(at).f32(), [0.0; 4]);
             }
             for k in 0..c {
                 v[k] += d1[k];
@@ -420,23 +427,24 @@ impl SpanShader {
         out: &mut RowOut,
         grid: &mut Vec<Vec3>,
         k: u32,
-        inv_root: Option<fn(f32) -> f32>,
+        inv_root: Option<fn(S) -> S>,
     ) {
         let lit = &self.lit;
-        let sp = f::span_at(span.y as f32 + 0.5, &tri.s, &tri.n);
+        let sp = f::span_at::<S>(span.y as f32 + 0.5, &tri.s, &tri.n);
         let len = 1i64 << k;
         let p0 = (sp.xa - 0.5).ceil() + 0.5;
         let start = (p0 - 0.5) as i64;
         let dseg = if sp.xb > sp.xa {
-            (sp.nb - sp.na) * (len as f32 / (sp.xb - sp.xa))
+            (sp.nb - sp.na) * S::of(len as f32 / (sp.xb - sp.xa))
         } else {
-            Vec3::ZERO
+            V3::zero()
         };
-        let end = |n: Vec3| f::normalize_exact(if n.dot(n) > 1e-12 { n } else { sp.na });
-        let scale = 1.0 / len as f32;
+        let tiny = S::of(1e-12);
+        let end = |n: V3<S>| f::normalize_exact(if n.dot(n) > tiny { n } else { sp.na });
+        let scale = S::of(1.0 / len as f32);
         let mut seg = i64::MIN;
-        let (mut nr, mut np) = (Vec3::ZERO, Vec3::ZERO);
-        let (mut ip, mut c, mut dc) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+        let (mut nr, mut np) = (V3::zero(), V3::zero());
+        let (mut ip, mut c, mut dc) = (V3::zero(), V3::zero(), V3::zero());
         let mut z = span.z;
         for i in span.i0..=span.i1 {
             let j = (i as i64 - start).max(0);
@@ -455,7 +463,7 @@ impl SpanShader {
                     None => {
                         ip = lit.shade(np);
                         dc = (ip - il) * scale;
-                        c = il + dc * v as f32;
+                        c = il + dc * S::of(v as f32);
                     }
                     Some(r) => {
                         halve(grid, nl, np, k, r);
@@ -466,10 +474,10 @@ impl SpanShader {
             }
             if out.test(tri, i, z, span.centre(i)) {
                 match inv_root {
-                    None => out.put(i, c, [0.0; 4]),
+                    None => out.put(i, c.f32(), [0.0; 4]),
                     Some(_) => {
-                        let n = grid[v];
-                        out.put(i, lit.shade(n), n4(n));
+                        let n = V3::<S>::of(grid[v]);
+                        out.put(i, lit.shade(n).f32(), n4(n));
                     }
                 }
             }

@@ -4,6 +4,7 @@ use glam::DVec3;
 
 use super::*;
 use crate::frame::Frame;
+use crate::method::Precision;
 
 /// How a GPU frame agrees with its f64 truth.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -48,8 +49,16 @@ pub(crate) fn finite(v: &[f32; 4]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
-/// Compares a GPU frame with its truth, pixel by pixel.
+/// Compares a GPU frame with its truth, pixel by pixel (a float32 program: an f64 value beyond
+/// f32's range makes the frame's inf or NaN expected).
 pub fn agreement(frame: &Frame, truth: &Truth) -> Agreement {
+    agreement_at(frame, truth, Precision::F32)
+}
+
+/// [`agreement`] for a program computing in `precision`: an f64 value beyond that precision's
+/// range (65504 in f16) makes the frame's inf or NaN expected (`overflow`); any other
+/// non-finite pixel is a failure.
+pub fn agreement_at(frame: &Frame, truth: &Truth, precision: Precision) -> Agreement {
     let mut a = Agreement {
         covered: 0,
         coverage_mismatch: 0,
@@ -79,7 +88,7 @@ pub fn agreement(frame: &Frame, truth: &Truth) -> Agreement {
         a.ill_conditioned += usize::from(ill);
         let gn = frame.normal[i];
         if !finite(&gc) || !finite(&gn) {
-            if t.exceeds_f32() {
+            if t.exceeds(precision) {
                 a.overflow += 1;
             } else if ill {
                 a.non_finite_ill_conditioned += 1;

@@ -40,6 +40,29 @@
 //!
 //! The constants are few and each is stated below with its reason. The measured error/bound
 //! ratios (`shadelab verify`, tests/gpu.rs) show how much margin they leave.
+//!
+//! # The float16 bound ([`evaluate_at`] with [`Precision::F16`], docs/float16-twin.md)
+//! The same derivation with the method and the lighting computed in binary16 (u = 2^-11,
+//! [`Precision::unit_roundoff`]) while the rasterizer stays float32: term 1 (interpolation,
+//! `dw` with the f32 `U`) and term 3 (the span's window positions, f32) are unchanged; term 2
+//! becomes, per rounding, `u |x| + ETA16` (ETA16 = 2^-25, half the spacing of binary16's
+//! subnormals: the absolute error a rounding can make below 2^-14, where relative error is not
+//! bounded) and counts what float32 left implicit:
+//! - the normal: `(K_FORMULA + 1)` roundings (the +1 converts the interpolated f32 varying to
+//!   f16 where the shader reads it);
+//! - each cosine N.L: the normal's error through L (`sqrt(3) rn`) and `K_DOT` = 4 roundings of
+//!   the dot product and of L's conversion;
+//! - `pow = exp2(n log2 s)` in f16 (three roundings, plus the conversion of n): relative error
+//!   `u (1 + 2 |ln s^n|) + u |ln s^n|`, and `s^n |ln s^n| <= 1/e`, so at most
+//!   `u (s^n + 3/e)` absolute;
+//! - the sums and products of the lighting and the conversion of its uniforms: `K_LIGHT` = 9
+//!   roundings of the colour's size.
+//!
+//! These are first-order; the terms that are not linear in u are flagged, not bounded: a
+//! squared length above 65504 (|N| above 256, or two components above 181) overflows to inf in
+//! f16, and the pixel then comes out NaN, zero or inf where the f64 value is finite: counted as
+//! `non_finite` (a failure) or as an error far above the bound, never as zero error. A value
+//! whose f64 itself exceeds binary16's range is counted as `overflow` ([`TruthPixel::exceeds`]).
 pub mod agreement;
 mod values;
 
@@ -50,7 +73,7 @@ use glam::{DVec2, DVec3};
 
 use crate::frame::IdFrame;
 use crate::method::formulas::Lighting;
-use crate::method::{Fragment, Input, Method, Shaded};
+use crate::method::{Fragment, Input, Method, Precision, Shaded};
 use crate::scene::Interpolation;
 use crate::scene::SceneInputs;
 
@@ -72,6 +95,17 @@ const FD_STEP: f64 = 1e-7;
 /// to `S` (the largest |coordinate| of the pixel and the corners): the span behaves as if the
 /// pixel were off by up to `K_SPAN * U * S` in x and in y.
 pub const K_SPAN: f64 = 8.0;
+/// Half the spacing of binary16's subnormals (2^-25): the absolute error one f16 rounding can
+/// make below the smallest normal 2^-14, where the relative bound u does not hold.
+pub const ETA16: f64 = 1.0 / 33_554_432.0;
+/// Roundings of one f16 cosine N.L: three products and two sums (gamma_3 ~ 3u) and the
+/// conversion of L to f16.
+pub const K_DOT: f64 = 4.0;
+/// Roundings of the f16 lighting's sums and products per channel (diffuse x d, specular x sp,
+/// their sum, colour x it, the running sum) and of the conversion of its uniforms (ambient,
+/// diffuse, specular, light colour).
+pub const K_LIGHT: f64 = 9.0;
+
 /// Weight uncertainty (`K_INTERP * U * amplification`) above which a pixel counts as
 /// ill-conditioned: its triangle is so thin on screen (typically a silhouette triangle seen
 /// edge-on) that the rasterizer's float32 weights are uncertain by more than 1e-3, and the
@@ -119,7 +153,17 @@ impl TruthPixel {
 
     /// Whether the f64 colour or normal lies outside the range of f32.
     pub fn exceeds_f32(&self) -> bool {
-        let big = |v: DVec3| !v.is_finite() || v.abs().max_element() > f32::MAX as f64;
+        self.exceeds(Precision::F32)
+    }
+
+    /// Whether the f64 colour or normal lies outside the range of `precision` (f32: 3.4e38,
+    /// f16: 65504).
+    pub fn exceeds(&self, precision: Precision) -> bool {
+        let max = match precision {
+            Precision::F32 => f32::MAX as f64,
+            Precision::F16 => half::f16::MAX.to_f64(),
+        };
+        let big = |v: DVec3| !v.is_finite() || v.abs().max_element() > max;
         big(self.color) || self.normal.is_some_and(big)
     }
 }
@@ -155,9 +199,20 @@ fn specular_slope(n: f64, s: f64) -> f64 {
     }
 }
 
-/// Evaluates `method` in f64 at every covered pixel of `ids`, with the per-pixel bound.
+/// Evaluates `method` in f64 at every covered pixel of `ids`, with the per-pixel float32 bound.
 pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
-    let pixel = evaluator(inputs, ids, method, true);
+    evaluate_at(inputs, ids, method, Precision::F32)
+}
+
+/// [`evaluate`] with the bound of a program computing in `precision` (the float16 bound of the
+/// module doc for [`Precision::F16`]).
+pub fn evaluate_at(
+    inputs: &SceneInputs,
+    ids: &IdFrame,
+    method: &Method,
+    precision: Precision,
+) -> Truth {
+    let pixel = evaluator(inputs, ids, method, Some(precision));
     Truth {
         width: ids.width,
         height: ids.height,
@@ -169,7 +224,7 @@ pub fn evaluate(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Truth {
 /// float32 bounds are not computed (which saves the twin's extra evaluations per pixel) and
 /// not stored; the conditioning is, as a flag (see [`Values`]).
 pub fn values(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Values {
-    let pixel = evaluator(inputs, ids, method, false);
+    let pixel = evaluator(inputs, ids, method, None);
     let mut v = Values::with_capacity(ids.width, ids.height, ids.covered());
     for i in 0..ids.prim.len() {
         v.push(pixel(i).as_ref());
@@ -177,13 +232,13 @@ pub fn values(inputs: &SceneInputs, ids: &IdFrame, method: &Method) -> Values {
     v
 }
 
-/// The truth at pixel `i` of `ids` (`None` on the background); the bounds are NaN unless
-/// `bounds`.
+/// The truth at pixel `i` of `ids` (`None` on the background); the bounds (of a program in
+/// `bounds`' precision) are NaN when `bounds` is `None`.
 fn evaluator<'a>(
     inputs: &'a SceneInputs,
     ids: &'a IdFrame,
     method: &'a Method,
-    bounds: bool,
+    bounds: Option<Precision>,
 ) -> impl Fn(usize) -> Option<TruthPixel> + 'a {
     let lighting = inputs.lighting();
     let corners = window_corners(inputs);
@@ -203,12 +258,11 @@ fn evaluator<'a>(
         let shaded = eval(&frag);
         let g = weight_gradient([corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]]);
         let amplification = (1.0 + g * (x + y + 2.0)) * if perspective { 2.0 } else { 1.0 };
-        let (mut color_bound, mut normal_bound) = if bounds {
-            bound(&eval, &frag, &shaded, &lighting, amplification)
-        } else {
-            (f64::NAN, f64::NAN)
+        let (mut color_bound, mut normal_bound) = match bounds {
+            Some(p) => bound(&eval, &frag, &shaded, &lighting, amplification, p),
+            None => (f64::NAN, f64::NAN),
         };
-        if scanline && bounds {
+        if scanline && bounds.is_some() {
             let (c, n) = span_bound(&eval, &frag);
             let (cc, cn) = corner_normal_bound(&eval, &frag);
             color_bound += c + cc;
@@ -294,6 +348,7 @@ fn bound(
     shaded: &Shaded,
     lighting: &Lighting,
     amplification: f64,
+    precision: Precision,
 ) -> (f64, f64) {
     // 1. interpolation: sum_j |dC/dw_j| and |dN/dw_j| by central differences
     let (mut jc, mut jn) = (0.0, 0.0);
@@ -315,6 +370,10 @@ fn bound(
     }
     let dw = K_INTERP * U * amplification;
     // 2. arithmetic of the method's formula and of the lighting
+    if precision == Precision::F16 {
+        let (dc, rn) = arithmetic_f16(shaded, lighting);
+        return (2.0 * dw * jc + dc, 2.0 * dw * jn + rn);
+    }
     let (rn, s_of) = match shaded.normal {
         Some(n) => (K_FORMULA * U * n.length().max(1.0), Some(n)),
         None => (K_FORMULA * U, None),
@@ -328,4 +387,31 @@ fn bound(
         dc += (color * (lighting.diffuse * rn + lighting.specular * spec)).max_element();
     }
     (2.0 * dw * jc + dc, 2.0 * dw * jn + rn)
+}
+
+/// Term 2 of the float16 bound (module doc): (colour bound, normal bound) of the method's f16
+/// formula and the f16 lighting at one pixel.
+fn arithmetic_f16(shaded: &Shaded, lighting: &Lighting) -> (f64, f64) {
+    let u = Precision::F16.unit_roundoff();
+    let size = shaded.normal.map_or(1.0, |n| n.length().max(1.0));
+    let one = u * size + ETA16;
+    let rn = (K_FORMULA + 1.0) * one;
+    let cosine = 3f64.sqrt() * rn + K_DOT * one;
+    let n = lighting.shininess;
+    let mut magnitude = lighting.ambient.max_element();
+    let mut dc = 0.0;
+    for &(_, color, h) in &lighting.lights {
+        let s = shaded
+            .normal
+            .map(|v| v.dot(h).clamp(0.0, 1.0))
+            .unwrap_or(1.0);
+        let sn = s.powf(n);
+        let spec = specular_slope(n, s) * cosine
+            + u * (sn + 3.0 / std::f64::consts::E)
+            + ETA16
+            + POW_REL * sn;
+        dc += (color * (lighting.diffuse * cosine + lighting.specular * spec)).max_element();
+        magnitude += (color * (lighting.diffuse + lighting.specular)).max_element();
+    }
+    (dc + K_LIGHT * (u * magnitude.max(1.0) + ETA16), rn)
 }

@@ -89,8 +89,8 @@ fn the_span_and_pixel_loops_allocate_nothing() {
     let per_pixel = stepped(
         |t: &software::raster::Tri| (t.n, ()),
         move |v: glam::Vec3, _: &()| {
-            let m = f::normalize_exact(v);
-            (lit.shade(m), n4(m))
+            let m = f::normalize_exact(software::real::V3::<f32>::of(v));
+            (lit.shade(m).f32(), n4(m))
         },
     );
     let (allocs, rows) = counted(&tris, per_pixel, false);

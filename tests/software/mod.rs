@@ -9,8 +9,12 @@
 //! - `loops`: the span and pixel loops allocate nothing.
 //! - `stress_meshes`: `verify --engine software` on grids of random and nearly opposite corner
 //!   normals.
+//! - `half`: the float16 engine (rounding, the float16 bound on every scene and model, the twin check).
+//! - `golden`: the float32 frames bit-identical to the engine before the generic kernels.
 mod drift;
 mod engines;
+mod golden;
+mod half;
 mod loops;
 mod models;
 mod outputs;
