@@ -246,7 +246,7 @@ enum Command {
         against: Option<String>,
         /// Precision of the programs: f16 judges them by the float16 bound (u = 2^-11) and,
         /// on Vulkan, against the software engine's float16 twin.
-        #[arg(long, value_enum, default_value_t = crate::method::Precision::F32)]
+        #[arg(long, default_value = "f32", value_parser = parse_precision())]
         precision: crate::method::Precision,
     },
     /// Compare methods against the f64 exact-Phong truth: statistics, heatmaps, JSON/CSV.
