@@ -307,7 +307,7 @@ enum Command {
     },
     /// The main job: compare, bench and stress on the given scenes, written as one offline
     /// HTML report (OUT/index.html, its path printed on stdout).
-    #[command(group(ArgGroup::new("source").required(true).args(["scenes", "scene", "mesh"])))]
+    #[command(group(ArgGroup::new("source").required(true).multiple(true).args(["scenes", "scene", "mesh", "models"])))]
     Report {
         /// Every scene file (*.toml) of DIR.
         #[arg(long, value_name = "DIR")]
@@ -318,6 +318,15 @@ enum Command {
         /// One OBJ mesh (camera fitted, default light and material).
         #[arg(long, value_name = "FILE.obj")]
         mesh: Option<PathBuf>,
+        /// Every OBJ mesh (*.obj) of DIR as one more scene each (camera fitted, default light
+        /// and material), alone or added to --scenes / --scene / --mesh; the answer covers them.
+        #[arg(long, value_name = "DIR")]
+        models: Option<PathBuf>,
+        /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
+        /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
+        /// run in this process).
+        #[arg(long, value_name = "N", default_value_t = crate::bench::runs::DEFAULT_RUNS)]
+        runs: usize,
         /// Output directory (index.html and everything it shows).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
@@ -565,6 +574,8 @@ pub fn run() -> Result<ExitCode> {
             scenes,
             scene,
             mesh,
+            models,
+            runs,
             out,
             methods,
             size,
@@ -576,8 +587,15 @@ pub fn run() -> Result<ExitCode> {
                 scenes: scenes.as_deref(),
                 scene: scene.as_deref(),
                 mesh: mesh.as_deref(),
+                models: models.as_deref(),
             };
-            cmd_report(&src, size, interpolation, &device, &methods, &out, full)
+            let how = report::How {
+                size,
+                interpolation,
+                full,
+                runs,
+            };
+            cmd_report(&src, &how, &device, &methods, &out)
         }
         Command::Devices => {
             for d in Context::list_devices()? {
