@@ -21,7 +21,6 @@ use self::list::cmd_list;
 use self::mesh::cmd_mesh;
 use self::plan::cmd_plan;
 use self::render::cmd_render;
-use self::report::{cmd_report, Sources};
 use self::shaders::cmd_shaders;
 use self::skips::cmd_skips;
 use self::stress::cmd_stress;
@@ -570,33 +569,7 @@ pub fn run() -> Result<ExitCode> {
             out,
             device,
         } => cmd_demo(&scenes, &out, &device),
-        Command::Report {
-            scenes,
-            scene,
-            mesh,
-            models,
-            runs,
-            out,
-            methods,
-            size,
-            interpolation,
-            full,
-            device,
-        } => {
-            let src = Sources {
-                scenes: scenes.as_deref(),
-                scene: scene.as_deref(),
-                mesh: mesh.as_deref(),
-                models: models.as_deref(),
-            };
-            let how = report::How {
-                size,
-                interpolation,
-                full,
-                runs,
-            };
-            cmd_report(&src, &how, &device, &methods, &out)
-        }
+        c @ Command::Report { .. } => report::run_report(c),
         Command::Devices => {
             for d in Context::list_devices()? {
                 println!("{d}");

@@ -112,6 +112,41 @@ fn inputs(src: &Sources) -> Result<Vec<(PathBuf, bool)>> {
     Ok(v)
 }
 
+/// `shadelab report`: its arguments to [`cmd_report`].
+pub(super) fn run_report(c: Command) -> Result<ExitCode> {
+    let Command::Report {
+        scenes,
+        scene,
+        mesh,
+        models,
+        runs,
+        out,
+        methods,
+        size,
+        interpolation,
+        full,
+        device,
+    } = c
+    else {
+        return Err(Error::Internal(
+            "run_report called with another command".into(),
+        ));
+    };
+    let src = Sources {
+        scenes: scenes.as_deref(),
+        scene: scene.as_deref(),
+        mesh: mesh.as_deref(),
+        models: models.as_deref(),
+    };
+    let how = How {
+        size,
+        interpolation,
+        full,
+        runs,
+    };
+    cmd_report(&src, &how, &device, &methods, &out)
+}
+
 pub(super) fn cmd_report(
     src: &Sources,
     how: &How,
@@ -184,7 +219,7 @@ pub(super) fn cmd_report(
     );
     if w.total_bytes > PAGE_BUDGET_BYTES {
         eprintln!(
-            "report: warning: {:.1} MB is over the {} MB budget of a report (README); \
+            "report: warning: {:.1} MB is over the {} MB budget of a report (docs/report.md); \
              use a smaller --size or fewer --methods",
             w.total_bytes as f64 / 1e6,
             PAGE_BUDGET_BYTES / 1_000_000

@@ -420,7 +420,7 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
     let _ = write!(
         h,
         "<h3>Metrics</h3><p>Errors are of the linear luminance against the reference, over the \
-         covered pixels (README \"Compare\"); <code>inf</code> marks a method with non-finite \
+         covered pixels (docs/compare.md); <code>inf</code> marks a method with non-finite \
          pixels, <code>n/a</code> a metric that does not apply. Times: median of {} timed draws \
          after {} warm-ups ({} clock), constant-colour floor {} ms. Click a column to sort.</p>",
         b.repeat,
