@@ -88,7 +88,7 @@ fn missing_parts(html: &str, id: &str, methods: &[&str]) -> Vec<String> {
                 missing.push(format!("{m}: no {part}"));
             }
         }
-        if !html.contains(&format!("<tr data-method=\"{m}\">")) {
+        if !html.contains(&format!("<tr data-method=\"{m}\" ")) {
             missing.push(format!("{m}: no row in the metric table"));
         }
         if !html.contains(&format!("validity/{m}.png")) {
@@ -170,7 +170,7 @@ fn report_links_resolve_and_every_method_has_its_parts() {
             && found.iter().any(|b| b.contains("#nowhere")),
         "{found:?}"
     );
-    let cut = html.replace("<tr data-method=\"slerp\">", "<tr>");
+    let cut = html.replace("<tr data-method=\"slerp\" ", "<tr ");
     assert_eq!(
         missing_parts(&cut, "scene-tiny", &SHOWN),
         vec!["slerp: no row in the metric table".to_string()]
@@ -209,6 +209,11 @@ fn chromium() -> Option<PathBuf> {
 
 /// Runs headless Chromium on `page` with `args`, killed after two minutes; returns stdout.
 fn headless(browser: &Path, page: &Path, args: &[&str]) -> String {
+    headless_sized(browser, page, "1280,1600", args)
+}
+
+/// [`headless`] in a window of `size` (`W,H`).
+fn headless_sized(browser: &Path, page: &Path, size: &str, args: &[&str]) -> String {
     let profile = tempfile::tempdir().unwrap();
     let mut child = Command::new(browser)
         .args([
@@ -217,8 +222,8 @@ fn headless(browser: &Path, page: &Path, args: &[&str]) -> String {
             "--no-sandbox",
             "--no-first-run",
             "--hide-scrollbars",
-            "--window-size=1280,1600",
         ])
+        .arg(format!("--window-size={size}"))
         .arg(format!("--user-data-dir={}", profile.path().display()))
         .args(args)
         .arg(format!("file://{}", page.display()))
@@ -287,15 +292,22 @@ window.addEventListener("load", function () {
 /// Loads `page` with the probe (images eager, so `load` waits for every one) and returns the
 /// probe's record.
 fn probe(browser: &Path, page: &Path) -> serde_json::Value {
+    probe_with(browser, page, PROBE, "1280,1600")
+}
+
+/// Loads `page` with `script` injected first into <head>, in a window of `size`, and returns
+/// what the script wrote into <pre id="probe">.
+fn probe_with(browser: &Path, page: &Path, script: &str, size: &str) -> serde_json::Value {
     let html = std::fs::read_to_string(page).unwrap();
-    let probed = page.with_file_name("probe.html");
+    // One file per script: the browser tests run in parallel on the same report.
+    let probed = page.with_file_name(format!("probe-{}.html", script.len()));
     std::fs::write(
         &probed,
-        html.replacen("<head>", &format!("<head>{PROBE}"), 1)
+        html.replacen("<head>", &format!("<head>{script}"), 1)
             .replace(" loading=\"lazy\"", ""),
     )
     .unwrap();
-    let dom = headless(browser, &probed, &["--dump-dom"]);
+    let dom = headless_sized(browser, &probed, size, &["--dump-dom"]);
     std::fs::remove_file(&probed).unwrap();
     let start = dom.find("<pre id=\"probe\">").unwrap_or_else(|| {
         panic!(
@@ -411,4 +423,248 @@ fn report_needs_exactly_one_source() {
     ]);
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("cannot be used with"), "{stderr}");
+}
+
+/// Injected into a copy of the page shown in a 1400x900 window: every cell of the answer table
+/// (its data attributes, its text, whether it lies wholly inside the first screen), and for
+/// every SVG chart panel the texts whose box leaves the view box and the number of series.
+const FIRST_SCREEN: &str = r##"<script>
+window.addEventListener("load", function () {
+  var p = {width: window.innerWidth, height: window.innerHeight, cells: [], panels: []};
+  document.querySelectorAll("#answer-table tbody td").forEach(function (td) {
+    var r = td.getBoundingClientRect();
+    p.cells.push({budget: td.getAttribute("data-budget"), model: td.getAttribute("data-model"),
+      method: td.getAttribute("data-method"), nothing: td.getAttribute("data-nothing"),
+      runner_up: td.getAttribute("data-runner-up"), text: td.textContent,
+      visible: r.top >= 0 && r.left >= 0 && r.bottom <= window.innerHeight && r.right <= window.innerWidth});
+  });
+  document.querySelectorAll("svg").forEach(function (svg) {
+    var vb = svg.viewBox.baseVal, out = [];
+    svg.querySelectorAll("text").forEach(function (t) {
+      var b = t.getBBox();
+      if (b.x < vb.x || b.y < vb.y || b.x + b.width > vb.x + vb.width || b.y + b.height > vb.y + vb.height)
+        out.push(t.textContent + " at " + [b.x, b.y, b.width, b.height].map(Math.round).join(","));
+    });
+    p.panels.push({title: svg.getAttribute("aria-label"), has_view_box: !!svg.getAttribute("viewBox"),
+      series: svg.querySelectorAll("g.series").length, outside: out});
+  });
+  var pre = document.createElement("pre"); pre.id = "probe"; pre.textContent = JSON.stringify(p);
+  document.body.appendChild(pre);
+});
+</script>"##;
+
+/// What differs between the first screen's answer table (`page`, the probe's record) and
+/// `answer` (answer.json): each cell's method, "nothing is cheaper", runner-up and ratio, and
+/// whether the cell is on the first screen.
+fn answer_mismatches(page: &serde_json::Value, answer: &serde_json::Value) -> Vec<String> {
+    let mut out = Vec::new();
+    let shown = page["cells"].as_array().cloned().unwrap_or_default();
+    let cells = answer["cells"].as_array().cloned().unwrap_or_default();
+    if shown.len() != cells.len() {
+        out.push(format!(
+            "{} cells shown, {} in answer.json",
+            shown.len(),
+            cells.len()
+        ));
+    }
+    for c in &cells {
+        let (b, m) = (&c["budget"], &c["cost_model"]);
+        let Some(td) = shown.iter().find(|t| t["budget"] == *b && t["model"] == *m) else {
+            out.push(format!("{b} x {m}: not on the page"));
+            continue;
+        };
+        let text = td["text"].as_str().unwrap_or("");
+        let nothing = c["nothing_cheaper"].as_bool().unwrap_or(false);
+        let runner = c["runner_up"]["method"].as_str().unwrap_or("");
+        if td["method"] != c["answer"]["method"] || td["nothing"] != nothing.to_string() {
+            out.push(format!("{b} x {m}: page {td}, answer.json {}", c["answer"]));
+        }
+        if td["runner_up"] != runner || !text.contains(runner) {
+            out.push(format!("{b} x {m}: runner-up {runner} not shown: {text}"));
+        }
+        let claim = if nothing {
+            "nothing is cheaper than phong_exact".to_string()
+        } else {
+            let method = c["answer"]["method"].as_str().unwrap_or("?");
+            match c["answer"]["ratio"].as_f64() {
+                Some(r) => format!("{method} {r:.3}"),
+                None => format!("{method} unmeasured"),
+            }
+        };
+        if !text.contains(&claim) {
+            out.push(format!("{b} x {m}: {claim:?} not in {text:?}"));
+        }
+        if td["visible"] != true {
+            out.push(format!("{b} x {m}: not on the first screen"));
+        }
+    }
+    out
+}
+
+/// Panels with text outside their view box, without a view box, or with more than 8 series.
+fn chart_problems(page: &serde_json::Value) -> Vec<String> {
+    let mut out = Vec::new();
+    for p in page["panels"].as_array().cloned().unwrap_or_default() {
+        if p["has_view_box"] != true {
+            out.push(format!("{}: no viewBox", p["title"]));
+        }
+        if p["series"].as_u64().unwrap_or(0) > 8 {
+            out.push(format!("{}: {} series", p["title"], p["series"]));
+        }
+        for t in p["outside"].as_array().cloned().unwrap_or_default() {
+            out.push(format!("{}: text outside the view box: {t}", p["title"]));
+        }
+    }
+    out
+}
+
+#[test]
+fn report_writes_an_answer_that_matches_its_schema() {
+    let dir = report_dir();
+    let answer = read_json(dir.join("answer.json"));
+    assert_schema(&answer, "docs/answer.schema.json", "/cells/0", "answer");
+    // Every budget under every cost model this run measured (frame time across runs,
+    // isolated cost, the software engine).
+    let models: Vec<&str> = answer["cost_models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(models, ["lavapipe_frame", "lavapipe_isolated", "software"]);
+    assert_eq!(answer["cells"].as_array().unwrap().len(), 6 * models.len());
+    // The frame figures come from 5 fresh-process runs (bench.json `runs`).
+    let bench = read_json(dir.join("scenes/tiny/bench/bench.json"));
+    assert_eq!(bench["runs"]["count"], 5, "{}", bench["runs"]);
+    // The rule on this run's own figures: phong_exact meets every budget, and an answer other
+    // than phong_exact meets its budget and is measured cheaper.
+    for c in answer["cells"].as_array().unwrap() {
+        let method = c["answer"]["method"].as_str().unwrap();
+        let check = answer["checks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|k| k["method"] == method && k["budget"] == c["budget"])
+            .unwrap();
+        assert_eq!(check["meets"], true, "{c}\n{check}");
+        assert_eq!(c["nothing_cheaper"], method == "phong_exact", "{c}");
+        if method != "phong_exact" {
+            assert_eq!(c["answer"]["cheaper"], true, "{c}");
+        }
+    }
+    let md = std::fs::read_to_string(dir.join("answer.md")).unwrap();
+    assert!(
+        md.contains("| budget |") && md.contains("max |dI| <= 1/255"),
+        "{md}"
+    );
+}
+
+#[test]
+fn first_screen_shows_the_answer_and_charts_stay_readable() {
+    let Some(browser) = chromium() else { return };
+    let dir = report_dir();
+    let page = probe_with(&browser, &dir.join("index.html"), FIRST_SCREEN, "1400,900");
+    let answer = read_json(dir.join("answer.json"));
+    assert_eq!(
+        answer_mismatches(&page, &answer),
+        Vec::<String>::new(),
+        "{page}"
+    );
+    assert!(page["panels"].as_array().unwrap().len() >= 2, "{page}");
+    assert_eq!(chart_problems(&page), Vec::<String>::new());
+
+    // Teeth: a tampered answer.json (another method, a flipped "nothing is cheaper") fails.
+    let mut tampered = answer.clone();
+    tampered["cells"][0]["answer"]["method"] = "gouraud_tampered".into();
+    let flip = !tampered["cells"][1]["nothing_cheaper"].as_bool().unwrap();
+    tampered["cells"][1]["nothing_cheaper"] = flip.into();
+    let file = dir.join("answer.tampered.json");
+    std::fs::write(&file, tampered.to_string()).unwrap();
+    let bad = answer_mismatches(&page, &read_json(&file));
+    std::fs::remove_file(&file).unwrap();
+    assert!(bad.len() >= 2, "{bad:?}");
+    // A table pushed below the first screen fails too.
+    let low = dir.join("low.html");
+    std::fs::write(
+        &low,
+        index_html().replacen(
+            "<section id=\"answer\">",
+            "<div style=\"height:1200px\"></div><section id=\"answer\">",
+            1,
+        ),
+    )
+    .unwrap();
+    let pushed = probe_with(&browser, &low, FIRST_SCREEN, "1400,900");
+    std::fs::remove_file(&low).unwrap();
+    assert!(
+        answer_mismatches(&pushed, &answer)
+            .iter()
+            .any(|m| m.contains("not on the first screen")),
+        "{pushed}"
+    );
+    // A text outside its panel and a panel of 9 series fail the chart check.
+    let nine = "<g class=\"series\"></g>".repeat(9);
+    let broken = dir.join("charts.broken.html");
+    std::fs::write(
+        &broken,
+        index_html().replacen(
+            "</main>",
+            &format!(
+                "<svg class=\"panel\" aria-label=\"bad\" viewBox=\"0 0 100 50\" width=\"100\" \
+                 height=\"50\"><text x=\"80\" y=\"20\">far outside the box</text>{nine}</svg></main>"
+            ),
+            1,
+        ),
+    )
+    .unwrap();
+    let b = probe_with(&browser, &broken, FIRST_SCREEN, "1400,900");
+    std::fs::remove_file(&broken).unwrap();
+    let found = chart_problems(&b);
+    assert!(
+        found.iter().any(|f| f.contains("far outside the box"))
+            && found.iter().any(|f| f.contains("9 series")),
+        "{found:?}"
+    );
+}
+
+/// `--models DIR` adds every OBJ of the folder as a scene (alone here), and the answer covers
+/// it; a folder without an OBJ is a usage error.
+#[test]
+fn report_models_adds_every_obj_of_a_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let models = dir.path().join("models");
+    std::fs::create_dir_all(&models).unwrap();
+    std::fs::copy("scenes/icosphere.obj", models.join("ball.obj")).unwrap();
+    std::fs::copy("scenes/cube.obj", models.join("box.OBJ")).unwrap();
+    std::fs::write(models.join("notes.txt"), "not a mesh").unwrap();
+    let out = dir.path().join("out");
+    let (code, _, stderr) = run(&[
+        "report",
+        "--models",
+        models.to_str().unwrap(),
+        "--methods",
+        "gouraud",
+        "--size",
+        "32x32",
+        "--runs",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("answer: "), "{stderr}");
+    let answer = read_json(out.join("answer.json"));
+    // The most triangles first: the icosphere before the 12-triangle cube.
+    assert_eq!(answer["scenes"], serde_json::json!(["ball", "box"]));
+    let empty = dir.path().join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let (code, _, stderr) = run(&[
+        "report",
+        "--models",
+        empty.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("no OBJ meshes"), "{stderr}");
 }

@@ -25,7 +25,6 @@ use self::mesh::cmd_mesh;
 use self::plan::cmd_plan;
 use self::prove::cmd_prove;
 use self::render::cmd_render;
-use self::report::{cmd_report, Sources};
 use self::shaders::cmd_shaders;
 use self::skips::cmd_skips;
 use self::stress::cmd_stress;
@@ -371,7 +370,7 @@ enum Command {
     },
     /// The main job: compare, bench and stress on the given scenes, written as one offline
     /// HTML report (OUT/index.html, its path printed on stdout).
-    #[command(group(ArgGroup::new("source").required(true).args(["scenes", "scene", "mesh"])))]
+    #[command(group(ArgGroup::new("source").required(true).multiple(true).args(["scenes", "scene", "mesh", "models"])))]
     Report {
         /// Every scene file (*.toml) of DIR.
         #[arg(long, value_name = "DIR")]
@@ -382,6 +381,15 @@ enum Command {
         /// One OBJ mesh (camera fitted, default light and material).
         #[arg(long, value_name = "FILE.obj")]
         mesh: Option<PathBuf>,
+        /// Every OBJ mesh (*.obj) of DIR as one more scene each (camera fitted, default light
+        /// and material), alone or added to --scenes / --scene / --mesh; the answer covers them.
+        #[arg(long, value_name = "DIR")]
+        models: Option<PathBuf>,
+        /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
+        /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
+        /// run in this process).
+        #[arg(long, value_name = "N", default_value_t = crate::bench::runs::DEFAULT_RUNS)]
+        runs: usize,
         /// Output directory (index.html and everything it shows).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
@@ -647,24 +655,7 @@ pub fn run() -> Result<ExitCode> {
             out,
             device,
         } => cmd_demo(&scenes, &out, &device),
-        Command::Report {
-            scenes,
-            scene,
-            mesh,
-            out,
-            methods,
-            size,
-            interpolation,
-            full,
-            device,
-        } => {
-            let src = Sources {
-                scenes: scenes.as_deref(),
-                scene: scene.as_deref(),
-                mesh: mesh.as_deref(),
-            };
-            cmd_report(&src, size, interpolation, &device, &methods, &out, full)
-        }
+        c @ Command::Report { .. } => report::run_report(c),
         Command::Corpus(a) => self::corpus::cmd_corpus(a),
         Command::Merge(a) => self::merge::cmd_merge(a),
         Command::Devices => {

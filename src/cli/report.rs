@@ -43,71 +43,183 @@ fn command_line() -> String {
         .join(" ")
 }
 
-/// Where the scenes come from: exactly one of `--scenes`, `--scene`, `--mesh`.
+/// Where the scenes come from: one of `--scenes`, `--scene`, `--mesh`, and/or `--models`.
 pub(super) struct Sources<'a> {
     pub scenes: Option<&'a Path>,
     pub scene: Option<&'a Path>,
     pub mesh: Option<&'a Path>,
+    pub models: Option<&'a Path>,
+}
+
+/// How every scene is drawn and measured.
+pub(super) struct How {
+    pub size: (u32, u32),
+    pub interpolation: Option<InterpArg>,
+    pub full: bool,
+    pub runs: usize,
+}
+
+/// The OBJ files (*.obj) of a folder, sorted (an error when there is none).
+fn obj_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("obj")))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(Error::Usage(format!(
+            "no OBJ meshes (*.obj) in {}",
+            dir.display()
+        )));
+    }
+    Ok(files)
+}
+
+/// (path, is a mesh) of every scene the sources name.
+fn inputs(src: &Sources) -> Result<Vec<(PathBuf, bool)>> {
+    let given = [
+        ("--scenes", src.scenes.is_some()),
+        ("--scene", src.scene.is_some()),
+        ("--mesh", src.mesh.is_some()),
+    ];
+    let named: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
+    if named.len() > 1 {
+        return Err(Error::Usage(format!(
+            "{} cannot be used with {}: give one of --scenes DIR, --scene FILE, \
+             --mesh FILE.obj (--models DIR may be added to any)",
+            named[0], named[1]
+        )));
+    }
+    let mut v: Vec<(PathBuf, bool)> = Vec::new();
+    if let Some(d) = src.scenes {
+        v.extend(scene_files(d)?.into_iter().map(|f| (f, false)));
+    }
+    if let Some(f) = src.scene {
+        v.push((f.into(), false));
+    }
+    if let Some(m) = src.mesh {
+        v.push((m.into(), true));
+    }
+    if let Some(d) = src.models {
+        v.extend(obj_files(d)?.into_iter().map(|f| (f, true)));
+    }
+    if v.is_empty() {
+        return Err(Error::Usage(
+            "give one of --scenes DIR, --scene FILE, --mesh FILE.obj, or --models DIR".into(),
+        ));
+    }
+    Ok(v)
+}
+
+/// `shadelab report`: its arguments to [`cmd_report`].
+pub(super) fn run_report(c: Command) -> Result<ExitCode> {
+    let Command::Report {
+        scenes,
+        scene,
+        mesh,
+        models,
+        runs,
+        out,
+        methods,
+        size,
+        interpolation,
+        full,
+        device,
+    } = c
+    else {
+        return Err(Error::Internal(
+            "run_report called with another command".into(),
+        ));
+    };
+    let src = Sources {
+        scenes: scenes.as_deref(),
+        scene: scene.as_deref(),
+        mesh: mesh.as_deref(),
+        models: models.as_deref(),
+    };
+    let how = How {
+        size,
+        interpolation,
+        full,
+        runs,
+    };
+    cmd_report(&src, &how, &device, &methods, &out)
 }
 
 pub(super) fn cmd_report(
     src: &Sources,
-    size: (u32, u32),
-    interpolation: Option<InterpArg>,
+    how: &How,
     dev: &DeviceArgs,
     list: &str,
     out: &Path,
-    full: bool,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
-    let args = |scene: Option<PathBuf>, mesh: Option<PathBuf>| SceneArgs {
-        scene,
-        mesh,
-        size: Some(size),
-        interpolation,
-        cull: None,
-    };
-    let inputs: Vec<(PathBuf, SceneArgs)> = match (src.scenes, src.scene, src.mesh) {
-        (Some(d), None, None) => scene_files(d)?
-            .into_iter()
-            .map(|f| (f.clone(), args(Some(f), None)))
-            .collect(),
-        (None, Some(f), None) => vec![(f.into(), args(Some(f.into()), None))],
-        (None, None, Some(m)) => vec![(m.into(), args(None, Some(m.into())))],
-        _ => {
-            return Err(Error::Usage(
-                "give exactly one of --scenes DIR, --scene FILE, --mesh FILE.obj".into(),
-            ))
-        }
-    };
-    let scenes = inputs
+    if how.runs == 0 {
+        return Err(Error::Usage("--runs must be at least 1".into()));
+    }
+    let (w, h) = how.size;
+    let mut common = vec!["--size".to_string(), format!("{w}x{h}")];
+    if let Some(i) = how.interpolation {
+        common.push("--interpolation".into());
+        common.push(
+            clap::ValueEnum::to_possible_value(&i)
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default(),
+        );
+    }
+    let scenes = inputs(src)?
         .into_iter()
-        .map(|(source, a)| {
+        .map(|(source, is_mesh)| {
+            let a = SceneArgs {
+                scene: (!is_mesh).then(|| source.clone()),
+                mesh: is_mesh.then(|| source.clone()),
+                size: Some(how.size),
+                interpolation: how.interpolation,
+                cull: None,
+            };
+            let flag = if is_mesh { "--mesh" } else { "--scene" };
+            let mut bench_args = vec![flag.to_string(), source.display().to_string()];
+            bench_args.extend(common.iter().cloned());
             Ok(ReportScene {
-                source,
                 scene: load_scene(&a)?,
+                source,
+                bench_args,
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    let mut device_args = Vec::new();
+    if let Some(d) = &dev.device {
+        device_args.extend(["--device".to_string(), d.clone()]);
+    }
+    if dev.validate {
+        device_args.push("--validate".into());
+    }
     let r = renderer(dev)?;
     let opts = ReportOptions {
-        full,
+        full: how.full,
         command_line: command_line(),
         progress: true,
+        runs: how.runs,
+        exe: Some(std::env::current_exe().map_err(|e| Error::io(Path::new("shadelab"), e))?),
+        device_args,
     };
     let w = report::run(&r, &scenes, &methods, out, &opts)?;
     check_validation(r.context())?;
+    eprint!("{}", w.answer_lines);
     eprintln!(
-        "report: {} scene(s) x {} method(s) in {:.1} s; {} files, {:.1} MB in total",
+        "report: {} scene(s) x {} method(s) in {:.1} s; {} files, {:.1} MB in total; \
+         the answer: {}",
         scenes.len(),
         w.methods,
         w.seconds,
         w.files,
-        w.total_bytes as f64 / 1e6
+        w.total_bytes as f64 / 1e6,
+        out.join("answer.md").display()
     );
     if w.total_bytes > PAGE_BUDGET_BYTES {
         eprintln!(
-            "report: warning: {:.1} MB is over the {} MB budget of a report (README); \
+            "report: warning: {:.1} MB is over the {} MB budget of a report (docs/report.md); \
              use a smaller --size or fewer --methods",
             w.total_bytes as f64 / 1e6,
             PAGE_BUDGET_BYTES / 1_000_000

@@ -287,8 +287,9 @@ fn metric_table(s: &SceneResult) -> String {
     for m in &s.summary.methods {
         let _ = write!(
             t,
-            "<tr data-method=\"{}\"><th scope=\"row\"><a href=\"#{}\">{}</a></th>",
+            "<tr data-method=\"{}\" id=\"{}\"><th scope=\"row\"><a href=\"#{}\">{}</a></th>",
             esc(&m.name),
+            esc(&super::front::row_anchor(&s.id, &m.name)),
             esc(&method_anchor(&s.id, &m.name)),
             esc(&m.name)
         );
@@ -330,11 +331,12 @@ fn bench_claims(s: &SceneResult) -> String {
     t += &sortable_head(&[("the papers' claims, measured by bench", 6)], &cols);
     t += "<tbody>";
     let known = |n: &str| s.summary.methods.iter().any(|m| m.name == n);
-    for c in &s.bench.claims {
+    for (k, c) in s.bench.claims.iter().enumerate() {
         let anchor = known(&c.method).then(|| method_anchor(&s.id, &c.method));
         let _ = write!(
             t,
-            "<tr><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
+            "<tr id=\"{}\"><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
+            esc(&super::front::claim_anchor(&s.id, k)),
             method_link(&c.method, anchor),
             esc(&c.claim),
             verdict_td(c.verdict.as_str()),
@@ -396,7 +398,8 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
         "<p>{} &middot; {} triangles &middot; {}&times;{} &middot; {} interpolation &middot; {} background pixels. Data: \
          <a href=\"{c}/summary.json\">summary.json</a>, <a href=\"{c}/summary.csv\">summary.csv</a>, \
          <a href=\"{b}/bench.json\">bench.json</a>, <a href=\"{b}/bench.csv\">bench.csv</a>, \
-         <a href=\"{b}/claims.md\">claims.md</a>.</p>",
+         <a href=\"{b}/claims.md\">claims.md</a>, software engine: \
+         <a href=\"{sw}/bench.json\">bench.json</a>.</p>",
         esc(&s.source),
         sum.triangles,
         sum.width,
@@ -404,7 +407,8 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
         esc(&sum.interpolation),
         sum.background_pixels,
         c = esc(&s.compare_dir),
-        b = esc(&s.bench_dir)
+        b = esc(&s.bench_dir),
+        sw = esc(&s.software_dir)
     );
     h += &figure(
         &reference,
@@ -416,7 +420,7 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
     let _ = write!(
         h,
         "<h3>Metrics</h3><p>Errors are of the linear luminance against the reference, over the \
-         covered pixels (README \"Compare\"); <code>inf</code> marks a method with non-finite \
+         covered pixels (docs/compare.md); <code>inf</code> marks a method with non-finite \
          pixels, <code>n/a</code> a metric that does not apply. Times: median of {} timed draws \
          after {} warm-ups ({} clock), constant-colour floor {} ms. Click a column to sort.</p>",
         b.repeat,
@@ -542,11 +546,11 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
         &cols,
     );
     h += "<tbody>";
-    for c in &r.claims {
+    for (k, c) in r.claims.iter().enumerate() {
         let known = r.methods.iter().any(|m| m.name == c.method);
         let _ = write!(
             h,
-            "<tr><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td></tr>",
+            "<tr id=\"stress--claim-{k}\"><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td></tr>",
             method_link(&c.method, known.then(|| format!("stress--{}", c.method))),
             esc(&c.claim),
             verdict_td(c.verdict.as_str()),
@@ -600,8 +604,10 @@ fn provenance_section(d: &ReportData) -> String {
     rows.push((
         "settings",
         format!(
-            "{}: bench {} timed draws after {} warm-ups per program; stress {} refinement rounds",
+            "{}: bench {} run(s) (each a fresh process), {} timed draws after {} warm-ups per \
+             program and run; stress {} refinement rounds",
             if run.full { "full" } else { "short" },
+            run.bench_runs,
             run.bench_repeat,
             run.bench_warmup,
             run.stress_refine
@@ -630,9 +636,8 @@ pub fn page(d: &ReportData, dims: Dims) -> Result<String> {
          <title>shadelab report</title><link rel=\"stylesheet\" href=\"report.css\">\
          <script src=\"report.js\" defer></script></head><body>",
     );
-    h += "<header><h1>shadelab report</h1><p>Fast Phong-shading methods against exact Phong \
-          (f64), rendered by Vulkan on the CPU (lavapipe): error maps, metrics, run time \
-          against error, the papers' claims, numerical stress.</p><nav><ul>";
+    h += "<header><h1>shadelab report</h1><nav><ul><li><a href=\"#answer\">answer</a></li>\
+          <li><a href=\"#charts\">charts</a></li><li><a href=\"#claims\">claims</a></li>";
     for s in &d.scenes {
         let _ = write!(
             h,
@@ -643,6 +648,9 @@ pub fn page(d: &ReportData, dims: Dims) -> Result<String> {
     }
     h += "<li><a href=\"#stress\">stress</a></li><li><a href=\"#plan\">plan</a></li><li><a href=\"#skips\">skips</a></li>\
           <li><a href=\"#provenance\">provenance</a></li></ul></nav></header><main>";
+    h += &super::front::answer_table(&d.answer);
+    h += &super::svg::charts_section(d);
+    h += &super::front::claims_matrix(d);
     for s in &d.scenes {
         h += &scene_section(s, dims);
     }

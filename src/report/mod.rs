@@ -10,11 +10,19 @@
 //! network (no CDN, font or script from elsewhere); the tables and images are plain HTML, and the
 //! script only adds sorting and the method/reference viewer.
 //!
-//! Layout of DIR: `index.html`, `report.css`, `report.js`, `scenes/<id>/compare/` (compare's
-//! outputs), `scenes/<id>/bench/` (bench's outputs), `stress/` (stress's outputs).
+//! Layout of DIR: `index.html`, `answer.json` and `answer.md` ([`answer`]), `report.css`,
+//! `report.js`, `scenes/<id>/compare/` (compare's outputs), `scenes/<id>/bench/` (bench's
+//! outputs), `scenes/<id>/software/` (the software engine's bench), `stress/` (stress's outputs).
+//!
+//! The page opens with the answer ([`front::answer_table`]), then the charts ([`svg`]: small
+//! multiples, one panel per method family), the claims matrix, and the scenes, the most telling
+//! (the most triangles) first.
+pub mod answer;
+pub mod front;
 pub mod html;
 pub mod isa;
 pub mod links;
+pub mod svg;
 #[cfg(test)]
 mod tests;
 
@@ -40,6 +48,9 @@ pub struct ReportScene {
     /// Where it came from (scene file or OBJ), for the page.
     pub source: PathBuf,
     pub scene: Scene,
+    /// The `bench` arguments that load the same scene (`--scene F --size WxH ...`): a bench of
+    /// several runs re-executes the binary with them, one fresh process per run.
+    pub bench_args: Vec<String>,
 }
 
 /// The settings of a report run.
@@ -52,6 +63,12 @@ pub struct ReportOptions {
     pub command_line: String,
     /// Show a progress bar on stderr (drawn only when stderr is a terminal).
     pub progress: bool,
+    /// Bench runs per scene, each a fresh process of `exe` (`bench --runs`); 1 or no `exe`:
+    /// one run in this process.
+    pub runs: usize,
+    pub exe: Option<PathBuf>,
+    /// Arguments every bench run gets (the device: `--device`, `--validate`).
+    pub device_args: Vec<String>,
 }
 
 /// Everything one scene contributed: the compare summary and the bench report, and where their
@@ -73,6 +90,9 @@ pub struct SceneResult {
     /// What each skip saves (`shadelab skips`, in scenes/<id>/skips/).
     pub skips: crate::bench::skips::SkipReport,
     pub skips_dir: String,
+    /// The software engine's bench of the scene (scenes/<id>/software/).
+    pub software: Option<crate::bench::software::SoftwareBench>,
+    pub software_dir: String,
 }
 
 /// What the page says about the run itself.
@@ -85,6 +105,7 @@ pub struct RunInfo {
     pub lp_num_threads: Option<String>,
     pub bench_repeat: usize,
     pub bench_warmup: usize,
+    pub bench_runs: usize,
     pub stress_refine: usize,
     pub full: bool,
     pub seconds: f64,
@@ -97,6 +118,8 @@ pub struct ReportData {
     pub stress: StressReport,
     pub stress_dir: String,
     pub run: RunInfo,
+    /// answer.json.
+    pub answer: answer::Answer,
 }
 
 /// What a run wrote.
@@ -109,6 +132,8 @@ pub struct Written {
     /// Methods shown per scene ([`ALWAYS`] included).
     pub methods: usize,
     pub seconds: f64,
+    /// The answer, one line per cell (printed by `shadelab report`).
+    pub answer_lines: String,
 }
 
 /// The methods a report always includes: the references of bench's ratios (bench times them
@@ -217,6 +242,7 @@ struct SceneRun<'a> {
     first: bool,
     auto: &'a crate::auto::AutoSpec,
     bar: &'a indicatif::ProgressBar,
+    opts: &'a ReportOptions,
 }
 
 impl SceneRun<'_> {
@@ -245,15 +271,16 @@ impl SceneRun<'_> {
             (true, true) => BenchOptions::default().isolated_rounds,
             (true, false) => 5,
         };
+        let bdir = self.out.join(&bench_dir);
+        std::fs::create_dir_all(&bdir).map_err(|e| Error::io(&bdir, e))?;
         let bopts = BenchOptions {
             repeat: self.repeat,
             warmup: self.warmup,
             isolated_rounds,
             command_line: std::env::args().collect(),
+            runs: self.bench_runs(s, &bdir, isolated_rounds),
             ..BenchOptions::default()
         };
-        let bdir = self.out.join(&bench_dir);
-        std::fs::create_dir_all(&bdir).map_err(|e| Error::io(&bdir, e))?;
         let bench = self.bar.suspend(|| {
             crate::bench::bench(self.renderer, &s.scene, self.methods, &bdir, &bopts)
         })?;
@@ -271,6 +298,11 @@ impl SceneRun<'_> {
             crate::bench::skips::skips(self.renderer, &s.scene, &self.out.join(&skips_dir), &sopts)
         })?;
         self.bar.inc(1);
+        self.bar.set_message(format!("{id}: software engine"));
+        let software_dir = format!("scenes/{id}/software");
+        let software = self
+            .bar
+            .suspend(|| self.software(s, &self.out.join(&software_dir)))?;
         let plan = crate::plan::plan(&s.scene);
         let plan_json = format!("scenes/{id}/plan.json");
         let text =
@@ -288,7 +320,56 @@ impl SceneRun<'_> {
             compare_dir,
             bench_dir,
             pareto_charts: pareto,
+            software: Some(software),
+            software_dir,
         })
+    }
+
+    /// One run here, or `opts.runs` fresh processes of `bench` on the same scene (each with
+    /// its own Vulkan device, JIT, warm-up and rounds; [`crate::bench::runs`]).
+    fn bench_runs(&self, s: &ReportScene, dir: &Path, isolated: usize) -> crate::bench::Runs {
+        let Some(exe) = self.opts.exe.clone().filter(|_| self.opts.runs > 1) else {
+            return crate::bench::Runs::One;
+        };
+        let names: Vec<&str> = self.methods.iter().map(|m| m.name).collect();
+        let mut args = vec!["bench".to_string()];
+        args.extend(s.bench_args.iter().cloned());
+        for (k, v) in [
+            ("--methods", names.join(",")),
+            ("--repeat", self.repeat.to_string()),
+            ("--warmup", self.warmup.to_string()),
+            ("--isolated-rounds", isolated.to_string()),
+            ("--out", dir.display().to_string()),
+        ] {
+            args.push(k.into());
+            args.push(v);
+        }
+        args.extend(self.opts.device_args.iter().cloned());
+        crate::bench::Runs::Many {
+            count: self.opts.runs,
+            launcher: crate::bench::runs::Launcher { exe, args },
+        }
+    }
+
+    /// The software engine's bench of scene `s` (its own rounds; a cost model of the answer).
+    fn software(
+        &self,
+        s: &ReportScene,
+        dir: &Path,
+    ) -> Result<crate::bench::software::SoftwareBench> {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let sw = crate::bench::software::SoftwareOptions {
+            rounds: crate::bench::RoundsPlan {
+                repeat: self.repeat,
+                warmup: self.warmup.max(1),
+                until_ci_pct: None,
+                max_time_s: BenchOptions::default().max_time_s,
+            },
+            threads: crate::software::default_threads(),
+            vulkan_bench: None,
+            command_line: std::env::args().collect(),
+        };
+        crate::bench::software::bench(&s.scene, self.methods, dir, &sw, None)
     }
 }
 
@@ -306,16 +387,24 @@ pub fn run(
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let methods = with_references(methods);
-    let (repeat, warmup, refine) = if opts.full { (40, 3, 8) } else { (10, 2, 2) };
+    // With several bench runs each run needs fewer rounds (the between-run spread dominates).
+    let (repeat, warmup, refine) = match (opts.full, opts.runs > 1 && opts.exe.is_some()) {
+        (true, false) => (40, 3, 8),
+        (true, true) => (crate::bench::runs::RUN_REPEAT, 3, 8),
+        (false, false) => (10, 2, 2),
+        (false, true) => (6, 1, 2),
+    };
     // Steps: compare, bench and skips per scene, stress, the page.
     let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
+    let mut scenes = scenes.to_vec();
+    front::order_scenes(&mut scenes);
     // `auto`'s candidates for the skips rows, by isolated cost: measured once for all scenes.
     let auto = crate::auto::AutoSpec::new(
         crate::auto::ErrorBudget::DEFAULT,
         &crate::plan::auto_order(renderer.context())?,
     );
     let mut results: Vec<SceneResult> = Vec::new();
-    for s in scenes {
+    for s in &scenes {
         let taken: Vec<String> = results.iter().map(|r| r.id.clone()).collect();
         let stem = s
             .source
@@ -332,6 +421,7 @@ pub fn run(
             first: results.is_empty(),
             auto: &auto,
             bar: &bar,
+            opts,
         };
         results.push(run.scene(s, id)?);
     }
@@ -345,7 +435,8 @@ pub fn run(
     crate::stress::write(&out.join("stress"), &stress)?;
     bar.inc(1);
     bar.set_message("index.html");
-    let data = ReportData {
+    let mut data = ReportData {
+        answer: answer::answer(&[], &[], &[], Vec::new()),
         scenes: results,
         stress,
         stress_dir: "stress".into(),
@@ -357,11 +448,21 @@ pub fn run(
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
             bench_repeat: repeat,
             bench_warmup: warmup,
+            bench_runs: if opts.exe.is_some() {
+                opts.runs.max(1)
+            } else {
+                1
+            },
             stress_refine: refine,
             full: opts.full,
             seconds: start.elapsed().as_secs_f64(),
         },
     };
+    data.answer = front::answer_of(&data);
+    let json =
+        serde_json::to_string_pretty(&data.answer).map_err(|e| Error::output("answer.json", e))?;
+    output::write_bytes_atomic(&out.join("answer.json"), (json + "\n").as_bytes())?;
+    output::write_bytes_atomic(&out.join("answer.md"), data.answer.markdown().as_bytes())?;
     output::write_bytes_atomic(&out.join("report.css"), CSS.as_bytes())?;
     output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
     let page = html::page(&data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
@@ -385,5 +486,6 @@ pub fn run(
         files,
         methods: methods.len(),
         seconds: start.elapsed().as_secs_f64(),
+        answer_lines: data.answer.lines(),
     })
 }

@@ -126,3 +126,230 @@ fn bench_numbers_keep_nan_apart_from_does_not_apply() {
     assert!(super::html::num_td(Some(f64::NAN)).contains("class=\"nonfinite\">NaN<"));
     assert!(super::html::num_td(None).contains("class=\"na\">n/a<"));
 }
+
+mod answer_rule {
+    use super::super::answer::*;
+    use std::collections::BTreeMap;
+
+    fn err(scene: &str, method: &str, max: f64, p99: f64) -> SceneError {
+        let mut metrics = BTreeMap::new();
+        metrics.insert("max_abs_error".to_string(), Some(max));
+        metrics.insert("p99_abs_error".to_string(), Some(p99));
+        SceneError {
+            scene: scene.into(),
+            method: method.into(),
+            covered_pixels: 100,
+            non_finite_pixels: 0,
+            metrics,
+            evidence: format!("index.html#scene-{scene}--{method}"),
+        }
+    }
+
+    fn fig(method: &str, ratio: f64, lo: f64, hi: f64) -> CostFigure {
+        CostFigure {
+            method: method.into(),
+            ratio: Some(ratio),
+            ci95_low: Some(lo),
+            ci95_high: Some(hi),
+            verdict: if hi < 1.0 { "faster" } else { "inconclusive" }.into(),
+            cheaper: hi < 1.0,
+            evidence: format!("index.html#row-{method}"),
+            note: String::new(),
+        }
+    }
+
+    fn model(figures: Vec<CostFigure>) -> CostModel {
+        CostModel {
+            name: "m".into(),
+            title: "model".into(),
+            kind: CostKind::Interval,
+            description: String::new(),
+            figures,
+        }
+    }
+
+    fn scenes() -> Vec<String> {
+        vec!["a".into(), "b".into()]
+    }
+
+    fn names() -> Vec<String> {
+        ["phong_exact", "fast", "faster", "rough"]
+            .map(String::from)
+            .to_vec()
+    }
+
+    /// Errors: phong_exact ~0, fast 1e-4 / 2e-3 (1/255 = 3.9e-3), faster 3e-3, rough 0.1.
+    fn errors() -> Vec<SceneError> {
+        let mut v = Vec::new();
+        for s in ["a", "b"] {
+            v.push(err(s, "phong_exact", 1e-6, 1e-7));
+            v.push(err(s, "fast", if s == "b" { 2e-3 } else { 1e-4 }, 1e-5));
+            v.push(err(s, "faster", 3e-3, 1e-3));
+            v.push(err(s, "rough", 0.1, 0.05));
+        }
+        v
+    }
+
+    fn figures() -> Vec<CostFigure> {
+        vec![
+            fig("phong_exact", 1.0, 1.0, 1.0),
+            fig("fast", 0.9, 0.85, 0.95),
+            fig("faster", 0.7, 0.65, 0.75),
+            fig("rough", 0.2, 0.1, 0.3),
+        ]
+    }
+
+    #[test]
+    fn the_cheapest_method_meeting_the_budget_on_every_scene_wins() {
+        let a = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
+        let c = a.cell("max_1_255", "m").unwrap();
+        assert_eq!(c.answer.method, "faster");
+        assert_eq!(c.runner_up.as_ref().unwrap().method, "fast");
+        assert!(!c.nothing_cheaper && c.separated);
+        assert_eq!(c.qualifying, 3);
+        // 1/1024 = 9.8e-4: fast fails on scene b alone, faster everywhere.
+        let c = a.cell("max_1_1024", "m").unwrap();
+        assert!(c.nothing_cheaper, "{c:?}");
+        assert_eq!(c.answer.method, "phong_exact");
+        assert!(
+            c.text.contains("nothing is cheaper than phong_exact"),
+            "{}",
+            c.text
+        );
+        let fast = a
+            .checks
+            .iter()
+            .find(|k| k.method == "fast" && k.budget == "max_1_1024")
+            .unwrap();
+        assert!(!fast.meets && fast.why.contains("on b"), "{fast:?}");
+        assert_eq!(fast.worst, Some(2e-3));
+        // 4/255 = 0.0157: rough (0.1) still fails, so faster wins again; p99 4/255 too.
+        assert_eq!(a.cell("max_4_255", "m").unwrap().answer.method, "faster");
+        assert_eq!(a.budgets.len(), 6);
+        assert_eq!(a.cells.len(), 6);
+    }
+
+    /// Teeth: a NaN metric, non-finite pixels, a missing scene or no covered pixel each fail
+    /// the budget (never "no error"), and the method drops out of the answer.
+    #[test]
+    fn non_finite_or_missing_errors_fail_every_budget() {
+        let base = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
+        assert_eq!(base.cell("p99_4_255", "m").unwrap().answer.method, "faster");
+        let broken: [(&str, Box<dyn Fn(&mut SceneError)>); 4] = [
+            (
+                "NaN",
+                Box::new(|e| {
+                    e.metrics.insert("p99_abs_error".into(), Some(f64::NAN));
+                }),
+            ),
+            ("non-finite pixels", Box::new(|e| e.non_finite_pixels = 3)),
+            ("no covered pixel", Box::new(|e| e.covered_pixels = 0)),
+            (
+                "missing",
+                Box::new(|e| {
+                    e.metrics.insert("p99_abs_error".into(), None);
+                }),
+            ),
+        ];
+        for (what, f) in broken {
+            let mut errs = errors();
+            let e = errs
+                .iter_mut()
+                .find(|e| e.method == "faster" && e.scene == "b")
+                .unwrap();
+            f(e);
+            let a = answer(&scenes(), &names(), &errs, vec![model(figures())]);
+            let k = a
+                .checks
+                .iter()
+                .find(|k| k.method == "faster" && k.budget == "p99_4_255")
+                .unwrap();
+            assert!(!k.meets, "{what}: {k:?}");
+            assert_eq!(k.worst, None, "{what}");
+            assert_eq!(
+                a.cell("p99_4_255", "m").unwrap().answer.method,
+                "fast",
+                "{what}"
+            );
+        }
+        let mut errs = errors();
+        errs.retain(|e| !(e.method == "faster" && e.scene == "a"));
+        let a = answer(&scenes(), &names(), &errs, vec![model(figures())]);
+        let k = a
+            .checks
+            .iter()
+            .find(|k| k.method == "faster" && k.budget == "max_4_255")
+            .unwrap();
+        assert!(!k.meets && k.why.contains("not measured on a"), "{k:?}");
+    }
+
+    /// A method not measured cheaper is never the answer, however low its median; a static
+    /// model (an `isa` family, float16) plugs in as a row and is judged by its figure.
+    #[test]
+    fn only_measured_cheaper_methods_answer_and_static_rows_plug_in() {
+        let mut figs = figures();
+        figs[2] = fig("faster", 0.7, 0.5, 1.1);
+        let a = answer(&scenes(), &names(), &errors(), vec![model(figs.clone())]);
+        let c = a.cell("max_1_255", "m").unwrap();
+        assert_eq!(c.answer.method, "fast");
+        assert_eq!(c.runner_up.as_ref().unwrap().method, "phong_exact");
+        figs[1] = fig("fast", 0.9, 0.8, 1.2);
+        let a = answer(&scenes(), &names(), &errors(), vec![model(figs)]);
+        let c = a.cell("max_1_255", "m").unwrap();
+        assert!(c.nothing_cheaper);
+        assert_eq!(c.runner_up.as_ref().unwrap().method, "faster");
+        let isa = CostModel {
+            name: "isa_rdna3".into(),
+            title: "RDNA3 (static)".into(),
+            kind: CostKind::Static,
+            description: "instructions per fragment / phong_exact's".into(),
+            figures: ["phong_exact", "fast", "faster"]
+                .iter()
+                .zip([1.0, 0.6, 1.3])
+                .map(|(m, r)| CostFigure {
+                    method: m.to_string(),
+                    ratio: Some(r),
+                    ci95_low: None,
+                    ci95_high: None,
+                    verdict: if r < 1.0 { "cheaper" } else { "dearer" }.into(),
+                    cheaper: r < 1.0,
+                    evidence: "isa/isa.json".into(),
+                    note: String::new(),
+                })
+                .collect(),
+        };
+        let a = answer(&scenes(), &names(), &errors(), vec![model(figures()), isa]);
+        let c = a.cell("max_1_255", "isa_rdna3").unwrap();
+        assert_eq!(c.answer.method, "fast");
+        assert_eq!(ratio_text(&c.answer), "0.600");
+        assert!(a.markdown().contains("RDNA3 (static)"));
+        assert_eq!(a.lines().lines().count(), 12);
+        let json = serde_json::to_string(&a).unwrap();
+        let back: Answer = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, a);
+    }
+
+    #[test]
+    fn panels_never_hold_more_than_eight_series() {
+        use super::super::svg::{panels, Series, MAX_SERIES};
+        use crate::method::Family;
+        let s = |n: usize| -> Vec<Series> {
+            (0..n)
+                .map(|k| Series {
+                    name: format!("m{k}"),
+                    points: vec![(1.0, Some(0.1), None)],
+                })
+                .collect()
+        };
+        let p = panels(vec![
+            (Family::Reference, s(4)),
+            (Family::Scanline, s(9)),
+            (Family::VertexAttribute, s(0)),
+            (Family::DigitalSegments, s(17)),
+        ]);
+        let sizes: Vec<usize> = p.iter().map(|(_, v)| v.len()).collect();
+        assert_eq!(sizes, vec![4, 5, 4, 6, 6, 5]);
+        assert!(sizes.iter().all(|&n| n <= MAX_SERIES));
+        assert_eq!(p[1].0, "scanline (1 of 2)");
+    }
+}

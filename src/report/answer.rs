@@ -1,0 +1,461 @@
+//! The report's answer (DIR/answer.json, DIR/answer.md, the first table of index.html, printed
+//! by `shadelab report`): for each error budget and each cost model the run measured, the
+//! cheapest method that meets the budget on every scene of the report, its cost relative to
+//! phong_exact, and the runner-up. Schema: docs/answer.schema.json.
+//!
+//! A cost model is a data row ([`CostModel`]: a name, a kind `interval` or `static`, one figure
+//! per method), so other measurements (an `isa` GPU family, float16) plug in as more rows
+//! without touching the rule. The rule ([`answer`]):
+//! - a method meets a budget when, on every scene, it was measured, covered pixels, has no
+//!   non-finite pixel and its metric (largest or p99 |dI| of the luminance, compare) is finite
+//!   and at most the limit; anything else fails, with the reason shown;
+//! - it is cheaper than phong_exact under a cost model when that model says so: an interval
+//!   model's verdict (the whole interval below 1, beyond the control's noise floor), a static
+//!   model's figure below phong_exact's;
+//! - the answer is the qualifying cheaper method with the lowest ratio, the runner-up the next
+//!   one; with none, the answer is phong_exact and the text says "nothing is cheaper than
+//!   phong_exact" (the runner-up is then the qualifying method with the lowest ratio, not
+//!   measured cheaper).
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde::{Deserialize, Serialize};
+
+use crate::method::PHONG_EXACT;
+
+/// answer.json `schema_version`.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// One error budget: a compare metric (of the linear luminance) and its limit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Budget {
+    /// `max_1_1024`, `max_1_255`, `max_4_255`, `p99_1_1024`, ...
+    pub id: String,
+    /// compare's JSON metric: `max_abs_error` or `p99_abs_error`.
+    pub metric: String,
+    pub limit: f64,
+    /// As a person reads it: `max |dI| <= 1/255`.
+    pub label: String,
+}
+
+/// The six budgets of the answer: largest and p99 |dI| at 1/1024, 1/255 and 4/255.
+pub fn budgets() -> Vec<Budget> {
+    let mut v = Vec::new();
+    for (metric, short, shown) in [
+        ("max_abs_error", "max", "max |dI|"),
+        ("p99_abs_error", "p99", "p99 |dI|"),
+    ] {
+        for (num, den) in [(1u32, 1024u32), (1, 255), (4, 255)] {
+            v.push(Budget {
+                id: format!("{short}_{num}_{den}"),
+                metric: metric.into(),
+                limit: f64::from(num) / f64::from(den),
+                label: format!("{shown} <= {num}/{den}"),
+            });
+        }
+    }
+    v
+}
+
+/// How a cost model gives its figures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CostKind {
+    /// Measured: a ratio to phong_exact with an interval and the measurement's verdict.
+    Interval,
+    /// Counted: one figure per method (its ratio to phong_exact's), no interval.
+    Static,
+}
+
+/// One method's figure under a cost model, relative to phong_exact.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CostFigure {
+    pub method: String,
+    /// The ratio to phong_exact (the median for an interval model). Non-finite: unmeasured
+    /// (written as null).
+    pub ratio: Option<f64>,
+    pub ci95_low: Option<f64>,
+    pub ci95_high: Option<f64>,
+    /// The model's own verdict against phong_exact (`faster`, `cheaper`, `inconclusive`, ...;
+    /// a static model: `cheaper`, `dearer`, `equal`).
+    pub verdict: String,
+    /// Whether that verdict says cheaper than phong_exact.
+    pub cheaper: bool,
+    /// Where the figure comes from, relative to the report folder.
+    pub evidence: String,
+    /// Which measurement it is (e.g. the scene it was taken from).
+    pub note: String,
+}
+
+/// A cost model: a data row of the answer table's columns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CostModel {
+    /// Identifier (`lavapipe_frame`, `lavapipe_isolated`, `software`, `isa_rdna3`, ...).
+    pub name: String,
+    /// Column heading.
+    pub title: String,
+    pub kind: CostKind,
+    /// What is measured and how the figure per method is chosen.
+    pub description: String,
+    pub figures: Vec<CostFigure>,
+}
+
+/// One method's error on one scene (compare's summary), the input of the budget check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    pub scene: String,
+    pub method: String,
+    pub covered_pixels: usize,
+    pub non_finite_pixels: usize,
+    /// Metric name to value (`None`: the metric does not apply).
+    pub metrics: BTreeMap<String, Option<f64>>,
+    /// Where the measurement is shown, relative to the report folder.
+    pub evidence: String,
+}
+
+/// Whether one method meets one budget on every scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BudgetCheck {
+    pub method: String,
+    pub budget: String,
+    pub meets: bool,
+    /// The largest value over the scenes (null when some value is not finite or missing).
+    pub worst: Option<f64>,
+    pub worst_scene: String,
+    /// Why it fails (empty when it meets the budget).
+    pub why: String,
+    pub evidence: String,
+}
+
+/// A method chosen for a cell.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Choice {
+    pub method: String,
+    pub ratio: Option<f64>,
+    pub ci95_low: Option<f64>,
+    pub ci95_high: Option<f64>,
+    pub verdict: String,
+    pub cheaper: bool,
+    /// Its worst error under the budget's metric over the scenes.
+    pub worst_error: Option<f64>,
+    pub cost_evidence: String,
+    pub error_evidence: String,
+}
+
+/// One cell: a budget under a cost model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Cell {
+    pub budget: String,
+    pub cost_model: String,
+    /// The cheapest qualifying method measured cheaper than phong_exact, or phong_exact.
+    pub answer: Choice,
+    pub runner_up: Option<Choice>,
+    pub nothing_cheaper: bool,
+    /// Methods meeting the budget on every scene (phong_exact included).
+    pub qualifying: usize,
+    /// Whether the answer's interval lies wholly below the runner-up's (an interval model;
+    /// static: the figures differ). False: the two are not told apart by this measurement.
+    pub separated: bool,
+    /// The cell as one sentence.
+    pub text: String,
+}
+
+/// DIR/answer.json.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Answer {
+    pub schema_version: u32,
+    pub scenes: Vec<String>,
+    pub errors_from: String,
+    pub budgets: Vec<Budget>,
+    pub cost_models: Vec<CostModel>,
+    pub checks: Vec<BudgetCheck>,
+    pub cells: Vec<Cell>,
+}
+
+/// Whether `method` meets `b` over `errors` (every scene of `scenes`).
+pub fn check(method: &str, b: &Budget, scenes: &[String], errors: &[SceneError]) -> BudgetCheck {
+    let mut c = BudgetCheck {
+        method: method.into(),
+        budget: b.id.clone(),
+        meets: true,
+        worst: Some(f64::NEG_INFINITY),
+        worst_scene: String::new(),
+        why: String::new(),
+        evidence: String::new(),
+    };
+    let fail = |c: &mut BudgetCheck, why: String| {
+        c.meets = false;
+        if !c.why.is_empty() {
+            c.why += "; ";
+        }
+        c.why += &why;
+    };
+    for s in scenes {
+        let Some(e) = errors.iter().find(|e| &e.scene == s && e.method == method) else {
+            c.worst = None;
+            fail(&mut c, format!("not measured on {s}"));
+            continue;
+        };
+        if c.evidence.is_empty() {
+            c.evidence = e.evidence.clone();
+        }
+        if e.covered_pixels == 0 {
+            c.worst = None;
+            fail(&mut c, format!("no covered pixel on {s}"));
+            continue;
+        }
+        if e.non_finite_pixels > 0 {
+            c.worst = None;
+            c.worst_scene = s.clone();
+            c.evidence = e.evidence.clone();
+            fail(
+                &mut c,
+                format!("{} non-finite pixels on {s}", e.non_finite_pixels),
+            );
+            continue;
+        }
+        match e.metrics.get(&b.metric).copied().flatten() {
+            Some(v) if v.is_finite() => {
+                if c.worst.is_some_and(|w| v > w) {
+                    c.worst = Some(v);
+                    c.worst_scene = s.clone();
+                    c.evidence = e.evidence.clone();
+                }
+                if v > b.limit {
+                    fail(&mut c, format!("{} {v:.3e} on {s}", b.metric));
+                }
+            }
+            v => {
+                c.worst = None;
+                c.worst_scene = s.clone();
+                c.evidence = e.evidence.clone();
+                let shown = v.map_or("missing".to_string(), |x| x.to_string());
+                fail(&mut c, format!("{} {shown} on {s}", b.metric));
+            }
+        }
+    }
+    if c.worst == Some(f64::NEG_INFINITY) {
+        c.worst = None;
+    }
+    c
+}
+
+fn choice(m: &str, fig: Option<&CostFigure>, chk: Option<&BudgetCheck>) -> Choice {
+    Choice {
+        method: m.into(),
+        ratio: fig.and_then(|f| f.ratio),
+        ci95_low: fig.and_then(|f| f.ci95_low),
+        ci95_high: fig.and_then(|f| f.ci95_high),
+        verdict: fig.map_or("reference".into(), |f| f.verdict.clone()),
+        cheaper: fig.is_some_and(|f| f.cheaper),
+        worst_error: chk.and_then(|c| c.worst),
+        cost_evidence: fig.map_or(String::new(), |f| f.evidence.clone()),
+        error_evidence: chk.map_or(String::new(), |c| c.evidence.clone()),
+    }
+}
+
+/// A ratio for a cell's text: `0.873 [0.85, 0.90]` or `0.873`.
+pub fn ratio_text(c: &Choice) -> String {
+    let r = c.ratio.map_or("unmeasured".into(), |r| format!("{r:.3}"));
+    match (c.ci95_low, c.ci95_high) {
+        (Some(l), Some(h)) => format!("{r} [{l:.3}, {h:.3}]"),
+        _ => r,
+    }
+}
+
+/// One cell of the answer: budget `b` under cost model `m`.
+fn cell(b: &Budget, m: &CostModel, checks: &[BudgetCheck]) -> Cell {
+    let meets = |name: &str| {
+        checks
+            .iter()
+            .any(|c| c.method == name && c.budget == b.id && c.meets)
+    };
+    let chk = |name: &str| checks.iter().find(|c| c.method == name && c.budget == b.id);
+    // Qualifying methods with a finite ratio, cheapest first (ties by name, for stability).
+    let mut ranked: Vec<&CostFigure> = m
+        .figures
+        .iter()
+        .filter(|f| f.method != PHONG_EXACT && meets(&f.method))
+        .filter(|f| f.ratio.is_some_and(f64::is_finite))
+        .collect();
+    ranked.sort_by(|a, c| {
+        a.ratio
+            .partial_cmp(&c.ratio)
+            .unwrap_or(std::cmp::Ordering::Equal)
+            .then_with(|| a.method.cmp(&c.method))
+    });
+    let qualifying = checks
+        .iter()
+        .filter(|c| c.budget == b.id && c.meets)
+        .count();
+    let cheaper: Vec<&CostFigure> = ranked.iter().copied().filter(|f| f.cheaper).collect();
+    let exact = m.figures.iter().find(|f| f.method == PHONG_EXACT);
+    let (answer, runner_up, nothing) = match cheaper.as_slice() {
+        [] => (
+            choice(PHONG_EXACT, exact, chk(PHONG_EXACT)),
+            ranked
+                .first()
+                .map(|f| choice(&f.method, Some(f), chk(&f.method))),
+            true,
+        ),
+        [first, rest @ ..] => {
+            let next = rest
+                .first()
+                .map(|f| choice(&f.method, Some(f), chk(&f.method)))
+                .unwrap_or_else(|| choice(PHONG_EXACT, exact, chk(PHONG_EXACT)));
+            (
+                choice(&first.method, Some(first), chk(&first.method)),
+                Some(next),
+                false,
+            )
+        }
+    };
+    let separated = match (&runner_up, m.kind) {
+        (Some(r), CostKind::Interval) => {
+            answer.ci95_high.zip(r.ci95_low).is_some_and(|(h, l)| h < l)
+        }
+        (Some(r), CostKind::Static) => answer.ratio.zip(r.ratio).is_some_and(|(a, r)| a < r),
+        (None, _) => false,
+    };
+    let text = if nothing {
+        let close = runner_up.as_ref().map_or(
+            " (no other method meets the budget on every scene)".to_string(),
+            |r| {
+                format!(
+                    " (closest: {} at {}, {})",
+                    r.method,
+                    ratio_text(r),
+                    r.verdict
+                )
+            },
+        );
+        format!(
+            "{}, {}: nothing is cheaper than phong_exact{close}",
+            b.label, m.title
+        )
+    } else {
+        format!(
+            "{}, {}: {} at {} of phong_exact; runner-up {} at {}{}",
+            b.label,
+            m.title,
+            answer.method,
+            ratio_text(&answer),
+            runner_up.as_ref().map_or("-".into(), |r| r.method.clone()),
+            runner_up.as_ref().map_or("-".into(), ratio_text),
+            if separated { "" } else { " (not told apart)" }
+        )
+    };
+    Cell {
+        budget: b.id.clone(),
+        cost_model: m.name.clone(),
+        answer,
+        runner_up,
+        nothing_cheaper: nothing,
+        qualifying,
+        separated,
+        text,
+    }
+}
+
+/// The answer over `scenes` from the errors and the cost models.
+pub fn answer(
+    scenes: &[String],
+    methods: &[String],
+    errors: &[SceneError],
+    models: Vec<CostModel>,
+) -> Answer {
+    let budgets = budgets();
+    let checks: Vec<BudgetCheck> = methods
+        .iter()
+        .flat_map(|m| budgets.iter().map(move |b| (m, b)))
+        .map(|(m, b)| check(m, b, scenes, errors))
+        .collect();
+    let cells = budgets
+        .iter()
+        .flat_map(|b| models.iter().map(move |m| (b, m)))
+        .map(|(b, m)| cell(b, m, &checks))
+        .collect();
+    Answer {
+        schema_version: SCHEMA_VERSION,
+        scenes: scenes.to_vec(),
+        errors_from: "compare: |dI| of the linear luminance against exact Phong in f64, over \
+                      the covered pixels of each scene (Vulkan pipeline, float32 GLSL); a \
+                      budget is met only on every scene, with no non-finite pixel"
+            .into(),
+        budgets,
+        cost_models: models,
+        checks,
+        cells,
+    }
+}
+
+impl Answer {
+    /// The cell of budget `b` under model `m`.
+    pub fn cell(&self, b: &str, m: &str) -> Option<&Cell> {
+        self.cells
+            .iter()
+            .find(|c| c.budget == b && c.cost_model == m)
+    }
+
+    /// answer.md: one table (budgets x cost models), then every cell as a sentence.
+    pub fn markdown(&self) -> String {
+        let mut s = String::from("# Which method to use\n\n");
+        let _ = writeln!(
+            s,
+            "Scenes: {}. Errors: {}. Cost: ratio to phong_exact (below 1 is cheaper), \
+             interval in brackets; the runner-up below. Schema: docs/answer.schema.json.\n",
+            self.scenes.join(", "),
+            self.errors_from
+        );
+        s += "| budget |";
+        for m in &self.cost_models {
+            let _ = write!(s, " {} |", m.title);
+        }
+        s += "\n|---|";
+        s += &"---|".repeat(self.cost_models.len());
+        s += "\n";
+        for b in &self.budgets {
+            let _ = write!(s, "| {} |", b.label);
+            for m in &self.cost_models {
+                let Some(c) = self.cell(&b.id, &m.name) else {
+                    s += " - |";
+                    continue;
+                };
+                let main = if c.nothing_cheaper {
+                    "nothing is cheaper than phong_exact".to_string()
+                } else {
+                    format!(
+                        "[{}](index.html#answer-{}-{}) {}",
+                        c.answer.method,
+                        b.id,
+                        m.name,
+                        ratio_text(&c.answer)
+                    )
+                };
+                let second = c.runner_up.as_ref().map_or(String::new(), |r| {
+                    format!("<br>then {} {}", r.method, ratio_text(r))
+                });
+                let _ = write!(s, " {main}{second} |");
+            }
+            s += "\n";
+        }
+        s += "\n";
+        for m in &self.cost_models {
+            let _ = writeln!(s, "- **{}** ({:?}): {}", m.title, m.kind, m.description);
+        }
+        s += "\n";
+        for c in &self.cells {
+            let _ = writeln!(s, "- {}", c.text);
+        }
+        s
+    }
+
+    /// The lines `shadelab report` prints: one per cell.
+    pub fn lines(&self) -> String {
+        let mut s = String::new();
+        for c in &self.cells {
+            let _ = writeln!(s, "answer: {}", c.text);
+        }
+        s
+    }
+}

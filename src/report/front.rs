@@ -1,0 +1,420 @@
+//! The report's first screen: the inputs of [`super::answer`] taken from a run (errors per scene
+//! from compare, one cost model per measurement: lavapipe frame time across runs, lavapipe
+//! isolated cost, the software engine), the answer table at the top of index.html, and the
+//! papers' claims as one matrix (claim x where it was measured), each verdict linked to its row.
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use super::answer::{self, Answer, CostFigure, CostKind, CostModel, SceneError};
+use super::html::{esc, method_anchor};
+use super::ReportData;
+use crate::bench::Speed;
+use crate::method::PHONG_EXACT;
+
+/// The id of a method's row in a scene's metric table (the bench figures of the cost models).
+pub fn row_anchor(scene: &str, method: &str) -> String {
+    format!("scene-{scene}--row-{method}")
+}
+
+/// The id of claim `k` of a scene's bench claims.
+pub fn claim_anchor(scene: &str, k: usize) -> String {
+    format!("scene-{scene}--claim-{k}")
+}
+
+/// Every method's error on every scene (compare), the input of the budget checks.
+pub fn scene_errors(d: &ReportData) -> Vec<SceneError> {
+    let mut v = Vec::new();
+    for s in &d.scenes {
+        for m in &s.summary.methods {
+            let metrics: BTreeMap<String, Option<f64>> = ["max_abs_error", "p99_abs_error"]
+                .iter()
+                .map(|k| (k.to_string(), m.metric(k)))
+                .collect();
+            v.push(SceneError {
+                scene: s.id.clone(),
+                method: m.name.clone(),
+                covered_pixels: m.covered_pixels,
+                non_finite_pixels: m.non_finite_pixels,
+                metrics,
+                evidence: format!("index.html#{}", method_anchor(&s.id, &m.name)),
+            });
+        }
+    }
+    v
+}
+
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+/// Per method, the figure of the scene where its ratio is largest (the conservative one);
+/// cheaper only when `cheaper` holds on every scene that measured it.
+fn worst_over_scenes(per_scene: Vec<(CostFigure, bool)>) -> Vec<CostFigure> {
+    let mut by: BTreeMap<String, (CostFigure, bool, usize)> = BTreeMap::new();
+    for (f, all) in per_scene {
+        match by.get_mut(&f.method) {
+            None => {
+                by.insert(f.method.clone(), (f, all, 1));
+            }
+            Some((w, c, n)) => {
+                *c &= all;
+                *n += 1;
+                let larger = match (f.ratio, w.ratio) {
+                    (Some(a), Some(b)) => a > b,
+                    (None, _) => true,
+                    _ => false,
+                };
+                if larger {
+                    *w = f;
+                }
+            }
+        }
+    }
+    by.into_values()
+        .map(|(mut f, c, n)| {
+            f.cheaper = c && f.ratio.is_some();
+            if n > 1 {
+                f.note = format!("{} (the largest ratio of {n} scenes)", f.note);
+            }
+            f
+        })
+        .collect()
+}
+
+fn frame_model(d: &ReportData) -> CostModel {
+    let mut per = Vec::new();
+    for s in &d.scenes {
+        for r in &s.bench.methods {
+            if r.floor_program == r.name || r.name.ends_with("_control") || r.error.is_none() {
+                continue;
+            }
+            let faster = r.speed_vs_phong_exact == Speed::Faster;
+            let across = r.runs.as_ref().map_or(String::new(), |x| {
+                format!(", {} runs, coverage {:.4}", x.count, x.confidence)
+            });
+            per.push((
+                CostFigure {
+                    method: r.name.clone(),
+                    ratio: finite(r.ratio_median),
+                    ci95_low: finite(r.ratio_ci95_low),
+                    ci95_high: finite(r.ratio_ci95_high),
+                    verdict: r.speed_vs_phong_exact.as_str().into(),
+                    cheaper: faster,
+                    evidence: format!("index.html#{}", row_anchor(&s.id, &r.name)),
+                    note: format!("scene {}{across}", s.id),
+                },
+                faster,
+            ));
+        }
+    }
+    CostModel {
+        name: "lavapipe_frame".into(),
+        title: "lavapipe frame time".into(),
+        kind: CostKind::Interval,
+        description: "frame time of the whole draw on lavapipe (Vulkan on the CPU), paired \
+                      median ratio to phong_exact; with bench runs, the interval across \
+                      fresh-process runs and cheaper only beyond phong_exact_control's spread; \
+                      the scene with the largest ratio, cheaper only on every scene"
+            .into(),
+        figures: worst_over_scenes(per),
+    }
+}
+
+fn isolated_model(d: &ReportData) -> Option<CostModel> {
+    let s = d.scenes.iter().find(|s| {
+        s.bench
+            .methods
+            .iter()
+            .any(|r| r.isolated_ns_per_eval.is_some())
+    })?;
+    let mut figures = Vec::new();
+    for r in &s.bench.methods {
+        if r.isolated_ns_per_eval.is_none() || r.name.ends_with("_control") {
+            continue;
+        }
+        let (ratio, lo, hi) = match (&r.isolated_ratio_to_phong_exact, r.name == PHONG_EXACT) {
+            (Some(i), _) => (finite(i.median), finite(i.ci95_low), finite(i.ci95_high)),
+            (None, true) => (Some(1.0), None, None),
+            (None, false) => (None, None, None),
+        };
+        let verdict = r
+            .isolated_vs_phong_exact
+            .map_or("reference".to_string(), |c| {
+                serde_json::to_value(c)
+                    .ok()
+                    .and_then(|v| v.as_str().map(String::from))
+                    .unwrap_or_default()
+            });
+        figures.push(CostFigure {
+            method: r.name.clone(),
+            ratio,
+            ci95_low: lo,
+            ci95_high: hi,
+            cheaper: verdict == "cheaper",
+            verdict,
+            evidence: format!("index.html#{}", row_anchor(&s.id, &r.name)),
+            note: format!(
+                "measured once (scene {}): it does not depend on the scene",
+                s.id
+            ),
+        });
+    }
+    Some(CostModel {
+        name: "lavapipe_isolated".into(),
+        title: "lavapipe isolated cost".into(),
+        kind: CostKind::Interval,
+        description: "cost of one evaluation of the method's per-fragment code on lavapipe, \
+                      apart from rasterization (compute kernels, slope per evaluation), paired \
+                      ratio to phong_exact across runs"
+            .into(),
+        figures,
+    })
+}
+
+fn software_model(d: &ReportData) -> Option<CostModel> {
+    let mut per = Vec::new();
+    for s in &d.scenes {
+        let Some(sw) = &s.software else { continue };
+        for r in &sw.methods {
+            let cheaper = r.ratio_ci95_high < 1.0;
+            let verdict = if !r.ratio_median.is_finite() {
+                "unmeasured"
+            } else if cheaper {
+                "faster"
+            } else if r.ratio_ci95_low > 1.0 {
+                "slower"
+            } else {
+                "inconclusive"
+            };
+            per.push((
+                CostFigure {
+                    method: r.name.clone(),
+                    ratio: finite(r.ratio_median),
+                    ci95_low: finite(r.ratio_ci95_low),
+                    ci95_high: finite(r.ratio_ci95_high),
+                    verdict: verdict.into(),
+                    cheaper,
+                    evidence: format!("{}/bench.json", s.software_dir),
+                    note: format!("scene {}, {} rounds", s.id, sw.repeat),
+                },
+                cheaper,
+            ));
+        }
+    }
+    (!per.is_empty()).then(|| CostModel {
+        name: "software".into(),
+        title: "software engine".into(),
+        kind: CostKind::Interval,
+        description: "frame time of shadelab's scanline engine (float32, incremental span \
+                      forms, all cores), paired median ratio to phong_exact per round with its \
+                      sign-test interval; the scene with the largest ratio"
+            .into(),
+        figures: worst_over_scenes(per),
+    })
+}
+
+/// The cost models this run measured, in column order.
+pub fn cost_models(d: &ReportData) -> Vec<CostModel> {
+    let mut v = vec![frame_model(d)];
+    v.extend(isolated_model(d));
+    v.extend(software_model(d));
+    v
+}
+
+/// The answer of a run.
+pub fn answer_of(d: &ReportData) -> Answer {
+    let scenes: Vec<String> = d.scenes.iter().map(|s| s.id.clone()).collect();
+    let mut methods: Vec<String> = Vec::new();
+    for s in &d.scenes {
+        for m in &s.summary.methods {
+            if !methods.contains(&m.name) {
+                methods.push(m.name.clone());
+            }
+        }
+    }
+    answer::answer(&scenes, &methods, &scene_errors(d), cost_models(d))
+}
+
+/// `index.html#x` -> `#x` (the page links to itself), other paths unchanged.
+fn href(e: &str) -> String {
+    e.strip_prefix("index.html").unwrap_or(e).to_string()
+}
+
+fn choice_html(c: &answer::Choice) -> String {
+    let link = if c.cost_evidence.is_empty() {
+        esc(&c.method)
+    } else {
+        format!(
+            "<a href=\"{}\">{}</a>",
+            esc(&href(&c.cost_evidence)),
+            esc(&c.method)
+        )
+    };
+    let err = if c.error_evidence.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " <a class=\"err\" href=\"{}\" title=\"its error\">err</a>",
+            esc(&href(&c.error_evidence))
+        )
+    };
+    format!(
+        "{link} <span class=\"ratio\">{}</span>{err}",
+        esc(&answer::ratio_text(c))
+    )
+}
+
+/// The answer table (first on the page): budgets x cost models.
+pub fn answer_table(a: &Answer) -> String {
+    let mut h = String::from(
+        "<section id=\"answer\"><h2>Which method to use</h2><p class=\"lede\">For each error \
+         budget (luminance |dI| against exact Phong in f64, met on <em>every</em> scene, no \
+         non-finite pixel) and each cost model, the cheapest method measured cheaper than \
+         phong_exact: its cost as a ratio to phong_exact (below 1 is cheaper) with its interval, \
+         then the runner-up. Data: <a href=\"answer.json\">answer.json</a>, \
+         <a href=\"answer.md\">answer.md</a>.</p><table class=\"answer\" id=\"answer-table\">\
+         <thead><tr><th>budget</th>",
+    );
+    for m in &a.cost_models {
+        let _ = write!(
+            h,
+            "<th data-model=\"{}\" title=\"{}\">{}</th>",
+            esc(&m.name),
+            esc(&m.description),
+            esc(&m.title)
+        );
+    }
+    h += "</tr></thead><tbody>";
+    for b in &a.budgets {
+        let _ = write!(
+            h,
+            "<tr data-budget=\"{}\"><th scope=\"row\">{}</th>",
+            esc(&b.id),
+            esc(&b.label)
+        );
+        for m in &a.cost_models {
+            let Some(c) = a.cell(&b.id, &m.name) else {
+                h += "<td>-</td>";
+                continue;
+            };
+            let main = if c.nothing_cheaper {
+                "<strong class=\"none\">nothing is cheaper than phong_exact</strong>".to_string()
+            } else {
+                format!("<strong>{}</strong>", choice_html(&c.answer))
+            };
+            let label = if c.nothing_cheaper { "closest" } else { "then" };
+            let second = c.runner_up.as_ref().map_or(String::new(), |r| {
+                format!("<div class=\"ru\">{label} {}</div>", choice_html(r))
+            });
+            let _ = write!(
+                h,
+                "<td id=\"{}\" data-budget=\"{}\" data-model=\"{}\" data-method=\"{}\" \
+                 data-nothing=\"{}\" data-runner-up=\"{}\">{main}{second}</td>",
+                esc(&format!("answer-{}-{}", b.id, m.name)),
+                esc(&b.id),
+                esc(&m.name),
+                esc(&c.answer.method),
+                c.nothing_cheaper,
+                esc(c.runner_up.as_ref().map_or("", |r| r.method.as_str()))
+            );
+        }
+        h += "</tr>";
+    }
+    h + "</tbody></table></section>"
+}
+
+/// One claim's verdicts per source: (source heading, anchor or file, verdict).
+type ClaimRow = BTreeMap<usize, (String, String)>;
+
+/// The papers' claims as one matrix: each claim (method, text) against each place that
+/// measured it (lavapipe bench per scene, the software engine per scene, stress).
+pub fn claims_matrix(d: &ReportData) -> String {
+    let mut sources: Vec<String> = Vec::new();
+    let mut rows: BTreeMap<(String, String), ClaimRow> = BTreeMap::new();
+    let mut put =
+        |sources: &mut Vec<String>, src: String, m: &str, c: &str, v: &str, at: String| {
+            let col = sources.iter().position(|s| *s == src).unwrap_or_else(|| {
+                sources.push(src);
+                sources.len() - 1
+            });
+            rows.entry((m.to_string(), c.to_string()))
+                .or_default()
+                .insert(col, (v.to_string(), at));
+        };
+    for s in &d.scenes {
+        let src = format!("lavapipe: {}", s.id);
+        for (k, c) in s.bench.claims.iter().enumerate() {
+            let at = format!("#{}", claim_anchor(&s.id, k));
+            put(
+                &mut sources,
+                src.clone(),
+                &c.method,
+                &c.claim,
+                c.verdict.as_str(),
+                at,
+            );
+        }
+    }
+    for s in &d.scenes {
+        let Some(sw) = &s.software else { continue };
+        let src = format!("software: {}", s.id);
+        for c in &sw.claims {
+            let Some(j) = &c.software else { continue };
+            let at = format!("{}/claims.md", s.software_dir);
+            put(
+                &mut sources,
+                src.clone(),
+                &c.num,
+                &c.claim,
+                j.verdict.as_str(),
+                at,
+            );
+        }
+    }
+    for (k, c) in d.stress.claims.iter().enumerate() {
+        let at = format!("#stress--claim-{k}");
+        put(
+            &mut sources,
+            "stress".into(),
+            &c.method,
+            &c.claim,
+            c.verdict.as_str(),
+            at,
+        );
+    }
+    let mut h = String::from(
+        "<section id=\"claims\"><h2>The papers' claims</h2><p>Each claim against each place \
+         that measured it; a verdict links to its measurement (the claim's row, with what was \
+         measured and the rule).</p><div class=\"scroll\"><table class=\"sortable matrix\" \
+         id=\"claims-matrix\"><thead><tr><th>method</th><th>claim</th>",
+    );
+    for s in &sources {
+        let _ = write!(h, "<th>{}</th>", esc(s));
+    }
+    h += "</tr></thead><tbody>";
+    for ((m, c), cells) in &rows {
+        let _ = write!(h, "<tr><td>{}</td><td>{}</td>", esc(m), esc(c));
+        for k in 0..sources.len() {
+            match cells.get(&k) {
+                Some((v, at)) => {
+                    let _ = write!(
+                        h,
+                        "<td class=\"verdict v-{}\"><a href=\"{}\">{}</a></td>",
+                        esc(v),
+                        esc(at),
+                        esc(v)
+                    );
+                }
+                None => h += "<td class=\"na\">-</td>",
+            }
+        }
+        h += "</tr>";
+    }
+    h + "</tbody></table></div></section>"
+}
+
+/// The scene a report shows first: the most telling one, a curved mesh (the most triangles
+/// first; the cube, flat-faced with 12 triangles, last). Stable: equal counts keep their order.
+pub fn order_scenes(scenes: &mut [super::ReportScene]) {
+    scenes.sort_by_key(|s| std::cmp::Reverse(s.scene.mesh.triangle_count()));
+}
