@@ -233,8 +233,8 @@ pub fn verify_software_at(
 
 /// The frames of `m` computed in `precision`: the one place where a precision picks the
 /// programs. Float32 is what `ready` renders; the software engine computes in any precision;
-/// the Vulkan float16 programs are half23's (issue 23): the lead wires them here after the
-/// merge (the Vulkan arm's program lookup by method, interpolation and precision).
+/// the Vulkan renderer draws the float16 programs when it was made with
+/// `Renderer::with_precision(F16)` (a renderer in another precision is an internal error).
 pub(crate) fn render_in(
     ready: &Ready,
     m: &Method,
@@ -245,10 +245,11 @@ pub(crate) fn render_in(
         (Ready::Software { threads, .. }, p) => {
             software::render_at(ready.inputs(m)?, m, *threads, true, p)
         }
-        (Ready::Vulkan(..), Precision::F16) => Err(Error::Usage(format!(
-            "verify --precision f16 with the Vulkan engine: the float16 program of {} is not \
-             built yet (issue 23); use --engine software",
-            m.name
+        (Ready::Vulkan(r, _), p) if r.precision() == p => ready.render(m, true),
+        (Ready::Vulkan(r, _), p) => Err(Error::Internal(format!(
+            "verify {}: the renderer draws in {}, not {p} (Renderer::with_precision)",
+            m.name,
+            r.precision()
         ))),
     }
 }

@@ -10,7 +10,9 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["report", "corpus"],
-    &["compare", "bench", "verify", "stress", "plan", "isa", "prove"],
+    &[
+        "compare", "bench", "verify", "stress", "plan", "isa", "prove",
+    ],
     &["analysis", "truth", "cases", "auto"],
     &["gpu", "software", "engine"],
     &["scene", "frame"],

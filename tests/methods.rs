@@ -71,9 +71,16 @@ fn every_method_agrees_with_its_f64_formula() {
 ///   `hast_and_local_quaternion_differ_on_irregular_meshes` shows they differ elsewhere);
 /// - slerp / spherical_angular: the same function (FORMULAS.md 2.11: the closed form equals
 ///   slerp to 4e-16 in f64), two float computations of it;
-const EQUIVALENT_HERE: [(&str, &str); 4] = [
+const EQUIVALENT_HERE: [(&str, &str); 9] = [
     ("gouraud", "trueform"),
     ("phong_exact", "specular_lut"),
+    // the guards (issue 23) are exact normalisation wherever 2^-14 <= N.N <= 65504: all of a
+    // shipped scene's pixels
+    ("phong_exact", "safe_normalize"),
+    ("phong_exact", "filament_clamp"),
+    ("safe_normalize", "filament_clamp"),
+    ("safe_normalize", "specular_lut"),
+    ("filament_clamp", "specular_lut"),
     ("hast_half_vector", "quaternion_local"),
     ("slerp", "spherical_angular"),
 ];

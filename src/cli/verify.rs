@@ -22,7 +22,7 @@ pub(super) fn cmd_verify(
         print!("{}", report.table());
         return verdict(&report);
     }
-    let r = renderer(dev)?;
+    let r = renderer(dev)?.with_precision(precision)?;
     let report = crate::verify::verify_at(
         crate::engine::Engine::Vulkan(&r),
         &scene,

@@ -525,7 +525,12 @@ pub fn write(out: &Path, r: &ProofReport) -> Result<()> {
             .chain([("colour_error", m.colour.found_input)]);
         for (name, spec) in inputs {
             let Some(spec) = spec else { continue };
-            let case = crate::stress::case_report(method, &Case::new(spec), None, crate::method::Precision::F32)?;
+            let case = crate::stress::case_report(
+                method,
+                &Case::new(spec),
+                None,
+                crate::method::Precision::F32,
+            )?;
             let json =
                 serde_json::to_string_pretty(&case).map_err(|e| Error::output("a case file", e))?;
             let path = cases.join(format!("{}_{name}.json", m.name));

@@ -299,15 +299,26 @@ pub fn span_t<S>(sp: &Span<S>, px: f32) -> f32 {
     }
 }
 
-/// Twin of `scanline::PARALLEL`.
+/// Twin of `scanline::PARALLEL` (glsl/scanline.glsl `BY_PRECISION(1e-8, 0.001953125)`: 1e-8 is
+/// below float16's range and would round to 0, making parallel span ends divide 0 by 0).
 pub const PARALLEL: f32 = 1e-8;
+/// The float16 value of [`PARALLEL`] (2^-9).
+pub const PARALLEL_F16: f32 = 0.001953125;
+
+/// [`PARALLEL`] in the precision of `S`.
+fn parallel<S: Real>() -> S {
+    match S::PRECISION {
+        crate::method::Precision::F32 => S::of(PARALLEL),
+        crate::method::Precision::F16 => S::of(PARALLEL_F16),
+    }
+}
 
 /// `(c, sin theta, theta)` of unit `a`, `b` (glsl/scanline.glsl `angleBetween`: acos refined by
 /// one Newton step on sin), or `None` within [`PARALLEL`] of parallel or antipodal.
 pub fn angle<S: Real>(a: V3<S>, b: V3<S>) -> Option<(S, S, S)> {
     let c = a.dot(b).clamp(-S::ONE, S::ONE);
     let s2 = S::ONE - c * c;
-    if s2 < S::of(PARALLEL) {
+    if s2 < parallel::<S>() {
         return None;
     }
     let s = s2.sqrt();
