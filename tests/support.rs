@@ -32,6 +32,16 @@ pub fn assert_validation_clean(ctx: &Arc<Context>) {
     );
 }
 
+/// Every shipped scene of scenes/ (the file stems).
+pub const SHIPPED_SCENES: &[&str] = &[
+    "cube",
+    "icosphere",
+    "sphere_coarse",
+    "sphere_fine",
+    "torus",
+    "torus_generated",
+];
+
 /// A shipped scene at a small size.
 pub fn shipped_scene(name: &str, size: u32) -> Scene {
     let mut s = scene::load_scene(&root().join("scenes").join(format!("{name}.toml")))

@@ -8,14 +8,7 @@ use shadelab::verify::verify_software;
 
 use crate::support::*;
 
-const SCENES: &[&str] = &[
-    "cube",
-    "icosphere",
-    "sphere_coarse",
-    "sphere_fine",
-    "torus",
-    "torus_generated",
-];
+const SCENES: &[&str] = SHIPPED_SCENES;
 
 /// Software phong_exact and Vulkan phong_exact on one scene: (coverage mismatches, covered
 /// pixels, max |sw - vk| / (2 x the float32 bound of the f64 truth at Vulkan's weights),
@@ -162,4 +155,26 @@ fn kept_targets_are_cleared_by_each_draw() {
     // A target of another size is refused.
     let mut small = software::Targets::new(64, 64, false, false);
     assert!(software::render_into(&inputs, exact, 1, &mut small).is_err());
+}
+
+/// The shared list of shipped scenes is every scene file of scenes/, no more, no less (a scene
+/// added without the list would escape the software checks).
+#[test]
+fn the_shipped_scene_list_is_every_scene_file() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.unwrap().path();
+            (p.extension()? == "toml").then(|| p.file_stem()?.to_str().map(str::to_string))?
+        })
+        .collect();
+    files.sort();
+    let mut listed: Vec<String> = SHIPPED_SCENES.iter().map(|s| s.to_string()).collect();
+    listed.sort();
+    assert_eq!(
+        files, listed,
+        "tests/support.rs SHIPPED_SCENES against scenes/*.toml"
+    );
+    assert!(!listed.is_empty());
 }

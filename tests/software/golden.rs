@@ -13,14 +13,7 @@ use shadelab::software;
 
 use crate::support::*;
 
-const SCENES: &[&str] = &[
-    "cube",
-    "icosphere",
-    "sphere_coarse",
-    "sphere_fine",
-    "torus",
-    "torus_generated",
-];
+const SCENES: &[&str] = SHIPPED_SCENES;
 const SIZE: u32 = 96;
 /// The rows added after the recording (issue 23's guards).
 const GUARDS: &[&str] = &["safe_normalize", "filament_clamp"];

@@ -11,14 +11,7 @@ use shadelab::verify::{twin_agreement, verify_software_at};
 
 use crate::support::*;
 
-const SCENES: &[&str] = &[
-    "cube",
-    "icosphere",
-    "sphere_coarse",
-    "sphere_fine",
-    "torus",
-    "torus_generated",
-];
+const SCENES: &[&str] = SHIPPED_SCENES;
 
 /// x*x - 1 at x = 1 + 3 * 2^-10 (the lavapipe probe): in f16 x*x rounds to
 /// 1 + 6 * 2^-10 before the subtraction; the expected value is that rounding done in f64.
