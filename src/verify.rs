@@ -233,15 +233,15 @@ pub fn verify_software_at(
 
 /// The frames of `m` computed in `precision`: the one place where a precision picks the
 /// programs. Float32 is what `ready` renders; the software engine computes in any precision;
-/// the Vulkan renderer draws the float16 programs when it was made with
-/// `Renderer::with_precision(F16)` (a renderer in another precision is an internal error).
+/// the Vulkan renderer draws the programs of the precision it was made with
+/// (`Renderer::with_precision`); asking it for another precision is an internal error.
 pub(crate) fn render_in(
     ready: &Ready,
     m: &Method,
     precision: Precision,
 ) -> Result<(Frame, Option<IdFrame>)> {
     match (ready, precision) {
-        (_, Precision::F32) => ready.render(m, true),
+        (Ready::Software { .. }, Precision::F32) => ready.render(m, true),
         (Ready::Software { threads, .. }, p) => {
             software::render_at(ready.inputs(m)?, m, *threads, true, p)
         }

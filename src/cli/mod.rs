@@ -118,12 +118,9 @@ pub(super) struct PrecisionArgs {
 fn parse_precision() -> impl clap::builder::TypedValueParser<Value = crate::method::Precision> {
     use crate::method::Precision;
     use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(Precision::ALL.map(Precision::as_str)).map(|s| {
-        Precision::ALL
-            .into_iter()
-            .find(|p| p.as_str() == s)
-            .unwrap_or_default()
-    })
+    // Only the names of Precision::ALL get through, so the FromStr of Precision always succeeds.
+    clap::builder::PossibleValuesParser::new(Precision::ALL.map(Precision::as_str))
+        .map(|s| s.parse::<Precision>().unwrap_or_default())
 }
 
 impl PrecisionArgs {
