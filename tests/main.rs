@@ -21,6 +21,8 @@
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
 //! - `prove`: proof.json against its schema, bounds above found values, --replay of a found input.
+//! - `yours`: `--method-file` (issue 28): the examples of docs/examples/methods/ through compare,
+//!   stress, isa and report; the bit trick's error against its known figure; the refusals.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod cli;
@@ -39,3 +41,4 @@ mod shaders;
 mod software;
 mod stress;
 mod support;
+mod yours;

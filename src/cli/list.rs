@@ -3,11 +3,13 @@ use std::process::ExitCode;
 
 use crate::error::{Error, Result};
 use crate::method::METHODS;
+
+/// The table, then the user methods of `--method-file` (which have no software form).
 pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
     if json {
         let text = serde_json::to_string_pretty(&serde_json::json!({
             "version": 1,
-            "methods": METHODS,
+            "methods": crate::method::all(),
             // How each method runs under `--engine software` (src/software/): its scanline
             // form, or its per-pixel form where it has none.
             "software_forms": METHODS
@@ -18,7 +20,7 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
         .map_err(|e| Error::output("the method list", e))?;
         println!("{text}");
     } else {
-        for m in METHODS {
+        for m in crate::method::all() {
             println!("{:<22} {}", m.name, m.description);
         }
     }

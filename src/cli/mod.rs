@@ -39,7 +39,7 @@ use crate::auto::ErrorBudget;
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Context, ContextDesc};
 use crate::gpu::Renderer;
-use crate::method::{self, Method, METHODS};
+use crate::method::{self, Method};
 use crate::scene::{self, Interpolation, Scene};
 
 /// Exit code: a threshold was exceeded (results were still written).
@@ -56,6 +56,13 @@ pub const EXIT_ERROR: u8 = 2;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Your own method (issue 28): a GLSL file in glsl/methods/' vocabulary whose first lines
+    /// declare its inputs (`// shadelab-inputs: interpolated_normal`); its id is the file stem.
+    /// Repeatable. It joins `all` and can be named in --methods / --method of render, compare,
+    /// bench, stress, isa, report and corpus (docs/your-method.md). Child processes get it
+    /// through SHADELAB_METHOD_FILES.
+    #[arg(long = "method-file", value_name = "PATH.glsl", global = true)]
+    method_file: Vec<PathBuf>,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -558,6 +565,8 @@ fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
 /// Parses the command line and runs it. Errors are printed once by the caller.
 pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
+    // Before anything resolves a method set or starts a thread or child process.
+    method::user::register_cli(&cli.method_file)?;
     match cli.command {
         Command::Compare {
             scene,
@@ -759,7 +768,7 @@ fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
 
 fn select_methods(list: &str) -> Result<Vec<&'static Method>> {
     if list == "all" {
-        return Ok(METHODS.iter().collect());
+        return Ok(method::all());
     }
     list.split(',')
         .filter(|s| !s.is_empty())

@@ -28,6 +28,9 @@ pub struct ProveArgs {
 
 pub(super) fn cmd_prove(a: &ProveArgs) -> Result<ExitCode> {
     let methods = select_methods(&a.methods)?;
+    for m in &methods {
+        m.require_twin("prove")?;
+    }
     let out: &Path = &a.out;
     let opts = ProveOptions {
         max_angle_deg: a.max_angle,

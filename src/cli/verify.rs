@@ -14,6 +14,9 @@ pub(super) fn cmd_verify(
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let against = against.map(method::find).transpose()?;
+    for m in methods.iter().chain(against.iter()) {
+        m.require_twin("verify")?;
+    }
     let scene = load_scene(scene_args)?;
     if dev.engine == EngineArg::Software {
         let threads = crate::software::default_threads();

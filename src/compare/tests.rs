@@ -383,6 +383,7 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
             vulkan_api: String::new(),
             mesa_version: None,
             llvm_version: None,
+            method_files: Vec::new(),
         },
         engine: "vulkan".into(),
         precision: crate::method::Precision::F32,

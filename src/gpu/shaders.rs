@@ -123,6 +123,50 @@ fn f16_defines(mut defines: Vec<(String, String)>) -> Vec<(String, String)> {
     defines
 }
 
+/// A method's graphics programs in one mode: float16 (when it has it), then float32.
+fn graphics_programs(m: &crate::method::Method, mode: Interpolation) -> Vec<Program> {
+    let mut defines = vec![("INTERP".to_string(), interpolation_tag(mode).1.to_string())];
+    method_defines(m, &mut defines);
+    let mut out = Vec::new();
+    if has_precision(m.name, Precision::F16) {
+        out.push(Program {
+            name: program_name_in(m.name, mode, Precision::F16),
+            stages: GRAPHICS.to_vec(),
+            method_file: Some(m.glsl),
+            defines: f16_defines(defines.clone()),
+        });
+    }
+    out.push(Program {
+        name: program_name(m.name, mode),
+        stages: GRAPHICS.to_vec(),
+        method_file: Some(m.glsl),
+        defines,
+    });
+    out
+}
+
+/// A method's compute programs (glsl/evaluate.comp): float16 (when it has it), then float32.
+fn evaluate_programs(m: &crate::method::Method) -> Vec<Program> {
+    let mut defines = Vec::new();
+    method_defines(m, &mut defines);
+    let mut out = Vec::new();
+    if has_precision(m.name, Precision::F16) {
+        out.push(Program {
+            name: evaluate_program_in(m.name, Precision::F16),
+            stages: vec![("comp", "evaluate.comp")],
+            method_file: Some(m.glsl),
+            defines: f16_defines(defines.clone()),
+        });
+    }
+    out.push(Program {
+        name: evaluate_program(m.name),
+        stages: vec![("comp", "evaluate.comp")],
+        method_file: Some(m.glsl),
+        defines,
+    });
+    out
+}
+
 /// Every program, in a stable order.
 pub fn programs() -> Vec<Program> {
     let mut out = Vec::new();
@@ -134,22 +178,7 @@ pub fn programs() -> Vec<Program> {
             d
         };
         for m in METHODS {
-            let mut defines = with(&[]);
-            method_defines(m, &mut defines);
-            if has_precision(m.name, Precision::F16) {
-                out.push(Program {
-                    name: program_name_in(m.name, mode, Precision::F16),
-                    stages: GRAPHICS.to_vec(),
-                    method_file: Some(m.glsl),
-                    defines: f16_defines(defines.clone()),
-                });
-            }
-            out.push(Program {
-                name: program_name(m.name, mode),
-                stages: GRAPHICS.to_vec(),
-                method_file: Some(m.glsl),
-                defines,
-            });
+            out.extend(graphics_programs(m, mode));
         }
         out.push(Program {
             name: program_name("ids", mode),
@@ -165,81 +194,126 @@ pub fn programs() -> Vec<Program> {
         });
     }
     for m in METHODS.iter().filter(|m| has_evaluate_program(m)) {
-        let mut defines = Vec::new();
-        method_defines(m, &mut defines);
-        if has_precision(m.name, Precision::F16) {
-            out.push(Program {
-                name: evaluate_program_in(m.name, Precision::F16),
-                stages: vec![("comp", "evaluate.comp")],
-                method_file: Some(m.glsl),
-                defines: f16_defines(defines.clone()),
-            });
-        }
-        out.push(Program {
-            name: evaluate_program(m.name),
-            stages: vec![("comp", "evaluate.comp")],
-            method_file: Some(m.glsl),
-            defines,
-        });
+        out.extend(evaluate_programs(m));
     }
     out
 }
 
 /// Compiles every program from `glsl_dir`: returns (file name, SPIR-V bytes), sorted by name.
 pub fn compile_all(glsl_dir: &Path) -> Result<Vec<(String, Vec<u8>)>> {
-    let compiler = shaderc::Compiler::new()
-        .map_err(|e| Error::Shader(format!("cannot start the shaderc compiler: {e}")))?;
+    let compiler = new_compiler()?;
     let mut out = Vec::new();
     for p in programs() {
-        for &(stage, file) in &p.stages {
-            let kind = match stage {
-                "vert" => shaderc::ShaderKind::Vertex,
-                "frag" => shaderc::ShaderKind::Fragment,
-                _ => shaderc::ShaderKind::Compute,
+        let read = |name: &str| {
+            let path = match (name, p.method_file) {
+                ("method.glsl", Some(m)) => glsl_dir.join(m),
+                _ => glsl_dir.join(name),
             };
-            let path = glsl_dir.join(file);
-            let source = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-            let mut opts = shaderc::CompileOptions::new()
-                .map_err(|e| Error::Shader(format!("shaderc options: {e}")))?;
-            opts.set_target_env(
-                shaderc::TargetEnv::Vulkan,
-                shaderc::EnvVersion::Vulkan1_3 as u32,
-            );
-            opts.set_optimization_level(shaderc::OptimizationLevel::Performance);
-            for (k, v) in &p.defines {
-                opts.add_macro_definition(k, Some(v));
-            }
-            let dir = glsl_dir.to_path_buf();
-            let method_file = p.method_file;
-            opts.set_include_callback(move |name, _ty, _from, _depth| {
-                let path = match (name, method_file) {
-                    ("method.glsl", Some(m)) => dir.join(m),
-                    _ => dir.join(name),
-                };
-                std::fs::read_to_string(&path)
-                    .map(|content| shaderc::ResolvedInclude {
-                        resolved_name: path.display().to_string(),
-                        content,
-                    })
-                    .map_err(|e| format!("{}: {e}", path.display()))
-            });
-            let artifact = compiler
-                .compile_into_spirv(
-                    &source,
-                    kind,
-                    &path.display().to_string(),
-                    "main",
-                    Some(&opts),
-                )
-                .map_err(|e| Error::Shader(format!("{} ({}): {e}", p.name, path.display())))?;
-            out.push((
-                format!("{}.{stage}.spv", p.name),
-                artifact.as_binary_u8().to_vec(),
-            ));
-        }
+            std::fs::read_to_string(&path)
+                .map(|text| (path.display().to_string(), text))
+                .map_err(|e| format!("{}: {e}", path.display()))
+        };
+        out.extend(compile_program(&compiler, &p, &read)?);
     }
     out.sort();
     Ok(out)
+}
+
+fn new_compiler() -> Result<shaderc::Compiler> {
+    shaderc::Compiler::new()
+        .map_err(|e| Error::Shader(format!("cannot start the shaderc compiler: {e}")))
+}
+
+/// Resolves a file name of glsl/ (and `method.glsl`, the program's method file) to (the name
+/// messages use, its text).
+type Reader<'a> = dyn Fn(&str) -> std::result::Result<(String, String), String> + 'a;
+
+/// Compiles one program's stages with the options every program shares (Vulkan 1.3,
+/// optimised, the program's defines): (file name `<program>.<stage>.spv`, SPIR-V bytes).
+fn compile_program(
+    compiler: &shaderc::Compiler,
+    p: &Program,
+    read: &Reader<'_>,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
+    for &(stage, file) in &p.stages {
+        let kind = match stage {
+            "vert" => shaderc::ShaderKind::Vertex,
+            "frag" => shaderc::ShaderKind::Fragment,
+            _ => shaderc::ShaderKind::Compute,
+        };
+        let (main_name, source) = read(file).map_err(Error::Shader)?;
+        let mut opts = shaderc::CompileOptions::new()
+            .map_err(|e| Error::Shader(format!("shaderc options: {e}")))?;
+        opts.set_target_env(
+            shaderc::TargetEnv::Vulkan,
+            shaderc::EnvVersion::Vulkan1_3 as u32,
+        );
+        opts.set_optimization_level(shaderc::OptimizationLevel::Performance);
+        for (k, v) in &p.defines {
+            opts.add_macro_definition(k, Some(v));
+        }
+        opts.set_include_callback(|name, _ty, _from, _depth| {
+            read(name).map(|(resolved_name, content)| shaderc::ResolvedInclude {
+                resolved_name,
+                content,
+            })
+        });
+        let artifact = compiler
+            .compile_into_spirv(&source, kind, &main_name, "main", Some(&opts))
+            .map_err(|e| Error::Shader(format!("{} ({main_name}): {e}", p.name)))?;
+        out.push((
+            format!("{}.{stage}.spv", p.name),
+            artifact.as_binary_u8().to_vec(),
+        ));
+    }
+    Ok(out)
+}
+
+/// SPIR-V compiled at run time (user methods, issue 28): (file name, bytes), found by
+/// [`embedded`] after the files built into the binary.
+static RUNTIME_SPIRV: std::sync::RwLock<Vec<(String, &'static [u8])>> =
+    std::sync::RwLock::new(Vec::new());
+
+/// A user method's programs: the programs a built-in method with its inputs gets (both
+/// interpolations and precisions, and glsl/evaluate.comp), compiled with the same options from
+/// the GLSL embedded in the binary, the user's file standing for `method.glsl` (so shaderc's
+/// messages read `PATH:LINE: error`). Registered for [`embedded`].
+pub fn compile_user(u: &crate::method::user::UserMethod) -> Result<()> {
+    let compiler = new_compiler()?;
+    let read = |name: &str| {
+        if name == "method.glsl" {
+            return Ok((u.path.clone(), u.source.clone()));
+        }
+        EMBEDDED_GLSL
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(n, text)| (format!("glsl/{n}"), text.to_string()))
+            .ok_or_else(|| format!("glsl/{name} is not built into this binary"))
+    };
+    let mut compiled = Vec::new();
+    for p in method_programs(u.method) {
+        compiled.extend(compile_program(&compiler, &p, &read)?);
+    }
+    let mut reg = RUNTIME_SPIRV
+        .write()
+        .map_err(|_| Error::Internal("the runtime SPIR-V registry is poisoned".into()))?;
+    for (name, bytes) in compiled {
+        reg.push((name, Box::leak(bytes.into_boxed_slice())));
+    }
+    Ok(())
+}
+
+/// The programs of one method, in [`programs`]' order within each group.
+fn method_programs(m: &crate::method::Method) -> Vec<Program> {
+    let mut out = Vec::new();
+    for mode in MODES {
+        out.extend(graphics_programs(m, mode));
+    }
+    if has_evaluate_program(m) {
+        out.extend(evaluate_programs(m));
+    }
+    out
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -356,13 +430,21 @@ pub fn check_fresh(glsl_dir: &Path, spirv_dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The embedded SPIR-V of `<program>.<stage>.spv` (stage `vert`, `frag` or `comp`).
+/// The SPIR-V of `<program>.<stage>.spv` (stage `vert`, `frag` or `comp`): built into the
+/// binary, or compiled at run time for a user method ([`compile_user`]).
 pub fn embedded(program: &str, stage: &str) -> Result<&'static [u8]> {
     let file = format!("{program}.{stage}.spv");
+    let runtime = || {
+        RUNTIME_SPIRV
+            .read()
+            .ok()
+            .and_then(|r| r.iter().find(|(n, _)| *n == file).map(|(_, b)| *b))
+    };
     EMBEDDED_SPIRV
         .iter()
         .find(|(n, _)| *n == file)
         .map(|(_, b)| *b)
+        .or_else(runtime)
         .ok_or_else(|| {
             Error::Shader(format!(
                 "spirv/{file} was not built into this binary; run `{REGENERATE}` and rebuild"

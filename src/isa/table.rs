@@ -95,6 +95,9 @@ pub struct IsaReport {
     /// (relative path, text) of each disassembly, written by [`super::files`].
     #[serde(skip)]
     pub disassembly: Vec<(String, String)>,
+    /// The user methods' files (`--method-file`): id, path, SHA-256; absent without one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub method_files: Vec<crate::method::user::MethodFile>,
 }
 
 /// What the figures are, for readers of isa.json.
@@ -309,6 +312,7 @@ pub fn report(
         spearman: Vec::new(),
         op_count: Vec::new(),
         disassembly,
+        method_files: crate::method::user::method_files(),
     };
     report.op_count = super::claims::op_count(&report);
     Ok(report)

@@ -12,11 +12,13 @@ pub mod table;
 #[cfg(test)]
 mod tests;
 pub mod twins;
+pub mod user;
 mod worst;
 
 pub use precision::Precision;
 pub use table::METHODS;
 pub use twins::*;
+pub use user::all;
 
 use serde::Serialize;
 
@@ -110,16 +112,20 @@ pub enum Family {
     /// Combined methods: exact shading at the ends of 2^k-pixel digital segments, interpolation
     /// between them.
     DigitalSegments,
+    /// The user's own methods (`--method-file`, src/method/user.rs): no f64 twin, no software
+    /// kernel.
+    Yours,
 }
 
 impl Family {
     /// Every family, in presentation order.
-    pub const ALL: [Family; 5] = [
+    pub const ALL: [Family; 6] = [
         Family::Reference,
         Family::PerPixelNormalisation,
         Family::VertexAttribute,
         Family::Scanline,
         Family::DigitalSegments,
+        Family::Yours,
     ];
 
     /// The snake_case name, as in the JSON.
@@ -130,6 +136,7 @@ impl Family {
             Family::VertexAttribute => "vertex_attribute",
             Family::Scanline => "scanline",
             Family::DigitalSegments => "digital_segments",
+            Family::Yours => "yours",
         }
     }
 }
@@ -200,6 +207,8 @@ pub enum SoftwareKernel {
     SpecularLut,
     /// Along the span through the pixel's row.
     Span(SpanKernel),
+    /// None: a user method (`--method-file`) exists only as GLSL; the engine refuses it.
+    None,
 }
 
 /// The scale of [`SoftwareKernel::Scaled`]: 1/|v| exactly, 1, or an approximation of 1/|v|.
@@ -366,18 +375,38 @@ impl Method {
     pub fn has(&self, property: Property) -> bool {
         self.properties.contains(&property)
     }
+
+    /// Its f64 twin; `None` for a user method (`--method-file`), which exists only as GLSL.
+    pub fn twin(&self) -> Option<fn(&Fragment, &Lighting) -> Shaded> {
+        (self.family != Family::Yours).then_some(self.eval_f64)
+    }
+
+    /// An error (exit 2) naming the method when it has no f64 twin, for `what` (a command or
+    /// check that needs one).
+    pub fn require_twin(&self, what: &str) -> Result<fn(&Fragment, &Lighting) -> Shaded> {
+        self.twin().ok_or_else(|| {
+            Error::Usage(format!(
+                "{what} needs the method's f64 twin, and {} is a user method (--method-file) \
+                 without one; leave it out (compare, stress, bench, isa and report judge it \
+                 against exact Phong)",
+                self.name
+            ))
+        })
+    }
+}
+
+/// The `eval_f64` of a user method's row: never called (consumers ask [`Method::twin`]).
+pub(crate) fn no_twin(_: &Fragment, _: &Lighting) -> Shaded {
+    panic!("a user method has no f64 twin; the caller must ask Method::twin() first")
 }
 
 /// Looks a method up by identifier; the error lists the valid ones.
 pub fn find(name: &str) -> Result<&'static Method> {
-    METHODS.iter().find(|m| m.name == name).ok_or_else(|| {
+    let all = all();
+    all.iter().find(|m| m.name == name).copied().ok_or_else(|| {
         Error::Usage(format!(
             "unknown method {name:?}; valid methods: {} (see `shadelab list`)",
-            METHODS
-                .iter()
-                .map(|m| m.name)
-                .collect::<Vec<_>>()
-                .join(", ")
+            all.iter().map(|m| m.name).collect::<Vec<_>>().join(", ")
         ))
     })
 }

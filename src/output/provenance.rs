@@ -13,6 +13,9 @@ pub struct Provenance {
     pub vulkan_api: String,
     pub mesa_version: Option<String>,
     pub llvm_version: Option<String>,
+    /// The user methods' files (`--method-file`): id, path, SHA-256; absent without one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub method_files: Vec<crate::method::user::MethodFile>,
 }
 
 impl Provenance {
@@ -39,6 +42,7 @@ impl Provenance {
             vulkan_api: vulkan_api.into(),
             mesa_version: after("Mesa "),
             llvm_version: after("LLVM "),
+            method_files: crate::method::user::method_files(),
         }
     }
 }

@@ -194,8 +194,8 @@ pub fn format_utc(secs: u64) -> String {
 
 /// `methods` plus [`ALWAYS`], in the method table's order.
 fn with_references(methods: &[&'static Method]) -> Vec<&'static Method> {
-    method::METHODS
-        .iter()
+    method::all()
+        .into_iter()
         .filter(|m| methods.iter().any(|x| x.name == m.name) || ALWAYS.contains(&m.name))
         .collect()
 }
@@ -369,7 +369,11 @@ impl SceneRun<'_> {
             vulkan_bench: None,
             command_line: std::env::args().collect(),
         };
-        crate::bench::software::bench(&s.scene, self.methods, dir, &sw, None)
+        // A user method (--method-file) has no software kernel: not in this cost model.
+        let methods: Vec<&'static Method> = (self.methods.iter().copied())
+            .filter(|m| m.software != crate::method::SoftwareKernel::None)
+            .collect();
+        crate::bench::software::bench(&s.scene, &methods, dir, &sw, None)
     }
 }
 

@@ -102,6 +102,7 @@ pub fn kernel_words(k: SoftwareKernel) -> &'static str {
         K::Quaternion | K::QuaternionLocal => "per-pixel form: quaternion stepped by forward differences, normal recovered per pixel",
         K::BarycentricQuadratic { .. } | K::PnNormals => "per-pixel form: weights stepped by forward differences, quadratic evaluated per pixel",
         K::Scaled(_) | K::Mikami(_) | K::HastHalfVector | K::SpecularLut => "per-pixel form: normal stepped by forward differences, then the method's normalisation",
+        K::None => "none: a user method (--method-file) exists only as GLSL",
     }
 }
 
@@ -175,6 +176,13 @@ pub fn render_into_at(
             targets.width, targets.height, inputs.width, inputs.height
         )));
     }
+    if method.software == SoftwareKernel::None {
+        return Err(Error::Usage(format!(
+            "{} is a user method (--method-file): the software engine has no kernel for it; \
+             use --engine vulkan",
+            method.name
+        )));
+    }
     let tris = raster::setup(inputs)?;
     match precision {
         Precision::F32 => dispatch::<f32>(inputs, method, threads, targets, &tris),
@@ -216,6 +224,8 @@ fn dispatch<S: Real>(
         K::BarycentricQuadratic { exact_mid } => barycentric_quadratic(d, exact_mid),
         K::PnNormals => pn_normals(d),
         K::SpecularLut => specular_lut(d),
+        // Refused by render_into_at before the draw.
+        K::None => {}
     }
 }
 

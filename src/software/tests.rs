@@ -20,7 +20,8 @@ fn form_mismatch(m: &Method) -> Option<String> {
         | K::QuaternionLocal
         | K::BarycentricQuadratic { .. }
         | K::PnNormals
-        | K::SpecularLut => false,
+        | K::SpecularLut
+        | K::None => false,
     };
     let drifts = matches!(
         m.software,

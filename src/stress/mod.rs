@@ -28,7 +28,8 @@ use crate::error::{Error, Result};
 use crate::gpu::evaluate::{Evaluated, GpuCase, Kernel};
 use crate::gpu::shaders::has_evaluate_program;
 use crate::gpu::vk::Context;
-use crate::method::{Method, Precision, Reference};
+use crate::method::formulas::Lighting;
+use crate::method::{Fragment, Method, Precision, Reference, Shaded};
 
 use crate::cases::grid::Worst;
 
@@ -153,6 +154,16 @@ fn finite_or_none(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
+/// The f64 formula stress evaluates for `m`: its twin, or for a user method without one
+/// (`--method-file`) exact Phong, whose figures are then reported as absent
+/// ([`MethodStress::own_formula`] `no twin`): the device is judged against exact Phong either way.
+fn f64_formula(m: &Method) -> fn(&Fragment, &Lighting) -> Shaded {
+    m.twin().unwrap_or(crate::method::phong_exact().eval_f64)
+}
+
+/// What the "own formula" column says of a method without an f64 twin.
+pub const NO_TWIN: &str = "no twin";
+
 /// The report of one case evaluated both ways (the device in `precision`).
 pub fn case_report(
     m: &Method,
@@ -160,7 +171,8 @@ pub fn case_report(
     dev: Option<&Output>,
     precision: Precision,
 ) -> Result<CaseReport> {
-    let f = (m.eval_f64)(&case.fragment, &case.lighting);
+    let f = f64_formula(m)(&case.fragment, &case.lighting);
+    let twin = m.twin().is_some();
     let ef = errors(case, f.color, f.normal);
     let ed = dev.map(|d| errors(case, d.color(), d.normal()));
     Ok(CaseReport {
@@ -175,9 +187,9 @@ pub fn case_report(
         device_color: dev.map(|d| d.color),
         device_color_bits: dev.map(|d| d.color.map(|x| (x as f32).to_bits())),
         device_normal: dev.and_then(|d| d.normal),
-        f64_color: Some(f.color.to_array()),
+        f64_color: twin.then(|| f.color.to_array()),
         device_abs_error: ed.and_then(|e| finite_or_none(e.abs)),
-        f64_abs_error: finite_or_none(ef.abs),
+        f64_abs_error: finite_or_none(ef.abs).filter(|_| twin),
     })
 }
 
@@ -252,6 +264,11 @@ pub struct MethodStress {
     pub error_vs_shape: Vec<CurvePoint>,
     pub validity_map: ValidityMap,
     pub seconds: f64,
+    /// [`NO_TWIN`] for a user method (`--method-file`): it has no f64 formula, so every `_f64`
+    /// figure is null (its curves' `f64` empty) and the device is judged against exact Phong
+    /// alone. Absent for the built-in methods.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub own_formula: Option<&'static str>,
 }
 
 /// Evaluates every case of `grid` for `m`: device results (None without a device program) and
@@ -275,7 +292,7 @@ fn evaluate(
                 s.spawn(move || {
                     part.iter()
                         .map(|c| {
-                            let r = (m.eval_f64)(&c.fragment, &c.lighting);
+                            let r = f64_formula(m)(&c.fragment, &c.lighting);
                             Output {
                                 color: r.color.to_array(),
                                 normal: r.normal.map(|n| n.to_array()),
@@ -403,7 +420,7 @@ pub fn stress_method(
     let curves = grid::curves(grid, &applies, primary, &f64_err);
     let max_valid = sweeps::max_valid_angle(grid, primary, opts.threshold);
     let max_valid_f64 = sweeps::max_valid_angle(grid, &f64_err, opts.threshold);
-    Ok(MethodStress {
+    let mut out = MethodStress {
         name: m.name.to_string(),
         device_evaluated: dev.is_some(),
         cases: all.count + ill,
@@ -441,7 +458,31 @@ pub fn stress_method(
         error_vs_shape: curves.shape,
         validity_map: grid::validity_map(grid, primary),
         seconds: start.elapsed().as_secs_f64(),
-    })
+        own_formula: None,
+    };
+    if m.twin().is_none() {
+        without_twin(&mut out);
+    }
+    Ok(out)
+}
+
+/// Clears the f64 figures of a method without a twin (they were exact Phong's) and says so.
+fn without_twin(s: &mut MethodStress) {
+    s.own_formula = Some(NO_TWIN);
+    s.non_finite_cases_f64 = 0;
+    s.worst_abs_error_f64 = None;
+    s.max_valid_angle_deg_f64 = None;
+    for curve in [
+        &mut s.error_vs_angle,
+        &mut s.error_vs_shininess,
+        &mut s.error_vs_span,
+        &mut s.error_vs_length,
+        &mut s.error_vs_shape,
+    ] {
+        for p in curve.iter_mut() {
+            p.f64 = Worst::default();
+        }
+    }
 }
 
 /// The error of `spec` (device, or f64 without a device program); NaN when non-finite.
@@ -469,7 +510,7 @@ fn measure(
         None => Ok(cases
             .iter()
             .map(|c| {
-                let r = (m.eval_f64)(&c.fragment, &c.lighting);
+                let r = f64_formula(m)(&c.fragment, &c.lighting);
                 (errors(c, r.color, r.normal).abs, None)
             })
             .collect()),
@@ -570,7 +611,8 @@ pub fn table(r: &StressReport) -> String {
                 format!("{} (f64)", m.non_finite_cases_f64)
             },
             fmt(m.worst_finite_abs_error, 2),
-            fmt(m.worst_abs_error_f64, 2),
+            m.own_formula
+                .map_or_else(|| fmt(m.worst_abs_error_f64, 2), str::to_string),
             with_count(m.worst_angle_deg, m.non_finite_angle),
             m.max_valid_angle_deg
                 .map_or("none".to_string(), |a| format!("{a} deg")),

@@ -319,6 +319,7 @@ fn the_worst_figures_keep_their_non_finite_counts() {
             vulkan_api: String::new(),
             mesa_version: None,
             llvm_version: None,
+            method_files: Vec::new(),
         },
     };
     let t = table(&report);

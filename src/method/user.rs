@@ -1,0 +1,417 @@
+//! User methods (issue 28): a GLSL file given with `--method-file PATH.glsl` becomes a method
+//! row like the built-in ones. This module owns the file's parsing (its id, the inputs it
+//! declares, its entry point), the process-wide registry of user rows ([`all`] is the built-in
+//! table followed by them) and the refusals (a clashing id, an unknown or undeclared input).
+//!
+//! A user row has no f64 twin and no software kernel: [`Method::twin`] is `None` and its
+//! software kernel is [`SoftwareKernel::None`], which the software engine refuses. Its programs
+//! are compiled at registration (src/gpu/shaders.rs [`crate::gpu::shaders::compile_user`]) from
+//! the GLSL embedded in the binary, so it runs outside the repository too.
+//!
+//! Child processes (bench's fresh runs, isa's one process per GPU family, corpus) see the same
+//! methods: registration records the files in the environment variable [`ENV`], which every
+//! shadelab process reads at start.
+use std::path::{Path, PathBuf};
+use std::sync::RwLock;
+
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+
+use super::{Family, Geometry, Input, Method, Reference, SoftwareKernel, METHODS};
+use crate::error::{Error, Result};
+
+/// The environment variable that carries the registered method files to child processes
+/// (paths joined like `PATH`); a user may also set it by hand.
+pub const ENV: &str = "SHADELAB_METHOD_FILES";
+
+/// The marker of the declaration line.
+pub const INPUTS_MARKER: &str = "// shadelab-inputs:";
+
+/// How many first lines may hold the declaration.
+const DECLARATION_LINES: usize = 20;
+
+/// Every input by its name in `shadelab list --json` (serde's snake_case of [`Input`]).
+pub const INPUT_NAMES: [(&str, Input); 10] = [
+    ("interpolated_normal", Input::InterpolatedNormal),
+    ("flat_normal", Input::FlatNormal),
+    ("barycentrics", Input::Barycentrics),
+    ("corner_normals", Input::CornerNormals),
+    ("pn_mid_normals", Input::PnMidNormals),
+    ("vertex_color", Input::VertexColor),
+    ("quaternion", Input::Quaternion),
+    ("quaternion_local", Input::QuaternionLocal),
+    ("specular_lut", Input::SpecularLut),
+    ("scanline_span", Input::ScanlineSpan),
+];
+
+/// GLSL identifiers that exist only when an input is declared (glsl/common.glsl), and the input
+/// that declares them: how an "undeclared identifier" compile error is traced to a missing
+/// declaration.
+pub const IDENTIFIERS: [(&str, Input); 17] = [
+    ("vNormal", Input::InterpolatedNormal),
+    ("vBary", Input::Barycentrics),
+    ("vFlat", Input::FlatNormal),
+    ("vN0", Input::CornerNormals),
+    ("vN1", Input::CornerNormals),
+    ("vN2", Input::CornerNormals),
+    ("vPn01", Input::PnMidNormals),
+    ("vPn12", Input::PnMidNormals),
+    ("vPn20", Input::PnMidNormals),
+    ("vColor", Input::VertexColor),
+    ("vQuat", Input::Quaternion),
+    ("vW0", Input::ScanlineSpan),
+    ("vW1", Input::ScanlineSpan),
+    ("vW2", Input::ScanlineSpan),
+    ("lut", Input::SpecularLut),
+    ("LUT_ROWS", Input::SpecularLut),
+    ("LUT_SAMPLES", Input::SpecularLut),
+];
+
+/// The name of an input in `shadelab list --json`.
+pub fn input_name(input: Input) -> &'static str {
+    INPUT_NAMES
+        .iter()
+        .find(|(_, i)| *i == input)
+        .map_or("?", |(n, _)| n)
+}
+
+/// A registered user method: its row and where it came from (written into every run's JSON).
+#[derive(Debug, Serialize)]
+pub struct UserMethod {
+    /// The method row (`family: yours`).
+    #[serde(skip)]
+    pub method: &'static Method,
+    /// The method's id (the file stem).
+    pub name: &'static str,
+    /// The file as given (made absolute).
+    pub path: String,
+    /// SHA-256 of the file's bytes, hex.
+    pub sha256: String,
+    /// The file's text, compiled in place of glsl/methods/<name>.glsl.
+    #[serde(skip)]
+    pub source: String,
+    /// 1-based line of the `// shadelab-inputs:` declaration.
+    #[serde(skip)]
+    pub declaration_line: usize,
+}
+
+/// Which file a run measured: a user method's id, path and SHA-256 (in every run's JSON, beside
+/// the provenance; absent when no method file was given).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct MethodFile {
+    pub name: String,
+    pub path: String,
+    pub sha256: String,
+}
+
+/// The registered method files, for a run's JSON.
+pub fn method_files() -> Vec<MethodFile> {
+    registered()
+        .iter()
+        .map(|u| MethodFile {
+            name: u.name.to_string(),
+            path: u.path.clone(),
+            sha256: u.sha256.clone(),
+        })
+        .collect()
+}
+
+static REGISTRY: RwLock<Vec<&'static UserMethod>> = RwLock::new(Vec::new());
+
+/// The registered user methods, in registration order.
+pub fn registered() -> Vec<&'static UserMethod> {
+    REGISTRY.read().map(|r| r.clone()).unwrap_or_default()
+}
+
+/// The user method of this row, if it is one.
+pub fn of(m: &Method) -> Option<&'static UserMethod> {
+    registered().into_iter().find(|u| u.name == m.name)
+}
+
+/// Every method: the built-in table, then the user methods.
+pub fn all() -> Vec<&'static Method> {
+    let mut v: Vec<&'static Method> = METHODS.iter().collect();
+    v.extend(registered().iter().map(|u| u.method));
+    v
+}
+
+/// What a file declares, before compilation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parsed {
+    pub name: String,
+    pub inputs: Vec<Input>,
+    pub declaration_line: usize,
+    /// `methodNormal()` (true) or `methodColor()` under `#define METHOD_COLOR` (false).
+    pub has_normal: bool,
+}
+
+fn usage(path: &Path, what: String) -> Error {
+    Error::Usage(format!("{}: {what}", path.display()))
+}
+
+/// Whether `s` is a snake_case identifier: a lowercase letter, then lowercase letters, digits
+/// and single underscores, not ending in one.
+pub fn is_snake_case(s: &str) -> bool {
+    let b = s.as_bytes();
+    !b.is_empty()
+        && b[0].is_ascii_lowercase()
+        && b.iter()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
+        && !s.contains("__")
+        && !s.ends_with('_')
+}
+
+/// Parses a method file's text (`path` names it in errors): the id from the stem, the inputs
+/// from the declaration line, the entry point.
+pub fn parse(path: &Path, text: &str) -> Result<Parsed> {
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+    if path.extension().and_then(|e| e.to_str()) != Some("glsl") {
+        return Err(usage(path, "a method file's name ends in .glsl".into()));
+    }
+    if !is_snake_case(stem) {
+        return Err(usage(path, format!("the method's id is the file stem, {stem:?}, which is not snake_case (lowercase letters, digits, single underscores): rename the file")));
+    }
+    if METHODS.iter().any(|m| m.name == stem) || stem == "auto" || stem == "all" {
+        return Err(usage(path, format!("the method's id {stem:?} (the file stem) is the name of a built-in method: rename the file")));
+    }
+    let Some((idx, list)) = text
+        .lines()
+        .take(DECLARATION_LINES)
+        .enumerate()
+        .find_map(|(i, l)| l.trim().strip_prefix(INPUTS_MARKER).map(|r| (i, r)))
+    else {
+        return Err(usage(path, format!("no `{INPUTS_MARKER} NAME, ...` line in the first {DECLARATION_LINES} lines; declare the inputs the method reads, e.g. `{INPUTS_MARKER} interpolated_normal` (inputs: {})", valid_inputs())));
+    };
+    let mut inputs = Vec::new();
+    for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let Some((_, input)) = INPUT_NAMES.iter().find(|(n, _)| *n == name) else {
+            return Err(usage(
+                path,
+                format!(
+                    "line {}: unknown input {name:?}; valid inputs: {}",
+                    idx + 1,
+                    valid_inputs()
+                ),
+            ));
+        };
+        if !inputs.contains(input) {
+            inputs.push(*input);
+        }
+    }
+    let code: String = text
+        .lines()
+        .map(strip_comment)
+        .collect::<Vec<_>>()
+        .join("\n");
+    let color = code.contains("methodColor(");
+    let normal = code.contains("methodNormal(");
+    if color == normal {
+        return Err(usage(path, "define exactly one of `real3 methodNormal()` (the shading normal; `#define METHOD_SHADE` and `real3 methodShade(real3 N)` to light it yourself) and `real3 methodColor()` (with `#define METHOD_COLOR`), as glsl/methods/ does".into()));
+    }
+    if color && !code.contains("METHOD_COLOR") {
+        return Err(usage(path, "a file that defines methodColor() needs `#define METHOD_COLOR` before it (glsl/method_main.glsl)".into()));
+    }
+    Ok(Parsed {
+        name: stem.to_string(),
+        inputs,
+        declaration_line: idx + 1,
+        has_normal: normal,
+    })
+}
+
+fn strip_comment(line: &str) -> &str {
+    line.split_once("//").map_or(line, |(a, _)| a)
+}
+
+fn valid_inputs() -> String {
+    INPUT_NAMES.map(|(n, _)| n).join(", ")
+}
+
+/// A compile error of a user's programs, told in the user's words: the identifier of an input
+/// the file did not declare names that input and the line to add; otherwise shaderc's message
+/// (it reads `PATH:LINE: error: ...`).
+pub fn explain_compile_error(u: &Parsed, path: &Path, message: &str) -> Error {
+    for (ident, input) in IDENTIFIERS {
+        if u.inputs.contains(&input) {
+            continue;
+        }
+        if message.contains(&format!("'{ident}' : undeclared identifier")) {
+            let mut names: Vec<&str> = u.inputs.iter().map(|i| input_name(*i)).collect();
+            names.push(input_name(input));
+            return usage(path, format!("reads `{ident}`, which belongs to the input {} that the file does not declare; make line {} `{INPUTS_MARKER} {}`", input_name(input), u.declaration_line, names.join(", ")));
+        }
+    }
+    Error::Usage(format!(
+        "{} does not compile:\n{}",
+        path.display(),
+        message.trim_end()
+    ))
+}
+
+fn leak(s: String) -> &'static str {
+    Box::leak(s.into_boxed_str())
+}
+
+/// Reads, checks, compiles and registers the method files (a path already registered is
+/// skipped). The library's entry; the CLI calls [`register_cli`].
+pub fn register(paths: &[PathBuf]) -> Result<()> {
+    for p in paths {
+        let abs = std::path::absolute(p).map_err(|e| Error::io(p, e))?;
+        if registered().iter().any(|u| Path::new(&u.path) == abs) {
+            continue;
+        }
+        register_one(&abs)?;
+    }
+    Ok(())
+}
+
+/// [`register`] for a shadelab process: the files of [`ENV`] (set by a parent process) and
+/// then `paths` (`--method-file`), and records them all in [`ENV`] for this process's
+/// children. Call it before any thread or child process starts.
+pub fn register_cli(paths: &[PathBuf]) -> Result<()> {
+    let mut all_paths: Vec<PathBuf> = std::env::var_os(ENV)
+        .map(|v| {
+            std::env::split_paths(&v)
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        })
+        .unwrap_or_default();
+    all_paths.extend(paths.iter().cloned());
+    register(&all_paths)?;
+    if !registered().is_empty() {
+        let joined = std::env::join_paths(registered().iter().map(|u| PathBuf::from(&u.path)))
+            .map_err(|e| Error::Usage(format!("a method file's path cannot be passed on: {e}")))?;
+        std::env::set_var(ENV, joined);
+    }
+    Ok(())
+}
+
+fn register_one(path: &Path) -> Result<()> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let text =
+        String::from_utf8(bytes.clone()).map_err(|_| usage(path, "is not UTF-8 text".into()))?;
+    let parsed = parse(path, &text)?;
+    if let Some(other) = registered().iter().find(|u| u.name == parsed.name) {
+        return Err(usage(
+            path,
+            format!(
+                "its id {:?} (the file stem) is also the id of {}: rename one",
+                parsed.name, other.path
+            ),
+        ));
+    }
+    let path_str = leak(path.display().to_string());
+    let method: &'static Method = Box::leak(Box::new(Method {
+        name: leak(parsed.name.clone()),
+        description: leak(format!("your method, from {path_str}")),
+        citation: path_str,
+        inputs: Box::leak(parsed.inputs.clone().into_boxed_slice()),
+        family: Family::Yours,
+        properties: &[],
+        geometry: Geometry::Mesh,
+        has_normal: parsed.has_normal,
+        reference: Reference::Phong,
+        validity: "unknown (a user method: see stress's validity map)",
+        claims: &[],
+        glsl: path_str,
+        eval_f64: super::no_twin,
+        software: SoftwareKernel::None,
+    }));
+    let user: &'static UserMethod = Box::leak(Box::new(UserMethod {
+        method,
+        name: method.name,
+        path: path_str.to_string(),
+        sha256: Sha256::digest(&bytes)
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect(),
+        source: text,
+        declaration_line: parsed.declaration_line,
+    }));
+    crate::gpu::shaders::compile_user(user).map_err(|e| match e {
+        Error::Shader(msg) => explain_compile_error(&parsed, path, &msg),
+        other => other,
+    })?;
+    REGISTRY
+        .write()
+        .map_err(|_| Error::Internal("the user-method registry is poisoned".into()))?
+        .push(user);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(name: &str) -> PathBuf {
+        PathBuf::from(format!("/x/{name}"))
+    }
+
+    #[test]
+    fn input_names_are_the_list_json_names() {
+        for (name, input) in INPUT_NAMES {
+            assert_eq!(serde_json::to_value(input).unwrap(), name);
+        }
+        assert_eq!(input_name(Input::Barycentrics), "barycentrics");
+    }
+
+    #[test]
+    fn parses_declaration_and_entry_point() {
+        let t = "// two steps\n// shadelab-inputs: interpolated_normal, flat_normal\nreal3 methodNormal() { return R3(vNormal); }\n";
+        let u = parse(&p("two_steps.glsl"), t).unwrap();
+        assert_eq!(u.name, "two_steps");
+        assert_eq!(u.inputs, vec![Input::InterpolatedNormal, Input::FlatNormal]);
+        assert_eq!(u.declaration_line, 2);
+        assert!(u.has_normal);
+        let c = "// shadelab-inputs: vertex_color\n#define METHOD_COLOR\nreal3 methodColor() { return R3(vColor); }\n";
+        assert!(!parse(&p("mine.glsl"), c).unwrap().has_normal);
+    }
+
+    #[test]
+    fn refuses_bad_names_inputs_and_entry_points() {
+        let ok = "// shadelab-inputs: interpolated_normal\nreal3 methodNormal() { return R3(vNormal); }\n";
+        for bad in [
+            "phong_exact.glsl",
+            "Mine.glsl",
+            "a__b.glsl",
+            "auto.glsl",
+            "mine.frag",
+        ] {
+            assert!(parse(&p(bad), ok).is_err(), "{bad} accepted");
+        }
+        let e = parse(
+            &p("m.glsl"),
+            "// shadelab-inputs: normal\nreal3 methodNormal();",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("interpolated_normal"), "{e}");
+        assert!(parse(&p("m.glsl"), "real3 methodNormal() {}").is_err());
+        let neither = "// shadelab-inputs: interpolated_normal\nreal3 f() {}";
+        assert!(parse(&p("m.glsl"), neither).is_err());
+        let commented =
+            "// shadelab-inputs: vertex_color\n// methodNormal() was here\nreal3 methodColor() {}";
+        assert!(parse(&p("m.glsl"), commented).is_err(), "no METHOD_COLOR");
+    }
+
+    #[test]
+    fn an_undeclared_identifier_names_its_input() {
+        let u = parse(
+            &p("m.glsl"),
+            "// shadelab-inputs: interpolated_normal\nreal3 methodNormal() { return R3(vFlat); }",
+        )
+        .unwrap();
+        let msg = "/x/m.glsl:2: error: 'vFlat' : undeclared identifier\n";
+        let e = explain_compile_error(&u, &p("m.glsl"), msg).to_string();
+        assert!(e.contains("flat_normal") && e.contains("line 1"), "{e}");
+        let other = explain_compile_error(
+            &u,
+            &p("m.glsl"),
+            "/x/m.glsl:2: error: 'foo' : undeclared identifier",
+        )
+        .to_string();
+        assert!(
+            other.contains("/x/m.glsl:2: error") && !other.contains("flat_normal"),
+            "{other}"
+        );
+    }
+}
