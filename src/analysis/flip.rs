@@ -22,9 +22,11 @@ use crate::analysis::stats::percentile;
 use crate::output;
 
 pub(crate) fn srgb_rgb8(color: impl Iterator<Item = DVec3>) -> Vec<u8> {
-    color
-        .flat_map(|c| [c.x, c.y, c.z].map(|v| output::srgb8(v as f32)))
-        .collect()
+    let mut rgb = Vec::with_capacity(3 * color.size_hint().0);
+    for c in color {
+        rgb.extend_from_slice(&[c.x, c.y, c.z].map(|v| output::srgb8(v as f32)));
+    }
+    rgb
 }
 
 /// The pixels per degree every FLIP of the tool uses (nv-flip's default: a 0.7 m viewing

@@ -316,11 +316,10 @@ impl Analysis<'_> {
 /// Writes a frame as render.png from its 8-bit sRGB colour `rgb8` (of `color`) and the alpha of
 /// `color`: the bytes of `output::write_png_srgb(path, w, h, color)`.
 fn write_render_png(path: &Path, w: u32, h: u32, rgb8: &[u8], color: &[[f32; 4]]) -> Result<()> {
-    let rgba: Vec<u8> = rgb8
-        .chunks_exact(3)
-        .zip(color)
-        .flat_map(|(c, p)| [c[0], c[1], c[2], output::alpha8(p[3])])
-        .collect();
+    let mut rgba = Vec::with_capacity(4 * color.len());
+    for (c, p) in rgb8.chunks_exact(3).zip(color) {
+        rgba.extend_from_slice(&[c[0], c[1], c[2], output::alpha8(p[3])]);
+    }
     output::write_png_rgba8(path, w, h, &rgba)
 }
 

@@ -3,8 +3,10 @@
 pub mod chart;
 pub mod heatmap;
 pub mod provenance;
+pub mod srgb;
 
 pub use provenance::Provenance;
+pub use srgb::srgb8;
 use std::io::Write;
 use std::path::Path;
 
@@ -88,21 +90,6 @@ mod tests {
             .collect();
         assert_eq!(leftovers, vec![std::ffi::OsString::from("out.png")]);
     }
-}
-
-/// sRGB transfer function of a linear value, clamped to [0, 1], as 8 bits.
-pub fn srgb8(linear: f32) -> u8 {
-    let x = if linear.is_finite() {
-        linear.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let s = if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
 }
 
 /// An alpha value as 8 bits (clamped to [0, 1]; NaN becomes 0).
