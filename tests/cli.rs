@@ -203,15 +203,16 @@ fn npy_floats(path: &std::path::Path) -> Vec<f32> {
 #[test]
 fn render_auto_stays_within_its_budget_of_exact_phong() {
     let dir = tempfile::tempdir().unwrap();
-    let render = |method: &str, budget: &str| {
-        let png = dir.path().join(format!("{method}.png"));
+    let render = |scene: &str, method: &str, budget: &str| {
+        let png = dir.path().join(format!("{scene}_{method}.png"));
         let npy = dir
             .path()
-            .join(format!("{method}_{}.npy", budget.replace('/', "_")));
+            .join(format!("{scene}_{method}_{}.npy", budget.replace('/', "_")));
+        let path = format!("scenes/{scene}.toml");
         let (code, _, err) = run(&[
             "render",
             "--scene",
-            "scenes/torus.toml",
+            &path,
             "--size",
             "96x96",
             "--validate",
@@ -227,22 +228,24 @@ fn render_auto_stays_within_its_budget_of_exact_phong() {
         assert_eq!(code, 0, "{err}");
         npy_floats(&npy)
     };
-    let exact = render("phong_exact", "1/255");
-    // Largest colour difference over the pixels both cover (alpha 1).
-    let worst = |a: &[f32]| {
+    // Largest colour difference to exact Phong over the pixels both cover (alpha 1).
+    let worst = |scene: &str, a: &[f32]| {
+        let exact = render(scene, "phong_exact", "1/255");
+        let covered = exact.chunks_exact(4).filter(|p| p[3] == 1.0).count();
+        assert!(covered > 1000, "{scene}: {covered} covered pixels");
         a.chunks_exact(4)
             .zip(exact.chunks_exact(4))
             .filter(|(p, q)| p[3] == 1.0 && q[3] == 1.0)
             .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0f32, f32::max))
             .fold(0.0f32, f32::max)
     };
-    let covered = exact.chunks_exact(4).filter(|p| p[3] == 1.0).count();
-    assert!(covered > 1000, "{covered} covered pixels");
-    // phong_exact itself is within ~1e-6 of the f64 truth: the budget holds against it too.
-    let tight = worst(&render("auto", "1/255"));
+    // phong_exact itself is within ~1e-6 of the f64 truth: the budget holds against it too,
+    // whether the frame check keeps auto's groups or draws one program.
+    let tight = worst("torus", &render("torus", "auto", "1/255"));
     assert!(tight <= 1.0 / 255.0, "auto at 1/255: {tight}");
-    // Teeth: a loose budget lets gouraud shade the whole torus, visibly off exact Phong.
-    let loose = worst(&render("auto", "16/255"));
+    // Teeth: a loose budget lets gouraud shade the whole fine sphere (one program: no frame
+    // check decides it), visibly off exact Phong.
+    let loose = worst("sphere_fine", &render("sphere_fine", "auto", "16/255"));
     assert!(
         loose > 1.0 / 255.0 && loose <= 16.0 / 255.0,
         "auto at 16/255: {loose}"

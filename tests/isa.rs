@@ -330,6 +330,16 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
         ] {
             cell(m);
         }
+        // The software engine's column is timed by this bench (its programs paired per round).
+        let sw = cell("software engine");
+        assert!(
+            ["agrees", "disagrees", "inconclusive"].contains(&sw["verdict"].as_str().unwrap()),
+            "{sw}"
+        );
+        assert!(
+            sw["note"].as_str().unwrap().contains("software/bench.json"),
+            "{sw}"
+        );
         assert_eq!(cell("isa:bogus")["verdict"], "not_supported");
         let navi = cell("isa:navi21");
         let it = |m: &serde_json::Value| {

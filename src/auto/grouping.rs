@@ -38,8 +38,14 @@ pub struct Grouping {
     pub kept: Vec<(String, usize, f64)>,
     /// Per group moved to `single`: (method, triangles, predicted saving it would have made).
     pub merged: Vec<(String, usize, f64)>,
-    /// "grouped", "one program", or why the costs could not be compared ("not judged: ...").
+    /// "grouped", "one program", "one program (frame check)" (the model kept groups, the
+    /// frame did not measure cheaper), or why the costs could not be compared ("not judged:
+    /// ...").
     pub decision: String,
+    /// The frame check of a grouping the model kept ([`FrameCheck`]); absent when one program
+    /// was drawn anyway or nothing timed it (`plan`).
+    #[serde(default)]
+    pub frame: Option<FrameCheck>,
 }
 
 /// Window-space area of each triangle, pixels (front and back faces alike).
@@ -79,6 +85,7 @@ pub fn settle(
         kept: Vec::new(),
         merged: Vec::new(),
         decision: "one program".into(),
+        frame: None,
     };
     let Some(&top) = used.last() else {
         return g;
@@ -172,6 +179,139 @@ impl Grouping {
             } else {
                 share(&self.merged)
             },
+        ) + &self
+            .frame
+            .as_ref()
+            .map_or_else(String::new, |f| format!("; {}", f.line()))
+    }
+}
+
+/// The frame check: `auto`'s grouped draw timed against the one program ([`Grouping::single`])
+/// in the same interleaved rounds of the run's device (src/auto/frame.rs). The model
+/// above prices the formulas, not the frame (rasterisation, interpolation, the framebuffer and
+/// each pipeline switch cost the same whatever the formula), so it can promise a saving the
+/// frame does not show; the grouping is drawn only when the measured interval says it is
+/// cheaper.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FrameCheck {
+    /// "measured now" (this process timed both draws), or "the parent run's" (a run of a
+    /// `bench --runs N` draws what its parent measured, so every run times the same draw).
+    pub source: String,
+    /// What was timed: the whole submission of each draw, wall clock.
+    pub clock: String,
+    /// Rounds with a finite ratio, and rounds without one (counted, never sorted in).
+    pub rounds: usize,
+    pub non_finite: usize,
+    /// The grouped frame over the one program's, per round: median and sign-test 95% interval
+    /// (null when not measured in this process, or not finite).
+    pub ratio_median: Option<f64>,
+    pub ratio_ci95_low: Option<f64>,
+    pub ratio_ci95_high: Option<f64>,
+    /// The model's predicted saving of the kept groups, a share of the shading work with the
+    /// one program (the sum of `Grouping::kept`'s shares), beside what the frame showed.
+    pub predicted_saving: f64,
+    /// Whether the grouping is drawn: its whole interval below 1.
+    pub grouped: bool,
+}
+
+impl FrameCheck {
+    /// The check of a measured ratio (`grouped frame / one program's frame` per round): the
+    /// grouping is kept only when the whole interval lies below 1; an unmeasured or
+    /// non-finite interval keeps one program (never sorted as cheaper).
+    pub fn measured(r: &crate::analysis::stats::RatioEstimate, predicted_saving: f64) -> Self {
+        let finite = r.rounds > 0 && r.ci95_low.is_finite() && r.ci95_high.is_finite();
+        FrameCheck {
+            source: "measured now".into(),
+            clock: "wall".into(),
+            rounds: r.rounds,
+            non_finite: r.non_finite,
+            ratio_median: Some(r.median).filter(|v| v.is_finite()),
+            ratio_ci95_low: Some(r.ci95_low).filter(|v| v.is_finite()),
+            ratio_ci95_high: Some(r.ci95_high).filter(|v| v.is_finite()),
+            predicted_saving,
+            grouped: finite && r.ci95_high < 1.0,
+        }
+    }
+
+    /// The decision of a parent run (`grouped`), not measured here.
+    pub fn given(grouped: bool, predicted_saving: f64) -> Self {
+        FrameCheck {
+            source: "the parent run's".into(),
+            clock: "wall".into(),
+            rounds: 0,
+            non_finite: 0,
+            ratio_median: None,
+            ratio_ci95_low: None,
+            ratio_ci95_high: None,
+            predicted_saving,
+            grouped,
+        }
+    }
+
+    /// One clause for the summary line.
+    pub fn line(&self) -> String {
+        let f = |v: Option<f64>| v.map_or_else(|| "not finite".into(), |v| format!("{v:.3}"));
+        let measured = if self.source == "measured now" {
+            format!(
+                "grouped / one program {} [{}, {}] over {} rounds ({} not finite), \
+                 the model predicted {:.1} % less shading",
+                f(self.ratio_median),
+                f(self.ratio_ci95_low),
+                f(self.ratio_ci95_high),
+                self.rounds,
+                self.non_finite,
+                100.0 * self.predicted_saving
+            )
+        } else {
+            "drawn as the parent run decided".into()
+        };
+        format!(
+            "frame check ({}): {}: {}",
+            self.source,
+            measured,
+            if self.grouped {
+                "grouping kept (measured cheaper)"
+            } else {
+                "one program (the grouping did not measure cheaper)"
+            }
         )
     }
+}
+
+impl Grouping {
+    /// The sum of the kept groups' predicted savings.
+    pub fn predicted_saving(&self) -> f64 {
+        self.kept.iter().map(|(_, _, s)| s).sum()
+    }
+
+    /// The index of [`Grouping::single`] in `spec.order`.
+    pub fn single_index(&self, spec: &AutoSpec) -> Option<usize> {
+        spec.order.iter().position(|m| m.name == self.single)
+    }
+}
+
+/// Applies `check` to a settled choice: when the grouping did not measure cheaper, every
+/// triangle of `pick` is drawn with the one program and the summary says so (triangles per
+/// method, programs drawn, switches, decision). Returns whether the grouping is kept.
+pub fn apply_frame_check(
+    spec: &AutoSpec,
+    pick: &mut [usize],
+    summary: &mut super::AutoSummary,
+    check: FrameCheck,
+) -> bool {
+    let Some(g) = summary.grouping.as_mut() else {
+        return true;
+    };
+    let single = g.single_index(spec);
+    let keep = check.grouped || single.is_none();
+    if let (false, Some(s)) = (keep, single) {
+        pick.iter_mut().for_each(|k| *k = s);
+        g.merged.append(&mut g.kept);
+        g.programs_drawn = 1;
+        g.switches = 0;
+        g.decision = "one program (frame check)".into();
+    }
+    g.frame = Some(check);
+    summary.triangles = super::AutoSummary::new(spec, pick, 0.0, summary.source).triangles;
+    keep
 }

@@ -2,13 +2,15 @@
 //! error the budget bounds ([`colour_error`]), its candidates and their order by cost, the run's
 //! specs ([`AutoSpec`], the budget curve's names), the per-triangle choice and its cache
 //! ([`choice`]), whether grouping pays ([`grouping`]: one program when the extra programs cost
-//! more than they save), and what was chosen ([`AutoSummary`], [`choose_summarised`]).
+//! more than they save; [`frame`]: and only when the grouped frame measured cheaper than one
+//! program's), and what was chosen ([`AutoSummary`], [`choose_summarised`]).
 //! [`CostModel`] names what ranks the candidates: lavapipe's isolated cost or a GPU family's
 //! static cost (`shadelab isa`).
 //!
 //! The cost of each candidate is measured by the jobs above (`plan::auto_order`, with bench's
 //! isolated kernels): this module sits below them, so it takes the costs as numbers.
 mod choice;
+pub mod frame;
 mod grouping;
 #[cfg(test)]
 mod tests;

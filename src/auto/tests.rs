@@ -360,3 +360,90 @@ fn settle_picks_the_single_program_and_refuses_non_finite_costs() {
     assert_eq!(pick, [0, 1, 0, 1]);
     assert_eq!(g.kept, vec![("gouraud".to_string(), 2, 0.5)]);
 }
+
+fn ratio(median: f64, low: f64, high: f64, rounds: usize) -> crate::analysis::stats::RatioEstimate {
+    crate::analysis::stats::RatioEstimate {
+        median,
+        ci95_low: low,
+        ci95_high: high,
+        rounds,
+        non_finite: 0,
+        confidence: 0.95,
+    }
+}
+
+/// The frame check decides: a grouping the model keeps (cheap gouraud on the torus) is drawn
+/// only when its measured interval lies wholly below one program's frame. A grouping that
+/// measured as dear (suzanne's 1.030 [1.024, 1.041]) or inconclusive, or whose interval is
+/// not finite or empty, comes out as one program on every triangle, still within budget, and
+/// the summary says so; one that measured cheaper (the fine sphere's 0.733 [0.714, 0.760])
+/// keeps its groups. Ignoring the measurement (the behaviour before) fails the first case.
+#[test]
+fn the_frame_check_keeps_the_grouping_only_when_it_measured_cheaper() {
+    let inputs = torus();
+    let cheap = spec_with_costs(&[0.1, 1.0, 1.0]);
+    let programs = |p: &[usize]| p.iter().collect::<std::collections::BTreeSet<_>>().len();
+    let settled = || {
+        let (pick, s) = choose_summarised(&inputs, &cheap, Cache::Bypass);
+        assert_eq!(s.grouping.as_ref().unwrap().decision, "grouped");
+        assert!(programs(&pick) >= 2);
+        (pick, s)
+    };
+    let predicted = settled().1.grouping.unwrap().predicted_saving();
+    assert!(predicted > SWITCH_COST, "{predicted}");
+    let cases = [
+        (ratio(1.030, 1.024, 1.041, 30), false),
+        (ratio(0.99, 0.97, 1.01, 16), false),
+        (ratio(f64::NAN, f64::NAN, f64::NAN, 16), false),
+        (ratio(0.5, 0.4, 0.6, 0), false),
+        (ratio(0.733, 0.714, 0.760, 30), true),
+    ];
+    for (r, keep) in cases {
+        let (mut pick, mut s) = settled();
+        let before = pick.clone();
+        let check = FrameCheck::measured(&r, predicted);
+        assert_eq!(check.grouped, keep, "{r:?}");
+        assert_eq!(apply_frame_check(&cheap, &mut pick, &mut s, check), keep);
+        let g = s.grouping.clone().unwrap();
+        assert!(g.frame.is_some(), "the check is in the summary");
+        let drawn: usize = s.triangles.iter().map(|(_, k)| k).sum();
+        assert_eq!(drawn, pick.len());
+        if keep {
+            assert_eq!(pick, before);
+            assert_eq!(g.decision, "grouped");
+            assert!(
+                s.line().contains("grouping kept (measured cheaper)"),
+                "{}",
+                s.line()
+            );
+        } else {
+            assert_eq!(programs(&pick), 1, "{}", s.line());
+            assert!(pick.iter().all(|&k| k == g.single_index(&cheap).unwrap()));
+            assert_eq!((g.programs_drawn, g.switches), (1, 0));
+            assert_eq!(g.decision, "one program (frame check)");
+            assert!(g.kept.is_empty() && !g.merged.is_empty());
+            assert!(s
+                .line()
+                .contains("one program (the grouping did not measure cheaper)"));
+            let single = g.single_index(&cheap).unwrap();
+            assert!(within_budget(
+                &inputs,
+                cheap.order[single],
+                &(0..pick.len()).collect::<Vec<_>>(),
+                1.0 / 255.0
+            ));
+        }
+    }
+    // A parent run's decision is drawn as given, and said to be the parent's.
+    let (mut pick, mut s) = settled();
+    assert!(!apply_frame_check(
+        &cheap,
+        &mut pick,
+        &mut s,
+        FrameCheck::given(false, predicted)
+    ));
+    assert!(s.line().contains("parent run"), "{}", s.line());
+    // The summary survives its JSON (a given check has no ratio: null, not NaN).
+    let back: AutoSummary = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
+    assert_eq!(back, s);
+}

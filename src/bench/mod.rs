@@ -109,6 +109,9 @@ pub struct BenchOptions {
     pub runs: Runs,
     /// Where the static cost of the speed claims' per-family columns comes from.
     pub static_cost: speed_claims::StaticCostSource,
+    /// Whether the speed claims' software-engine column is timed (after lavapipe's rounds,
+    /// [`speed_claims::software_column`]); `--no-software` leaves it out.
+    pub software_column: bool,
 }
 
 impl BenchOptions {
@@ -140,6 +143,7 @@ impl Default for BenchOptions {
             auto: Vec::new(),
             runs: Runs::One,
             static_cost: speed_claims::StaticCostSource::Skip,
+            software_column: false,
         }
     }
 }
@@ -229,14 +233,17 @@ fn setup(
     let mut autos = Vec::new();
     let mut auto_summaries = Vec::new();
     for spec in &opts.auto {
-        let (pick, summary) =
-            crate::auto::choose_summarised(&prepared.base().inputs, spec, crate::auto::Cache::Use);
+        let (_, summary, scene_auto) = crate::auto::frame::choose_checked(
+            renderer,
+            scene,
+            &prepared.base().inputs,
+            spec,
+            crate::auto::Cache::Use,
+            matches!(opts.runs, Runs::Child { .. }),
+        )?;
         eprintln!("bench: {}", summary.line());
         auto_summaries.push(summary);
-        autos.push((
-            spec.name.clone(),
-            renderer.prepare_auto(scene, &spec.order, &pick)?,
-        ));
+        autos.push((spec.name.clone(), scene_auto));
     }
     Ok(Setup {
         all,
@@ -323,18 +330,20 @@ fn isolated_costs(
 fn timed(
     renderer: &Renderer,
     programs: &[Program],
-    clock: &str,
+    s: &Setup,
     opts: &BenchOptions,
 ) -> Result<(
     Vec<Vec<crate::gpu::Sample>>,
     RoundsReport,
     Vec<runs::RunFigures>,
 )> {
+    let clock = s.clock.clock.as_str();
     let Runs::Many { count, launcher } = &opts.runs else {
         let (samples, report) = time_rounds(renderer, programs, clock, opts)?;
         return Ok((samples, report, Vec::new()));
     };
-    let figures = runs::run_all(*count, launcher, clock)?;
+    let frame_env = crate::auto::frame::decisions_env(&s.auto_summaries);
+    let figures = runs::run_all(*count, launcher, clock, &frame_env)?;
     let samples: Vec<Vec<crate::gpu::Sample>> = programs
         .iter()
         .map(|p| figures.iter().flat_map(|f| f.samples_of(&p.name)).collect())
@@ -386,7 +395,7 @@ pub fn bench(
         .iter()
         .position(|p| p.name == crate::method::PHONG_EXACT)
         .ok_or_else(|| Error::Internal("phong_exact is not among the programs".into()))?;
-    let (samples, rounds_report, run_figures) = timed(renderer, &programs, &clock.clock, opts)?;
+    let (samples, rounds_report, run_figures) = timed(renderer, &programs, &s, opts)?;
     let values: Vec<Vec<f64>> = samples
         .iter()
         .map(|s| round_values(s, &clock.clock))
@@ -422,7 +431,7 @@ pub fn bench(
     let len2 = claims::interpolated_len2_range(&s.prepared.base().inputs.view_normals);
     let mut claims = claims::claims(&rows, &floor, len2);
     let (speed_claims, static_cost) =
-        speed_claims::judge(&opts.static_cost, methods_, &rows, &mut claims);
+        speed_claims::judge(opts, (scene, out), methods_, &rows, &mut claims);
     let sweeps = opts
         .sweeps
         .iter()

@@ -179,8 +179,14 @@ impl RunFigures {
 }
 
 /// Runs `count` measurement runs one after another, each a fresh process of `launcher` with
-/// `clock`, saying on stderr which run of N is going; returns their figures in run order.
-pub fn run_all(count: usize, launcher: &Launcher, clock: &str) -> Result<Vec<RunFigures>> {
+/// `clock` and `auto`'s frame-check decisions (`frame_env`, [`crate::auto::frame::FRAME_ENV`]),
+/// saying on stderr which run of N is going; returns their figures in run order.
+pub fn run_all(
+    count: usize,
+    launcher: &Launcher,
+    clock: &str,
+    frame_env: &str,
+) -> Result<Vec<RunFigures>> {
     let dir = tempfile::tempdir().map_err(|e| Error::io(Path::new("temporary directory"), e))?;
     let mut out = Vec::with_capacity(count);
     let base = base_seed();
@@ -191,6 +197,7 @@ pub fn run_all(count: usize, launcher: &Launcher, clock: &str) -> Result<Vec<Run
             .args(&launcher.args)
             .env(RUN_FILE_ENV, &file)
             .env(CLOCK_ENV, clock)
+            .env(crate::auto::frame::FRAME_ENV, frame_env)
             .env(SEED_ENV, (base + k as u64).to_string())
             .stdin(Stdio::null())
             .stdout(Stdio::null())

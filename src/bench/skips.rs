@@ -221,9 +221,15 @@ pub fn skips(
     let culled = renderer.prepare(scene, &[exact])?;
     let culls = culled.base().inputs.cull_front.is_some();
     let sorted = renderer.prepare_permuted(scene, &[exact], &front_to_back)?;
-    let (pick, auto_summary) =
-        crate::auto::choose_summarised(&culled.base().inputs, &opts.auto, crate::auto::Cache::Use);
-    let auto = renderer.prepare_auto(scene, &opts.auto.order, &pick)?;
+    let (_, auto_summary, auto) = crate::auto::frame::choose_checked(
+        renderer,
+        scene,
+        &culled.base().inputs,
+        &opts.auto,
+        crate::auto::Cache::Use,
+        false,
+    )?;
+    eprintln!("skips: {}", auto_summary.line());
 
     let variants = variants(culls);
     let gpu_of = |v: &Variant| -> &GpuScene {

@@ -1,6 +1,7 @@
 //! The seeds' speed claims as one table, a column per cost model, each named: lavapipe's
-//! frame time and isolated cost (this run's paired intervals), the software engine (measured
-//! by `bench --engine software`, not by this run), and per AMD GPU family the static cost
+//! frame time and isolated cost (this run's paired intervals), the software engine (timed by
+//! this run after lavapipe's rounds, its programs paired in their own rounds, written to
+//! DIR/software/: [`software_column`]), and per AMD GPU family the static cost
 //! (ACO's inverse throughput of the timed draw's fragment shader, `shadelab isa`). One verdict
 //! rule for every column ([`factor_verdict`]); a static cost is one deterministic figure, no
 //! interval, so it agrees or disagrees, never inconclusive. The op-count claim is judged per
@@ -77,6 +78,110 @@ pub struct StaticCost {
     pub families: Vec<(String, String)>,
     /// The op-count claim per family, judged on the compiled instructions.
     pub op_count: Vec<crate::isa::claims::OpCountVerdict>,
+}
+
+/// Rounds of the software engine's column in a Vulkan bench (after 2 warm-up renders each),
+/// whatever the Vulkan rounds: 21 rounds give a sign-test 95% interval between the 6th and
+/// 16th ratios.
+pub const SOFTWARE_REPEAT: usize = 21;
+
+/// The software engine's column of a Vulkan bench: its judged claims and where they come from.
+#[derive(Debug, Clone, Default)]
+pub struct SoftwareColumn {
+    /// "timed now: DIR/software/bench.json (...)", "skipped (--no-software)", or why not.
+    pub source: String,
+    pub claims: Vec<super::software::SpeedClaim>,
+}
+
+/// The programs of the speed claims among `methods` (phong_exact always): what the software
+/// column times.
+pub fn claim_methods(
+    methods: &[&'static crate::method::Method],
+) -> Vec<&'static crate::method::Method> {
+    let specs = claim_specs();
+    let named = |n: &str| specs.iter().any(|c| c.num == n || c.den == n);
+    let mut out: Vec<&'static crate::method::Method> = methods
+        .iter()
+        .copied()
+        .filter(|m| named(m.name) && m.name != crate::method::PHONG_EXACT)
+        .collect();
+    out.push(crate::method::phong_exact());
+    out
+}
+
+/// Times the claims' programs among `methods` in the software engine (`bench --engine
+/// software`'s rounds, [`SOFTWARE_REPEAT`] of them) into `out`/software/, when `on`; a failure
+/// is the column's `source`, never fatal to the bench (its timings are already taken).
+pub fn software_column(
+    scene: &crate::scene::Scene,
+    methods: &[&'static crate::method::Method],
+    out: &std::path::Path,
+    on: bool,
+) -> SoftwareColumn {
+    if !on {
+        return SoftwareColumn {
+            source: "skipped (--no-software)".into(),
+            claims: Vec::new(),
+        };
+    }
+    let ms = claim_methods(methods);
+    let dir = out.join("software");
+    let threads = crate::software::default_threads();
+    let sw = super::software::SoftwareOptions {
+        rounds: super::RoundsPlan {
+            repeat: SOFTWARE_REPEAT,
+            warmup: 2,
+            until_ci_pct: None,
+            max_time_s: super::DEFAULT_MAX_TIME_S,
+        },
+        threads,
+        vulkan_bench: None,
+        command_line: Vec::new(),
+    };
+    eprintln!(
+        "bench: the software engine's column: {} programs, {SOFTWARE_REPEAT} rounds",
+        ms.len()
+    );
+    match super::software::bench(scene, &ms, &dir, &sw, None) {
+        Ok(r) => SoftwareColumn {
+            source: format!(
+                "timed now in the software engine: {} ({} programs, {} rounds, {threads}                  threads, {:.1} s)",
+                dir.join("bench.json").display(),
+                ms.len(),
+                r.rounds.rounds,
+                r.total_s
+            ),
+            claims: r.claims,
+        },
+        Err(e) => SoftwareColumn {
+            source: format!("not measured: the software engine failed: {e}"),
+            claims: Vec::new(),
+        },
+    }
+}
+
+/// The software cell of claim `c` from `sw`'s judged claims.
+fn software_cell(sw: &SoftwareColumn, claim: &str, num: &str, den: &str) -> Cell {
+    let judged = sw
+        .claims
+        .iter()
+        .find(|c| c.claim == claim && c.num == num && c.den == den)
+        .and_then(|c| c.software.as_ref());
+    match judged {
+        Some(j) => Cell {
+            measure: SOFTWARE.into(),
+            ratio: Some(j.median).filter(|v| v.is_finite()),
+            ci95_low: Some(j.ci95_low).filter(|v| v.is_finite()),
+            ci95_high: Some(j.ci95_high).filter(|v| v.is_finite()),
+            verdict: j.verdict.as_str().into(),
+            note: format!(
+                "paired per round in the software engine ({} rounds, {} not finite); {}",
+                j.rounds, j.non_finite, sw.source
+            ),
+        },
+        None if sw.claims.is_empty() => not_measured(SOFTWARE, &sw.source),
+        None => not_measured(SOFTWARE, "a program of the ratio was not timed"),
+    }
 }
 
 /// The static report, or why there is none (a failure to compile or read is reported, never
@@ -237,7 +342,11 @@ fn static_cell(
 }
 
 /// Every seed speed claim whose programs are in `rows`, with a cell per measure.
-pub fn table(rows: &[MethodTiming], isa: Option<&IsaReport>) -> Vec<SpeedClaim> {
+pub fn table(
+    rows: &[MethodTiming],
+    isa: Option<&IsaReport>,
+    sw: &SoftwareColumn,
+) -> Vec<SpeedClaim> {
     let find = |n: &str| rows.iter().find(|r| r.name == n);
     let frame = |r: &MethodTiming| {
         (r.ratio_rounds > 0).then_some((r.ratio_ci95_low, r.ratio_median, r.ratio_ci95_high))
@@ -255,10 +364,7 @@ pub fn table(rows: &[MethodTiming], isa: Option<&IsaReport>) -> Vec<SpeedClaim> 
         let mut cells = vec![
             timed_cell(FRAME_TIME, interval(frame(a), frame(b), exact), c.target),
             timed_cell(ISOLATED, interval(iso(a), iso(b), exact), c.target),
-            not_measured(
-                SOFTWARE,
-                "measured by `shadelab bench --engine software` (its claims.md has this claim with its own column)",
-            ),
+            software_cell(sw, &c.claim, c.num, c.den),
         ];
         if let Some(r) = isa {
             for f in &r.families {
@@ -385,16 +491,19 @@ pub fn op_count_checks(s: &StaticCost) -> Vec<super::ClaimCheck> {
         .collect()
 }
 
-/// The static cost from `src`, the speed table, its summary, and the op-count rows added to
-/// `claims`.
+/// The software column (timed now on `scene`, into `out`/software/, unless `--no-software`),
+/// the static cost from `opts.static_cost`, the speed table, its summary, and the op-count rows
+/// added to `claims`.
 pub fn judge(
-    src: &StaticCostSource,
+    opts: &super::BenchOptions,
+    (scene, out): (&crate::scene::Scene, &std::path::Path),
     methods: &[&'static crate::method::Method],
     rows: &[MethodTiming],
     claims: &mut Vec<super::ClaimCheck>,
 ) -> (Vec<SpeedClaim>, StaticCost) {
-    let (isa, source) = load(src, methods);
-    let speed = table(rows, isa.as_ref());
+    let sw = software_column(scene, methods, out, opts.software_column);
+    let (isa, source) = load(&opts.static_cost, methods);
+    let speed = table(rows, isa.as_ref(), &sw);
     let stat = summary(isa.as_ref(), source);
     claims.extend(op_count_checks(&stat));
     (speed, stat)
@@ -453,7 +562,7 @@ mod tests {
         );
         let rows: Vec<MethodTiming> = Vec::new();
         // No timing row: no claim (the table follows the run's methods).
-        assert!(table(&rows, Some(&r)).is_empty());
+        assert!(table(&rows, Some(&r), &SoftwareColumn::default()).is_empty());
         let c = static_cell(
             &r,
             "navi21",
@@ -486,5 +595,57 @@ mod tests {
         );
         let c = static_cell(&r, "navi21", "compiled", "slerp", "phong_exact", 1.0);
         assert_eq!(c.verdict, "not_measured");
+    }
+
+    /// The software cell carries the software engine's paired interval and its verdict, and
+    /// says where it comes from; without a software run it is not_measured and says why.
+    #[test]
+    fn the_software_cell_is_the_software_engines_verdict() {
+        let specs = claim_specs();
+        let spec = specs.iter().find(|c| c.num == "newton_raphson").unwrap();
+        let names: Vec<String> = ["newton_raphson", "phong_exact"].map(String::from).to_vec();
+        // newton_raphson at 0.9 of phong_exact in every round: agrees with "faster".
+        let values = vec![vec![9.0, 9.1, 8.9, 9.0, 9.2, 8.8, 9.0, 9.0], vec![10.0; 8]];
+        let sw = SoftwareColumn {
+            source: "timed now in the software engine: D/software/bench.json".into(),
+            claims: super::super::software::judge_claims(&names, &values, None),
+        };
+        let c = software_cell(&sw, &spec.claim, spec.num, spec.den);
+        assert_eq!(
+            (c.measure.as_str(), c.verdict.as_str()),
+            (SOFTWARE, "agrees")
+        );
+        assert!((c.ratio.unwrap() - 0.9).abs() < 0.02, "{c:?}");
+        assert!(c.ci95_high.unwrap() < 1.0 && c.note.contains("software/bench.json"));
+        // Teeth: slower in every round disagrees.
+        let slower = vec![vec![11.0; 8], vec![10.0; 8]];
+        let sw2 = SoftwareColumn {
+            claims: super::super::software::judge_claims(&names, &slower, None),
+            ..sw.clone()
+        };
+        let c = software_cell(&sw2, &spec.claim, spec.num, spec.den);
+        assert_eq!(c.verdict, "disagrees");
+        // A claim whose programs were not timed, and no run at all.
+        let other = specs.iter().find(|c| c.num == "gouraud").unwrap();
+        let c = software_cell(&sw, &other.claim, other.num, other.den);
+        assert_eq!(c.verdict, "not_measured");
+        let none = SoftwareColumn {
+            source: "skipped (--no-software)".into(),
+            claims: Vec::new(),
+        };
+        let c = software_cell(&none, &spec.claim, spec.num, spec.den);
+        assert_eq!(
+            (c.verdict.as_str(), c.note.as_str()),
+            ("not_measured", "skipped (--no-software)")
+        );
+    }
+
+    /// The software column times the claims' programs of the run and phong_exact, nothing else.
+    #[test]
+    fn the_software_column_times_the_claims_programs() {
+        let m = |n| crate::method::find(n).unwrap();
+        let ms = claim_methods(&[m("newton_raphson"), m("flat"), m("gouraud")]);
+        let names: Vec<&str> = ms.iter().map(|m| m.name).collect();
+        assert_eq!(names, ["newton_raphson", "gouraud", "phong_exact"]);
     }
 }

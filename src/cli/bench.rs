@@ -79,6 +79,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         auto: Vec::new(),
         runs,
         static_cost,
+        software_column: !b.no_software,
     };
     let (dev, out) = (&b.device, b.out.as_path());
     b.precision.check_engine(dev)?;

@@ -515,6 +515,10 @@ struct BenchCmd {
     /// No per-GPU-family static cost in the claims.
     #[arg(long)]
     no_isa: bool,
+    /// No software-engine column in the speed claims (by default the Vulkan bench times the
+    /// claims' programs in the software engine after its rounds, into DIR/software/).
+    #[arg(long)]
+    no_software: bool,
 }
 
 // `shadelab skips` (its help is the variant's doc comment).

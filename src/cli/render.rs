@@ -78,9 +78,15 @@ fn render_auto(
     let r = renderer(dev)?;
     let spec = auto_spec(&r, budget)?;
     let inputs = crate::scene::SceneInputs::new(&scene, crate::method::Geometry::Mesh);
-    let (pick, summary) = crate::auto::choose_summarised(&inputs, &spec, crate::auto::Cache::Use);
+    let (_, summary, a) = crate::auto::frame::choose_checked(
+        &r,
+        &scene,
+        &inputs,
+        &spec,
+        crate::auto::Cache::Use,
+        false,
+    )?;
     eprintln!("{}", summary.line());
-    let a = r.prepare_auto(&scene, &spec.order, &pick)?;
     let frame = r.render_auto(&a)?;
     write_frame(&frame, out, float, normals)?;
     check_validation(r.context())?;

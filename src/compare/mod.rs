@@ -452,14 +452,16 @@ impl Run<'_> {
                 let Engine::Vulkan(renderer) = self.engine else {
                     break;
                 };
-                let (pick, summary) = crate::auto::choose_summarised(
+                let t = Instant::now();
+                let (_, summary, scene_auto) = crate::auto::frame::choose_checked(
+                    renderer,
+                    self.scene,
                     self.prepared.base(),
                     spec,
                     crate::auto::Cache::Use,
-                );
+                    false,
+                )?;
                 auto_summaries.push(summary);
-                let t = Instant::now();
-                let scene_auto = renderer.prepare_auto(self.scene, &spec.order, &pick)?;
                 let frame = renderer.render_auto(&scene_auto)?;
                 drop(scene_auto);
                 render_ms += t.elapsed().as_secs_f64() * 1e3;
