@@ -38,7 +38,7 @@ cols = lines[head].split()
 best = {}
 for l in lines[head + 1:]:
     f = l.split()
-    if len(f) < len(cols) or "|" not in f:
+    if "|" not in f or f.index("|") != cols.index("|"):
         continue
     for c in ("dI/bound", "dN/bound", "twin/bound"):
         if c in cols:
