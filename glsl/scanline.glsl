@@ -58,6 +58,12 @@ real spanT(Span sp, pix px) {
     return sp.xB > sp.xA ? R(clamp((px - sp.xA) / (sp.xB - sp.xA), 0.0, 1.0)) : R(0.0);
 }
 
+// spanT kept as a position (float32 in both precisions, rule 4): for a decision on the pixel's
+// place in the span, such as dichotomy's grid index, taken before any conversion to `real`.
+pix spanFraction(Span sp, pix px) {
+    return sp.xB > sp.xA ? clamp((px - sp.xA) / (sp.xB - sp.xA), 0.0, 1.0) : 0.0;
+}
+
 // The span's unit end normals N'_A, N'_B (exact normalisation, as the seeds assume) and the
 // fragment's fraction t of the span.
 void spanEnds(out real3 A, out real3 B, out real t) {
@@ -102,10 +108,13 @@ int levels(pix width) {
 
 #ifdef INV_ROOT
 // Dichotomy (FORMULAS.md 2.13): the slerp sample nearest t on the grid m / 2^K, by K bisections
-// with mid = (lo + hi) INV_ROOT(2 lo.hi); m = floor(t 2^K + 0.5).
-real3 dichotomy(real3 A, real3 B, real t, int K) {
+// with mid = (lo + hi) INV_ROOT(2 lo.hi); m = floor(t 2^K + 0.5). The grid index is an integer
+// decision on the pixel's position: t is a `pix` (spanFraction), as a mobile shader takes it
+// from highp gl_FragCoord; a float16 t (2^-11 relative) would move m by a grid step once 2^K
+// nears 2^10. The halving itself is `real`.
+real3 dichotomy(real3 A, real3 B, pix t, int K) {
     int n = 1 << K;
-    int m = min(int(floor(t * real(n) + R(0.5))), n);
+    int m = min(int(floor(t * pix(n) + 0.5)), n);
     if (m == 0) {
         return A;
     }

@@ -26,7 +26,7 @@ real3 methodNormal() {
     real3 Nl, Np;
     real t;
     segmentEnds(Nl, Np, t);
-    return dichotomy(Nl, Np, t, SEGMENT_K);
+    return dichotomy(Nl, Np, pix(t), SEGMENT_K);   // t = v / 2^k: exact in both precisions
 }
 #else
 #define METHOD_COLOR

@@ -6,6 +6,6 @@
 #include "scanline.glsl"
 real3 methodNormal() {
     Span sp = spanAt(FRAG_COORD.y);
-    real t = spanT(sp, FRAG_COORD.x);
+    pix t = spanFraction(sp, FRAG_COORD.x);   // a position: the grid index is taken from it
     return dichotomy(normalize(sp.NA), normalize(sp.NB), t, levels(sp.xB - sp.xA));
 }

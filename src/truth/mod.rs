@@ -56,7 +56,10 @@
 //!   `u (1 + 2 |ln s^n|) + u |ln s^n|`, and `s^n |ln s^n| <= 1/e`, so at most
 //!   `u (s^n + 3/e)` absolute;
 //! - the sums and products of the lighting and the conversion of its uniforms: `K_LIGHT` = 9
-//!   roundings of the colour's size.
+//!   roundings of the colour's size;
+//! - term 4 (corner normals, scanline methods) with u = 2^-11: the unit corner normals are
+//!   converted to f16 where the shader reads them and the span ends, Bishop-Weimer's plane fit
+//!   and Taylor coefficients are f16 arithmetic on them (`K_FORMULA * u` per component).
 //!
 //! These are first-order; the terms that are not linear in u are flagged, not bounded: a
 //! squared length above 65504 (|N| above 256, or two components above 181) overflows to inf in
@@ -113,6 +116,7 @@ pub const K_LIGHT: f64 = 9.0;
 pub const ILL_CONDITIONED: f64 = 1e-3;
 
 /// The f64 evaluation of one method over a frame.
+#[derive(Clone)]
 pub struct Truth {
     pub width: u32,
     pub height: u32,
@@ -264,7 +268,7 @@ fn evaluator<'a>(
         };
         if scanline && bounds.is_some() {
             let (c, n) = span_bound(&eval, &frag);
-            let (cc, cn) = corner_normal_bound(&eval, &frag);
+            let (cc, cn) = corner_normal_bound(&eval, &frag, precision_u(bounds));
             color_bound += c + cc;
             normal_bound += n + cn;
         }
@@ -317,9 +321,16 @@ fn span_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64)
     (2.0 * dc, 2.0 * dn)
 }
 
+/// The unit roundoff of the program's arithmetic (`bounds` is `Some` where this is asked).
+fn precision_u(bounds: Option<Precision>) -> f64 {
+    bounds.map_or(U, Precision::unit_roundoff)
+}
+
 /// Item 4 of the module doc at one pixel: each corner normal's components moved by
-/// `K_FORMULA * U` each way, one at a time; the largest change per component, summed.
-fn corner_normal_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64) {
+/// `K_FORMULA * u` each way (u of the precision the method's arithmetic runs in: the corner
+/// normals are converted to it where read), one at a time; the largest change per component,
+/// summed.
+fn corner_normal_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment, u: f64) -> (f64, f64) {
     let here = eval(frag);
     let (mut dc, mut dn) = (0.0, 0.0);
     for corner in 0..3 {
@@ -327,7 +338,7 @@ fn corner_normal_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (
             let (mut c, mut n) = (0.0f64, 0.0f64);
             for k in [-1.0, 1.0] {
                 let mut moved = *frag;
-                moved.corner_normals[corner][axis] += k * K_FORMULA * U;
+                moved.corner_normals[corner][axis] += k * K_FORMULA * u;
                 let moved = eval(&moved);
                 c = c.max(max_diff(moved.color, here.color));
                 if let (Some(a), Some(b)) = (moved.normal, here.normal) {
