@@ -454,3 +454,29 @@ fn flip_crops_match_the_full_computation_on_a_scene() {
         "crops of radius r - 1 should miss some error"
     );
 }
+
+/// render.png from the shared 8-bit image (`srgb_rgb8` + `write_render_png`, the fast path)
+/// has the bytes of `output::write_png_srgb` of the frame's floats (the straightforward one);
+/// teeth: a different alpha in the frame gives other bytes.
+#[test]
+fn render_png_from_the_shared_8_bit_image_is_write_png_srgb() {
+    let (w, h) = (7u32, 5u32);
+    let color: Vec<[f32; 4]> = (0..w * h)
+        .map(|i| {
+            let x = i as f32 / (w * h) as f32;
+            let a = [0.0, 0.25, 1.0, f32::NAN, 2.0][i as usize % 5];
+            [x, x * x, 1.0 - x, a]
+        })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let (fast, plain) = (dir.path().join("fast.png"), dir.path().join("plain.png"));
+    let rgb8 = srgb_rgb8(color.iter().map(|&c| d3(c)));
+    write_render_png(&fast, w, h, &rgb8, &color).unwrap();
+    output::write_png_srgb(&plain, w, h, &color).unwrap();
+    let bytes = |p: &Path| std::fs::read(p).unwrap();
+    assert_eq!(bytes(&fast), bytes(&plain));
+    let mut other = color.clone();
+    other[3][3] = 0.5;
+    write_render_png(&fast, w, h, &rgb8, &other).unwrap();
+    assert_ne!(bytes(&fast), bytes(&plain));
+}
