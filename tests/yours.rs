@@ -151,6 +151,20 @@ fn examples_through_stress_judged_against_exact_phong_without_a_twin() {
     assert!(text
         .lines()
         .any(|l| l.starts_with("fast_inv_sqrt") && l.contains("no twin")));
+    // Its worst case replays on the device; the f64 line says there is no twin.
+    let mut replay = vec![
+        "stress".to_string(),
+        "--replay".into(),
+        out.join("cases/fast_inv_sqrt.json").display().to_string(),
+    ];
+    replay.extend(method_files());
+    let text = run_ok(&replay);
+    assert!(
+        text.contains("f64      no twin")
+            && text.contains("error    device ")
+            && text.contains("f64 no twin"),
+        "{text}"
+    );
     // Without the file, the method is unknown (the env of this test holds no method files).
     let (code, _, err) = run(&["stress", "--methods", "fast_inv_sqrt", "--out", "x"]);
     assert_eq!(code, 2, "{err}");
@@ -242,7 +256,7 @@ fn examples_through_report_compete_in_the_answer() {
 #[test]
 fn the_bit_trick_error_is_its_known_figure_within_the_bound() {
     use shadelab::gpu::evaluate::{GpuCase, Kernel};
-    shadelab::method::user::register(&[example("fast_inv_sqrt")]).unwrap();
+    shadelab::gpu::shaders::register_user(&[example("fast_inv_sqrt")]).unwrap();
     let m = shadelab::method::find("fast_inv_sqrt").unwrap();
     // The float32 bound of a float32 evaluation against the f64 emulation at the same z: the
     // Newton step z y, (z y) y, 1.5 - b/2, y d and the product N y round 5 times, each <= u
@@ -410,6 +424,37 @@ fn refusals_exit_2_naming_the_file_line_input_or_method() {
         err.contains("\"normals\"") && err.contains("interpolated_normal"),
         "{err}"
     );
+    // Plain float32 code: float32 programs, none in float16 (a warning; a float16 run refuses it).
+    let float_only = write(
+        d,
+        "float_only.glsl",
+        "// shadelab-inputs: interpolated_normal\nreal3 methodNormal() {\n    vec3 n = vNormal;\n    return n * inversesqrt(dot(n, n));\n}\n",
+    );
+    let (code, _, err) = run(&["list", "--method-file", &float_only]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("no float16 programs"), "{err}");
+    let f16 = |precision: &str| {
+        run(&[
+            "compare",
+            "--scene",
+            "scenes/cube.toml",
+            "--size",
+            "16x16",
+            "--method-file",
+            &float_only,
+            "--methods",
+            "float_only",
+            "--precision",
+            precision,
+            "--out",
+            &out,
+        ])
+    };
+    let (code, _, err) = f16("f16");
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("float_only has no float16 programs"), "{err}");
+    let (code, _, err) = f16("f32");
+    assert_eq!(code, 0, "{err}");
     // verify needs a twin: exit 2 naming the method.
     let (code, _, err) = run(&[
         "verify",

@@ -570,7 +570,11 @@ fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
 pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
     // Before anything resolves a method set or starts a thread or child process.
-    method::user::register_cli(&cli.method_file)?;
+    // The files of a parent process (SHADELAB_METHOD_FILES), then this command's.
+    let mut files = method::user::env_paths();
+    files.extend(cli.method_file.iter().cloned());
+    crate::gpu::shaders::register_user(&files)?;
+    method::user::export_env()?;
     match cli.command {
         Command::Compare {
             scene,

@@ -37,12 +37,21 @@ pub(super) fn cmd_stress(
         println!("exact    {}", show(r.now.exact_phong));
         println!("device   {}", show(r.now.device_color));
         println!("recorded {}", show(recorded.device_color));
-        println!("f64      {}", show(r.now.f64_color));
+        let twin = crate::method::find(&r.now.method)?.twin().is_some();
+        let no_twin = crate::stress::NO_TWIN;
+        match twin {
+            true => println!("f64      {}", show(r.now.f64_color)),
+            false => println!("f64      {no_twin} (a user method: judged against exact Phong)"),
+        }
         let err = |e: Option<f64>| e.map_or("non-finite".into(), |e| format!("{e:.3e}"));
-        println!(
-            "error    device {}, f64 {}",
-            err(r.now.device_abs_error),
+        let f64_err = if twin {
             err(r.now.f64_abs_error)
+        } else {
+            no_twin.into()
+        };
+        println!(
+            "error    device {}, f64 {f64_err}",
+            err(r.now.device_abs_error),
         );
         check_validation(&ctx)?;
         return Ok(match r.bit_identical {

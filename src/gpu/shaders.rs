@@ -275,10 +275,38 @@ fn compile_program(
 static RUNTIME_SPIRV: std::sync::RwLock<Vec<(String, &'static [u8])>> =
     std::sync::RwLock::new(Vec::new());
 
+/// Reads, checks, compiles and registers user method files (`--method-file`; a path already
+/// registered is skipped): each becomes a method row ([`crate::method::user`]) once its
+/// float32 programs compile. A compile error is reported against the user's file (exit 2),
+/// an undeclared input by name.
+pub fn register_user(paths: &[std::path::PathBuf]) -> Result<()> {
+    use crate::method::user;
+    for p in paths {
+        let abs = std::path::absolute(p).map_err(|e| Error::io(p, e))?;
+        if user::is_registered(&abs) {
+            continue;
+        }
+        let (u, parsed) = user::prepare(&abs)?;
+        compile_user(u).map_err(|e| match e {
+            Error::Shader(msg) => user::explain_compile_error(&parsed, &abs, &msg),
+            other => other,
+        })?;
+        user::add(u)?;
+    }
+    Ok(())
+}
+
+/// User methods whose float16 programs do not compile (their file is not written in the
+/// precision vocabulary of glsl/common.glsl): (method, shaderc's first message line).
+static RUNTIME_NO_F16: std::sync::RwLock<Vec<(String, String)>> =
+    std::sync::RwLock::new(Vec::new());
+
 /// A user method's programs: the programs a built-in method with its inputs gets (both
 /// interpolations and precisions, and glsl/evaluate.comp), compiled with the same options from
 /// the GLSL embedded in the binary, the user's file standing for `method.glsl` (so shaderc's
-/// messages read `PATH:LINE: error`). Registered for [`embedded`].
+/// messages read `PATH:LINE: error`). Registered for [`embedded`]. A float32 error is the
+/// caller's error; a float16 one only leaves the method without float16 programs (a warning
+/// now, an error naming it from [`embedded`] when a float16 run asks for one).
 pub fn compile_user(u: &crate::method::user::UserMethod) -> Result<()> {
     let compiler = new_compiler()?;
     let read = |name: &str| {
@@ -291,17 +319,56 @@ pub fn compile_user(u: &crate::method::user::UserMethod) -> Result<()> {
             .map(|(n, text)| (format!("glsl/{n}"), text.to_string()))
             .ok_or_else(|| format!("glsl/{name} is not built into this binary"))
     };
+    let f16_prefix = precision_prefix(u.name, Precision::F16);
+    let (f16, f32): (Vec<Program>, Vec<Program>) = method_programs(u.method)
+        .into_iter()
+        .partition(|p| p.name.starts_with(&f16_prefix));
     let mut compiled = Vec::new();
-    for p in method_programs(u.method) {
-        compiled.extend(compile_program(&compiler, &p, &read)?);
+    for p in &f32 {
+        compiled.extend(compile_program(&compiler, p, &read)?);
     }
-    let mut reg = RUNTIME_SPIRV
-        .write()
-        .map_err(|_| Error::Internal("the runtime SPIR-V registry is poisoned".into()))?;
+    let mut half = Vec::new();
+    for p in &f16 {
+        match compile_program(&compiler, p, &read) {
+            Ok(c) => half.extend(c),
+            Err(e) => {
+                let why = e.to_string();
+                let line = why.lines().find(|l| l.contains(": error")).unwrap_or(&why);
+                eprintln!(
+                    "shadelab: warning: {}: no float16 programs (--precision f16 refuses it): {line}",
+                    u.path
+                );
+                let mut no = RUNTIME_NO_F16.write().map_err(|_| poisoned())?;
+                no.push((u.name.to_string(), line.to_string()));
+                half.clear();
+                break;
+            }
+        }
+    }
+    compiled.extend(half);
+    let mut reg = RUNTIME_SPIRV.write().map_err(|_| poisoned())?;
     for (name, bytes) in compiled {
         reg.push((name, Box::leak(bytes.into_boxed_slice())));
     }
     Ok(())
+}
+
+fn poisoned() -> Error {
+    Error::Internal("a runtime shader registry is poisoned".into())
+}
+
+/// Why a user method has no program `program` (a float16 one whose file does not compile in
+/// float16), if that is why.
+fn no_f16_reason(program: &str) -> Option<Error> {
+    let no = RUNTIME_NO_F16.read().ok()?;
+    let (m, why) = no
+        .iter()
+        .find(|(m, _)| program.starts_with(&precision_prefix(m, Precision::F16)))?;
+    Some(Error::Usage(format!(
+        "{m} has no float16 programs: its file does not compile in the float16 vocabulary of \
+         glsl/common.glsl ({why}); write it with real/R()/R3() (docs/your-method.md) or run \
+         it in float32"
+    )))
 }
 
 /// The programs of one method, in [`programs`]' order within each group.
@@ -446,6 +513,9 @@ pub fn embedded(program: &str, stage: &str) -> Result<&'static [u8]> {
         .map(|(_, b)| *b)
         .or_else(runtime)
         .ok_or_else(|| {
+            if let Some(e) = no_f16_reason(program) {
+                return e;
+            }
             Error::Shader(format!(
                 "spirv/{file} was not built into this binary; run `{REGENERATE}` and rebuild"
             ))

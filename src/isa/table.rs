@@ -97,7 +97,7 @@ pub struct IsaReport {
     pub disassembly: Vec<(String, String)>,
     /// The user methods' files (`--method-file`): id, path, SHA-256; absent without one.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub method_files: Vec<crate::method::user::MethodFile>,
+    pub method_files: Vec<crate::output::provenance::MethodFile>,
 }
 
 /// What the figures are, for readers of isa.json.
@@ -312,7 +312,7 @@ pub fn report(
         spearman: Vec::new(),
         op_count: Vec::new(),
         disassembly,
-        method_files: crate::method::user::method_files(),
+        method_files: crate::output::provenance::method_files(),
     };
     report.op_count = super::claims::op_count(&report);
     Ok(report)

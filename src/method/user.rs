@@ -5,7 +5,7 @@
 //!
 //! A user row has no f64 twin and no software kernel: [`Method::twin`] is `None` and its
 //! software kernel is [`SoftwareKernel::None`], which the software engine refuses. Its programs
-//! are compiled at registration (src/gpu/shaders.rs [`crate::gpu::shaders::compile_user`]) from
+//! are compiled before registration ([`crate::gpu::shaders::register_user`]) from
 //! the GLSL embedded in the binary, so it runs outside the repository too.
 //!
 //! Child processes (bench's fresh runs, isa's one process per GPU family, corpus) see the same
@@ -93,27 +93,6 @@ pub struct UserMethod {
     /// 1-based line of the `// shadelab-inputs:` declaration.
     #[serde(skip)]
     pub declaration_line: usize,
-}
-
-/// Which file a run measured: a user method's id, path and SHA-256 (in every run's JSON, beside
-/// the provenance; absent when no method file was given).
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
-pub struct MethodFile {
-    pub name: String,
-    pub path: String,
-    pub sha256: String,
-}
-
-/// The registered method files, for a run's JSON.
-pub fn method_files() -> Vec<MethodFile> {
-    registered()
-        .iter()
-        .map(|u| MethodFile {
-            name: u.name.to_string(),
-            path: u.path.clone(),
-            sha256: u.sha256.clone(),
-        })
-        .collect()
 }
 
 static REGISTRY: RwLock<Vec<&'static UserMethod>> = RwLock::new(Vec::new());
@@ -252,41 +231,37 @@ fn leak(s: String) -> &'static str {
     Box::leak(s.into_boxed_str())
 }
 
-/// Reads, checks, compiles and registers the method files (a path already registered is
-/// skipped). The library's entry; the CLI calls [`register_cli`].
-pub fn register(paths: &[PathBuf]) -> Result<()> {
-    for p in paths {
-        let abs = std::path::absolute(p).map_err(|e| Error::io(p, e))?;
-        if registered().iter().any(|u| Path::new(&u.path) == abs) {
-            continue;
-        }
-        register_one(&abs)?;
-    }
-    Ok(())
-}
-
-/// [`register`] for a shadelab process: the files of [`ENV`] (set by a parent process) and
-/// then `paths` (`--method-file`), and records them all in [`ENV`] for this process's
-/// children. Call it before any thread or child process starts.
-pub fn register_cli(paths: &[PathBuf]) -> Result<()> {
-    let mut all_paths: Vec<PathBuf> = std::env::var_os(ENV)
+/// The files of [`ENV`] (set by a parent shadelab process, or by hand).
+pub fn env_paths() -> Vec<PathBuf> {
+    std::env::var_os(ENV)
         .map(|v| {
             std::env::split_paths(&v)
                 .filter(|p| !p.as_os_str().is_empty())
                 .collect()
         })
-        .unwrap_or_default();
-    all_paths.extend(paths.iter().cloned());
-    register(&all_paths)?;
-    if !registered().is_empty() {
-        let joined = std::env::join_paths(registered().iter().map(|u| PathBuf::from(&u.path)))
-            .map_err(|e| Error::Usage(format!("a method file's path cannot be passed on: {e}")))?;
-        std::env::set_var(ENV, joined);
+        .unwrap_or_default()
+}
+
+/// Records every registered file in [`ENV`] for this process's children. Call it before any
+/// thread or child process starts (the CLI does, right after registering).
+pub fn export_env() -> Result<()> {
+    if registered().is_empty() {
+        return Ok(());
     }
+    let joined = std::env::join_paths(registered().iter().map(|u| PathBuf::from(&u.path)))
+        .map_err(|e| Error::Usage(format!("a method file's path cannot be passed on: {e}")))?;
+    std::env::set_var(ENV, joined);
     Ok(())
 }
 
-fn register_one(path: &Path) -> Result<()> {
+/// Whether the file at the absolute path `abs` is registered already.
+pub fn is_registered(abs: &Path) -> bool {
+    registered().iter().any(|u| Path::new(&u.path) == abs)
+}
+
+/// Reads and checks the file at the absolute path `path` and makes its row (not registered
+/// yet: its programs are compiled first, by [`crate::gpu::shaders::register_user`]).
+pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let text =
         String::from_utf8(bytes.clone()).map_err(|_| usage(path, "is not UTF-8 text".into()))?;
@@ -328,14 +303,22 @@ fn register_one(path: &Path) -> Result<()> {
         source: text,
         declaration_line: parsed.declaration_line,
     }));
-    crate::gpu::shaders::compile_user(user).map_err(|e| match e {
-        Error::Shader(msg) => explain_compile_error(&parsed, path, &msg),
-        other => other,
-    })?;
+    Ok((user, parsed))
+}
+
+/// Registers a prepared method whose programs compiled: [`all`] and [`super::find`] see it from
+/// now on, and every run's provenance names its file.
+pub fn add(u: &'static UserMethod) -> Result<()> {
     REGISTRY
         .write()
         .map_err(|_| Error::Internal("the user-method registry is poisoned".into()))?
-        .push(user);
+        .push(u);
+    use crate::output::provenance::{record_method_file, MethodFile};
+    record_method_file(MethodFile {
+        name: u.name.to_string(),
+        path: u.path.clone(),
+        sha256: u.sha256.clone(),
+    });
     Ok(())
 }
 

@@ -15,7 +15,30 @@ pub struct Provenance {
     pub llvm_version: Option<String>,
     /// The user methods' files (`--method-file`): id, path, SHA-256; absent without one.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub method_files: Vec<crate::method::user::MethodFile>,
+    pub method_files: Vec<MethodFile>,
+}
+
+/// Which file a run measured: a user method's id, path and SHA-256 (`--method-file`, issue 28;
+/// src/method/user.rs records each one it registers here).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MethodFile {
+    pub name: String,
+    pub path: String,
+    pub sha256: String,
+}
+
+static METHOD_FILES: std::sync::RwLock<Vec<MethodFile>> = std::sync::RwLock::new(Vec::new());
+
+/// Records a registered method file: every provenance made from now on names it.
+pub fn record_method_file(f: MethodFile) {
+    if let Ok(mut v) = METHOD_FILES.write() {
+        v.push(f);
+    }
+}
+
+/// The method files recorded so far, in registration order.
+pub fn method_files() -> Vec<MethodFile> {
+    METHOD_FILES.read().map(|v| v.clone()).unwrap_or_default()
 }
 
 impl Provenance {
@@ -42,7 +65,7 @@ impl Provenance {
             vulkan_api: vulkan_api.into(),
             mesa_version: after("Mesa "),
             llvm_version: after("LLVM "),
-            method_files: crate::method::user::method_files(),
+            method_files: method_files(),
         }
     }
 }

@@ -347,11 +347,9 @@ pub fn stress_method(
     opts: &StressOptions,
 ) -> Result<MethodStress> {
     let start = Instant::now();
-    let mut kernel = if has_evaluate_program(m) {
-        Some(Kernel::with_precision(ctx, m, 1, opts.precision)?)
-    } else {
-        None
-    };
+    let mut kernel = has_evaluate_program(m)
+        .then(|| Kernel::with_precision(ctx, m, 1, opts.precision))
+        .transpose()?;
     let (dev, twin) = evaluate(kernel.as_mut(), m, &grid.cases, &grid.gpu)?;
     let valid_f32 = valid_angle_f32(ctx, m, grid, opts)?;
     let applies: Vec<bool> = grid.kinds.iter().map(|&k| sweeps::applies(m, k)).collect();
@@ -420,7 +418,7 @@ pub fn stress_method(
     let curves = grid::curves(grid, &applies, primary, &f64_err);
     let max_valid = sweeps::max_valid_angle(grid, primary, opts.threshold);
     let max_valid_f64 = sweeps::max_valid_angle(grid, &f64_err, opts.threshold);
-    let mut out = MethodStress {
+    let out = MethodStress {
         name: m.name.to_string(),
         device_evaluated: dev.is_some(),
         cases: all.count + ill,
@@ -460,14 +458,15 @@ pub fn stress_method(
         seconds: start.elapsed().as_secs_f64(),
         own_formula: None,
     };
-    if m.twin().is_none() {
-        without_twin(&mut out);
-    }
-    Ok(out)
+    Ok(without_twin(m, out))
 }
 
-/// Clears the f64 figures of a method without a twin (they were exact Phong's) and says so.
-fn without_twin(s: &mut MethodStress) {
+/// For a method without a twin: its f64 figures (exact Phong's) cleared, and `own_formula`
+/// saying so. Other methods' reports are returned as they are.
+fn without_twin(m: &Method, mut s: MethodStress) -> MethodStress {
+    if m.twin().is_some() {
+        return s;
+    }
     s.own_formula = Some(NO_TWIN);
     s.non_finite_cases_f64 = 0;
     s.worst_abs_error_f64 = None;
@@ -483,6 +482,7 @@ fn without_twin(s: &mut MethodStress) {
             p.f64 = Worst::default();
         }
     }
+    s
 }
 
 /// The error of `spec` (device, or f64 without a device program); NaN when non-finite.
