@@ -16,9 +16,11 @@ build:
 	$(CARGO) build --release --locked
 
 ## The main job on the shipped scenes: compare, bench, stress, one HTML page; prints the path of
-## out/report/index.html (last line of stdout).
+## out/report/index.html (last line of stdout). Progress (each step with its time) and the total
+## time of the report go to stderr.
 demo: build
-	$(BIN) report --scenes scenes --out out/report
+	@start=$$(date +%s); $(BIN) report --scenes scenes --out out/report && \
+	echo "make demo: the report took $$(( $$(date +%s) - start )) s" >&2
 
 ## The whole test suite (unit, GPU under the validation layer, CLI, real-world models).
 test:

@@ -121,6 +121,14 @@ fn shards_merge_to_the_unsharded_run() {
         "/methods/0",
         "distributions",
     );
+    assert_schema(&j3, "docs/corpus.schema.json", "/answer", "cells");
+    // The answer part has the report's fields (one implementation): answer.json's schema.
+    assert_schema(
+        &j3["answer"],
+        "docs/answer.schema.json",
+        "/checks/0",
+        "meets",
+    );
     let m = read_json(shards[0].join("manifest.json"));
     assert_schema(&m, "docs/corpus-manifest.schema.json", "", "config_hash");
     for f in ["corpus.csv", "index.html"] {

@@ -435,7 +435,8 @@ window.addEventListener("load", function () {
     var r = td.getBoundingClientRect();
     p.cells.push({budget: td.getAttribute("data-budget"), model: td.getAttribute("data-model"),
       method: td.getAttribute("data-method"), nothing: td.getAttribute("data-nothing"),
-      runner_up: td.getAttribute("data-runner-up"), text: td.textContent,
+      runner_up: td.getAttribute("data-runner-up"), binding: td.getAttribute("data-binding"),
+      text: td.textContent,
       visible: r.top >= 0 && r.left >= 0 && r.bottom <= window.innerHeight && r.right <= window.innerWidth});
   });
   document.querySelectorAll("svg").forEach(function (svg) {
@@ -494,6 +495,14 @@ fn answer_mismatches(page: &serde_json::Value, answer: &serde_json::Value) -> Ve
         if !text.contains(&claim) {
             out.push(format!("{b} x {m}: {claim:?} not in {text:?}"));
         }
+        // The scene that decides the cell (the cube on the shipped scenes), named in the cell.
+        let binding = c["binding"]["scene"].as_str().unwrap_or("");
+        let named = binding.is_empty() || text.contains(&format!("decided by {binding}"));
+        if td["binding"] != binding || !named {
+            out.push(format!(
+                "{b} x {m}: deciding scene {binding:?} not shown: {text}"
+            ));
+        }
         if td["visible"] != true {
             out.push(format!("{b} x {m}: not on the first screen"));
         }
@@ -523,6 +532,19 @@ fn report_writes_an_answer_that_matches_its_schema() {
     let dir = report_dir();
     let answer = read_json(dir.join("answer.json"));
     assert_schema(&answer, "docs/answer.schema.json", "/cells/0", "answer");
+    assert_schema(&answer, "docs/answer.schema.json", "/cells/0", "binding");
+    assert_schema(
+        &answer,
+        "docs/answer.schema.json",
+        "/cost_models/0",
+        "precision",
+    );
+    assert_schema(
+        &answer,
+        "docs/answer.schema.json",
+        "/checks/0",
+        "failing_scenes",
+    );
     // Every budget under every cost model this run measured (frame time across runs,
     // isolated cost, the software engine).
     let models: Vec<&str> = answer["cost_models"]
@@ -531,30 +553,86 @@ fn report_writes_an_answer_that_matches_its_schema() {
         .iter()
         .map(|m| m["name"].as_str().unwrap())
         .collect();
-    assert_eq!(models, ["lavapipe_frame", "lavapipe_isolated", "software"]);
+    assert_eq!(
+        models[..3],
+        ["lavapipe_frame", "lavapipe_isolated", "software"]
+    );
+    // Then each GPU family isa compiled, float32 then float16 (static: no interval).
+    let families = |f: &str| -> Vec<String> {
+        let isa = read_json(dir.join(f));
+        isa["families"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|x| x["supported"] == true)
+            .map(|x| x["family"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let mut isa: Vec<String> = families("isa/isa.json")
+        .iter()
+        .map(|f| format!("isa_{f}"))
+        .collect();
+    isa.extend(
+        families("isa-f16/isa.json")
+            .iter()
+            .map(|f| format!("isa_{f}_f16")),
+    );
+    assert!(
+        isa.len() >= 8 && isa.iter().any(|m| m.ends_with("_f16")),
+        "{isa:?}"
+    );
+    assert_eq!(models[3..], isa[..]);
     assert_eq!(answer["cells"].as_array().unwrap().len(), 6 * models.len());
     // The frame figures come from 5 fresh-process runs (bench.json `runs`).
     let bench = read_json(dir.join("scenes/tiny/bench/bench.json"));
     assert_eq!(bench["runs"]["count"], 5, "{}", bench["runs"]);
-    // The rule on this run's own figures: phong_exact meets every budget, and an answer other
-    // than phong_exact meets its budget and is measured cheaper.
+    let precision = |model: &serde_json::Value| {
+        answer["cost_models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == *model)
+            .unwrap()["precision"]
+            .clone()
+    };
+    // The rule on this run's own figures: an answer other than phong_exact meets its budget
+    // in its model's precision and is measured cheaper; phong_exact meets every float32 budget.
     for c in answer["cells"].as_array().unwrap() {
         let method = c["answer"]["method"].as_str().unwrap();
+        let p = precision(&c["cost_model"]);
+        let m = answer["cost_models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == c["cost_model"])
+            .unwrap();
+        if m["kind"] == "static" {
+            assert!(m["figures"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|f| f["ci95_low"].is_null()));
+        }
         let check = answer["checks"]
             .as_array()
             .unwrap()
             .iter()
-            .find(|k| k["method"] == method && k["budget"] == c["budget"])
+            .find(|k| k["method"] == method && k["budget"] == c["budget"] && k["precision"] == p)
             .unwrap();
-        assert_eq!(check["meets"], true, "{c}\n{check}");
+        if method != "phong_exact" || p == "f32" {
+            assert_eq!(check["meets"], true, "{c}\n{check}");
+        }
         assert_eq!(c["nothing_cheaper"], method == "phong_exact", "{c}");
         if method != "phong_exact" {
             assert_eq!(c["answer"]["cheaper"], true, "{c}");
         }
     }
+    // The float16 errors come from compare of the float16 programs.
+    let half = read_json(dir.join("scenes/tiny/compare-f16/summary.json"));
+    assert_eq!(half["precision"], "f16", "{}", half["precision"]);
     let md = std::fs::read_to_string(dir.join("answer.md")).unwrap();
     assert!(
-        md.contains("| budget |") && md.contains("max |dI| <= 1/255"),
+        md.contains("| cost model |") && md.contains("max |dI| <= 1/255"),
         "{md}"
     );
 }

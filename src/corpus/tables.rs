@@ -14,7 +14,9 @@ use serde_json::Value;
 use super::merge::{Merged, ShardDir};
 use crate::analysis::stats::percentile;
 use crate::error::{Error, Result};
+use crate::method::Precision;
 use crate::output::write_atomic;
+use crate::report::answer::{self, Answer, CostFigure, CostKind, CostModel, SceneError};
 
 /// The budgets of the tables: the largest colour error a method may make (linear).
 pub const BUDGETS: [(&str, f64); 3] = [
@@ -57,22 +59,6 @@ pub struct MethodTable {
     pub meshes: usize,
     pub distributions: Vec<Distribution>,
     pub worst: Vec<WorstMesh>,
-}
-
-/// The answer at one budget, by one metric and one cost model.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct AnswerRow {
-    pub budget: String,
-    pub budget_value: f64,
-    pub metric: String,
-    /// `isa:<family>` (ACO's inverse throughput of the fragment program), `bench:<machine>`
-    /// (median over meshes of bench's paired ratio to phong_exact) or `none`.
-    pub cost_model: String,
-    /// The cheapest method within the budget on every mesh; None if no method is.
-    pub method: Option<String>,
-    pub cost: Option<f64>,
-    /// Every method within the budget on every mesh, cheapest first.
-    pub candidates: Vec<String>,
 }
 
 /// One value per method and mesh.
@@ -154,33 +140,63 @@ pub fn method_tables(meshes: &[Merged]) -> Vec<MethodTable> {
         .collect()
 }
 
-/// Cost models: name and cost per method (lower is cheaper).
-pub type CostModel = (String, Vec<(String, f64)>);
-
-/// Per family, the fragment program's inverse throughput of isa.json (draw kind).
-pub fn isa_costs(isa: &Value) -> Vec<CostModel> {
+/// Per family, the fragment program's inverse throughput over phong_exact's (isa.json, draw
+/// kind): a static cost model of the answer, cheaper below 1 (the report's rows,
+/// [`crate::report::isa`]).
+pub fn isa_costs(isa: &Value, evidence: &str) -> Vec<CostModel> {
     let mut out: Vec<CostModel> = Vec::new();
+    let precision = isa["precision"]
+        .as_str()
+        .and_then(|p| p.parse().ok())
+        .unwrap_or(Precision::F32);
     for row in isa["results"].as_array().into_iter().flatten() {
         if row["kind"] != "draw" || row["stage"] != "fragment" {
             continue;
         }
-        let (Some(f), Some(m), Some(c)) = (
-            row["family"].as_str(),
-            row["method"].as_str(),
-            row["statistics"]["inverse_throughput"].as_f64(),
-        ) else {
+        let (Some(f), Some(m)) = (row["family"].as_str(), row["method"].as_str()) else {
             continue;
         };
-        let key = format!("isa:{f}");
-        match out.iter_mut().find(|(k, _)| *k == key) {
-            Some((_, v)) => v.push((m.into(), c)),
-            None => out.push((key, vec![(m.into(), c)])),
+        let ratio = row["ratio_to_phong_exact"]["inverse_throughput"]
+            .as_f64()
+            .filter(|v| v.is_finite());
+        let verdict = match ratio {
+            None => "unmeasured",
+            Some(q) if q < 1.0 => "cheaper",
+            Some(q) if q > 1.0 => "dearer",
+            Some(_) => "equal",
+        };
+        let fig = CostFigure {
+            method: m.into(),
+            ratio,
+            ci95_low: None,
+            ci95_high: None,
+            verdict: verdict.into(),
+            cheaper: verdict == "cheaper",
+            evidence: evidence.into(),
+            note: format!("{f}, fragment program"),
+        };
+        let name = format!("isa_{f}");
+        match out.iter_mut().find(|k| k.name == name) {
+            Some(k) => k.figures.push(fig),
+            None => out.push(CostModel {
+                title: format!("{f} (static)"),
+                kind: CostKind::Static,
+                description: format!(
+                    "ACO's static model on RADV's null device (shadelab isa): the inverse \
+                     throughput of the draw's fragment program on {f}, over phong_exact's; \
+                     deterministic, no interval"
+                ),
+                precision,
+                figures: vec![fig],
+                name,
+            }),
         }
     }
     out
 }
 
-/// Per machine, the median over its meshes of bench's paired ratio to phong_exact.
+/// Per machine, bench's paired ratio to phong_exact over the meshes: the median as the figure,
+/// cheaper only when the ratio is below 1 on every mesh that timed the method.
 pub fn bench_costs(meshes: &[Merged]) -> Vec<CostModel> {
     let mut per: Vec<(String, Vec<(String, Vec<f64>)>)> = Vec::new();
     for m in meshes {
@@ -205,56 +221,84 @@ pub fn bench_costs(meshes: &[Merged]) -> Vec<CostModel> {
     }
     per.into_iter()
         .map(|(machine, list)| {
-            let costs = list
+            let figures = list
                 .into_iter()
-                .map(|(n, mut v)| (n, percentile(&mut v, 50.0)))
+                .map(|(n, mut v)| {
+                    let all = v.iter().all(|r| r.is_finite() && *r < 1.0);
+                    let count = v.len();
+                    let med = percentile(&mut v, 50.0);
+                    CostFigure {
+                        ratio: med.is_finite().then_some(med),
+                        ci95_low: None,
+                        ci95_high: None,
+                        verdict: if all {
+                            "faster on every mesh"
+                        } else {
+                            "not faster on every mesh"
+                        }
+                        .into(),
+                        cheaper: all,
+                        evidence: String::new(),
+                        note: format!("median over {count} meshes"),
+                        method: n,
+                    }
+                })
                 .collect();
-            (format!("bench:{machine}"), costs)
+            CostModel {
+                name: format!("bench_{machine}"),
+                title: format!("bench on {machine}"),
+                kind: CostKind::Interval,
+                description: "bench's paired frame-time ratio to phong_exact per mesh: the \
+                              median over the meshes, cheaper only when below 1 on every mesh \
+                              (no interval across meshes)"
+                    .into(),
+                precision: Precision::F32,
+                figures,
+            }
         })
         .collect()
 }
 
-/// Per budget, metric and cost model: the cheapest method within the budget on every mesh.
-pub fn answer(tables: &[MethodTable], models: &[CostModel]) -> Vec<AnswerRow> {
-    let none: Vec<CostModel> = vec![("none".into(), Vec::new())];
-    let models = if models.is_empty() { &none } else { models };
-    let mut rows = Vec::new();
-    for (b, e) in BUDGETS {
-        for (mi, metric) in METRICS.iter().enumerate() {
-            let within: Vec<&str> = tables
-                .iter()
-                .filter(|t| t.meshes > 0)
-                .filter(|t| {
-                    let d = &t.distributions[mi];
-                    d.non_finite_meshes == 0 && d.max <= e
-                })
-                .map(|t| t.name.as_str())
-                .collect();
-            for (model, costs) in models {
-                let cost = |n: &str| costs.iter().find(|(m, _)| m == n).map(|(_, c)| *c);
-                let mut c: Vec<(&str, Option<f64>)> =
-                    within.iter().map(|n| (*n, cost(n))).collect();
-                c.sort_by(|a, b| {
-                    let key = |x: Option<f64>| x.filter(|v| v.is_finite()).unwrap_or(f64::INFINITY);
-                    key(a.1).total_cmp(&key(b.1)).then(a.0.cmp(b.0))
-                });
-                let best = c
+/// Every ok mesh's error per method, as the report's budget check reads a scene's.
+pub fn mesh_errors(meshes: &[Merged], precision: Precision) -> Vec<SceneError> {
+    let mut v = Vec::new();
+    for m in meshes.iter().filter(|m| m.result.status == "ok") {
+        let Some(s) = &m.result.summary else { continue };
+        for row in s["methods"].as_array().into_iter().flatten() {
+            let count = |k: &str| row[k].as_u64().unwrap_or(0) as usize;
+            v.push(SceneError {
+                scene: m.result.id.clone(),
+                method: row["name"].as_str().unwrap_or("?").to_string(),
+                precision,
+                covered_pixels: count("covered_pixels"),
+                non_finite_pixels: count("non_finite_pixels"),
+                metrics: METRICS
                     .iter()
-                    .find(|(_, k)| k.is_some_and(f64::is_finite))
-                    .filter(|_| model != "none");
-                rows.push(AnswerRow {
-                    budget: b.into(),
-                    budget_value: e,
-                    metric: metric.to_string(),
-                    cost_model: model.clone(),
-                    method: best.map(|(n, _)| n.to_string()),
-                    cost: best.and_then(|(_, k)| *k),
-                    candidates: c.iter().map(|(n, _)| n.to_string()).collect(),
-                });
-            }
+                    .map(|k| (k.to_string(), row[*k].as_f64()))
+                    .collect(),
+                evidence: format!("meshes/{}/result.json", m.result.id),
+            });
         }
     }
-    rows
+    v
+}
+
+/// The answer over the corpus: the report's rule ([`crate::report::answer::answer`]) with the
+/// ok meshes as the scenes (a budget is met only on every one of them).
+pub fn answer_of(meshes: &[Merged], precision: Precision, models: Vec<CostModel>) -> Answer {
+    let errors = mesh_errors(meshes, precision);
+    let scenes: Vec<String> = meshes
+        .iter()
+        .filter(|m| m.result.status == "ok")
+        .map(|m| m.result.id.clone())
+        .collect();
+    let mut methods: Vec<String> = Vec::new();
+    for e in &errors {
+        if !methods.contains(&e.method) {
+            methods.push(e.method.clone());
+        }
+    }
+    answer::answer(&scenes, &methods, &errors, models)
 }
 
 /// corpus.json.
@@ -271,7 +315,8 @@ pub struct CorpusReport {
     pub machines: Vec<String>,
     pub isa: String,
     pub methods: Vec<MethodTable>,
-    pub answer: Vec<AnswerRow>,
+    /// The report's answer over the meshes (docs/answer.schema.json).
+    pub answer: Answer,
 }
 
 /// A mesh that failed, with its error.
@@ -294,8 +339,9 @@ pub struct ShardInfo {
 pub fn report(shards: &[ShardDir], meshes: &[Merged], isa: Option<(&str, &Value)>) -> CorpusReport {
     let first = &shards[0].manifest;
     let methods = method_tables(meshes);
-    let mut models = isa.map(|(_, v)| isa_costs(v)).unwrap_or_default();
+    let mut models = isa.map(|(p, v)| isa_costs(v, p)).unwrap_or_default();
     models.extend(bench_costs(meshes));
+    let precision = first.config.precision;
     let mut machines: Vec<String> = shards.iter().map(|s| s.manifest.machine.key()).collect();
     machines.sort();
     machines.dedup();
@@ -327,7 +373,7 @@ pub fn report(shards: &[ShardDir], meshes: &[Merged], isa: Option<(&str, &Value)
             || "unavailable (no shard has isa/isa.json)".into(),
             |(p, _)| p.to_string(),
         ),
-        answer: answer(&methods, &models),
+        answer: answer_of(meshes, precision, models),
         methods,
     }
 }
@@ -398,20 +444,15 @@ fn html(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
             r.machines.len()
         )?;
     }
-    writeln!(w, "<h2>Answer: cheapest method within each budget on every mesh</h2><table><tr><th>budget</th><th>metric</th><th>cost model</th><th>method</th><th>cost</th><th>within</th></tr>")?;
-    for a in &r.answer {
-        writeln!(
-            w,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
-            esc(&a.budget),
-            a.metric,
-            esc(&a.cost_model),
-            esc(a.method.as_deref().unwrap_or("-")),
-            a.cost.map_or("-".into(), num),
-            a.candidates.len()
-        )?;
-    }
-    writeln!(w, "</table><h2>Error over meshes</h2><table><tr><th>method</th><th>metric</th><th>median</th><th>p90</th><th>max</th><th>non-finite</th>")?;
+    writeln!(
+        w,
+        "{}",
+        crate::report::front::answer_table(&r.answer).replace(
+            "<h2>Which method to use</h2>",
+            "<h2>Answer: which method to use</h2>"
+        )
+    )?;
+    writeln!(w, "<h2>Error over meshes</h2><table><tr><th>method</th><th>metric</th><th>median</th><th>p90</th><th>max</th><th>non-finite</th>")?;
     for (b, _) in BUDGETS {
         write!(w, "<th>within {b}</th>")?;
     }

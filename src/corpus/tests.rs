@@ -1,4 +1,4 @@
-//! Unit tests of the corpus's ids, hash, shards and configuration hash.
+//! Unit tests of the corpus's ids, hash, shards, configuration hash and answer (the report's rule).
 use super::*;
 
 #[test]
@@ -117,4 +117,106 @@ fn the_configuration_hash_sees_every_field() {
     d.methods.push("flat".into());
     assert_ne!(c.hash(), d.hash());
     assert_eq!(c.hash(), c.clone().hash());
+}
+
+/// One answer-table implementation: the corpus's answer is the report's rule on the same
+/// errors and cost models, cell for cell, and the isa figures become the same static rows.
+#[test]
+fn the_corpus_answer_is_the_reports_on_the_same_inputs() {
+    use crate::method::Precision;
+    use crate::report::answer::{answer, SceneError};
+    use std::collections::BTreeMap;
+    // Three meshes (one failed), three methods: (max, p99) per mesh.
+    let figures = [
+        (
+            "a",
+            [
+                ("phong_exact", 1e-6, 1e-7),
+                ("fast", 2e-3, 1e-4),
+                ("rough", 0.1, 0.01),
+            ],
+        ),
+        (
+            "b",
+            [
+                ("phong_exact", 1e-6, 1e-7),
+                ("fast", 3e-3, 2e-4),
+                ("rough", 3e-3, 1e-3),
+            ],
+        ),
+    ];
+    let mut meshes = Vec::new();
+    let mut errors = Vec::new();
+    for (id, rows) in figures {
+        let methods: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|(n, max, p99)| {
+                serde_json::json!({"name": n, "covered_pixels": 50, "non_finite_pixels": 0,
+                                   "max_abs_error": max, "p99_abs_error": p99})
+            })
+            .collect();
+        for (n, max, p99) in rows {
+            errors.push(SceneError {
+                scene: id.into(),
+                method: n.into(),
+                precision: Precision::F32,
+                covered_pixels: 50,
+                non_finite_pixels: 0,
+                metrics: BTreeMap::from([
+                    ("max_abs_error".to_string(), Some(max)),
+                    ("p99_abs_error".to_string(), Some(p99)),
+                ]),
+                evidence: format!("meshes/{id}/result.json"),
+            });
+        }
+        meshes.push(merged(
+            id,
+            "ok",
+            Some(serde_json::json!({ "methods": methods })),
+        ));
+    }
+    meshes.push(merged("broken", "failed", None));
+    let isa = serde_json::json!({"precision": "f32", "results": [
+        isa_row("phong_exact", 1.0), isa_row("fast", 0.8), isa_row("rough", 0.5)]});
+    let models = super::tables::isa_costs(&isa, "isa/isa.json");
+    assert_eq!(models.len(), 1);
+    assert_eq!(models[0].name, "isa_gfx1100");
+    let corpus = super::tables::answer_of(&meshes, Precision::F32, models.clone());
+    let names: Vec<String> = ["phong_exact", "fast", "rough"].map(String::from).to_vec();
+    let report = answer(&["a".into(), "b".into()], &names, &errors, models);
+    assert_eq!(corpus.cells, report.cells);
+    assert_eq!(corpus.checks, report.checks);
+    // max 1/255: fast (0.8) and rough (0.5) both within on a and b? rough is not (0.1 on a).
+    let c = corpus.cell("max_1_255", "isa_gfx1100").unwrap();
+    assert_eq!(c.answer.method, "fast");
+    assert_eq!(c.binding.as_ref().unwrap().scene, "a");
+    // Teeth: a mesh's different figure changes the corpus's cells, not the report's.
+    if let Some(s) = &mut meshes[1].result.summary {
+        s["methods"][1]["max_abs_error"] = serde_json::json!(0.5);
+    }
+    let changed = super::tables::answer_of(&meshes, Precision::F32, report.cost_models.clone());
+    assert_ne!(changed.cells, report.cells);
+}
+
+fn merged(id: &str, status: &str, summary: Option<serde_json::Value>) -> super::merge::Merged {
+    super::merge::Merged {
+        result: super::run::MeshResult {
+            schema_version: 1,
+            id: id.into(),
+            path: format!("{id}.obj"),
+            content_hash: String::new(),
+            config_hash: String::new(),
+            status: status.into(),
+            error: (status != "ok").then(|| "broken".into()),
+            summary,
+        },
+        bytes: Vec::new(),
+        machine: "m".into(),
+        timing: serde_json::Value::Null,
+    }
+}
+
+fn isa_row(method: &str, ratio: f64) -> serde_json::Value {
+    serde_json::json!({"family": "gfx1100", "method": method, "stage": "fragment", "kind": "draw",
+                       "ratio_to_phong_exact": {"inverse_throughput": ratio}})
 }

@@ -21,7 +21,7 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
-use crate::method::PHONG_EXACT;
+use crate::method::{Precision, PHONG_EXACT};
 
 /// answer.json `schema_version`.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -97,6 +97,10 @@ pub struct CostModel {
     pub kind: CostKind,
     /// What is measured and how the figure per method is chosen.
     pub description: String,
+    /// The precision of the programs it costs; a budget is checked on the errors of the same
+    /// precision (compare in float16 for a float16 model).
+    #[serde(default)]
+    pub precision: Precision,
     pub figures: Vec<CostFigure>,
 }
 
@@ -105,6 +109,8 @@ pub struct CostModel {
 pub struct SceneError {
     pub scene: String,
     pub method: String,
+    /// The precision the method's program computed in.
+    pub precision: Precision,
     pub covered_pixels: usize,
     pub non_finite_pixels: usize,
     /// Metric name to value (`None`: the metric does not apply).
@@ -118,10 +124,16 @@ pub struct SceneError {
 pub struct BudgetCheck {
     pub method: String,
     pub budget: String,
+    /// The precision of the errors checked.
+    #[serde(default)]
+    pub precision: Precision,
     pub meets: bool,
     /// The largest value over the scenes (null when some value is not finite or missing).
     pub worst: Option<f64>,
     pub worst_scene: String,
+    /// The scenes where it fails, in the report's order.
+    #[serde(default)]
+    pub failing_scenes: Vec<String>,
     /// Why it fails (empty when it meets the budget).
     pub why: String,
     pub evidence: String,
@@ -156,8 +168,24 @@ pub struct Cell {
     /// Whether the answer's interval lies wholly below the runner-up's (an interval model;
     /// static: the figures differ). False: the two are not told apart by this measurement.
     pub separated: bool,
+    /// The scene that decides the cell, when a method this model measures cheaper than the
+    /// answer fails the budget: the scene ruling out the most of them.
+    pub binding: Option<Binding>,
     /// The cell as one sentence.
     pub text: String,
+}
+
+/// The scene that keeps cheaper methods out of a cell.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Binding {
+    pub scene: String,
+    /// Methods cheaper than the answer (under the cell's model) that fail the budget on it.
+    pub ruled_out: usize,
+    /// Methods cheaper than the answer that fail the budget on some scene.
+    pub cheaper_failing: usize,
+    /// The cheapest of those it rules out, and its error there.
+    pub cheapest: String,
+    pub evidence: String,
 }
 
 /// DIR/answer.json.
@@ -173,27 +201,41 @@ pub struct Answer {
 }
 
 /// Whether `method` meets `b` over `errors` (every scene of `scenes`).
-pub fn check(method: &str, b: &Budget, scenes: &[String], errors: &[SceneError]) -> BudgetCheck {
+pub fn check(
+    method: &str,
+    b: &Budget,
+    scenes: &[String],
+    errors: &[SceneError],
+    precision: Precision,
+) -> BudgetCheck {
     let mut c = BudgetCheck {
         method: method.into(),
         budget: b.id.clone(),
+        precision,
         meets: true,
         worst: Some(f64::NEG_INFINITY),
         worst_scene: String::new(),
+        failing_scenes: Vec::new(),
         why: String::new(),
         evidence: String::new(),
     };
-    let fail = |c: &mut BudgetCheck, why: String| {
+    let fail = |c: &mut BudgetCheck, s: &String, why: String| {
         c.meets = false;
+        if !c.failing_scenes.contains(s) {
+            c.failing_scenes.push(s.clone());
+        }
         if !c.why.is_empty() {
             c.why += "; ";
         }
         c.why += &why;
     };
     for s in scenes {
-        let Some(e) = errors.iter().find(|e| &e.scene == s && e.method == method) else {
+        let found = errors
+            .iter()
+            .find(|e| &e.scene == s && e.method == method && e.precision == precision);
+        let Some(e) = found else {
             c.worst = None;
-            fail(&mut c, format!("not measured on {s}"));
+            fail(&mut c, s, format!("not measured on {s}"));
             continue;
         };
         if c.evidence.is_empty() {
@@ -201,7 +243,7 @@ pub fn check(method: &str, b: &Budget, scenes: &[String], errors: &[SceneError])
         }
         if e.covered_pixels == 0 {
             c.worst = None;
-            fail(&mut c, format!("no covered pixel on {s}"));
+            fail(&mut c, s, format!("no covered pixel on {s}"));
             continue;
         }
         if e.non_finite_pixels > 0 {
@@ -210,6 +252,7 @@ pub fn check(method: &str, b: &Budget, scenes: &[String], errors: &[SceneError])
             c.evidence = e.evidence.clone();
             fail(
                 &mut c,
+                s,
                 format!("{} non-finite pixels on {s}", e.non_finite_pixels),
             );
             continue;
@@ -222,7 +265,7 @@ pub fn check(method: &str, b: &Budget, scenes: &[String], errors: &[SceneError])
                     c.evidence = e.evidence.clone();
                 }
                 if v > b.limit {
-                    fail(&mut c, format!("{} {v:.3e} on {s}", b.metric));
+                    fail(&mut c, s, format!("{} {v:.3e} on {s}", b.metric));
                 }
             }
             v => {
@@ -230,7 +273,7 @@ pub fn check(method: &str, b: &Budget, scenes: &[String], errors: &[SceneError])
                 c.worst_scene = s.clone();
                 c.evidence = e.evidence.clone();
                 let shown = v.map_or("missing".to_string(), |x| x.to_string());
-                fail(&mut c, format!("{} {shown} on {s}", b.metric));
+                fail(&mut c, s, format!("{} {shown} on {s}", b.metric));
             }
         }
     }
@@ -263,14 +306,110 @@ pub fn ratio_text(c: &Choice) -> String {
     }
 }
 
-/// One cell of the answer: budget `b` under cost model `m`.
-fn cell(b: &Budget, m: &CostModel, checks: &[BudgetCheck]) -> Cell {
-    let meets = |name: &str| {
-        checks
+/// The scene that decides a cell: among the methods `m` measures cheaper than the answer
+/// (ratio below `answer_ratio`) that fail the budget, the scene ruling out the most of them
+/// (ties: the report's scene order); `None` when no such method fails.
+fn binding(
+    m: &CostModel,
+    answer_ratio: Option<f64>,
+    checks: &[&BudgetCheck],
+    scenes: &[String],
+) -> Option<Binding> {
+    let mut failing: Vec<(&CostFigure, &BudgetCheck)> = m
+        .figures
+        .iter()
+        .filter(|f| f.method != PHONG_EXACT && f.cheaper)
+        .filter(|f| match (f.ratio, answer_ratio) {
+            (Some(r), Some(a)) => r.is_finite() && r < a,
+            (Some(r), None) => r.is_finite(),
+            (None, _) => false,
+        })
+        .filter_map(|f| {
+            let c = checks.iter().find(|c| c.method == f.method && !c.meets)?;
+            Some((f, *c))
+        })
+        .collect();
+    failing.sort_by(|a, b| {
+        a.0.ratio
+            .partial_cmp(&b.0.ratio)
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let count = |s: &String| {
+        failing
             .iter()
-            .any(|c| c.method == name && c.budget == b.id && c.meets)
+            .filter(|(_, c)| c.failing_scenes.contains(s))
+            .count()
     };
-    let chk = |name: &str| checks.iter().find(|c| c.method == name && c.budget == b.id);
+    let mut best: Option<(&String, usize)> = None;
+    for s in scenes {
+        let n = count(s);
+        if n > 0 && best.is_none_or(|(_, k)| n > k) {
+            best = Some((s, n));
+        }
+    }
+    let (scene, ruled_out) = best?;
+    let (cheapest, chk) = failing
+        .iter()
+        .find(|(_, c)| c.failing_scenes.contains(scene))?;
+    Some(Binding {
+        scene: scene.clone(),
+        ruled_out,
+        cheaper_failing: failing.len(),
+        cheapest: cheapest.method.clone(),
+        evidence: if chk.worst_scene == *scene {
+            chk.evidence.clone()
+        } else {
+            String::new()
+        },
+    })
+}
+
+/// The cell's sentence.
+fn cell_text(b: &Budget, m: &CostModel, c: &Cell) -> String {
+    let mut t = if c.nothing_cheaper {
+        let close = c.runner_up.as_ref().map_or(
+            " (no other method meets the budget on every scene)".to_string(),
+            |r| {
+                format!(
+                    " (closest: {} at {}, {})",
+                    r.method,
+                    ratio_text(r),
+                    r.verdict
+                )
+            },
+        );
+        format!(
+            "{}, {}: nothing is cheaper than phong_exact{close}",
+            b.label, m.title
+        )
+    } else {
+        format!(
+            "{}, {}: {} at {} of phong_exact; runner-up {} at {}{}",
+            b.label,
+            m.title,
+            c.answer.method,
+            ratio_text(&c.answer),
+            c.runner_up
+                .as_ref()
+                .map_or("-".into(), |r| r.method.clone()),
+            c.runner_up.as_ref().map_or("-".into(), ratio_text),
+            if c.separated { "" } else { " (not told apart)" }
+        )
+    };
+    if let Some(k) = &c.binding {
+        t += &format!(
+            "; decided by {}: it rules out {} of the {} cheaper methods that fail (cheapest {})",
+            k.scene, k.ruled_out, k.cheaper_failing, k.cheapest
+        );
+    }
+    t
+}
+
+/// One cell of the answer: budget `b` under cost model `m` (`checks`: every method's check of
+/// `b` at the model's precision).
+fn cell(b: &Budget, m: &CostModel, checks: &[&BudgetCheck], scenes: &[String]) -> Cell {
+    let meets = |name: &str| checks.iter().any(|c| c.method == name && c.meets);
+    let chk = |name: &str| checks.iter().find(|c| c.method == name).copied();
     // Qualifying methods with a finite ratio, cheapest first (ties by name, for stability).
     let mut ranked: Vec<&CostFigure> = m
         .figures
@@ -284,10 +423,7 @@ fn cell(b: &Budget, m: &CostModel, checks: &[BudgetCheck]) -> Cell {
             .unwrap_or(std::cmp::Ordering::Equal)
             .then_with(|| a.method.cmp(&c.method))
     });
-    let qualifying = checks
-        .iter()
-        .filter(|c| c.budget == b.id && c.meets)
-        .count();
+    let qualifying = checks.iter().filter(|c| c.meets).count();
     let cheaper: Vec<&CostFigure> = ranked.iter().copied().filter(|f| f.cheaper).collect();
     let exact = m.figures.iter().find(|f| f.method == PHONG_EXACT);
     let (answer, runner_up, nothing) = match cheaper.as_slice() {
@@ -317,44 +453,20 @@ fn cell(b: &Budget, m: &CostModel, checks: &[BudgetCheck]) -> Cell {
         (Some(r), CostKind::Static) => answer.ratio.zip(r.ratio).is_some_and(|(a, r)| a < r),
         (None, _) => false,
     };
-    let text = if nothing {
-        let close = runner_up.as_ref().map_or(
-            " (no other method meets the budget on every scene)".to_string(),
-            |r| {
-                format!(
-                    " (closest: {} at {}, {})",
-                    r.method,
-                    ratio_text(r),
-                    r.verdict
-                )
-            },
-        );
-        format!(
-            "{}, {}: nothing is cheaper than phong_exact{close}",
-            b.label, m.title
-        )
-    } else {
-        format!(
-            "{}, {}: {} at {} of phong_exact; runner-up {} at {}{}",
-            b.label,
-            m.title,
-            answer.method,
-            ratio_text(&answer),
-            runner_up.as_ref().map_or("-".into(), |r| r.method.clone()),
-            runner_up.as_ref().map_or("-".into(), ratio_text),
-            if separated { "" } else { " (not told apart)" }
-        )
-    };
-    Cell {
+    let answer_ratio = if nothing { None } else { answer.ratio };
+    let mut c = Cell {
         budget: b.id.clone(),
         cost_model: m.name.clone(),
+        binding: binding(m, answer_ratio, checks, scenes),
         answer,
         runner_up,
         nothing_cheaper: nothing,
         qualifying,
         separated,
-        text,
-    }
+        text: String::new(),
+    };
+    c.text = cell_text(b, m, &c);
+    c
 }
 
 /// The answer over `scenes` from the errors and the cost models.
@@ -365,22 +477,37 @@ pub fn answer(
     models: Vec<CostModel>,
 ) -> Answer {
     let budgets = budgets();
-    let checks: Vec<BudgetCheck> = methods
-        .iter()
-        .flat_map(|m| budgets.iter().map(move |b| (m, b)))
-        .map(|(m, b)| check(m, b, scenes, errors))
-        .collect();
+    let mut precisions: Vec<Precision> = models.iter().map(|m| m.precision).collect();
+    precisions.push(Precision::F32);
+    precisions.sort();
+    precisions.dedup();
+    let mut checks: Vec<BudgetCheck> = Vec::new();
+    for p in precisions {
+        for m in methods {
+            for b in &budgets {
+                checks.push(check(m, b, scenes, errors, p));
+            }
+        }
+    }
     let cells = budgets
         .iter()
         .flat_map(|b| models.iter().map(move |m| (b, m)))
-        .map(|(b, m)| cell(b, m, &checks))
+        .map(|(b, m)| {
+            let of: Vec<&BudgetCheck> = checks
+                .iter()
+                .filter(|c| c.budget == b.id && c.precision == m.precision)
+                .collect();
+            cell(b, m, &of, scenes)
+        })
         .collect();
     Answer {
         schema_version: SCHEMA_VERSION,
         scenes: scenes.to_vec(),
         errors_from: "compare: |dI| of the linear luminance against exact Phong in f64, over \
-                      the covered pixels of each scene (Vulkan pipeline, float32 GLSL); a \
-                      budget is met only on every scene, with no non-finite pixel"
+                      the covered pixels of each scene (Vulkan pipeline; a float32 cost model \
+                      takes the float32 programs' errors, a float16 one the float16 \
+                      programs'); a budget is met only on every scene, with no non-finite \
+                      pixel"
             .into(),
         budgets,
         cost_models: models,
@@ -407,16 +534,16 @@ impl Answer {
             self.scenes.join(", "),
             self.errors_from
         );
-        s += "| budget |";
-        for m in &self.cost_models {
-            let _ = write!(s, " {} |", m.title);
+        s += "| cost model |";
+        for b in &self.budgets {
+            let _ = write!(s, " {} |", b.label);
         }
         s += "\n|---|";
-        s += &"---|".repeat(self.cost_models.len());
+        s += &"---|".repeat(self.budgets.len());
         s += "\n";
-        for b in &self.budgets {
-            let _ = write!(s, "| {} |", b.label);
-            for m in &self.cost_models {
+        for m in &self.cost_models {
+            let _ = write!(s, "| {} |", m.title);
+            for b in &self.budgets {
                 let Some(c) = self.cell(&b.id, &m.name) else {
                     s += " - |";
                     continue;
@@ -435,7 +562,11 @@ impl Answer {
                 let second = c.runner_up.as_ref().map_or(String::new(), |r| {
                     format!("<br>then {} {}", r.method, ratio_text(r))
                 });
-                let _ = write!(s, " {main}{second} |");
+                let bind = c
+                    .binding
+                    .as_ref()
+                    .map_or(String::new(), |k| format!("<br>decided by {}", k.scene));
+                let _ = write!(s, " {main}{second}{bind} |");
             }
             s += "\n";
         }

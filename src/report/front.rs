@@ -1,7 +1,9 @@
 //! The report's first screen: the inputs of [`super::answer`] taken from a run (errors per scene
-//! from compare, one cost model per measurement: lavapipe frame time across runs, lavapipe
-//! isolated cost, the software engine), the answer table at the top of index.html, and the
-//! papers' claims as one matrix (claim x where it was measured), each verdict linked to its row.
+//! from compare, float32 and float16; one cost model per measurement: lavapipe frame time
+//! across runs, lavapipe isolated cost, the software engine, and per GPU family of `isa` the
+//! static cost of the float32 and the float16 programs), the answer table at the top of
+//! index.html (one row per cost model, one column per budget), and the papers' claims as one
+//! matrix (claim x where it was measured), each verdict linked to its row.
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -9,7 +11,7 @@ use super::answer::{self, Answer, CostFigure, CostKind, CostModel, SceneError};
 use super::html::{esc, method_anchor};
 use super::ReportData;
 use crate::bench::Speed;
-use crate::method::PHONG_EXACT;
+use crate::method::{Precision, PHONG_EXACT};
 
 /// The id of a method's row in a scene's metric table (the bench figures of the cost models).
 pub fn row_anchor(scene: &str, method: &str) -> String {
@@ -25,19 +27,27 @@ pub fn claim_anchor(scene: &str, k: usize) -> String {
 pub fn scene_errors(d: &ReportData) -> Vec<SceneError> {
     let mut v = Vec::new();
     for s in &d.scenes {
-        for m in &s.summary.methods {
-            let metrics: BTreeMap<String, Option<f64>> = ["max_abs_error", "p99_abs_error"]
-                .iter()
-                .map(|k| (k.to_string(), m.metric(k)))
-                .collect();
-            v.push(SceneError {
-                scene: s.id.clone(),
-                method: m.name.clone(),
-                covered_pixels: m.covered_pixels,
-                non_finite_pixels: m.non_finite_pixels,
-                metrics,
-                evidence: format!("index.html#{}", method_anchor(&s.id, &m.name)),
-            });
+        let f16 = s.summary_f16.as_ref().map(|x| (x, Precision::F16));
+        for (sum, precision) in std::iter::once((&s.summary, Precision::F32)).chain(f16) {
+            for m in &sum.methods {
+                let evidence = match precision {
+                    Precision::F32 => format!("index.html#{}", method_anchor(&s.id, &m.name)),
+                    Precision::F16 => format!("{}/summary.json", s.compare_f16_dir),
+                };
+                let metrics: BTreeMap<String, Option<f64>> = ["max_abs_error", "p99_abs_error"]
+                    .iter()
+                    .map(|k| (k.to_string(), m.metric(k)))
+                    .collect();
+                v.push(SceneError {
+                    scene: s.id.clone(),
+                    method: m.name.clone(),
+                    precision,
+                    covered_pixels: m.covered_pixels,
+                    non_finite_pixels: m.non_finite_pixels,
+                    metrics,
+                    evidence,
+                });
+            }
         }
     }
     v
@@ -116,6 +126,7 @@ fn frame_model(d: &ReportData) -> CostModel {
                       fresh-process runs and cheaper only beyond phong_exact_control's spread; \
                       the scene with the largest ratio, cheaper only on every scene"
             .into(),
+        precision: Precision::F32,
         figures: worst_over_scenes(per),
     }
 }
@@ -167,6 +178,7 @@ fn isolated_model(d: &ReportData) -> Option<CostModel> {
                       apart from rasterization (compute kernels, slope per evaluation), paired \
                       ratio to phong_exact across runs"
             .into(),
+        precision: Precision::F32,
         figures,
     })
 }
@@ -209,6 +221,7 @@ fn software_model(d: &ReportData) -> Option<CostModel> {
                       forms, all cores), paired median ratio to phong_exact per round with its \
                       sign-test interval; the scene with the largest ratio"
             .into(),
+        precision: Precision::F32,
         figures: worst_over_scenes(per),
     })
 }
@@ -218,6 +231,7 @@ pub fn cost_models(d: &ReportData) -> Vec<CostModel> {
     let mut v = vec![frame_model(d)];
     v.extend(isolated_model(d));
     v.extend(software_model(d));
+    v.extend(super::isa::cost_models(&d.isa));
     v
 }
 
@@ -264,35 +278,57 @@ fn choice_html(c: &answer::Choice) -> String {
     )
 }
 
-/// The answer table (first on the page): budgets x cost models.
+/// The words naming the scene that decides a cell, linked to the evidence (the counts in
+/// the tooltip).
+fn binding_html(c: &answer::Cell) -> Option<String> {
+    let k = c.binding.as_ref()?;
+    let scene = if k.evidence.is_empty() {
+        esc(&k.scene)
+    } else {
+        format!(
+            "<a href=\"{}\">{}</a>",
+            esc(&href(&k.evidence)),
+            esc(&k.scene)
+        )
+    };
+    Some(format!(
+        "<span class=\"bind\" title=\"{} of the {} methods cheaper than the answer that fail \
+         the budget fail it on this scene; the cheapest: {}\">decided by {scene}</span>",
+        k.ruled_out,
+        k.cheaper_failing,
+        esc(&k.cheapest)
+    ))
+}
+
+/// The answer table (first on the page): one row per cost model, one column per budget.
 pub fn answer_table(a: &Answer) -> String {
     let mut h = String::from(
-        "<section id=\"answer\"><h2>Which method to use</h2><p class=\"lede\">For each error \
-         budget (luminance |dI| against exact Phong in f64, met on <em>every</em> scene, no \
-         non-finite pixel) and each cost model, the cheapest method measured cheaper than \
-         phong_exact: its cost as a ratio to phong_exact (below 1 is cheaper) with its interval, \
-         then the runner-up. Data: <a href=\"answer.json\">answer.json</a>, \
-         <a href=\"answer.md\">answer.md</a>.</p><table class=\"answer\" id=\"answer-table\">\
-         <thead><tr><th>budget</th>",
+        "<section id=\"answer\"><h2>Which method to use</h2><p class=\"lede\">Per cost model \
+         and error budget (luminance |dI| against exact Phong in f64 on <em>every</em> scene, no \
+         non-finite pixel; float16 rows: the float16 programs' errors): the cheapest method \
+         measured cheaper than phong_exact with its cost ratio (below 1 is cheaper, interval in \
+         brackets), the runner-up, and the scene that decides the cell. Data: \
+         <a href=\"answer.json\">answer.json</a>, <a href=\"answer.md\">answer.md</a>.</p>\
+         <table class=\"answer\" id=\"answer-table\"><thead><tr><th>cost model</th>",
     );
+    for b in &a.budgets {
+        let _ = write!(
+            h,
+            "<th data-budget=\"{}\">{}</th>",
+            esc(&b.id),
+            esc(&b.label)
+        );
+    }
+    h += "</tr></thead><tbody>";
     for m in &a.cost_models {
         let _ = write!(
             h,
-            "<th data-model=\"{}\" title=\"{}\">{}</th>",
+            "<tr data-model=\"{}\"><th scope=\"row\" title=\"{}\">{}</th>",
             esc(&m.name),
             esc(&m.description),
             esc(&m.title)
         );
-    }
-    h += "</tr></thead><tbody>";
-    for b in &a.budgets {
-        let _ = write!(
-            h,
-            "<tr data-budget=\"{}\"><th scope=\"row\">{}</th>",
-            esc(&b.id),
-            esc(&b.label)
-        );
-        for m in &a.cost_models {
+        for b in &a.budgets {
             let Some(c) = a.cell(&b.id, &m.name) else {
                 h += "<td>-</td>";
                 continue;
@@ -303,19 +339,27 @@ pub fn answer_table(a: &Answer) -> String {
                 format!("<strong>{}</strong>", choice_html(&c.answer))
             };
             let label = if c.nothing_cheaper { "closest" } else { "then" };
-            let second = c.runner_up.as_ref().map_or(String::new(), |r| {
-                format!("<div class=\"ru\">{label} {}</div>", choice_html(r))
-            });
+            let ru = c
+                .runner_up
+                .as_ref()
+                .map(|r| format!("{label} {}", choice_html(r)));
+            let parts: Vec<String> = ru.into_iter().chain(binding_html(c)).collect();
+            let second = if parts.is_empty() {
+                String::new()
+            } else {
+                format!("<div class=\"ru\">{}</div>", parts.join("; "))
+            };
             let _ = write!(
                 h,
                 "<td id=\"{}\" data-budget=\"{}\" data-model=\"{}\" data-method=\"{}\" \
-                 data-nothing=\"{}\" data-runner-up=\"{}\">{main}{second}</td>",
+                 data-nothing=\"{}\" data-runner-up=\"{}\" data-binding=\"{}\">{main}{second}</td>",
                 esc(&format!("answer-{}-{}", b.id, m.name)),
                 esc(&b.id),
                 esc(&m.name),
                 esc(&c.answer.method),
                 c.nothing_cheaper,
-                esc(c.runner_up.as_ref().map_or("", |r| r.method.as_str()))
+                esc(c.runner_up.as_ref().map_or("", |r| r.method.as_str())),
+                esc(c.binding.as_ref().map_or("", |k| k.scene.as_str()))
             );
         }
         h += "</tr>";

@@ -429,19 +429,33 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
         esc(&number(Some(b.floor.median_ms)).1)
     );
     h += &metric_table(s);
-    h += "<h3>Run time against error</h3><div class=\"charts\">";
-    for c in &s.pareto_charts {
-        let svg = c.trim_end_matches(".png").to_string() + ".svg";
-        let _ = write!(
-            h,
-            "<figure><a href=\"{}\">{}</a><figcaption>{} (with 95% intervals; <a href=\"{}\">SVG</a>)</figcaption></figure>",
-            esc(c),
-            img(c, "Pareto chart: run time against error", "chart", dims),
-            esc(c.rsplit('/').next().unwrap_or(c)),
-            esc(&svg)
+    h += "<h3>Run time against error</h3>";
+    if let Some(c) = super::svg::scene_cost_chart(s) {
+        h += &c.html(
+            "This scene: each method's lavapipe frame time relative to phong_exact (with its \
+             interval) against its max |dI|; dashed: the budgets and the ratio 1. One panel per \
+             method family, the same axes in every panel.",
         );
     }
-    h += "</div><h3>Methods</h3><p>Each method beside the reference (with JavaScript: on top of \
+    let files: Vec<String> = s
+        .pareto_charts
+        .iter()
+        .map(|c| {
+            format!(
+                "<a href=\"{}\">{}</a>",
+                esc(c),
+                esc(c.rsplit('/').next().unwrap_or(c))
+            )
+        })
+        .collect();
+    if !files.is_empty() {
+        let _ = write!(
+            h,
+            "<p>bench's own charts (every method in one plot): {}.</p>",
+            files.join(", ")
+        );
+    }
+    h += "<h3>Methods</h3><p>Each method beside the reference (with JavaScript: on top of \
           it, with a slider, a flip button and zoom; nearest-pixel scaling) and its heatmaps.</p>";
     for m in &sum.methods {
         h += &method_section(s, m, &reference, dims);
@@ -476,7 +490,8 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
     let mut h = format!(
         "<section id=\"stress\"><h2>Stress: each method over its input domain</h2><p>{} cases \
          per method, threshold {} (max abs colour error, linear), {:.1} s. Data: \
-         <a href=\"{}/stress.json\">stress.json</a>.</p><div class=\"charts\">",
+         <a href=\"{}/stress.json\">stress.json</a>.</p><p>stress's own charts (every method in \
+         one plot): ",
         r.cases_per_method,
         esc(&number(Some(r.threshold)).1),
         r.seconds,
@@ -489,9 +504,23 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
         ),
         ("error_vs_shininess", "worst error against the shininess"),
     ] {
-        h += &figure(&format!("{dir}/{f}.png"), cap, "chart", dims);
+        let _ = write!(
+            h,
+            "<a href=\"{}\">{}</a> ",
+            esc(&format!("{dir}/{f}.png")),
+            esc(cap)
+        );
     }
-    h += "</div>";
+    h += "</p>";
+    h += "<p>Worst error against the angle between the vertex normals: \
+          <a href=\"#chart-stress\">at the top of the page</a>.</p>";
+    if let Some(c) = super::svg::stress_chart(d, super::svg::Sweep::Shininess) {
+        h += &c.html(
+            "stress: worst error on the device against log2 of the shininess, the vertex \
+             normals 15 degrees apart; dashed: the threshold. One panel per family, the same \
+             axes in every panel; the numbered marker ends each line.",
+        );
+    }
     let cols: Vec<String> = [
         "method",
         "cases",

@@ -1,24 +1,125 @@
 //! The report's ISA section: what each method costs on AMD GPU generations (ACO's static
 //! model on RADV's null device, `shadelab isa`), as a table of the fragment shader's inverse
 //! throughput over phong_exact's per method and family, and per family a chart of error (the
-//! scenes' compare p99 and max) against that cost with its Pareto front. It compiles the
-//! report's methods now in `isa`'s children (a few seconds), writes DIR/isa/ (isa.json,
-//! isa.csv, asm/, charts/) and returns the HTML; a failure is a paragraph saying why, never
-//! fatal to the report.
+//! scenes' compare p99 and max) against that cost with its Pareto front. [`compile_all`]
+//! compiles the report's methods in `isa`'s children before the answer (a few seconds per
+//! precision): float32 into DIR/isa/ (isa.json, isa.csv, asm/, charts/), float16 into
+//! DIR/isa-f16/; each supported family becomes a static cost model of the answer
+//! ([`cost_models`]). A failure is a paragraph saying why, never fatal to the report.
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use super::answer::{CostFigure, CostKind, CostModel};
 use super::html::esc;
 use super::SceneResult;
 use crate::isa::{IsaOptions, IsaReport};
-use crate::method::Method;
+use crate::method::{Method, Precision};
 
-/// The section's folder under the report's DIR.
+/// The section's folder under the report's DIR (float32), and the float16 programs' folder.
 pub const DIR: &str = "isa";
+pub const DIR_F16: &str = "isa-f16";
 
-/// The ISA section of the report in `out` for `methods`, with the error axis from the scenes'
-/// compare folders.
-pub fn section(out: &Path, methods: &[&'static Method], scenes: &[SceneResult]) -> String {
+/// What `isa` gave the report: per precision the report and its charts, or why not.
+#[derive(Debug, Clone)]
+pub struct IsaRun {
+    pub f32: std::result::Result<(IsaReport, Vec<String>), String>,
+    pub f16: std::result::Result<IsaReport, String>,
+}
+
+impl IsaRun {
+    /// A run that compiled nothing (`why`).
+    pub fn none(why: &str) -> IsaRun {
+        IsaRun {
+            f32: Err(why.into()),
+            f16: Err(why.into()),
+        }
+    }
+}
+
+/// Compiles the report's methods in float32 (with charts) and float16.
+pub fn compile_all(out: &Path, methods: &[&'static Method], scenes: &[SceneResult]) -> IsaRun {
+    IsaRun {
+        f32: compile(out, methods, scenes),
+        f16: compile_f16(out, methods),
+    }
+}
+
+/// One static cost model per supported family of `r`: the fragment shader's inverse
+/// throughput over phong_exact's (the same precision's), cheaper below 1.
+fn models_of(r: &IsaReport, dir: &str) -> Vec<CostModel> {
+    let f16 = r.precision == Precision::F16;
+    let mut v = Vec::new();
+    for fam in r.supported() {
+        let figures: Vec<CostFigure> = r
+            .results
+            .iter()
+            .filter(|x| x.family == fam && x.stage == "fragment" && x.kind == "draw")
+            .map(|x| {
+                let ratio = x
+                    .ratio_to_phong_exact
+                    .get("inverse_throughput")
+                    .copied()
+                    .filter(|v| v.is_finite());
+                let verdict = match ratio {
+                    None => "unmeasured",
+                    Some(q) if q < 1.0 => "cheaper",
+                    Some(q) if q > 1.0 => "dearer",
+                    Some(_) => "equal",
+                };
+                CostFigure {
+                    method: x.method.clone(),
+                    ratio,
+                    ci95_low: None,
+                    ci95_high: None,
+                    verdict: verdict.into(),
+                    cheaper: verdict == "cheaper",
+                    evidence: format!("{dir}/isa.json"),
+                    note: format!("{fam}, {} fragment program", r.precision.as_str()),
+                }
+            })
+            .collect();
+        let suffix = if f16 { "_f16" } else { "" };
+        v.push(CostModel {
+            name: format!("isa_{fam}{suffix}"),
+            title: if f16 {
+                format!("{fam} float16 (static)")
+            } else {
+                format!("{fam} (static)")
+            },
+            kind: CostKind::Static,
+            description: format!(
+                "ACO's static model on RADV's null device (shadelab isa{}): the inverse \
+                 throughput of the draw's fragment program on {fam}, over phong_exact's in the \
+                 same precision; deterministic, no interval{}",
+                if f16 { " --precision f16" } else { "" },
+                if f16 {
+                    "; the budgets are checked on the float16 programs' errors (compare in \
+                     float16)"
+                } else {
+                    ""
+                }
+            ),
+            precision: r.precision,
+            figures,
+        });
+    }
+    v
+}
+
+/// The answer's static cost models: each supported family in float32, then in float16.
+pub fn cost_models(run: &IsaRun) -> Vec<CostModel> {
+    let mut v = Vec::new();
+    if let Ok((r, _)) = &run.f32 {
+        v.extend(models_of(r, DIR));
+    }
+    if let Ok(r) = &run.f16 {
+        v.extend(models_of(r, DIR_F16));
+    }
+    v
+}
+
+/// The ISA section of the report for `methods` from `run`.
+pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
     let mut h = String::from(
         "<section id=\"isa\"><h2>Static cost on AMD GPU generations</h2><p>ACO's static model on \
          RADV's null device (<code>shadelab isa</code>): the inverse throughput of the timed \
@@ -26,9 +127,9 @@ pub fn section(out: &Path, methods: &[&'static Method], scenes: &[SceneResult]) 
          same family; bold: cheaper than exact normalisation. Deterministic figures, not \
          timings: they rank programs.</p>",
     );
-    match compile(out, methods, scenes) {
+    match &run.f32 {
         Ok((r, charts)) => {
-            h += &table(&r, methods);
+            h += &table(r, methods);
             for c in charts.iter().filter(|c| c.ends_with(".svg")) {
                 let _ = write!(
                     h,
@@ -47,28 +148,38 @@ pub fn section(out: &Path, methods: &[&'static Method], scenes: &[SceneResult]) 
             );
         }
         Err(why) => {
-            let _ = write!(h, "<p>Not compiled: {}.</p>", esc(&why));
+            let _ = write!(h, "<p>Not compiled: {}.</p>", esc(why));
+        }
+    }
+    match &run.f16 {
+        Ok(r) => {
+            h += "<h3>Float16 programs</h3><p>The same, for the float16 programs (over \
+                  phong_exact's float16 program); families without float16 arithmetic are \
+                  named below the table.</p>";
+            h += &table(r, methods);
+            let _ = write!(
+                h,
+                "<p>Files: <a href=\"{DIR_F16}/isa.json\">isa.json</a>, \
+                 <a href=\"{DIR_F16}/isa.csv\">isa.csv</a>.</p>"
+            );
+        }
+        Err(why) => {
+            let _ = write!(h, "<p>Float16 programs not compiled: {}.</p>", esc(why));
         }
     }
     h + "</section>"
 }
 
 /// `page` with the [`section`] before its `</main>` (the report's hook).
-pub fn splice(
-    page: &str,
-    out: &Path,
-    methods: &[&'static Method],
-    scenes: &[SceneResult],
-) -> String {
-    page.replacen("</main>", &(section(out, methods, scenes) + "</main>"), 1)
+pub fn splice(page: &str, run: &IsaRun, methods: &[&'static Method]) -> String {
+    page.replacen("</main>", &(section(run, methods) + "</main>"), 1)
 }
 
-/// Runs isa (default families, the report's methods), draws the charts, writes DIR/isa/.
-fn compile(
-    out: &Path,
+/// The options of `isa` on the report's methods (phong_exact included) in `precision`.
+fn options(
     methods: &[&'static Method],
-    scenes: &[SceneResult],
-) -> std::result::Result<(IsaReport, Vec<String>), String> {
+    precision: Precision,
+) -> std::result::Result<IsaOptions, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot find shadelab: {e}"))?;
     // The children re-run this binary as `isa --child`: only shadelab itself understands that.
     if exe.file_stem().and_then(|s| s.to_str()) != Some("shadelab") {
@@ -84,15 +195,32 @@ fn compile(
     if !ms.iter().any(|m| m.name == crate::method::PHONG_EXACT) {
         ms.insert(0, crate::method::phong_exact());
     }
-    let opts = IsaOptions {
+    Ok(IsaOptions {
         methods: ms,
         families: crate::isa::DEFAULT_FAMILIES.map(String::from).to_vec(),
         driver_files: PathBuf::from(crate::isa::DEFAULT_DRIVER_FILES),
         scene: None,
         exe,
-        precision: crate::method::Precision::F32,
+        precision,
         probes: Vec::new(),
-    };
+    })
+}
+
+/// Runs isa on the float16 programs and writes DIR/isa-f16/ (no charts).
+fn compile_f16(out: &Path, methods: &[&'static Method]) -> std::result::Result<IsaReport, String> {
+    let opts = options(methods, Precision::F16)?;
+    let r = crate::isa::run(&opts, &|_| {}).map_err(|e| e.to_string())?;
+    crate::isa::files::write(&out.join(DIR_F16), &r).map_err(|e| e.to_string())?;
+    Ok(r)
+}
+
+/// Runs isa (default families, the report's methods), draws the charts, writes DIR/isa/.
+fn compile(
+    out: &Path,
+    methods: &[&'static Method],
+    scenes: &[SceneResult],
+) -> std::result::Result<(IsaReport, Vec<String>), String> {
+    let opts = options(methods, Precision::F32)?;
     let mut r = crate::isa::run(&opts, &|_| {}).map_err(|e| e.to_string())?;
     let dir = out.join(DIR);
     let dirs: Vec<PathBuf> = scenes.iter().map(|s| out.join(&s.compare_dir)).collect();

@@ -79,6 +79,10 @@ pub struct SceneResult {
     pub id: String,
     pub source: String,
     pub summary: Summary,
+    /// compare of the float16 programs (statistics only, in `compare_f16_dir`): the errors of
+    /// the answer's float16 cost models; `None` when the device has no float16 arithmetic.
+    pub summary_f16: Option<Summary>,
+    pub compare_f16_dir: String,
     pub bench: BenchReport,
     pub compare_dir: String,
     pub bench_dir: String,
@@ -120,6 +124,8 @@ pub struct ReportData {
     pub run: RunInfo,
     /// answer.json.
     pub answer: answer::Answer,
+    /// `isa` on the report's methods, float32 and float16 (static cost models of the answer).
+    pub isa: isa::IsaRun,
 }
 
 /// What a run wrote.
@@ -213,6 +219,15 @@ fn pareto_charts(dir: &Path, rel: &str) -> Result<Vec<String>> {
     Ok(v)
 }
 
+/// Shows the step on the progress bar; where the bar is not drawn (stderr is not a terminal,
+/// as under `make demo > log 2>&1`), prints it as a line with the time since the start.
+fn step(bar: &indicatif::ProgressBar, progress: bool, msg: String) {
+    if progress && bar.is_hidden() {
+        eprintln!("report: [{:.0} s] {msg}", bar.elapsed().as_secs_f64());
+    }
+    bar.set_message(msg);
+}
+
 /// Bytes and number of the files under `dir`.
 pub fn tree_size(dir: &Path) -> Result<(u64, usize)> {
     let mut total = (0, 0);
@@ -234,6 +249,8 @@ pub fn tree_size(dir: &Path) -> Result<(u64, usize)> {
 /// What every scene of one report run shares: [`SceneRun::scene`] runs one scene's jobs.
 struct SceneRun<'a> {
     renderer: &'a Renderer,
+    /// The same device drawing the float16 programs, when it can.
+    half: Option<&'a Renderer>,
     methods: &'a [&'static Method],
     out: &'a Path,
     repeat: usize,
@@ -250,7 +267,7 @@ impl SceneRun<'_> {
     fn scene(&self, s: &ReportScene, id: String) -> Result<SceneResult> {
         let compare_dir = format!("scenes/{id}/compare");
         let bench_dir = format!("scenes/{id}/bench");
-        self.bar.set_message(format!("{id}: compare"));
+        step(self.bar, self.opts.progress, format!("{id}: compare"));
         let copts = CompareOptions {
             progress: false,
             ..CompareOptions::default()
@@ -262,8 +279,29 @@ impl SceneRun<'_> {
             &self.out.join(&compare_dir),
             &copts,
         )?;
+        let compare_f16_dir = format!("scenes/{id}/compare-f16");
+        let summary_f16 = match self.half {
+            Some(half) => {
+                step(
+                    self.bar,
+                    self.opts.progress,
+                    format!("{id}: compare float16"),
+                );
+                let opts = CompareOptions {
+                    images: false,
+                    ..copts
+                };
+                let dir = self.out.join(&compare_f16_dir);
+                let sum = crate::compare::compare(half, &s.scene, self.methods, &dir, &opts)?;
+                // Without images compare writes no file: the statistics are the evidence.
+                std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+                crate::compare::write_summary(&dir, &sum)?;
+                Some(sum)
+            }
+            None => None,
+        };
         self.bar.inc(1);
-        self.bar.set_message(format!("{id}: bench"));
+        step(self.bar, self.opts.progress, format!("{id}: bench"));
         // The isolated cost per formula does not depend on the scene: measured with the first
         // scene's bench only (short: 5 rounds; --full: bench's default).
         let isolated_rounds = match (self.first, self.repeat >= BenchOptions::default().repeat) {
@@ -286,7 +324,7 @@ impl SceneRun<'_> {
         })?;
         self.bar.inc(1);
         let pareto = pareto_charts(&bdir, &bench_dir)?;
-        self.bar.set_message(format!("{id}: skips"));
+        step(self.bar, self.opts.progress, format!("{id}: skips"));
         let skips_dir = format!("scenes/{id}/skips");
         let sopts = crate::bench::skips::SkipOptions {
             repeat: self.repeat.max(6),
@@ -298,7 +336,11 @@ impl SceneRun<'_> {
             crate::bench::skips::skips(self.renderer, &s.scene, &self.out.join(&skips_dir), &sopts)
         })?;
         self.bar.inc(1);
-        self.bar.set_message(format!("{id}: software engine"));
+        step(
+            self.bar,
+            self.opts.progress,
+            format!("{id}: software engine"),
+        );
         let software_dir = format!("scenes/{id}/software");
         let software = self
             .bar
@@ -316,6 +358,8 @@ impl SceneRun<'_> {
             id,
             source: s.source.display().to_string(),
             summary,
+            summary_f16,
+            compare_f16_dir,
             bench,
             compare_dir,
             bench_dir,
@@ -377,6 +421,21 @@ impl SceneRun<'_> {
     }
 }
 
+/// Writes answer.json, answer.md, the style sheet, the script and index.html of `data`.
+fn write_page(out: &Path, data: &ReportData, methods: &[&'static Method]) -> Result<PathBuf> {
+    let json =
+        serde_json::to_string_pretty(&data.answer).map_err(|e| Error::output("answer.json", e))?;
+    output::write_bytes_atomic(&out.join("answer.json"), (json + "\n").as_bytes())?;
+    output::write_bytes_atomic(&out.join("answer.md"), data.answer.markdown().as_bytes())?;
+    output::write_bytes_atomic(&out.join("report.css"), CSS.as_bytes())?;
+    output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
+    let page = html::page(data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
+    let page = isa::splice(&page, &data.isa, methods);
+    let index = out.join("index.html");
+    output::write_bytes_atomic(&index, page.as_bytes())?;
+    Ok(index)
+}
+
 /// Runs compare and bench on every scene and stress once, then writes DIR/index.html.
 pub fn run(
     renderer: &Renderer,
@@ -407,6 +466,10 @@ pub fn run(
         crate::auto::ErrorBudget::DEFAULT,
         &crate::plan::auto_order(renderer.context())?,
     );
+    // The float16 programs' errors (compare, statistics only) for the float16 cost models.
+    let half = Renderer::new(renderer.context().clone())
+        .with_precision(crate::method::Precision::F16)
+        .ok();
     let mut results: Vec<SceneResult> = Vec::new();
     for s in &scenes {
         let taken: Vec<String> = results.iter().map(|r| r.id.clone()).collect();
@@ -418,6 +481,7 @@ pub fn run(
         let id = scene_id(&stem, &taken);
         let run = SceneRun {
             renderer,
+            half: half.as_ref(),
             methods: &methods,
             out,
             repeat,
@@ -429,7 +493,7 @@ pub fn run(
         };
         results.push(run.scene(s, id)?);
     }
-    bar.set_message("stress");
+    step(&bar, opts.progress, "stress".to_string());
     let sopts = StressOptions {
         refine_rounds: refine,
         progress: false,
@@ -438,9 +502,16 @@ pub fn run(
     let stress = crate::stress::run(renderer.context(), &methods, &sopts)?;
     crate::stress::write(&out.join("stress"), &stress)?;
     bar.inc(1);
-    bar.set_message("index.html");
+    step(
+        &bar,
+        opts.progress,
+        "isa (static cost, float32 and float16)".to_string(),
+    );
+    let isa = isa::compile_all(out, &methods, &results);
+    step(&bar, opts.progress, "index.html".to_string());
     let mut data = ReportData {
         answer: answer::answer(&[], &[], &[], Vec::new()),
+        isa,
         scenes: results,
         stress,
         stress_dir: "stress".into(),
@@ -463,16 +534,7 @@ pub fn run(
         },
     };
     data.answer = front::answer_of(&data);
-    let json =
-        serde_json::to_string_pretty(&data.answer).map_err(|e| Error::output("answer.json", e))?;
-    output::write_bytes_atomic(&out.join("answer.json"), (json + "\n").as_bytes())?;
-    output::write_bytes_atomic(&out.join("answer.md"), data.answer.markdown().as_bytes())?;
-    output::write_bytes_atomic(&out.join("report.css"), CSS.as_bytes())?;
-    output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
-    let page = html::page(&data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
-    let page = isa::splice(&page, out, &methods, &data.scenes);
-    let index = out.join("index.html");
-    output::write_bytes_atomic(&index, page.as_bytes())?;
+    let index = write_page(out, &data, &methods)?;
     bar.inc(1);
     bar.finish_and_clear();
     let broken = links::broken_links(&index)?;

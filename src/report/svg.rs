@@ -3,13 +3,15 @@
 //! at most that many), shared axes across the panels of a chart, each point or line numbered
 //! and named in the panel's legend (no label placed among the data, so none can collide), every
 //! text inside the panel's view box (names shortened to [`NAME_CHARS`], the full name in a
-//! `<title>`). Two charts: cost against error (the answer's figures: lavapipe frame time across
-//! runs against the worst max |dI| over the scenes, the budgets as dashed lines) and stress's
-//! worst error against the angle between the vertex normals.
+//! `<title>`). The charts: cost against error (the answer's figures: lavapipe frame time across
+//! runs against the worst max |dI| over the scenes, the budgets as dashed lines), the same per
+//! scene (bench's Pareto data, in the scene's section), and stress's worst error against the
+//! angle between the vertex normals and against the shininess (in the stress section). They
+//! replace bench's and stress's PNG charts on the page (those stay files, linked).
 use std::fmt::Write as _;
 
 use super::html::esc;
-use super::ReportData;
+use super::{ReportData, SceneResult};
 use crate::method::Family;
 
 /// The most series one panel draws.
@@ -323,29 +325,20 @@ fn group(series: Vec<Series>) -> Vec<(Family, Vec<Series>)> {
     by
 }
 
-/// Cost against error: the answer's lavapipe frame figure per method (the scene with the
-/// largest ratio) against its worst max |dI| over the scenes.
-pub fn cost_chart(d: &ReportData) -> Option<Chart> {
-    let model = d
-        .answer
-        .cost_models
-        .iter()
-        .find(|m| m.name == "lavapipe_frame")?;
-    let budget = d.answer.budgets.first()?.id.clone();
-    let mut series = Vec::new();
-    for f in &model.figures {
-        let Some(x) = f.ratio else { continue };
-        let y = d
-            .answer
-            .checks
-            .iter()
-            .find(|c| c.method == f.method && c.budget == budget)
-            .and_then(|c| c.worst);
-        series.push(Series {
-            name: f.method.clone(),
-            points: vec![(x, y, f.ci95_low.zip(f.ci95_high))],
-        });
-    }
+/// A cost chart from (method, ratio, interval, error) points.
+fn cost_chart_of(
+    id: String,
+    x_title: &str,
+    y_title: &str,
+    points: Vec<(String, f64, Option<(f64, f64)>, Option<f64>)>,
+) -> Chart {
+    let series: Vec<Series> = points
+        .into_iter()
+        .map(|(name, x, iv, y)| Series {
+            name,
+            points: vec![(x, y, iv)],
+        })
+        .collect();
     let xs = series
         .iter()
         .flat_map(|s| {
@@ -354,6 +347,7 @@ pub fn cost_chart(d: &ReportData) -> Option<Chart> {
                 .flat_map(|p| [Some(p.0), p.2.map(|i| i.0), p.2.map(|i| i.1)])
         })
         .flatten()
+        .filter(|x| x.is_finite())
         .chain([1.0]);
     let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
         (a.min(x), b.max(x))
@@ -363,25 +357,99 @@ pub fn cost_chart(d: &ReportData) -> Option<Chart> {
         .iter()
         .filter_map(|s| s.points[0].1)
         .chain([1.0 / 1024.0, 4.0 / 255.0]);
-    Some(Chart {
-        id: "chart-cost".into(),
-        x_title: "frame time / phong_exact (lavapipe)".into(),
-        y_title: "y: worst max |dI| over the scenes (log); * not finite".into(),
+    Chart {
+        id,
+        x_title: x_title.into(),
+        y_title: y_title.into(),
         lines: false,
         x_range: ((lo - pad).max(0.0), hi + pad),
         y_decades: decades(ys),
         h_rules: vec![1.0 / 1024.0, 1.0 / 255.0, 4.0 / 255.0],
         v_rule: Some(1.0),
         panels: panels(group(series)),
+    }
+}
+
+/// Cost against error: the answer's lavapipe frame figure per method (the scene with the
+/// largest ratio) against its worst max |dI| over the scenes (float32 programs).
+pub fn cost_chart(d: &ReportData) -> Option<Chart> {
+    let model = d
+        .answer
+        .cost_models
+        .iter()
+        .find(|m| m.name == "lavapipe_frame")?;
+    let budget = d.answer.budgets.first()?.id.clone();
+    let mut points = Vec::new();
+    for f in &model.figures {
+        let Some(x) = f.ratio else { continue };
+        let y = d
+            .answer
+            .checks
+            .iter()
+            .find(|c| c.method == f.method && c.budget == budget && c.precision == model.precision)
+            .and_then(|c| c.worst);
+        points.push((f.method.clone(), x, f.ci95_low.zip(f.ci95_high), y));
+    }
+    Some(cost_chart_of(
+        "chart-cost".into(),
+        "frame time / phong_exact (lavapipe)",
+        "y: worst max |dI| over the scenes (log); * not finite",
+        points,
+    ))
+}
+
+/// One scene's cost against error (bench's Pareto data): each method's frame time ratio to
+/// phong_exact on this scene (with its interval) against its max |dI| on this scene.
+pub fn scene_cost_chart(s: &SceneResult) -> Option<Chart> {
+    let mut points = Vec::new();
+    for r in &s.bench.methods {
+        if r.floor_program == r.name || r.name.ends_with("_control") || !r.ratio_median.is_finite()
+        {
+            continue;
+        }
+        let Some(m) = s.summary.methods.iter().find(|m| m.name == r.name) else {
+            continue;
+        };
+        let y = m
+            .metric("max_abs_error")
+            .filter(|v| v.is_finite() && m.non_finite_pixels == 0);
+        let iv = Some((r.ratio_ci95_low, r.ratio_ci95_high))
+            .filter(|(l, h)| l.is_finite() && h.is_finite());
+        points.push((r.name.clone(), r.ratio_median, iv, y));
+    }
+    (!points.is_empty()).then(|| {
+        cost_chart_of(
+            format!("scene-{}--chart-cost", s.id),
+            "frame time / phong_exact (lavapipe, this scene)",
+            "y: max |dI| on this scene (log); * not finite",
+            points,
+        )
     })
 }
 
-/// stress: worst device error against the angle between the vertex normals.
-pub fn stress_chart(d: &ReportData) -> Option<Chart> {
+/// Which stress sweep a chart draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sweep {
+    /// Against the angle between the vertex normals.
+    Angle,
+    /// Against log2 of the shininess, at stress's chart angle.
+    Shininess,
+}
+
+/// stress: worst device error against the angle between the vertex normals, or against the
+/// shininess (log2) at [`crate::stress::chart::SHININESS_CHART_ANGLE`].
+pub fn stress_chart(d: &ReportData, sweep: Sweep) -> Option<Chart> {
     let mut series = Vec::new();
     for m in &d.stress.methods {
-        let points: Vec<(f64, Option<f64>, Option<(f64, f64)>)> = m
-            .error_vs_angle
+        let curve: Vec<&crate::stress::CurvePoint> = match sweep {
+            Sweep::Angle => m.error_vs_angle.iter().collect(),
+            Sweep::Shininess => m
+                .error_vs_shininess
+                .iter()
+                .filter(|p| p.key.first() == Some(&crate::stress::chart::SHININESS_CHART_ANGLE))
+                .collect(),
+        };
+        let points: Vec<(f64, Option<f64>, Option<(f64, f64)>)> = curve
             .iter()
             .map(|p| {
                 let y = if p.device.non_finite > 0 {
@@ -389,7 +457,12 @@ pub fn stress_chart(d: &ReportData) -> Option<Chart> {
                 } else {
                     p.device.max
                 };
-                (*p.key.last().unwrap_or(&0.0), y, None)
+                let x = *p.key.last().unwrap_or(&0.0);
+                let x = match sweep {
+                    Sweep::Angle => x,
+                    Sweep::Shininess => x.max(1e-9).log2(),
+                };
+                (x, y, None)
             })
             .collect();
         if !points.is_empty() {
@@ -409,9 +482,13 @@ pub fn stress_chart(d: &ReportData) -> Option<Chart> {
     let ys = series
         .iter()
         .flat_map(|s| s.points.iter().filter_map(|p| p.1));
+    let (id, x_title) = match sweep {
+        Sweep::Angle => ("chart-stress", "angle between the vertex normals (degrees)"),
+        Sweep::Shininess => ("chart-stress-shininess", "log2 of the shininess n"),
+    };
     Some(Chart {
-        id: "chart-stress".into(),
-        x_title: "angle between the vertex normals (degrees)".into(),
+        id: id.into(),
+        x_title: x_title.into(),
         y_title: "y: worst |colour error| (linear, log); x on top: not finite".into(),
         lines: true,
         x_range: (lo, hi.max(lo + 1.0)),
@@ -433,7 +510,7 @@ pub fn charts_section(d: &ReportData) -> String {
              One panel per method family, the same axes in every panel.",
         );
     }
-    if let Some(c) = stress_chart(d) {
+    if let Some(c) = stress_chart(d, Sweep::Angle) {
         h += &c.html(
             "stress: worst error on the device against the angle between the vertex normals \
              (facing the viewer); dashed: the stress threshold. One panel per family, the same \

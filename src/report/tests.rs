@@ -129,6 +129,7 @@ fn bench_numbers_keep_nan_apart_from_does_not_apply() {
 
 mod answer_rule {
     use super::super::answer::*;
+    use crate::method::Precision;
     use std::collections::BTreeMap;
 
     fn err(scene: &str, method: &str, max: f64, p99: f64) -> SceneError {
@@ -138,6 +139,7 @@ mod answer_rule {
         SceneError {
             scene: scene.into(),
             method: method.into(),
+            precision: Precision::F32,
             covered_pixels: 100,
             non_finite_pixels: 0,
             metrics,
@@ -164,6 +166,7 @@ mod answer_rule {
             title: "model".into(),
             kind: CostKind::Interval,
             description: String::new(),
+            precision: Precision::F32,
             figures,
         }
     }
@@ -303,6 +306,7 @@ mod answer_rule {
             title: "RDNA3 (static)".into(),
             kind: CostKind::Static,
             description: "instructions per fragment / phong_exact's".into(),
+            precision: Precision::F32,
             figures: ["phong_exact", "fast", "faster"]
                 .iter()
                 .zip([1.0, 0.6, 1.3])
@@ -327,6 +331,94 @@ mod answer_rule {
         let json = serde_json::to_string(&a).unwrap();
         let back: Answer = serde_json::from_str(&json).unwrap();
         assert_eq!(back, a);
+    }
+
+    /// The cell names the scene that keeps cheaper methods out (the cube of the shipped
+    /// scenes): the one ruling out the most of them, with the cheapest it rules out.
+    #[test]
+    fn a_cell_names_the_scene_that_decides_it() {
+        let a = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
+        // max 1/1024: fast (0.9) fails on b only, faster (0.7) and rough (0.2) on a and b.
+        let c = a.cell("max_1_1024", "m").unwrap();
+        let k = c.binding.as_ref().expect("a binding scene");
+        assert_eq!(
+            (k.scene.as_str(), k.ruled_out, k.cheaper_failing),
+            ("b", 3, 3)
+        );
+        assert_eq!(k.cheapest, "rough");
+        assert!(c.text.contains("decided by b"), "{}", c.text);
+        // Teeth: when scene a alone breaks fast's budget (b within it), a rules out all three.
+        let mut errs = errors();
+        for e in errs.iter_mut().filter(|e| e.method == "fast") {
+            e.metrics.insert(
+                "max_abs_error".into(),
+                Some(if e.scene == "a" { 2e-3 } else { 1e-4 }),
+            );
+        }
+        let a2 = answer(&scenes(), &names(), &errs, vec![model(figures())]);
+        assert_eq!(
+            a2.cell("max_1_1024", "m")
+                .unwrap()
+                .binding
+                .as_ref()
+                .unwrap()
+                .scene,
+            "a"
+        );
+        // Without the failing scene b in the report, max 1/1024 has an answer: fast.
+        let only_a = answer(&scenes()[..1], &names(), &errors(), vec![model(figures())]);
+        let c = only_a.cell("max_1_1024", "m").unwrap();
+        assert_eq!(c.answer.method, "fast");
+        // max 4/255: rough (cheaper than the answer faster) fails on both: a decides (first).
+        let c = a.cell("max_4_255", "m").unwrap();
+        assert_eq!(c.binding.as_ref().unwrap().cheapest, "rough");
+        // Nothing cheaper fails: no binding scene.
+        let mut figs = figures();
+        figs[3] = fig("rough", 1.2, 1.1, 1.3);
+        let a3 = answer(&scenes(), &names(), &errors(), vec![model(figs)]);
+        assert_eq!(a3.cell("max_4_255", "m").unwrap().binding, None);
+    }
+
+    /// A float16 cost model is judged on the float16 errors: a method that meets a budget in
+    /// float32 but not in float16 is not its answer, and without float16 errors nothing
+    /// qualifies.
+    #[test]
+    fn a_float16_model_takes_the_float16_errors() {
+        let mut f16 = model(figures());
+        f16.name = "isa_x_f16".into();
+        f16.precision = Precision::F16;
+        let mut errs = errors();
+        let mut halves: Vec<SceneError> = errors()
+            .into_iter()
+            .map(|mut e| {
+                e.precision = Precision::F16;
+                e
+            })
+            .collect();
+        // In float16, faster errs by 1e-2 on a (over 1/255).
+        for e in halves
+            .iter_mut()
+            .filter(|e| e.method == "faster" && e.scene == "a")
+        {
+            e.metrics.insert("max_abs_error".into(), Some(1e-2));
+        }
+        errs.extend(halves);
+        let a = answer(
+            &scenes(),
+            &names(),
+            &errs,
+            vec![model(figures()), f16.clone()],
+        );
+        assert_eq!(a.cell("max_1_255", "m").unwrap().answer.method, "faster");
+        assert_eq!(
+            a.cell("max_1_255", "isa_x_f16").unwrap().answer.method,
+            "fast"
+        );
+        assert!(a.checks.iter().any(|k| k.precision == Precision::F16));
+        // Teeth: with no float16 error at all, every float16 check fails.
+        let a = answer(&scenes(), &names(), &errors(), vec![f16]);
+        let c = a.cell("max_4_255", "isa_x_f16").unwrap();
+        assert!(c.nothing_cheaper && c.qualifying == 0, "{c:?}");
     }
 
     #[test]
