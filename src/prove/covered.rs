@@ -135,6 +135,11 @@ pub fn out_of_reach(m: &Method) -> &'static str {
     if m.name == "phong_exact" {
         return "the exact reference itself (its error is 0 by definition)";
     }
+    if m.inputs.contains(&Input::SpecularLut) {
+        return "its normal is exact normalisation (error 0); its error is the cos^n table's \
+                in the specular term, a function of the cosine and the shininess that the \
+                normal-space bound does not carry (not formulated in intervals in this version)";
+    }
     if !m.has_normal {
         return "no per-pixel normal (colour interpolated or cosines approximated): its error \
                 is a colour error over the lighting's inputs too (7+ dimensions), beyond this \
