@@ -78,9 +78,14 @@ fn precision_prefix(base: &str, precision: Precision) -> String {
 /// glsl/common.glsl, so the scanline methods are expressible too).
 pub const F16_UNAVAILABLE: &[(&str, &str)] = &[];
 
-/// Whether `method` has programs in `precision`.
+/// Whether `method` has programs in `precision` (a user method whose file does not compile in
+/// float16 has none, [`compile_user`]).
 pub fn has_precision(method: &str, precision: Precision) -> bool {
-    precision == Precision::F32 || !F16_UNAVAILABLE.iter().any(|(m, _)| *m == method)
+    precision == Precision::F32
+        || !(F16_UNAVAILABLE.iter().any(|(m, _)| *m == method)
+            || RUNTIME_NO_F16
+                .read()
+                .is_ok_and(|no| no.iter().any(|(m, _)| m == method)))
 }
 
 /// The define that selects the float16 vocabulary (glsl/common.glsl).
