@@ -159,12 +159,7 @@ pub fn isa_costs(isa: &Value, evidence: &str) -> Vec<CostModel> {
         let ratio = row["ratio_to_phong_exact"]["inverse_throughput"]
             .as_f64()
             .filter(|v| v.is_finite());
-        let verdict = match ratio {
-            None => "unmeasured",
-            Some(q) if q < 1.0 => "cheaper",
-            Some(q) if q > 1.0 => "dearer",
-            Some(_) => "equal",
-        };
+        let verdict = crate::report::isa::static_verdict(ratio);
         let fig = CostFigure {
             method: m.into(),
             ratio,

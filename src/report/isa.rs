@@ -60,12 +60,7 @@ fn models_of(r: &IsaReport, dir: &str) -> Vec<CostModel> {
                     .get("inverse_throughput")
                     .copied()
                     .filter(|v| v.is_finite());
-                let verdict = match ratio {
-                    None => "unmeasured",
-                    Some(q) if q < 1.0 => "cheaper",
-                    Some(q) if q > 1.0 => "dearer",
-                    Some(_) => "equal",
-                };
+                let verdict = static_verdict(ratio);
                 CostFigure {
                     method: x.method.clone(),
                     ratio,
@@ -104,6 +99,17 @@ fn models_of(r: &IsaReport, dir: &str) -> Vec<CostModel> {
         });
     }
     v
+}
+
+/// A static cost's verdict against phong_exact: one deterministic figure, so cheaper, dearer or
+/// equal (equal cost is not cheaper); no figure (or a non-finite one) is unmeasured.
+pub fn static_verdict(ratio: Option<f64>) -> &'static str {
+    match ratio.filter(|q| q.is_finite()) {
+        None => "unmeasured",
+        Some(q) if q < 1.0 => "cheaper",
+        Some(q) if q > 1.0 => "dearer",
+        Some(_) => "equal",
+    }
 }
 
 /// The answer's static cost models: each supported family in float32, then in float16.

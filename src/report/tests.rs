@@ -445,3 +445,14 @@ mod answer_rule {
         assert_eq!(p[1].0, "scanline (1 of 2)");
     }
 }
+
+#[test]
+fn a_static_cost_verdict_says_equal_is_not_cheaper_and_non_finite_is_unmeasured() {
+    use super::isa::static_verdict;
+    assert_eq!(static_verdict(Some(0.934)), "cheaper");
+    assert_eq!(static_verdict(Some(1.0)), "equal");
+    assert_eq!(static_verdict(Some(1.057)), "dearer");
+    assert_eq!(static_verdict(None), "unmeasured");
+    assert_eq!(static_verdict(Some(f64::NAN)), "unmeasured");
+    assert_eq!(static_verdict(Some(f64::INFINITY)), "unmeasured");
+}
