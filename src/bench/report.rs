@@ -183,6 +183,9 @@ pub struct ClaimCheck {
     pub how: String,
     /// Why the result comes out as it does.
     pub reason: String,
+    /// Proven, found or measured, with the proven upper bound beside the found value.
+    #[serde(flatten)]
+    pub evidence: crate::method::Evidence,
 }
 
 /// One point of a sweep.
@@ -383,8 +386,14 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
     );
     for c in &r.claims {
         md += &format!(
-            "| {} | {} | {} | {} | {} | {} |\n",
-            c.method, c.claim, c.measured, c.verdict, c.how, c.reason
+            "| {} | {} | {} | {} ({}) | {} | {} |\n",
+            c.method,
+            c.claim,
+            c.measured,
+            c.verdict,
+            c.evidence.basis.as_str(),
+            c.how,
+            c.reason
         );
     }
     md += &crate::bench::speed_claims::markdown(&r.speed_claims, Some(&r.static_cost));
