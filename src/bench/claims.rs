@@ -503,7 +503,7 @@ pub(crate) fn claims(
             continue;
         }
         for c in m.claims {
-            let r = (c.check)();
+            let r = crate::prove::bounds::with_proof(m.name, c);
             if r.verdict == Verdict::NotChecked {
                 continue;
             }

@@ -374,6 +374,16 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
         }
         c.flush()
     })?;
+    write_claims(out, r)?;
+    crate::bench::chart::pareto(out, r)?;
+    for s in &r.sweeps {
+        crate::bench::chart::sweep(out, s)?;
+    }
+    Ok(())
+}
+
+/// claims.json and claims.md: each claim with its verdict and basis (proven, found, measured).
+fn write_claims(out: &Path, r: &BenchReport) -> Result<()> {
     let claims = serde_json::to_string_pretty(&r.claims)
         .map_err(|e| Error::output("claims.json", e))?
         + "\n";
@@ -398,9 +408,5 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
     }
     md += &crate::bench::speed_claims::markdown(&r.speed_claims, Some(&r.static_cost));
     output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
-    crate::bench::chart::pareto(out, r)?;
-    for s in &r.sweeps {
-        crate::bench::chart::sweep(out, s)?;
-    }
     Ok(())
 }

@@ -7,6 +7,7 @@
 //! bound stays within the threshold) next to `stress`'s grid's. The claims that are bounds are
 //! judged in [`claims`]. Output: proof.json (docs/proof.schema.json), a table.
 pub mod bnb;
+pub mod bounds;
 pub mod claims;
 pub mod covered;
 pub mod dual;
