@@ -21,6 +21,23 @@ fn list_prints_methods_and_json() {
         "{names:?}"
     );
     assert!(v["methods"][0]["citation"].is_string() && v["methods"][0]["inputs"].is_array());
+    // the bound claims the proof covers say so (docs/proof.md), the others stay sampled
+    let basis = |name: &str| {
+        let m = v["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == name)
+            .unwrap();
+        let c = &m["claims"][0];
+        assert_eq!(c.as_object().unwrap().len(), 7, "{c}");
+        c["basis"].as_str().unwrap().to_string()
+    };
+    for name in ["newton_raphson", "mikami_const", "romanyuk_poly"] {
+        assert_eq!(basis(name), "proven", "{name}");
+    }
+    assert_eq!(basis("lyon_taylor"), "found");
+    assert_eq!(basis("trueform"), "measured");
 }
 
 #[test]

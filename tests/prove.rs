@@ -43,9 +43,18 @@ fn prove_writes_a_valid_proof_whose_found_inputs_replay() {
     assert_eq!(oor.len(), 1);
     assert_eq!(oor[0]["name"], "slerp");
     let claims = report["claims"].as_array().unwrap();
-    assert!(claims
+    // Mikami's 1.5 % judged by proof: the proven bound beside the found value
+    let mikami = claims
         .iter()
-        .any(|c| c["method"] == "mikami_const" && c["basis"] != "none"));
+        .find(|c| c["method"] == "mikami_const")
+        .unwrap();
+    assert_eq!(mikami["basis"], "proven", "{mikami}");
+    assert_eq!(mikami["verdict"], "agrees", "{mikami}");
+    let (p, f) = (
+        mikami["proven_upper"].as_f64().unwrap(),
+        mikami["found"].as_f64().unwrap(),
+    );
+    assert!(f <= p && p <= 0.015, "{mikami}");
     // the found input is a stress case: --replay evaluates it again (f64 twin and device)
     let case = out.join("cases/newton_raphson_length_error.json");
     let (code, stdout, stderr) = run(&["stress", "--replay", case.to_str().unwrap()]);

@@ -61,6 +61,7 @@ pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> Claim
         ),
     };
     ClaimCheck {
+        evidence: crate::method::Evidence::MEASURED,
         method: r.name.clone(),
         claim: "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)".into(),
         measured: ratio_text(r, phong),
@@ -106,6 +107,7 @@ pub(crate) fn phong_50x_gouraud(
         format!("Gouraud is at or below the constant-colour floor ({g_above:+.3} ms), so its cost above the floor is nil")
     };
     ClaimCheck {
+        evidence: crate::method::Evidence::MEASURED,
         method: g.name.clone(),
         claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
         measured: format!(
@@ -173,6 +175,7 @@ pub(crate) fn normalization_ops(d: &OpCountsDelta) -> ClaimCheck {
         .map(|(name, _, _)| *name)
         .collect();
     ClaimCheck {
+        evidence: crate::method::Evidence::MEASURED,
         method: crate::method::PHONG_EXACT.into(),
         claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
         measured: format!(
@@ -291,6 +294,7 @@ pub(crate) fn factor_claim(
         ),
     };
     ClaimCheck {
+        evidence: crate::method::Evidence::MEASURED,
         method: r.name.clone(),
         claim: claim.into(),
         measured,
@@ -328,6 +332,7 @@ pub(crate) fn cheaper_isolated(r: &MethodTiming) -> ClaimCheck {
         ),
     };
     ClaimCheck {
+        evidence: crate::method::Evidence::MEASURED,
         method: r.name.clone(),
         claim: "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)".into(),
         measured,
@@ -370,6 +375,7 @@ pub(crate) fn dichotomy_isolated(fast: &MethodTiming, exact: &MethodTiming) -> C
         ),
     };
     ClaimCheck {
+        evidence: crate::method::Evidence::MEASURED,
         method: exact.name.clone(),
         claim: "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)".into(),
         measured,
@@ -451,6 +457,7 @@ pub(crate) fn claims(
         if let Some(i) = g.isolated_ratio_to_phong_exact {
             let (lo, hi) = (1.0 / i.ci95_high, 1.0 / i.ci95_low);
             out.push(ClaimCheck {
+                evidence: crate::method::Evidence::MEASURED,
                 method: g.name.clone(),
                 claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
                 measured: format!(
@@ -475,6 +482,7 @@ pub(crate) fn claims(
             .and_then(|e| e.max_normal_length_error)
         {
             out.push(ClaimCheck {
+                evidence: crate::method::Evidence::found(e),
                 method: n.into(),
                 claim: "maximum normalised relative error <= 1.5 % (S000 l.74)".into(),
                 measured: format!(
@@ -495,17 +503,18 @@ pub(crate) fn claims(
             continue;
         }
         for c in m.claims {
-            let r = (c.check)();
+            let r = crate::prove::bounds::with_proof(m.name, c);
             if r.verdict == Verdict::NotChecked {
                 continue;
             }
             out.push(ClaimCheck {
+                evidence: r.evidence,
                 method: m.name.into(),
                 claim: c.claim.into(),
                 measured: r.measured,
                 verdict: r.verdict,
                 how: r.how,
-                reason: "a property of the formula, checked in f64 (the same check as `shadelab list --json`)".into(),
+                reason: "a property of the formula, checked in f64 and, for a bound, by proof (the same check as `shadelab list --json`)".into(),
             });
         }
     }

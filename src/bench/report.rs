@@ -183,6 +183,9 @@ pub struct ClaimCheck {
     pub how: String,
     /// Why the result comes out as it does.
     pub reason: String,
+    /// Proven, found or measured, with the proven upper bound beside the found value.
+    #[serde(flatten)]
+    pub evidence: crate::method::Evidence,
 }
 
 /// One point of a sweep.
@@ -371,6 +374,16 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
         }
         c.flush()
     })?;
+    write_claims(out, r)?;
+    crate::bench::chart::pareto(out, r)?;
+    for s in &r.sweeps {
+        crate::bench::chart::sweep(out, s)?;
+    }
+    Ok(())
+}
+
+/// claims.json and claims.md: each claim with its verdict and basis (proven, found, measured).
+fn write_claims(out: &Path, r: &BenchReport) -> Result<()> {
     let claims = serde_json::to_string_pretty(&r.claims)
         .map_err(|e| Error::output("claims.json", e))?
         + "\n";
@@ -383,15 +396,17 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
     );
     for c in &r.claims {
         md += &format!(
-            "| {} | {} | {} | {} | {} | {} |\n",
-            c.method, c.claim, c.measured, c.verdict, c.how, c.reason
+            "| {} | {} | {} | {} ({}) | {} | {} |\n",
+            c.method,
+            c.claim,
+            c.measured,
+            c.verdict,
+            c.evidence.basis.as_str(),
+            c.how,
+            c.reason
         );
     }
     md += &crate::bench::speed_claims::markdown(&r.speed_claims, Some(&r.static_cost));
     output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
-    crate::bench::chart::pareto(out, r)?;
-    for s in &r.sweeps {
-        crate::bench::chart::sweep(out, s)?;
-    }
     Ok(())
 }

@@ -473,6 +473,7 @@ pub fn op_count_checks(s: &StaticCost) -> Vec<super::ClaimCheck> {
                 .map(|(k, n)| format!("{n} {k}"))
                 .collect();
             super::ClaimCheck {
+                evidence: crate::method::Evidence::MEASURED,
                 method: crate::method::PHONG_EXACT.into(),
                 claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
                 measured: format!(

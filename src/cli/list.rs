@@ -9,7 +9,10 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
     if json {
         let text = serde_json::to_string_pretty(&serde_json::json!({
             "version": 1,
-            "methods": crate::method::all(),
+            "methods": crate::method::all()
+                .into_iter()
+                .map(judged)
+                .collect::<Result<Vec<_>>>()?,
             // How each method runs under `--engine software` (src/software/): its scanline
             // form, or its per-pixel form where it has none.
             "software_forms": METHODS
@@ -25,4 +28,20 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Method `m` as JSON, its claims judged with the proof overlay (a bound the proof covers says
+/// basis proven, with its proven upper bound beside the found value; see docs/proof.md).
+fn judged(m: &'static crate::method::Method) -> Result<serde_json::Value> {
+    let mut v = serde_json::to_value(m).map_err(|e| Error::output("the method list", e))?;
+    let claims: Vec<_> = m
+        .claims
+        .iter()
+        .map(|claim| crate::prove::bounds::Judged {
+            method: m.name,
+            claim,
+        })
+        .collect();
+    v["claims"] = serde_json::to_value(claims).map_err(|e| Error::output("the method list", e))?;
+    Ok(v)
 }

@@ -3,6 +3,10 @@
 //! `shadelab bench`'s claims.json/md) and derives its verdict from the number it measured, by
 //! a rule stated in its `how`. No verdict is written by hand.
 //!
+//! The evidence here is sampled only (basis found or measured): a bound's worst case found at
+//! the sweep's points. The proof overlay (src/prove/bounds.rs, a higher layer) re-judges the
+//! bounds it covers by branch-and-bound, where `list --json`, bench and the report write them.
+//!
 //! Each check's core takes the formula as a parameter, so a test can feed it a deliberately
 //! wrong formula and see the verdict flip (the tests at the end). The sweep helpers here are
 //! shared with the formulas tests, which pin the same figures against FORMULAS.md section 3.
@@ -12,7 +16,7 @@ use super::formulas as f;
 #[cfg(test)]
 pub(crate) use super::worst::worst;
 pub(crate) use super::worst::Worst;
-use super::{Measurement, Verdict};
+use super::{Evidence, Measurement, Verdict};
 
 /// A scalar factor `k(z) ~ 1/sqrt(z)`, `z = N.N`.
 pub(crate) type Factor = fn(f64) -> f64;
@@ -106,7 +110,7 @@ pub const VISIBLE_LENGTH_ERROR_PCT: f64 = 1.0;
 /// A length within this of 1 counts as exactly unit (f64 rounding of a few operations).
 const UNIT_TOLERANCE: f64 = 1e-12;
 
-fn sweep_how(formula: &str) -> String {
+pub(crate) fn sweep_how(formula: &str) -> String {
     format!(
         "f64 sweep of {formula} (src/method/formulas.rs) at {} points along an edge between two \
          unit vertex normals, run when this was written (src/method/checks.rs)",
@@ -119,6 +123,7 @@ fn sweep_how(formula: &str) -> String {
 /// Gouraud's "50x": a timing claim, measured by `shadelab bench` (claims.json), not here.
 pub fn timing_claim() -> Measurement {
     Measurement {
+        evidence: Evidence::MEASURED,
         measured: "-".into(),
         verdict: Verdict::NotChecked,
         how: "a timing claim: no f64 formula measures it; `shadelab bench` times it on this \
@@ -131,6 +136,7 @@ pub fn timing_claim() -> Measurement {
 /// isolated per-formula cost is measured by `shadelab bench` (src/bench/isolated.rs).
 pub fn cost_claim() -> Measurement {
     Measurement {
+        evidence: Evidence::MEASURED,
         measured: "-".into(),
         verdict: Verdict::NotChecked,
         how: "a cost statement: no f64 formula measures it; `shadelab bench` measures each \
@@ -142,6 +148,7 @@ pub fn cost_claim() -> Measurement {
 /// The operation count of normalisation: counted in the compiled SPIR-V by `shadelab bench`.
 pub fn op_count_claim() -> Measurement {
     Measurement {
+        evidence: Evidence::MEASURED,
         measured: "-".into(),
         verdict: Verdict::NotChecked,
         how: "an operation count: no f64 formula measures it; `shadelab bench` counts the \
@@ -178,6 +185,7 @@ pub(crate) fn usable_up_to(k: Factor, name: &str, theta: f64) -> Measurement {
     );
     let word = |ok: bool| if ok { "holds" } else { "fails" };
     Measurement {
+        evidence: Evidence::found(at.value().abs() / 100.0),
         measured: format!(
             "worst length error {:+.3} % at {theta} deg{} ({beyond:+.2} % at {} deg); length \
              criterion (<= {VISIBLE_LENGTH_ERROR_PCT} %) {}, colour criterion (<= 1/255 = \
@@ -219,6 +227,7 @@ pub(crate) fn printed_vs_corrected(printed: Factor, corrected: Factor) -> Measur
     let (p, c) = (printed(1.0), corrected(1.0));
     let unit = |k: f64| (k - 1.0).abs() <= UNIT_TOLERANCE;
     Measurement {
+        evidence: Evidence::MEASURED,
         measured: format!("k(1) = {p:.6} as printed (/3); k(1) = {c:.6} with /2"),
         verdict: match (unit(p), unit(c)) {
             (true, _) => Verdict::Agrees,
@@ -245,6 +254,7 @@ pub(crate) fn error_is_large(k: Factor, name: &str) -> Measurement {
     let (e40, e90) = (scalar_error(k, 40.0), scalar_error(k, 90.0));
     let large = |e: &Worst| e.finite.abs() > VISIBLE_LENGTH_ERROR_PCT;
     Measurement {
+        evidence: Evidence::found(e90.value().abs() / 100.0),
         measured: format!(
             "worst length error {:+.4} % at 40 deg{}, {:+.2} % at 90 deg{}",
             e40.finite,
@@ -374,6 +384,7 @@ pub(crate) fn quaternion_angle_over_frames(
 
 fn unit_measurement(dev: Worst, extra: String, what: &str) -> Measurement {
     Measurement {
+        evidence: Evidence::found(dev.value()),
         measured: format!("max ||N'| - 1| = {:.1e}{}{extra}", dev.finite, dev.note()),
         verdict: if dev.within(UNIT_TOLERANCE) {
             Verdict::Agrees
@@ -391,7 +402,7 @@ fn unit_measurement(dev: Worst, extra: String, what: &str) -> Measurement {
 // ---- mikami -----------------------------------------------------------------------------------
 
 /// Mikami's claimed bound on the normalised relative error, percent (S000 l.74).
-const MIKAMI_BOUND_PCT: f64 = 1.5;
+pub(crate) const MIKAMI_BOUND_PCT: f64 = 1.5;
 
 /// "maximum normalised relative error <= 1.5 %" (S000 l.74), beta = 0.64.
 pub fn mikami_const_within_bound() -> Measurement {
@@ -413,6 +424,7 @@ pub(crate) fn mikami_within_bound(beta: Factor, name: &str) -> Measurement {
     let e = mikami_worst(0.25, beta);
     let at1 = mikami_error_pct(1.0, beta);
     Measurement {
+        evidence: Evidence::found(e.value().abs() / 100.0),
         measured: format!(
             "max |error| {:.3} % on z in [0.25, 1]{}; {at1:+.3} % at z = 1",
             e.finite.abs(),
@@ -436,10 +448,10 @@ pub(crate) fn mikami_within_bound(beta: Factor, name: &str) -> Measurement {
 
 /// The claimed factor: Romanyuk's error is 8 times smaller (no rounding allowance: 7.9x is
 /// short of it).
-const ROMANYUK_FACTOR: f64 = 8.0;
+pub(crate) const ROMANYUK_FACTOR: f64 = 8.0;
 
 /// Angles between the normals at which the 8x claim is measured.
-const ROMANYUK_ANGLES: [f64; 3] = [90.0, 60.0, 40.0];
+pub(crate) const ROMANYUK_ANGLES: [f64; 3] = [90.0, 60.0, 40.0];
 
 /// "relative error 8x smaller than Lyon's approach" (S000 l.79-80).
 pub fn romanyuk_8x_smaller() -> Measurement {
@@ -456,10 +468,12 @@ pub fn romanyuk_8x_smaller() -> Measurement {
 /// apart, on a triangle's edges (z from cos^2(theta/2)) and over its interior (z from the
 /// centroid's (1 + 2 cos theta)/3, [`interior_error`]); each (angle, region, Lyon form) part
 /// holds when Lyon's error / k's >= 8. All hold: agrees; none (or any point non-finite):
-/// disagrees; otherwise partly.
+/// disagrees; otherwise partly. The evidence (found) is the largest ratio k's worst / Lyon's
+/// worst over the parts (claimed <= 1/8); the proof's overlay is src/prove/bounds.rs.
 pub(crate) fn times_smaller(k: Factor, lyons: [(&str, Factor); 2]) -> Measurement {
     let mut parts = Vec::new();
     let (mut held, mut total, mut non_finite) = (0, 0, 0);
+    let mut ratio_found = 0.0f64;
     for theta in ROMANYUK_ANGLES {
         for (region, sweep) in [
             ("edges", scalar_error as fn(Factor, f64) -> Worst),
@@ -476,6 +490,7 @@ pub(crate) fn times_smaller(k: Factor, lyons: [(&str, Factor); 2]) -> Measuremen
                 let other = sweep(lyon, theta);
                 non_finite += other.non_finite;
                 let ratio = other.finite.abs() / own.finite.abs();
+                ratio_found = ratio_found.max(own.finite.abs() / other.finite.abs());
                 total += 1;
                 held += usize::from(ratio >= ROMANYUK_FACTOR);
                 part += &format!(
@@ -488,6 +503,11 @@ pub(crate) fn times_smaller(k: Factor, lyons: [(&str, Factor); 2]) -> Measuremen
         }
     }
     Measurement {
+        evidence: Evidence::found(if non_finite > 0 {
+            f64::NAN
+        } else {
+            ratio_found
+        }),
         measured: format!("{} of {total} parts hold; {}", held, parts.join("; ")),
         verdict: match held {
             _ if non_finite > 0 => Verdict::Disagrees,
@@ -536,6 +556,7 @@ pub(crate) fn tessellation_counts(tessellate: Tessellator) -> Measurement {
     distinct.dedup();
     let (t, v) = (tris.len(), distinct.len());
     Measurement {
+        evidence: Evidence::MEASURED,
         measured: format!(
             "this project's level-3 tessellation (formulas::pn_tessellate): {t} triangles, {v} \
              distinct vertices"
@@ -563,6 +584,7 @@ pub(crate) fn lut_bytes(build: fn(usize, usize) -> Vec<f32>) -> Measurement {
     let table = build(f::LUT_ROWS, f::LUT_SAMPLES);
     let bytes = std::mem::size_of_val(table.as_slice());
     Measurement {
+        evidence: Evidence::MEASURED,
         measured: format!(
             "this project's table: {} exponents x {} cosines x 32 bit = {bytes} bytes ({:.2} MB)",
             f::LUT_ROWS,

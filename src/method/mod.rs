@@ -300,6 +300,58 @@ impl std::fmt::Display for Verdict {
     }
 }
 
+/// What a claim's verdict rests on (docs/proof.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Basis {
+    /// A bound judged by proof (`shadelab prove`'s branch-and-bound): agrees only when the
+    /// proven upper bound supports the claim, disagrees when a found (real) point contradicts
+    /// it, else inconclusive.
+    Proven,
+    /// A bound judged by the worst case found at sampled points only (a sweep or stress's
+    /// grid): the true maximum may be larger, so an `agrees` is not a proof.
+    Found,
+    /// Not a bound over a domain: a timing, a count, a GPU image, a property of a formula.
+    Measured,
+}
+
+impl Basis {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Basis::Proven => "proven",
+            Basis::Found => "found",
+            Basis::Measured => "measured",
+        }
+    }
+}
+
+/// The evidence beside a verdict: its basis, and for a bound the proven upper bound of the
+/// bounded quantity next to the largest value found at a real point (None where not given).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Evidence {
+    pub basis: Basis,
+    pub proven_upper: Option<f64>,
+    pub found: Option<f64>,
+}
+
+impl Evidence {
+    /// Not a bound.
+    pub const MEASURED: Evidence = Evidence {
+        basis: Basis::Measured,
+        proven_upper: None,
+        found: None,
+    };
+
+    /// A bound judged by the worst sampled value `found` (None when non-finite).
+    pub fn found(found: f64) -> Evidence {
+        Evidence {
+            basis: Basis::Found,
+            proven_upper: None,
+            found: found.is_finite().then_some(found),
+        }
+    }
+}
+
 /// What a check measured, its verdict and how it was measured.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Measurement {
@@ -309,12 +361,15 @@ pub struct Measurement {
     pub verdict: Verdict,
     /// The sweep or command that measured it and the rule that turns it into the verdict.
     pub how: String,
+    /// Proven, found or measured, with the figures.
+    #[serde(flatten)]
+    pub evidence: Evidence,
 }
 
 /// A numerical claim of the papers and the check that measures it.
 ///
 /// Serialising a claim (`shadelab list --json`) runs its check, so the JSON holds `claim`,
-/// `measured`, `verdict` and `how` as measured at that moment.
+/// `measured`, `verdict`, `basis`, `proven_upper`, `found` and `how` as measured at that moment.
 #[derive(Debug, Clone, Copy)]
 pub struct Claim {
     /// The claim, with its source (seed file and line).
@@ -327,10 +382,13 @@ impl Serialize for Claim {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
         let m = (self.check)();
-        let mut st = s.serialize_struct("Claim", 4)?;
+        let mut st = s.serialize_struct("Claim", 7)?;
         st.serialize_field("claim", self.claim)?;
         st.serialize_field("measured", &m.measured)?;
         st.serialize_field("verdict", &m.verdict)?;
+        st.serialize_field("basis", &m.evidence.basis)?;
+        st.serialize_field("proven_upper", &m.evidence.proven_upper)?;
+        st.serialize_field("found", &m.evidence.found)?;
         st.serialize_field("how", &m.how)?;
         st.end()
     }

@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::checks::{pair, Worst};
 use super::scanline as s;
-use super::{Measurement, Verdict};
+use super::{Evidence, Measurement, Verdict};
 
 /// Points of each sweep.
 const STEPS: usize = 20_000;
@@ -180,6 +180,7 @@ fn inv_root_claim(
         )
     });
     Measurement {
+        evidence: Evidence::found(abs.value()),
         measured: format!(
             "max absolute error {:.3e}{} ({va} with {:e}), relative {:.5} %{} ({vr} with {} %){best}",
             abs.finite,
@@ -256,6 +257,7 @@ pub(crate) fn closed_form_gap(closed: fn(DVec3, DVec3, f64) -> DVec3) -> Worst {
 pub fn spherical_angular_is_slerp() -> Measurement {
     let gap = closed_form_gap(s::spherical_angular);
     Measurement {
+        evidence: Evidence::found(gap.value()),
         measured: format!(
             "largest |closed form - slerp| {:.1e}{}",
             gap.finite,
@@ -308,6 +310,7 @@ pub(crate) fn segments_diffuse_bound_with(interpolate: fn(f64, f64) -> f64) -> M
     let formula = 1.0 - (0.5 * theta).to_radians().cos();
     let agrees = brute.non_finite == 0 && (brute.finite - formula).abs() <= 0.01 * formula;
     Measurement {
+        evidence: Evidence::found(brute.value()),
         measured: format!(
             "at {theta} deg: brute force {:.4} %{}, 1 - cos(theta/2) = {:.4} %",
             100.0 * brute.finite,
@@ -344,6 +347,7 @@ pub(crate) fn segments_specular_4pct_with(bound: fn(f64, f64) -> f64) -> Measure
         .take_while(|&n| bound(f64::from(n), 4.0) <= 0.04)
         .last();
     Measurement {
+        evidence: Evidence::MEASURED,
         measured: format!(
             "1 - cos^n(theta/2) at theta = 4 deg: {:.2} % at n = 100; within 4 % up to n = {}",
             100.0 * at_100,
@@ -382,6 +386,7 @@ pub(crate) fn quadratic_mid_accuracy_with(mid: fn(DVec3, DVec3) -> DVec3) -> Mea
     let beyond = mid_length_error_pct(120.0, mid);
     let limit = super::checks::VISIBLE_LENGTH_ERROR_PCT;
     Measurement {
+        evidence: Evidence::found(worst.value() / 100.0),
         measured: format!(
             "worst length error {:+.3} %{} for end normals up to 90 deg apart ({beyond:+.2} % \
              at 120 deg)",
@@ -454,6 +459,13 @@ pub(crate) fn bishop_weimer_extent_with(
         .map(|(x, e)| format!("{:.1e}{} at {x}", e.finite, e.note()))
         .collect();
     Measurement {
+        evidence: Evidence::found(errors.iter().map(Worst::value).fold(0.0, |a, b| {
+            if b.is_nan() || a.is_nan() {
+                f64::NAN
+            } else {
+                a.max(b.abs())
+            }
+        })),
         measured: format!(
             "worst |Taylor - exact| of N.L/|N| by the normal's change from the centre: {}",
             listed.join(", ")

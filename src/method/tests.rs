@@ -147,10 +147,13 @@ fn serialised_claims_carry_the_measurement_their_check_makes_now() {
         for (c, jc) in m.claims.iter().zip(claims) {
             let now = (c.check)();
             let keys: Vec<&str> = jc.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-            assert_eq!(keys.len(), 4, "{jc}");
+            assert_eq!(keys.len(), 7, "{jc}");
             assert_eq!(jc["claim"], c.claim);
             assert_eq!(jc["measured"], now.measured.as_str());
             assert_eq!(jc["verdict"], now.verdict.as_str());
+            assert_eq!(jc["basis"], now.evidence.basis.as_str());
+            assert_eq!(jc["proven_upper"].as_f64(), now.evidence.proven_upper);
+            assert_eq!(jc["found"].as_f64(), now.evidence.found);
             assert_eq!(jc["how"], now.how.as_str());
             assert!(!now.how.is_empty(), "{}: {}", m.name, c.claim);
         }

@@ -26,18 +26,22 @@ use crate::method::{Family, Input, Method};
 pub struct Factor {
     pub interval: fn(Interval) -> Interval,
     pub dual: fn(Dual) -> Dual,
+    /// A range of z on which the formula is exactly `1 / sqrt(z)` (algebraically: e.g. a
+    /// clamp that does not act there), so that |N'| = 1 and the length error is exactly 0 on
+    /// a box inside it (intervals would leave ~1e-11 of dependency there).
+    pub exact_on: Option<(f64, f64)>,
 }
 
 /// The factor of a generic formula (both instantiations of the same function).
 macro_rules! factor {
     ($f:path) => {
-        Factor {
+        $crate::prove::covered::Factor {
             interval: $f,
             dual: $f,
+            exact_on: None,
         }
     };
 }
-#[cfg(test)]
 pub(crate) use factor;
 
 /// The unnormalised reference: `k = 1`.
@@ -50,22 +54,71 @@ pub fn k_mikami<T: Real>(z: T, beta: fn(T) -> T) -> T {
     T::c(1.0) / f::mikami_sqrt(z, beta(z))
 }
 
-fn k_mikami_const<T: Real>(z: T) -> T {
+pub fn k_mikami_const<T: Real>(z: T) -> T {
     k_mikami(z, f::beta_const)
 }
 
-fn k_mikami_linear<T: Real>(z: T) -> T {
+pub fn k_mikami_linear<T: Real>(z: T) -> T {
     k_mikami(z, f::beta_linear)
 }
 
-fn k_mikami_quadratic<T: Real>(z: T) -> T {
+pub fn k_mikami_quadratic<T: Real>(z: T) -> T {
     k_mikami(z, f::beta_quadratic)
+}
+
+/// Exact normalisation: `k = 1 / sqrt(z)`.
+pub fn k_exact<T: Real>(z: T) -> T {
+    T::c(1.0) / z.sqrt()
+}
+
+/// Unity's SafeNormalize, [`f::k_safe`]: `1 / sqrt(max(z, HALF_MIN))`.
+fn k_safe_interval(z: Interval) -> Interval {
+    k_exact(z.max(Interval::point(f::HALF_MIN)))
+}
+
+/// Its derivative: exact normalisation's where z >= HALF_MIN on the whole box, else unknown
+/// (the mean-value form then falls back to the naive enclosure).
+fn k_safe_dual(z: Dual) -> Dual {
+    if z.v.lo >= f::HALF_MIN {
+        k_exact(z)
+    } else {
+        Dual {
+            v: k_safe_interval(z.v),
+            d: Interval::ENTIRE,
+        }
+    }
+}
+
+/// Filament's mediump clamp, [`f::k_clamp`]: `1 / sqrt(min(z, 65504))`.
+fn k_clamp_interval(z: Interval) -> Interval {
+    k_exact(-((-z).max(Interval::point(-f::MEDIUMP_FLT_MAX))))
+}
+
+fn k_clamp_dual(z: Dual) -> Dual {
+    if z.v.hi <= f::MEDIUMP_FLT_MAX {
+        k_exact(z)
+    } else {
+        Dual {
+            v: k_clamp_interval(z.v),
+            d: Interval::ENTIRE,
+        }
+    }
 }
 
 /// The interval factor of a covered method (None: not covered).
 pub fn factor_of(name: &str) -> Option<Factor> {
     Some(match name {
         "phong_unnormalized" => factor!(k_one),
+        "safe_normalize" => Factor {
+            interval: k_safe_interval,
+            dual: k_safe_dual,
+            exact_on: Some((f::HALF_MIN, f64::INFINITY)),
+        },
+        "filament_clamp" => Factor {
+            interval: k_clamp_interval,
+            dual: k_clamp_dual,
+            exact_on: Some((0.0, f::MEDIUMP_FLT_MAX)),
+        },
         "newton_raphson" => factor!(f::k_newton),
         "lyon_taylor" => factor!(f::k_lyon2),
         "lyon_shift" => factor!(f::k_lyon_shift),
@@ -81,6 +134,11 @@ pub fn factor_of(name: &str) -> Option<Factor> {
 pub fn out_of_reach(m: &Method) -> &'static str {
     if m.name == "phong_exact" {
         return "the exact reference itself (its error is 0 by definition)";
+    }
+    if m.inputs.contains(&Input::SpecularLut) {
+        return "its normal is exact normalisation (error 0); its error is the cos^n table's \
+                in the specular term, a function of the cosine and the shininess that the \
+                normal-space bound does not carry (not formulated in intervals in this version)";
     }
     if !m.has_normal {
         return "no per-pixel normal (colour interpolated or cosines approximated): its error \
@@ -165,6 +223,10 @@ pub fn upper(k: Factor, metric: Metric, z: Interval) -> f64 {
             std::f64::consts::PI
         };
     }
+    if k.exact_on.is_some_and(|(lo, hi)| z.lo >= lo && z.hi <= hi) {
+        // k(z) sqrt(z) = 1 identically on the box: |N'| - 1 = 0
+        return 0.0;
+    }
     let one = Interval::point(1.0);
     let e = if kz.lo > 0.0 {
         // |N'| - 1 = k(z) sqrt(z) - 1, in the mean-value form (it cancels near z = 1).
@@ -212,6 +274,24 @@ pub fn z_range(max_angle_deg: f64) -> Interval {
     );
     let hi = (Interval::point(1.0).widen(INPUT_ROUNDING)).sqr().hi;
     Interval::new((1.0 - o.proven_upper).next_down().max(0.0), hi)
+}
+
+/// The proven range of z over a triangle with three free unit vertex normals pairwise at most
+/// `max_angle_deg` apart and any weights (each input rounded to float32). With the weights
+/// w_i >= 0 summing to 1 and cos(a_ij) >= cos(theta) (a_ij <= theta <= 180 deg):
+/// `z = sum w_i^2 + sum_{i != j} w_i w_j cos a_ij >= cos theta + (1 - cos theta) sum w_i^2
+/// >= (1 + 2 cos theta) / 3` (sum w_i^2 >= 1/3), reached at the centroid of three normals
+/// pairwise theta apart (theta <= 120 deg); z >= 0 always. The upper end as [`z_range`]'s.
+pub fn triangle_z_range(max_angle_deg: f64) -> Interval {
+    let deg = std::f64::consts::PI / 180.0;
+    let to_rad = Interval::new(deg.next_down(), deg.next_up());
+    let cos = (Interval::point(max_angle_deg) * to_rad).cos();
+    let lo = ((Interval::point(1.0) + Interval::point(2.0) * cos) / Interval::point(3.0)).lo;
+    // |N| widened by the inputs' rounding, as in `squared_length`.
+    Interval::new(lo.max(0.0), 1.0)
+        .sqrt()
+        .widen(INPUT_ROUNDING)
+        .sqr()
 }
 
 /// A real point on the edge whose squared length is `z` (theta = `max_angle_deg`, t from

@@ -7,6 +7,7 @@
 //! bound stays within the threshold) next to `stress`'s grid's. The claims that are bounds are
 //! judged in [`claims`]. Output: proof.json (docs/proof.schema.json), a table.
 pub mod bnb;
+pub mod bounds;
 pub mod claims;
 pub mod covered;
 pub mod dual;
@@ -28,7 +29,7 @@ use crate::error::{Error, Result};
 use crate::method::Method;
 
 /// Version of proof.json (docs/proof.schema.json).
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// The declared domain, as proof.json states it.
 pub const DOMAIN: &str = "stress's case geometry: unit vertex normals N0, N1 at angle theta in \
@@ -437,7 +438,7 @@ pub fn run(methods: &[&'static Method], opts: &ProveOptions) -> Result<ProofRepo
     let all = proofs
         .iter()
         .all(|p| p.metrics.iter().all(|x| x.within_tolerance));
-    let claims = claims::judge(methods, opts);
+    let claims = claims::judge(methods);
     Ok(ProofReport {
         schema_version: SCHEMA_VERSION,
         max_angle_deg: opts.max_angle_deg,
@@ -495,7 +496,10 @@ pub fn table(r: &ProofReport) -> String {
     for c in &r.claims {
         s += &format!(
             "claim {} [{}, {}]: {}\n",
-            c.method, c.verdict, c.basis, c.measured
+            c.method,
+            c.verdict,
+            c.basis.as_str(),
+            c.measured
         );
     }
     for o in &r.out_of_reach {

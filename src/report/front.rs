@@ -367,24 +367,28 @@ pub fn answer_table(a: &Answer) -> String {
     h + "</tbody></table></section>"
 }
 
-/// One claim's verdicts per source: (source heading, anchor or file, verdict).
-type ClaimRow = BTreeMap<usize, (String, String)>;
+/// One claim's verdicts per source: (verdict, basis, anchor or file).
+type ClaimRow = BTreeMap<usize, (String, String, String)>;
 
 /// The papers' claims as one matrix: each claim (method, text) against each place that
 /// measured it (lavapipe bench per scene, the software engine per scene, stress).
 pub fn claims_matrix(d: &ReportData) -> String {
     let mut sources: Vec<String> = Vec::new();
     let mut rows: BTreeMap<(String, String), ClaimRow> = BTreeMap::new();
-    let mut put =
-        |sources: &mut Vec<String>, src: String, m: &str, c: &str, v: &str, at: String| {
-            let col = sources.iter().position(|s| *s == src).unwrap_or_else(|| {
-                sources.push(src);
-                sources.len() - 1
-            });
-            rows.entry((m.to_string(), c.to_string()))
-                .or_default()
-                .insert(col, (v.to_string(), at));
-        };
+    let mut put = |sources: &mut Vec<String>,
+                   src: String,
+                   m: &str,
+                   c: &str,
+                   v: (&str, String),
+                   at: String| {
+        let col = sources.iter().position(|s| *s == src).unwrap_or_else(|| {
+            sources.push(src);
+            sources.len() - 1
+        });
+        rows.entry((m.to_string(), c.to_string()))
+            .or_default()
+            .insert(col, (v.0.to_string(), v.1, at));
+    };
     for s in &d.scenes {
         let src = format!("lavapipe: {}", s.id);
         for (k, c) in s.bench.claims.iter().enumerate() {
@@ -394,7 +398,7 @@ pub fn claims_matrix(d: &ReportData) -> String {
                 src.clone(),
                 &c.method,
                 &c.claim,
-                c.verdict.as_str(),
+                (c.verdict.as_str(), basis_text(&c.evidence)),
                 at,
             );
         }
@@ -410,7 +414,7 @@ pub fn claims_matrix(d: &ReportData) -> String {
                 src.clone(),
                 &c.num,
                 &c.claim,
-                j.verdict.as_str(),
+                (j.verdict.as_str(), "measured".into()),
                 at,
             );
         }
@@ -422,14 +426,15 @@ pub fn claims_matrix(d: &ReportData) -> String {
             "stress".into(),
             &c.method,
             &c.claim,
-            c.verdict.as_str(),
+            (c.verdict.as_str(), "found".into()),
             at,
         );
     }
     let mut h = String::from(
         "<section id=\"claims\"><h2>The papers' claims</h2><p>Each claim against each place \
          that measured it; a verdict links to its measurement (the claim's row, with what was \
-         measured and the rule).</p><div class=\"scroll\"><table class=\"sortable matrix\" \
+         measured and the rule), with its basis: proven (a proven upper bound beside the \
+         value found), found (the worst sampled value only) or measured (not a bound).</p><div class=\"scroll\"><table class=\"sortable matrix\" \
          id=\"claims-matrix\"><thead><tr><th>method</th><th>claim</th>",
     );
     for s in &sources {
@@ -440,13 +445,14 @@ pub fn claims_matrix(d: &ReportData) -> String {
         let _ = write!(h, "<tr><td>{}</td><td>{}</td>", esc(m), esc(c));
         for k in 0..sources.len() {
             match cells.get(&k) {
-                Some((v, at)) => {
+                Some((v, basis, at)) => {
                     let _ = write!(
                         h,
-                        "<td class=\"verdict v-{}\"><a href=\"{}\">{}</a></td>",
+                        "<td class=\"verdict v-{}\"><a href=\"{}\">{}</a> <small>{}</small></td>",
                         esc(v),
                         esc(at),
-                        esc(v)
+                        esc(v),
+                        esc(basis)
                     );
                 }
                 None => h += "<td class=\"na\">-</td>",
@@ -455,6 +461,19 @@ pub fn claims_matrix(d: &ReportData) -> String {
         h += "</tr>";
     }
     h + "</tbody></table></div></section>"
+}
+
+/// A claim's basis for the matrix: "proven <= x, found y" for a proven bound, "found y" for a
+/// found one, "measured" otherwise.
+fn basis_text(e: &crate::method::Evidence) -> String {
+    let num = |x: Option<f64>| x.map_or("null".into(), |v| format!("{v:.3e}"));
+    match e.basis {
+        crate::method::Basis::Proven => {
+            format!("proven <= {}, found {}", num(e.proven_upper), num(e.found))
+        }
+        crate::method::Basis::Found => format!("found {}", num(e.found)),
+        crate::method::Basis::Measured => "measured".into(),
+    }
 }
 
 /// The scene a report shows first: the most telling one, a curved mesh (the most triangles
