@@ -380,18 +380,27 @@ pub struct Claim {
 
 impl Serialize for Claim {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        use serde::ser::SerializeStruct;
-        let m = (self.check)();
-        let mut st = s.serialize_struct("Claim", 7)?;
-        st.serialize_field("claim", self.claim)?;
-        st.serialize_field("measured", &m.measured)?;
-        st.serialize_field("verdict", &m.verdict)?;
-        st.serialize_field("basis", &m.evidence.basis)?;
-        st.serialize_field("proven_upper", &m.evidence.proven_upper)?;
-        st.serialize_field("found", &m.evidence.found)?;
-        st.serialize_field("how", &m.how)?;
-        st.end()
+        serialize_claim(self.claim, &(self.check)(), s)
     }
+}
+
+/// A claim's 7 keys: its text and a measurement of it (the table's own check here, the proof
+/// overlay in `crate::prove::bounds::Judged`).
+pub fn serialize_claim<S: serde::Serializer>(
+    claim: &str,
+    m: &Measurement,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct;
+    let mut st = s.serialize_struct("Claim", 7)?;
+    st.serialize_field("claim", claim)?;
+    st.serialize_field("measured", &m.measured)?;
+    st.serialize_field("verdict", &m.verdict)?;
+    st.serialize_field("basis", &m.evidence.basis)?;
+    st.serialize_field("proven_upper", &m.evidence.proven_upper)?;
+    st.serialize_field("found", &m.evidence.found)?;
+    st.serialize_field("how", &m.how)?;
+    st.end()
 }
 /// One shading method.
 #[derive(Debug, Serialize)]

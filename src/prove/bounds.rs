@@ -66,17 +66,7 @@ pub struct Judged<'a> {
 
 impl Serialize for Judged<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        use serde::ser::SerializeStruct;
-        let m = with_proof(self.method, self.claim);
-        let mut st = s.serialize_struct("Claim", 7)?;
-        st.serialize_field("claim", self.claim.claim)?;
-        st.serialize_field("measured", &m.measured)?;
-        st.serialize_field("verdict", &m.verdict)?;
-        st.serialize_field("basis", &m.evidence.basis)?;
-        st.serialize_field("proven_upper", &m.evidence.proven_upper)?;
-        st.serialize_field("found", &m.evidence.found)?;
-        st.serialize_field("how", &m.how)?;
-        st.end()
+        crate::method::serialize_claim(self.claim.claim, &with_proof(self.method, self.claim), s)
     }
 }
 

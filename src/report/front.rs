@@ -254,16 +254,17 @@ fn href(e: &str) -> String {
     e.strip_prefix("index.html").unwrap_or(e).to_string()
 }
 
-fn choice_html(c: &answer::Choice) -> String {
-    let link = if c.cost_evidence.is_empty() {
-        esc(&c.method)
+/// `text`, linked to `evidence` when there is one.
+fn linked(text: &str, evidence: &str) -> String {
+    if evidence.is_empty() {
+        esc(text)
     } else {
-        format!(
-            "<a href=\"{}\">{}</a>",
-            esc(&href(&c.cost_evidence)),
-            esc(&c.method)
-        )
-    };
+        format!("<a href=\"{}\">{}</a>", esc(&href(evidence)), esc(text))
+    }
+}
+
+fn choice_html(c: &answer::Choice) -> String {
+    let link = linked(&c.method, &c.cost_evidence);
     let err = if c.error_evidence.is_empty() {
         String::new()
     } else {
@@ -282,15 +283,7 @@ fn choice_html(c: &answer::Choice) -> String {
 /// the tooltip).
 fn binding_html(c: &answer::Cell) -> Option<String> {
     let k = c.binding.as_ref()?;
-    let scene = if k.evidence.is_empty() {
-        esc(&k.scene)
-    } else {
-        format!(
-            "<a href=\"{}\">{}</a>",
-            esc(&href(&k.evidence)),
-            esc(&k.scene)
-        )
-    };
+    let scene = linked(&k.scene, &k.evidence);
     Some(format!(
         "<span class=\"bind\" title=\"{} of the {} methods cheaper than the answer that fail \
          the budget fail it on this scene; the cheapest: {}\">decided by {scene}</span>",

@@ -301,24 +301,36 @@ fn span_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment) -> (f64, f64)
     // sliver row their independent errors do not cancel as a common shift would).
     for point in 0..4 {
         for d in [DVec2::X, DVec2::Y] {
-            let (mut c, mut n) = (0.0f64, 0.0f64);
-            for k in [-1.0, 1.0] {
-                let mut moved = *frag;
-                match point {
-                    3 => moved.pixel += d * (k * dpos),
-                    corner => moved.window[corner] += d * (k * dpos),
-                }
-                let moved = eval(&moved);
-                c = c.max(max_diff(moved.color, here.color));
-                if let (Some(a), Some(b)) = (moved.normal, here.normal) {
-                    n = n.max(max_diff(a, b));
-                }
-            }
+            let (c, n) = largest_change(eval, frag, &here, |moved, k| match point {
+                3 => moved.pixel += d * (k * dpos),
+                corner => moved.window[corner] += d * (k * dpos),
+            });
             dc += c;
             dn += n;
         }
     }
     (2.0 * dc, 2.0 * dn)
+}
+
+/// The largest change of the colour and of the normal (max component) from `here` when `frag`
+/// is moved each way (`step` applies a move with sign k = -1, then +1).
+fn largest_change(
+    eval: &dyn Fn(&Fragment) -> Shaded,
+    frag: &Fragment,
+    here: &Shaded,
+    step: impl Fn(&mut Fragment, f64),
+) -> (f64, f64) {
+    let (mut c, mut n) = (0.0f64, 0.0f64);
+    for k in [-1.0, 1.0] {
+        let mut moved = *frag;
+        step(&mut moved, k);
+        let moved = eval(&moved);
+        c = c.max(max_diff(moved.color, here.color));
+        if let (Some(a), Some(b)) = (moved.normal, here.normal) {
+            n = n.max(max_diff(a, b));
+        }
+    }
+    (c, n)
 }
 
 /// The unit roundoff of the program's arithmetic (`bounds` is `Some` where this is asked).
@@ -335,16 +347,9 @@ fn corner_normal_bound(eval: &dyn Fn(&Fragment) -> Shaded, frag: &Fragment, u: f
     let (mut dc, mut dn) = (0.0, 0.0);
     for corner in 0..3 {
         for axis in 0..3 {
-            let (mut c, mut n) = (0.0f64, 0.0f64);
-            for k in [-1.0, 1.0] {
-                let mut moved = *frag;
-                moved.corner_normals[corner][axis] += k * K_FORMULA * u;
-                let moved = eval(&moved);
-                c = c.max(max_diff(moved.color, here.color));
-                if let (Some(a), Some(b)) = (moved.normal, here.normal) {
-                    n = n.max(max_diff(a, b));
-                }
-            }
+            let (c, n) = largest_change(eval, frag, &here, |moved, k| {
+                moved.corner_normals[corner][axis] += k * K_FORMULA * u
+            });
             dc += c;
             dn += n;
         }
