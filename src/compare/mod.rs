@@ -18,7 +18,7 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::flip::{flip, srgb_rgb8};
+use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
 use crate::analysis::pixel::{
     channel_stats, d3, intensity_stats, pixel_errors, stats_against_twin, IntensityStats,
     PixelErrors,
@@ -132,7 +132,8 @@ struct Analysis<'a> {
     /// The second reference (f64 exact slerp along the span), when a method of the run is
     /// judged against it too: its twin is evaluated pixel by pixel, no second truth is stored.
     slerp: Option<SecondReference<'a>>,
-    ref8: &'a [u8],
+    /// FLIP's reference half (the reference's 8-bit image filtered once per run).
+    flip: &'a FlipReference,
     out: &'a Path,
     opts: &'a CompareOptions,
     width: u32,
@@ -279,7 +280,7 @@ impl Analysis<'_> {
         let (counts, measured) = (f.counts, std::mem::take(&mut f.measured));
         drop(f);
         let (flip_mean, flip_p95) = match test8 {
-            Some(test8) => flip(self.ref8, &test8, w, h, &measured),
+            Some(test8) => flip(self.flip, &test8, &measured),
             None => (f64::INFINITY, f64::INFINITY),
         };
         let flip_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -537,6 +538,7 @@ pub fn compare_with(
             .pixels()
             .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
     );
+    let flip_reference = FlipReference::new(&ref8, w, h);
     if opts.images {
         write_reference_png(&reference, out, w, h)?;
     }
@@ -547,7 +549,7 @@ pub fn compare_with(
     let ctx = Analysis {
         reference: &reference,
         slerp,
-        ref8: &ref8,
+        flip: &flip_reference,
         out,
         opts,
         width: w,

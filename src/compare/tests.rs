@@ -228,7 +228,7 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
     let a = Analysis {
         reference: &values,
         slerp: None,
-        ref8: &ref8,
+        flip: &FlipReference::new(&ref8, frame.width, 1),
         out: Path::new("unused"),
         opts: &opts,
         width: frame.width,
@@ -413,14 +413,14 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
     }
 }
 
-/// compare's FLIP over crops (src/analysis/flip.rs) against nv-flip over the whole image, on
-/// the shipped fine sphere at 160x120 drawn by the software engine: every method's 8-bit image
-/// against the f64 reference gives the same map bit for bit (an image equal to the
-/// reference's, no crop at all, included). Teeth: crops one pixel short of
-/// the filter radius change the map of at least one method.
+/// compare's FLIP (src/analysis/flip/, in Rust, near the differing pixels only) against nv-flip
+/// over the whole image, on the shipped fine sphere at 160x120 drawn by the software engine:
+/// every method's 8-bit image against the f64 reference gives the same map bit for bit (an
+/// image equal to the reference's, nothing computed at all, included). Teeth: the test side
+/// computed one pixel short of the filter radius changes the map of at least one method.
 #[test]
 fn flip_crops_match_the_full_computation_on_a_scene() {
-    use crate::analysis::flip::{filter_radius_map_for_test, flip_map, flip_map_full};
+    use crate::analysis::flip::{flip_map_full, map_off_radius_for_test};
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sphere_fine.toml");
     let mut scene = crate::scene::load_scene(&path).unwrap();
     (scene.width, scene.height) = (160, 120);
@@ -437,6 +437,7 @@ fn flip_crops_match_the_full_computation_on_a_scene() {
             .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
     );
     let (w, h) = (160, 120);
+    let flip_ref = FlipReference::new(&ref8, w, h);
     let (mut short_differs, mut errors) = (false, 0);
     for m in &methods {
         let (frame, _) = prepared.render(m, false).unwrap();
@@ -444,8 +445,8 @@ fn flip_crops_match_the_full_computation_on_a_scene() {
         let bits = |v: Vec<f32>| v.into_iter().map(f32::to_bits).collect::<Vec<_>>();
         let full = bits(flip_map_full(&ref8, &test8, w, h));
         errors += usize::from(full.iter().any(|&b| b != 0));
-        assert_eq!(bits(flip_map(&ref8, &test8, w, h)), full, "{}", m.name);
-        short_differs |= bits(filter_radius_map_for_test(&ref8, &test8, w, h, -1)) != full;
+        assert_eq!(bits(flip_ref.map(&test8)), full, "{}", m.name);
+        short_differs |= bits(map_off_radius_for_test(&flip_ref, &test8, -1)) != full;
     }
     // phong_exact may equal the reference at 8 bits (no crop at all); flat and gouraud do not
     assert!(errors >= 2, "only {errors} methods with a FLIP error");

@@ -1,0 +1,452 @@
+//! LDR-FLIP's arithmetic in Rust, operation for operation as nv-flip's C++ (nv-flip-sys 0.1.1,
+//! `extern/cpp/CPP/image.h` `image<float>::FLIP`, `CPP/color.h`, `common/sharedflip.h`), so
+//! that every value is bit for bit nv-flip's: the same f32 operations per pixel in the same
+//! order (`a * b` then `+=`, never fused: nv-flip is built for baseline x86-64, without FMA),
+//! the constants rounded to f32 as the C++ rounds them, `powf`/`expf`/`sqrtf` through the same
+//! libm (`f32::powf`, `f32::exp`, `f32::sqrt`; constant exponents behind `black_box`, so that
+//! LLVM cannot turn `powf(x, 0.5)` into `sqrt(x)` as it does for an x it knows is >= 0: the
+//! two differ in the last bit now and then), the filter weights built as `setSpatialFilters`
+//! and `setFeatureFilter` build them, and the image edge clamped as the C++ clamps it.
+//!
+//! What differs is only the order of the loops, never the order of a sum: one side (an 8-bit
+//! image) is filtered at a time, over an output rectangle, row by row. A source row is turned
+//! into YCxCz once (sRGB to linear through a 256-entry table of nv-flip's very function of
+//! `v / 255`), edge-replicated into a padded row; the horizontal passes run "for each tap, for
+//! each x" over that row and the vertical ones over a ring of the last `2R + 1` horizontal rows,
+//! so LLVM vectorises across pixels while every pixel's sum still adds its taps -R..R in order.
+//! [`Side`] is what one side contributes to a pixel's FLIP (its filtered Lab after Hunt, its
+//! edge and point feature values); [`flip_value`] combines a reference side with a test side.
+
+// The literals are nv-flip's as written in its headers (then rounded to f32 as there).
+#![allow(clippy::excessive_precision, clippy::approx_constant)]
+
+/// `FLIP::PI` (sharedflip.h), an f32.
+const PI: f32 = 3.141_592_653_589_79;
+/// `FLIPConstants` (sharedflip.h).
+const GQC: f32 = 0.7;
+const GPC: f32 = 0.4;
+const GPT: f32 = 0.95;
+const GW: f32 = 0.082;
+const GQF: f32 = 0.5;
+/// `DEFAULT_ILLUMINANT` and `INV_DEFAULT_ILLUMINANT` (color.h).
+const ILLUMINANT: [f32; 3] = [0.950_428_545, 1.0, 1.088_900_371];
+const INV_ILLUMINANT: [f32; 3] = [1.052_156_925, 1.0, 0.918_357_670];
+
+/// `color3::LinearRGB2XYZ`'s matrix, each entry an f32 quotient of f32 literals as in color.h.
+const RGB_TO_XYZ: [[f32; 3]; 3] = [
+    [
+        10135552.0f32 / 24577794.0f32,
+        8788810.0f32 / 24577794.0f32,
+        4435075.0f32 / 24577794.0f32,
+    ],
+    [
+        2613072.0f32 / 12288897.0f32,
+        8788810.0f32 / 12288897.0f32,
+        887015.0f32 / 12288897.0f32,
+    ],
+    [
+        1425312.0f32 / 73733382.0f32,
+        8788810.0f32 / 73733382.0f32,
+        70074185.0f32 / 73733382.0f32,
+    ],
+];
+/// `color3::XYZ2LinearRGB`'s matrix.
+const XYZ_TO_RGB: [[f32; 3]; 3] = [
+    [3.241_003_275, -1.537_398_934, -0.498_615_861],
+    [-0.969_224_334, 1.875_930_071, 0.041_554_224],
+    [0.055_639_423, -0.204_011_202, 1.057_148_933],
+];
+
+/// `m * v` as color.h writes it: `a1 * x + a2 * y + a3 * z`, left to right.
+fn mat(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
+    m.map(|r| r[0] * v[0] + r[1] * v[1] + r[2] * v[2])
+}
+
+/// `color3::sRGB2LinearRGB` of one channel.
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// `color3::XYZ2CIELab` (D65).
+fn xyz_to_lab(xyz: [f32; 3]) -> [f32; 3] {
+    let delta = 6.0f32 / 29.0;
+    let delta_square = delta * delta;
+    let delta_cube = delta * delta_square;
+    let factor = 1.0 / (3.0 * delta_square);
+    let term = 4.0f32 / 29.0;
+    let v = [0, 1, 2].map(|i| {
+        let v = xyz[i] * INV_ILLUMINANT[i];
+        if v > delta_cube {
+            v.powf(std::hint::black_box(1.0 / 3.0))
+        } else {
+            factor * v + term
+        }
+    });
+    [
+        116.0 * v[1] - 16.0,
+        500.0 * (v[0] - v[1]),
+        200.0 * (v[1] - v[2]),
+    ]
+}
+
+/// `color3::Hunt` applied to a Lab colour's a and b (color.h; `FLIP::computeColorDifference`).
+fn hunt(lab: [f32; 3]) -> [f32; 3] {
+    [lab[0], 0.01 * lab[0] * lab[1], 0.01 * lab[0] * lab[2]]
+}
+
+/// `color3::HyAB`.
+fn hyab(a: &[f32; 3], b: &[f32; 3]) -> f32 {
+    let (da, db) = (a[1] - b[1], a[2] - b[2]);
+    (a[0] - b[0]).abs() + (da * da + db * db).sqrt()
+}
+
+/// `Min(Max(v, 0), 1)` with nv-flip's macros (`x > y ? x : y`).
+fn clamp01(v: f32) -> f32 {
+    let m = if v > 0.0 { v } else { 0.0 };
+    if m > 1.0 {
+        1.0
+    } else {
+        m
+    }
+}
+
+/// The filters and constants of FLIP at a pixels-per-degree value.
+#[derive(Debug, Clone)]
+pub(crate) struct Params {
+    /// Spatial (CSF) filter radius, `calculateSpatialFilterRadius`.
+    pub(crate) spatial_radius: usize,
+    /// Feature filter radius, `ceil(3 * 0.5 * gw * ppd)`.
+    pub(crate) feature_radius: usize,
+    /// `setSpatialFilters`: YCx's x and y weights, Cz's x and y weights.
+    spatial: [Vec<f32>; 4],
+    /// `setFeatureFilter`: the Gaussian, its 1st and 2nd derivative.
+    feature: [Vec<f32>; 3],
+    cmax: f32,
+    pccmax: f32,
+    /// `linear[v]`: nv-flip's linear value of the 8-bit channel value `v` (`v / 255` to linear).
+    linear: [f32; 256],
+}
+
+/// `Gaussian(x2, a, b)` of sharedflip.h.
+fn gaussian_ab(x2: f32, a: f32, b: f32) -> f32 {
+    let pi_sq = PI * PI;
+    a * (PI / b).sqrt() * (-pi_sq * x2 / b).exp()
+}
+
+/// `GaussianSqrt(x2, a, b)` of sharedflip.h.
+fn gaussian_sqrt(x2: f32, a: f32, b: f32) -> f32 {
+    let pi_sq = PI * PI;
+    (a * (PI / b).sqrt()).sqrt() * (-pi_sq * x2 / b).exp()
+}
+
+impl Params {
+    pub(crate) fn new(ppd: f32) -> Params {
+        let pi_sq = PI * PI;
+        // GaussianConstants: the largest scale parameter is b1.z = 0.04.
+        let b_max = 0.0047f32.max(0.0053).max(0.04).max(1.0e-5).max(0.025);
+        let spatial_radius = (3.0 * (b_max / (2.0 * pi_sq)).sqrt() * ppd).ceil() as usize;
+        let spatial = spatial_filters(ppd, spatial_radius);
+        let (feature_radius, feature) = feature_filter(ppd);
+        // color3::computeMaxDistance(gqc)
+        let lab = |rgb| hunt(xyz_to_lab(mat(&RGB_TO_XYZ, rgb)));
+        let (green, blue) = (lab([0.0, 1.0, 0.0]), lab([0.0, 0.0, 1.0]));
+        let cmax = hyab(&green, &blue).powf(GQC);
+        let mut linear = [0.0f32; 256];
+        for (v, l) in linear.iter_mut().enumerate() {
+            *l = srgb_to_linear(v as f32 / 255.0);
+        }
+        Params {
+            spatial_radius,
+            feature_radius,
+            spatial,
+            feature,
+            cmax,
+            pccmax: GPC * cmax,
+            linear,
+        }
+    }
+
+    /// The widest of the two filters' radii: how far a pixel's FLIP reads.
+    pub(crate) fn radius(&self) -> usize {
+        self.spatial_radius.max(self.feature_radius)
+    }
+
+    /// nv-flip's YCxCz of an 8-bit sRGB pixel (`image::sRGB2YCxCz`).
+    fn ycxcz(&self, p: &[u8]) -> [f32; 3] {
+        let rgb = [p[0], p[1], p[2]].map(|v| self.linear[v as usize]);
+        let xyz = mat(&RGB_TO_XYZ, rgb);
+        let v = [0, 1, 2].map(|i| xyz[i] * INV_ILLUMINANT[i]);
+        [
+            116.0 * v[1] - 16.0,
+            500.0 * (v[0] - v[1]),
+            200.0 * (v[1] - v[2]),
+        ]
+    }
+}
+
+/// `setSpatialFilters`: the normalised YCx (x, y) and Cz (x, y) weights of width `2r + 1`.
+fn spatial_filters(ppd: f32, r: usize) -> [Vec<f32>; 4] {
+    let delta_x = 1.0 / ppd;
+    let width = 2 * r + 1;
+    let mut raw = [(); 4].map(|_| Vec::with_capacity(width));
+    let (mut sum_y, mut sum_cx, mut sum_cz1, mut sum_cz2) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    for x in 0..width {
+        let ix = (x as i32 - r as i32) as f32 * delta_x;
+        let ix2 = ix * ix;
+        let g = [
+            gaussian_ab(ix2, 1.0, 0.0047),
+            gaussian_ab(ix2, 1.0, 0.0053),
+            gaussian_sqrt(ix2, 34.1, 0.04),
+            gaussian_sqrt(ix2, 13.5, 0.025),
+        ];
+        sum_y += g[0];
+        sum_cx += g[1];
+        sum_cz1 += g[2];
+        sum_cz2 += g[3];
+        for (v, g) in raw.iter_mut().zip(g) {
+            v.push(g);
+        }
+    }
+    let (norm_y, norm_cx) = (1.0 / sum_y, 1.0 / sum_cx);
+    let norm_cz = 1.0 / (sum_cz1 * sum_cz1 + sum_cz2 * sum_cz2).sqrt();
+    let [y, cx, cz1, cz2] = raw;
+    let scale = |v: Vec<f32>, n: f32| v.into_iter().map(|w| w * n).collect();
+    [
+        scale(y, norm_y),
+        scale(cx, norm_cx),
+        scale(cz1, norm_cz),
+        scale(cz2, norm_cz),
+    ]
+}
+
+/// `setFeatureFilter`: the radius and the normalised Gaussian, 1st and 2nd derivative weights.
+fn feature_filter(ppd: f32) -> (usize, [Vec<f32>; 3]) {
+    let std_dev = 0.5 * GW * ppd;
+    let radius = (3.0 * std_dev).ceil() as usize;
+    let width = 2 * radius + 1;
+    let (mut g_sum, mut dg_neg, mut dg_pos, mut ddg_neg, mut ddg_pos) =
+        (0.0f32, 0.0, 0.0, 0.0, 0.0);
+    let mut raw = Vec::with_capacity(width);
+    for x in 0..width {
+        let xx = (x as i32 - radius as i32) as f32;
+        let g = (-(xx * xx) / (2.0 * std_dev * std_dev)).exp();
+        g_sum += g;
+        let dg = -xx * g;
+        if dg > 0.0 {
+            dg_pos += dg;
+        } else {
+            dg_neg -= dg;
+        }
+        let ddg = (xx * xx / (std_dev * std_dev) - 1.0) * g;
+        if ddg > 0.0 {
+            ddg_pos += ddg;
+        } else {
+            ddg_neg -= ddg;
+        }
+        raw.push([g, dg, ddg]);
+    }
+    let mut out = [(); 3].map(|_| Vec::with_capacity(width));
+    for [g, dg, ddg] in raw {
+        out[0].push(g / g_sum);
+        out[1].push(dg / if dg > 0.0 { dg_pos } else { dg_neg });
+        out[2].push(ddg / if ddg > 0.0 { ddg_pos } else { ddg_neg });
+    }
+    (radius, out)
+}
+
+/// What one side (reference or test) contributes to a pixel's FLIP: its spatially filtered
+/// colour in Lab after the Hunt adjustment, and its edge and point feature values.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Side {
+    pub(crate) lab: [f32; 3],
+    pub(crate) edge: f32,
+    pub(crate) point: f32,
+}
+
+/// A pixel's FLIP from its two sides: `computeColorDifference`'s end and
+/// `computeFeatureDifferenceAndFinalError`'s.
+pub(crate) fn flip_value(p: &Params, reference: &Side, test: &Side) -> f32 {
+    let mut color = hyab(&reference.lab, &test.lab).powf(std::hint::black_box(GQC));
+    if color < p.pccmax {
+        color *= GPT / p.pccmax;
+    } else {
+        color = GPT + ((color - p.pccmax) / (p.cmax - p.pccmax)) * (1.0 - GPT);
+    }
+    let normalization = 1.0 / 2.0f32.sqrt();
+    let edge = (reference.edge - test.edge).abs();
+    let point = (reference.point - test.point).abs();
+    // powf(x, 0.5) as nv-flip calls it: LLVM would turn `x.powf(0.5)` of an x it knows to be
+    // >= 0 into sqrt, which differs from glibc's powf in the last bit now and then (found by
+    // the noise tests), so the exponent is hidden from the optimiser
+    let feature =
+        (normalization * if edge > point { edge } else { point }).powf(std::hint::black_box(GQF));
+    color.powf(1.0 - feature)
+}
+
+/// An output rectangle of pixels, ends exclusive.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Area {
+    pub(crate) x0: usize,
+    pub(crate) y0: usize,
+    pub(crate) x1: usize,
+    pub(crate) y1: usize,
+}
+
+/// Planes of the horizontal pass: YCx (x, y), Cz (x, y), then the feature filter's
+/// 1st derivative, 2nd derivative and Gaussian of the normalised Y.
+const PLANES: usize = 7;
+
+/// Filters one side, the 8-bit RGB image `src` (`w` x `h`), over `area`, and hands each pixel's
+/// [`Side`] to `out(x, y, side)` in row-major order. The image edge is clamped as nv-flip
+/// clamps it (the full image's, not the area's).
+pub(crate) fn filter_side(
+    p: &Params,
+    src: &[u8],
+    (w, h): (usize, usize),
+    area: Area,
+    mut out: impl FnMut(usize, usize, Side),
+) {
+    let r = p.radius();
+    let rw = area.x1 - area.x0;
+    let ring_rows = 2 * r + 1;
+    // padded row: YCxCz planes and the feature filter's normalised Y, columns x0-r..x1+r
+    let pw = rw + 2 * r;
+    let mut padded = [(); 4].map(|_| vec![0.0f32; pw]);
+    let mut ring = [(); PLANES].map(|_| vec![0.0f32; ring_rows * rw]);
+    let mut acc = [(); 8].map(|_| vec![0.0f32; rw]);
+    let (first, last) = (area.y0.saturating_sub(r), (area.y1 + r).min(h));
+    let mut next = first;
+    for y in area.y0..area.y1 {
+        while next < last && next <= y + r {
+            let slot = next % ring_rows;
+            pad_row(
+                p,
+                &src[3 * w * next..3 * w * (next + 1)],
+                area.x0,
+                r,
+                &mut padded,
+            );
+            horizontal(p, &padded, r, rw, slot, &mut ring);
+            next += 1;
+        }
+        vertical(p, &ring, y, h, rw, &mut acc);
+        for i in 0..rw {
+            out(area.x0 + i, y, side_at(&acc, i));
+        }
+    }
+}
+
+/// Source row `row`'s columns `x0 - r .. x0 + width + r` (clamped to the row) in YCxCz and
+/// normalised Y (`Y / 116 + 16 / 116` as the feature pass computes it per tap).
+fn pad_row(p: &Params, row: &[u8], x0: usize, r: usize, padded: &mut [Vec<f32>; 4]) {
+    let w = row.len() / 3;
+    let one_over_116 = 1.0f32 / 116.0;
+    let sixteen_over_116 = 16.0f32 / 116.0;
+    for i in 0..padded[0].len() {
+        let x = (x0 + i).saturating_sub(r).min(w - 1);
+        let c = p.ycxcz(&row[3 * x..3 * x + 3]);
+        padded[0][i] = c[0];
+        padded[1][i] = c[1];
+        padded[2][i] = c[2];
+        padded[3][i] = c[0] * one_over_116 + sixteen_over_116;
+    }
+}
+
+/// `acc[i] += weight * src[i]` over a row: one tap of a separable filter for every pixel.
+fn tap(acc: &mut [f32], src: &[f32], weight: f32) {
+    for (a, &s) in acc.iter_mut().zip(src) {
+        *a += weight * s;
+    }
+}
+
+/// The horizontal passes of one padded row into ring slot `slot`.
+fn horizontal(
+    p: &Params,
+    padded: &[Vec<f32>; 4],
+    r: usize,
+    rw: usize,
+    slot: usize,
+    ring: &mut [Vec<f32>; PLANES],
+) {
+    let row = slot * rw..(slot + 1) * rw;
+    for plane in ring.iter_mut() {
+        plane[row.clone()].fill(0.0);
+    }
+    let [ycx_x, ycx_y, cz_x, cz_y, f_dx, f_ddx, f_g] = ring;
+    let (rs, rf) = (p.spatial_radius, p.feature_radius);
+    for k in 0..2 * rs + 1 {
+        let o = r - rs + k;
+        tap(&mut ycx_x[row.clone()], &padded[0][o..], p.spatial[0][k]);
+        tap(&mut ycx_y[row.clone()], &padded[1][o..], p.spatial[1][k]);
+        tap(&mut cz_x[row.clone()], &padded[2][o..], p.spatial[2][k]);
+        tap(&mut cz_y[row.clone()], &padded[2][o..], p.spatial[3][k]);
+    }
+    for k in 0..2 * rf + 1 {
+        let o = r - rf + k;
+        // featureWeights (x: Gaussian, y: 1st derivative, z: 2nd derivative)
+        tap(&mut f_dx[row.clone()], &padded[3][o..], p.feature[1][k]);
+        tap(&mut f_ddx[row.clone()], &padded[3][o..], p.feature[2][k]);
+        tap(&mut f_g[row.clone()], &padded[3][o..], p.feature[0][k]);
+    }
+}
+
+/// The vertical passes for output row `y` from the ring: `acc` gets the filtered YCx (x, y),
+/// Cz (x, y), and the feature sums dx, ddx, dy, ddy.
+fn vertical(
+    p: &Params,
+    ring: &[Vec<f32>; PLANES],
+    y: usize,
+    h: usize,
+    rw: usize,
+    acc: &mut [Vec<f32>; 8],
+) {
+    for a in acc.iter_mut() {
+        a.fill(0.0);
+    }
+    let ring_rows = ring[0].len() / rw.max(1);
+    let at = |plane: usize, yy: usize| {
+        let slot = yy % ring_rows;
+        &ring[plane][slot * rw..(slot + 1) * rw]
+    };
+    let clamped = |k: usize, radius: usize| (y + k).saturating_sub(radius).min(h - 1);
+    let rs = p.spatial_radius;
+    for k in 0..2 * rs + 1 {
+        let yy = clamped(k, rs);
+        for (c, a) in acc.iter_mut().take(4).enumerate() {
+            tap(a, at(c, yy), p.spatial[c][k]);
+        }
+    }
+    let rf = p.feature_radius;
+    let [_, _, _, _, dx, ddx, dy, ddy] = acc;
+    for k in 0..2 * rf + 1 {
+        let yy = clamped(k, rf);
+        let g = p.feature[0][k];
+        tap(dx, at(4, yy), g);
+        tap(ddx, at(5, yy), g);
+        tap(dy, at(6, yy), p.feature[1][k]);
+        tap(ddy, at(6, yy), p.feature[2][k]);
+    }
+}
+
+/// Pixel `i` of the vertical sums as a [`Side`]: YCxCz to XYZ to linear RGB, clamped, to XYZ,
+/// Lab and Hunt; the edge and point values from the feature sums.
+fn side_at(acc: &[Vec<f32>; 8], i: usize) -> Side {
+    let ycxcz = [acc[0][i], acc[1][i], acc[2][i] + acc[3][i]];
+    // color3::YCxCz2XYZ
+    let yy = (ycxcz[0] + 16.0) / 116.0;
+    let (cx, cz) = (ycxcz[1] / 500.0, ycxcz[2] / 200.0);
+    let xyz = [yy + cx, yy, yy - cz];
+    let xyz = [0, 1, 2].map(|c| xyz[c] * ILLUMINANT[c]);
+    let rgb = mat(&XYZ_TO_RGB, xyz).map(clamp01);
+    let lab = hunt(xyz_to_lab(mat(&RGB_TO_XYZ, rgb)));
+    let (dx, ddx, dy, ddy) = (acc[4][i], acc[5][i], acc[6][i], acc[7][i]);
+    Side {
+        lab,
+        edge: (dx * dx + dy * dy).sqrt(),
+        point: (ddx * ddx + ddy * ddy).sqrt(),
+    }
+}

@@ -1,0 +1,264 @@
+//! FLIP (NVIDIA's perceptual image difference, LDR) of a method's 8-bit image against the
+//! reference's, in Rust ([`kernel`]: nv-flip's C++ operation for operation, bit for bit), with
+//! the reference's half computed once per run ([`FlipReference`]) and the test's half only
+//! where FLIP can differ from zero.
+//!
+//! # Why computing near the differing pixels only is exact
+//! FLIP's value at a pixel is a pointwise function of the two images filtered by kernels of
+//! finite support (the CSF filter and the edge/point detectors, both separable, radius
+//! [`kernel::Params::radius`] at most, clamped at the image border): it reads the input pixels
+//! within Chebyshev distance `r` of it and nothing else (no global normalisation in LDR-FLIP).
+//! Where the two 8-bit images agree over that whole neighbourhood, every filtered value is the
+//! same on both sides and the pixel's FLIP is exactly +0.0 (HyAB of equal colours is 0,
+//! `0^q = 0`). So for a set `B` of differing pixels (a rectangle), the test side is filtered
+//! over `B + r` (clipped to the image, edges clamped as for the whole image) and every pixel
+//! farther than `r` from every differing pixel is +0.0. [`FlipReference::map`] groups the
+//! differing pixels into rectangles ([`regions`]: grid cells of the size that minimises the
+//! pixels computed, or one bounding box); the tests check the map bit for bit against nv-flip
+//! over the whole image (`flip_map_full`, the oracle, a dev-dependency).
+mod kernel;
+
+use glam::DVec3;
+use kernel::{Area, Params, Side};
+
+use crate::analysis::stats::percentile;
+use crate::output;
+
+pub(crate) fn srgb_rgb8(color: impl Iterator<Item = DVec3>) -> Vec<u8> {
+    let mut rgb = Vec::with_capacity(3 * color.size_hint().0);
+    for c in color {
+        rgb.extend_from_slice(&[c.x, c.y, c.z].map(|v| output::srgb8(v as f32)));
+    }
+    rgb
+}
+
+/// The pixels per degree every FLIP of the tool uses: nv-flip's default
+/// (`nv_flip::DEFAULT_PIXELS_PER_DEGREE`, 67, checked by a test), a 0.7 m viewing distance
+/// from a 0.7 m wide 4K monitor.
+const PPD: f32 = 67.0;
+
+/// A pixel rectangle, ends exclusive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Rect {
+    x0: usize,
+    y0: usize,
+    x1: usize,
+    y1: usize,
+}
+
+impl Rect {
+    fn grow(self, r: usize, w: usize, h: usize) -> Rect {
+        Rect {
+            x0: self.x0.saturating_sub(r),
+            y0: self.y0.saturating_sub(r),
+            x1: (self.x1 + r).min(w),
+            y1: (self.y1 + r).min(h),
+        }
+    }
+    fn area(&self) -> usize {
+        (self.x1 - self.x0) * (self.y1 - self.y0)
+    }
+    fn union(a: Option<Rect>, b: Rect) -> Rect {
+        match a {
+            None => b,
+            Some(a) => Rect {
+                x0: a.x0.min(b.x0),
+                y0: a.y0.min(b.y0),
+                x1: a.x1.max(b.x1),
+                y1: a.y1.max(b.y1),
+            },
+        }
+    }
+}
+
+/// Finest grid cell (pixels) in which the differing pixels are boxed.
+const CELL: usize = 8;
+
+/// The bounding boxes of the pixels where the two RGB8 images differ, per `CELL` x `CELL` cell
+/// (row-major cells; `None` where the cell has none), and the number of cell columns.
+fn differing_cells(
+    reference: &[u8],
+    test: &[u8],
+    w: usize,
+    h: usize,
+) -> (Vec<Option<Rect>>, usize) {
+    let cw = w.div_ceil(CELL);
+    let mut cells = vec![None; cw * h.div_ceil(CELL)];
+    for y in 0..h {
+        let row = 3 * w * y..3 * w * (y + 1);
+        let (a, b) = (&reference[row.clone()], &test[row]);
+        if a == b {
+            continue;
+        }
+        for x in 0..w {
+            if a[3 * x..3 * x + 3] != b[3 * x..3 * x + 3] {
+                let c = &mut cells[(y / CELL) * cw + x / CELL];
+                let px = Rect {
+                    x0: x,
+                    y0: y,
+                    x1: x + 1,
+                    y1: y + 1,
+                };
+                *c = Some(Rect::union(*c, px));
+            }
+        }
+    }
+    (cells, cw)
+}
+
+/// The rectangles whose crops [`flip_map`] computes: the differing pixels' boxes in cells of
+/// `CELL * 2^k` pixels (k = 0..5), or their one bounding box, whichever computes the fewest
+/// pixels (crop areas `box + 2r`, summed).
+fn regions(reference: &[u8], test: &[u8], w: usize, h: usize, r: usize) -> Vec<Rect> {
+    let (mut cells, mut cw) = differing_cells(reference, test, w, h);
+    let cost = |rects: &[Option<Rect>]| -> usize {
+        rects
+            .iter()
+            .flatten()
+            .map(|b| b.grow(2 * r, w, h).area())
+            .sum()
+    };
+    let mut best: Vec<Rect> = cells.iter().flatten().copied().collect();
+    let mut best_cost = cost(&cells);
+    // Coarser grids: merge 2 x 2 cells at a time; the last step (one cell) is the bounding box.
+    while cells.len() > 1 {
+        let ch = cells.len() / cw;
+        let (nw, nh) = (cw.div_ceil(2), ch.div_ceil(2));
+        let mut merged = vec![None; nw * nh];
+        for (i, c) in cells.iter().enumerate() {
+            if let Some(c) = c {
+                let m = &mut merged[(i / cw / 2) * nw + (i % cw) / 2];
+                *m = Some(Rect::union(*m, *c));
+            }
+        }
+        (cells, cw) = (merged, nw);
+        let c = cost(&cells);
+        if c < best_cost {
+            best_cost = c;
+            best = cells.iter().flatten().copied().collect();
+        }
+    }
+    best
+}
+
+/// The reference's half of FLIP, computed once per compare run and shared read-only by the
+/// workers: per pixel its filtered Lab after Hunt and its edge and point feature values.
+pub(crate) struct FlipReference {
+    params: Params,
+    ref8: Vec<u8>,
+    width: usize,
+    height: usize,
+    sides: Vec<Side>,
+}
+
+impl FlipReference {
+    /// The reference side of the RGB8 image `ref8` (`width` x `height`).
+    pub(crate) fn new(ref8: &[u8], width: u32, height: u32) -> FlipReference {
+        FlipReference::with_ppd(ref8, width, height, PPD)
+    }
+
+    /// [`FlipReference::new`] at another pixels-per-degree (the tests' teeth).
+    fn with_ppd(ref8: &[u8], width: u32, height: u32, ppd: f32) -> FlipReference {
+        let (w, h) = (width as usize, height as usize);
+        assert_eq!(
+            ref8.len(),
+            3 * w * h,
+            "FLIP reference: not a {w}x{h} RGB8 image"
+        );
+        let params = Params::new(ppd);
+        let mut sides = Vec::with_capacity(w * h);
+        if w > 0 && h > 0 {
+            let all = Area {
+                x0: 0,
+                y0: 0,
+                x1: w,
+                y1: h,
+            };
+            kernel::filter_side(&params, ref8, (w, h), all, |_, _, s| sides.push(s));
+        }
+        FlipReference {
+            params,
+            ref8: ref8.to_vec(),
+            width: w,
+            height: h,
+            sides,
+        }
+    }
+
+    /// The FLIP map of the RGB8 image `test` against the reference, equal bit for bit to
+    /// nv-flip's over the whole image (module doc), the test side computed only within the
+    /// filter radius of the pixels where the two images differ.
+    pub(crate) fn map(&self, test: &[u8]) -> Vec<f32> {
+        self.map_within(test, self.params.radius())
+    }
+
+    /// [`FlipReference::map`] computing the test side within `r` of the differing pixels
+    /// (exact for `r >= radius`; the tests give a smaller one to see the map change).
+    fn map_within(&self, test: &[u8], r: usize) -> Vec<f32> {
+        let (w, h) = (self.width, self.height);
+        assert_eq!(
+            test.len(),
+            self.ref8.len(),
+            "FLIP: test image of another size"
+        );
+        let mut map = vec![0.0f32; w * h];
+        for b in regions(&self.ref8, test, w, h, r) {
+            let v = b.grow(r, w, h);
+            let area = Area {
+                x0: v.x0,
+                y0: v.y0,
+                x1: v.x1,
+                y1: v.y1,
+            };
+            kernel::filter_side(&self.params, test, (w, h), area, |x, y, t| {
+                let i = y * w + x;
+                map[i] = kernel::flip_value(&self.params, &self.sides[i], &t);
+            });
+        }
+        map
+    }
+}
+
+/// Mean and p95 (nearest rank) of a FLIP map over the `mask` pixels, in pixel order.
+pub(crate) fn pool(map: &[f32], mask: &[bool]) -> (f64, f64) {
+    let mut v: Vec<f64> = map
+        .iter()
+        .zip(mask)
+        .filter(|(_, &m)| m)
+        .map(|(&e, _)| e as f64)
+        .collect();
+    let mean = if v.is_empty() {
+        0.0
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    (mean, percentile(&mut v, 95.0))
+}
+
+/// nv-flip's map of the whole image at once: the oracle the Rust FLIP is checked against.
+#[cfg(test)]
+pub(crate) fn flip_map_full(reference: &[u8], test: &[u8], width: u32, height: u32) -> Vec<f32> {
+    let r = nv_flip::FlipImageRgb8::with_data(width, height, reference);
+    let t = nv_flip::FlipImageRgb8::with_data(width, height, test);
+    nv_flip::flip(r, t, PPD).to_vec()
+}
+
+/// [`FlipReference::map`] computing the test side `delta` pixels off the filter radius
+/// (tests elsewhere: too small a radius must change the map).
+#[cfg(test)]
+pub(crate) fn map_off_radius_for_test(
+    reference: &FlipReference,
+    test: &[u8],
+    delta: isize,
+) -> Vec<f32> {
+    let r = reference.params.radius().saturating_add_signed(delta);
+    reference.map_within(test, r)
+}
+
+/// FLIP of the RGB8 image `test` against the reference, pooled (mean, p95) over `mask` pixels.
+pub(crate) fn flip(reference: &FlipReference, test: &[u8], mask: &[bool]) -> (f64, f64) {
+    pool(&reference.map(test), mask)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,248 @@
+//! The Rust FLIP against nv-flip (the oracle, whole image at once) bit for bit, with teeth: a
+//! perturbed pixels-per-degree or a radius one pixel short must change the map.
+use super::*;
+
+/// A smooth RGB8 image (gradients and a disc), so that the filters see structure.
+fn image(w: usize, h: usize) -> Vec<u8> {
+    let mut v = Vec::with_capacity(3 * w * h);
+    for y in 0..h {
+        for x in 0..w {
+            let (dx, dy) = (x as f64 - w as f64 / 2.0, y as f64 / 1.3 - h as f64 / 2.6);
+            let disc = if dx * dx + dy * dy < (w * w) as f64 / 9.0 {
+                90.0
+            } else {
+                0.0
+            };
+            v.push((x * 255 / w) as u8);
+            v.push(((y * 200 / h) as f64 + disc * 0.5) as u8);
+            v.push((40.0 + disc) as u8);
+        }
+    }
+    v
+}
+
+/// An RGB8 image of uniform noise.
+fn noise(rng: &mut fastrand::Rng, w: usize, h: usize) -> Vec<u8> {
+    (0..3 * w * h).map(|_| rng.u8(..)).collect()
+}
+
+fn bits(map: &[f32]) -> Vec<u32> {
+    map.iter().map(|v| v.to_bits()).collect()
+}
+
+/// `image` with the pixels `at` changed (by a step that varies per pixel).
+fn changed(base: &[u8], w: usize, at: &[(usize, usize)]) -> Vec<u8> {
+    let mut t = base.to_vec();
+    for (k, &(x, y)) in at.iter().enumerate() {
+        let o = 3 * (y * w + x) + k % 3;
+        t[o] = t[o].wrapping_add(1 + (k as u8 % 7) * 30);
+    }
+    t
+}
+
+/// The Rust map of `test` against `reference` equals nv-flip's bit for bit.
+fn assert_same_as_nv_flip(reference: &[u8], test: &[u8], w: usize, h: usize, name: &str) {
+    let ours = FlipReference::new(reference, w as u32, h as u32).map(test);
+    let full = flip_map_full(reference, test, w as u32, h as u32);
+    let differ = (0..w * h).find(|&i| ours[i].to_bits() != full[i].to_bits());
+    assert!(
+        differ.is_none(),
+        "{name} ({w}x{h}): pixel {differ:?} is {:?}, nv-flip {:?}",
+        differ.map(|i| ours[i]),
+        differ.map(|i| full[i])
+    );
+}
+
+/// Noise against noise (FLIP everywhere) and noise against itself with scattered changes, at
+/// sizes down to smaller than the filters (21 and 19 pixels wide) and non-square ones.
+#[test]
+fn noise_images_give_nv_flips_map_bit_for_bit() {
+    let mut rng = fastrand::Rng::with_seed(2626);
+    for (w, h) in [
+        (1, 1),
+        (2, 3),
+        (7, 1),
+        (1, 9),
+        (5, 4),
+        (17, 9),
+        (23, 61),
+        (64, 48),
+        (131, 37),
+    ] {
+        let a = noise(&mut rng, w, h);
+        let b = noise(&mut rng, w, h);
+        assert_same_as_nv_flip(&a, &b, w, h, "noise vs noise");
+        let at: Vec<_> = (0..(w * h).div_ceil(20))
+            .map(|_| (rng.usize(..w), rng.usize(..h)))
+            .collect();
+        assert_same_as_nv_flip(&a, &changed(&a, w, &at), w, h, "noise, scattered");
+        assert_same_as_nv_flip(&a, &a, w, h, "noise vs itself");
+    }
+}
+
+/// Every channel of most pixels one step (1 LSB) up or down: the smallest differences.
+#[test]
+fn dense_one_lsb_differences_give_nv_flips_map_bit_for_bit() {
+    let mut rng = fastrand::Rng::with_seed(1);
+    let (w, h) = (96usize, 71usize);
+    for base in [image(w, h), noise(&mut rng, w, h), vec![128u8; 3 * w * h]] {
+        let test: Vec<u8> = base
+            .iter()
+            .map(|&v| match rng.u8(..3) {
+                0 => v.saturating_add(1),
+                1 => v.saturating_sub(1),
+                _ => v,
+            })
+            .collect();
+        assert_same_as_nv_flip(&base, &test, w, h, "1 LSB");
+    }
+}
+
+/// Differences at the corners, on every edge, isolated inside, in a cluster, and dense: the
+/// map computed near the differing pixels only is nv-flip's whole-image map bit for bit (and
+/// so the pooled figures are the same).
+#[test]
+fn single_pixels_at_corners_and_edges_give_nv_flips_map_bit_for_bit() {
+    let (w, h) = (150usize, 97usize);
+    let base = image(w, h);
+    let mut rng = fastrand::Rng::with_seed(26);
+    let dense: Vec<_> = (0..w * h / 3)
+        .map(|_| (rng.usize(..w), rng.usize(..h)))
+        .collect();
+    let cases: Vec<(&str, Vec<(usize, usize)>)> = vec![
+        ("none", vec![]),
+        (
+            "corners",
+            vec![(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1)],
+        ),
+        (
+            "edges",
+            vec![(70, 0), (0, 40), (w - 1, 51), (33, h - 1), (1, 1)],
+        ),
+        ("isolated", vec![(40, 30), (100, 70), (75, 12), (12, 80)]),
+        (
+            "cluster",
+            (60..75)
+                .flat_map(|x| (40..48).map(move |y| (x, y)))
+                .collect(),
+        ),
+        ("dense", dense),
+    ];
+    let mask: Vec<bool> = (0..w * h).map(|i| i % 5 != 0).collect();
+    let reference = FlipReference::new(&base, w as u32, h as u32);
+    for (name, at) in cases {
+        let test = changed(&base, w, &at);
+        let full = flip_map_full(&base, &test, w as u32, h as u32);
+        let ours = reference.map(&test);
+        let differ = (0..w * h).find(|&i| ours[i].to_bits() != full[i].to_bits());
+        assert!(
+            differ.is_none(),
+            "{name}: pixel {differ:?} is {:?}, nv-flip {:?}",
+            differ.map(|i| ours[i]),
+            differ.map(|i| full[i])
+        );
+        let (a, b) = (pool(&ours, &mask), pool(&full, &mask));
+        assert_eq!(
+            (a.0.to_bits(), a.1.to_bits()),
+            (b.0.to_bits(), b.1.to_bits())
+        );
+        if !at.is_empty() {
+            assert!(
+                full.iter().any(|&v| v > 0.0),
+                "{name}: no FLIP error at all"
+            );
+        }
+    }
+}
+
+/// Teeth: filters built for a pixels-per-degree 1 % off (other weights, same radii) give a
+/// map that is not nv-flip's, so the bit-for-bit checks can fail.
+#[test]
+fn a_perturbed_pixels_per_degree_is_not_nv_flip() {
+    let (w, h) = (64usize, 48usize);
+    let base = image(w, h);
+    let test = changed(&base, w, &[(30, 20), (0, 0), (63, 47), (10, 40)]);
+    let full = flip_map_full(&base, &test, w as u32, h as u32);
+    let exact = FlipReference::with_ppd(&base, w as u32, h as u32, PPD).map(&test);
+    assert_eq!(bits(&exact), bits(&full));
+    let off = FlipReference::with_ppd(&base, w as u32, h as u32, PPD * 1.01);
+    assert_eq!(off.params.radius(), exact_radius());
+    assert_ne!(bits(&off.map(&test)), bits(&full));
+}
+
+fn exact_radius() -> usize {
+    Params::new(PPD).radius()
+}
+
+/// Teeth: the test side computed one pixel short of the radius (r - 1) gives a different map
+/// where the differences sit near the image edges and inside.
+#[test]
+fn a_radius_one_short_changes_the_map() {
+    let (w, h) = (120usize, 90usize);
+    let base = image(w, h);
+    let test = changed(&base, w, &[(60, 45), (5, 5), (119, 30)]);
+    let full = flip_map_full(&base, &test, w as u32, h as u32);
+    let reference = FlipReference::new(&base, w as u32, h as u32);
+    assert_eq!(
+        bits(&map_off_radius_for_test(&reference, &test, 0)),
+        bits(&full)
+    );
+    assert_ne!(
+        bits(&map_off_radius_for_test(&reference, &test, -1)),
+        bits(&full)
+    );
+}
+
+/// The local pixels-per-degree is nv-flip's default.
+#[test]
+fn ppd_is_nv_flips_default() {
+    assert_eq!(PPD.to_bits(), nv_flip::DEFAULT_PIXELS_PER_DEGREE.to_bits());
+}
+
+/// A one-pixel difference reaches no farther than the radius (on black, grey and light
+/// grounds, up and down): what computing near the differing pixels relies on. That it reaches
+/// as far as the radius on some image is `a_radius_one_short_changes_the_map`.
+#[test]
+fn a_one_pixel_difference_stays_within_the_filter_radius() {
+    let (w, h) = (61usize, 61usize);
+    let r = exact_radius();
+    let c = 30;
+    for (ground, pixel) in [(0u8, 255u8), (128, 0), (128, 140), (200, 60)] {
+        let base = vec![ground; 3 * w * h];
+        let mut test = base.clone();
+        test[3 * (c * w + c)..3 * (c * w + c) + 3].copy_from_slice(&[pixel; 3]);
+        let full = flip_map_full(&base, &test, w as u32, h as u32);
+        let reach = (0..w * h)
+            .filter(|&i| full[i] != 0.0)
+            .map(|i| (i % w).abs_diff(c).max((i / w).abs_diff(c)))
+            .max();
+        assert!(
+            reach.is_some_and(|d| d <= r),
+            "ground {ground}, pixel {pixel}: reach {reach:?}, radius {r}"
+        );
+    }
+}
+
+/// The region choice: isolated pixels get regions of their own, a dense image one box.
+#[test]
+fn regions_box_isolated_pixels_alone_and_dense_ones_together() {
+    let (w, h) = (200usize, 200usize);
+    let base = image(w, h);
+    let sparse = changed(&base, w, &[(10, 10), (150, 20), (100, 180)]);
+    let r = regions(&base, &sparse, w, h, 10);
+    assert_eq!(r.len(), 3, "{r:?}");
+    assert!(r.iter().all(|b| b.area() == 1), "{r:?}");
+    let all: Vec<_> = (0..w).flat_map(|x| (0..h).map(move |y| (x, y))).collect();
+    let dense = changed(&base, w, &all);
+    let r = regions(&base, &dense, w, h, 10);
+    assert_eq!(
+        r,
+        vec![Rect {
+            x0: 0,
+            y0: 0,
+            x1: w,
+            y1: h
+        }]
+    );
+    assert!(regions(&base, &base, w, h, 10).is_empty());
+}
