@@ -301,13 +301,15 @@ pub(crate) struct Area {
 const PLANES: usize = 7;
 
 /// Filters one side, the 8-bit RGB image `src` (`w` x `h`), over `area`, and hands each pixel's
-/// [`Side`] to `out(x, y, side)` in row-major order. The image edge is clamped as nv-flip
-/// clamps it (the full image's, not the area's).
+/// [`Side`] to `out(x, y, side)` in row-major order, only for the pixels whose `wanted` flag is
+/// set (row-major over the image; `None`: all). The image edge is clamped as nv-flip clamps it
+/// (the full image's, not the area's).
 pub(crate) fn filter_side(
     p: &Params,
     src: &[u8],
     (w, h): (usize, usize),
     area: Area,
+    wanted: Option<&[bool]>,
     mut out: impl FnMut(usize, usize, Side),
 ) {
     let r = p.radius();
@@ -335,7 +337,10 @@ pub(crate) fn filter_side(
         }
         vertical(p, &ring, y, h, rw, &mut acc);
         for i in 0..rw {
-            out(area.x0 + i, y, side_at(&acc, i));
+            let x = area.x0 + i;
+            if wanted.is_none_or(|m| m[y * w + x]) {
+                out(x, y, side_at(&acc, i));
+            }
         }
     }
 }

@@ -174,7 +174,7 @@ impl FlipReference {
                 x1: w,
                 y1: h,
             };
-            kernel::filter_side(&params, ref8, (w, h), all, |_, _, s| sides.push(s));
+            kernel::filter_side(&params, ref8, (w, h), all, None, |_, _, s| sides.push(s));
         }
         FlipReference {
             params,
@@ -202,6 +202,7 @@ impl FlipReference {
             "FLIP: test image of another size"
         );
         let mut map = vec![0.0f32; w * h];
+        let near = near_differences(&self.ref8, test, w, h, r);
         for b in regions(&self.ref8, test, w, h, r) {
             let v = b.grow(r, w, h);
             let area = Area {
@@ -210,13 +211,54 @@ impl FlipReference {
                 x1: v.x1,
                 y1: v.y1,
             };
-            kernel::filter_side(&self.params, test, (w, h), area, |x, y, t| {
+            kernel::filter_side(&self.params, test, (w, h), area, Some(&near), |x, y, t| {
                 let i = y * w + x;
                 map[i] = kernel::flip_value(&self.params, &self.sides[i], &t);
             });
         }
         map
     }
+}
+
+/// Per pixel (row-major), whether a pixel where the RGB8 images `a` and `b` differ lies within
+/// Chebyshev distance `r` of it: FLIP can be non-zero there only (module doc). Running counts
+/// along each row, then down each column.
+fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> Vec<bool> {
+    // along rows: differing pixels within r columns
+    let mut rows = vec![0u32; w * h];
+    let mut prefix = vec![0u32; w + 1];
+    for y in 0..h {
+        for x in 0..w {
+            let i = 3 * (y * w + x);
+            prefix[x + 1] = prefix[x] + u32::from(a[i..i + 3] != b[i..i + 3]);
+        }
+        for x in 0..w {
+            rows[y * w + x] = prefix[(x + r + 1).min(w)] - prefix[x.saturating_sub(r)];
+        }
+    }
+    // down columns: a window of 2r + 1 rows
+    let mut near = vec![false; w * h];
+    let mut window = vec![0u32; w];
+    for y in 0..h + r {
+        if y < h {
+            for (c, v) in window.iter_mut().zip(&rows[y * w..(y + 1) * w]) {
+                *c += v;
+            }
+        }
+        if y >= 2 * r + 1 && y - (2 * r + 1) < h {
+            let gone = y - (2 * r + 1);
+            for (c, v) in window.iter_mut().zip(&rows[gone * w..(gone + 1) * w]) {
+                *c -= v;
+            }
+        }
+        if y >= r {
+            let out = y - r;
+            for (n, &c) in near[out * w..(out + 1) * w].iter_mut().zip(&window) {
+                *n = c > 0;
+            }
+        }
+    }
+    near
 }
 
 /// Mean and p95 (nearest rank) of a FLIP map over the `mask` pixels, in pixel order.

@@ -246,3 +246,24 @@ fn regions_box_isolated_pixels_alone_and_dense_ones_together() {
     );
     assert!(regions(&base, &base, w, h, 10).is_empty());
 }
+
+/// `near_differences` against the definition (a differing pixel within Chebyshev distance r),
+/// pixel by pixel, on scattered differences including the corners; a radius one less gives
+/// another mask (teeth).
+#[test]
+fn near_differences_is_the_chebyshev_neighbourhood() {
+    let (w, h, r) = (53usize, 37usize, 4usize);
+    let base = image(w, h);
+    let at = [(0, 0), (52, 36), (20, 10), (21, 30), (45, 3)];
+    let test = changed(&base, w, &at);
+    let near = near_differences(&base, &test, w, h, r);
+    for y in 0..h {
+        for x in 0..w {
+            let want = at
+                .iter()
+                .any(|&(ax, ay)| ax.abs_diff(x).max(ay.abs_diff(y)) <= r);
+            assert_eq!(near[y * w + x], want, "({x}, {y})");
+        }
+    }
+    assert_ne!(near_differences(&base, &test, w, h, r - 1), near);
+}
