@@ -30,7 +30,7 @@ use crate::frame::{Frame, IdFrame};
 use crate::gpu::Renderer;
 use crate::method::{self, Method, Reference};
 use crate::output;
-use crate::output::heatmap::{self, HeatmapDesc, Scale};
+use crate::output::heatmap::{self, Colormap, HeatmapDesc, Scale};
 use crate::scene::{Scene, SceneInputs};
 use crate::truth::{self, Values};
 
@@ -86,7 +86,7 @@ type MapSpec<'a> = (
     &'static str,
     &'a dyn Fn(usize) -> Option<f64>,
     &'static str,
-    colorous::Gradient,
+    Colormap,
     Scale,
     bool,
 );
@@ -191,7 +191,7 @@ impl Analysis<'_> {
                 "error_abs.png",
                 &abs,
                 "|dI| luminance (linear)",
-                colorous::MAGMA,
+                Colormap::Magma,
                 abs_scale,
                 true,
             ),
@@ -199,7 +199,7 @@ impl Analysis<'_> {
                 "error_signed.png",
                 &signed,
                 "dI = method - reference",
-                colorous::RED_BLUE,
+                Colormap::RedBlue,
                 signed_scale,
                 true,
             ),
@@ -207,7 +207,7 @@ impl Analysis<'_> {
                 "error_angle.png",
                 &angle,
                 "normal angle error (deg)",
-                colorous::MAGMA,
+                Colormap::Magma,
                 angle_scale,
                 m.has_normal,
             ),
