@@ -212,11 +212,12 @@ impl Analysis<'_> {
                 m.has_normal,
             ),
         ];
+        let mut buffer = Vec::new(); // one figure buffer for the three maps
         for (file, values, label, gradient, scale, wanted) in maps {
             if !wanted || !self.opts.images {
                 continue;
             }
-            let fig = heatmap::render(
+            let fig = heatmap::render_reusing(
                 values,
                 w,
                 h,
@@ -225,8 +226,10 @@ impl Analysis<'_> {
                     gradient,
                     scale,
                 },
+                buffer,
             )?;
             heatmap::write_png(&dir.join(file), &fig)?;
+            buffer = fig.rgb;
             files.push(rel(m.name, file));
         }
         Ok(())

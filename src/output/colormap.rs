@@ -51,7 +51,8 @@ impl Colormap {
         }
     }
 
-    fn table(self) -> &'static Table {
+    /// The segments, built on first use.
+    pub(crate) fn table(self) -> &'static Table {
         static MAGMA_TABLE: OnceLock<Table> = OnceLock::new();
         static RED_BLUE_TABLE: OnceLock<Table> = OnceLock::new();
         match self {

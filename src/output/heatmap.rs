@@ -135,15 +135,18 @@ pub fn color_at(gradient: &Colormap, t: f64) -> [u8; 3] {
 /// in the top-left corner, white elsewhere. Every byte is written once (no white fill that the
 /// field then overwrites). Runs of the same value, or of the same f32 colormap position (every
 /// error below a log scale's floor is at t = 0), reuse the previous colour: the colour is a
-/// function of that position.
+/// function of that position. `rgb` is a buffer to reuse (its content is dropped).
 fn field_pixels(
     values: &dyn Fn(usize) -> Option<f64>,
     (width, height): (u32, u32),
     (fig_w, fig_h): (u32, u32),
     desc: &HeatmapDesc,
+    mut rgb: Vec<u8>,
 ) -> Vec<u8> {
     let mapping = desc.scale.mapping();
-    let mut rgb = Vec::with_capacity((fig_w * fig_h * 3) as usize);
+    let table = desc.gradient.table();
+    rgb.clear();
+    rgb.reserve((fig_w * fig_h * 3) as usize);
     let (mut last_v, mut last_t): (Option<(u64, [u8; 3])>, Option<(u32, [u8; 3])>) = (None, None);
     for y in 0..height {
         for x in 0..width {
@@ -154,7 +157,7 @@ fn field_pixels(
                         let t = mapping.t(v) as f32;
                         let c = match last_t {
                             Some((bits, c)) if bits == t.to_bits() => c,
-                            _ => desc.gradient.rgb(t),
+                            _ => table.rgb(t),
                         };
                         last_t = Some((t.to_bits(), c));
                         last_v = Some((v.to_bits(), c));
@@ -202,10 +205,22 @@ pub fn render(
     height: u32,
     desc: &HeatmapDesc,
 ) -> Result<Figure> {
+    render_reusing(values, width, height, desc, Vec::new())
+}
+
+/// [`render`] into `buffer` (e.g. the `rgb` of a figure already written): one allocation, and
+/// its pages touched once, for a series of figures of one size.
+pub fn render_reusing(
+    values: &dyn Fn(usize) -> Option<f64>,
+    width: u32,
+    height: u32,
+    desc: &HeatmapDesc,
+    buffer: Vec<u8>,
+) -> Result<Figure> {
     register_font()?;
     let fig_w = width + PANEL;
     let fig_h = height.max(200);
-    let mut rgb = field_pixels(values, (width, height), (fig_w, fig_h), desc);
+    let mut rgb = field_pixels(values, (width, height), (fig_w, fig_h), desc, buffer);
     let bar;
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (fig_w, fig_h)).into_drawing_area();
@@ -429,7 +444,8 @@ mod tests {
                 scale,
             };
             for (fig_w, fig_h) in [(w + PANEL, 200), (w, h), (w + 3, h + 1)] {
-                let got = field_pixels(&|i| values[i], (w, h), (fig_w, fig_h), &desc);
+                let used = vec![7u8; 5 * (fig_w * fig_h) as usize]; // a dirty buffer to reuse
+                let got = field_pixels(&|i| values[i], (w, h), (fig_w, fig_h), &desc, used);
                 let want =
                     field_by_definition(&values, (w, h), fig_w, fig_h, map.colorous(), scale);
                 assert!(got == want, "{map:?} {scale:?} {fig_w}x{fig_h}");
