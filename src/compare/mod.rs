@@ -30,7 +30,7 @@ use crate::frame::{Frame, IdFrame};
 use crate::gpu::Renderer;
 use crate::method::{self, Method, Reference};
 use crate::output;
-use crate::output::heatmap::{self, HeatmapDesc, Scale};
+use crate::output::heatmap::{self, Colormap, HeatmapDesc, Scale};
 use crate::scene::{Scene, SceneInputs};
 use crate::truth::{self, Values};
 
@@ -86,7 +86,7 @@ type MapSpec<'a> = (
     &'static str,
     &'a dyn Fn(usize) -> Option<f64>,
     &'static str,
-    colorous::Gradient,
+    Colormap,
     Scale,
     bool,
 );
@@ -192,7 +192,7 @@ impl Analysis<'_> {
                 "error_abs.png",
                 &abs,
                 "|dI| luminance (linear)",
-                colorous::MAGMA,
+                Colormap::Magma,
                 abs_scale,
                 true,
             ),
@@ -200,7 +200,7 @@ impl Analysis<'_> {
                 "error_signed.png",
                 &signed,
                 "dI = method - reference",
-                colorous::RED_BLUE,
+                Colormap::RedBlue,
                 signed_scale,
                 true,
             ),
@@ -208,16 +208,17 @@ impl Analysis<'_> {
                 "error_angle.png",
                 &angle,
                 "normal angle error (deg)",
-                colorous::MAGMA,
+                Colormap::Magma,
                 angle_scale,
                 m.has_normal,
             ),
         ];
+        let mut buffer = Vec::new(); // one figure buffer for the three maps
         for (file, values, label, gradient, scale, wanted) in maps {
             if !wanted || !self.opts.images {
                 continue;
             }
-            let fig = heatmap::render(
+            let fig = heatmap::render_reusing(
                 values,
                 w,
                 h,
@@ -226,8 +227,10 @@ impl Analysis<'_> {
                     gradient,
                     scale,
                 },
+                buffer,
             )?;
             heatmap::write_png(&dir.join(file), &fig)?;
+            buffer = fig.rgb;
             files.push(rel(m.name, file));
         }
         Ok(())

@@ -1,10 +1,13 @@
 //! Heatmaps with colorbars: a per-pixel scalar field -> an RGB figure whose right-hand panel is
-//! a colorbar with numbered ticks and the quantity's units. Colormaps come from `colorous`
-//! (matplotlib's magma, ColorBrewer's RdBu); ticks and labels are drawn by `plotters` with the
-//! DejaVu Sans font embedded in the binary (no system fonts needed).
+//! a colorbar with numbered ticks and the quantity's units. Colormaps are matplotlib's magma and
+//! ColorBrewer's RdBu, `colorous`'s colours computed by [`Colormap`] (exactly, faster); ticks
+//! and labels are drawn by `plotters` with the DejaVu Sans font embedded in the binary (no
+//! system fonts needed).
 use std::sync::Once;
 
 use plotters::prelude::*;
+
+pub use crate::output::colormap::Colormap;
 
 use crate::error::{Error, Result};
 
@@ -32,6 +35,19 @@ impl Scale {
         }
     }
 
+    /// [`Scale::t`] with the scale's own logarithms taken once, for a field of values.
+    fn mapping(&self) -> Mapping {
+        match *self {
+            Scale::Linear { lo, hi } => Mapping::Linear { lo, span: hi - lo },
+            Scale::Log { lo, hi } => Mapping::Log {
+                lo,
+                log_lo: lo.log10(),
+                span: hi.log10() - lo.log10(),
+                floor: self.t(lo),
+            },
+        }
+    }
+
     /// The value at colormap position `t`.
     pub fn value(&self, t: f64) -> f64 {
         match *self {
@@ -48,12 +64,50 @@ impl Scale {
     }
 }
 
+/// [`Scale::t`] per pixel: the same operations on the same values, with the parts that depend
+/// only on the scale (`hi - lo`, the logarithms of `lo` and `hi`) computed once.
+#[derive(Debug, Clone, Copy)]
+enum Mapping {
+    Linear {
+        lo: f64,
+        span: f64,
+    },
+    /// `floor` is `t(lo)`: every finite `v <= lo` has `v.max(lo)` equal to `lo` in value (the
+    /// only equal values with other bits are +-0, whose log10 are both -inf), so `t(v) = t(lo)`
+    /// without its logarithm.
+    Log {
+        lo: f64,
+        log_lo: f64,
+        span: f64,
+        floor: f64,
+    },
+}
+
+impl Mapping {
+    /// [`Scale::t`] of a finite `v`.
+    #[inline]
+    fn t(&self, v: f64) -> f64 {
+        let t = match *self {
+            Mapping::Linear { lo, span } => (v - lo) / span,
+            Mapping::Log { lo, floor, .. } if v <= lo => return floor,
+            Mapping::Log {
+                lo, log_lo, span, ..
+            } => (v.max(lo).log10() - log_lo) / span,
+        };
+        if t.is_nan() {
+            0.0
+        } else {
+            t.clamp(0.0, 1.0)
+        }
+    }
+}
+
 /// Everything that describes one heatmap.
 #[derive(Debug, Clone, Copy)]
 pub struct HeatmapDesc<'a> {
     /// Colorbar label with units, e.g. "|dI| (linear intensity)".
     pub label: &'a str,
-    pub gradient: colorous::Gradient,
+    pub gradient: Colormap,
     pub scale: Scale,
 }
 
@@ -71,10 +125,53 @@ pub const NO_DATA: [u8; 3] = [128, 128, 128];
 /// Width of the colorbar panel in pixels.
 const PANEL: u32 = 130;
 
-/// The colour `gradient` gives at `t` in [0, 1].
-pub fn color_at(gradient: &colorous::Gradient, t: f64) -> [u8; 3] {
-    let c = gradient.eval_continuous(t.clamp(0.0, 1.0));
-    [c.r, c.g, c.b]
+/// The colour `gradient` gives at `t` in [0, 1] (clamped): colorous's
+/// `eval_continuous(t.clamp(0.0, 1.0))`, which evaluates the f32 nearest `t`.
+pub fn color_at(gradient: &Colormap, t: f64) -> [u8; 3] {
+    gradient.rgb(t.clamp(0.0, 1.0) as f32)
+}
+
+/// The figure's pixels, row-major, `fig_w` x `fig_h`: the field `values` (`width` x `height`)
+/// in the top-left corner, white elsewhere. Every byte is written once (no white fill that the
+/// field then overwrites). Runs of the same value, or of the same f32 colormap position (every
+/// error below a log scale's floor is at t = 0), reuse the previous colour: the colour is a
+/// function of that position. `rgb` is a buffer to reuse (its content is dropped).
+fn field_pixels(
+    values: &dyn Fn(usize) -> Option<f64>,
+    (width, height): (u32, u32),
+    (fig_w, fig_h): (u32, u32),
+    desc: &HeatmapDesc,
+    mut rgb: Vec<u8>,
+) -> Vec<u8> {
+    let mapping = desc.scale.mapping();
+    let table = desc.gradient.table();
+    rgb.clear();
+    rgb.reserve((fig_w * fig_h * 3) as usize);
+    let (mut last_v, mut last_t): (Option<(u64, [u8; 3])>, Option<(u32, [u8; 3])>) = (None, None);
+    for y in 0..height {
+        for x in 0..width {
+            let c = match values((y * width + x) as usize) {
+                Some(v) if v.is_finite() => match last_v {
+                    Some((bits, c)) if bits == v.to_bits() => c,
+                    _ => {
+                        let t = mapping.t(v) as f32;
+                        let c = match last_t {
+                            Some((bits, c)) if bits == t.to_bits() => c,
+                            _ => table.rgb(t),
+                        };
+                        last_t = Some((t.to_bits(), c));
+                        last_v = Some((v.to_bits(), c));
+                        c
+                    }
+                },
+                _ => NO_DATA,
+            };
+            rgb.extend_from_slice(&c);
+        }
+        rgb.resize(rgb.len() + ((fig_w - width) * 3) as usize, 255);
+    }
+    rgb.resize((fig_w * fig_h * 3) as usize, 255);
+    rgb
 }
 
 pub(crate) fn register_font() -> Result<()> {
@@ -108,34 +205,22 @@ pub fn render(
     height: u32,
     desc: &HeatmapDesc,
 ) -> Result<Figure> {
+    render_reusing(values, width, height, desc, Vec::new())
+}
+
+/// [`render`] into `buffer` (e.g. the `rgb` of a figure already written): one allocation, and
+/// its pages touched once, for a series of figures of one size.
+pub fn render_reusing(
+    values: &dyn Fn(usize) -> Option<f64>,
+    width: u32,
+    height: u32,
+    desc: &HeatmapDesc,
+    buffer: Vec<u8>,
+) -> Result<Figure> {
     register_font()?;
     let fig_w = width + PANEL;
     let fig_h = height.max(200);
-    let mut rgb = vec![255u8; (fig_w * fig_h * 3) as usize];
-    // The field itself, pixel for pixel. Runs of the same colormap position (every error below
-    // a log scale's floor is at t = 0) reuse the colour of the previous pixel: same t bits,
-    // same colour, one spline evaluation.
-    let mut last: Option<(u64, [u8; 3])> = None;
-    for y in 0..height {
-        for x in 0..width {
-            let c = match values((y * width + x) as usize) {
-                Some(v) if v.is_finite() => {
-                    let t = desc.scale.t(v);
-                    match last {
-                        Some((bits, c)) if bits == t.to_bits() => c,
-                        _ => {
-                            let c = color_at(&desc.gradient, t);
-                            last = Some((t.to_bits(), c));
-                            c
-                        }
-                    }
-                }
-                _ => NO_DATA,
-            };
-            let o = ((y * fig_w + x) * 3) as usize;
-            rgb[o..o + 3].copy_from_slice(&c);
-        }
-    }
+    let mut rgb = field_pixels(values, (width, height), (fig_w, fig_h), desc, buffer);
     let bar;
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (fig_w, fig_h)).into_drawing_area();
@@ -241,16 +326,16 @@ mod tests {
     #[test]
     fn colormap_endpoints_are_magma_and_rdbu_ends() {
         // matplotlib's magma starts near black and ends pale yellow; RdBu runs red -> blue.
-        let m0 = color_at(&colorous::MAGMA, 0.0);
-        let m1 = color_at(&colorous::MAGMA, 1.0);
+        let m0 = color_at(&Colormap::Magma, 0.0);
+        let m1 = color_at(&Colormap::Magma, 1.0);
         assert!(m0.iter().all(|&c| c < 10), "{m0:?}");
         assert!(m1[0] > 240 && m1[1] > 240 && m1[2] > 150, "{m1:?}");
-        let r0 = color_at(&colorous::RED_BLUE, 0.0);
-        let r1 = color_at(&colorous::RED_BLUE, 1.0);
+        let r0 = color_at(&Colormap::RedBlue, 0.0);
+        let r1 = color_at(&Colormap::RedBlue, 1.0);
         assert!(r0[0] > r0[2] && r1[2] > r1[0], "{r0:?} {r1:?}");
         // clamped outside [0, 1]
-        assert_eq!(color_at(&colorous::MAGMA, -3.0), m0);
-        assert_eq!(color_at(&colorous::MAGMA, 7.0), m1);
+        assert_eq!(color_at(&Colormap::Magma, -3.0), m0);
+        assert_eq!(color_at(&Colormap::Magma, 7.0), m1);
     }
 
     #[test]
@@ -264,6 +349,114 @@ mod tests {
         assert_eq!(log.t(0.0), 0.0);
         assert!((log.value(0.4) - 1e-3).abs() < 1e-15);
         assert_eq!(lin.t(f64::NAN), 0.0);
+    }
+
+    /// The field as it was drawn before [`field_pixels`]: a white figure, then per pixel
+    /// colorous's colour at `Scale::t` (or NO_DATA).
+    fn field_by_definition(
+        values: &[Option<f64>],
+        (w, h): (u32, u32),
+        fig_w: u32,
+        fig_h: u32,
+        gradient: colorous::Gradient,
+        scale: Scale,
+    ) -> Vec<u8> {
+        let mut rgb = vec![255u8; (fig_w * fig_h * 3) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let c = match values[(y * w + x) as usize] {
+                    Some(v) if v.is_finite() => {
+                        let c = gradient.eval_continuous(scale.t(v).clamp(0.0, 1.0));
+                        [c.r, c.g, c.b]
+                    }
+                    _ => NO_DATA,
+                };
+                let o = ((y * fig_w + x) * 3) as usize;
+                rgb[o..o + 3].copy_from_slice(&c);
+            }
+        }
+        rgb
+    }
+
+    /// Values that exercise every path: runs of one value, +-0, values below, at and above a
+    /// log scale's floor, NaN/Inf and no data, negative values, a smooth ramp.
+    fn awkward_values(n: usize) -> Vec<Option<f64>> {
+        (0..n)
+            .map(|i| match i % 23 {
+                0 => None,
+                1 => Some(f64::NAN),
+                2 => Some(f64::INFINITY),
+                3 | 4 | 5 => Some(0.0),
+                6 => Some(-0.0),
+                7 => Some(1e-5),
+                8 => Some(-3e-3 * (i % 7) as f64),
+                9 | 10 => Some(2.5e-6),
+                _ => Some((i as f64 * 0.618_033_988_7).fract().powi(3) * 1.3 - 0.05),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn mapping_equals_scale_t() {
+        let scales = [
+            Scale::Linear { lo: -0.1, hi: 0.1 },
+            Scale::Linear { lo: 0.0, hi: 7.3 },
+            Scale::Log { lo: 1e-5, hi: 1.0 },
+            Scale::Log {
+                lo: 3.7e-9,
+                hi: 3.7e-5,
+            },
+            Scale::Log { lo: 0.0, hi: 1.0 },
+            Scale::Log { lo: 1.0, hi: 1.0 },
+        ];
+        let values: Vec<f64> = awkward_values(5000).into_iter().flatten().collect();
+        for scale in scales {
+            let m = scale.mapping();
+            for &v in values.iter().filter(|v| v.is_finite()) {
+                assert_eq!(m.t(v).to_bits(), scale.t(v).to_bits(), "{scale:?} at {v:e}");
+            }
+        }
+        // teeth: the check sees a mapping of another scale
+        let (a, b) = (
+            Scale::Log { lo: 1e-5, hi: 1.0 },
+            Scale::Log { lo: 1e-4, hi: 1.0 },
+        );
+        assert!(values
+            .iter()
+            .any(|&v| b.mapping().t(v).to_bits() != a.t(v).to_bits()));
+    }
+
+    /// The figure's field and white margins equal the per-pixel definition, byte for byte.
+    #[test]
+    fn field_pixels_equal_the_per_pixel_definition() {
+        let (w, h) = (97u32, 61u32);
+        let values = awkward_values((w * h) as usize);
+        let cases = [
+            (Colormap::Magma, Scale::Log { lo: 1e-5, hi: 1.0 }),
+            (Colormap::Magma, Scale::Linear { lo: 0.0, hi: 1.2 }),
+            (Colormap::RedBlue, Scale::Linear { lo: -1.0, hi: 1.0 }),
+            (Colormap::RedBlue, Scale::Log { lo: 1e-3, hi: 1e-2 }),
+        ];
+        for (map, scale) in cases {
+            let desc = HeatmapDesc {
+                label: "",
+                gradient: map,
+                scale,
+            };
+            for (fig_w, fig_h) in [(w + PANEL, 200), (w, h), (w + 3, h + 1)] {
+                let used = vec![7u8; 5 * (fig_w * fig_h) as usize]; // a dirty buffer to reuse
+                let got = field_pixels(&|i| values[i], (w, h), (fig_w, fig_h), &desc, used);
+                let want =
+                    field_by_definition(&values, (w, h), fig_w, fig_h, map.colorous(), scale);
+                assert!(got == want, "{map:?} {scale:?} {fig_w}x{fig_h}");
+                // teeth: the other colormap's figure is not this one's
+                let other = match map {
+                    Colormap::Magma => colorous::RED_BLUE,
+                    Colormap::RedBlue => colorous::MAGMA,
+                };
+                assert!(got != field_by_definition(&values, (w, h), fig_w, fig_h, other, scale));
+            }
+        }
     }
 
     /// The colorbar is there: down its centre column the pixels follow the colormap from the
@@ -286,7 +479,7 @@ mod tests {
                 .collect();
             let desc = HeatmapDesc {
                 label: "error (deg)",
-                gradient: colorous::MAGMA,
+                gradient: Colormap::Magma,
                 scale,
             };
             let fig = render(&|i| values[i], w, h, &desc).unwrap();
@@ -304,7 +497,7 @@ mod tests {
             for k in 1..10 {
                 let y = y0 + (y1 - y0) * k / 10;
                 let t = 1.0 - (y - y0) as f64 / (y1 - y0) as f64;
-                let want = color_at(&colorous::MAGMA, t);
+                let want = color_at(&Colormap::Magma, t);
                 let got = px(xc, y);
                 let d = (0..3)
                     .map(|c| (got[c] as i32 - want[c] as i32).abs())
@@ -319,7 +512,7 @@ mod tests {
             assert_eq!(px(w + 2, y0 + 5), [255, 255, 255]);
             // field pixels: coloured where there is data, NO_DATA elsewhere
             assert_eq!(px(40, 10), NO_DATA);
-            assert_eq!(px(0, 0), color_at(&colorous::MAGMA, 0.0));
+            assert_eq!(px(0, 0), color_at(&Colormap::Magma, 0.0));
             // labels were drawn: some dark text pixels left of the bar
             let dark = (y0..y1)
                 .flat_map(|y| (w..x0).map(move |x| (x, y)))

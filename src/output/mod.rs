@@ -1,6 +1,7 @@
 //! Output files: every file the tool writes goes through [`write_atomic`], so an interrupted run
 //! never leaves a truncated PNG, OBJ or NPY behind (temp file in the same directory + rename).
 pub mod chart;
+pub mod colormap;
 pub mod heatmap;
 pub mod provenance;
 pub mod srgb;

@@ -186,7 +186,7 @@ pub fn validity_map(path: &Path, m: &MethodStress, threshold: f64) -> Result<()>
     let (w, h) = (cols * CELL, rows * CELL);
     let desc = heatmap::HeatmapDesc {
         label: "worst |colour error| per cell",
-        gradient: colorous::MAGMA,
+        gradient: heatmap::Colormap::Magma,
         scale: heatmap::Scale::Log {
             lo: (threshold / 100.0).max(1e-9),
             hi: 1.0,

@@ -1,0 +1,17 @@
+#!/bin/sh
+# Issue 26: the heatmaps' colormaps (src/output/colormap.rs) against colorous on every f32 in
+# [0, 1] (about 1.07e9 inputs per colormap, magma and RdBu), over all cores: runs the ignored
+# test `every_f32_in_0_1_matches_colorous`, which prints one line per colormap and fails with the
+# first input where the two colours differ. The suite checks a stride of the same range and
+# every segment boundary. Prints the machine and the run's time; exits with the test's status.
+# Usage: scripts/heatmap_colors_exhaustive.sh
+set -eu
+cd "$(dirname "$0")/.."
+# Build once and run the test binary itself (a second `cargo test` may rebuild: in a git
+# worktree build.rs's rerun-if-changed names a .git/HEAD that does not exist).
+bin=$(cargo test --release --locked --lib --no-run 2>&1 | tee /dev/stderr |
+    sed -n 's/.*Executable unittests src\/lib.rs (\(.*\))/\1/p')
+[ -x "$bin" ] || { echo "no test binary found" >&2; exit 2; }
+echo "$(nproc) cores; $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
+/usr/bin/time -f "every_f32_in_0_1_matches_colorous: %e s wall, %U s user, %S s sys" \
+    "$bin" every_f32_in_0_1_matches_colorous --ignored --nocapture
