@@ -19,19 +19,16 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8};
-use crate::analysis::pixel::{
-    channel_stats, d3, intensity_stats, pixel_errors, stats_against_twin, IntensityStats,
-    PixelErrors,
-};
+use crate::analysis::pixel::{channel_stats, d3, pixel_errors, IntensityStats, PixelErrors, Twin};
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
-use crate::frame::{Frame, IdFrame};
+use crate::frame::Frame;
 use crate::gpu::Renderer;
 use crate::method::{self, Method, Reference};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
-use crate::scene::{Scene, SceneInputs};
+use crate::scene::Scene;
 use crate::truth::{self, Values};
 
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
@@ -118,20 +115,12 @@ fn auto_subject(name: &str) -> Subject<'_> {
     }
 }
 
-/// What evaluating a second reference's twin at the id pass's pixels needs.
-#[derive(Clone, Copy)]
-struct SecondReference<'a> {
-    inputs: &'a SceneInputs,
-    ids: &'a IdFrame,
-    method: &'static Method,
-}
-
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
     reference: &'a Values,
     /// The second reference (f64 exact slerp along the span), when a method of the run is
-    /// judged against it too: its twin is evaluated pixel by pixel, no second truth is stored.
-    slerp: Option<SecondReference<'a>>,
+    /// judged against it too: its twin at the reference's covered pixels, evaluated once.
+    slerp: Option<&'a Twin>,
     ref8: &'a [u8],
     out: &'a Path,
     opts: &'a CompareOptions,
@@ -148,25 +137,21 @@ struct PhaseTimes {
 
 impl Analysis<'_> {
     /// The errors against the second reference, for the methods judged against it.
-    fn against_slerp(&self, m: Subject, frame: &Frame) -> Option<AgainstReference> {
-        let r = self
+    fn against_slerp(&self, m: Subject, frame: &Frame) -> Result<Option<AgainstReference>> {
+        let Some(twin) = self
             .slerp
-            .filter(|_| m.reference == Reference::PhongAndSlerp)?;
-        let s = stats_against_twin(
-            frame,
-            m.has_normal,
-            self.reference,
-            r.inputs,
-            r.ids,
-            r.method,
-        );
-        Some(AgainstReference {
+            .filter(|_| m.reference == Reference::PhongAndSlerp)
+        else {
+            return Ok(None);
+        };
+        let s = twin.stats(frame, m.has_normal, self.reference)?;
+        Ok(Some(AgainstReference {
             reference: SLERP_REFERENCE.to_string(),
             mean_abs_error: s.mean_abs_error,
             max_abs_error: s.max_abs_error,
             max_normal_angle_deg: s.max_normal_angle_deg,
             mean_normal_angle_deg: s.mean_normal_angle_deg,
-        })
+        }))
     }
 
     /// Statistics, render.png, the heatmaps and FLIP of one method's frame, in that order: the
@@ -236,13 +221,13 @@ impl Analysis<'_> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
         // First, so that its per-pixel errors are freed before the main ones are made.
-        let against_slerp = self.against_slerp(m, &frame);
+        let against_slerp = self.against_slerp(m, &frame)?;
         let mut f = pixel_errors(&frame, m.has_normal, self.reference);
         let nf = f.non_finite();
         let intensity = if nf {
             IntensityStats::non_finite(f.first_non_finite)
         } else {
-            intensity_stats(f.errors(), self.opts.threshold)
+            f.intensity_stats(self.opts.threshold)
         };
         let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
         let stats = f.stats();
@@ -516,21 +501,22 @@ pub fn compare_with(
     let t0 = Instant::now();
     let (_, ids) = prepared.render(exact, true)?;
     let ids = ids.ok_or_else(|| Error::Internal("the id pass returned nothing".into()))?;
-    // Statistics need no float32 bound (verify checks those): the values alone.
-    let reference = truth::values(base, &ids, exact);
-    // The second reference of the angle-interpolating methods: exact slerp along the span.
-    let slerp = if methods_
+    // The second reference of the angle-interpolating methods: exact slerp along the span,
+    // evaluated once (on the second core while this one evaluates the first).
+    let slerp_method = methods_
         .iter()
         .any(|m| m.reference == Reference::PhongAndSlerp)
-    {
-        Some(SecondReference {
-            inputs: base,
-            ids: &ids,
-            method: method::find("slerp")?,
-        })
-    } else {
-        None
-    };
+        .then(|| method::find("slerp"))
+        .transpose()?;
+    // Statistics need no float32 bound (verify checks those): the values alone.
+    let (reference, slerp) = std::thread::scope(|s| {
+        let twin = slerp_method.map(|m| s.spawn(|| Twin::new(base, &ids, m)));
+        let reference = truth::values(base, &ids, exact);
+        let twin = twin.map(|t| t.join()).transpose();
+        (reference, twin)
+    });
+    let slerp = slerp.map_err(|_| Error::Internal("the slerp twin's thread panicked".into()))?;
+    drop(ids);
     let background = reference.background();
     let ref8 = srgb_rgb8(
         reference
@@ -546,7 +532,7 @@ pub fn compare_with(
     let bar = crate::output::progress_bar(opts.progress, subjects as u64);
     let ctx = Analysis {
         reference: &reference,
-        slerp,
+        slerp: slerp.as_ref(),
         ref8: &ref8,
         out,
         opts,
