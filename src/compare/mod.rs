@@ -23,12 +23,12 @@ use crate::analysis::pixel::{channel_stats, d3, pixel_errors, IntensityStats, Pi
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
-use crate::frame::Frame;
+use crate::frame::{Frame, IdFrame};
 use crate::gpu::Renderer;
 use crate::method::{self, Method, Reference};
 use crate::output;
 use crate::output::heatmap::{self, HeatmapDesc, Scale};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneInputs};
 use crate::truth::{self, Values};
 
 /// Version of the summary.json schema (docs/summary.schema.json). Bumped on any change that
@@ -334,6 +334,29 @@ fn write_reference_png(reference: &Values, out: &Path, w: u32, h: u32) -> Result
     output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)
 }
 
+/// The run's truth, f64 exact Phong at the id pass `ids`, and, when one of `methods` is judged
+/// against it too, the second reference of the angle-interpolating methods: exact slerp along
+/// the span, evaluated once (on the second core while this one evaluates the first).
+fn references(
+    inputs: &SceneInputs,
+    ids: &IdFrame,
+    methods: &[&'static Method],
+) -> Result<(Values, Option<Twin>)> {
+    let slerp = methods
+        .iter()
+        .any(|m| m.reference == Reference::PhongAndSlerp)
+        .then(|| method::find("slerp"))
+        .transpose()?;
+    // Statistics need no float32 bound (verify checks those): the values alone.
+    let (reference, twin) = std::thread::scope(|s| {
+        let twin = slerp.map(|m| s.spawn(|| Twin::new(inputs, ids, m)));
+        let reference = truth::values(inputs, ids, method::phong_exact());
+        (reference, twin.map(|t| t.join()).transpose())
+    });
+    let twin = twin.map_err(|_| Error::Internal("the slerp twin's thread panicked".into()))?;
+    Ok((reference, twin))
+}
+
 /// The reports of `results` (the first error, if any), their phase times summed and the
 /// covered pixels they measured; an error when fewer than `subjects` came back.
 fn gather(results: Analysed, subjects: usize) -> Result<(Vec<MethodReport>, PhaseTimes, usize)> {
@@ -501,21 +524,7 @@ pub fn compare_with(
     let t0 = Instant::now();
     let (_, ids) = prepared.render(exact, true)?;
     let ids = ids.ok_or_else(|| Error::Internal("the id pass returned nothing".into()))?;
-    // The second reference of the angle-interpolating methods: exact slerp along the span,
-    // evaluated once (on the second core while this one evaluates the first).
-    let slerp_method = methods_
-        .iter()
-        .any(|m| m.reference == Reference::PhongAndSlerp)
-        .then(|| method::find("slerp"))
-        .transpose()?;
-    // Statistics need no float32 bound (verify checks those): the values alone.
-    let (reference, slerp) = std::thread::scope(|s| {
-        let twin = slerp_method.map(|m| s.spawn(|| Twin::new(base, &ids, m)));
-        let reference = truth::values(base, &ids, exact);
-        let twin = twin.map(|t| t.join()).transpose();
-        (reference, twin)
-    });
-    let slerp = slerp.map_err(|_| Error::Internal("the slerp twin's thread panicked".into()))?;
+    let (reference, slerp) = references(base, &ids, methods_)?;
     drop(ids);
     let background = reference.background();
     let ref8 = srgb_rgb8(
