@@ -5,7 +5,9 @@
 #   (default 1024x1024): all methods, then phong_exact alone, each a fresh process writing every
 #   file. Per run: wall time, CPU time (user + sys) and peak resident memory of each, and the
 #   ratio t(all) / t(phong_exact) of wall times (target <= 4) and of CPU times; then the medians,
-#   the machine (CPU model, cores) and the load average before and after. BINARY defaults to
+#   the marginal cost of a method, (t(all) - t(phong_exact)) / (N - 1) with N the methods of the
+#   all run (the rows of its summary.csv), of wall and CPU time (target <= 0.1 s wall), the
+#   machine (CPU model, cores) and the load average before and after. BINARY defaults to
 #   target/release/shadelab. On a shared machine the wall times and their ratio say little:
 #   read the CPU ratio and say "busy" beside any figure.
 set -euo pipefail
@@ -37,13 +39,20 @@ for i in $(seq "$runs"); do
   read -r ow oc om < <(one phong_exact "$tmp/one")
   rw=$(awk -v a="$aw" -v b="$ow" 'BEGIN { printf "%.2f", a / b }')
   rc=$(awk -v a="$ac" -v b="$oc" 'BEGIN { printf "%.2f", a / b }')
+  # N: the methods of the all run, one row each in its summary.csv (a header line above them)
+  n=$(awk 'END { print NR - 1 }' "$tmp/all/summary.csv")
+  [ "$n" -gt 1 ] || { echo "compare_bench: the all run compared $n methods" >&2; exit 2; }
+  mw=$(awk -v a="$aw" -v b="$ow" -v n="$n" 'BEGIN { printf "%.3f", (a - b) / (n - 1) }')
+  mc=$(awk -v a="$ac" -v b="$oc" -v n="$n" 'BEGIN { printf "%.3f", (a - b) / (n - 1) }')
   printf '%4s %10s %10s %8s %10s %10s %8s %9s %9s\n' "$i" "$aw" "$ac" "$am" "$ow" "$oc" "$om" "$rw" "$rc"
-  echo "$aw $ac $am $ow $oc $om $rw $rc" >>"$tmp/rows"
+  echo "$aw $ac $am $ow $oc $om $rw $rc $mw $mc $n" >>"$tmp/rows"
 done
 med() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 col() { awk -v c="$1" '{ print $c }' "$tmp/rows" | med; }
 echo "median: all $(col 1) s wall, $(col 2) s CPU, peak $(awk '{print $3}' "$tmp/rows" | sort -g | tail -1) MB (max);" \
   "phong_exact $(col 4) s wall, $(col 5) s CPU; ratio $(col 7) wall (target <= 4), $(col 8) CPU;" \
   "peak memory target <= 600 MB"
+echo "marginal cost per method, (t(all) - t(phong_exact)) / (N - 1) with N = $(col 11) methods:" \
+  "$(col 9) s wall (target <= 0.1 s), $(col 10) s CPU (medians of the runs)"
 echo "   machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores"
 echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

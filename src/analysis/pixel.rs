@@ -24,8 +24,11 @@
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::stats::percentile;
+use crate::analysis::stats::percentiles;
+use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
+use crate::method::formulas::Lighting;
+use crate::method::twins::Shaded;
 use crate::method::Method;
 use crate::scene::SceneInputs;
 use crate::truth::{RefPixel, Truth, Values};
@@ -63,6 +66,7 @@ pub struct PixelCounts {
 }
 
 /// The class of pixel `i` of `frame` against `reference`.
+#[inline]
 pub fn classify(
     frame: &Frame,
     has_normal: bool,
@@ -260,7 +264,8 @@ impl ReferencePixels for Values {
 /// pixel where `reference` (the run's truth, from the same id pass) covers a pixel: no second
 /// truth is stored. The pixels and every definition are those of [`pixel_errors`]; a pixel is
 /// ill-conditioned when `reference` says so (the weights are the same) or the twin is
-/// non-finite there.
+/// non-finite there. `compare` evaluates the twin once per run instead ([`Twin`]; the same
+/// statistics bit for bit).
 pub fn stats_against_twin(
     frame: &Frame,
     has_normal: bool,
@@ -272,14 +277,7 @@ pub fn stats_against_twin(
     let lighting = inputs.lighting();
     let twin = reference.ref_pixels().enumerate().map(|(i, t)| {
         let t = t?;
-        let w = ids.weights[i];
-        let (x, y) = (i as u32 % ids.width, i as u32 / ids.width);
-        let frag = inputs.fragment(
-            (ids.prim[i] - 1) as usize,
-            DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64),
-            DVec2::new(x as f64 + 0.5, y as f64 + 0.5),
-        );
-        let s = (other.eval_f64)(&frag, &lighting);
+        let s = twin_at(inputs, &lighting, ids, other, i);
         Some(RefPixel {
             color: s.color,
             normal: s.normal,
@@ -287,6 +285,109 @@ pub fn stats_against_twin(
         })
     });
     scan(frame, has_normal, reference.len(), false, twin).stats()
+}
+
+/// `other` in f64 at pixel `i` of the id pass `ids` (a covered pixel).
+fn twin_at(
+    inputs: &SceneInputs,
+    lighting: &Lighting,
+    ids: &IdFrame,
+    other: &Method,
+    i: usize,
+) -> Shaded {
+    let w = ids.weights[i];
+    let (x, y) = (i as u32 % ids.width, i as u32 / ids.width);
+    let frag = inputs.fragment(
+        (ids.prim[i] - 1) as usize,
+        DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64),
+        DVec2::new(x as f64 + 0.5, y as f64 + 0.5),
+    );
+    (other.eval_f64)(&frag, lighting)
+}
+
+/// Another method's f64 twin (`compare`: exact slerp along the span) at every pixel an id pass
+/// covers, evaluated once per run and kept for every method judged against it (seven of the
+/// built-in methods), where [`stats_against_twin`] evaluates it again for each: 49 bytes per
+/// covered pixel (36 MB at 1024x1024 on the fine sphere). The values are those
+/// `stats_against_twin` computes (the same function of the same fragment), so
+/// [`Twin::stats`] gives its statistics bit for bit.
+#[derive(Debug, Clone)]
+pub struct Twin {
+    /// Per covered pixel of the reference, in pixel order.
+    color: Vec<DVec3>,
+    /// Per covered pixel: the normal where `has_normal`, zero elsewhere.
+    normal: Vec<DVec3>,
+    has_normal: Vec<bool>,
+    /// Pixels of the reference, covered or not.
+    len: usize,
+}
+
+impl Twin {
+    /// `other` at every pixel the id pass `ids` covers: the pixels its truth covers.
+    pub fn new(inputs: &SceneInputs, ids: &IdFrame, other: &Method) -> Twin {
+        let lighting = inputs.lighting();
+        let covered = ids.covered();
+        let mut t = Twin {
+            color: Vec::with_capacity(covered),
+            normal: Vec::with_capacity(covered),
+            has_normal: Vec::with_capacity(covered),
+            len: ids.prim.len(),
+        };
+        for (i, &prim) in ids.prim.iter().enumerate() {
+            if prim != 0 {
+                let s = twin_at(inputs, &lighting, ids, other, i);
+                t.color.push(s.color);
+                t.normal.push(s.normal.unwrap_or(DVec3::ZERO));
+                t.has_normal.push(s.normal.is_some());
+            }
+        }
+        t
+    }
+
+    /// [`stats_against_twin`] of `frame` against this twin; `reference` is the truth of the
+    /// same id pass (an error if it covers other pixels than the twin: a different size or
+    /// covered count).
+    pub fn stats(
+        &self,
+        frame: &Frame,
+        has_normal: bool,
+        reference: &impl ReferencePixels,
+    ) -> Result<ErrorStats> {
+        if reference.len() != self.len {
+            return Err(Error::Internal(format!(
+                "a twin of {} pixels against a reference of {}",
+                self.len,
+                reference.len()
+            )));
+        }
+        let mut k = 0;
+        let twin = reference.ref_pixels().map(|t| {
+            let t = t?;
+            let p = match self.color.get(k) {
+                Some(&color) => RefPixel {
+                    color,
+                    normal: self.has_normal[k].then(|| self.normal[k]),
+                    ..t
+                },
+                // more covered pixels than the twin has: counted, an error below
+                None => RefPixel {
+                    color: DVec3::NAN,
+                    normal: None,
+                    ..t
+                },
+            };
+            k += 1;
+            Some(p)
+        });
+        let stats = scan(frame, has_normal, self.len, false, twin).stats();
+        if k != self.color.len() {
+            return Err(Error::Internal(format!(
+                "a twin of {} covered pixels against a reference covering {k}",
+                self.color.len()
+            )));
+        }
+        Ok(stats)
+    }
 }
 
 /// One pass over the pixels against `truth(i)`; `store` keeps the per-pixel vectors (errors,
@@ -314,7 +415,7 @@ fn scan(
         sums: [0.0; 4],
     };
     for (i, t) in truth.take(n).enumerate() {
-        let xy = [i as u32 % frame.width, i as u32 / frame.width];
+        let xy = || [i as u32 % frame.width, i as u32 / frame.width];
         let c = &mut f.counts;
         let t = match classify(frame, has_normal, t.as_ref(), i) {
             PixelClass::Background => continue,
@@ -327,13 +428,13 @@ fn scan(
                 if non_finite {
                     c.non_finite += 1;
                     c.non_finite_ill_conditioned += 1;
-                    f.first_non_finite.get_or_insert(xy);
+                    f.first_non_finite.get_or_insert_with(xy);
                 }
                 continue;
             }
             PixelClass::NonFinite => {
                 c.non_finite += 1;
-                f.first_non_finite.get_or_insert(xy);
+                f.first_non_finite.get_or_insert_with(xy);
                 continue;
             }
             PixelClass::Measured => match t {
@@ -421,16 +522,48 @@ pub fn intensity_stats(
     threshold: f64,
 ) -> IntensityStats {
     let errors = errors.into_iter();
-    let mut abs: Vec<f64> = Vec::with_capacity(errors.size_hint().1.unwrap_or(0));
-    let (mut sum, mut sq, mut max, mut at, mut above) = (0.0, 0.0, 0.0, None, 0);
-    for (x, y, e) in errors {
+    let capacity = errors.size_hint().1.unwrap_or(0);
+    intensity_of(
+        errors.map(|(x, y, e)| ([x, y], e)),
+        capacity,
+        threshold,
+        |at| at,
+    )
+}
+
+impl PixelErrors {
+    /// [`intensity_stats`] of [`PixelErrors::errors`], the same statistics bit for bit (the same
+    /// errors in the same order through the same operations), without an (x, y) per pixel:
+    /// only the largest error's position is turned into one, at the end.
+    pub fn intensity_stats(&self, threshold: f64) -> IntensityStats {
+        let w = self.width as usize;
+        let errors = (0..self.measured.len())
+            .filter(|&i| self.measured[i])
+            .map(|i| (i, self.signed[i]));
+        intensity_of(errors, self.counts.measured, threshold, |i| {
+            [(i % w) as u32, (i / w) as u32]
+        })
+    }
+}
+
+/// [`intensity_stats`] of `errors` (position, signed error) in their order; `at` turns the
+/// position of the largest |error| into (x, y); `capacity`: how many errors, about.
+fn intensity_of<P: Copy>(
+    errors: impl Iterator<Item = (P, f64)>,
+    capacity: usize,
+    threshold: f64,
+    at: impl Fn(P) -> [u32; 2],
+) -> IntensityStats {
+    let mut abs: Vec<f64> = Vec::with_capacity(capacity);
+    let (mut sum, mut sq, mut max, mut max_at, mut above) = (0.0, 0.0, 0.0, None, 0);
+    for (p, e) in errors {
         let a = e.abs();
         abs.push(a);
         sum += a;
         sq += a * a;
-        if at.is_none() || a > max {
+        if max_at.is_none() || a > max {
             max = a;
-            at = Some([x, y]);
+            max_at = Some(p);
         }
         above += usize::from(a > threshold);
     }
@@ -439,14 +572,18 @@ pub fn intensity_stats(
     // as "exact" and every limit fails (compare::exceeded also says why).
     let per = |x: f64| if n > 0 { x / n as f64 } else { f64::NAN };
     let mse = per(sq);
-    let pct = |abs: &mut Vec<f64>, p| if n > 0 { percentile(abs, p) } else { f64::NAN };
+    let [p50, p95, p99] = if n > 0 {
+        percentiles(&mut abs, [50.0, 95.0, 99.0])
+    } else {
+        [f64::NAN; 3]
+    };
     IntensityStats {
         mean_abs_error: per(sum),
         max_abs_error: if n > 0 { max } else { f64::NAN },
-        max_error_pixel: at,
-        p50_abs_error: pct(&mut abs, 50.0),
-        p95_abs_error: pct(&mut abs, 95.0),
-        p99_abs_error: pct(&mut abs, 99.0),
+        max_error_pixel: max_at.map(at),
+        p50_abs_error: p50,
+        p95_abs_error: p95,
+        p99_abs_error: p99,
         rmse: mse.sqrt(),
         psnr_db: (mse > 0.0).then(|| 10.0 * (1.0 / mse).log10()),
         pixels_above_threshold: Some(above),

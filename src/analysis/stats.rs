@@ -8,9 +8,38 @@ pub fn percentile(values: &mut [f64], p: f64) -> f64 {
     if values.is_empty() {
         return 0.0;
     }
-    let rank = ((p / 100.0) * values.len() as f64).ceil().max(1.0) as usize;
-    let k = rank.min(values.len()) - 1;
+    let k = rank_index(values.len(), p);
     *values.select_nth_unstable_by(k, f64::total_cmp).1
+}
+
+/// The 0-based index of the nearest-rank `p` percentile among `n` > 0 sorted values.
+fn rank_index(n: usize, p: f64) -> usize {
+    let rank = ((p / 100.0) * n as f64).ceil().max(1.0) as usize;
+    rank.min(n) - 1
+}
+
+/// [`percentile`] of `values` at each of `ps`, the same values bit for bit, with each selection
+/// after the first over the part of `values` at or above the previous one only: after selecting
+/// index k, `values[..k]` are all at most `values[k..]` (by `f64::total_cmp`), so the k'-th
+/// smallest value for k' >= k is the (k' - k)-th of `values[k..]`. The k-th smallest value of a
+/// total order does not depend on how it was found. A rank below the previous one selects over
+/// the whole slice again. 0 for each when `values` is empty.
+pub fn percentiles<const N: usize>(values: &mut [f64], ps: [f64; N]) -> [f64; N] {
+    let mut lo = 0;
+    ps.map(|p| {
+        if values.is_empty() {
+            return 0.0;
+        }
+        let k = rank_index(values.len(), p);
+        if k < lo {
+            lo = 0;
+        }
+        let v = *values[lo..]
+            .select_nth_unstable_by(k - lo, f64::total_cmp)
+            .1;
+        lo = k;
+        v
+    })
 }
 /// A median with its 95% confidence interval.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

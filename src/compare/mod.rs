@@ -19,10 +19,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
-use crate::analysis::pixel::{
-    channel_stats, d3, intensity_stats, pixel_errors, stats_against_twin, IntensityStats,
-    PixelErrors,
-};
+use crate::analysis::pixel::{channel_stats, d3, pixel_errors, IntensityStats, PixelErrors, Twin};
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
@@ -118,20 +115,12 @@ fn auto_subject(name: &str) -> Subject<'_> {
     }
 }
 
-/// What evaluating a second reference's twin at the id pass's pixels needs.
-#[derive(Clone, Copy)]
-struct SecondReference<'a> {
-    inputs: &'a SceneInputs,
-    ids: &'a IdFrame,
-    method: &'static Method,
-}
-
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
     reference: &'a Values,
     /// The second reference (f64 exact slerp along the span), when a method of the run is
-    /// judged against it too: its twin is evaluated pixel by pixel, no second truth is stored.
-    slerp: Option<SecondReference<'a>>,
+    /// judged against it too: its twin at the reference's covered pixels, evaluated once.
+    slerp: Option<&'a Twin>,
     /// FLIP's reference half (the reference's 8-bit image filtered once per run).
     flip: &'a FlipReference,
     out: &'a Path,
@@ -149,25 +138,21 @@ struct PhaseTimes {
 
 impl Analysis<'_> {
     /// The errors against the second reference, for the methods judged against it.
-    fn against_slerp(&self, m: Subject, frame: &Frame) -> Option<AgainstReference> {
-        let r = self
+    fn against_slerp(&self, m: Subject, frame: &Frame) -> Result<Option<AgainstReference>> {
+        let Some(twin) = self
             .slerp
-            .filter(|_| m.reference == Reference::PhongAndSlerp)?;
-        let s = stats_against_twin(
-            frame,
-            m.has_normal,
-            self.reference,
-            r.inputs,
-            r.ids,
-            r.method,
-        );
-        Some(AgainstReference {
+            .filter(|_| m.reference == Reference::PhongAndSlerp)
+        else {
+            return Ok(None);
+        };
+        let s = twin.stats(frame, m.has_normal, self.reference)?;
+        Ok(Some(AgainstReference {
             reference: SLERP_REFERENCE.to_string(),
             mean_abs_error: s.mean_abs_error,
             max_abs_error: s.max_abs_error,
             max_normal_angle_deg: s.max_normal_angle_deg,
             mean_normal_angle_deg: s.mean_normal_angle_deg,
-        })
+        }))
     }
 
     /// Statistics, render.png, the heatmaps and FLIP of one method's frame, in that order: the
@@ -240,13 +225,13 @@ impl Analysis<'_> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
         // First, so that its per-pixel errors are freed before the main ones are made.
-        let against_slerp = self.against_slerp(m, &frame);
+        let against_slerp = self.against_slerp(m, &frame)?;
         let mut f = pixel_errors(&frame, m.has_normal, self.reference);
         let nf = f.non_finite();
         let intensity = if nf {
             IntensityStats::non_finite(f.first_non_finite)
         } else {
-            intensity_stats(f.errors(), self.opts.threshold)
+            f.intensity_stats(self.opts.threshold)
         };
         let channels = [0, 1, 2].map(|k| channel_stats(&f.channels[k], nf));
         let stats = f.stats();
@@ -351,6 +336,29 @@ fn write_reference_png(reference: &Values, out: &Path, w: u32, h: u32) -> Result
         })
         .collect();
     output::write_png_srgb(&out.join("reference.png"), w, h, &ref_rgba)
+}
+
+/// The run's truth, f64 exact Phong at the id pass `ids`, and, when one of `methods` is judged
+/// against it too, the second reference of the angle-interpolating methods: exact slerp along
+/// the span, evaluated once (on the second core while this one evaluates the first).
+fn references(
+    inputs: &SceneInputs,
+    ids: &IdFrame,
+    methods: &[&'static Method],
+) -> Result<(Values, Option<Twin>)> {
+    let slerp = methods
+        .iter()
+        .any(|m| m.reference == Reference::PhongAndSlerp)
+        .then(|| method::find("slerp"))
+        .transpose()?;
+    // Statistics need no float32 bound (verify checks those): the values alone.
+    let (reference, twin) = std::thread::scope(|s| {
+        let twin = slerp.map(|m| s.spawn(|| Twin::new(inputs, ids, m)));
+        let reference = truth::values(inputs, ids, method::phong_exact());
+        (reference, twin.map(|t| t.join()).transpose())
+    });
+    let twin = twin.map_err(|_| Error::Internal("the slerp twin's thread panicked".into()))?;
+    Ok((reference, twin))
 }
 
 /// The reports of `results` (the first error, if any), their phase times summed and the
@@ -520,21 +528,8 @@ pub fn compare_with(
     let t0 = Instant::now();
     let (_, ids) = prepared.render(exact, true)?;
     let ids = ids.ok_or_else(|| Error::Internal("the id pass returned nothing".into()))?;
-    // Statistics need no float32 bound (verify checks those): the values alone.
-    let reference = truth::values(base, &ids, exact);
-    // The second reference of the angle-interpolating methods: exact slerp along the span.
-    let slerp = if methods_
-        .iter()
-        .any(|m| m.reference == Reference::PhongAndSlerp)
-    {
-        Some(SecondReference {
-            inputs: base,
-            ids: &ids,
-            method: method::find("slerp")?,
-        })
-    } else {
-        None
-    };
+    let (reference, slerp) = references(base, &ids, methods_)?;
+    drop(ids);
     let background = reference.background();
     let ref8 = srgb_rgb8(
         reference
@@ -551,7 +546,7 @@ pub fn compare_with(
     let bar = crate::output::progress_bar(opts.progress, subjects as u64);
     let ctx = Analysis {
         reference: &reference,
-        slerp,
+        slerp: slerp.as_ref(),
         flip: &flip_reference,
         out,
         opts,

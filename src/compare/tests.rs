@@ -481,3 +481,146 @@ fn render_png_from_the_shared_8_bit_image_is_write_png_srgb() {
     write_render_png(&fast, w, h, &rgb8, &other).unwrap();
     assert_ne!(bytes(&fast), bytes(&plain));
 }
+
+/// `percentiles` (each selection over the part at or above the previous one) gives the bits of
+/// `percentile` on a fresh copy, for ascending, repeated and descending percentiles, on values
+/// with ties, signed zeros and a wide range. Teeth: the same check against the neighbouring
+/// rank fails.
+#[test]
+fn percentiles_equal_one_selection_each() {
+    use crate::analysis::stats::percentiles;
+    let mut rng = fastrand::Rng::with_seed(26);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for n in [1usize, 2, 3, 7, 100, 1001, 4096] {
+        let values: Vec<f64> = (0..n)
+            .map(|i| match i % 5 {
+                0 => (rng.u32(0..8) as f64) * 0.25, // ties
+                1 => -0.0,
+                2 => 0.0,
+                _ => rng.f64() * 10f64.powi(rng.i32(-12..3)),
+            })
+            .collect();
+        let ps_sets: [[f64; 3]; 4] = [
+            [50.0, 95.0, 99.0],
+            [1.0, 1.0, 100.0],
+            [99.0, 50.0, 95.0],
+            [0.0, 99.9, 12.5],
+        ];
+        for ps in ps_sets {
+            let one = ps.map(|p| percentile(&mut values.clone(), p));
+            let all = percentiles(&mut values.clone(), ps);
+            assert_eq!(bits(&all), bits(&one), "n {n}, ps {ps:?}");
+        }
+    }
+    assert_eq!(percentiles(&mut [], [50.0, 99.0]), [0.0, 0.0]);
+    // teeth: the k-th value differs from the (k+1)-th of distinct values
+    let mut v: Vec<f64> = (0..100).map(|i| (i * 37 % 100) as f64).collect();
+    let got = percentiles(&mut v.clone(), [50.0, 95.0]);
+    assert_ne!(
+        bits(&got),
+        bits(&[50.0, 96.0].map(|p| percentile(&mut v, p)))
+    );
+}
+
+/// `f` of the software engine's frames of `methods` on the shipped fine sphere at 160x120,
+/// with the run's id pass, truth and scene inputs.
+fn with_sphere_frames(
+    methods: &[&'static Method],
+    f: impl FnOnce(&[Frame], &crate::frame::IdFrame, &Values, &crate::scene::SceneInputs),
+) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sphere_fine.toml");
+    let mut scene = crate::scene::load_scene(&path).unwrap();
+    (scene.width, scene.height) = (160, 120);
+    let exact = method::phong_exact();
+    let mut all = methods.to_vec();
+    all.push(exact);
+    let prepared = engine::Ready::new(Engine::Software { threads: 1 }, &scene, &all).unwrap();
+    let ids = prepared.render(exact, true).unwrap().1.unwrap();
+    let reference = truth::values(prepared.base(), &ids, exact);
+    let frames: Vec<Frame> = methods
+        .iter()
+        .map(|m| prepared.render(m, false).unwrap().0)
+        .collect();
+    f(&frames, &ids, &reference, prepared.base());
+}
+
+/// The slerp twin evaluated once per run (`Twin`, what compare uses) gives the statistics of
+/// `stats_against_twin` (evaluated per pixel for each method) bit for bit, for every method
+/// judged against slerp, on the fine sphere drawn by the software engine. Teeth: a twin of
+/// another method gives other statistics, and a twin of another id pass is refused.
+#[test]
+fn slerp_twin_once_per_run_gives_the_per_pixel_statistics() {
+    let methods: Vec<&'static Method> = method::METHODS
+        .iter()
+        .filter(|m| m.reference == Reference::PhongAndSlerp)
+        .collect();
+    assert!(
+        methods.len() >= 3,
+        "{} methods judged against slerp",
+        methods.len()
+    );
+    let slerp = method::find("slerp").unwrap();
+    with_sphere_frames(&methods, |frames, ids, reference, inputs| {
+        let twin = Twin::new(inputs, ids, slerp);
+        let other = Twin::new(inputs, ids, method::phong_exact());
+        let mut others_differ = 0;
+        for (m, frame) in methods.iter().zip(frames) {
+            let per_pixel = stats_against_twin(frame, m.has_normal, reference, inputs, ids, slerp);
+            let once = twin.stats(frame, m.has_normal, reference).unwrap();
+            assert!(per_pixel.counts.measured > 10_000, "{}", m.name);
+            assert_eq!(format!("{once:?}"), format!("{per_pixel:?}"), "{}", m.name);
+            let wrong = other.stats(frame, m.has_normal, reference).unwrap();
+            others_differ += usize::from(format!("{wrong:?}") != format!("{per_pixel:?}"));
+        }
+        assert_eq!(others_differ, methods.len());
+        // another id pass: one pixel fewer covered, or another size
+        let mut fewer = ids.clone();
+        let i = fewer.prim.iter().position(|&p| p != 0).unwrap();
+        fewer.prim[i] = 0;
+        let m = methods[0];
+        let refused = |ids: &crate::frame::IdFrame| {
+            Twin::new(inputs, ids, slerp)
+                .stats(&frames[0], m.has_normal, reference)
+                .is_err()
+        };
+        assert!(refused(&fewer));
+        let mut smaller = ids.clone();
+        smaller.prim.pop();
+        smaller.weights.pop();
+        assert!(refused(&smaller));
+        assert!(!refused(ids));
+    });
+}
+
+/// `PixelErrors::intensity_stats` (compare's) gives `intensity_stats(errors())` (the generic
+/// one, verify's tests') bit for bit on real frames, at two thresholds. Teeth: one error moved
+/// in magnitude changes the generic statistics, so the comparison sees the last bit.
+#[test]
+fn intensity_stats_of_the_maps_equal_the_generic_ones() {
+    let methods: Vec<&'static Method> = ["flat", "gouraud", "lyon_taylor", "phong_exact"]
+        .iter()
+        .map(|n| method::find(n).unwrap())
+        .collect();
+    with_sphere_frames(&methods, |frames, _, reference, _| {
+        for (m, frame) in methods.iter().zip(frames) {
+            let f = pixel_errors(frame, m.has_normal, reference);
+            for threshold in [1.0 / 255.0, 1e-5] {
+                let fast = f.intensity_stats(threshold);
+                let generic = intensity_stats(f.errors(), threshold);
+                assert_eq!(format!("{fast:?}"), format!("{generic:?}"), "{}", m.name);
+            }
+        }
+        let f = pixel_errors(&frames[0], true, reference);
+        let mut e: Vec<_> = f.errors().collect();
+        let before = format!("{:?}", intensity_stats(e.iter().copied(), 0.01));
+        // the largest |error| one ulp larger: max_abs_error moves by that ulp
+        let k = (0..e.len())
+            .max_by(|&a, &b| e[a].2.abs().total_cmp(&e[b].2.abs()))
+            .unwrap();
+        e[k].2 = f64::from_bits(e[k].2.to_bits() + 1);
+        assert_ne!(
+            format!("{:?}", intensity_stats(e.iter().copied(), 0.01)),
+            before
+        );
+    });
+}

@@ -89,6 +89,14 @@ impl Stream {
     }
 }
 
+/// Read-back bytes as pixels, bit for bit: a plain copy where the mapped memory is aligned for
+/// `T` (it always is: Vulkan maps at least 64-byte aligned), else `pod_collect_to_vec`, which
+/// first zeroes its vector (a 16 MB memset per frame image when the allocator reuses memory).
+fn read_back<T: bytemuck::Pod>(bytes: &[u8]) -> Vec<T> {
+    bytemuck::try_cast_slice(bytes)
+        .map_or_else(|_| bytemuck::pod_collect_to_vec(bytes), <[T]>::to_vec)
+}
+
 fn method_defines(m: &Method) -> Vec<&'static str> {
     m.inputs
         .iter()
@@ -489,11 +497,10 @@ impl Renderer {
         );
         drop(pipeline);
         drop(targets);
-        let color: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&color_buf.bytes()[..color_size]);
+        let color: Vec<[f32; 4]> = read_back(&color_buf.bytes()[..color_size]);
         drop(color_buf);
-        let normal: Vec<[f32; 4]> = normal_buf.map_or_else(Vec::new, |b| {
-            bytemuck::pod_collect_to_vec(&b.bytes()[..normal_size])
-        });
+        let normal: Vec<[f32; 4]> =
+            normal_buf.map_or_else(Vec::new, |b| read_back(&b.bytes()[..normal_size]));
         let frame = Frame {
             width: w,
             height: h,
@@ -503,8 +510,8 @@ impl Renderer {
         let ids = id_objects.map(|(_, bary, prim, bary_buf, prim_buf)| IdFrame {
             width: w,
             height: h,
-            weights: bytemuck::pod_collect_to_vec(&bary_buf.bytes()[..bary.byte_size() as usize]),
-            prim: bytemuck::pod_collect_to_vec(&prim_buf.bytes()[..prim.byte_size() as usize]),
+            weights: read_back(&bary_buf.bytes()[..bary.byte_size() as usize]),
+            prim: read_back(&prim_buf.bytes()[..prim.byte_size() as usize]),
         });
         Ok((frame, ids))
     }
@@ -617,8 +624,8 @@ impl Renderer {
         Ok(Frame {
             width: w,
             height: h,
-            color: bytemuck::pod_collect_to_vec(&color_buf.bytes()[..size]),
-            normal: bytemuck::pod_collect_to_vec(&normal_buf.bytes()[..size]),
+            color: read_back(&color_buf.bytes()[..size]),
+            normal: read_back(&normal_buf.bytes()[..size]),
         })
     }
 }
