@@ -83,9 +83,8 @@ impl Table {
         let channel = |i: usize, c: usize| ((colors[i] >> (16 - 8 * c)) & 0xff) as u8 as f32;
         let segments = (0..n)
             .map(|i| {
-                let mut v = [[0f32; 4]; 4];
-                for c in 0..3 {
-                    // colorous `interpolate::basis`, with the same mirrored ends
+                // colorous `interpolate::basis`, with the same mirrored ends
+                let controls = |c: usize| {
                     let v1 = channel(i, c);
                     let v2 = channel(i + 1, c);
                     let v0 = if i > 0 {
@@ -98,8 +97,10 @@ impl Table {
                     } else {
                         2.0 * v2 - v1
                     };
-                    [v[0][c], v[1][c], v[2][c], v[3][c]] = [v0, v1, v2, v3];
-                }
+                    [v0, v1, v2, v3]
+                };
+                let rgb = [controls(0), controls(1), controls(2)];
+                let v = [0, 1, 2, 3].map(|k| [rgb[0][k], rgb[1][k], rgb[2][k], 0.0]);
                 Segment {
                     knot: i as f32 / n as f32,
                     v,

@@ -147,7 +147,8 @@ fn field_pixels(
     let table = desc.gradient.table();
     rgb.clear();
     rgb.reserve((fig_w * fig_h * 3) as usize);
-    let (mut last_v, mut last_t): (Option<(u64, [u8; 3])>, Option<(u32, [u8; 3])>) = (None, None);
+    let mut last_v: Option<(u64, [u8; 3])> = None;
+    let mut last_t: Option<(u32, [u8; 3])> = None;
     for y in 0..height {
         for x in 0..width {
             let c = match values((y * width + x) as usize) {
@@ -386,7 +387,7 @@ mod tests {
                 0 => None,
                 1 => Some(f64::NAN),
                 2 => Some(f64::INFINITY),
-                3 | 4 | 5 => Some(0.0),
+                3..=5 => Some(0.0),
                 6 => Some(-0.0),
                 7 => Some(1e-5),
                 8 => Some(-3e-3 * (i % 7) as f64),
