@@ -531,12 +531,9 @@ pub fn compare_with(
     let (reference, slerp) = references(base, &ids, methods_)?;
     drop(ids);
     let background = reference.background();
-    let ref8 = srgb_rgb8(
-        reference
-            .pixels()
-            .map(|p| p.map(|p| p.color).unwrap_or(DVec3::ZERO)),
-    );
-    let flip_reference = FlipReference::new(&ref8, w, h);
+    let colors = reference.pixels().map(|p| p.map(|p| p.color));
+    let flip_reference =
+        FlipReference::new(&srgb_rgb8(colors.map(|c| c.unwrap_or(DVec3::ZERO))), w, h);
     if opts.images {
         write_reference_png(&reference, out, w, h)?;
     }

@@ -11,9 +11,11 @@
 //! What differs is only the order of the loops, never the order of a sum: one side (an 8-bit
 //! image) is filtered at a time, over an output rectangle, row by row. A source row is turned
 //! into YCxCz once (sRGB to linear through a 256-entry table of nv-flip's very function of
-//! `v / 255`), edge-replicated into a padded row; the horizontal passes run "for each tap, for
-//! each x" over that row and the vertical ones over a ring of the last `2R + 1` horizontal rows,
-//! so LLVM vectorises across pixels while every pixel's sum still adds its taps -R..R in order.
+//! `v / 255`), edge-replicated into a padded row; the horizontal passes run over that row and
+//! the vertical ones over a ring of the last `2R + 1` horizontal rows, both "for each block of
+//! 8 pixels, for each tap, for each pixel of the block" ([`convolve`]), so LLVM vectorises
+//! across pixels with the sums in registers while every pixel's sum still adds its taps -R..R
+//! in order.
 //! [`Side`] is what one side contributes to a pixel's FLIP (its filtered Lab after Hunt, its
 //! edge and point feature values); [`flip_value`] combines a reference side with a test side.
 
@@ -313,9 +315,12 @@ pub(crate) fn filter_side(
     mut out: impl FnMut(usize, usize, Side),
 ) {
     let r = p.radius();
-    let rw = area.x1 - area.x0;
+    let width = area.x1 - area.x0;
+    // rows are filtered a whole number of blocks wide (columns past the area, clamped to the
+    // image like the rest, are computed and dropped)
+    let rw = width.div_ceil(LANES) * LANES;
     let ring_rows = 2 * r + 1;
-    // padded row: YCxCz planes and the feature filter's normalised Y, columns x0-r..x1+r
+    // padded row: YCxCz planes and the feature filter's normalised Y, columns x0-r..x0+rw+r
     let pw = rw + 2 * r;
     let mut padded = [(); 4].map(|_| vec![0.0f32; pw]);
     let mut ring = [(); PLANES].map(|_| vec![0.0f32; ring_rows * rw]);
@@ -336,7 +341,7 @@ pub(crate) fn filter_side(
             next += 1;
         }
         vertical(p, &ring, y, h, rw, &mut acc);
-        for i in 0..rw {
+        for i in 0..width {
             let x = area.x0 + i;
             if wanted.is_none_or(|m| m[y * w + x]) {
                 out(x, y, side_at(&acc, i));
@@ -361,10 +366,30 @@ fn pad_row(p: &Params, row: &[u8], x0: usize, r: usize, padded: &mut [Vec<f32>; 
     }
 }
 
-/// `acc[i] += weight * src[i]` over a row: one tap of a separable filter for every pixel.
-fn tap(acc: &mut [f32], src: &[f32], weight: f32) {
-    for (a, &s) in acc.iter_mut().zip(src) {
-        *a += weight * s;
+/// Pixels per block of [`convolve`]: its sums stay in registers (eight SSE vectors, enough
+/// independent sums to hide the latency of the adds).
+const LANES: usize = 32;
+
+/// `out[i] = 0 + weights[0] * rows[0][i] + weights[1] * rows[1][i] + ...`, the taps added in
+/// order for every pixel (nv-flip's sum), computed for blocks of [`LANES`] pixels at a time.
+fn convolve(out: &mut [f32], rows: &[&[f32]], weights: &[f32]) {
+    let n = out.len();
+    let full = n / LANES * LANES;
+    for i in (0..full).step_by(LANES) {
+        let mut a = [0.0f32; LANES];
+        for (row, &wk) in rows.iter().zip(weights) {
+            for (a, &s) in a.iter_mut().zip(&row[i..i + LANES]) {
+                *a += wk * s;
+            }
+        }
+        out[i..i + LANES].copy_from_slice(&a);
+    }
+    for (i, o) in out.iter_mut().enumerate().skip(full) {
+        let mut a = 0.0f32;
+        for (row, &wk) in rows.iter().zip(weights) {
+            a += wk * row[i];
+        }
+        *o = a;
     }
 }
 
@@ -378,25 +403,23 @@ fn horizontal(
     ring: &mut [Vec<f32>; PLANES],
 ) {
     let row = slot * rw..(slot + 1) * rw;
-    for plane in ring.iter_mut() {
-        plane[row.clone()].fill(0.0);
-    }
     let [ycx_x, ycx_y, cz_x, cz_y, f_dx, f_ddx, f_g] = ring;
     let (rs, rf) = (p.spatial_radius, p.feature_radius);
-    for k in 0..2 * rs + 1 {
-        let o = r - rs + k;
-        tap(&mut ycx_x[row.clone()], &padded[0][o..], p.spatial[0][k]);
-        tap(&mut ycx_y[row.clone()], &padded[1][o..], p.spatial[1][k]);
-        tap(&mut cz_x[row.clone()], &padded[2][o..], p.spatial[2][k]);
-        tap(&mut cz_y[row.clone()], &padded[2][o..], p.spatial[3][k]);
-    }
-    for k in 0..2 * rf + 1 {
-        let o = r - rf + k;
-        // featureWeights (x: Gaussian, y: 1st derivative, z: 2nd derivative)
-        tap(&mut f_dx[row.clone()], &padded[3][o..], p.feature[1][k]);
-        tap(&mut f_ddx[row.clone()], &padded[3][o..], p.feature[2][k]);
-        tap(&mut f_g[row.clone()], &padded[3][o..], p.feature[0][k]);
-    }
+    let taps = |plane: usize, radius: usize| -> Vec<&[f32]> {
+        (0..2 * radius + 1)
+            .map(|k| &padded[plane][r - radius + k..])
+            .collect()
+    };
+    let (y, cx, cz) = (taps(0, rs), taps(1, rs), taps(2, rs));
+    convolve(&mut ycx_x[row.clone()], &y, &p.spatial[0]);
+    convolve(&mut ycx_y[row.clone()], &cx, &p.spatial[1]);
+    convolve(&mut cz_x[row.clone()], &cz, &p.spatial[2]);
+    convolve(&mut cz_y[row.clone()], &cz, &p.spatial[3]);
+    // featureWeights (x: Gaussian, y: 1st derivative, z: 2nd derivative) of the normalised Y
+    let yn = taps(3, rf);
+    convolve(&mut f_dx[row.clone()], &yn, &p.feature[1]);
+    convolve(&mut f_ddx[row.clone()], &yn, &p.feature[2]);
+    convolve(&mut f_g[row], &yn, &p.feature[0]);
 }
 
 /// The vertical passes for output row `y` from the ring: `acc` gets the filtered YCx (x, y),
@@ -409,32 +432,26 @@ fn vertical(
     rw: usize,
     acc: &mut [Vec<f32>; 8],
 ) {
-    for a in acc.iter_mut() {
-        a.fill(0.0);
-    }
     let ring_rows = ring[0].len() / rw.max(1);
-    let at = |plane: usize, yy: usize| {
-        let slot = yy % ring_rows;
-        &ring[plane][slot * rw..(slot + 1) * rw]
+    let taps = |plane: usize, radius: usize| -> Vec<&[f32]> {
+        (0..2 * radius + 1)
+            .map(|k| {
+                let yy = (y + k).saturating_sub(radius).min(h - 1);
+                let slot = yy % ring_rows;
+                &ring[plane][slot * rw..(slot + 1) * rw]
+            })
+            .collect()
     };
-    let clamped = |k: usize, radius: usize| (y + k).saturating_sub(radius).min(h - 1);
-    let rs = p.spatial_radius;
-    for k in 0..2 * rs + 1 {
-        let yy = clamped(k, rs);
-        for (c, a) in acc.iter_mut().take(4).enumerate() {
-            tap(a, at(c, yy), p.spatial[c][k]);
-        }
+    let (rs, rf) = (p.spatial_radius, p.feature_radius);
+    for (c, a) in acc.iter_mut().take(4).enumerate() {
+        convolve(a, &taps(c, rs), &p.spatial[c]);
     }
-    let rf = p.feature_radius;
     let [_, _, _, _, dx, ddx, dy, ddy] = acc;
-    for k in 0..2 * rf + 1 {
-        let yy = clamped(k, rf);
-        let g = p.feature[0][k];
-        tap(dx, at(4, yy), g);
-        tap(ddx, at(5, yy), g);
-        tap(dy, at(6, yy), p.feature[1][k]);
-        tap(ddy, at(6, yy), p.feature[2][k]);
-    }
+    convolve(dx, &taps(4, rf), &p.feature[0]);
+    convolve(ddx, &taps(5, rf), &p.feature[0]);
+    let g = taps(6, rf);
+    convolve(dy, &g, &p.feature[1]);
+    convolve(ddy, &g, &p.feature[2]);
 }
 
 /// Pixel `i` of the vertical sums as a [`Side`]: YCxCz to XYZ to linear RGB, clamped, to XYZ,

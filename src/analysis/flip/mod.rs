@@ -245,8 +245,7 @@ fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> Vec<boo
                 *c += v;
             }
         }
-        if y >= 2 * r + 1 && y - (2 * r + 1) < h {
-            let gone = y - (2 * r + 1);
+        if let Some(gone) = y.checked_sub(2 * r + 1).filter(|&g| g < h) {
             for (c, v) in window.iter_mut().zip(&rows[gone * w..(gone + 1) * w]) {
                 *c -= v;
             }
