@@ -18,9 +18,15 @@
 //!   left-to-right sums for every channel, then `(w0 v0 + w1 v1 + w2 v2 + w3 v3) / 6` and the
 //!   saturating `as u8`. Rust does not contract `a * b + c` into a fused multiply-add.
 //!
+//! [`Colormap::rgb`] itself does less still: over [0, 1] it looks the colour up in [`Changes`],
+//! regions of constant colour generated from this spline by an exhaustive scan of the f32
+//! (table26), and only evaluates the spline in the regions where the colour flickers and
+//! outside [0, 1].
+//!
 //! Checked against colorous itself: the suite on a stride of the f32 in [0, 1], every segment
 //! boundary and its neighbours, NaN and the clamped ends; `every_f32_in_0_1_matches_colorous`
-//! (ignored; scripts/heatmap_colors_exhaustive.sh runs it) on every f32 in [0, 1]. The control
+//! (ignored; scripts/heatmap_colors_exhaustive.sh runs it) on every f32 in [0, 1], through the
+//! region lookup; the regions against the spline by the suite. The control
 //! colours below are colorous 1.0.16's (src/sequential_multi.rs `MAGMA`, src/diverging.rs
 //! `RED_BLUE.eleven`; Apache-2.0), which the checks confirm.
 use std::sync::OnceLock;
@@ -624,7 +630,8 @@ mod tests {
         }
     }
 
-    /// Every f32 in [0, 1] (about 1.07e9 inputs per colormap), over all cores:
+    /// Every f32 in [0, 1] (about 1.07e9 inputs per colormap), [`Colormap::rgb`] (the region
+    /// lookup, and the spline in its spline regions) against colorous, over all cores:
     /// scripts/heatmap_colors_exhaustive.sh runs
     /// `cargo test --release --locked every_f32_in_0_1_matches_colorous -- --ignored`.
     #[test]
