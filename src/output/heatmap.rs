@@ -144,7 +144,7 @@ fn field_pixels(
     mut rgb: Vec<u8>,
 ) -> Vec<u8> {
     let mapping = desc.scale.mapping();
-    let table = desc.gradient.table();
+    let table = desc.gradient.changes();
     rgb.clear();
     rgb.reserve((fig_w * fig_h * 3) as usize);
     let mut last_v: Option<(u64, [u8; 3])> = None;
