@@ -9,15 +9,7 @@
 # Usage: scripts/colormap_changes.sh
 set -eu
 cd "$(dirname "$0")/.."
-# Build once and run the test binary itself (see scripts/heatmap_colors_exhaustive.sh).
-built=$(cargo test --release --locked --lib --no-run 2>&1) || {
-    echo "$built" >&2
-    exit 2
-}
-bin=$(echo "$built" | sed -n 's/.*Executable unittests src\/lib.rs (\(.*\))/\1/p')
-echo "test binary: $bin"
-[ -x "$bin" ] || { echo "no test binary found" >&2; exit 2; }
-echo "$(nproc) cores; $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
+. scripts/test_binary.sh
 /usr/bin/time -f "write_colormap_changes: %e s wall, %U s user, %S s sys" \
     "$bin" output::colormap::tests::write_colormap_changes --exact \
     --ignored --nocapture

@@ -9,15 +9,6 @@
 # Usage: scripts/heatmap_colors_exhaustive.sh
 set -eu
 cd "$(dirname "$0")/.."
-# Build once and run the test binary itself (a second `cargo test` may rebuild: in a git
-# worktree build.rs's rerun-if-changed names a .git/HEAD that does not exist).
-built=$(cargo test --release --locked --lib --no-run 2>&1) || {
-    echo "$built" >&2
-    exit 2
-}
-bin=$(echo "$built" | sed -n 's/.*Executable unittests src\/lib.rs (\(.*\))/\1/p')
-echo "test binary: $bin"
-[ -x "$bin" ] || { echo "no test binary found" >&2; exit 2; }
-echo "$(nproc) cores; $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
+. scripts/test_binary.sh
 /usr/bin/time -f "every_f32_in_0_1_matches_colorous: %e s wall, %U s user, %S s sys" \
     "$bin" every_f32_in_0_1_matches_colorous --ignored --nocapture

@@ -191,11 +191,6 @@ pub(crate) struct Targets {
 }
 
 impl Targets {
-    /// Colour, normal and depth.
-    pub(super) fn new(ctx: &Arc<Context>, w: u32, h: u32) -> Result<Self> {
-        Self::with_normal(ctx, w, h, true)
-    }
-
     pub(super) fn with_normal(ctx: &Arc<Context>, w: u32, h: u32, normal: bool) -> Result<Self> {
         Ok(Targets {
             color: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
@@ -428,23 +423,29 @@ impl Renderer {
             return Ok(pass);
         }
         let targets = Targets::with_normal(&self.ctx, w, h, with_normal)?;
-        let readback = |img: &Image| {
-            Buffer::new(
-                &self.ctx,
-                BufferDesc {
-                    size: img.byte_size(),
-                    usage: BufferUsage::Readback,
-                },
-            )
-        };
-        let color_buf = readback(&targets.color)?;
-        let normal_buf = targets.normal.as_ref().map(readback).transpose()?;
+        let color_buf = self.readback(&targets.color)?;
+        let normal_buf = targets
+            .normal
+            .as_ref()
+            .map(|n| self.readback(n))
+            .transpose()?;
         Ok(Pass {
             key,
             targets,
             color_buf,
             normal_buf,
         })
+    }
+
+    /// A host-visible buffer the size of `img`, for reading it back.
+    fn readback(&self, img: &Image) -> Result<Buffer> {
+        Buffer::new(
+            &self.ctx,
+            BufferDesc {
+                size: img.byte_size(),
+                usage: BufferUsage::Readback,
+            },
+        )
     }
 
     /// Renders one frame and reads back colour and normal; with `with_ids`, also runs the id
@@ -476,15 +477,6 @@ impl Renderer {
         let pass = self.pass(w, h, with_normal)?;
         let (targets, color_buf, normal_buf) = (&pass.targets, &pass.color_buf, &pass.normal_buf);
         let (color, normal, depth) = (&targets.color, targets.normal.as_ref(), &targets.depth);
-        let readback = |img: &Image| {
-            Buffer::new(
-                &self.ctx,
-                BufferDesc {
-                    size: img.byte_size(),
-                    usage: BufferUsage::Readback,
-                },
-            )
-        };
         let clear = Clear::Float([0.0; 4]);
 
         let mut cmd = OneShot::begin(&self.ctx)?;
@@ -507,8 +499,8 @@ impl Renderer {
             )?;
             let bary = Image::new(&self.ctx, ImageDesc::color(w, h, COLOR))?;
             let prim = Image::new(&self.ctx, ImageDesc::color(w, h, PRIM))?;
-            let bary_buf = readback(&bary)?;
-            let prim_buf = readback(&prim)?;
+            let bary_buf = self.readback(&bary)?;
+            let prim_buf = self.readback(&prim)?;
             cmd.begin_rendering(
                 &[
                     ColorTarget {
@@ -637,36 +629,31 @@ impl Renderer {
         let mut list = a.draw_list();
         list.normal = true;
         let draws = self.record_list(&list)?;
-        let targets = Targets::new(&self.ctx, w, h)?;
-        let readback = |img: &Image| {
-            Buffer::new(
-                &self.ctx,
-                BufferDesc {
-                    size: img.byte_size(),
-                    usage: BufferUsage::Readback,
-                },
-            )
-        };
-        let color_buf = readback(&targets.color)?;
-        let normal_buf = readback(targets.normal()?)?;
+        let pass = self.pass(w, h, true)?;
+        let (targets, color_buf) = (&pass.targets, &pass.color_buf);
+        let normal_buf = pass
+            .normal_buf
+            .as_ref()
+            .ok_or_else(|| Error::Internal("a pass with a normal target has its buffer".into()))?;
         let mut cmd = OneShot::begin(&self.ctx)?;
         targets.begin(&mut cmd);
         for (p, buffers, first, count) in &draws {
             cmd.draw_range(p, Some(&gpu.set), buffers, *first, *count);
         }
         cmd.end_rendering();
-        cmd.copy_image_to_buffer(&targets.color, &color_buf);
-        cmd.copy_image_to_buffer(targets.normal()?, &normal_buf);
+        cmd.copy_image_to_buffer(&targets.color, color_buf);
+        cmd.copy_image_to_buffer(targets.normal()?, normal_buf);
         cmd.submit()?;
         let size = targets.color.byte_size() as usize;
         drop(draws);
-        drop(targets);
-        Ok(Frame {
+        let frame = Frame {
             width: w,
             height: h,
             color: read_back(&color_buf.bytes()[..size]),
             normal: read_back(&normal_buf.bytes()[..size]),
-        })
+        };
+        *self.kept.lock().unwrap_or_else(|e| e.into_inner()) = Some(pass);
+        Ok(frame)
     }
 }
 
