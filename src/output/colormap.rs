@@ -31,6 +31,8 @@
 //! `RED_BLUE.eleven`; Apache-2.0), which the checks confirm.
 use std::sync::OnceLock;
 
+use crate::output::steps::{Steps, ONE};
+
 /// A colormap of the heatmaps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Colormap {
@@ -87,12 +89,6 @@ impl Colormap {
 #[path = "colormap_changes.rs"]
 mod changes;
 
-/// The bit pattern of 1.0f32: the f32 in [0, 1] are the bit patterns `0..=ONE`.
-const ONE: u32 = 0x3f80_0000;
-/// [`Changes`]' buckets are the bit patterns with the same `bits >> BUCKET_SHIFT`: 0x3f81
-/// buckets over [0, 1], 1/256 of an octave each.
-const BUCKET_SHIFT: u32 = 16;
-
 /// The colour of a region that [`Changes`] leaves to the spline, in the generated tables.
 pub(crate) const SPLINE: u32 = u32::MAX;
 
@@ -108,12 +104,10 @@ pub(crate) const SPLINE: u32 = u32::MAX;
 /// [`Table::rgb`] (scripts/colormap_changes.sh), so the lookup is the spline on every one of
 /// them; outside [0, 1] (negative, -0, NaN, > 1) it is the spline itself.
 pub(crate) struct Changes {
-    /// The first bit pattern of each region, starting at 0, then `u32::MAX` as a sentinel.
-    starts: Vec<u32>,
+    /// The regions, by their first bit patterns.
+    regions: Steps,
     /// Each region's colour, `None` where it is the spline's.
     colors: Vec<Option<[u8; 3]>>,
-    /// Per bucket, the piece of its first bit pattern.
-    first: Vec<u16>,
     spline: &'static Table,
 }
 
@@ -121,22 +115,14 @@ impl Changes {
     /// The lookup over `points` ((first bit pattern, colour 0xRRGGBB or [`SPLINE`]) of each
     /// region, sorted, the first at 0), with `spline` outside [0, 1] and in [`SPLINE`] regions.
     pub(crate) fn new(points: &[(u32, u32)], spline: &'static Table) -> Changes {
-        assert!(points.first().is_some_and(|p| p.0 == 0), "no piece at 0");
         assert!(points.windows(2).all(|w| w[0].0 < w[1].0), "unsorted");
-        assert!(points.len() <= u16::MAX as usize, "too many pieces");
-        let mut starts: Vec<u32> = points.iter().map(|p| p.0).collect();
         let colors = points
             .iter()
             .map(|&(_, c)| (c != SPLINE).then_some([(c >> 16) as u8, (c >> 8) as u8, c as u8]))
             .collect();
-        let first = (0..=ONE >> BUCKET_SHIFT)
-            .map(|k| (starts.partition_point(|&s| s <= k << BUCKET_SHIFT) - 1) as u16)
-            .collect();
-        starts.push(u32::MAX);
         Changes {
-            starts,
+            regions: Steps::new(points.iter().map(|p| p.0).collect()),
             colors,
-            first,
             spline,
         }
     }
@@ -148,10 +134,7 @@ impl Changes {
         if bits > ONE {
             return self.spline.rgb(t);
         }
-        let mut i = self.first[(bits >> BUCKET_SHIFT) as usize] as usize;
-        while self.starts[i + 1] <= bits {
-            i += 1;
-        }
+        let i = self.regions.index(bits);
         match self.colors[i] {
             Some(c) => c,
             None => self.spline.rgb(t),

@@ -5,6 +5,7 @@ pub mod colormap;
 pub mod heatmap;
 pub mod provenance;
 pub mod srgb;
+mod steps;
 
 pub use provenance::Provenance;
 pub use srgb::srgb8;

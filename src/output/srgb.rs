@@ -14,10 +14,7 @@
 //! stride over the range (docs/performance-compare.md gives the run).
 use std::sync::OnceLock;
 
-/// The bit pattern of 1.0f32: the largest input the formula does not clamp.
-const ONE: u32 = 0x3f80_0000;
-/// Inputs are looked up by their top 16 bits first (one bucket per 2^16 bit patterns).
-const BUCKET_SHIFT: u32 = 16;
+use crate::output::steps::{Steps, ONE};
 
 /// sRGB transfer function of a linear value, clamped to [0, 1] (NaN and Inf become 0), as 8
 /// bits: the definition.
@@ -41,19 +38,16 @@ fn clamp01(linear: f32) -> f32 {
 
 /// The steps of [`srgb8_formula`] over the bit patterns of [0, 1].
 pub(crate) struct Table {
-    /// The value at the first bit pattern of each bucket.
-    start: Vec<u8>,
-    /// `thresholds[k]`: the first bit pattern whose value is at least `k` (k in 1..=255);
-    /// `thresholds[0]` is 0 and `thresholds[256]` is past every input.
-    thresholds: [u32; 257],
+    /// Step `k` starts at the first bit pattern whose value is at least `k` (k in 1..=255;
+    /// step 0 at 0): the step's index is the value.
+    steps: Steps,
 }
 
 impl Table {
     /// Built from `f`, a non-decreasing function of the bit patterns 0..=ONE.
     pub(crate) fn build(f: impl Fn(f32) -> u8) -> Table {
-        let mut thresholds = [u32::MAX; 257];
-        thresholds[0] = 0;
-        for (k, t) in thresholds.iter_mut().enumerate().take(256).skip(1) {
+        let mut thresholds = vec![0u32; 256];
+        for (k, t) in thresholds.iter_mut().enumerate().skip(1) {
             // the first b in [0, ONE + 1) with f(b) >= k (ONE + 1 when none)
             let (mut lo, mut hi) = (0u32, ONE + 1);
             while lo < hi {
@@ -66,10 +60,9 @@ impl Table {
             }
             *t = lo;
         }
-        let start = (0..=ONE >> BUCKET_SHIFT)
-            .map(|j| f(f32::from_bits(j << BUCKET_SHIFT)))
-            .collect();
-        Table { start, thresholds }
+        Table {
+            steps: Steps::new(thresholds),
+        }
     }
 
     /// The value of the input `linear` (any f32).
@@ -77,22 +70,19 @@ impl Table {
     pub(crate) fn get(&self, linear: f32) -> u8 {
         // -0.0 has the sign bit set and the value of +0.0
         let b = clamp01(linear).to_bits() & 0x7fff_ffff;
-        let mut v = usize::from(self.start[(b >> BUCKET_SHIFT) as usize]);
-        // at most a few steps: a bucket spans less than one step except near 0
-        while b >= self.thresholds[v + 1] {
-            v += 1;
-        }
-        v as u8
+        self.steps.index(b) as u8
+    }
+
+    /// `thresholds[k]`: the first bit pattern whose value is at least `k` (k in 1..=255);
+    /// `thresholds[0]` is 0 and `thresholds[256]` is past every input.
+    #[cfg(test)]
+    pub(crate) fn thresholds(&self) -> &[u32] {
+        self.steps.starts()
     }
 
     #[cfg(test)]
-    pub(crate) fn thresholds(&self) -> &[u32; 257] {
-        &self.thresholds
-    }
-
-    #[cfg(test)]
-    pub(crate) fn thresholds_mut(&mut self) -> &mut [u32; 257] {
-        &mut self.thresholds
+    pub(crate) fn thresholds_mut(&mut self) -> &mut [u32] {
+        self.steps.starts_mut()
     }
 }
 

@@ -22,6 +22,8 @@
 // The literals are nv-flip's as written in its headers (then rounded to f32 as there).
 #![allow(clippy::excessive_precision, clippy::approx_constant)]
 
+use super::Rect;
+
 /// `FLIP::PI` (sharedflip.h), an f32.
 const PI: f32 = 3.141_592_653_589_79;
 /// `FLIPConstants` (sharedflip.h).
@@ -289,15 +291,6 @@ pub(crate) fn flip_value(p: &Params, reference: &Side, test: &Side) -> f32 {
     color.powf(1.0 - feature)
 }
 
-/// An output rectangle of pixels, ends exclusive.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Area {
-    pub(crate) x0: usize,
-    pub(crate) y0: usize,
-    pub(crate) x1: usize,
-    pub(crate) y1: usize,
-}
-
 /// Planes of the horizontal pass: YCx (x, y), Cz (x, y), then the feature filter's
 /// 1st derivative, 2nd derivative and Gaussian of the normalised Y.
 const PLANES: usize = 7;
@@ -310,7 +303,7 @@ pub(crate) fn filter_side(
     p: &Params,
     src: &[u8],
     (w, h): (usize, usize),
-    area: Area,
+    area: Rect,
     wanted: Option<&[bool]>,
     mut out: impl FnMut(usize, usize, Side),
 ) {

@@ -19,7 +19,7 @@
 mod kernel;
 
 use glam::DVec3;
-use kernel::{Area, Params, Side};
+use kernel::{Params, Side};
 
 use crate::analysis::stats::percentile;
 use crate::output;
@@ -39,11 +39,11 @@ const PPD: f32 = 67.0;
 
 /// A pixel rectangle, ends exclusive.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Rect {
-    x0: usize,
-    y0: usize,
-    x1: usize,
-    y1: usize,
+pub(crate) struct Rect {
+    pub(crate) x0: usize,
+    pub(crate) y0: usize,
+    pub(crate) x1: usize,
+    pub(crate) y1: usize,
 }
 
 impl Rect {
@@ -106,9 +106,10 @@ fn differing_cells(
     (cells, cw)
 }
 
-/// The rectangles whose crops [`flip_map`] computes: the differing pixels' boxes in cells of
-/// `CELL * 2^k` pixels (k = 0..5), or their one bounding box, whichever computes the fewest
-/// pixels (crop areas `box + 2r`, summed).
+/// The rectangles near which [`FlipReference::map`] filters the test side: the differing
+/// pixels' boxes in cells of `CELL * 2^k` pixels (k = 0..5), or their one bounding box,
+/// whichever reads the fewest pixels (areas `box + 2r`, the pixels the filters of `box + r`
+/// read, summed).
 fn regions(reference: &[u8], test: &[u8], w: usize, h: usize, r: usize) -> Vec<Rect> {
     let (mut cells, mut cw) = differing_cells(reference, test, w, h);
     let cost = |rects: &[Option<Rect>]| -> usize {
@@ -168,7 +169,7 @@ impl FlipReference {
         let params = Params::new(ppd);
         let mut sides = Vec::with_capacity(w * h);
         if w > 0 && h > 0 {
-            let all = Area {
+            let all = Rect {
                 x0: 0,
                 y0: 0,
                 x1: w,
@@ -204,13 +205,7 @@ impl FlipReference {
         let mut map = vec![0.0f32; w * h];
         let near = near_differences(&self.ref8, test, w, h, r);
         for b in regions(&self.ref8, test, w, h, r) {
-            let v = b.grow(r, w, h);
-            let area = Area {
-                x0: v.x0,
-                y0: v.y0,
-                x1: v.x1,
-                y1: v.y1,
-            };
+            let area = b.grow(r, w, h);
             kernel::filter_side(&self.params, test, (w, h), area, Some(&near), |x, y, t| {
                 let i = y * w + x;
                 map[i] = kernel::flip_value(&self.params, &self.sides[i], &t);
