@@ -104,8 +104,25 @@ impl<'a> Ready<'a> {
 
     /// Renders `m` (with the id frame when `with_ids`).
     pub fn render(&self, m: &Method, with_ids: bool) -> Result<(Frame, Option<IdFrame>)> {
+        self.render_into(m, with_ids, None)
+    }
+
+    /// [`Ready::render`] reading the frame back into `recycled`'s vectors (Vulkan; the
+    /// software engine draws into its own targets and drops it): the same frame.
+    pub fn render_into(
+        &self,
+        m: &Method,
+        with_ids: bool,
+        recycled: Option<Frame>,
+    ) -> Result<(Frame, Option<IdFrame>)> {
         match self {
-            Ready::Vulkan(r, p) => r.render(p.for_method(m), Shading::Method(m), with_ids),
+            Ready::Vulkan(r, p) => r.render_with_into(
+                p.for_method(m),
+                Shading::Method(m),
+                with_ids,
+                true,
+                recycled,
+            ),
             Ready::Software { threads, .. } => {
                 software::render(self.inputs(m)?, m, *threads, with_ids)
             }

@@ -344,3 +344,97 @@ fn scanline_methods_are_not_rotation_invariant() {
     );
     assert_validation_clean(r.context());
 }
+
+/// The bytes of a frame: its size, colour and normal.
+fn frame_bits(f: &shadelab::frame::Frame) -> (u32, u32, Vec<u8>, Vec<u8>) {
+    let bytes = |v: &[[f32; 4]]| bytemuck::cast_slice::<_, u8>(v).to_vec();
+    (f.width, f.height, bytes(&f.color), bytes(&f.normal))
+}
+
+/// A frame of `w` x `h` full of NaN: stale contents a recycled frame must not leak.
+fn stale_frame(w: u32, h: u32) -> shadelab::frame::Frame {
+    let n = (w * h) as usize;
+    shadelab::frame::Frame {
+        width: w,
+        height: h,
+        color: vec![[f32::NAN; 4]; n],
+        normal: vec![[f32::NAN; 4]; n],
+    }
+}
+
+/// Frames read back into a recycled frame (compare hands its frames back to the renderer) equal
+/// fresh ones bit for bit, whatever the recycled frame held: another method's frame, a larger or
+/// smaller frame, NaN everywhere; with and without the normal target and the id pass, and auto.
+#[test]
+fn frames_read_into_recycled_buffers_equal_fresh_ones() {
+    let r = validated_renderer();
+    let (a, b) = (
+        method::find("phong_exact").unwrap(),
+        method::find("gouraud").unwrap(),
+    );
+    let prepared = r.prepare(&shipped_scene("torus", 80), &[a, b]).unwrap();
+    let gpu = prepared.base();
+    let (fresh_a, fresh_ids) = r.render(gpu, Shading::Method(a), true).unwrap();
+    let fresh_b = r.render(gpu, Shading::Method(b), false).unwrap().0;
+    // Teeth: the two methods' frames differ, so the comparisons below can fail.
+    assert_ne!(frame_bits(&fresh_a), frame_bits(&fresh_b));
+    let into = |m, recycled| {
+        r.render_with_into(gpu, Shading::Method(m), false, true, Some(recycled))
+            .unwrap()
+            .0
+    };
+    // Another method's frame, then that frame again for the first method.
+    let b_in_a = into(b, fresh_a.clone());
+    assert_eq!(frame_bits(&b_in_a), frame_bits(&fresh_b));
+    assert_eq!(frame_bits(&into(a, b_in_a)), frame_bits(&fresh_a));
+    // Stale NaN frames larger and smaller than the image.
+    for (w, h) in [(96, 96), (80, 80), (1, 1), (0, 0)] {
+        let got = into(a, stale_frame(w, h));
+        assert_eq!(frame_bits(&got), frame_bits(&fresh_a), "recycled {w}x{h}");
+    }
+    // With the id pass: the same frame and the same ids.
+    let (got, ids) = r
+        .render_with_into(
+            gpu,
+            Shading::Method(a),
+            true,
+            true,
+            Some(stale_frame(96, 96)),
+        )
+        .unwrap();
+    assert_eq!(frame_bits(&got), frame_bits(&fresh_a));
+    let (ids, fresh_ids) = (ids.unwrap(), fresh_ids.unwrap());
+    assert_eq!(ids.prim, fresh_ids.prim);
+    assert_eq!(
+        bytemuck::cast_slice::<_, u8>(&ids.weights),
+        bytemuck::cast_slice::<_, u8>(&fresh_ids.weights)
+    );
+    // Without the normal target: the colour, and no normal (the recycled one is not kept).
+    let fresh_c = r
+        .render_with(gpu, Shading::Method(a), false, false)
+        .unwrap()
+        .0;
+    let got = r
+        .render_with_into(
+            gpu,
+            Shading::Method(a),
+            false,
+            false,
+            Some(stale_frame(80, 80)),
+        )
+        .unwrap()
+        .0;
+    assert!(got.normal.is_empty());
+    assert_eq!(frame_bits(&got), frame_bits(&fresh_c));
+    // auto: triangles alternating between the two methods.
+    let scene = shipped_scene("torus", 80);
+    let pick: Vec<usize> = (0..gpu.inputs.triangle_count()).map(|t| t % 2).collect();
+    let auto = r.prepare_auto(&scene, &[a, b], &pick).unwrap();
+    let fresh_auto = r.render_auto(&auto).unwrap();
+    assert_ne!(frame_bits(&fresh_auto), frame_bits(&fresh_a));
+    let got = r
+        .render_auto_into(&auto, Some(stale_frame(96, 96)))
+        .unwrap();
+    assert_eq!(frame_bits(&got), frame_bits(&fresh_auto));
+    assert_validation_clean(r.context());
+}

@@ -23,7 +23,7 @@ use crate::analysis::pixel::{channel_stats, d3, pixel_errors, IntensityStats, Pi
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
-use crate::frame::{Frame, IdFrame};
+use crate::frame::{Frame, IdFrame, SpareFrames};
 use crate::gpu::Renderer;
 use crate::method::{self, Method, Reference};
 use crate::output;
@@ -221,7 +221,13 @@ impl Analysis<'_> {
         Ok(())
     }
 
-    fn analyse(&self, m: Subject, frame: Frame) -> Result<(MethodReport, PhaseTimes)> {
+    /// `done` gets the frame back once nothing needs it any more (before FLIP).
+    fn analyse(
+        &self,
+        m: Subject,
+        frame: Frame,
+        done: impl FnOnce(Frame),
+    ) -> Result<(MethodReport, PhaseTimes)> {
         let (w, h) = (self.width, self.height);
         let t = Instant::now();
         // First, so that its per-pixel errors are freed before the main ones are made.
@@ -264,7 +270,7 @@ impl Analysis<'_> {
         // It needs only the 8-bit test image and the mask: the frame and the maps go first.
         let t = Instant::now();
         let test8 = (!nf).then_some(test8);
-        drop(frame);
+        done(frame);
         let (counts, measured) = (f.counts, std::mem::take(&mut f.measured));
         drop(f);
         let (flip_mean, flip_p95) = match test8 {
@@ -423,7 +429,10 @@ type Analysed = Vec<Result<(MethodReport, PhaseTimes)>>;
 impl Run<'_> {
     /// Pipeline: this thread renders (lavapipe runs its own threads), two workers turn frames
     /// into statistics, FLIP and PNGs. The channel is a rendezvous: a frame is handed over only
-    /// when a worker takes it, so at most three frames (32 MB each at 1024x1024) exist at once.
+    /// when a worker takes it, so at most three frames (32 MB each at 1024x1024) are in use at
+    /// once. A worker hands its frame back before FLIP and the next frame is read back into it
+    /// (warm pages instead of 32 MB of fresh ones per frame); one spare is kept, the rest
+    /// dropped, so at most one frame more than in use exists.
     /// Returns the reports in order, the render time (ms) and `auto`'s choices.
     fn render_and_analyse(
         &self,
@@ -433,6 +442,7 @@ impl Run<'_> {
         let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Subject, Frame)>(0);
         let rx = std::sync::Mutex::new(rx);
         let results = std::sync::Mutex::new(Vec::new());
+        let spare = SpareFrames::new(1);
         let mut render_ms = 0.0;
         let mut auto_summaries = Vec::new();
         let render_result: Result<()> = std::thread::scope(|scope| {
@@ -444,7 +454,7 @@ impl Run<'_> {
                     };
                     let Ok((i, m, frame)) = job else { return };
                     bar.set_message(m.name.to_string());
-                    let r = ctx.analyse(m, frame);
+                    let r = ctx.analyse(m, frame, |f| spare.give(f));
                     bar.inc(1);
                     if let Ok(mut v) = results.lock() {
                         v.push((i, r));
@@ -453,7 +463,7 @@ impl Run<'_> {
             }
             for (i, m) in self.methods.iter().enumerate() {
                 let t = Instant::now();
-                let (frame, _) = self.prepared.render(m, false)?;
+                let (frame, _) = self.prepared.render_into(m, false, spare.take())?;
                 render_ms += t.elapsed().as_secs_f64() * 1e3;
                 if tx.send((i, Subject::from(*m), frame)).is_err() {
                     break;
@@ -474,7 +484,7 @@ impl Run<'_> {
                     false,
                 )?;
                 auto_summaries.push(summary);
-                let frame = renderer.render_auto(&scene_auto)?;
+                let frame = renderer.render_auto_into(&scene_auto, spare.take())?;
                 drop(scene_auto);
                 render_ms += t.elapsed().as_secs_f64() * 1e3;
                 if tx

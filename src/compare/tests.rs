@@ -234,7 +234,7 @@ fn report(frame: &Frame, truth: &Truth) -> MethodReport {
         width: frame.width,
         height: 1,
     };
-    a.analyse(Subject::from(m), frame.clone()).unwrap().0
+    a.analyse(Subject::from(m), frame.clone(), drop).unwrap().0
 }
 
 #[test]

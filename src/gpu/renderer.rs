@@ -89,12 +89,33 @@ impl Stream {
     }
 }
 
-/// Read-back bytes as pixels, bit for bit: a plain copy where the mapped memory is aligned for
-/// `T` (it always is: Vulkan maps at least 64-byte aligned), else `pod_collect_to_vec`, which
-/// first zeroes its vector (a 16 MB memset per frame image when the allocator reuses memory).
+/// Read-back bytes as pixels, bit for bit, into a fresh vector ([`read_back_into`]).
 fn read_back<T: bytemuck::Pod>(bytes: &[u8]) -> Vec<T> {
-    bytemuck::try_cast_slice(bytes)
-        .map_or_else(|_| bytemuck::pod_collect_to_vec(bytes), <[T]>::to_vec)
+    read_back_into(bytes, Vec::new())
+}
+
+/// Read-back bytes as pixels, bit for bit, into the memory of `into` (a frame handed back): its
+/// length becomes exactly the pixels of `bytes` and every one of them is overwritten, whatever
+/// it held or however long it was, so the result equals a fresh read-back. Its pages are warm,
+/// so the copy takes no page faults (a fresh 16 MB vector per image faulted every page in). A
+/// vector with too little room is dropped, not grown: growing would copy its stale contents.
+/// A plain copy where the mapped memory is aligned for `T` (it always is: Vulkan maps at least
+/// 64-byte aligned), else pixel by pixel; never zeroed first.
+fn read_back_into<T: bytemuck::Pod>(bytes: &[u8], mut into: Vec<T>) -> Vec<T> {
+    let n = bytes.len() / std::mem::size_of::<T>();
+    into.clear();
+    if into.capacity() < n {
+        into = Vec::with_capacity(n);
+    }
+    match bytemuck::try_cast_slice::<u8, T>(bytes) {
+        Ok(pixels) => into.extend_from_slice(pixels),
+        Err(_) => into.extend(
+            bytes
+                .chunks_exact(std::mem::size_of::<T>())
+                .map(bytemuck::pod_read_unaligned::<T>),
+        ),
+    }
+    into
 }
 
 fn method_defines(m: &Method) -> Vec<&'static str> {
@@ -469,6 +490,20 @@ impl Renderer {
         with_ids: bool,
         with_normal: bool,
     ) -> Result<(Frame, Option<IdFrame>)> {
+        self.render_with_into(gpu, shading, with_ids, with_normal, None)
+    }
+
+    /// [`Renderer::render_with`] reading the frame back into the vectors of `recycled`, a frame
+    /// its user is done with (of any size and content: [`read_back_into`]), instead of fresh
+    /// ones. The frame is the same, bit for bit; `compare` hands its frames back this way.
+    pub fn render_with_into(
+        &self,
+        gpu: &GpuScene,
+        shading: Shading,
+        with_ids: bool,
+        with_normal: bool,
+        recycled: Option<Frame>,
+    ) -> Result<(Frame, Option<IdFrame>)> {
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
         let n = gpu.inputs.positions.len() as u32;
         let (streams, buffers) = gpu.buffers(shading)?;
@@ -528,10 +563,12 @@ impl Renderer {
             normal.map_or(0, |n| n.byte_size() as usize),
         );
         drop(pipeline);
-        let color: Vec<[f32; 4]> = read_back(&color_buf.bytes()[..color_size]);
-        let normal: Vec<[f32; 4]> = normal_buf
-            .as_ref()
-            .map_or_else(Vec::new, |b| read_back(&b.bytes()[..normal_size]));
+        let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
+        let color = read_back_into(&color_buf.bytes()[..color_size], old_color);
+        let normal = match normal_buf {
+            Some(b) => read_back_into(&b.bytes()[..normal_size], old_normal),
+            None => Vec::new(),
+        };
         *self.kept.lock().unwrap_or_else(|e| e.into_inner()) = Some(pass);
         let frame = Frame {
             width: w,
@@ -623,6 +660,12 @@ impl Renderer {
 
     /// Renders `auto`: one pipeline per group, each drawing its range, in one pass.
     pub fn render_auto(&self, a: &AutoScene) -> Result<Frame> {
+        self.render_auto_into(a, None)
+    }
+
+    /// [`Renderer::render_auto`] reading back into the vectors of `recycled`, as
+    /// [`Renderer::render_with_into`] does.
+    pub fn render_auto_into(&self, a: &AutoScene, recycled: Option<Frame>) -> Result<Frame> {
         let gpu = &a.gpu;
         let (w, h) = (gpu.inputs.width, gpu.inputs.height);
         // The image carries the normal too (compare reads it), whatever timing does.
@@ -646,11 +689,12 @@ impl Renderer {
         cmd.submit()?;
         let size = targets.color.byte_size() as usize;
         drop(draws);
+        let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
         let frame = Frame {
             width: w,
             height: h,
-            color: read_back(&color_buf.bytes()[..size]),
-            normal: read_back(&normal_buf.bytes()[..size]),
+            color: read_back_into(&color_buf.bytes()[..size], old_color),
+            normal: read_back_into(&normal_buf.bytes()[..size], old_normal),
         };
         *self.kept.lock().unwrap_or_else(|e| e.into_inner()) = Some(pass);
         Ok(frame)
@@ -689,5 +733,35 @@ impl SceneInputs {
                 [w[0], w[1], 0.0]
             }),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::read_back_into;
+
+    /// Pixels as bytes, as a read-back buffer holds them.
+    fn bytes(px: &[[f32; 4]]) -> Vec<u8> {
+        bytemuck::cast_slice(px).to_vec()
+    }
+
+    #[test]
+    fn read_back_into_overwrites_any_recycled_vector() {
+        let px: Vec<[f32; 4]> = (0..50).map(|i| [i as f32, -0.0, 1.5, f32::MIN]).collect();
+        let raw = bytes(&px);
+        for stale in [0, 1, 49, 50, 51, 200] {
+            let got = read_back_into(&raw, vec![[f32::NAN; 4]; stale]);
+            assert_eq!(bytes(&got), raw, "recycled vector of {stale} pixels");
+        }
+        // The unaligned path (bytes at an odd address) gives the same pixels.
+        let mut shifted = vec![0u8; raw.len() + 1];
+        shifted[1..].copy_from_slice(&raw);
+        let got = read_back_into::<[f32; 4]>(&shifted[1..], vec![[f32::NAN; 4]; 7]);
+        assert_eq!(bytes(&got), raw);
+        // Teeth: overwriting in place without taking the length from the bytes keeps the stale
+        // tail, which the comparison above sees.
+        let mut in_place = vec![[f32::NAN; 4]; 51];
+        in_place[..50].copy_from_slice(&px);
+        assert_ne!(bytes(&in_place), raw);
     }
 }
