@@ -81,7 +81,7 @@ fn rel(dir: &str, file: &str) -> String {
 /// One heatmap to draw: file, values, colorbar label, colormap, scale, and whether it applies.
 type MapSpec<'a> = (
     &'static str,
-    &'a dyn Fn(usize) -> Option<f64>,
+    heatmap::Field<'a>,
     &'static str,
     Colormap,
     Scale,
@@ -169,13 +169,12 @@ impl Analysis<'_> {
     ) -> Result<()> {
         let (w, h) = (self.width, self.height);
         let dir = self.out.join(m.name);
-        let abs = |i: usize| f.signed(i).map(f64::abs);
-        let signed = |i: usize| f.signed(i);
-        let angle = |i: usize| f.angle(i);
+        let ((signed, measured), (angle, has_angle)) = (f.signed_map(), f.angle_map());
+        let field = |values, mask, abs| heatmap::Field::Masked { values, mask, abs };
         let maps: [MapSpec; 3] = [
             (
                 "error_abs.png",
-                &abs,
+                field(signed, measured, true),
                 "|dI| luminance (linear)",
                 Colormap::Magma,
                 abs_scale,
@@ -183,7 +182,7 @@ impl Analysis<'_> {
             ),
             (
                 "error_signed.png",
-                &signed,
+                field(signed, measured, false),
                 "dI = method - reference",
                 Colormap::RedBlue,
                 signed_scale,
@@ -191,7 +190,7 @@ impl Analysis<'_> {
             ),
             (
                 "error_angle.png",
-                &angle,
+                field(angle, has_angle, false),
                 "normal angle error (deg)",
                 Colormap::Magma,
                 angle_scale,
