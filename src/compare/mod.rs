@@ -19,7 +19,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
-use crate::analysis::pixel::{channel_stats, d3, pixel_errors, IntensityStats, PixelErrors, Twin};
+use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors, Twin};
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
@@ -249,7 +249,7 @@ impl Analysis<'_> {
         let mut files = Vec::new();
         // The 8-bit sRGB image, once: render.png's colour and FLIP's test image (the same
         // `srgb8` of the same f32 values that `output::write_png_srgb` would take).
-        let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
+        let test8 = output::srgb::frame_rgb8(&frame.color);
         if self.opts.images {
             files.push(rel(m.name, "render.png"));
             write_render_png(&dir.join("render.png"), w, h, &test8, &frame.color)?;
@@ -304,9 +304,14 @@ impl Analysis<'_> {
 /// Writes a frame as render.png from its 8-bit sRGB colour `rgb8` (of `color`) and the alpha of
 /// `color`: the bytes of `output::write_png_srgb(path, w, h, color)`.
 fn write_render_png(path: &Path, w: u32, h: u32, rgb8: &[u8], color: &[[f32; 4]]) -> Result<()> {
-    let mut rgba = Vec::with_capacity(4 * color.len());
-    for (c, p) in rgb8.chunks_exact(3).zip(color) {
-        rgba.extend_from_slice(&[c[0], c[1], c[2], output::alpha8(p[3])]);
+    let mut rgba = vec![0u8; 4 * color.len()];
+    for ((o, c), p) in rgba
+        .chunks_exact_mut(4)
+        .zip(rgb8.chunks_exact(3))
+        .zip(color)
+    {
+        o[..3].copy_from_slice(c);
+        o[3] = output::alpha8(p[3]);
     }
     output::write_png_rgba8(path, w, h, &rgba)
 }
