@@ -304,15 +304,10 @@ impl Analysis<'_> {
 /// Writes a frame as render.png from its 8-bit sRGB colour `rgb8` (of `color`) and the alpha of
 /// `color`: the bytes of `output::write_png_srgb(path, w, h, color)`.
 fn write_render_png(path: &Path, w: u32, h: u32, rgb8: &[u8], color: &[[f32; 4]]) -> Result<()> {
-    let mut rgba = vec![0u8; 4 * color.len()];
-    for ((o, c), p) in rgba
-        .chunks_exact_mut(4)
-        .zip(rgb8.chunks_exact(3))
-        .zip(color)
-    {
-        o[..3].copy_from_slice(c);
-        o[3] = output::alpha8(p[3]);
-    }
+    let rgba: Vec<[u8; 4]> = (rgb8.chunks_exact(3).zip(color))
+        .map(|(c, p)| [c[0], c[1], c[2], output::alpha8(p[3])])
+        .collect();
+    let rgba = rgba.into_flattened();
     output::write_png_rgba8(path, w, h, &rgba)
 }
 
