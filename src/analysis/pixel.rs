@@ -133,6 +133,16 @@ impl PixelErrors {
         self.has_angle[i].then(|| self.angle[i])
     }
 
+    /// Per pixel: dI, and whether it is measured (where it is not, dI is 0 and no data).
+    pub fn signed_map(&self) -> (&[f64], &[bool]) {
+        (&self.signed, &self.measured)
+    }
+
+    /// Per pixel: the normal angle error, and whether it has one.
+    pub fn angle_map(&self) -> (&[f64], &[bool]) {
+        (&self.angle, &self.has_angle)
+    }
+
     /// (x, y, dI) of every measured pixel, in pixel order.
     pub fn errors(&self) -> impl Iterator<Item = (u32, u32, f64)> + '_ {
         let w = self.width as usize;

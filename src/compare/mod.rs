@@ -19,7 +19,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
-use crate::analysis::pixel::{channel_stats, d3, pixel_errors, IntensityStats, PixelErrors, Twin};
+use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors, Twin};
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
@@ -81,7 +81,7 @@ fn rel(dir: &str, file: &str) -> String {
 /// One heatmap to draw: file, values, colorbar label, colormap, scale, and whether it applies.
 type MapSpec<'a> = (
     &'static str,
-    &'a dyn Fn(usize) -> Option<f64>,
+    heatmap::Field<'a>,
     &'static str,
     Colormap,
     Scale,
@@ -169,13 +169,12 @@ impl Analysis<'_> {
     ) -> Result<()> {
         let (w, h) = (self.width, self.height);
         let dir = self.out.join(m.name);
-        let abs = |i: usize| f.signed(i).map(f64::abs);
-        let signed = |i: usize| f.signed(i);
-        let angle = |i: usize| f.angle(i);
+        let ((signed, measured), (angle, has_angle)) = (f.signed_map(), f.angle_map());
+        let field = |values, mask, abs| heatmap::Field::Masked { values, mask, abs };
         let maps: [MapSpec; 3] = [
             (
                 "error_abs.png",
-                &abs,
+                field(signed, measured, true),
                 "|dI| luminance (linear)",
                 Colormap::Magma,
                 abs_scale,
@@ -183,7 +182,7 @@ impl Analysis<'_> {
             ),
             (
                 "error_signed.png",
-                &signed,
+                field(signed, measured, false),
                 "dI = method - reference",
                 Colormap::RedBlue,
                 signed_scale,
@@ -191,7 +190,7 @@ impl Analysis<'_> {
             ),
             (
                 "error_angle.png",
-                &angle,
+                field(angle, has_angle, false),
                 "normal angle error (deg)",
                 Colormap::Magma,
                 angle_scale,
@@ -256,7 +255,7 @@ impl Analysis<'_> {
         let mut files = Vec::new();
         // The 8-bit sRGB image, once: render.png's colour and FLIP's test image (the same
         // `srgb8` of the same f32 values that `output::write_png_srgb` would take).
-        let test8 = srgb_rgb8(frame.color.iter().map(|&c| d3(c)));
+        let test8 = output::srgb::frame_rgb8(&frame.color);
         if self.opts.images {
             files.push(rel(m.name, "render.png"));
             write_render_png(&dir.join("render.png"), w, h, &test8, &frame.color)?;
@@ -311,10 +310,10 @@ impl Analysis<'_> {
 /// Writes a frame as render.png from its 8-bit sRGB colour `rgb8` (of `color`) and the alpha of
 /// `color`: the bytes of `output::write_png_srgb(path, w, h, color)`.
 fn write_render_png(path: &Path, w: u32, h: u32, rgb8: &[u8], color: &[[f32; 4]]) -> Result<()> {
-    let mut rgba = Vec::with_capacity(4 * color.len());
-    for (c, p) in rgb8.chunks_exact(3).zip(color) {
-        rgba.extend_from_slice(&[c[0], c[1], c[2], output::alpha8(p[3])]);
-    }
+    let rgba: Vec<[u8; 4]> = (rgb8.chunks_exact(3).zip(color))
+        .map(|(c, p)| [c[0], c[1], c[2], output::alpha8(p[3])])
+        .collect();
+    let rgba = rgba.into_flattened();
     output::write_png_rgba8(path, w, h, &rgba)
 }
 

@@ -9,6 +9,8 @@ use plotters::prelude::*;
 
 pub use crate::output::colormap::Colormap;
 
+use crate::output::colormap::Changes;
+
 use crate::error::{Error, Result};
 
 /// How values map to the colormap.
@@ -131,47 +133,123 @@ pub fn color_at(gradient: &Colormap, t: f64) -> [u8; 3] {
     gradient.rgb(t.clamp(0.0, 1.0) as f32)
 }
 
+/// A field of values to draw, row-major, `None` = no data.
+#[derive(Clone, Copy)]
+pub enum Field<'a> {
+    /// `value(i)` at pixel `i`: a function, so a caller maps its own storage without a copy.
+    Fn(&'a dyn Fn(usize) -> Option<f64>),
+    /// `values[i]` where `mask[i]` (its absolute value when `abs`), no data elsewhere: a field
+    /// the figure reads without a call per pixel. Both slices cover the field.
+    Masked {
+        values: &'a [f64],
+        mask: &'a [bool],
+        abs: bool,
+    },
+}
+
+/// The colours of a field's values, one pixel after another: runs of the same value, or of
+/// the same f32 colormap position (every error below a log scale's floor is at t = 0), reuse
+/// the previous colour, the colour being a function of that position.
+struct Painter {
+    mapping: Mapping,
+    table: &'static Changes,
+    /// The last finite value's bits and colour (a NaN's bits at first: no finite value has them).
+    last_v: (u64, [u8; 3]),
+    /// The last colormap position's bits and colour (a NaN's at first: `t` is never NaN).
+    last_t: (u32, [u8; 3]),
+}
+
+impl Painter {
+    fn new(desc: &HeatmapDesc) -> Painter {
+        Painter {
+            mapping: desc.scale.mapping(),
+            table: desc.gradient.changes(),
+            last_v: (f64::NAN.to_bits(), NO_DATA),
+            last_t: (f32::NAN.to_bits(), NO_DATA),
+        }
+    }
+
+    #[inline]
+    fn color(&mut self, value: Option<f64>) -> [u8; 3] {
+        match value {
+            Some(v) if v.is_finite() => {
+                if self.last_v.0 == v.to_bits() {
+                    return self.last_v.1;
+                }
+                let t = self.mapping.t(v) as f32;
+                let c = if self.last_t.0 == t.to_bits() {
+                    self.last_t.1
+                } else {
+                    self.table.rgb(t)
+                };
+                self.last_t = (t.to_bits(), c);
+                self.last_v = (v.to_bits(), c);
+                c
+            }
+            _ => NO_DATA,
+        }
+    }
+
+    /// Colours `row` (3 bytes per pixel) from `values`, pixel by pixel.
+    #[inline]
+    fn row(&mut self, row: &mut [u8], values: impl Iterator<Item = Option<f64>>) {
+        for (px, v) in row.chunks_exact_mut(3).zip(values) {
+            px.copy_from_slice(&self.color(v));
+        }
+    }
+}
+
 /// The figure's pixels, row-major, `fig_w` x `fig_h`: the field `values` (`width` x `height`)
-/// in the top-left corner, white elsewhere. Every byte is written once (no white fill that the
-/// field then overwrites). Runs of the same value, or of the same f32 colormap position (every
-/// error below a log scale's floor is at t = 0), reuse the previous colour: the colour is a
-/// function of that position. `rgb` is a buffer to reuse (its content is dropped).
+/// in the top-left corner, white elsewhere. `rgb` is a buffer to reuse (its content is
+/// dropped; one of another size is replaced by zeroed pages): every byte is written once, by
+/// index.
 fn field_pixels(
-    values: &dyn Fn(usize) -> Option<f64>,
+    values: Field,
     (width, height): (u32, u32),
     (fig_w, fig_h): (u32, u32),
     desc: &HeatmapDesc,
     mut rgb: Vec<u8>,
 ) -> Vec<u8> {
-    let mapping = desc.scale.mapping();
-    let table = desc.gradient.changes();
-    rgb.clear();
-    rgb.reserve((fig_w * fig_h * 3) as usize);
-    let mut last_v: Option<(u64, [u8; 3])> = None;
-    let mut last_t: Option<(u32, [u8; 3])> = None;
-    for y in 0..height {
-        for x in 0..width {
-            let c = match values((y * width + x) as usize) {
-                Some(v) if v.is_finite() => match last_v {
-                    Some((bits, c)) if bits == v.to_bits() => c,
-                    _ => {
-                        let t = mapping.t(v) as f32;
-                        let c = match last_t {
-                            Some((bits, c)) if bits == t.to_bits() => c,
-                            _ => table.rgb(t),
-                        };
-                        last_t = Some((t.to_bits(), c));
-                        last_v = Some((v.to_bits(), c));
-                        c
-                    }
-                },
-                _ => NO_DATA,
-            };
-            rgb.extend_from_slice(&c);
-        }
-        rgb.resize(rgb.len() + ((fig_w - width) * 3) as usize, 255);
+    let mut painter = Painter::new(desc);
+    let (w, stride) = (width as usize, fig_w as usize * 3);
+    if rgb.len() != stride * fig_h as usize {
+        drop(rgb);
+        rgb = vec![0u8; stride * fig_h as usize];
     }
-    rgb.resize((fig_w * fig_h * 3) as usize, 255);
+    for (y, row) in rgb.chunks_exact_mut(stride).enumerate() {
+        if y >= height as usize {
+            row.fill(255);
+            continue;
+        }
+        let (out, margin) = row.split_at_mut(w * 3);
+        margin.fill(255);
+        let span = y * w..(y + 1) * w;
+        match values {
+            Field::Fn(f) => painter.row(out, span.map(f)),
+            Field::Masked {
+                values,
+                mask,
+                abs: false,
+            } => painter.row(
+                out,
+                values[span.clone()]
+                    .iter()
+                    .zip(&mask[span])
+                    .map(|(&v, &m)| m.then_some(v)),
+            ),
+            Field::Masked {
+                values,
+                mask,
+                abs: true,
+            } => painter.row(
+                out,
+                values[span.clone()]
+                    .iter()
+                    .zip(&mask[span])
+                    .map(|(&v, &m)| m.then_some(v.abs())),
+            ),
+        }
+    }
     rgb
 }
 
@@ -206,13 +284,13 @@ pub fn render(
     height: u32,
     desc: &HeatmapDesc,
 ) -> Result<Figure> {
-    render_reusing(values, width, height, desc, Vec::new())
+    render_reusing(Field::Fn(values), width, height, desc, Vec::new())
 }
 
-/// [`render`] into `buffer` (e.g. the `rgb` of a figure already written): one allocation, and
-/// its pages touched once, for a series of figures of one size.
+/// [`render`] of any [`Field`] into `buffer` (e.g. the `rgb` of a figure already written): one
+/// allocation, and its pages touched once, for a series of figures of one size.
 pub fn render_reusing(
-    values: &dyn Fn(usize) -> Option<f64>,
+    values: Field,
     width: u32,
     height: u32,
     desc: &HeatmapDesc,
@@ -444,9 +522,22 @@ mod tests {
                 gradient: map,
                 scale,
             };
-            for (fig_w, fig_h) in [(w + PANEL, 200), (w, h), (w + 3, h + 1)] {
-                let used = vec![7u8; 5 * (fig_w * fig_h) as usize]; // a dirty buffer to reuse
-                let got = field_pixels(&|i| values[i], (w, h), (fig_w, fig_h), &desc, used);
+            let sizes = [(w + PANEL, 200), (w, h), (w + 3, h + 1)];
+            // dirty buffers to reuse: of another size, and of the figure's own size
+            let buffers = |fig_w: u32, fig_h: u32| {
+                [5, 3].map(|bytes| vec![7u8; bytes * (fig_w * fig_h) as usize])
+            };
+            for ((fig_w, fig_h), used) in sizes
+                .into_iter()
+                .flat_map(|s| buffers(s.0, s.1).map(|b| (s, b)))
+            {
+                let got = field_pixels(
+                    Field::Fn(&|i| values[i]),
+                    (w, h),
+                    (fig_w, fig_h),
+                    &desc,
+                    used,
+                );
                 let want =
                     field_by_definition(&values, (w, h), fig_w, fig_h, map.colorous(), scale);
                 assert!(got == want, "{map:?} {scale:?} {fig_w}x{fig_h}");
@@ -457,6 +548,66 @@ mod tests {
                 };
                 assert!(got != field_by_definition(&values, (w, h), fig_w, fig_h, other, scale));
             }
+        }
+    }
+
+    /// A masked field of slices draws the figure of the same field as a function (what
+    /// compare drew with before: `mask[i].then(|| values[i])`, `abs` mapped on it), byte for
+    /// byte, and the per-pixel definition's; teeth: the other `abs`, or one pixel's mask
+    /// flipped, gives another figure.
+    #[test]
+    fn masked_fields_equal_the_same_field_as_a_function() {
+        let (w, h) = (97u32, 61u32);
+        let n = (w * h) as usize;
+        let awkward = awkward_values(n);
+        let values: Vec<f64> = awkward.iter().map(|v| v.unwrap_or(0.25)).collect();
+        let mask: Vec<bool> = (0..n)
+            .map(|i| awkward[i].is_some() && i % 31 != 4)
+            .collect();
+        let cases = [
+            (Colormap::Magma, Scale::Log { lo: 1e-5, hi: 1.0 }, true),
+            (
+                Colormap::RedBlue,
+                Scale::Linear { lo: -0.1, hi: 0.1 },
+                false,
+            ),
+            (Colormap::Magma, Scale::Linear { lo: 0.0, hi: 10.0 }, false),
+            (Colormap::Magma, Scale::Linear { lo: 0.0, hi: 0.3 }, true),
+        ];
+        let draw = |field: Field, desc: &HeatmapDesc| {
+            field_pixels(field, (w, h), (w + PANEL, 200), desc, vec![9u8; 17])
+        };
+        for (gradient, scale, abs) in cases {
+            let desc = HeatmapDesc {
+                label: "",
+                gradient,
+                scale,
+            };
+            let masked = |values: &[f64], mask: &[bool], abs| {
+                draw(Field::Masked { values, mask, abs }, &desc)
+            };
+            let f = |i: usize| {
+                mask[i]
+                    .then(|| values[i])
+                    .map(|v| if abs { v.abs() } else { v })
+            };
+            let want = draw(Field::Fn(&f), &desc);
+            assert!(
+                masked(&values, &mask, abs) == want,
+                "{gradient:?} {scale:?} {abs}"
+            );
+            let defined: Vec<Option<f64>> = (0..n).map(f).collect();
+            let by_definition =
+                field_by_definition(&defined, (w, h), w + PANEL, 200, gradient.colorous(), scale);
+            assert!(want == by_definition);
+            // teeth
+            assert!(masked(&values, &mask, !abs) != want);
+            let mut other = mask.clone();
+            let i = (0..n)
+                .find(|&i| mask[i] && values[i].is_finite() && values[i] != 0.0)
+                .unwrap();
+            other[i] = false;
+            assert!(masked(&values, &other, abs) != want);
         }
     }
 

@@ -12,6 +12,11 @@
 //! could break it; `srgb8_table_equals_formula_on_every_f32` (ignored: about 10^9 inputs)
 //! checks every f32 in [0, 1], and the suite checks the neighbourhood of every step and a
 //! stride over the range (docs/performance-compare.md gives the run).
+//!
+//! The lookup reads the clamp off the bit pattern and, inside [0, 1], the steps without a scan
+//! (`Direct`: exact because no bucket of 2^16 patterns holds two step starts, checked when
+//! built); `get_equals_the_clamped_lookup_on_every_bit_pattern` (ignored) checks it against
+//! clamp-then-scan on all 2^32 patterns. [`frame_rgb8`] converts a whole frame (issue 26).
 use std::sync::OnceLock;
 
 use crate::output::steps::{Steps, ONE};
@@ -41,6 +46,56 @@ pub(crate) struct Table {
     /// Step `k` starts at the first bit pattern whose value is at least `k` (k in 1..=255;
     /// step 0 at 0): the step's index is the value.
     steps: Steps,
+    /// The value of 1.0, which every finite input above 1 takes.
+    top: u8,
+    /// The same steps read without a scan, when every bucket allows it.
+    direct: Option<Direct>,
+}
+
+/// Buckets of 2^16 bit patterns (`bits >> 16`) over [0, 1].
+const BUCKETS: usize = (ONE >> 16) as usize + 1;
+
+/// The steps read without a scan: where each bucket of bit patterns holds at most one step
+/// start past its first pattern (true of the sRGB steps: a step is wider than a bucket over
+/// all of [0, 1]; [`Direct::new`] checks it), the value at a pattern is the value at its
+/// bucket's first pattern, plus one from the next step's start on. One load, one compare,
+/// no branch on the data.
+struct Direct {
+    /// Per bucket, the value at its first pattern.
+    first: Box<[u8; BUCKETS]>,
+    /// `starts[k]`: the first pattern whose value is at least `k` (k in 1..=255), then
+    /// `u32::MAX` (past every pattern) at 256.
+    starts: [u32; 257],
+}
+
+impl Direct {
+    /// The direct reading of `starts` (thresholds as in [`Table::build`], `starts[0] = 0`),
+    /// `None` when a bucket holds more than one start past its first pattern.
+    fn new(thresholds: &[u32], steps: &Steps) -> Option<Direct> {
+        let mut starts = [u32::MAX; 257];
+        starts[..256].copy_from_slice(thresholds);
+        let mut inside = vec![0u8; BUCKETS];
+        for &s in &starts[1..256] {
+            if s <= ONE && s & 0xffff != 0 {
+                inside[(s >> 16) as usize] += 1;
+            }
+        }
+        if inside.iter().any(|&n| n > 1) {
+            return None;
+        }
+        let mut first = Box::new([0u8; BUCKETS]);
+        for (k, v) in first.iter_mut().enumerate() {
+            *v = steps.index((k as u32) << 16) as u8;
+        }
+        Some(Direct { first, starts })
+    }
+
+    /// The value at the bit pattern `b` (at most [`ONE`]).
+    #[inline(always)]
+    fn get(&self, b: u32) -> u8 {
+        let v = self.first[(b >> 16) as usize];
+        v + u8::from(b >= self.starts[usize::from(v) + 1])
+    }
 }
 
 impl Table {
@@ -60,14 +115,42 @@ impl Table {
             }
             *t = lo;
         }
-        Table {
-            steps: Steps::new(thresholds),
+        Table::from_thresholds(thresholds)
+    }
+
+    /// The table of the steps starting at `thresholds` (256, the first at 0).
+    fn from_thresholds(thresholds: Vec<u32>) -> Table {
+        let steps = Steps::new(thresholds.clone());
+        let top = steps.index(ONE) as u8;
+        let direct = Direct::new(&thresholds, &steps);
+        Table { steps, top, direct }
+    }
+
+    /// The value of the input `linear` (any f32): [`Table::get_clamped`]'s, with the clamp read
+    /// off the bit pattern. The patterns `0..=ONE` are the f32 in [0, 1] (clamp keeps them);
+    /// `ONE + 1 .. 0x7f80_0000` are the finite f32 above 1 (clamped to 1.0); `0x7f80_0000` is
+    /// +Inf and the patterns above it NaN (both 0), the sign bit's patterns (negative
+    /// numbers, -0.0, -Inf and NaN) all have the value of 0.
+    // always: a call per channel was most of its cost in `frame_rgb8` (perf)
+    #[inline(always)]
+    pub(crate) fn get(&self, linear: f32) -> u8 {
+        let b = linear.to_bits();
+        if b <= ONE {
+            match &self.direct {
+                Some(d) => d.get(b),
+                None => self.steps.index(b) as u8,
+            }
+        } else if b < 0x7f80_0000 {
+            self.top
+        } else {
+            self.steps.index(0) as u8
         }
     }
 
-    /// The value of the input `linear` (any f32).
-    #[inline]
-    pub(crate) fn get(&self, linear: f32) -> u8 {
+    /// The value of the input `linear` (any f32) by its definition: clamped as the formula
+    /// clamps it, then looked up (what [`Table::get`] was; kept as its check).
+    #[cfg(test)]
+    pub(crate) fn get_clamped(&self, linear: f32) -> u8 {
         // -0.0 has the sign bit set and the value of +0.0
         let b = clamp01(linear).to_bits() & 0x7fff_ffff;
         self.steps.index(b) as u8
@@ -80,9 +163,13 @@ impl Table {
         self.steps.starts()
     }
 
+    /// The table of these thresholds with `thresholds[k]` moved by `delta` patterns (a wrong
+    /// table, for the checks' teeth).
     #[cfg(test)]
-    pub(crate) fn thresholds_mut(&mut self) -> &mut [u32] {
-        self.steps.starts_mut()
+    pub(crate) fn moved(&self, k: usize, delta: i32) -> Table {
+        let mut thresholds = self.thresholds()[..256].to_vec();
+        thresholds[k] = thresholds[k].wrapping_add_signed(delta);
+        Table::from_thresholds(thresholds)
     }
 }
 
@@ -98,9 +185,121 @@ pub fn srgb8(linear: f32) -> u8 {
     table().get(linear)
 }
 
+/// The 8-bit sRGB colour of a frame's linear RGBA pixels, 3 bytes per pixel (alpha dropped):
+/// [`srgb8`] of R, G and B of each pixel, with the table fetched once and the pixels collected
+/// from an iterator of known length (one allocation, no capacity check or zero fill per byte).
+/// `analysis::flip::srgb_rgb8` of the same pixels widened to f64 gives the same bytes (it
+/// narrows them back to the same f32).
+pub fn frame_rgb8(color: &[[f32; 4]]) -> Vec<u8> {
+    let t = table();
+    let rgb: Vec<[u8; 3]> = color
+        .iter()
+        .map(|p| [t.get(p[0]), t.get(p[1]), t.get(p[2])])
+        .collect();
+    rgb.into_flattened()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The first bit pattern among `inputs` where [`Table::get`] and [`Table::get_clamped`]
+    /// disagree.
+    fn first_get_mismatch(t: &Table, inputs: impl Iterator<Item = u32>) -> Option<u32> {
+        inputs.into_iter().find(|&b| {
+            let x = f32::from_bits(b);
+            t.get(x) != t.get_clamped(x)
+        })
+    }
+
+    /// Every bit pattern class `get` tells apart, with its neighbours (0, 1.0, +Inf, the NaN,
+    /// -0, -Inf and the negative NaN), and a stride over all 2^32 patterns.
+    fn all_probes() -> Vec<u32> {
+        let edges = [
+            0u32,
+            ONE,
+            0x7f80_0000,
+            0x7fff_ffff,
+            0x8000_0000,
+            0xff80_0000,
+            u32::MAX,
+        ];
+        let mut v: Vec<u32> = edges
+            .iter()
+            .flat_map(|&b| b.saturating_sub(3)..=b.saturating_add(3))
+            .collect();
+        v.extend((0..=u32::MAX).step_by(997));
+        v
+    }
+
+    #[test]
+    fn get_equals_the_clamped_lookup_on_every_class_and_a_stride() {
+        let t = table();
+        // the sRGB steps are read directly (this test checks that reading)
+        assert!(t.direct.is_some());
+        let mut at = all_probes();
+        at.extend(probes(t));
+        assert_eq!(first_get_mismatch(t, at.iter().copied()), None);
+        // teeth: a direct reading with one bucket's first value off by one is caught
+        let mut wrong = Table::build(srgb8_formula);
+        let d = wrong.direct.as_mut().unwrap();
+        let k = (t.thresholds()[150] >> 16) as usize;
+        d.first[k] -= 1;
+        assert!(first_get_mismatch(&wrong, at.iter().copied()).is_some());
+        // a bucket holding two step starts is not read directly
+        let mut two = vec![ONE + 1; 256];
+        (two[1], two[2]) = (0x3e00_0001, 0x3e00_0002);
+        two[0] = 0;
+        assert!(Direct::new(&two, &Steps::new(two.clone())).is_none());
+        two[2] = 0x3e01_0002;
+        assert!(Direct::new(&two, &Steps::new(two.clone())).is_some());
+        // teeth: a table whose value above 1 is wrong is caught
+        let mut wrong = Table::build(srgb8_formula);
+        wrong.top -= 1;
+        assert!(first_get_mismatch(&wrong, all_probes().into_iter()).is_some());
+    }
+
+    /// Every bit pattern (about 4.3e9; seconds in release):
+    /// `cargo test --release --locked get_equals_the_clamped_lookup_on_every_bit_pattern -- --ignored`.
+    #[test]
+    #[ignore]
+    fn get_equals_the_clamped_lookup_on_every_bit_pattern() {
+        assert_eq!(first_get_mismatch(table(), 0..=u32::MAX), None);
+    }
+
+    /// `frame_rgb8` is the formula per channel, alpha dropped, on values of every class;
+    /// teeth: a frame with one channel changed gives other bytes.
+    #[test]
+    fn frame_rgb8_is_the_formula_per_channel() {
+        let specials = [
+            0.0f32,
+            -0.0,
+            1.0,
+            1.5,
+            -2.0,
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            0.003_130_8,
+            0.5,
+        ];
+        let color: Vec<[f32; 4]> = (0..4000u32)
+            .map(|i| {
+                let x = i as f32 / 3999.0;
+                let s = specials[i as usize % specials.len()];
+                [x, s, x * x, [0.0, 1.0, f32::NAN][i as usize % 3]]
+            })
+            .collect();
+        let want: Vec<u8> = color
+            .iter()
+            .flat_map(|p| [p[0], p[1], p[2]].map(srgb8_formula))
+            .collect();
+        assert!(frame_rgb8(&color) == want);
+        let mut other = color.clone();
+        other[77][2] = 0.25;
+        assert!(frame_rgb8(&other) != want);
+    }
 
     /// The first input (bits) where `t` and the formula disagree among `inputs`.
     fn first_mismatch(t: &Table, inputs: impl Iterator<Item = u32>) -> Option<u32> {
@@ -148,12 +347,10 @@ mod tests {
 
     #[test]
     fn a_table_with_one_step_moved_by_one_input_is_caught() {
-        let mut t = Table::build(srgb8_formula);
-        t.thresholds_mut()[100] += 1;
+        let t = table().moved(100, 1);
         let at = probes(&t);
         assert!(first_mismatch(&t, at.into_iter()).is_some());
-        let mut t = Table::build(srgb8_formula);
-        t.thresholds_mut()[200] -= 1;
+        let t = table().moved(200, -1);
         let at = probes(&t);
         assert!(first_mismatch(&t, at.into_iter()).is_some());
     }

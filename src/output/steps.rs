@@ -48,9 +48,4 @@ impl Steps {
     pub(crate) fn starts(&self) -> &[u32] {
         &self.starts
     }
-
-    #[cfg(test)]
-    pub(crate) fn starts_mut(&mut self) -> &mut [u32] {
-        &mut self.starts
-    }
 }
