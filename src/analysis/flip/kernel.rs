@@ -359,25 +359,63 @@ fn pad_row(p: &Params, row: &[u8], x0: usize, r: usize, padded: &mut [Vec<f32>; 
     }
 }
 
-/// Pixels per block of [`convolve`]: its sums stay in registers (eight SSE vectors, enough
-/// independent sums to hide the latency of the adds).
+/// Pixels per block of [`convolve`] on the baseline (SSE2) path: its sums stay in registers
+/// (eight SSE vectors, enough independent sums to hide the latency of the adds). Rows are
+/// filtered a whole number of these blocks wide.
 const LANES: usize = 32;
+/// Pixels per block on the AVX2 path: eight AVX vectors.
+const LANES_AVX2: usize = 64;
 
 /// `out[i] = 0 + weights[0] * rows[0][i] + weights[1] * rows[1][i] + ...`, the taps added in
-/// order for every pixel (nv-flip's sum), computed for blocks of [`LANES`] pixels at a time.
+/// order for every pixel (nv-flip's sum), computed for blocks of pixels at a time: compiled
+/// twice, for baseline x86-64 and for AVX2 (without FMA: a product then a sum, each rounded,
+/// as in nv-flip), and chosen at run time. Every pixel's sum is the same operations in the same
+/// order on both paths and at any block width, so the two give the same bits
+/// (`convolve_paths_agree_bit_for_bit`).
+#[multiversion::multiversion(targets("x86_64+avx2"))]
 fn convolve(out: &mut [f32], rows: &[&[f32]], weights: &[f32]) {
-    let n = out.len();
-    let full = n / LANES * LANES;
-    for i in (0..full).step_by(LANES) {
-        let mut a = [0.0f32; LANES];
+    multiversion::target::match_target! {
+        "x86_64+avx2" => {
+            let done = convolve_blocks::<LANES_AVX2>(out, rows, weights, 0);
+            let done = convolve_blocks::<LANES>(out, rows, weights, done);
+            convolve_tail(out, rows, weights, done);
+        }
+        _ => convolve_portable(out, rows, weights),
+    }
+}
+
+/// [`convolve`]'s baseline path, whatever the CPU (the tests compare the two paths).
+#[inline(always)]
+fn convolve_portable(out: &mut [f32], rows: &[&[f32]], weights: &[f32]) {
+    let done = convolve_blocks::<LANES>(out, rows, weights, 0);
+    convolve_tail(out, rows, weights, done);
+}
+
+/// [`convolve`] over the whole blocks of `L` pixels from `from` on; returns where they end.
+#[inline(always)]
+fn convolve_blocks<const L: usize>(
+    out: &mut [f32],
+    rows: &[&[f32]],
+    weights: &[f32],
+    from: usize,
+) -> usize {
+    let full = from + (out.len() - from) / L * L;
+    for i in (from..full).step_by(L) {
+        let mut a = [0.0f32; L];
         for (row, &wk) in rows.iter().zip(weights) {
-            for (a, &s) in a.iter_mut().zip(&row[i..i + LANES]) {
+            for (a, &s) in a.iter_mut().zip(&row[i..i + L]) {
                 *a += wk * s;
             }
         }
-        out[i..i + LANES].copy_from_slice(&a);
+        out[i..i + L].copy_from_slice(&a);
     }
-    for (i, o) in out.iter_mut().enumerate().skip(full) {
+    full
+}
+
+/// [`convolve`] pixel by pixel from `from` to the end.
+#[inline(always)]
+fn convolve_tail(out: &mut [f32], rows: &[&[f32]], weights: &[f32], from: usize) {
+    for (i, o) in out.iter_mut().enumerate().skip(from) {
         let mut a = 0.0f32;
         for (row, &wk) in rows.iter().zip(weights) {
             a += wk * row[i];
@@ -463,5 +501,44 @@ fn side_at(acc: &[Vec<f32>; 8], i: usize) -> Side {
         lab,
         edge: (dx * dx + dy * dy).sqrt(),
         point: (ddx * ddx + ddy * ddy).sqrt(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Random weights and rows of every length around the block widths: the dispatched
+    /// [`convolve`] (AVX2 where the CPU has it) gives the portable path's bits.
+    #[test]
+    fn convolve_paths_agree_bit_for_bit() {
+        let mut rng = fastrand::Rng::with_seed(27);
+        let mut value = || (rng.f32() - 0.3) * 90.0;
+        for taps in [1, 19, 21] {
+            let weights: Vec<f32> = (0..taps).map(|_| value() / 40.0).collect();
+            for n in [0, 1, 31, 32, 33, 63, 64, 65, 96, 127, 128, 200, 1040] {
+                let planes: Vec<Vec<f32>> = (0..taps)
+                    .map(|_| (0..n).map(|_| value()).collect())
+                    .collect();
+                let rows: Vec<&[f32]> = planes.iter().map(|p| &p[..]).collect();
+                let (mut fast, mut portable) = (vec![f32::NAN; n], vec![f32::NAN; n]);
+                convolve(&mut fast, &rows, &weights);
+                convolve_portable(&mut portable, &rows, &weights);
+                let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&fast), bits(&portable), "{taps} taps, {n} pixels");
+                // teeth: the same taps summed last to first are other bits somewhere
+                if taps > 1 && n >= 32 {
+                    let (rev_rows, rev_weights): (Vec<&[f32]>, Vec<f32>) = rows
+                        .iter()
+                        .rev()
+                        .zip(weights.iter().rev())
+                        .map(|(r, w)| (*r, *w))
+                        .unzip();
+                    let mut reversed = vec![0.0; n];
+                    convolve_portable(&mut reversed, &rev_rows, &rev_weights);
+                    assert_ne!(bits(&reversed), bits(&fast), "{taps} taps, {n} pixels");
+                }
+            }
+        }
     }
 }

@@ -21,7 +21,9 @@ mod kernel;
 use glam::DVec3;
 use kernel::{Params, Side};
 
+#[cfg(test)]
 use crate::analysis::stats::percentile;
+use crate::analysis::stats::rank_index;
 use crate::output;
 
 pub(crate) fn srgb_rgb8(color: impl Iterator<Item = DVec3>) -> Vec<u8> {
@@ -255,8 +257,56 @@ fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> Vec<boo
     near
 }
 
-/// Mean and p95 (nearest rank) of a FLIP map over the `mask` pixels, in pixel order.
+/// Mean and p95 (nearest rank, by `f64::total_cmp`) of a FLIP map over the `mask` pixels, the
+/// sum in pixel order: bit for bit those of the masked values collected whole
+/// ([`pool_collected`], the tests compare the two), without collecting the +0.0 values, most
+/// of a map.
+///
+/// Why skipping +0.0 is exact. The sum: every other value is added in pixel order, starting
+/// from the same neutral element (`Iterator::sum`), then `+ 0.0` if any +0.0 was skipped. A
+/// skipped `s + 0.0` is `s` for any `s` but a zero (a NaN or an infinity stays itself), and
+/// turns -0.0 into +0.0; after that the sum can never be -0.0 again (in round-to-nearest a sum
+/// is -0.0 only when both terms are), so the two sums agree bit for bit where they are not
+/// zeros, and where they are zeros the collected one is +0.0 as soon as a +0.0 was added,
+/// which the final `+ 0.0` gives. The rank: `total_cmp` orders by bits, so the k-th smallest
+/// value is one value whatever the method; +0.0 sits after every value with the sign bit set
+/// and before every other, so with `neg` of those and `zeros` +0.0s the k-th is the k-th of
+/// the rest for `k < neg`, +0.0 for `k < neg + zeros`, and else the `(k - zeros)`-th of the
+/// rest.
 pub(crate) fn pool(map: &[f32], mask: &[bool]) -> (f64, f64) {
+    let mut zeros = 0usize;
+    let mut rest: Vec<f64> = Vec::new();
+    for (&e, _) in map.iter().zip(mask).filter(|(_, &m)| m) {
+        if e.to_bits() == 0 {
+            zeros += 1;
+        } else {
+            rest.push(e as f64);
+        }
+    }
+    let n = rest.len() + zeros;
+    if n == 0 {
+        return (0.0, 0.0);
+    }
+    let mut sum = rest.iter().sum::<f64>();
+    if zeros > 0 {
+        sum += 0.0;
+    }
+    let k = rank_index(n, 95.0);
+    let neg = rest.iter().filter(|v| v.is_sign_negative()).count();
+    let p95 = if k < neg {
+        *rest.select_nth_unstable_by(k, f64::total_cmp).1
+    } else if k < neg + zeros {
+        0.0
+    } else {
+        *rest.select_nth_unstable_by(k - zeros, f64::total_cmp).1
+    };
+    (sum / n as f64, p95)
+}
+
+/// [`pool`] as it was: every masked value collected, summed in pixel order and selected from
+/// (the tests' check of the shortcut).
+#[cfg(test)]
+fn pool_collected(map: &[f32], mask: &[bool]) -> (f64, f64) {
     let mut v: Vec<f64> = map
         .iter()
         .zip(mask)
