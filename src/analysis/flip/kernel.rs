@@ -293,18 +293,39 @@ pub(crate) fn flip_value(p: &Params, reference: &Side, test: &Side) -> f32 {
 
 /// Planes of the horizontal pass: YCx (x, y), Cz (x, y), then the feature filter's
 /// 1st derivative, 2nd derivative and Gaussian of the normalised Y.
-const PLANES: usize = 7;
+pub(crate) const PLANES: usize = 7;
+
+/// The horizontal pass of a whole image, plane by plane, row-major (`w * h` values each).
+pub(crate) type Planes = [Vec<f32>; PLANES];
+
+/// What [`filter_side`] filters.
+pub(crate) enum Mode<'a> {
+    /// Every pixel of `area` (the whole image), keeping the horizontal pass of every row in
+    /// the planes (the reference side).
+    Reference(&'a mut Planes),
+    /// The test side, the reference's horizontal [`Planes`] beside it: only the pixels whose
+    /// `wanted` flag is set (row-major over the image) are handed on; a block of a row's
+    /// horizontal pass whose `row_near` counts (per pixel: the differing pixels within the
+    /// radius in the same row) are all 0 reads the same source bytes as the reference did
+    /// there and is copied from it; the vertical pass runs only for blocks with a wanted pixel.
+    Test {
+        wanted: &'a [bool],
+        row_near: &'a [u32],
+        reference: &'a Planes,
+    },
+}
 
 /// Filters one side, the 8-bit RGB image `src` (`w` x `h`), over `area`, and hands each pixel's
-/// [`Side`] to `out(x, y, side)` in row-major order, only for the pixels whose `wanted` flag is
-/// set (row-major over the image; `None`: all). The image edge is clamped as nv-flip clamps it
-/// (the full image's, not the area's).
+/// [`Side`] to `out(x, y, side)` in row-major order (which pixels: [`Mode`]). The image edge
+/// is clamped as nv-flip clamps it (the full image's, not the area's). Copying a block of the
+/// reference's horizontal pass and skipping a vertical block are exact: every pixel's sums
+/// are computed alone (the block only groups pixels), from the same inputs.
 pub(crate) fn filter_side(
     p: &Params,
     src: &[u8],
     (w, h): (usize, usize),
     area: Rect,
-    wanted: Option<&[bool]>,
+    mut mode: Mode,
     mut out: impl FnMut(usize, usize, Side),
 ) {
     let r = p.radius();
@@ -318,44 +339,118 @@ pub(crate) fn filter_side(
     let mut padded = [(); 4].map(|_| vec![0.0f32; pw]);
     let mut ring = [(); PLANES].map(|_| vec![0.0f32; ring_rows * rw]);
     let mut acc = [(); 8].map(|_| vec![0.0f32; rw]);
+    // per block of LANES pixels: horizontal pass computed (else copied), vertical pass needed
+    let blocks = rw / LANES;
+    let (mut computed, mut needed) = (vec![true; blocks], vec![true; blocks]);
+    // the image columns of block `b` (within the image)
+    let columns = |b: usize| (area.x0 + b * LANES).min(w)..(area.x0 + (b + 1) * LANES).min(w);
     let (first, last) = (area.y0.saturating_sub(r), (area.y1 + r).min(h));
     let mut next = first;
     for y in area.y0..area.y1 {
         while next < last && next <= y + r {
             let slot = next % ring_rows;
-            pad_row(
-                p,
-                &src[3 * w * next..3 * w * (next + 1)],
-                area.x0,
-                r,
-                &mut padded,
-            );
-            horizontal(p, &padded, r, rw, slot, &mut ring);
+            if let Mode::Test {
+                row_near,
+                reference,
+                ..
+            } = &mode
+            {
+                let near = &row_near[next * w..(next + 1) * w];
+                for (b, c) in computed.iter_mut().enumerate() {
+                    *c = near[columns(b)].iter().any(|&n| n > 0);
+                    if !*c {
+                        copy_block(
+                            reference,
+                            &mut ring,
+                            (next * w, columns(b)),
+                            slot * rw + b * LANES,
+                        );
+                    }
+                }
+            }
+            let row = &src[3 * w * next..3 * w * (next + 1)];
+            pad_row(p, row, area.x0, r, &computed, &mut padded);
+            horizontal(p, &padded, r, (rw, slot), &computed, &mut ring);
+            if let Mode::Reference(keep) = &mut mode {
+                for (k, r) in keep.iter_mut().zip(&ring) {
+                    k[next * w..(next + 1) * w].copy_from_slice(&r[slot * rw..slot * rw + w]);
+                }
+            }
             next += 1;
         }
-        vertical(p, &ring, y, h, rw, &mut acc);
+        let wanted = match &mode {
+            Mode::Test { wanted, .. } => Some(&wanted[y * w..(y + 1) * w]),
+            Mode::Reference(_) => None,
+        };
+        if let Some(m) = wanted {
+            for (b, n) in needed.iter_mut().enumerate() {
+                *n = m[columns(b).start..columns(b).end.min(area.x1)]
+                    .iter()
+                    .any(|&m| m);
+            }
+        }
+        vertical(p, &ring, (y, h), rw, &needed, &mut acc);
         for i in 0..width {
             let x = area.x0 + i;
-            if wanted.is_none_or(|m| m[y * w + x]) {
+            if wanted.is_none_or(|m| m[x]) {
                 out(x, y, side_at(&acc, i));
             }
         }
     }
 }
 
+/// Copies image columns `cols` of row offset `at` (`y * w`) of every reference plane into the
+/// ring at `to` (the block's first column).
+fn copy_block(
+    reference: &Planes,
+    ring: &mut Planes,
+    (at, cols): (usize, std::ops::Range<usize>),
+    to: usize,
+) {
+    let n = cols.len();
+    for (q, p) in ring.iter_mut().zip(reference) {
+        q[to..to + n].copy_from_slice(&p[at + cols.start..at + cols.end]);
+    }
+}
+
+/// The runs of consecutive set flags, as pixel ranges (`LANES` pixels a flag).
+fn runs(flags: &[bool]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    let mut b = 0;
+    std::iter::from_fn(move || {
+        while b < flags.len() && !flags[b] {
+            b += 1;
+        }
+        let start = b;
+        while b < flags.len() && flags[b] {
+            b += 1;
+        }
+        (b > start).then_some(start * LANES..b * LANES)
+    })
+}
+
 /// Source row `row`'s columns `x0 - r .. x0 + width + r` (clamped to the row) in YCxCz and
-/// normalised Y (`Y / 116 + 16 / 116` as the feature pass computes it per tap).
-fn pad_row(p: &Params, row: &[u8], x0: usize, r: usize, padded: &mut [Vec<f32>; 4]) {
+/// normalised Y (`Y / 116 + 16 / 116` as the feature pass computes it per tap), where a
+/// `computed` block's horizontal pass reads them.
+fn pad_row(
+    p: &Params,
+    row: &[u8],
+    x0: usize,
+    r: usize,
+    computed: &[bool],
+    padded: &mut [Vec<f32>; 4],
+) {
     let w = row.len() / 3;
     let one_over_116 = 1.0f32 / 116.0;
     let sixteen_over_116 = 16.0f32 / 116.0;
-    for i in 0..padded[0].len() {
-        let x = (x0 + i).saturating_sub(r).min(w - 1);
-        let c = p.ycxcz(&row[3 * x..3 * x + 3]);
-        padded[0][i] = c[0];
-        padded[1][i] = c[1];
-        padded[2][i] = c[2];
-        padded[3][i] = c[0] * one_over_116 + sixteen_over_116;
+    for run in runs(computed) {
+        for i in run.start..run.end + 2 * r {
+            let x = (x0 + i).saturating_sub(r).min(w - 1);
+            let c = p.ycxcz(&row[3 * x..3 * x + 3]);
+            padded[0][i] = c[0];
+            padded[1][i] = c[1];
+            padded[2][i] = c[2];
+            padded[3][i] = c[0] * one_over_116 + sixteen_over_116;
+        }
     }
 }
 
@@ -424,65 +519,70 @@ fn convolve_tail(out: &mut [f32], rows: &[&[f32]], weights: &[f32], from: usize)
     }
 }
 
-/// The horizontal passes of one padded row into ring slot `slot`.
+/// The horizontal passes of one padded row into ring slot `slot` (rows `rw` wide), for the
+/// `computed` blocks.
 fn horizontal(
     p: &Params,
     padded: &[Vec<f32>; 4],
     r: usize,
-    rw: usize,
-    slot: usize,
-    ring: &mut [Vec<f32>; PLANES],
+    (rw, slot): (usize, usize),
+    computed: &[bool],
+    ring: &mut Planes,
 ) {
-    let row = slot * rw..(slot + 1) * rw;
     let [ycx_x, ycx_y, cz_x, cz_y, f_dx, f_ddx, f_g] = ring;
     let (rs, rf) = (p.spatial_radius, p.feature_radius);
-    let taps = |plane: usize, radius: usize| -> Vec<&[f32]> {
-        (0..2 * radius + 1)
-            .map(|k| &padded[plane][r - radius + k..])
-            .collect()
-    };
-    let (y, cx, cz) = (taps(0, rs), taps(1, rs), taps(2, rs));
-    convolve(&mut ycx_x[row.clone()], &y, &p.spatial[0]);
-    convolve(&mut ycx_y[row.clone()], &cx, &p.spatial[1]);
-    convolve(&mut cz_x[row.clone()], &cz, &p.spatial[2]);
-    convolve(&mut cz_y[row.clone()], &cz, &p.spatial[3]);
-    // featureWeights (x: Gaussian, y: 1st derivative, z: 2nd derivative) of the normalised Y
-    let yn = taps(3, rf);
-    convolve(&mut f_dx[row.clone()], &yn, &p.feature[1]);
-    convolve(&mut f_ddx[row.clone()], &yn, &p.feature[2]);
-    convolve(&mut f_g[row], &yn, &p.feature[0]);
+    for run in runs(computed) {
+        let row = slot * rw + run.start..slot * rw + run.end;
+        let taps = |plane: usize, radius: usize| -> Vec<&[f32]> {
+            (0..2 * radius + 1)
+                .map(|k| &padded[plane][r - radius + k + run.start..])
+                .collect()
+        };
+        let (y, cx, cz) = (taps(0, rs), taps(1, rs), taps(2, rs));
+        convolve(&mut ycx_x[row.clone()], &y, &p.spatial[0]);
+        convolve(&mut ycx_y[row.clone()], &cx, &p.spatial[1]);
+        convolve(&mut cz_x[row.clone()], &cz, &p.spatial[2]);
+        convolve(&mut cz_y[row.clone()], &cz, &p.spatial[3]);
+        // featureWeights (x: Gaussian, y: 1st derivative, z: 2nd derivative) of the normalised Y
+        let yn = taps(3, rf);
+        convolve(&mut f_dx[row.clone()], &yn, &p.feature[1]);
+        convolve(&mut f_ddx[row.clone()], &yn, &p.feature[2]);
+        convolve(&mut f_g[row], &yn, &p.feature[0]);
+    }
 }
 
-/// The vertical passes for output row `y` from the ring: `acc` gets the filtered YCx (x, y),
-/// Cz (x, y), and the feature sums dx, ddx, dy, ddy.
+/// The vertical passes for output row `y` (of `h`) from the ring, for the `needed` blocks:
+/// `acc` gets the filtered YCx (x, y), Cz (x, y), and the feature sums dx, ddx, dy, ddy.
 fn vertical(
     p: &Params,
-    ring: &[Vec<f32>; PLANES],
-    y: usize,
-    h: usize,
+    ring: &Planes,
+    (y, h): (usize, usize),
     rw: usize,
+    needed: &[bool],
     acc: &mut [Vec<f32>; 8],
 ) {
     let ring_rows = ring[0].len() / rw.max(1);
-    let taps = |plane: usize, radius: usize| -> Vec<&[f32]> {
-        (0..2 * radius + 1)
-            .map(|k| {
-                let yy = (y + k).saturating_sub(radius).min(h - 1);
-                let slot = yy % ring_rows;
-                &ring[plane][slot * rw..(slot + 1) * rw]
-            })
-            .collect()
-    };
     let (rs, rf) = (p.spatial_radius, p.feature_radius);
-    for (c, a) in acc.iter_mut().take(4).enumerate() {
-        convolve(a, &taps(c, rs), &p.spatial[c]);
+    for run in runs(needed) {
+        let taps = |plane: usize, radius: usize| -> Vec<&[f32]> {
+            (0..2 * radius + 1)
+                .map(|k| {
+                    let yy = (y + k).saturating_sub(radius).min(h - 1);
+                    let slot = yy % ring_rows;
+                    &ring[plane][slot * rw + run.start..slot * rw + run.end]
+                })
+                .collect()
+        };
+        for (c, a) in acc.iter_mut().take(4).enumerate() {
+            convolve(&mut a[run.clone()], &taps(c, rs), &p.spatial[c]);
+        }
+        let [_, _, _, _, dx, ddx, dy, ddy] = acc;
+        convolve(&mut dx[run.clone()], &taps(4, rf), &p.feature[0]);
+        convolve(&mut ddx[run.clone()], &taps(5, rf), &p.feature[0]);
+        let g = taps(6, rf);
+        convolve(&mut dy[run.clone()], &g, &p.feature[1]);
+        convolve(&mut ddy[run.clone()], &g, &p.feature[2]);
     }
-    let [_, _, _, _, dx, ddx, dy, ddy] = acc;
-    convolve(dx, &taps(4, rf), &p.feature[0]);
-    convolve(ddx, &taps(5, rf), &p.feature[0]);
-    let g = taps(6, rf);
-    convolve(dy, &g, &p.feature[1]);
-    convolve(ddy, &g, &p.feature[2]);
 }
 
 /// Pixel `i` of the vertical sums as a [`Side`]: YCxCz to XYZ to linear RGB, clamped, to XYZ,

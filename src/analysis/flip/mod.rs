@@ -19,7 +19,7 @@
 mod kernel;
 
 use glam::DVec3;
-use kernel::{Params, Side};
+use kernel::{Mode, Params, Planes, Side};
 
 #[cfg(test)]
 use crate::analysis::stats::percentile;
@@ -145,13 +145,16 @@ fn regions(reference: &[u8], test: &[u8], w: usize, h: usize, r: usize) -> Vec<R
 }
 
 /// The reference's half of FLIP, computed once per compare run and shared read-only by the
-/// workers: per pixel its filtered Lab after Hunt and its edge and point feature values.
+/// workers: per pixel its filtered Lab after Hunt and its edge and point feature values, and
+/// its horizontal filter pass (7 planes, 28 bytes a pixel: the test side copies it where its
+/// row reads the same bytes).
 pub(crate) struct FlipReference {
     params: Params,
     ref8: Vec<u8>,
     width: usize,
     height: usize,
     sides: Vec<Side>,
+    horizontal: Planes,
 }
 
 impl FlipReference {
@@ -170,6 +173,7 @@ impl FlipReference {
         );
         let params = Params::new(ppd);
         let mut sides = Vec::with_capacity(w * h);
+        let mut horizontal = [(); kernel::PLANES].map(|_| vec![0.0f32; w * h]);
         if w > 0 && h > 0 {
             let all = Rect {
                 x0: 0,
@@ -177,7 +181,8 @@ impl FlipReference {
                 x1: w,
                 y1: h,
             };
-            kernel::filter_side(&params, ref8, (w, h), all, None, |_, _, s| sides.push(s));
+            let mode = Mode::Reference(&mut horizontal);
+            kernel::filter_side(&params, ref8, (w, h), all, mode, |_, _, s| sides.push(s));
         }
         FlipReference {
             params,
@@ -185,6 +190,7 @@ impl FlipReference {
             width: w,
             height: h,
             sides,
+            horizontal,
         }
     }
 
@@ -192,12 +198,14 @@ impl FlipReference {
     /// nv-flip's over the whole image (module doc), the test side computed only within the
     /// filter radius of the pixels where the two images differ.
     pub(crate) fn map(&self, test: &[u8]) -> Vec<f32> {
-        self.map_within(test, self.params.radius())
+        let r = self.params.radius();
+        self.map_within(test, r, r)
     }
 
-    /// [`FlipReference::map`] computing the test side within `r` of the differing pixels
-    /// (exact for `r >= radius`; the tests give a smaller one to see the map change).
-    fn map_within(&self, test: &[u8], r: usize) -> Vec<f32> {
+    /// [`FlipReference::map`] computing the test side within `r` of the differing pixels and
+    /// copying the reference's horizontal pass where no pixel within `r_row` in the row differs
+    /// (exact for radii `>= radius`; the tests give smaller ones to see the map change).
+    fn map_within(&self, test: &[u8], r: usize, r_row: usize) -> Vec<f32> {
         let (w, h) = (self.width, self.height);
         assert_eq!(
             test.len(),
@@ -205,10 +213,18 @@ impl FlipReference {
             "FLIP: test image of another size"
         );
         let mut map = vec![0.0f32; w * h];
-        let near = near_differences(&self.ref8, test, w, h, r);
+        let (near, mut row_near) = near_differences(&self.ref8, test, w, h, r);
+        if r_row != r {
+            row_near = near_differences(&self.ref8, test, w, h, r_row).1;
+        }
         for b in regions(&self.ref8, test, w, h, r) {
             let area = b.grow(r, w, h);
-            kernel::filter_side(&self.params, test, (w, h), area, Some(&near), |x, y, t| {
+            let mode = Mode::Test {
+                wanted: &near,
+                row_near: &row_near,
+                reference: &self.horizontal,
+            };
+            kernel::filter_side(&self.params, test, (w, h), area, mode, |x, y, t| {
                 let i = y * w + x;
                 map[i] = kernel::flip_value(&self.params, &self.sides[i], &t);
             });
@@ -218,9 +234,10 @@ impl FlipReference {
 }
 
 /// Per pixel (row-major), whether a pixel where the RGB8 images `a` and `b` differ lies within
-/// Chebyshev distance `r` of it: FLIP can be non-zero there only (module doc). Running counts
-/// along each row, then down each column.
-fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> Vec<bool> {
+/// Chebyshev distance `r` of it: FLIP can be non-zero there only (module doc); and the number
+/// of differing pixels within `r` columns in its row. Running counts along each row, then down
+/// each column.
+fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> (Vec<bool>, Vec<u32>) {
     // along rows: differing pixels within r columns
     let mut rows = vec![0u32; w * h];
     let mut prefix = vec![0u32; w + 1];
@@ -254,7 +271,7 @@ fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> Vec<boo
             }
         }
     }
-    near
+    (near, rows)
 }
 
 /// Mean and p95 (nearest rank, by `f64::total_cmp`) of a FLIP map over the `mask` pixels, the
@@ -338,7 +355,7 @@ pub(crate) fn map_off_radius_for_test(
     delta: isize,
 ) -> Vec<f32> {
     let r = reference.params.radius().saturating_add_signed(delta);
-    reference.map_within(test, r)
+    reference.map_within(test, r, r)
 }
 
 /// FLIP of the RGB8 image `test` against the reference, pooled (mean, p95) over `mask` pixels.
