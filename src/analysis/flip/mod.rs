@@ -238,10 +238,13 @@ impl FlipReference {
 /// of differing pixels within `r` columns in its row. Running counts along each row, then down
 /// each column.
 fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> (Vec<bool>, Vec<u32>) {
-    // along rows: differing pixels within r columns
+    // along rows: differing pixels within r columns (a row equal in both images keeps 0s)
     let mut rows = vec![0u32; w * h];
     let mut prefix = vec![0u32; w + 1];
-    for y in 0..h {
+    let differs: Vec<bool> = (0..h)
+        .map(|y| a[3 * w * y..3 * w * (y + 1)] != b[3 * w * y..3 * w * (y + 1)])
+        .collect();
+    for y in (0..h).filter(|&y| differs[y]) {
         for x in 0..w {
             let i = 3 * (y * w + x);
             prefix[x + 1] = prefix[x] + u32::from(a[i..i + 3] != b[i..i + 3]);
@@ -250,21 +253,25 @@ fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> (Vec<bo
             rows[y * w + x] = prefix[(x + r + 1).min(w)] - prefix[x.saturating_sub(r)];
         }
     }
-    // down columns: a window of 2r + 1 rows
+    // down columns: a window of 2r + 1 rows (rows of 0s add and remove nothing; an output row
+    // with no differing row in its window stays false)
     let mut near = vec![false; w * h];
     let mut window = vec![0u32; w];
+    let mut active = 0usize;
     for y in 0..h + r {
-        if y < h {
+        if y < h && differs[y] {
+            active += 1;
             for (c, v) in window.iter_mut().zip(&rows[y * w..(y + 1) * w]) {
                 *c += v;
             }
         }
-        if let Some(gone) = y.checked_sub(2 * r + 1).filter(|&g| g < h) {
+        if let Some(gone) = y.checked_sub(2 * r + 1).filter(|&g| g < h && differs[g]) {
+            active -= 1;
             for (c, v) in window.iter_mut().zip(&rows[gone * w..(gone + 1) * w]) {
                 *c -= v;
             }
         }
-        if y >= r {
+        if y >= r && active > 0 {
             let out = y - r;
             for (n, &c) in near[out * w..(out + 1) * w].iter_mut().zip(&window) {
                 *n = c > 0;
