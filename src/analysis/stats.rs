@@ -13,7 +13,7 @@ pub fn percentile(values: &mut [f64], p: f64) -> f64 {
 }
 
 /// The 0-based index of the nearest-rank `p` percentile among `n` > 0 sorted values.
-fn rank_index(n: usize, p: f64) -> usize {
+pub(crate) fn rank_index(n: usize, p: f64) -> usize {
     let rank = ((p / 100.0) * n as f64).ceil().max(1.0) as usize;
     rank.min(n) - 1
 }

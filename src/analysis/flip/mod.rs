@@ -19,9 +19,11 @@
 mod kernel;
 
 use glam::DVec3;
-use kernel::{Params, Side};
+use kernel::{Mode, Params, Planes, Side};
 
+#[cfg(test)]
 use crate::analysis::stats::percentile;
+use crate::analysis::stats::rank_index;
 use crate::output;
 
 pub(crate) fn srgb_rgb8(color: impl Iterator<Item = DVec3>) -> Vec<u8> {
@@ -143,13 +145,16 @@ fn regions(reference: &[u8], test: &[u8], w: usize, h: usize, r: usize) -> Vec<R
 }
 
 /// The reference's half of FLIP, computed once per compare run and shared read-only by the
-/// workers: per pixel its filtered Lab after Hunt and its edge and point feature values.
+/// workers: per pixel its filtered Lab after Hunt and its edge and point feature values, and
+/// its horizontal filter pass (7 planes, 28 bytes a pixel: the test side copies it where its
+/// row reads the same bytes).
 pub(crate) struct FlipReference {
     params: Params,
     ref8: Vec<u8>,
     width: usize,
     height: usize,
     sides: Vec<Side>,
+    horizontal: Planes,
 }
 
 impl FlipReference {
@@ -168,6 +173,7 @@ impl FlipReference {
         );
         let params = Params::new(ppd);
         let mut sides = Vec::with_capacity(w * h);
+        let mut horizontal = [(); kernel::PLANES].map(|_| vec![0.0f32; w * h]);
         if w > 0 && h > 0 {
             let all = Rect {
                 x0: 0,
@@ -175,7 +181,8 @@ impl FlipReference {
                 x1: w,
                 y1: h,
             };
-            kernel::filter_side(&params, ref8, (w, h), all, None, |_, _, s| sides.push(s));
+            let mode = Mode::Reference(&mut horizontal);
+            kernel::filter_side(&params, ref8, (w, h), all, mode, |_, _, s| sides.push(s));
         }
         FlipReference {
             params,
@@ -183,6 +190,7 @@ impl FlipReference {
             width: w,
             height: h,
             sides,
+            horizontal,
         }
     }
 
@@ -190,12 +198,14 @@ impl FlipReference {
     /// nv-flip's over the whole image (module doc), the test side computed only within the
     /// filter radius of the pixels where the two images differ.
     pub(crate) fn map(&self, test: &[u8]) -> Vec<f32> {
-        self.map_within(test, self.params.radius())
+        let r = self.params.radius();
+        self.map_within(test, r, r)
     }
 
-    /// [`FlipReference::map`] computing the test side within `r` of the differing pixels
-    /// (exact for `r >= radius`; the tests give a smaller one to see the map change).
-    fn map_within(&self, test: &[u8], r: usize) -> Vec<f32> {
+    /// [`FlipReference::map`] computing the test side within `r` of the differing pixels and
+    /// copying the reference's horizontal pass where no pixel within `r_row` in the row differs
+    /// (exact for radii `>= radius`; the tests give smaller ones to see the map change).
+    fn map_within(&self, test: &[u8], r: usize, r_row: usize) -> Vec<f32> {
         let (w, h) = (self.width, self.height);
         assert_eq!(
             test.len(),
@@ -203,10 +213,18 @@ impl FlipReference {
             "FLIP: test image of another size"
         );
         let mut map = vec![0.0f32; w * h];
-        let near = near_differences(&self.ref8, test, w, h, r);
+        let (near, mut row_near) = near_differences(&self.ref8, test, w, h, r);
+        if r_row != r {
+            row_near = near_differences(&self.ref8, test, w, h, r_row).1;
+        }
         for b in regions(&self.ref8, test, w, h, r) {
             let area = b.grow(r, w, h);
-            kernel::filter_side(&self.params, test, (w, h), area, Some(&near), |x, y, t| {
+            let mode = Mode::Test {
+                wanted: &near,
+                row_near: &row_near,
+                reference: &self.horizontal,
+            };
+            kernel::filter_side(&self.params, test, (w, h), area, mode, |x, y, t| {
                 let i = y * w + x;
                 map[i] = kernel::flip_value(&self.params, &self.sides[i], &t);
             });
@@ -216,13 +234,17 @@ impl FlipReference {
 }
 
 /// Per pixel (row-major), whether a pixel where the RGB8 images `a` and `b` differ lies within
-/// Chebyshev distance `r` of it: FLIP can be non-zero there only (module doc). Running counts
-/// along each row, then down each column.
-fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> Vec<bool> {
-    // along rows: differing pixels within r columns
+/// Chebyshev distance `r` of it: FLIP can be non-zero there only (module doc); and the number
+/// of differing pixels within `r` columns in its row. Running counts along each row, then down
+/// each column.
+fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> (Vec<bool>, Vec<u32>) {
+    // along rows: differing pixels within r columns (a row equal in both images keeps 0s)
     let mut rows = vec![0u32; w * h];
     let mut prefix = vec![0u32; w + 1];
-    for y in 0..h {
+    let differs: Vec<bool> = (0..h)
+        .map(|y| a[3 * w * y..3 * w * (y + 1)] != b[3 * w * y..3 * w * (y + 1)])
+        .collect();
+    for y in (0..h).filter(|&y| differs[y]) {
         for x in 0..w {
             let i = 3 * (y * w + x);
             prefix[x + 1] = prefix[x] + u32::from(a[i..i + 3] != b[i..i + 3]);
@@ -231,32 +253,84 @@ fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> Vec<boo
             rows[y * w + x] = prefix[(x + r + 1).min(w)] - prefix[x.saturating_sub(r)];
         }
     }
-    // down columns: a window of 2r + 1 rows
+    // down columns: a window of 2r + 1 rows (rows of 0s add and remove nothing; an output row
+    // with no differing row in its window stays false)
     let mut near = vec![false; w * h];
     let mut window = vec![0u32; w];
+    let mut active = 0usize;
     for y in 0..h + r {
-        if y < h {
+        if y < h && differs[y] {
+            active += 1;
             for (c, v) in window.iter_mut().zip(&rows[y * w..(y + 1) * w]) {
                 *c += v;
             }
         }
-        if let Some(gone) = y.checked_sub(2 * r + 1).filter(|&g| g < h) {
+        if let Some(gone) = y.checked_sub(2 * r + 1).filter(|&g| g < h && differs[g]) {
+            active -= 1;
             for (c, v) in window.iter_mut().zip(&rows[gone * w..(gone + 1) * w]) {
                 *c -= v;
             }
         }
-        if y >= r {
+        if y >= r && active > 0 {
             let out = y - r;
             for (n, &c) in near[out * w..(out + 1) * w].iter_mut().zip(&window) {
                 *n = c > 0;
             }
         }
     }
-    near
+    (near, rows)
 }
 
-/// Mean and p95 (nearest rank) of a FLIP map over the `mask` pixels, in pixel order.
+/// Mean and p95 (nearest rank, by `f64::total_cmp`) of a FLIP map over the `mask` pixels, the
+/// sum in pixel order: bit for bit those of the masked values collected whole
+/// ([`pool_collected`], the tests compare the two), without collecting the +0.0 values, most
+/// of a map.
+///
+/// Why skipping +0.0 is exact. The sum: every other value is added in pixel order, starting
+/// from the same neutral element (`Iterator::sum`), then `+ 0.0` if any +0.0 was skipped. A
+/// skipped `s + 0.0` is `s` for any `s` but a zero (a NaN or an infinity stays itself), and
+/// turns -0.0 into +0.0; after that the sum can never be -0.0 again (in round-to-nearest a sum
+/// is -0.0 only when both terms are), so the two sums agree bit for bit where they are not
+/// zeros, and where they are zeros the collected one is +0.0 as soon as a +0.0 was added,
+/// which the final `+ 0.0` gives. The rank: `total_cmp` orders by bits, so the k-th smallest
+/// value is one value whatever the method; +0.0 sits after every value with the sign bit set
+/// and before every other, so with `neg` of those and `zeros` +0.0s the k-th is the k-th of
+/// the rest for `k < neg`, +0.0 for `k < neg + zeros`, and else the `(k - zeros)`-th of the
+/// rest.
 pub(crate) fn pool(map: &[f32], mask: &[bool]) -> (f64, f64) {
+    let mut zeros = 0usize;
+    let mut rest: Vec<f64> = Vec::new();
+    for (&e, _) in map.iter().zip(mask).filter(|(_, &m)| m) {
+        if e.to_bits() == 0 {
+            zeros += 1;
+        } else {
+            rest.push(e as f64);
+        }
+    }
+    let n = rest.len() + zeros;
+    if n == 0 {
+        return (0.0, 0.0);
+    }
+    let mut sum = rest.iter().sum::<f64>();
+    if zeros > 0 {
+        sum += 0.0;
+    }
+    let k = rank_index(n, 95.0);
+    let neg = rest.iter().filter(|v| v.is_sign_negative()).count();
+    let p95 = if k < neg {
+        *rest.select_nth_unstable_by(k, f64::total_cmp).1
+    } else if k < neg + zeros {
+        0.0
+    } else {
+        *rest.select_nth_unstable_by(k - zeros, f64::total_cmp).1
+    };
+    (sum / n as f64, p95)
+}
+
+/// [`pool`] as it was: every masked value collected, summed in pixel order and selected from
+/// (the tests' check of the shortcut).
+#[cfg(test)]
+fn pool_collected(map: &[f32], mask: &[bool]) -> (f64, f64) {
     let mut v: Vec<f64> = map
         .iter()
         .zip(mask)
@@ -288,7 +362,7 @@ pub(crate) fn map_off_radius_for_test(
     delta: isize,
 ) -> Vec<f32> {
     let r = reference.params.radius().saturating_add_signed(delta);
-    reference.map_within(test, r)
+    reference.map_within(test, r, r)
 }
 
 /// FLIP of the RGB8 image `test` against the reference, pooled (mean, p95) over `mask` pixels.

@@ -247,23 +247,121 @@ fn regions_box_isolated_pixels_alone_and_dense_ones_together() {
     assert!(regions(&base, &base, w, h, 10).is_empty());
 }
 
-/// `near_differences` against the definition (a differing pixel within Chebyshev distance r),
-/// pixel by pixel, on scattered differences including the corners; a radius one less gives
-/// another mask (teeth).
+/// `near_differences` against the definition (a differing pixel within Chebyshev distance r;
+/// the row counts: the differing pixels within r columns in the row), pixel by pixel, on
+/// scattered differences including the corners; a radius one less gives other ones (teeth).
 #[test]
 fn near_differences_is_the_chebyshev_neighbourhood() {
     let (w, h, r) = (53usize, 37usize, 4usize);
     let base = image(w, h);
     let at = [(0, 0), (52, 36), (20, 10), (21, 30), (45, 3)];
     let test = changed(&base, w, &at);
-    let near = near_differences(&base, &test, w, h, r);
+    let (near, rows) = near_differences(&base, &test, w, h, r);
     for y in 0..h {
         for x in 0..w {
             let want = at
                 .iter()
                 .any(|&(ax, ay)| ax.abs_diff(x).max(ay.abs_diff(y)) <= r);
             assert_eq!(near[y * w + x], want, "({x}, {y})");
+            let in_row = at
+                .iter()
+                .filter(|&&(ax, ay)| ay == y && ax.abs_diff(x) <= r)
+                .count();
+            assert_eq!(rows[y * w + x] as usize, in_row, "({x}, {y})");
         }
     }
-    assert_ne!(near_differences(&base, &test, w, h, r - 1), near);
+    let (near1, rows1) = near_differences(&base, &test, w, h, r - 1);
+    assert_ne!(near1, near);
+    assert_ne!(rows1, rows);
+}
+
+/// Teeth of the copy of the reference's horizontal pass: with the rows' differences counted
+/// within 0 columns instead of the radius, a block beside a difference in its row (one box:
+/// two segments in rows 45 and 46) is copied although it reads a differing pixel, and the map
+/// is no longer nv-flip's; with the radius it is.
+#[test]
+fn copying_the_reference_rows_too_close_to_a_difference_changes_the_map() {
+    let (w, h) = (128usize, 90usize);
+    let base = image(w, h);
+    let at: Vec<_> = (30..=50)
+        .map(|x| (x, 45))
+        .chain((60..=80).map(|x| (x, 46)))
+        .collect();
+    let test = changed(&base, w, &at);
+    let full = flip_map_full(&base, &test, w as u32, h as u32);
+    let reference = FlipReference::new(&base, w as u32, h as u32);
+    let r = exact_radius();
+    assert_eq!(regions(&base, &test, w, h, r).len(), 1);
+    assert_eq!(bits(&reference.map_within(&test, r, r)), bits(&full));
+    assert_ne!(bits(&reference.map_within(&test, r, 0)), bits(&full));
+}
+
+fn pooled_bits((mean, p95): (f64, f64)) -> (u64, u64) {
+    (mean.to_bits(), p95.to_bits())
+}
+
+/// `pool` (the +0.0 values counted, not collected) against `pool_collected` bit for bit: maps
+/// mostly +0.0, with -0.0, positives, infinities and NaNs of both signs, under masks of every
+/// density, and the cases where the sign of a zero sum shows (only -0.0 values; -0.0 and
+/// +0.0). Teeth: a map one subnormal step away at one pixel gives other bits.
+#[test]
+fn pool_skipping_zeros_is_the_collected_pool_bit_for_bit() {
+    let mut rng = fastrand::Rng::with_seed(95);
+    let special = [
+        -0.0f32,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        -f32::NAN,
+        -1.5,
+        f32::from_bits(1),
+    ];
+    for n in [0usize, 1, 2, 3, 19, 20, 21, 100, 1000, 4096] {
+        for (zero_share, special_share) in
+            [(0.0, 0.0), (0.5, 0.0), (0.9, 0.01), (1.0, 0.0), (0.3, 0.3)]
+        {
+            let map: Vec<f32> = (0..n)
+                .map(|_| {
+                    let u = rng.f64();
+                    if u < zero_share {
+                        0.0
+                    } else if u < zero_share + special_share {
+                        special[rng.usize(..special.len())]
+                    } else {
+                        rng.f32() * 1.2
+                    }
+                })
+                .collect();
+            for density in [0.0, 0.3, 1.0] {
+                let mask: Vec<bool> = (0..n).map(|_| rng.f64() < density).collect();
+                assert_eq!(
+                    pooled_bits(pool(&map, &mask)),
+                    pooled_bits(pool_collected(&map, &mask)),
+                    "{n} pixels, zeros {zero_share}, special {special_share}, mask {density}"
+                );
+            }
+        }
+    }
+    let all = vec![true; 4];
+    for map in [
+        [-0.0f32; 4],
+        [-0.0, 0.0, -0.0, -0.0],
+        [0.0, -0.0, -0.0, -0.0],
+        [0.0; 4],
+    ] {
+        assert_eq!(
+            pooled_bits(pool(&map, &all)),
+            pooled_bits(pool_collected(&map, &all)),
+            "{map:?}"
+        );
+    }
+    // 38 zeros and two 0.25: the p95 (index 37) is the last zero, the subnormal once nudged
+    let map: Vec<f32> = (0..40).map(|i| if i < 2 { 0.25 } else { 0.0 }).collect();
+    let mask = vec![true; 40];
+    let mut nudged = map.clone();
+    nudged[5] = f32::from_bits(1);
+    assert_ne!(
+        pooled_bits(pool(&nudged, &mask)),
+        pooled_bits(pool_collected(&map, &mask))
+    );
 }
