@@ -131,34 +131,20 @@ pub struct PixelErrors {
 
 impl PixelErrors {
     /// Nothing counted yet, for a scan of `n` pixels of a frame `width` wide; `store`: with the
-    /// per-pixel vectors, `zeroed` (nothing measured) or empty with room for `n` (for a scan
-    /// that pushes every pixel), otherwise without.
-    pub(super) fn empty(
-        width: u32,
-        has_normal: bool,
-        n: usize,
-        store: bool,
-        zeroed: bool,
-    ) -> PixelErrors {
+    /// per-pixel vectors (zero: nothing measured), otherwise without.
+    pub(super) fn empty(width: u32, has_normal: bool, n: usize, store: bool) -> PixelErrors {
         let per_pixel = if store { n } else { 0 };
         let angles = if store && has_normal { n } else { 0 };
-        fn map<T: Clone>(len: usize, zeroed: bool, zero: T) -> Vec<T> {
-            if zeroed {
-                vec![zero; len]
-            } else {
-                Vec::with_capacity(len)
-            }
-        }
         PixelErrors {
             width,
             has_normal,
             counts: PixelCounts::default(),
-            measured: map(per_pixel, zeroed, false),
+            measured: vec![false; per_pixel],
             channels: [ChannelSums::default(); 3],
             max_len: 0.0,
-            signed: map(per_pixel, zeroed, 0.0),
-            angle: map(angles, zeroed, 0.0),
-            has_angle: map(angles, zeroed, false),
+            signed: vec![0.0; per_pixel],
+            angle: vec![0.0; angles],
+            has_angle: vec![false; angles],
             first_non_finite: None,
             sums: [0.0; 4],
             dense_abs: store.then(|| Vec::with_capacity(per_pixel)),
@@ -439,7 +425,7 @@ fn scan(
     store: bool,
     truth: impl Iterator<Item = Option<RefPixel>>,
 ) -> PixelErrors {
-    let mut f = PixelErrors::empty(frame.width, has_normal, n, store, true);
+    let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
     let mut abs = f.dense_abs.take().unwrap_or_default();
     let mut angles = f.dense_angle.take().unwrap_or_default();
     for (i, t) in truth.take(n).enumerate() {

@@ -119,8 +119,7 @@ where
     I: Fn(usize) -> bool,
 {
     let n = r.covered.len();
-    // the per-pixel maps are pushed pixel by pixel: no zero-fill to overwrite
-    let mut f = PixelErrors::empty(frame.width, has_normal, n, store, false);
+    let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
     let c = r.constants;
     let (mut sums, mut max_len) = ([0.0f64; 4], 0.0f64);
     let mut channels = f.channels;
@@ -129,49 +128,47 @@ where
     let mut angles = f.dense_angle.take().unwrap_or_default();
     let mut k = 0; // the covered pixel's index in the columns
     for (i, (&color, &covered)) in frame.color[..n].iter().zip(r.covered).enumerate() {
-        // dI and the angle (where both sides have a normal) of a measured pixel
-        let out: Option<(f64, Option<f64>)> = 'pixel: {
-            let here = color[3] > 0.0;
-            if !covered {
-                counts.coverage_mismatch += usize::from(here);
-                break 'pixel None;
+        let here = color[3] > 0.0;
+        if !covered {
+            counts.coverage_mismatch += usize::from(here);
+            continue;
+        }
+        let t = k;
+        k += 1;
+        if !here {
+            counts.coverage_mismatch += 1;
+            continue;
+        }
+        let non_finite = !finite3(color) || (has_normal && !finite3(frame.normal[i]));
+        let meaningful = !(r.ill_conditioned)(t) && c.finite[t];
+        if !meaningful || non_finite {
+            if meaningful {
+                counts.non_finite += 1;
+            } else {
+                counts.ill_conditioned += 1;
+                counts.non_finite += usize::from(non_finite);
+                counts.non_finite_ill_conditioned += usize::from(non_finite);
             }
-            let t = k;
-            k += 1;
-            if !here {
-                counts.coverage_mismatch += 1;
-                break 'pixel None;
+            if non_finite && f.first_non_finite.is_none() {
+                f.first_non_finite = Some([i as u32 % frame.width, i as u32 / frame.width]);
             }
-            let non_finite = !finite3(color) || (has_normal && !finite3(frame.normal[i]));
-            let meaningful = !(r.ill_conditioned)(t) && c.finite[t];
-            if !meaningful || non_finite {
-                if meaningful {
-                    counts.non_finite += 1;
-                } else {
-                    counts.ill_conditioned += 1;
-                    counts.non_finite += usize::from(non_finite);
-                    counts.non_finite_ill_conditioned += usize::from(non_finite);
-                }
-                if non_finite && f.first_non_finite.is_none() {
-                    f.first_non_finite = Some([i as u32 % frame.width, i as u32 / frame.width]);
-                }
-                break 'pixel None;
-            }
-            counts.measured += 1;
-            let col = d3(color);
-            let d = col - r.color[t];
-            let e = lum(col) - c.lum[t];
-            sums[0] += e.abs();
-            sums[1] = sums[1].max(e.abs());
-            for j in 0..3 {
-                channels[j].add(d[j]);
-            }
-            if store {
-                abs.push(e.abs());
-            }
-            if !(has_normal && (r.has_normal)(t)) {
-                break 'pixel Some((e, None));
-            }
+            continue;
+        }
+        counts.measured += 1;
+        let col = d3(color);
+        let d = col - r.color[t];
+        let e = lum(col) - c.lum[t];
+        sums[0] += e.abs();
+        sums[1] = sums[1].max(e.abs());
+        for j in 0..3 {
+            channels[j].add(d[j]);
+        }
+        if store {
+            f.measured[i] = true;
+            f.signed[i] = e;
+            abs.push(e.abs());
+        }
+        if has_normal && (r.has_normal)(t) {
             let nrm = d3(frame.normal[i]);
             let len = nrm.length();
             let cos = if len > 0.0 {
@@ -183,19 +180,11 @@ where
             sums[2] += a;
             sums[3] = sums[3].max(a);
             if store {
+                f.angle[i] = a;
+                f.has_angle[i] = true;
                 angles.push(a);
             }
             max_len = max_len.max((len - 1.0).abs());
-            Some((e, Some(a)))
-        };
-        if store {
-            let (e, a) = out.unwrap_or((0.0, None));
-            f.measured.push(out.is_some());
-            f.signed.push(e);
-            if has_normal {
-                f.has_angle.push(a.is_some());
-                f.angle.push(a.unwrap_or(0.0));
-            }
         }
     }
     (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
