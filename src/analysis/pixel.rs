@@ -121,12 +121,6 @@ pub struct PixelErrors {
     pub first_non_finite: Option<[u32; 2]>,
     /// Running sums over the measured pixels: |dI| (sum, max) and the normal angle (sum, max).
     pub(super) sums: [f64; 4],
-    /// |dI| of every measured pixel in pixel order, kept by the scan for
-    /// [`PixelErrors::intensity_stats`] (which takes it: its selection reorders it).
-    pub(super) dense_abs: Option<Vec<f64>>,
-    /// The angle of every pixel with one in pixel order, kept by the scan for
-    /// [`PixelErrors::angles`] (which hands it over).
-    pub(super) dense_angle: Option<Vec<f64>>,
 }
 
 impl PixelErrors {
@@ -147,8 +141,6 @@ impl PixelErrors {
             has_angle: vec![false; angles],
             first_non_finite: None,
             sums: [0.0; 4],
-            dense_abs: store.then(|| Vec::with_capacity(per_pixel)),
-            dense_angle: (store && has_normal).then(|| Vec::with_capacity(angles)),
         }
     }
 
@@ -172,12 +164,8 @@ impl PixelErrors {
             .map(move |i| ((i % w) as u32, (i / w) as u32, self.signed[i]))
     }
 
-    /// The normal angle error of every measured pixel with one, in pixel order: the scan's
-    /// list, handed over (no copy), or rebuilt from the per-pixel map after that.
-    pub fn angles(&mut self) -> Vec<f64> {
-        if let Some(v) = self.dense_angle.take() {
-            return v;
-        }
+    /// The normal angle error of every measured pixel with one, in pixel order.
+    pub fn angles(&self) -> Vec<f64> {
         let mut v = Vec::with_capacity(self.counts.measured);
         v.extend(
             (0..self.has_angle.len())
@@ -426,8 +414,6 @@ fn scan(
     truth: impl Iterator<Item = Option<RefPixel>>,
 ) -> PixelErrors {
     let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
-    let mut abs = f.dense_abs.take().unwrap_or_default();
-    let mut angles = f.dense_angle.take().unwrap_or_default();
     for (i, t) in truth.take(n).enumerate() {
         let xy = || [i as u32 % frame.width, i as u32 / frame.width];
         let c = &mut f.counts;
@@ -468,7 +454,6 @@ fn scan(
         if store {
             f.measured[i] = true;
             f.signed[i] = e;
-            abs.push(e.abs());
         }
         if let (true, Some(r)) = (has_normal, t.normal) {
             let nrm = d3(frame.normal[i]);
@@ -484,15 +469,10 @@ fn scan(
             if store {
                 f.angle[i] = a;
                 f.has_angle[i] = true;
-                angles.push(a);
             }
             f.max_len = f.max_len.max((len - 1.0).abs());
         }
     }
-    (f.dense_abs, f.dense_angle) = (
-        store.then_some(abs),
-        (store && has_normal).then_some(angles),
-    );
     f
 }
 
@@ -553,66 +533,16 @@ pub fn intensity_stats(
 
 impl PixelErrors {
     /// [`intensity_stats`] of [`PixelErrors::errors`], the same statistics bit for bit (the same
-    /// |dI| in the same order through the same operations), from the scan's list of |dI|
-    /// (taken: the percentile selection reorders it; a second call rebuilds it from the
-    /// per-pixel map, the same values in the same order). Only the largest error's position is
-    /// turned into (x, y), at the end.
-    pub fn intensity_stats(&mut self, threshold: f64) -> IntensityStats {
-        let abs = match self.dense_abs.take() {
-            Some(abs) => abs,
-            None => (0..self.measured.len())
-                .filter(|&i| self.measured[i])
-                .map(|i| self.signed[i].abs())
-                .collect(),
-        };
-        let mut run = Running::default();
-        for (k, &a) in abs.iter().enumerate() {
-            run.add(k, a, threshold);
-        }
+    /// errors in the same order through the same operations), without an (x, y) per pixel:
+    /// only the largest error's position is turned into one, at the end.
+    pub fn intensity_stats(&self, threshold: f64) -> IntensityStats {
         let w = self.width as usize;
-        finish_intensity(abs, run, |k| {
-            // the k-th measured pixel
-            let i = (0..self.measured.len())
-                .filter(|&i| self.measured[i])
-                .nth(k)
-                .unwrap_or(0);
+        let errors = (0..self.measured.len())
+            .filter(|&i| self.measured[i])
+            .map(|i| (i, self.signed[i]));
+        intensity_of(errors, self.counts.measured, threshold, |i| {
             [(i % w) as u32, (i / w) as u32]
         })
-    }
-}
-
-/// The running figures of [`intensity_stats`] over |dI| in pixel order: sum, sum of squares,
-/// the first largest value and its position, the count above the threshold.
-struct Running<P> {
-    sum: f64,
-    sq: f64,
-    max: f64,
-    max_at: Option<P>,
-    above: usize,
-}
-
-impl<P> Default for Running<P> {
-    fn default() -> Self {
-        Running {
-            sum: 0.0,
-            sq: 0.0,
-            max: 0.0,
-            max_at: None,
-            above: 0,
-        }
-    }
-}
-
-impl<P> Running<P> {
-    #[inline]
-    fn add(&mut self, p: P, a: f64, threshold: f64) {
-        self.sum += a;
-        self.sq += a * a;
-        if self.max_at.is_none() || a > self.max {
-            self.max = a;
-            self.max_at = Some(p);
-        }
-        self.above += usize::from(a > threshold);
     }
 }
 
@@ -625,43 +555,39 @@ fn intensity_of<P: Copy>(
     at: impl Fn(P) -> [u32; 2],
 ) -> IntensityStats {
     let mut abs: Vec<f64> = Vec::with_capacity(capacity);
-    let mut run = Running::default();
+    let (mut sum, mut sq, mut max, mut max_at, mut above) = (0.0, 0.0, 0.0, None, 0);
     for (p, e) in errors {
         let a = e.abs();
         abs.push(a);
-        run.add(p, a, threshold);
+        sum += a;
+        sq += a * a;
+        if max_at.is_none() || a > max {
+            max = a;
+            max_at = Some(p);
+        }
+        above += usize::from(a > threshold);
     }
-    finish_intensity(abs, run, at)
-}
-
-/// The statistics from the |dI| `abs` (in any order: only the percentiles read them, and
-/// reorder them) and the running figures `run` taken over them in pixel order.
-fn finish_intensity<P: Copy>(
-    mut abs: Vec<f64>,
-    run: Running<P>,
-    at: impl Fn(P) -> [u32; 2],
-) -> IntensityStats {
     let n = abs.len();
     // No measured pixel: no error figure exists. NaN (JSON null), not 0, so that nothing reads
     // as "exact" and every limit fails (compare::exceeded also says why).
     let per = |x: f64| if n > 0 { x / n as f64 } else { f64::NAN };
-    let mse = per(run.sq);
+    let mse = per(sq);
     let [p50, p95, p99] = if n > 0 {
         percentiles(&mut abs, [50.0, 95.0, 99.0])
     } else {
         [f64::NAN; 3]
     };
     IntensityStats {
-        mean_abs_error: per(run.sum),
-        max_abs_error: if n > 0 { run.max } else { f64::NAN },
-        max_error_pixel: run.max_at.map(at),
+        mean_abs_error: per(sum),
+        max_abs_error: if n > 0 { max } else { f64::NAN },
+        max_error_pixel: max_at.map(at),
         p50_abs_error: p50,
         p95_abs_error: p95,
         p99_abs_error: p99,
         rmse: mse.sqrt(),
         psnr_db: (mse > 0.0).then(|| 10.0 * (1.0 / mse).log10()),
-        pixels_above_threshold: Some(run.above),
-        fraction_above_threshold: per(run.above as f64),
+        pixels_above_threshold: Some(above),
+        fraction_above_threshold: per(above as f64),
     }
 }
 

@@ -124,8 +124,6 @@ where
     let (mut sums, mut max_len) = ([0.0f64; 4], 0.0f64);
     let mut channels = f.channels;
     let mut counts = f.counts;
-    let mut abs = f.dense_abs.take().unwrap_or_default();
-    let mut angles = f.dense_angle.take().unwrap_or_default();
     let mut k = 0; // the covered pixel's index in the columns
     for (i, (&color, &covered)) in frame.color[..n].iter().zip(r.covered).enumerate() {
         let here = color[3] > 0.0;
@@ -166,7 +164,6 @@ where
         if store {
             f.measured[i] = true;
             f.signed[i] = e;
-            abs.push(e.abs());
         }
         if has_normal && (r.has_normal)(t) {
             let nrm = d3(frame.normal[i]);
@@ -182,16 +179,11 @@ where
             if store {
                 f.angle[i] = a;
                 f.has_angle[i] = true;
-                angles.push(a);
             }
             max_len = max_len.max((len - 1.0).abs());
         }
     }
     (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
-    (f.dense_abs, f.dense_angle) = (
-        store.then_some(abs),
-        (store && has_normal).then_some(angles),
-    );
     f
 }
 
