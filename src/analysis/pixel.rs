@@ -24,6 +24,7 @@
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::scan::{scan_columns, Columns, Constants};
 use crate::analysis::stats::percentiles;
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
@@ -111,18 +112,38 @@ pub struct PixelErrors {
     /// Per pixel: dI where `measured`, 0 elsewhere (see [`PixelErrors::signed`]). One f64 per
     /// pixel and no list beside it: 8 bytes per pixel, where an `Option` map (16 per pixel) and
     /// an (x, y, dI) list (16 per measured pixel) were kept before.
-    signed: Vec<f64>,
+    pub(super) signed: Vec<f64>,
     /// Per pixel: the normal angle error where `has_angle`, 0 elsewhere.
-    angle: Vec<f64>,
+    pub(super) angle: Vec<f64>,
     /// Per pixel: measured, with a normal on both sides (methods with a normal).
-    has_angle: Vec<bool>,
+    pub(super) has_angle: Vec<bool>,
     /// (x, y) of the first non-finite pixel, if any.
     pub first_non_finite: Option<[u32; 2]>,
     /// Running sums over the measured pixels: |dI| (sum, max) and the normal angle (sum, max).
-    sums: [f64; 4],
+    pub(super) sums: [f64; 4],
 }
 
 impl PixelErrors {
+    /// Nothing counted yet, for a scan of `n` pixels of a frame `width` wide; `store`: with the
+    /// per-pixel vectors (zero: nothing measured), otherwise without.
+    pub(super) fn empty(width: u32, has_normal: bool, n: usize, store: bool) -> PixelErrors {
+        let per_pixel = if store { n } else { 0 };
+        let angles = if store && has_normal { n } else { 0 };
+        PixelErrors {
+            width,
+            has_normal,
+            counts: PixelCounts::default(),
+            measured: vec![false; per_pixel],
+            channels: [ChannelSums::default(); 3],
+            max_len: 0.0,
+            signed: vec![0.0; per_pixel],
+            angle: vec![0.0; angles],
+            has_angle: vec![false; angles],
+            first_non_finite: None,
+            sums: [0.0; 4],
+        }
+    }
+
     /// dI at pixel `i` (row-major) where it is measured.
     pub fn signed(&self, i: usize) -> Option<f64> {
         self.measured[i].then(|| self.signed[i])
@@ -230,13 +251,7 @@ pub fn pixel_errors(
     has_normal: bool,
     reference: &impl ReferencePixels,
 ) -> PixelErrors {
-    scan(
-        frame,
-        has_normal,
-        reference.len(),
-        true,
-        reference.ref_pixels(),
-    )
+    reference.pixel_errors(frame, has_normal)
 }
 
 /// A reference the statistics can be taken against: a [`Truth`] (with its bounds, `verify`)
@@ -250,6 +265,12 @@ pub trait ReferencePixels {
     }
     /// Every pixel in row-major order, `None` on the background.
     fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_;
+    /// [`pixel_errors`] of `frame` against this reference: one pass over [`Self::ref_pixels`]
+    /// (a reference with its columns at hand, [`crate::analysis::scan::Prepared`], walks them
+    /// instead; the same statistics bit for bit).
+    fn pixel_errors(&self, frame: &Frame, has_normal: bool) -> PixelErrors {
+        scan(frame, has_normal, self.len(), true, self.ref_pixels())
+    }
 }
 
 impl ReferencePixels for Truth {
@@ -328,6 +349,8 @@ pub struct Twin {
     /// Per covered pixel: the normal where `has_normal`, zero elsewhere.
     normal: Vec<DVec3>,
     has_normal: Vec<bool>,
+    /// What the scan reads per covered pixel of the twin, computed once ([`Constants`]).
+    constants: Constants,
     /// Pixels of the reference, covered or not.
     len: usize,
 }
@@ -337,32 +360,34 @@ impl Twin {
     pub fn new(inputs: &SceneInputs, ids: &IdFrame, other: &Method) -> Twin {
         let lighting = inputs.lighting();
         let covered = ids.covered();
-        let mut t = Twin {
-            color: Vec::with_capacity(covered),
-            normal: Vec::with_capacity(covered),
-            has_normal: Vec::with_capacity(covered),
-            len: ids.prim.len(),
-        };
+        let (mut color, mut normal, mut has_normal) = (
+            Vec::with_capacity(covered),
+            Vec::with_capacity(covered),
+            Vec::with_capacity(covered),
+        );
         for (i, &prim) in ids.prim.iter().enumerate() {
             if prim != 0 {
                 let s = twin_at(inputs, &lighting, ids, other, i);
-                t.color.push(s.color);
-                t.normal.push(s.normal.unwrap_or(DVec3::ZERO));
-                t.has_normal.push(s.normal.is_some());
+                color.push(s.color);
+                normal.push(s.normal.unwrap_or(DVec3::ZERO));
+                has_normal.push(s.normal.is_some());
             }
         }
-        t
+        let constants = Constants::new(&color, &normal, |k| has_normal[k]);
+        Twin {
+            color,
+            normal,
+            has_normal,
+            constants,
+            len: ids.prim.len(),
+        }
     }
 
-    /// [`stats_against_twin`] of `frame` against this twin; `reference` is the truth of the
-    /// same id pass (an error if it covers other pixels than the twin: a different size or
-    /// covered count).
-    pub fn stats(
-        &self,
-        frame: &Frame,
-        has_normal: bool,
-        reference: &impl ReferencePixels,
-    ) -> Result<ErrorStats> {
+    /// [`stats_against_twin`] of `frame` against this twin (bit for bit: the scan of
+    /// [`crate::analysis::scan`] over the twin's columns); `reference` is the truth of the same
+    /// id pass (an error if it covers other pixels than the twin: a different size or covered
+    /// count).
+    pub fn stats(&self, frame: &Frame, has_normal: bool, reference: &Values) -> Result<ErrorStats> {
         if reference.len() != self.len {
             return Err(Error::Internal(format!(
                 "a twin of {} pixels against a reference of {}",
@@ -370,33 +395,22 @@ impl Twin {
                 reference.len()
             )));
         }
-        let mut k = 0;
-        let twin = reference.ref_pixels().map(|t| {
-            let t = t?;
-            let p = match self.color.get(k) {
-                Some(&color) => RefPixel {
-                    color,
-                    normal: self.has_normal[k].then(|| self.normal[k]),
-                    ..t
-                },
-                // more covered pixels than the twin has: counted, an error below
-                None => RefPixel {
-                    color: DVec3::NAN,
-                    normal: None,
-                    ..t
-                },
-            };
-            k += 1;
-            Some(p)
-        });
-        let stats = scan(frame, has_normal, self.len, false, twin).stats();
-        if k != self.color.len() {
+        if reference.colors().len() != self.color.len() {
             return Err(Error::Internal(format!(
-                "a twin of {} covered pixels against a reference covering {k}",
-                self.color.len()
+                "a twin of {} covered pixels against a reference covering {}",
+                self.color.len(),
+                reference.colors().len()
             )));
         }
-        Ok(stats)
+        let columns = Columns {
+            covered: reference.covered(),
+            color: &self.color,
+            normal: &self.normal,
+            constants: &self.constants,
+            has_normal: |k| self.has_normal[k],
+            ill_conditioned: |k| reference.ill_conditioned(k),
+        };
+        Ok(scan_columns(frame, has_normal, false, &columns).stats())
     }
 }
 
@@ -409,21 +423,7 @@ fn scan(
     store: bool,
     truth: impl Iterator<Item = Option<RefPixel>>,
 ) -> PixelErrors {
-    let per_pixel = if store { n } else { 0 };
-    let angles = if store && has_normal { n } else { 0 };
-    let mut f = PixelErrors {
-        width: frame.width,
-        has_normal,
-        counts: PixelCounts::default(),
-        measured: vec![false; per_pixel],
-        channels: [ChannelSums::default(); 3],
-        max_len: 0.0,
-        signed: vec![0.0; per_pixel],
-        angle: vec![0.0; angles],
-        has_angle: vec![false; angles],
-        first_non_finite: None,
-        sums: [0.0; 4],
-    };
+    let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
     for (i, t) in truth.take(n).enumerate() {
         let xy = || [i as u32 % frame.width, i as u32 / frame.width];
         let c = &mut f.counts;

@@ -3,13 +3,10 @@
 use serde::Serialize;
 
 /// Nearest-rank percentile of `values` (unsorted; reordered in place): the smallest value such
-/// that at least `p` percent of the values are at most it. 0 for an empty slice.
+/// that at least `p` percent of the values are at most it, in the order of `f64::total_cmp`.
+/// 0 for an empty slice.
 pub fn percentile(values: &mut [f64], p: f64) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let k = rank_index(values.len(), p);
-    *values.select_nth_unstable_by(k, f64::total_cmp).1
+    percentiles(values, [p])[0]
 }
 
 /// The 0-based index of the nearest-rank `p` percentile among `n` > 0 sorted values.
@@ -18,29 +15,44 @@ pub(crate) fn rank_index(n: usize, p: f64) -> usize {
     rank.min(n) - 1
 }
 
-/// [`percentile`] of `values` at each of `ps`, the same values bit for bit, with each selection
-/// after the first over the part of `values` at or above the previous one only: after selecting
-/// index k, `values[..k]` are all at most `values[k..]` (by `f64::total_cmp`), so the k'-th
-/// smallest value for k' >= k is the (k' - k)-th of `values[k..]`. The k-th smallest value of a
-/// total order does not depend on how it was found. A rank below the previous one selects over
-/// the whole slice again. 0 for each when `values` is empty.
+/// Turns each f64 into its key of `f64::total_cmp` (the same bit flip std's `total_cmp` makes
+/// on both sides of every comparison: the bits as i64, the 63 low bits inverted when the sign
+/// bit is set), in place; the integer order of the keys is the order of `total_cmp`. The flip
+/// is its own inverse: applied twice it gives back the same bits.
+fn flip_total_order_keys(keys: &mut [i64]) {
+    for k in keys {
+        *k ^= (((*k >> 63) as u64) >> 1) as i64;
+    }
+}
+
+/// [`percentile`] of `values` at each of `ps` (nearest rank in the order of `f64::total_cmp`),
+/// selected on the integer keys of that order: `values` are turned into their keys in place,
+/// each selection after the first runs over the part at or above the previous one only (after
+/// selecting index k, `keys[..k]` are all at most `keys[k..]`, so the k'-th smallest for k' >= k
+/// is the (k' - k)-th of `keys[k..]`; a rank below the previous one selects over the whole
+/// slice again), and the keys are turned back. Keys are equal only for equal bits, so the k-th
+/// smallest value is the same bits however it is found. 0 for each when `values` is empty.
 pub fn percentiles<const N: usize>(values: &mut [f64], ps: [f64; N]) -> [f64; N] {
+    let keys: &mut [i64] = bytemuck::cast_slice_mut(values);
+    flip_total_order_keys(keys);
     let mut lo = 0;
-    ps.map(|p| {
-        if values.is_empty() {
+    let out = ps.map(|p| {
+        if keys.is_empty() {
             return 0.0;
         }
-        let k = rank_index(values.len(), p);
+        let k = rank_index(keys.len(), p);
         if k < lo {
             lo = 0;
         }
-        let v = *values[lo..]
-            .select_nth_unstable_by(k - lo, f64::total_cmp)
-            .1;
+        let mut v = [*keys[lo..].select_nth_unstable(k - lo).1];
         lo = k;
-        v
-    })
+        flip_total_order_keys(&mut v);
+        f64::from_bits(v[0] as u64)
+    });
+    flip_total_order_keys(keys);
+    out
 }
+
 /// A median with its 95% confidence interval.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Estimate {
@@ -220,5 +232,101 @@ pub(crate) fn least_squares(xs: &[f64], ys: &[f64]) -> f64 {
         sxy / sxx
     } else {
         f64::NAN
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The percentile before the integer keys (the code it replaces, kept as the oracle):
+    /// one selection by `f64::total_cmp`.
+    fn oracle(values: &mut [f64], p: f64) -> f64 {
+        if values.is_empty() {
+            return 0.0;
+        }
+        let k = rank_index(values.len(), p);
+        *values.select_nth_unstable_by(k, f64::total_cmp).1
+    }
+
+    /// A deliberately wrong selection for the teeth: the raw bits as i64, without the flip of
+    /// the negative values (it orders -1 below -2).
+    fn raw_bits(values: &mut [f64], p: f64) -> f64 {
+        if values.is_empty() {
+            return 0.0;
+        }
+        let k = rank_index(values.len(), p);
+        let keys: &mut [i64] = bytemuck::cast_slice_mut(values);
+        f64::from_bits(*keys.select_nth_unstable(k).1 as u64)
+    }
+
+    fn random_values(rng: &mut fastrand::Rng, n: usize, signs: bool) -> Vec<f64> {
+        let pool = [
+            0.0,
+            -0.0,
+            1.0,
+            0.5,
+            f64::INFINITY,
+            f64::NAN,
+            -f64::NAN,
+            1e-310,
+        ];
+        (0..n)
+            .map(|_| {
+                let v = match rng.u32(0..4) {
+                    0 => pool[rng.usize(..pool.len())],
+                    1 => (rng.u32(0..5) as f64) * 0.25, // ties
+                    _ => rng.f64() * 10.0,
+                };
+                if signs && rng.bool() {
+                    -v
+                } else {
+                    v
+                }
+            })
+            .collect()
+    }
+
+    /// `percentile` and `percentiles` give the bits of one `total_cmp` selection each (the
+    /// oracle, on a fresh copy), on random values with ties, zeros of both signs, NaNs of both
+    /// signs, infinities and subnormals, non-negative only (the |dI|, angles and FLIP values
+    /// of compare) and of both signs; one element and empty too; the slice keeps its values
+    /// (reordered). Teeth: the raw bits without the flip disagree with the oracle.
+    #[test]
+    fn percentiles_on_integer_keys_equal_the_total_cmp_selection() {
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let sorted_bits = |v: &[f64]| {
+            let mut b = bits(v);
+            b.sort_unstable();
+            b
+        };
+        let mut rng = fastrand::Rng::with_seed(26);
+        let ps = [50.0, 95.0, 99.0, 0.0, 100.0, 37.5];
+        let mut wrong = 0;
+        for round in 0..400 {
+            let n = [0, 1, 2, 3, 10, 100, 1000, 4099][round % 8];
+            let signs = round % 2 == 1;
+            let values = random_values(&mut rng, n, signs);
+            let expected = ps.map(|p| oracle(&mut values.clone(), p).to_bits());
+            let mut v = values.clone();
+            let got = percentiles(&mut v, ps).map(f64::to_bits);
+            assert_eq!(got, expected, "n {n}, signs {signs}");
+            assert_eq!(
+                sorted_bits(&v),
+                sorted_bits(&values),
+                "n {n}: not a reordering"
+            );
+            for (p, e) in ps.iter().zip(expected) {
+                assert_eq!(
+                    percentile(&mut values.clone(), *p).to_bits(),
+                    e,
+                    "n {n} p {p}"
+                );
+                wrong += usize::from(raw_bits(&mut values.clone(), *p).to_bits() != e);
+            }
+        }
+        assert!(wrong > 100, "{wrong}");
+        assert_eq!(percentiles(&mut [], [50.0, 99.0]), [0.0, 0.0]);
+        assert_eq!(percentile(&mut [-0.0], 50.0).to_bits(), (-0.0f64).to_bits());
     }
 }

@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
 use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors, Twin};
+use crate::analysis::scan::Prepared;
 use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
@@ -117,7 +118,8 @@ fn auto_subject(name: &str) -> Subject<'_> {
 
 /// What the workers of [`compare`] share.
 struct Analysis<'a> {
-    reference: &'a Values,
+    /// The run's truth with the constants its scan reads (computed once per run).
+    reference: &'a Prepared<'a>,
     /// The second reference (f64 exact slerp along the span), when a method of the run is
     /// judged against it too: its twin at the reference's covered pixels, evaluated once.
     slerp: Option<&'a Twin>,
@@ -145,7 +147,7 @@ impl Analysis<'_> {
         else {
             return Ok(None);
         };
-        let s = twin.stats(frame, m.has_normal, self.reference)?;
+        let s = twin.stats(frame, m.has_normal, self.reference.values())?;
         Ok(Some(AgainstReference {
             reference: SLERP_REFERENCE.to_string(),
             mean_abs_error: s.mean_abs_error,
@@ -546,12 +548,13 @@ pub fn compare_with(
     if opts.images {
         write_reference_png(&reference, out, w, h)?;
     }
+    let prepared_reference = Prepared::new(&reference);
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
 
     let subjects = methods_.len() + opts.auto.len();
     let bar = crate::output::progress_bar(opts.progress, subjects as u64);
     let ctx = Analysis {
-        reference: &reference,
+        reference: &prepared_reference,
         slerp: slerp.as_ref(),
         flip: &flip_reference,
         out,

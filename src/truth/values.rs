@@ -80,6 +80,33 @@ impl Values {
         self.covered.len() - self.color.len()
     }
 
+    /// Per pixel, covered or not: the columns below hold the covered ones, in order.
+    pub fn covered(&self) -> &[bool] {
+        &self.covered
+    }
+
+    /// Per covered pixel: the f64 colour.
+    pub fn colors(&self) -> &[DVec3] {
+        &self.color
+    }
+
+    /// Per covered pixel: the shading normal where [`Values::has_normal`], zero elsewhere.
+    pub fn normals(&self) -> &[DVec3] {
+        &self.normal
+    }
+
+    /// Whether covered pixel `k` has a shading normal.
+    #[inline]
+    pub fn has_normal(&self, k: usize) -> bool {
+        self.flags[k] & HAS_NORMAL != 0
+    }
+
+    /// Whether covered pixel `k` is ill-conditioned ([`TruthPixel::ill_conditioned`]).
+    #[inline]
+    pub fn ill_conditioned(&self, k: usize) -> bool {
+        self.flags[k] & ILL_CONDITIONED != 0
+    }
+
     /// Every pixel in row-major order: `None` on the background.
     pub fn pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_ {
         let mut k = 0;
@@ -87,11 +114,10 @@ impl Values {
             if !covered {
                 return None;
             }
-            let f = self.flags[k];
             let p = RefPixel {
                 color: self.color[k],
-                normal: (f & HAS_NORMAL != 0).then_some(self.normal[k]),
-                ill_conditioned: f & ILL_CONDITIONED != 0,
+                normal: self.has_normal(k).then_some(self.normal[k]),
+                ill_conditioned: self.ill_conditioned(k),
             };
             k += 1;
             Some(p)

@@ -1,0 +1,293 @@
+//! The scan of [`crate::analysis::pixel`] over a reference kept as columns ([`Values`], the
+//! slerp [`crate::analysis::pixel::Twin`]): `compare`'s path, once per method over every pixel.
+//!
+//! It is the generic scan (`pixel::scan` over `Option<RefPixel>`s, `verify`'s path and this
+//! one's oracle in the tests) with the same f64 operations in the same order per pixel, and
+//! with what depends on the reference alone computed once per run ([`Constants`]): the
+//! reference's luminance `lum(t.color)`, its normal's length `t.normal.length()` (the very
+//! same expressions, evaluated once instead of once per method) and whether its values are
+//! finite. The classes of the pixels are those of [`crate::analysis::pixel::classify`],
+//! decided from the columns without building a `RefPixel`.
+use glam::DVec3;
+
+use crate::analysis::pixel::{d3, lum, PixelErrors, ReferencePixels};
+use crate::frame::Frame;
+use crate::truth::{RefPixel, Values};
+
+/// Per covered pixel of a reference, what the scan would otherwise compute for every method.
+#[derive(Debug, Clone)]
+pub(crate) struct Constants {
+    /// `lum(color)`.
+    lum: Vec<f64>,
+    /// `normal.length()` (0 where there is no normal).
+    normal_len: Vec<f64>,
+    /// The colour is finite, and so is the normal where there is one.
+    finite: Vec<bool>,
+}
+
+impl Constants {
+    /// The constants of the columns `color` and `normal` (`has_normal(k)`: whether covered
+    /// pixel k has a normal).
+    pub(crate) fn new(
+        color: &[DVec3],
+        normal: &[DVec3],
+        has_normal: impl Fn(usize) -> bool,
+    ) -> Self {
+        let finite = (0..color.len())
+            .map(|k| color[k].is_finite() && (!has_normal(k) || normal[k].is_finite()))
+            .collect();
+        Constants {
+            lum: color.iter().map(|&c| lum(c)).collect(),
+            normal_len: normal.iter().map(|n| n.length()).collect(),
+            finite,
+        }
+    }
+}
+
+/// A reference as the scan reads it: which pixels it covers and, per covered pixel in pixel
+/// order, its colour, normal and [`Constants`]; `has_normal(k)` and `ill_conditioned(k)` of
+/// covered pixel k.
+pub(crate) struct Columns<'a, H, I> {
+    pub covered: &'a [bool],
+    pub color: &'a [DVec3],
+    pub normal: &'a [DVec3],
+    pub constants: &'a Constants,
+    pub has_normal: H,
+    pub ill_conditioned: I,
+}
+
+/// [`Values`] with its [`Constants`]: the reference of a `compare` run, prepared once for the
+/// statistics of every method. [`crate::analysis::pixel::pixel_errors`] against it gives the
+/// same errors as against the `Values` themselves, bit for bit, in one pass over the columns.
+#[derive(Debug, Clone)]
+pub struct Prepared<'a> {
+    values: &'a Values,
+    constants: Constants,
+}
+
+impl<'a> Prepared<'a> {
+    /// Computes the constants of `values` (one pass over its covered pixels).
+    pub fn new(values: &'a Values) -> Self {
+        let constants = Constants::new(values.colors(), values.normals(), |k| values.has_normal(k));
+        Prepared { values, constants }
+    }
+
+    /// The values it was prepared from.
+    pub fn values(&self) -> &'a Values {
+        self.values
+    }
+}
+
+impl ReferencePixels for Prepared<'_> {
+    fn len(&self) -> usize {
+        self.values.len()
+    }
+    fn ref_pixels(&self) -> impl Iterator<Item = Option<RefPixel>> + '_ {
+        self.values.pixels()
+    }
+    fn pixel_errors(&self, frame: &Frame, has_normal: bool) -> PixelErrors {
+        let v = self.values;
+        let columns = Columns {
+            covered: v.covered(),
+            color: v.colors(),
+            normal: v.normals(),
+            constants: &self.constants,
+            has_normal: |k| v.has_normal(k),
+            ill_conditioned: |k| v.ill_conditioned(k),
+        };
+        scan_columns(frame, has_normal, true, &columns)
+    }
+}
+
+/// Whether the R, G and B of `v` are finite: `d3(v).is_finite()` (f32 -> f64 keeps finiteness).
+#[inline]
+fn finite3(v: [f32; 4]) -> bool {
+    v[0].is_finite() && v[1].is_finite() && v[2].is_finite()
+}
+
+/// The generic scan (`pixel::scan`) of `frame` against the reference `r`, from its columns:
+/// the same classes, the same operations per measured pixel in the same order, the same
+/// [`PixelErrors`]; `store`: keep the per-pixel vectors.
+pub(crate) fn scan_columns<H, I>(
+    frame: &Frame,
+    has_normal: bool,
+    store: bool,
+    r: &Columns<'_, H, I>,
+) -> PixelErrors
+where
+    H: Fn(usize) -> bool,
+    I: Fn(usize) -> bool,
+{
+    let n = r.covered.len();
+    let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
+    let c = r.constants;
+    let (mut sums, mut max_len) = ([0.0f64; 4], 0.0f64);
+    let mut channels = f.channels;
+    let mut counts = f.counts;
+    let mut k = 0; // the covered pixel's index in the columns
+    for (i, (&color, &covered)) in frame.color[..n].iter().zip(r.covered).enumerate() {
+        let here = color[3] > 0.0;
+        if !covered {
+            counts.coverage_mismatch += usize::from(here);
+            continue;
+        }
+        let t = k;
+        k += 1;
+        if !here {
+            counts.coverage_mismatch += 1;
+            continue;
+        }
+        let non_finite = !finite3(color) || (has_normal && !finite3(frame.normal[i]));
+        let meaningful = !(r.ill_conditioned)(t) && c.finite[t];
+        if !meaningful || non_finite {
+            if meaningful {
+                counts.non_finite += 1;
+            } else {
+                counts.ill_conditioned += 1;
+                counts.non_finite += usize::from(non_finite);
+                counts.non_finite_ill_conditioned += usize::from(non_finite);
+            }
+            if non_finite && f.first_non_finite.is_none() {
+                f.first_non_finite = Some([i as u32 % frame.width, i as u32 / frame.width]);
+            }
+            continue;
+        }
+        counts.measured += 1;
+        let col = d3(color);
+        let d = col - r.color[t];
+        let e = lum(col) - c.lum[t];
+        sums[0] += e.abs();
+        sums[1] = sums[1].max(e.abs());
+        for j in 0..3 {
+            channels[j].add(d[j]);
+        }
+        if store {
+            f.measured[i] = true;
+            f.signed[i] = e;
+        }
+        if has_normal && (r.has_normal)(t) {
+            let nrm = d3(frame.normal[i]);
+            let len = nrm.length();
+            let cos = if len > 0.0 {
+                (nrm.dot(r.normal[t]) / (len * c.normal_len[t])).clamp(-1.0, 1.0)
+            } else {
+                -1.0
+            };
+            let a = cos.acos().to_degrees();
+            sums[2] += a;
+            sums[3] = sums[3].max(a);
+            if store {
+                f.angle[i] = a;
+                f.has_angle[i] = true;
+            }
+            max_len = max_len.max((len - 1.0).abs());
+        }
+    }
+    (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
+    f
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::pixel::pixel_errors;
+    use crate::truth::{Truth, TruthPixel};
+
+    /// A reference and a frame of `n` pixels with every class of pixel and every kind of value
+    /// a scan meets: background on either side, ill-conditioned references, non-finite colours
+    /// and normals on either side, missing, zero and signed-zero normals, ties.
+    fn random_case(rng: &mut fastrand::Rng, n: usize) -> (Truth, Frame) {
+        let value = |rng: &mut fastrand::Rng| match rng.u32(0..20) {
+            0 => f64::NAN,
+            1 => f64::INFINITY,
+            2 => -0.0,
+            3 => 0.5,
+            _ => rng.f64() * 2.0 - 0.5,
+        };
+        let vec3 = |rng: &mut fastrand::Rng| DVec3::new(value(rng), value(rng), value(rng));
+        let mut pixels = Vec::with_capacity(n);
+        let mut color = Vec::with_capacity(n);
+        let mut normal = Vec::with_capacity(n);
+        for _ in 0..n {
+            pixels.push(rng.bool().then(|| TruthPixel {
+                color: vec3(rng),
+                normal: match rng.u32(0..4) {
+                    0 => None,
+                    1 => Some(DVec3::ZERO),
+                    _ => Some(vec3(rng)),
+                },
+                color_bound: f64::NAN,
+                normal_bound: f64::NAN,
+                // 1e9: ill-conditioned (values.rs's test)
+                amplification: if rng.u32(0..5) == 0 { 1e9 } else { 1.0 },
+            }));
+            let c = vec3(rng);
+            let alpha = if rng.u32(0..4) == 0 { 0.0 } else { 1.0 };
+            color.push([c.x as f32, c.y as f32, c.z as f32, alpha]);
+            let m = if rng.u32(0..6) == 0 {
+                DVec3::ZERO
+            } else {
+                vec3(rng)
+            };
+            normal.push([m.x as f32, m.y as f32, m.z as f32, 1.0]);
+        }
+        let (width, height) = (7, (n as u32).div_ceil(7));
+        let truth = Truth {
+            width,
+            height,
+            pixels,
+        };
+        let frame = Frame {
+            width,
+            height,
+            color,
+            normal,
+        };
+        (truth, frame)
+    }
+
+    /// The scan over the columns gives the generic scan's errors (over the same `Values`, and
+    /// over the `Truth` they come from) bit for bit: every count, sum, per-pixel vector and the
+    /// first non-finite pixel, with and without normals, on random references and frames.
+    /// Teeth: a constant 2^20 ulps off, or a pixel's finiteness flipped, shows in the errors.
+    #[test]
+    fn the_column_scan_gives_the_generic_errors() {
+        let mut rng = fastrand::Rng::with_seed(27);
+        let (mut measured_cases, mut perturbed_differ) = (0, [0, 0]);
+        for round in 0..200 {
+            let n = [0, 1, 2, 7, 63, 700][round % 6];
+            let (truth, frame) = random_case(&mut rng, n);
+            let values = Values::from(&truth);
+            for has_normal in [true, false] {
+                let generic = format!("{:?}", pixel_errors(&frame, has_normal, &values));
+                let over_truth = format!("{:?}", pixel_errors(&frame, has_normal, &truth));
+                let mut prepared = Prepared::new(&values);
+                let columns = format!("{:?}", pixel_errors(&frame, has_normal, &prepared));
+                assert_eq!(columns, generic, "round {round}, normals {has_normal}");
+                assert_eq!(over_truth, generic, "round {round}");
+                // teeth, on the first measured pixel (if any)
+                let errors = pixel_errors(&frame, has_normal, &prepared);
+                let Some(i) = errors.measured.iter().position(|&m| m) else {
+                    continue;
+                };
+                measured_cases += 1;
+                let k = values.covered()[..i].iter().filter(|&&c| c).count();
+                let c = &mut prepared.constants;
+                c.lum[k] = f64::from_bits(c.lum[k].to_bits() + (1 << 20));
+                let ulp = format!("{:?}", pixel_errors(&frame, has_normal, &prepared));
+                perturbed_differ[0] += usize::from(ulp != generic);
+                prepared.constants.finite[k] = false;
+                let flag = format!("{:?}", pixel_errors(&frame, has_normal, &prepared));
+                perturbed_differ[1] += usize::from(flag != generic);
+            }
+        }
+        // most of the 400 cases measure a pixel; the flag changes every one of them, the ulps
+        // nearly all (dI = lum(col) - lum rounds them away where |lum| << |dI|)
+        assert!(measured_cases > 100, "{measured_cases}");
+        assert_eq!(perturbed_differ[1], measured_cases);
+        assert!(
+            perturbed_differ[0] * 10 > measured_cases * 9,
+            "{perturbed_differ:?}"
+        );
+    }
+}
