@@ -339,7 +339,7 @@ fn twin_at(
 /// Another method's f64 twin (`compare`: exact slerp along the span) at every pixel an id pass
 /// covers, evaluated once per run and kept for every method judged against it (seven of the
 /// built-in methods), where [`stats_against_twin`] evaluates it again for each: 49 bytes per
-/// covered pixel (36 MB at 1024x1024 on the fine sphere). The values are those
+/// covered pixel and 17 of scan constants (about 49 MB at 1024x1024 on the fine sphere). The values are those
 /// `stats_against_twin` computes (the same function of the same fragment), so
 /// [`Twin::stats`] gives its statistics bit for bit.
 #[derive(Debug, Clone)]
