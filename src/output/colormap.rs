@@ -89,6 +89,12 @@ impl Colormap {
 #[path = "colormap_changes.rs"]
 mod changes;
 
+/// The buckets of [`Changes`]' region lookup: 2^12 bit patterns each (2048 per octave, an index
+/// of 520 KB per colormap). Regions are at least 512 patterns long, so a bucket holds at most 8
+/// region starts, and most none: the lookup's forward scan rarely runs (with the default 2^16,
+/// RdBu's regions near t = 0.5 made it scan a few steps per pixel, its exit unpredictable).
+const REGION_SHIFT: u32 = 12;
+
 /// The colour of a region that [`Changes`] leaves to the spline, in the generated tables.
 pub(crate) const SPLINE: u32 = u32::MAX;
 
@@ -121,7 +127,7 @@ impl Changes {
             .map(|&(_, c)| (c != SPLINE).then_some([(c >> 16) as u8, (c >> 8) as u8, c as u8]))
             .collect();
         Changes {
-            regions: Steps::new(points.iter().map(|p| p.0).collect()),
+            regions: Steps::with_shift(points.iter().map(|p| p.0).collect(), REGION_SHIFT),
             colors,
             spline,
         }
