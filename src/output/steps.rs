@@ -95,7 +95,11 @@ mod tests {
         for shift in [8, 12, 16, 20] {
             let steps = Steps::with_shift(starts.clone(), shift);
             for &b in &probes {
-                assert_eq!(steps.index(b), by_definition(&starts, b), "shift {shift}, {b:#x}");
+                assert_eq!(
+                    steps.index(b),
+                    by_definition(&starts, b),
+                    "shift {shift}, {b:#x}"
+                );
             }
         }
         // Teeth: a bucket index one step too far (the scan only goes forward) finds other steps.
