@@ -109,7 +109,7 @@ pub struct PixelErrors {
     pub channels: [ChannelSums; 3],
     /// Max ||N'| - 1| over measured pixels (0 without a per-pixel normal).
     pub max_len: f64,
-    /// Per pixel: dI where `measured`, 0 elsewhere (see [`PixelErrors::signed`]). One f64 per
+    /// Per pixel: dI where `measured`, 0 elsewhere (see [`PixelErrors::signed_map`]). One f64 per
     /// pixel and no list beside it: 8 bytes per pixel, where an `Option` map (16 per pixel) and
     /// an (x, y, dI) list (16 per measured pixel) were kept before.
     pub(super) signed: Vec<f64>,
@@ -142,16 +142,6 @@ impl PixelErrors {
             first_non_finite: None,
             sums: [0.0; 4],
         }
-    }
-
-    /// dI at pixel `i` (row-major) where it is measured.
-    pub fn signed(&self, i: usize) -> Option<f64> {
-        self.measured[i].then(|| self.signed[i])
-    }
-
-    /// The normal angle error (degrees) at pixel `i` where it is measured (methods with a normal).
-    pub fn angle(&self, i: usize) -> Option<f64> {
-        self.has_angle[i].then(|| self.angle[i])
     }
 
     /// Per pixel: dI, and whether it is measured (where it is not, dI is 0 and no data).

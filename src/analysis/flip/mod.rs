@@ -26,12 +26,10 @@ use crate::analysis::stats::percentile;
 use crate::analysis::stats::rank_index;
 use crate::output;
 
+/// The 8-bit sRGB image of f64 linear colours, narrowed to f32 as every image of the tool is
+/// ([`output::srgb::rgb8`]).
 pub(crate) fn srgb_rgb8(color: impl Iterator<Item = DVec3>) -> Vec<u8> {
-    let mut rgb = Vec::with_capacity(3 * color.size_hint().0);
-    for c in color {
-        rgb.extend_from_slice(&[c.x, c.y, c.z].map(|v| output::srgb8(v as f32)));
-    }
-    rgb
+    output::srgb::rgb8(color.map(|c| c.as_vec3().to_array()))
 }
 
 /// The pixels per degree every FLIP of the tool uses: nv-flip's default
