@@ -105,9 +105,45 @@ fn finite3(v: [f32; 4]) -> bool {
     v[0].is_finite() && v[1].is_finite() && v[2].is_finite()
 }
 
+/// Pixels per block of [`scan_columns`]: the cosines of a block's normal angles wait in a
+/// buffer of this size (8 KB on the stack) for their `acos`.
+const BLOCK: usize = 1024;
+
+/// The normal angles of one block, waiting for their `acos`: the clamped cosine and the pixel
+/// of each, in pixel order.
+struct Cosines {
+    cos: [f64; BLOCK],
+    at: [u32; BLOCK],
+    len: usize,
+}
+
+impl Cosines {
+    /// `acos().to_degrees()` of each cosine in order, added to the angle's running sum and max
+    /// (`sums[2]`, `sums[3]`) and, with `store`, written to the angle map; then empties.
+    /// A tight loop of calls to `acos` apart from the scan: the scan's own loop has no call
+    /// in it, so its accumulators stay in registers.
+    fn drain(&mut self, sums: &mut [f64; 4], f: &mut PixelErrors, store: bool) {
+        for (&cos, &i) in self.cos[..self.len].iter().zip(&self.at[..self.len]) {
+            let a = cos.acos().to_degrees();
+            sums[2] += a;
+            sums[3] = sums[3].max(a);
+            if store {
+                f.angle[i as usize] = a;
+                f.has_angle[i as usize] = true;
+            }
+        }
+        self.len = 0;
+    }
+}
+
 /// The generic scan (`pixel::scan`) of `frame` against the reference `r`, from its columns:
 /// the same classes, the same operations per measured pixel in the same order, the same
 /// [`PixelErrors`]; `store`: keep the per-pixel vectors.
+///
+/// The pixels go in blocks of [`BLOCK`]: per block, every statistic but the normal angle, and
+/// the angle's clamped cosine into [`Cosines`]; then the block's `acos`s in pixel order
+/// ([`Cosines::drain`]). The angle's sum and max see the same angles in the same order as in
+/// the generic scan, every other accumulator the same values in the same order: the same bits.
 pub(crate) fn scan_columns<H, I>(
     frame: &Frame,
     has_normal: bool,
@@ -119,69 +155,76 @@ where
     I: Fn(usize) -> bool,
 {
     let n = r.covered.len();
+    assert!(n <= u32::MAX as usize, "pixel index of {n} pixels in a u32");
     let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
     let c = r.constants;
     let (mut sums, mut max_len) = ([0.0f64; 4], 0.0f64);
     let mut channels = f.channels;
     let mut counts = f.counts;
+    let mut cosines = Cosines {
+        cos: [0.0; BLOCK],
+        at: [0; BLOCK],
+        len: 0,
+    };
     let mut k = 0; // the covered pixel's index in the columns
-    for (i, (&color, &covered)) in frame.color[..n].iter().zip(r.covered).enumerate() {
-        let here = color[3] > 0.0;
-        if !covered {
-            counts.coverage_mismatch += usize::from(here);
-            continue;
-        }
-        let t = k;
-        k += 1;
-        if !here {
-            counts.coverage_mismatch += 1;
-            continue;
-        }
-        let non_finite = !finite3(color) || (has_normal && !finite3(frame.normal[i]));
-        let meaningful = !(r.ill_conditioned)(t) && c.finite[t];
-        if !meaningful || non_finite {
-            if meaningful {
-                counts.non_finite += 1;
-            } else {
-                counts.ill_conditioned += 1;
-                counts.non_finite += usize::from(non_finite);
-                counts.non_finite_ill_conditioned += usize::from(non_finite);
+    for start in (0..n).step_by(BLOCK) {
+        let end = n.min(start + BLOCK);
+        let block = frame.color[start..end].iter().zip(&r.covered[start..end]);
+        for (i, (&color, &covered)) in (start..).zip(block) {
+            let here = color[3] > 0.0;
+            if !covered {
+                counts.coverage_mismatch += usize::from(here);
+                continue;
             }
-            if non_finite && f.first_non_finite.is_none() {
-                f.first_non_finite = Some([i as u32 % frame.width, i as u32 / frame.width]);
+            let t = k;
+            k += 1;
+            if !here {
+                counts.coverage_mismatch += 1;
+                continue;
             }
-            continue;
-        }
-        counts.measured += 1;
-        let col = d3(color);
-        let d = col - r.color[t];
-        let e = lum(col) - c.lum[t];
-        sums[0] += e.abs();
-        sums[1] = sums[1].max(e.abs());
-        for j in 0..3 {
-            channels[j].add(d[j]);
-        }
-        if store {
-            f.measured[i] = true;
-            f.signed[i] = e;
-        }
-        if has_normal && (r.has_normal)(t) {
-            let nrm = d3(frame.normal[i]);
-            let len = nrm.length();
-            let cos = if len > 0.0 {
-                (nrm.dot(r.normal[t]) / (len * c.normal_len[t])).clamp(-1.0, 1.0)
-            } else {
-                -1.0
-            };
-            let a = cos.acos().to_degrees();
-            sums[2] += a;
-            sums[3] = sums[3].max(a);
+            let non_finite = !finite3(color) || (has_normal && !finite3(frame.normal[i]));
+            let meaningful = !(r.ill_conditioned)(t) && c.finite[t];
+            if !meaningful || non_finite {
+                if meaningful {
+                    counts.non_finite += 1;
+                } else {
+                    counts.ill_conditioned += 1;
+                    counts.non_finite += usize::from(non_finite);
+                    counts.non_finite_ill_conditioned += usize::from(non_finite);
+                }
+                if non_finite && f.first_non_finite.is_none() {
+                    f.first_non_finite = Some([i as u32 % frame.width, i as u32 / frame.width]);
+                }
+                continue;
+            }
+            counts.measured += 1;
+            let col = d3(color);
+            let d = col - r.color[t];
+            let e = lum(col) - c.lum[t];
+            sums[0] += e.abs();
+            sums[1] = sums[1].max(e.abs());
+            for j in 0..3 {
+                channels[j].add(d[j]);
+            }
             if store {
-                f.angle[i] = a;
-                f.has_angle[i] = true;
+                f.measured[i] = true;
+                f.signed[i] = e;
             }
-            max_len = max_len.max((len - 1.0).abs());
+            if has_normal && (r.has_normal)(t) {
+                let nrm = d3(frame.normal[i]);
+                let len = nrm.length();
+                let cos = if len > 0.0 {
+                    (nrm.dot(r.normal[t]) / (len * c.normal_len[t])).clamp(-1.0, 1.0)
+                } else {
+                    -1.0
+                };
+                cosines.cos[cosines.len] = cos;
+                cosines.at[cosines.len] = i as u32;
+                cosines.len += 1;
+                max_len = max_len.max((len - 1.0).abs());
+            }
         }
+        cosines.drain(&mut sums, &mut f, store);
     }
     (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
     f
@@ -255,7 +298,8 @@ mod tests {
         let mut rng = fastrand::Rng::with_seed(27);
         let (mut measured_cases, mut perturbed_differ) = (0, [0, 0]);
         for round in 0..200 {
-            let n = [0, 1, 2, 7, 63, 700][round % 6];
+            // 2500: more than two blocks of `BLOCK` pixels
+            let n = [0, 1, 2, 7, 63, 700, 2500][round % 7];
             let (truth, frame) = random_case(&mut rng, n);
             let values = Values::from(&truth);
             for has_normal in [true, false] {
