@@ -106,33 +106,78 @@ fn finite3(v: [f32; 4]) -> bool {
 }
 
 /// Pixels per block of [`scan_columns`]: the cosines of a block's normal angles wait in a
-/// buffer of this size (8 KB on the stack) for their `acos`.
+/// buffer of this size ([`Cosines`], 28 KB on the stack, and 8 KB more while it drains) for
+/// their `acos`.
 const BLOCK: usize = 1024;
 
-/// The normal angles of one block, waiting for their `acos`: the clamped cosine and the pixel
-/// of each, in pixel order.
+/// The normal angles of one block, waiting for their `acos`, in pixel order: per angle the
+/// dot products `nrm.dot(r)` and `nrm.dot(nrm)` of the method's normal `nrm` and the
+/// reference's `r`, `r.length()`, and the pixel.
 struct Cosines {
-    cos: [f64; BLOCK],
+    dot: [f64; BLOCK],
+    square: [f64; BLOCK],
+    ref_len: [f64; BLOCK],
     at: [u32; BLOCK],
     len: usize,
 }
 
 impl Cosines {
-    /// `acos().to_degrees()` of each cosine in order, added to the angle's running sum and max
-    /// (`sums[2]`, `sums[3]`) and, with `store`, written to the angle map; then empties.
-    /// A tight loop of calls to `acos` apart from the scan: the scan's own loop has no call
-    /// in it, so its accumulators stay in registers.
-    fn drain(&mut self, sums: &mut [f64; 4], f: &mut PixelErrors, store: bool) {
-        for (&cos, &i) in self.cos[..self.len].iter().zip(&self.at[..self.len]) {
-            let a = cos.acos().to_degrees();
+    /// Queues one pixel's angle.
+    #[inline]
+    fn push(&mut self, dot: f64, square: f64, ref_len: f64, at: usize) {
+        let j = self.len;
+        (self.dot[j], self.square[j], self.ref_len[j]) = (dot, square, ref_len);
+        self.at[j] = at as u32;
+        self.len += 1;
+    }
+
+    /// The queued angles in order: `len = square.sqrt()` (glam's `length`), the clamped
+    /// cosine `dot / (len * ref_len)` (-1 at length 0), `acos().to_degrees()` into the angle's
+    /// running sum and max (`sums[2]`, `sums[3]`) and, with `store`, the angle map; `|len - 1|`
+    /// into `max_len`. Then empties. The lengths and cosines in a loop of their own, which
+    /// vectorises (the same IEEE sqrt and division per lane), the `acos` calls in a tight loop
+    /// apart from the scan: the scan's loop has no call in it, so its accumulators stay in
+    /// registers.
+    fn drain(&mut self, sums: &mut [f64; 4], max_len: &mut f64, f: &mut PixelErrors, store: bool) {
+        let m = self.len;
+        let mut len_error = [0.0f64; BLOCK];
+        // in place: `dot` becomes the clamped cosine
+        cosines(
+            &mut self.dot[..m],
+            &self.square[..m],
+            &self.ref_len[..m],
+            &mut len_error[..m],
+        );
+        for j in 0..m {
+            *max_len = max_len.max(len_error[j]);
+            let a = self.dot[j].acos().to_degrees();
             sums[2] += a;
             sums[3] = sums[3].max(a);
             if store {
-                f.angle[i as usize] = a;
-                f.has_angle[i as usize] = true;
+                let i = self.at[j] as usize;
+                f.angle[i] = a;
+                f.has_angle[i] = true;
             }
         }
         self.len = 0;
+    }
+}
+
+/// Per queued angle ([`Cosines::drain`]): `dot` becomes the clamped cosine, `len_error`
+/// `|len - 1|`; the expressions of `pixel::scan` on the same values. Compiled for AVX2 too
+/// and chosen at run time (no FMA: the same bits).
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn cosines(dot: &mut [f64], square: &[f64], ref_len: &[f64], len_error: &mut [f64]) {
+    let n = dot.len();
+    let (square, ref_len, len_error) = (&square[..n], &ref_len[..n], &mut len_error[..n]);
+    for j in 0..n {
+        let len = square[j].sqrt();
+        dot[j] = if len > 0.0 {
+            (dot[j] / (len * ref_len[j])).clamp(-1.0, 1.0)
+        } else {
+            -1.0
+        };
+        len_error[j] = (len - 1.0).abs();
     }
 }
 
@@ -162,7 +207,9 @@ where
     let mut channels = f.channels;
     let mut counts = f.counts;
     let mut cosines = Cosines {
-        cos: [0.0; BLOCK],
+        dot: [0.0; BLOCK],
+        square: [0.0; BLOCK],
+        ref_len: [0.0; BLOCK],
         at: [0; BLOCK],
         len: 0,
     };
@@ -212,19 +259,10 @@ where
             }
             if has_normal && (r.has_normal)(t) {
                 let nrm = d3(frame.normal[i]);
-                let len = nrm.length();
-                let cos = if len > 0.0 {
-                    (nrm.dot(r.normal[t]) / (len * c.normal_len[t])).clamp(-1.0, 1.0)
-                } else {
-                    -1.0
-                };
-                cosines.cos[cosines.len] = cos;
-                cosines.at[cosines.len] = i as u32;
-                cosines.len += 1;
-                max_len = max_len.max((len - 1.0).abs());
+                cosines.push(nrm.dot(r.normal[t]), nrm.dot(nrm), c.normal_len[t], i);
             }
         }
-        cosines.drain(&mut sums, &mut f, store);
+        cosines.drain(&mut sums, &mut max_len, &mut f, store);
     }
     (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
     f
