@@ -25,7 +25,7 @@ use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::scan::{scan_columns, Columns, Constants};
-use crate::analysis::stats::percentiles;
+use crate::analysis::stats::{percentiles, RankHistogram};
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
 use crate::method::formulas::Lighting;
@@ -533,16 +533,100 @@ pub fn intensity_stats(
 
 impl PixelErrors {
     /// [`intensity_stats`] of [`PixelErrors::errors`], the same statistics bit for bit (the same
-    /// errors in the same order through the same operations), without an (x, y) per pixel:
-    /// only the largest error's position is turned into one, at the end.
+    /// errors in the same order through the same operations), without an (x, y) per pixel
+    /// (only the largest error's position is turned into one, at the end) and without a copy
+    /// of the |dI|s: the percentiles come from a [`RankHistogram`] and a second pass over the
+    /// map.
     pub fn intensity_stats(&self, threshold: f64) -> IntensityStats {
         let w = self.width as usize;
-        let errors = (0..self.measured.len())
-            .filter(|&i| self.measured[i])
-            .map(|i| (i, self.signed[i]));
-        intensity_of(errors, self.counts.measured, threshold, |i| {
-            [(i % w) as u32, (i / w) as u32]
-        })
+        let abs = || {
+            (self.measured.iter().zip(&self.signed))
+                .enumerate()
+                .filter(|(_, (&m, _))| m)
+                .map(|(i, (_, e))| (i, e.abs()))
+        };
+        let mut hist = RankHistogram::default();
+        let mut run = Running::default();
+        for (i, a) in abs() {
+            hist.add(a);
+            run.add(i, a, threshold);
+        }
+        let p = if hist.is_empty() {
+            [f64::NAN; 3]
+        } else {
+            hist.percentiles([50.0, 95.0, 99.0], abs().map(|(_, a)| a))
+        };
+        run.finish(hist.len(), p, |i| [(i % w) as u32, (i / w) as u32])
+    }
+
+    /// The nearest-rank percentile `p` of the normal angle errors: `percentile(&mut
+    /// self.angles(), p)` bit for bit (the same values; a [`RankHistogram`] and a second pass
+    /// over the map instead of a copy). 0 without any angle.
+    pub fn angle_percentile(&self, p: f64) -> f64 {
+        let angles = || {
+            (self.angle.iter().zip(&self.has_angle))
+                .filter(|(_, &h)| h)
+                .map(|(&a, _)| a)
+        };
+        let mut hist = RankHistogram::default();
+        angles().for_each(|a| hist.add(a));
+        hist.percentiles([p], angles())[0]
+    }
+}
+
+/// The running sums of [`intensity_stats`] over |dI|, in the order the errors come.
+struct Running<P> {
+    sum: f64,
+    sq: f64,
+    max: f64,
+    max_at: Option<P>,
+    above: usize,
+}
+
+impl<P> Default for Running<P> {
+    fn default() -> Self {
+        Running {
+            sum: 0.0,
+            sq: 0.0,
+            max: 0.0,
+            max_at: None,
+            above: 0,
+        }
+    }
+}
+
+impl<P> Running<P> {
+    /// Adds |dI| `a` at position `p`.
+    #[inline]
+    fn add(&mut self, p: P, a: f64, threshold: f64) {
+        self.sum += a;
+        self.sq += a * a;
+        if self.max_at.is_none() || a > self.max {
+            self.max = a;
+            self.max_at = Some(p);
+        }
+        self.above += usize::from(a > threshold);
+    }
+
+    /// The statistics of the `n` errors added, with their 50th, 95th and 99th percentiles
+    /// `p`; `at` turns the position of the largest |error| into (x, y).
+    fn finish(self, n: usize, p: [f64; 3], at: impl Fn(P) -> [u32; 2]) -> IntensityStats {
+        // No measured pixel: no error figure exists. NaN (JSON null), not 0, so that nothing
+        // reads as "exact" and every limit fails (compare::exceeded also says why).
+        let per = |x: f64| if n > 0 { x / n as f64 } else { f64::NAN };
+        let mse = per(self.sq);
+        IntensityStats {
+            mean_abs_error: per(self.sum),
+            max_abs_error: if n > 0 { self.max } else { f64::NAN },
+            max_error_pixel: self.max_at.map(at),
+            p50_abs_error: p[0],
+            p95_abs_error: p[1],
+            p99_abs_error: p[2],
+            rmse: mse.sqrt(),
+            psnr_db: (mse > 0.0).then(|| 10.0 * (1.0 / mse).log10()),
+            pixels_above_threshold: Some(self.above),
+            fraction_above_threshold: per(self.above as f64),
+        }
     }
 }
 
@@ -555,40 +639,19 @@ fn intensity_of<P: Copy>(
     at: impl Fn(P) -> [u32; 2],
 ) -> IntensityStats {
     let mut abs: Vec<f64> = Vec::with_capacity(capacity);
-    let (mut sum, mut sq, mut max, mut max_at, mut above) = (0.0, 0.0, 0.0, None, 0);
+    let mut run = Running::default();
     for (p, e) in errors {
         let a = e.abs();
         abs.push(a);
-        sum += a;
-        sq += a * a;
-        if max_at.is_none() || a > max {
-            max = a;
-            max_at = Some(p);
-        }
-        above += usize::from(a > threshold);
+        run.add(p, a, threshold);
     }
     let n = abs.len();
-    // No measured pixel: no error figure exists. NaN (JSON null), not 0, so that nothing reads
-    // as "exact" and every limit fails (compare::exceeded also says why).
-    let per = |x: f64| if n > 0 { x / n as f64 } else { f64::NAN };
-    let mse = per(sq);
-    let [p50, p95, p99] = if n > 0 {
+    let p = if n > 0 {
         percentiles(&mut abs, [50.0, 95.0, 99.0])
     } else {
         [f64::NAN; 3]
     };
-    IntensityStats {
-        mean_abs_error: per(sum),
-        max_abs_error: if n > 0 { max } else { f64::NAN },
-        max_error_pixel: max_at.map(at),
-        p50_abs_error: p50,
-        p95_abs_error: p95,
-        p99_abs_error: p99,
-        rmse: mse.sqrt(),
-        psnr_db: (mse > 0.0).then(|| 10.0 * (1.0 / mse).log10()),
-        pixels_above_threshold: Some(above),
-        fraction_above_threshold: per(above as f64),
-    }
+    run.finish(n, p, at)
 }
 
 /// Per-channel statistics of the signed R, G or B error.

@@ -271,7 +271,8 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::pixel::pixel_errors;
+    use crate::analysis::pixel::{intensity_stats, pixel_errors};
+    use crate::analysis::stats::percentile;
     use crate::truth::{Truth, TruthPixel};
 
     /// A reference and a frame of `n` pixels with every class of pixel and every kind of value
@@ -330,6 +331,8 @@ mod tests {
     /// The scan over the columns gives the generic scan's errors (over the same `Values`, and
     /// over the `Truth` they come from) bit for bit: every count, sum, per-pixel vector and the
     /// first non-finite pixel, with and without normals, on random references and frames.
+    /// `intensity_stats` and `angle_percentile` of those errors (from the maps) equal the
+    /// generic `intensity_stats` of `errors()` and `percentile` of a copy of `angles()`.
     /// Teeth: a constant 2^20 ulps off, or a pixel's finiteness flipped, shows in the errors.
     #[test]
     fn the_column_scan_gives_the_generic_errors() {
@@ -349,6 +352,16 @@ mod tests {
                 assert_eq!(over_truth, generic, "round {round}");
                 // teeth, on the first measured pixel (if any)
                 let errors = pixel_errors(&frame, has_normal, &prepared);
+                // the percentiles from the maps (RankHistogram) against a copy's selection
+                for p in [0.0, 50.0, 99.0, 100.0] {
+                    let want = percentile(&mut errors.angles(), p);
+                    assert_eq!(errors.angle_percentile(p).to_bits(), want.to_bits());
+                }
+                let want = intensity_stats(errors.errors(), 0.1);
+                assert_eq!(
+                    format!("{:?}", errors.intensity_stats(0.1)),
+                    format!("{want:?}")
+                );
                 let Some(i) = errors.measured.iter().position(|&m| m) else {
                     continue;
                 };

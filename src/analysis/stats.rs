@@ -53,6 +53,106 @@ pub fn percentiles<const N: usize>(values: &mut [f64], ps: [f64; N]) -> [f64; N]
     out
 }
 
+/// The key of `x` in the order of `f64::total_cmp` as a u64 (its unsigned order is that order):
+/// the key of [`flip_total_order_keys`] with the sign bit turned over.
+#[inline]
+fn total_key(x: f64) -> u64 {
+    let b = x.to_bits() as i64;
+    (b ^ (((b >> 63) as u64) >> 1) as i64) as u64 ^ (1 << 63)
+}
+
+/// The f64 of a [`total_key`].
+fn from_total_key(k: u64) -> f64 {
+    let b = (k ^ (1 << 63)) as i64;
+    f64::from_bits((b ^ (((b >> 63) as u64) >> 1) as i64) as u64)
+}
+
+/// Bits of a [`total_key`] below its bucket in a [`RankHistogram`]: 2^16 buckets, the sign,
+/// the exponent and 4 bits of the mantissa (16 buckets per octave).
+const BUCKET_SHIFT: u32 = 48;
+
+/// Values counted per bucket of their [`total_key`], for nearest-rank percentiles without a
+/// copy of the values: [`RankHistogram::percentiles`] finds the bucket each rank falls into
+/// and, in a second pass over the same values, selects among the values of those buckets
+/// only. The k-th smallest key is the same bits however it is found, so the result is
+/// [`percentiles`]'s bit for bit (tested against it).
+pub struct RankHistogram {
+    counts: Vec<u32>,
+    n: usize,
+}
+
+impl Default for RankHistogram {
+    fn default() -> Self {
+        RankHistogram {
+            counts: vec![0; 1 << (64 - BUCKET_SHIFT)],
+            n: 0,
+        }
+    }
+}
+
+impl RankHistogram {
+    /// Counts `x`.
+    #[inline]
+    pub fn add(&mut self, x: f64) {
+        self.counts[(total_key(x) >> BUCKET_SHIFT) as usize] += 1;
+        self.n += 1;
+    }
+
+    /// How many values were counted.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    /// Whether no value was counted.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// [`percentiles`] of the counted values at each of `ps`; `values` must yield the counted
+    /// values again (in any order; panics when a wanted bucket comes out short). 0 for each
+    /// when nothing was counted.
+    pub fn percentiles<const N: usize>(
+        &self,
+        ps: [f64; N],
+        values: impl Iterator<Item = f64>,
+    ) -> [f64; N] {
+        if self.n == 0 {
+            return [0.0; N];
+        }
+        // per percentile: its bucket and its rank among that bucket's values
+        let wanted = ps.map(|p| {
+            let mut k = rank_index(self.n, p);
+            let mut b = 0;
+            while k >= self.counts[b] as usize {
+                k -= self.counts[b] as usize;
+                b += 1;
+            }
+            (b, k)
+        });
+        // slot[b]: 1 + the index of bucket b's list among the wanted ones, 0 if not wanted
+        let mut slot = vec![0u8; self.counts.len()];
+        let mut lists: Vec<Vec<u64>> = Vec::with_capacity(N);
+        for &(b, _) in &wanted {
+            if slot[b] == 0 {
+                lists.push(Vec::with_capacity(self.counts[b] as usize));
+                slot[b] = lists.len() as u8;
+            }
+        }
+        for x in values {
+            let key = total_key(x);
+            let s = slot[(key >> BUCKET_SHIFT) as usize];
+            if s != 0 {
+                lists[s as usize - 1].push(key);
+            }
+        }
+        wanted.map(|(b, k)| {
+            let list = &mut lists[slot[b] as usize - 1];
+            assert_eq!(list.len(), self.counts[b] as usize, "values differ");
+            from_total_key(*list.select_nth_unstable(k).1)
+        })
+    }
+}
+
 /// A median with its 95% confidence interval.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Estimate {
@@ -285,6 +385,51 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// `RankHistogram::percentiles` gives `percentiles`' bits (the oracle, on a copy) on the
+    /// values of `random_values` (ties, both zeros, both NaNs, infinities, subnormals, signed
+    /// or not) and on values crowded into one bucket, for sizes 0-4099; `total_key` orders
+    /// as `total_cmp` and `from_total_key` inverts it. Teeth: a histogram that misses one value
+    /// (a rank off by one) disagrees with the oracle.
+    #[test]
+    fn rank_histogram_percentiles_equal_the_selection() {
+        let mut rng = fastrand::Rng::with_seed(28);
+        let ps = [50.0, 95.0, 99.0, 0.0, 100.0, 37.5];
+        let mut wrong = 0;
+        for round in 0..400 {
+            let n = [0, 1, 2, 3, 10, 100, 1000, 4099][round % 8];
+            let mut values = random_values(&mut rng, n, round % 2 == 1);
+            if round % 4 == 2 {
+                // crowded: one bucket (the same top 16 bits) with a few values elsewhere
+                for v in values.iter_mut().skip(3) {
+                    *v = 1.0 + rng.f64() * 1e-3;
+                }
+            }
+            let mut h = RankHistogram::default();
+            values.iter().for_each(|&x| h.add(x));
+            let want = percentiles(&mut values.clone(), ps).map(f64::to_bits);
+            let got = h.percentiles(ps, values.iter().copied()).map(f64::to_bits);
+            assert_eq!(got, want, "n {n}, round {round}");
+            for w in values.windows(2) {
+                assert_eq!(
+                    total_key(w[0]).cmp(&total_key(w[1])),
+                    w[0].total_cmp(&w[1]),
+                    "{w:?}"
+                );
+                assert_eq!(from_total_key(total_key(w[0])).to_bits(), w[0].to_bits());
+            }
+            // teeth: one value fewer in the counts (and in the second pass)
+            if n > 1 {
+                let mut short = RankHistogram::default();
+                values[1..].iter().for_each(|&x| short.add(x));
+                let off = short.percentiles(ps, values[1..].iter().copied());
+                wrong += usize::from(off.map(f64::to_bits) != want);
+            }
+        }
+        assert!(wrong > 100, "{wrong}");
+        let h = RankHistogram::default();
+        assert_eq!(h.percentiles([50.0], std::iter::empty()), [0.0]);
     }
 
     /// `percentile` and `percentiles` give the bits of one `total_cmp` selection each (the

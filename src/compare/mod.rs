@@ -21,7 +21,6 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
 use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors, Twin};
 use crate::analysis::scan::Prepared;
-use crate::analysis::stats::percentile;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame, SpareFrames};
@@ -246,7 +245,7 @@ impl Analysis<'_> {
             if nf {
                 f64::INFINITY
             } else {
-                percentile(&mut f.angles(), 99.0)
+                f.angle_percentile(99.0)
             }
         });
         let (max_a, mean_a) = (stats.max_normal_angle_deg, stats.mean_normal_angle_deg);

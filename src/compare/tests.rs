@@ -1,6 +1,7 @@
 //! Tests of the statistics, CSV/JSON summaries and limits of `compare`.
 use super::*;
 use crate::analysis::pixel::*;
+use crate::analysis::stats::percentile;
 use crate::output::Provenance;
 use crate::truth::{Truth, Values};
 
