@@ -174,7 +174,9 @@ impl Mapping {
     /// [`Mapping::positions`] of `values[i]` (`|values[i]|` when `ABS`) where `mask[i]`: on a
     /// linear scale, every pixel's `(v - lo) / span`, clamped, as one loop without a branch on
     /// the data (the divisions overlap instead of waiting on each other), the value then
-    /// dropped where there is no data; the same operations on the same values.
+    /// dropped where there is no data; the same operations on the same values. (On a log
+    /// scale, the `log10` per value in a loop of its own and then the divisions in this one
+    /// measured no faster: perf, busy, 616 -> 670 samples.)
     fn masked_positions<const ABS: bool>(&self, out: &mut [u32], values: &[f64], mask: &[bool]) {
         let Mapping::Linear { lo, span } = *self else {
             let value = |(&v, &m): (&f64, &bool)| m.then_some(if ABS { v.abs() } else { v });
@@ -667,6 +669,7 @@ mod tests {
             ),
             (Colormap::Magma, Scale::Linear { lo: 0.0, hi: 10.0 }, false),
             (Colormap::Magma, Scale::Linear { lo: 0.0, hi: 0.3 }, true),
+            (Colormap::RedBlue, Scale::Log { lo: 1e-3, hi: 1e-2 }, false),
         ];
         let draw = |field: Field, desc: &HeatmapDesc| {
             field_pixels(field, (w, h), (w + PANEL, 200), desc, vec![9u8; 17])
@@ -695,7 +698,10 @@ mod tests {
                 field_by_definition(&defined, (w, h), w + PANEL, 200, gradient.colorous(), scale);
             assert!(want == by_definition);
             // teeth
-            assert!(masked(&values, &mask, !abs) != want);
+            assert!(
+                masked(&values, &mask, !abs) != want,
+                "{gradient:?} {scale:?} {abs}"
+            );
             let mut other = mask.clone();
             let i = (0..n)
                 .find(|&i| mask[i] && values[i].is_finite() && values[i] != 0.0)
@@ -703,6 +709,19 @@ mod tests {
             other[i] = false;
             assert!(masked(&values, &other, abs) != want);
         }
+        // a log scale from 0 (every position is 0 or NaN, then 0) draws the same too
+        let desc = HeatmapDesc {
+            label: "",
+            gradient: Colormap::Magma,
+            scale: Scale::Log { lo: 0.0, hi: 1.0 },
+        };
+        let f = |i: usize| mask[i].then(|| values[i]);
+        let masked = Field::Masked {
+            values: &values,
+            mask: &mask,
+            abs: false,
+        };
+        assert!(draw(masked, &desc) == draw(Field::Fn(&f), &desc));
     }
 
     /// The colorbar is there: down its centre column the pixels follow the colormap from the
