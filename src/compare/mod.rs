@@ -254,13 +254,16 @@ impl Analysis<'_> {
         let t = Instant::now();
         let dir = self.out.join(m.name);
         let mut files = Vec::new();
-        // The 8-bit sRGB image, once: render.png's colour and FLIP's test image (the same
-        // `srgb8` of the same f32 values that `output::write_png_srgb` would take).
-        let test8 = output::srgb::frame_rgb8(&frame.color);
-        if self.opts.images {
+        // The 8-bit sRGB image, once: render.png's bytes (those of `output::write_png_srgb`)
+        // and FLIP's test image, their RGB.
+        let test8 = if self.opts.images {
             files.push(rel(m.name, "render.png"));
-            write_render_png(&dir.join("render.png"), w, h, &test8, &frame.color)?;
-        }
+            let rgba = output::srgb::frame_rgba8(&frame.color);
+            output::write_png_rgba8(&dir.join("render.png"), w, h, &rgba)?;
+            output::srgb::rgb8_of_rgba8(&rgba)
+        } else {
+            output::srgb::frame_rgb8(&frame.color)
+        };
         let (abs_scale, signed_scale, angle_scale) =
             heatmap_scales(self.opts.scale, intensity.max_abs_error, max_a);
         self.write_heatmaps(m, &f, (abs_scale, signed_scale, angle_scale), &mut files)?;
@@ -306,16 +309,6 @@ impl Analysis<'_> {
             },
         ))
     }
-}
-
-/// Writes a frame as render.png from its 8-bit sRGB colour `rgb8` (of `color`) and the alpha of
-/// `color`: the bytes of `output::write_png_srgb(path, w, h, color)`.
-fn write_render_png(path: &Path, w: u32, h: u32, rgb8: &[u8], color: &[[f32; 4]]) -> Result<()> {
-    let rgba: Vec<[u8; 4]> = (rgb8.chunks_exact(3).zip(color))
-        .map(|(c, p)| [c[0], c[1], c[2], output::alpha8(p[3])])
-        .collect();
-    let rgba = rgba.into_flattened();
-    output::write_png_rgba8(path, w, h, &rgba)
 }
 
 /// Runs the comparison of `methods` on `scene` and writes everything into `out`.

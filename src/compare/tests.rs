@@ -457,9 +457,10 @@ fn flip_crops_match_the_full_computation_on_a_scene() {
     );
 }
 
-/// render.png from the shared 8-bit image (`srgb_rgb8` + `write_render_png`, the fast path)
-/// has the bytes of `output::write_png_srgb` of the frame's floats (the straightforward one);
-/// teeth: a different alpha in the frame gives other bytes.
+/// render.png from the frame's RGBA bytes (`frame_rgba8` + `write_png_rgba8`, the fast path)
+/// has the bytes of `output::write_png_srgb` of the frame's floats (the straightforward one),
+/// and FLIP's test image taken from them is `srgb_rgb8`'s; teeth: a different alpha in the
+/// frame gives other bytes.
 #[test]
 fn render_png_from_the_shared_8_bit_image_is_write_png_srgb() {
     let (w, h) = (7u32, 5u32);
@@ -472,14 +473,18 @@ fn render_png_from_the_shared_8_bit_image_is_write_png_srgb() {
         .collect();
     let dir = tempfile::tempdir().unwrap();
     let (fast, plain) = (dir.path().join("fast.png"), dir.path().join("plain.png"));
-    let rgb8 = srgb_rgb8(color.iter().map(|&c| d3(c)));
-    write_render_png(&fast, w, h, &rgb8, &color).unwrap();
+    let rgba = output::srgb::frame_rgba8(&color);
+    output::write_png_rgba8(&fast, w, h, &rgba).unwrap();
     output::write_png_srgb(&plain, w, h, &color).unwrap();
     let bytes = |p: &Path| std::fs::read(p).unwrap();
     assert_eq!(bytes(&fast), bytes(&plain));
+    assert_eq!(
+        output::srgb::rgb8_of_rgba8(&rgba),
+        srgb_rgb8(color.iter().map(|&c| d3(c)))
+    );
     let mut other = color.clone();
     other[3][3] = 0.5;
-    write_render_png(&fast, w, h, &rgb8, &other).unwrap();
+    output::write_png_rgba8(&fast, w, h, &output::srgb::frame_rgba8(&other)).unwrap();
     assert_ne!(bytes(&fast), bytes(&plain));
 }
 

@@ -146,6 +146,24 @@ impl Changes {
             None => self.spline.rgb(t),
         }
     }
+
+    /// The spline's colour at `t`: [`Changes::rgb`]'s in a region without a colour of its own
+    /// and outside [0, 1].
+    #[inline]
+    pub(crate) fn spline_rgb(&self, t: f32) -> [u8; 3] {
+        self.spline.rgb(t)
+    }
+
+    /// The region of the bit pattern `bits` (at most [`ONE`]): its first pattern, the pattern
+    /// past its end (at most `ONE + 1`: only f32 in [0, 1]), and its colour, `None` where the
+    /// spline computes it. Every pattern of a region with a colour has that colour, so a
+    /// caller may keep the region and reuse the colour for the patterns inside it.
+    #[inline]
+    pub(crate) fn region(&self, bits: u32) -> (u32, u32, Option<[u8; 3]>) {
+        let i = self.regions.index(bits);
+        let (start, end) = self.regions.bounds(i);
+        (start, end.min(ONE + 1), self.colors[i])
+    }
 }
 
 /// One spline segment: its knot `i / n` and its four control values per channel, `v[k][c]`
@@ -616,6 +634,32 @@ mod tests {
                 first_difference(&c, s, near).is_some(),
                 "{map:?}: recoloured"
             );
+        }
+    }
+
+    /// [`Changes::region`] of a pattern holds it, ends by `ONE + 1`, is the region of each of
+    /// its patterns, and its colour is the spline's at the pattern and at both ends; checked
+    /// around every change and on a stride. Teeth: a region one pattern longer holds a
+    /// pattern of another colour.
+    #[test]
+    fn regions_hold_their_patterns_and_one_colour() {
+        for (map, points) in generated() {
+            let (c, s) = (map.changes(), map.table());
+            let stride = (0..=ONE / STRIDE).map(|j| j * STRIDE);
+            let (mut coloured, mut longer_differs) = (0, false);
+            for b in around_changes(points).into_iter().chain(stride) {
+                let (start, end, colour) = c.region(b);
+                assert!(start <= b && b < end && end <= ONE + 1, "{map:?} {b:#x}");
+                assert_eq!(c.region(start), (start, end, colour), "{map:?} {b:#x}");
+                assert_eq!(c.region(end - 1), (start, end, colour), "{map:?} {b:#x}");
+                let Some(colour) = colour else { continue };
+                coloured += 1;
+                for p in [start, b, end - 1] {
+                    assert_eq!(s.rgb(f32::from_bits(p)), colour, "{map:?} {p:#x}");
+                }
+                longer_differs |= end <= ONE && s.rgb(f32::from_bits(end)) != colour;
+            }
+            assert!(coloured > 1000 && longer_differs, "{map:?}: {coloured}");
         }
     }
 

@@ -205,6 +205,29 @@ pub fn frame_rgb8(color: &[[f32; 4]]) -> Vec<u8> {
     rgb8(color.iter().map(|p| [p[0], p[1], p[2]]))
 }
 
+/// The 8-bit RGBA bytes of a frame's linear RGBA pixels, the bytes `write_png_srgb` encodes:
+/// [`srgb8`] of each colour channel and [`crate::output::alpha8`] of alpha, in one pass over
+/// the frame (render.png's and, through [`rgb8_of_rgba8`], FLIP's test image: the frame's
+/// 16 bytes per pixel are read once for both).
+pub fn frame_rgba8(color: &[[f32; 4]]) -> Vec<u8> {
+    let t = table();
+    let rgba: Vec<[u8; 4]> = color
+        .iter()
+        .map(|p| {
+            let a = crate::output::alpha8(p[3]);
+            [t.get(p[0]), t.get(p[1]), t.get(p[2]), a]
+        })
+        .collect();
+    rgba.into_flattened()
+}
+
+/// The RGB bytes of RGBA bytes, alpha dropped: [`frame_rgb8`] of a frame from its
+/// [`frame_rgba8`].
+pub fn rgb8_of_rgba8(rgba: &[u8]) -> Vec<u8> {
+    let rgb: Vec<[u8; 3]> = rgba.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
+    rgb.into_flattened()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -273,8 +296,9 @@ mod tests {
         assert_eq!(first_get_mismatch(table(), 0..=u32::MAX), None);
     }
 
-    /// `frame_rgb8` is the formula per channel, alpha dropped, on values of every class;
-    /// teeth: a frame with one channel changed gives other bytes.
+    /// `frame_rgb8` is the formula per channel, alpha dropped, on values of every class, and
+    /// `frame_rgba8` the same with `alpha8` of alpha; teeth: a frame with one channel (or one
+    /// alpha) changed gives other bytes.
     #[test]
     fn frame_rgb8_is_the_formula_per_channel() {
         let specials = [
@@ -305,6 +329,23 @@ mod tests {
         let mut other = color.clone();
         other[77][2] = 0.25;
         assert!(frame_rgb8(&other) != want);
+        // the RGBA bytes: the same colour with alpha8 of alpha, and their RGB is frame_rgb8's
+        let want_rgba: Vec<u8> = color
+            .iter()
+            .flat_map(|p| {
+                let [r, g, b] = [p[0], p[1], p[2]].map(srgb8_formula);
+                [r, g, b, crate::output::alpha8(p[3])]
+            })
+            .collect();
+        let rgba = frame_rgba8(&color);
+        assert!(rgba == want_rgba);
+        assert!(rgb8_of_rgba8(&rgba) == want);
+        // teeth: one channel, or one alpha, changed
+        assert!(frame_rgba8(&other) != want_rgba);
+        assert!(rgb8_of_rgba8(&frame_rgba8(&other)) != want);
+        other[77][2] = color[77][2];
+        other[78][3] = 0.5;
+        assert!(frame_rgba8(&other) != want_rgba);
     }
 
     /// The first input (bits) where `t` and the formula disagree among `inputs`.

@@ -58,6 +58,12 @@ impl Steps {
         i
     }
 
+    /// Step `i`'s first bit pattern and the next step's (`u32::MAX` after the last step).
+    #[inline]
+    pub(crate) fn bounds(&self, i: usize) -> (u32, u32) {
+        (self.starts[i], self.starts[i + 1])
+    }
+
     /// The steps' first bit patterns, then the sentinel `u32::MAX`.
     #[cfg(test)]
     pub(crate) fn starts(&self) -> &[u32] {
