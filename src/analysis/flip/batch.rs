@@ -127,6 +127,7 @@ impl SideRow {
 
 /// Per pixel, `side_at` up to `xyz_to_lab`'s cube roots: YCxCz to XYZ to linear RGB, clamped,
 /// to XYZ over the illuminant (`v`); and the edge and point values.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
 fn to_lab_input(v: [&mut [f32]; 3], a: [&[f32]; 8], [edge, point]: [&mut [f32]; 2]) {
     let [v0, v1, v2] = v;
     let n = v0.len();
@@ -155,17 +156,21 @@ fn to_lab_input(v: [&mut [f32]; 3], a: [&[f32]; 8], [edge, point]: [&mut [f32]; 
 
 /// Per pixel, the rest of `xyz_to_lab` (the cube root `c` where `v > DELTA_CUBE`, else the
 /// linear part) and `hunt`.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
 fn lab_hunt(v: [&[f32]; 3], c: [&[f32]; 3], lab: [&mut [f32]; 3]) {
     let [l0, l1, l2] = lab;
     let n = l0.len();
     let (l1, l2) = (&mut l1[..n], &mut l2[..n]);
     let (v, c) = (v.map(|v| &v[..n]), c.map(|c| &c[..n]));
     for k in 0..n {
+        // both branches read, one chosen: a select LLVM vectorises (the values are the same)
         let f = |j: usize| {
-            if v[j][k] > DELTA_CUBE {
-                c[j][k]
+            let (v, c) = (v[j][k], c[j][k]);
+            let linear = FACTOR * v + TERM;
+            if v > DELTA_CUBE {
+                c
             } else {
-                FACTOR * v[j][k] + TERM
+                linear
             }
         };
         let (f0, f1, f2) = (f(0), f(1), f(2));
@@ -177,6 +182,7 @@ fn lab_hunt(v: [&[f32]; 3], c: [&[f32]; 3], lab: [&mut [f32]; 3]) {
 }
 
 /// Per pixel, `flip_value`'s HyAB distance of the two Labs and the base of the feature power.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
 fn distances(
     r: [&[f32]; 3],
     t: [&[f32]; 3],
@@ -202,6 +208,7 @@ fn distances(
 }
 
 /// Per pixel, `flip_value`'s mapping of the colour difference's power to [0, 1].
+#[multiversion::multiversion(targets("x86_64+avx2"))]
 fn rescale(p: &Params, color: &mut [f32]) {
     for c in color {
         *c = if *c < p.pccmax {
