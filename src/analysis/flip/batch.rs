@@ -284,7 +284,7 @@ mod tests {
         let n = acc[0].len();
         let mut reference = SidePlanes::new(n + 5);
         let mut row = SideRow::new(n);
-        row.spans = vec![0..n];
+        row.spans.push(0..n);
         row.wanted = (0..n).collect();
         row.compute(reference_acc);
         reference.store(5, n, &row);
@@ -314,10 +314,11 @@ mod tests {
             for share in [0.2, 0.7, 1.0] {
                 let acc = sums(&mut rng, n);
                 let reference_acc = sums(&mut rng, n);
-                let mut spans = vec![0..n.min(3)];
-                if n > 40 {
-                    spans = vec![0..5, 12..32, 35..n - 1];
-                }
+                let spans = if n > 40 {
+                    vec![0..5, 12..32, 35..n - 1]
+                } else {
+                    std::iter::once(0..n.min(3)).collect()
+                };
                 let wanted: Vec<usize> = spans
                     .iter()
                     .flat_map(|s| s.clone())
