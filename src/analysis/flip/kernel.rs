@@ -16,28 +16,31 @@
 //! 8 pixels, for each tap, for each pixel of the block" ([`convolve`]), so LLVM vectorises
 //! across pixels with the sums in registers while every pixel's sum still adds its taps -R..R
 //! in order.
-//! [`Side`] is what one side contributes to a pixel's FLIP (its filtered Lab after Hunt, its
-//! edge and point feature values); [`flip_value`] combines a reference side with a test side.
+//! A row's vertical sums go to [`super::batch`], which turns them into each pixel's side (its
+//! filtered Lab after Hunt, its edge and point feature values) and combines a reference side
+//! with a test side, in passes over the row; `side_at` and `flip_value` here are the same
+//! arithmetic pixel by pixel, the tests' oracle for those passes.
 
 // The literals are nv-flip's as written in its headers (then rounded to f32 as there).
 #![allow(clippy::excessive_precision, clippy::approx_constant)]
 
+use super::batch::SideRow;
 use super::Rect;
 
 /// `FLIP::PI` (sharedflip.h), an f32.
 const PI: f32 = 3.141_592_653_589_79;
 /// `FLIPConstants` (sharedflip.h).
-const GQC: f32 = 0.7;
+pub(crate) const GQC: f32 = 0.7;
 const GPC: f32 = 0.4;
-const GPT: f32 = 0.95;
+pub(crate) const GPT: f32 = 0.95;
 const GW: f32 = 0.082;
-const GQF: f32 = 0.5;
+pub(crate) const GQF: f32 = 0.5;
 /// `DEFAULT_ILLUMINANT` and `INV_DEFAULT_ILLUMINANT` (color.h).
-const ILLUMINANT: [f32; 3] = [0.950_428_545, 1.0, 1.088_900_371];
-const INV_ILLUMINANT: [f32; 3] = [1.052_156_925, 1.0, 0.918_357_670];
+pub(crate) const ILLUMINANT: [f32; 3] = [0.950_428_545, 1.0, 1.088_900_371];
+pub(crate) const INV_ILLUMINANT: [f32; 3] = [1.052_156_925, 1.0, 0.918_357_670];
 
 /// `color3::LinearRGB2XYZ`'s matrix, each entry an f32 quotient of f32 literals as in color.h.
-const RGB_TO_XYZ: [[f32; 3]; 3] = [
+pub(crate) const RGB_TO_XYZ: [[f32; 3]; 3] = [
     [
         10135552.0f32 / 24577794.0f32,
         8788810.0f32 / 24577794.0f32,
@@ -55,14 +58,15 @@ const RGB_TO_XYZ: [[f32; 3]; 3] = [
     ],
 ];
 /// `color3::XYZ2LinearRGB`'s matrix.
-const XYZ_TO_RGB: [[f32; 3]; 3] = [
+pub(crate) const XYZ_TO_RGB: [[f32; 3]; 3] = [
     [3.241_003_275, -1.537_398_934, -0.498_615_861],
     [-0.969_224_334, 1.875_930_071, 0.041_554_224],
     [0.055_639_423, -0.204_011_202, 1.057_148_933],
 ];
 
 /// `m * v` as color.h writes it: `a1 * x + a2 * y + a3 * z`, left to right.
-fn mat(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
+#[inline]
+pub(crate) fn mat(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
     m.map(|r| r[0] * v[0] + r[1] * v[1] + r[2] * v[2])
 }
 
@@ -109,7 +113,8 @@ fn hyab(a: &[f32; 3], b: &[f32; 3]) -> f32 {
 }
 
 /// `Min(Max(v, 0), 1)` with nv-flip's macros (`x > y ? x : y`).
-fn clamp01(v: f32) -> f32 {
+#[inline]
+pub(crate) fn clamp01(v: f32) -> f32 {
     let m = if v > 0.0 { v } else { 0.0 };
     if m > 1.0 {
         1.0
@@ -129,8 +134,8 @@ pub(crate) struct Params {
     spatial: [Vec<f32>; 4],
     /// `setFeatureFilter`: the Gaussian, its 1st and 2nd derivative.
     feature: [Vec<f32>; 3],
-    cmax: f32,
-    pccmax: f32,
+    pub(crate) cmax: f32,
+    pub(crate) pccmax: f32,
     /// `linear[v]`: nv-flip's linear value of the 8-bit channel value `v` (`v / 255` to linear).
     linear: [f32; 256],
 }
@@ -264,6 +269,7 @@ fn feature_filter(ppd: f32) -> (usize, [Vec<f32>; 3]) {
 
 /// What one side (reference or test) contributes to a pixel's FLIP: its spatially filtered
 /// colour in Lab after the Hunt adjustment, and its edge and point feature values.
+#[cfg(test)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Side {
     pub(crate) lab: [f32; 3],
@@ -272,7 +278,8 @@ pub(crate) struct Side {
 }
 
 /// A pixel's FLIP from its two sides: `computeColorDifference`'s end and
-/// `computeFeatureDifferenceAndFinalError`'s.
+/// `computeFeatureDifferenceAndFinalError`'s (the tests' oracle of `batch::SideRow::flip`).
+#[cfg(test)]
 pub(crate) fn flip_value(p: &Params, reference: &Side, test: &Side) -> f32 {
     let mut color = hyab(&reference.lab, &test.lab).powf(std::hint::black_box(GQC));
     if color < p.pccmax {
@@ -315,18 +322,18 @@ pub(crate) enum Mode<'a> {
     },
 }
 
-/// Filters one side, the 8-bit RGB image `src` (`w` x `h`), over `area`, and hands each pixel's
-/// [`Side`] to `out(x, y, side)` in row-major order (which pixels: [`Mode`]). The image edge
-/// is clamped as nv-flip clamps it (the full image's, not the area's). Copying a block of the
-/// reference's horizontal pass and skipping a vertical block are exact: every pixel's sums
-/// are computed alone (the block only groups pixels), from the same inputs.
+/// Filters one side, the 8-bit RGB image `src` (`w` x `h`), over `area`, and hands each row's
+/// sides to `out(y, row)` (a [`SideRow`] over the area's columns; which pixels: [`Mode`]). The
+/// image edge is clamped as nv-flip clamps it (the full image's, not the area's). Copying a
+/// block of the reference's horizontal pass and skipping a vertical block are exact: every
+/// pixel's sums are computed alone (the block only groups pixels), from the same inputs.
 pub(crate) fn filter_side(
     p: &Params,
     src: &[u8],
     (w, h): (usize, usize),
     area: Rect,
     mut mode: Mode,
-    mut out: impl FnMut(usize, usize, Side),
+    mut out: impl FnMut(usize, &mut SideRow),
 ) {
     let r = p.radius();
     let width = area.x1 - area.x0;
@@ -339,6 +346,7 @@ pub(crate) fn filter_side(
     let mut padded = [(); 4].map(|_| vec![0.0f32; pw]);
     let mut ring = [(); PLANES].map(|_| vec![0.0f32; ring_rows * rw]);
     let mut acc = [(); 8].map(|_| vec![0.0f32; rw]);
+    let mut sides = SideRow::new(rw);
     // per block of LANES pixels: horizontal pass computed (else copied), vertical pass needed
     let blocks = rw / LANES;
     let (mut computed, mut needed) = (vec![true; blocks], vec![true; blocks]);
@@ -390,12 +398,19 @@ pub(crate) fn filter_side(
             }
         }
         vertical(p, &ring, (y, h), rw, &needed, &mut acc);
-        for i in 0..width {
-            let x = area.x0 + i;
-            if wanted.is_none_or(|m| m[x]) {
-                out(x, y, side_at(&acc, i));
-            }
+        sides.spans.clear();
+        sides.spans.extend(
+            runs(&needed)
+                .map(|s| s.start..s.end.min(width))
+                .filter(|s| !s.is_empty()),
+        );
+        sides.wanted.clear();
+        match wanted {
+            Some(m) => sides.wanted.extend((0..width).filter(|&i| m[area.x0 + i])),
+            None => sides.wanted.extend(0..width),
         }
+        sides.compute(&acc);
+        out(y, &mut sides);
     }
 }
 
@@ -586,8 +601,10 @@ fn vertical(
 }
 
 /// Pixel `i` of the vertical sums as a [`Side`]: YCxCz to XYZ to linear RGB, clamped, to XYZ,
-/// Lab and Hunt; the edge and point values from the feature sums.
-fn side_at(acc: &[Vec<f32>; 8], i: usize) -> Side {
+/// Lab and Hunt; the edge and point values from the feature sums (the tests' oracle of
+/// `batch::SideRow::compute`).
+#[cfg(test)]
+pub(crate) fn side_at(acc: &[Vec<f32>; 8], i: usize) -> Side {
     let ycxcz = [acc[0][i], acc[1][i], acc[2][i] + acc[3][i]];
     // color3::YCxCz2XYZ
     let yy = (ycxcz[0] + 16.0) / 116.0;

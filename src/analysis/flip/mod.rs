@@ -16,10 +16,12 @@
 //! differing pixels into rectangles ([`regions`]: grid cells of the size that minimises the
 //! pixels computed, or one bounding box); the tests check the map bit for bit against nv-flip
 //! over the whole image (`flip_map_full`, the oracle, a dev-dependency).
+mod batch;
 mod kernel;
 
+use batch::SidePlanes;
 use glam::DVec3;
-use kernel::{Mode, Params, Planes, Side};
+use kernel::{Mode, Params, Planes};
 
 #[cfg(test)]
 use crate::analysis::stats::percentile;
@@ -151,7 +153,7 @@ pub(crate) struct FlipReference {
     ref8: Vec<u8>,
     width: usize,
     height: usize,
-    sides: Vec<Side>,
+    sides: SidePlanes,
     horizontal: Planes,
 }
 
@@ -170,7 +172,7 @@ impl FlipReference {
             "FLIP reference: not a {w}x{h} RGB8 image"
         );
         let params = Params::new(ppd);
-        let mut sides = Vec::with_capacity(w * h);
+        let mut sides = SidePlanes::new(w * h);
         let mut horizontal = [(); kernel::PLANES].map(|_| vec![0.0f32; w * h]);
         if w > 0 && h > 0 {
             let all = Rect {
@@ -180,7 +182,9 @@ impl FlipReference {
                 y1: h,
             };
             let mode = Mode::Reference(&mut horizontal);
-            kernel::filter_side(&params, ref8, (w, h), all, mode, |_, _, s| sides.push(s));
+            kernel::filter_side(&params, ref8, (w, h), all, mode, |y, row| {
+                sides.store(y * w, w, row)
+            });
         }
         FlipReference {
             params,
@@ -222,9 +226,9 @@ impl FlipReference {
                 row_near: &row_near,
                 reference: &self.horizontal,
             };
-            kernel::filter_side(&self.params, test, (w, h), area, mode, |x, y, t| {
-                let i = y * w + x;
-                map[i] = kernel::flip_value(&self.params, &self.sides[i], &t);
+            kernel::filter_side(&self.params, test, (w, h), area, mode, |y, row| {
+                let at = y * w + area.x0;
+                row.flip(&self.params, &self.sides, at, &mut map[at..(y + 1) * w]);
             });
         }
         map
