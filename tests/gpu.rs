@@ -438,3 +438,70 @@ fn frames_read_into_recycled_buffers_equal_fresh_ones() {
     assert_eq!(frame_bits(&got), frame_bits(&fresh_auto));
     assert_validation_clean(r.context());
 }
+
+/// Frames read in place from host colour targets (linear, host-visible: lavapipe supports
+/// them) equal frames copied out of optimal-tiling targets (the fallback, forced with
+/// `copying_targets`) bit for bit: two scenes with different coverage one after the other at
+/// the same size (the kept targets must be zero again after each read, or the second scene
+/// would show the first one's pixels), an odd size (row pitch with padding), with the id pass,
+/// without the normal target, recycled frames, and auto. Both under validation.
+#[test]
+fn frames_read_in_place_equal_copied_ones() {
+    let r = validated_renderer();
+    let c = validated_renderer().copying_targets();
+    // The two paths really differ: lavapipe has linear colour targets, the forced one not.
+    assert!(r.reads_in_place(80, 80) && r.reads_in_place(67, 67));
+    assert!(!c.reads_in_place(80, 80));
+    let (a, b) = (
+        method::find("phong_exact").unwrap(),
+        method::find("gouraud").unwrap(),
+    );
+    for size in [80, 67] {
+        let mut covered = Vec::new();
+        for name in ["sphere_fine", "torus", "sphere_fine"] {
+            let scene = shipped_scene(name, size);
+            let (pr, pc) = (
+                r.prepare(&scene, &[a, b]).unwrap(),
+                c.prepare(&scene, &[a, b]).unwrap(),
+            );
+            let (gr, gc) = (pr.base(), pc.base());
+            for (m, ids, normal) in [(a, true, true), (b, false, true), (a, false, false)] {
+                let (fr, ir) = r.render_with(gr, Shading::Method(m), ids, normal).unwrap();
+                let (fc, ic) = c.render_with(gc, Shading::Method(m), ids, normal).unwrap();
+                let what = format!("{name} {size} {} ids {ids} normal {normal}", m.name);
+                assert_eq!(frame_bits(&fr), frame_bits(&fc), "{what}");
+                assert_eq!(ir.map(|i| i.prim), ic.map(|i| i.prim), "{what}");
+            }
+            let fr = r
+                .render_with_into(
+                    gr,
+                    Shading::Method(b),
+                    false,
+                    true,
+                    Some(stale_frame(96, 96)),
+                )
+                .unwrap()
+                .0;
+            let fc = c.render(gc, Shading::Method(b), false).unwrap().0;
+            assert_eq!(frame_bits(&fr), frame_bits(&fc), "{name} {size} recycled");
+            covered.push(fr.color.iter().map(|p| p[3] > 0.0).collect::<Vec<_>>());
+            let pick: Vec<usize> = (0..gr.inputs.triangle_count()).map(|t| t % 2).collect();
+            let (ar, ac) = (
+                r.prepare_auto(&scene, &[a, b], &pick).unwrap(),
+                c.prepare_auto(&scene, &[a, b], &pick).unwrap(),
+            );
+            let (fr, fc) = (r.render_auto(&ar).unwrap(), c.render_auto(&ac).unwrap());
+            assert_eq!(frame_bits(&fr), frame_bits(&fc), "{name} {size} auto");
+        }
+        // Teeth: the sphere covers pixels the torus leaves empty (targets not zeroed after a
+        // read would leave the sphere there), and gouraud's frame differs from phong_exact's.
+        assert!((0..covered[0].len()).any(|i| covered[0][i] && !covered[1][i]));
+        let scene = shipped_scene("torus", size);
+        let gpu = r.prepare(&scene, &[a, b]).unwrap();
+        let fa = r.render(gpu.base(), Shading::Method(a), false).unwrap().0;
+        let fb = r.render(gpu.base(), Shading::Method(b), false).unwrap().0;
+        assert_ne!(frame_bits(&fa), frame_bits(&fb));
+    }
+    assert_validation_clean(r.context());
+    assert_validation_clean(c.context());
+}

@@ -1,9 +1,11 @@
 //! The GPU layer: Vulkan objects ([`vk`], the only user of `ash`), the SPIR-V programs
-//! ([`shaders`], [`spirv`]), the offscreen renderer ([`renderer`]), its timed draws ([`timing`]),
-//! methods evaluated on buffers of cases ([`evaluate`]), and the timed draw's programs as a
-//! driver compiled them ([`compiled`], for `shadelab isa`).
+//! ([`shaders`], [`spirv`]), the offscreen renderer ([`renderer`]) and its read-back
+//! (`readback`), its timed draws ([`timing`]), methods evaluated on buffers of cases
+//! ([`evaluate`]), and the timed draw's programs as a driver compiled them ([`compiled`], for
+//! `shadelab isa`).
 pub mod compiled;
 pub mod evaluate;
+mod readback;
 pub mod renderer;
 pub mod shaders;
 pub mod spirv;

@@ -4,6 +4,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
+use crate::gpu::readback::{read_back, record_read, take_pixels};
 use crate::gpu::shaders;
 use crate::gpu::vk::{
     Buffer, BufferDesc, BufferUsage, Clear, ColorTarget, Context, DepthMode, DescriptorSet, Format,
@@ -87,35 +88,6 @@ impl Stream {
         out.dedup();
         out
     }
-}
-
-/// Read-back bytes as pixels, bit for bit, into a fresh vector ([`read_back_into`]).
-fn read_back<T: bytemuck::Pod>(bytes: &[u8]) -> Vec<T> {
-    read_back_into(bytes, Vec::new())
-}
-
-/// Read-back bytes as pixels, bit for bit, into the memory of `into` (a frame handed back): its
-/// length becomes exactly the pixels of `bytes` and every one of them is overwritten, whatever
-/// it held or however long it was, so the result equals a fresh read-back. Its pages are warm,
-/// so the copy takes no page faults (a fresh 16 MB vector per image faulted every page in). A
-/// vector with too little room is dropped, not grown: growing would copy its stale contents.
-/// A plain copy where the mapped memory is aligned for `T` (it always is: Vulkan maps at least
-/// 64-byte aligned), else pixel by pixel; never zeroed first.
-fn read_back_into<T: bytemuck::Pod>(bytes: &[u8], mut into: Vec<T>) -> Vec<T> {
-    let n = bytes.len() / std::mem::size_of::<T>();
-    into.clear();
-    if into.capacity() < n {
-        into = Vec::with_capacity(n);
-    }
-    match bytemuck::try_cast_slice::<u8, T>(bytes) {
-        Ok(pixels) => into.extend_from_slice(pixels),
-        Err(_) => into.extend(
-            bytes
-                .chunks_exact(std::mem::size_of::<T>())
-                .map(bytemuck::pod_read_unaligned::<T>),
-        ),
-    }
-    into
 }
 
 fn method_defines(m: &Method) -> Vec<&'static str> {
@@ -213,11 +185,20 @@ pub(crate) struct Targets {
 
 impl Targets {
     pub(super) fn with_normal(ctx: &Arc<Context>, w: u32, h: u32, normal: bool) -> Result<Self> {
+        Self::new(ctx, w, h, normal, false)
+    }
+
+    /// The targets, with colour (and normal) targets the host reads in place when `host`
+    /// ([`ImageDesc::host_color`]; the caller checks the device supports them).
+    fn new(ctx: &Arc<Context>, w: u32, h: u32, normal: bool, host: bool) -> Result<Self> {
+        let desc = if host {
+            ImageDesc::host_color(w, h, COLOR)
+        } else {
+            ImageDesc::color(w, h, COLOR)
+        };
         Ok(Targets {
-            color: Image::new(ctx, ImageDesc::color(w, h, COLOR))?,
-            normal: normal
-                .then(|| Image::new(ctx, ImageDesc::color(w, h, COLOR)))
-                .transpose()?,
+            color: Image::new(ctx, desc)?,
+            normal: normal.then(|| Image::new(ctx, desc)).transpose()?,
             depth: Image::new(ctx, ImageDesc::depth(w, h))?,
         })
     }
@@ -241,13 +222,14 @@ impl Targets {
 }
 
 /// A method pass's targets and read-back buffers, kept from one render to the next of the
-/// same size and layout: every render clears its targets and overwrites the buffers whole, so
-/// reusing them gives the same bytes, without allocating (and the kernel zeroing) about 70 MB
-/// of fresh pages per frame at 1024x1024.
+/// same size and layout: every render clears its targets (or finds them zero: host targets,
+/// zeroed as they are read) and overwrites the buffers whole, so reusing them gives the same
+/// bytes, without allocating (and the kernel zeroing) about 70 MB of fresh pages per frame at
+/// 1024x1024. Host targets (read in place) have no read-back buffers.
 struct Pass {
     key: (u32, u32, bool),
     targets: Targets,
-    color_buf: Buffer,
+    color_buf: Option<Buffer>,
     normal_buf: Option<Buffer>,
 }
 
@@ -259,6 +241,9 @@ pub struct Renderer {
     precision: Precision,
     /// The last method pass's targets, for the next render of the same size.
     kept: Mutex<Option<Pass>>,
+    /// Whether method passes render into host targets read in place, where the device can
+    /// (else optimal-tiling targets copied into read-back buffers).
+    in_place: bool,
 }
 
 pub(crate) const COLOR: Format = Format::Rgba32Float;
@@ -279,7 +264,23 @@ impl Renderer {
             ctx,
             precision: Precision::F32,
             kept: Mutex::new(None),
+            in_place: true,
         }
+    }
+
+    /// This renderer with the fallback read-back forced: method passes render into
+    /// optimal-tiling targets copied into read-back buffers, as on a device without linear
+    /// colour targets. The frames are the same, bit for bit (tests compare the two).
+    pub fn copying_targets(mut self) -> Self {
+        self.in_place = false;
+        self
+    }
+
+    /// Whether a method pass of `width` x `height` reads its targets in place (no copy by the
+    /// driver): unless [`Renderer::copying_targets`], where the device supports linear colour
+    /// targets of that size.
+    pub fn reads_in_place(&self, width: u32, height: u32) -> bool {
+        self.in_place && self.ctx.linear_color_target(COLOR, width, height)
     }
 
     /// The renderer drawing the methods' programs in `precision`; an error (exit 2) when the
@@ -443,13 +444,14 @@ impl Renderer {
         if let Some(pass) = kept.filter(|p| p.key == key) {
             return Ok(pass);
         }
-        let targets = Targets::with_normal(&self.ctx, w, h, with_normal)?;
-        let color_buf = self.readback(&targets.color)?;
-        let normal_buf = targets
-            .normal
-            .as_ref()
-            .map(|n| self.readback(n))
-            .transpose()?;
+        let host = self.reads_in_place(w, h);
+        let targets = Targets::new(&self.ctx, w, h, with_normal, host)?;
+        let buffers = |image: Option<&Image>| match image {
+            Some(img) if !host => self.readback(img).map(Some),
+            _ => Ok(None),
+        };
+        let color_buf = buffers(Some(&targets.color))?;
+        let normal_buf = buffers(targets.normal.as_ref())?;
         Ok(Pass {
             key,
             targets,
@@ -509,7 +511,7 @@ impl Renderer {
         let (streams, buffers) = gpu.buffers(shading)?;
         let colors = color_formats(with_normal);
         let pipeline = self.pipeline(gpu, &self.program(gpu, shading), &streams, colors)?;
-        let pass = self.pass(w, h, with_normal)?;
+        let mut pass = self.pass(w, h, with_normal)?;
         let (targets, color_buf, normal_buf) = (&pass.targets, &pass.color_buf, &pass.normal_buf);
         let (color, normal, depth) = (&targets.color, targets.normal.as_ref(), &targets.depth);
         let clear = Clear::Float([0.0; 4]);
@@ -518,9 +520,9 @@ impl Renderer {
         targets.begin(&mut cmd);
         cmd.draw(&pipeline, Some(&gpu.set), &buffers, n);
         cmd.end_rendering();
-        cmd.copy_image_to_buffer(color, color_buf);
-        if let (Some(img), Some(buf)) = (normal, normal_buf) {
-            cmd.copy_image_to_buffer(img, buf);
+        record_read(&mut cmd, color, color_buf.as_ref())?;
+        if let Some(img) = normal {
+            record_read(&mut cmd, img, normal_buf.as_ref())?;
         }
 
         let mut id_objects = None;
@@ -558,15 +560,17 @@ impl Renderer {
         cmd.submit()?;
         // The work is done (synchronous submit): the pipeline goes, the pass's targets and
         // buffers stay for the next render of the same size.
-        let (color_size, normal_size) = (
-            color.byte_size() as usize,
-            normal.map_or(0, |n| n.byte_size() as usize),
-        );
         drop(pipeline);
         let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
-        let color = read_back_into(&color_buf.bytes()[..color_size], old_color);
-        let normal = match normal_buf {
-            Some(b) => read_back_into(&b.bytes()[..normal_size], old_normal),
+        let Pass {
+            targets,
+            color_buf,
+            normal_buf,
+            ..
+        } = &mut pass;
+        let color = take_pixels(&mut targets.color, color_buf.as_ref(), old_color)?;
+        let normal = match targets.normal.as_mut() {
+            Some(img) => take_pixels(img, normal_buf.as_ref(), old_normal)?,
             None => Vec::new(),
         };
         *self.kept.lock().unwrap_or_else(|e| e.into_inner()) = Some(pass);
@@ -672,29 +676,34 @@ impl Renderer {
         let mut list = a.draw_list();
         list.normal = true;
         let draws = self.record_list(&list)?;
-        let pass = self.pass(w, h, true)?;
-        let (targets, color_buf) = (&pass.targets, &pass.color_buf);
-        let normal_buf = pass
-            .normal_buf
-            .as_ref()
-            .ok_or_else(|| Error::Internal("a pass with a normal target has its buffer".into()))?;
+        let mut pass = self.pass(w, h, true)?;
+        let (targets, color_buf, normal_buf) = (&pass.targets, &pass.color_buf, &pass.normal_buf);
         let mut cmd = OneShot::begin(&self.ctx)?;
         targets.begin(&mut cmd);
         for (p, buffers, first, count) in &draws {
             cmd.draw_range(p, Some(&gpu.set), buffers, *first, *count);
         }
         cmd.end_rendering();
-        cmd.copy_image_to_buffer(&targets.color, color_buf);
-        cmd.copy_image_to_buffer(targets.normal()?, normal_buf);
+        record_read(&mut cmd, &targets.color, color_buf.as_ref())?;
+        record_read(&mut cmd, targets.normal()?, normal_buf.as_ref())?;
         cmd.submit()?;
-        let size = targets.color.byte_size() as usize;
         drop(draws);
         let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
+        let Pass {
+            targets,
+            color_buf,
+            normal_buf,
+            ..
+        } = &mut pass;
+        let normal = targets
+            .normal
+            .as_mut()
+            .ok_or_else(|| Error::Internal("a pass with a normal target has its image".into()))?;
         let frame = Frame {
             width: w,
             height: h,
-            color: read_back_into(&color_buf.bytes()[..size], old_color),
-            normal: read_back_into(&normal_buf.bytes()[..size], old_normal),
+            normal: take_pixels(normal, normal_buf.as_ref(), old_normal)?,
+            color: take_pixels(&mut targets.color, color_buf.as_ref(), old_color)?,
         };
         *self.kept.lock().unwrap_or_else(|e| e.into_inner()) = Some(pass);
         Ok(frame)
@@ -733,35 +742,5 @@ impl SceneInputs {
                 [w[0], w[1], 0.0]
             }),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::read_back_into;
-
-    /// Pixels as bytes, as a read-back buffer holds them.
-    fn bytes(px: &[[f32; 4]]) -> Vec<u8> {
-        bytemuck::cast_slice(px).to_vec()
-    }
-
-    #[test]
-    fn read_back_into_overwrites_any_recycled_vector() {
-        let px: Vec<[f32; 4]> = (0..50).map(|i| [i as f32, -0.0, 1.5, f32::MIN]).collect();
-        let raw = bytes(&px);
-        for stale in [0, 1, 49, 50, 51, 200] {
-            let got = read_back_into(&raw, vec![[f32::NAN; 4]; stale]);
-            assert_eq!(bytes(&got), raw, "recycled vector of {stale} pixels");
-        }
-        // The unaligned path (bytes at an odd address) gives the same pixels.
-        let mut shifted = vec![0u8; raw.len() + 1];
-        shifted[1..].copy_from_slice(&raw);
-        let got = read_back_into::<[f32; 4]>(&shifted[1..], vec![[f32::NAN; 4]; 7]);
-        assert_eq!(bytes(&got), raw);
-        // Teeth: overwriting in place without taking the length from the bytes keeps the stale
-        // tail, which the comparison above sees.
-        let mut in_place = vec![[f32::NAN; 4]; 51];
-        in_place[..50].copy_from_slice(&px);
-        assert_ne!(bytes(&in_place), raw);
     }
 }

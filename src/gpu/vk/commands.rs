@@ -46,8 +46,22 @@ impl OneShot {
     }
 
     fn image_barrier(&self, image: &Image, from: vk::ImageLayout, to: vk::ImageLayout) {
-        let (src_stage, src_access) = stage_access(from, true);
-        let (dst_stage, dst_access) = stage_access(to, false);
+        self.barrier(
+            image,
+            (from, to),
+            stage_access(from, true),
+            stage_access(to, false),
+        );
+    }
+
+    /// An image memory barrier with explicit stages and accesses (source, destination).
+    fn barrier(
+        &self,
+        image: &Image,
+        (from, to): (vk::ImageLayout, vk::ImageLayout),
+        (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+        (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+    ) {
         let barrier = [vk::ImageMemoryBarrier2::default()
             .src_stage_mask(src_stage)
             .src_access_mask(src_access)
@@ -64,8 +78,37 @@ impl OneShot {
         unsafe { self.ctx.device.cmd_pipeline_barrier2(self.cb, &dep) };
     }
 
+    /// Moves a fresh host colour target from PREINITIALIZED to GENERAL, its layout for good
+    /// (the host's zeroes kept).
+    pub(crate) fn host_target_to_general(&mut self, image: &Image) {
+        self.barrier(
+            image,
+            (vk::ImageLayout::PREINITIALIZED, vk::ImageLayout::GENERAL),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_WRITE),
+            stage_access(vk::ImageLayout::GENERAL, false),
+        );
+    }
+
+    /// Makes a host colour target's rendering visible to the host (read after
+    /// [`submit`](Self::submit) returns, with [`Image::take_rows`]).
+    pub fn make_host_readable(&mut self, image: &Image) {
+        let general = vk::ImageLayout::GENERAL;
+        self.barrier(
+            image,
+            (general, general),
+            (
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+    }
+
     /// Transitions the targets (contents discarded), begins dynamic rendering with clears, and
-    /// sets a full-image viewport and scissor.
+    /// sets a full-image viewport and scissor. A host colour target stays in GENERAL layout and
+    /// keeps its contents; it is zero whenever no render is in flight ([`Image::take_rows`]
+    /// zeroes what it reads), so a clear to zero bits is a load there: no clear by the driver
+    /// (lavapipe fills a 16-byte texel with one `memcpy` call per pixel).
     pub fn begin_rendering(&mut self, colors: &[ColorTarget], depth: Option<&Image>) {
         let (w, h) = match (colors.first(), depth) {
             (Some(c), _) => (c.image.desc.width, c.image.desc.height),
@@ -73,11 +116,18 @@ impl OneShot {
             (None, None) => (1, 1),
         };
         for c in colors {
-            self.image_barrier(
-                c.image,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            );
+            if c.image.is_host_target() {
+                let general = vk::ImageLayout::GENERAL;
+                let src = stage_access(vk::ImageLayout::UNDEFINED, true);
+                let dst = stage_access(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, false);
+                self.barrier(c.image, (general, general), src, dst);
+            } else {
+                self.image_barrier(
+                    c.image,
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                );
+            }
         }
         if let Some(d) = depth {
             self.image_barrier(
@@ -89,10 +139,19 @@ impl OneShot {
         let color_infos: Vec<_> = colors
             .iter()
             .map(|c| {
+                let host = c.image.is_host_target();
+                let (layout, load) = match (host, host && c.clear.is_zero_bits()) {
+                    (_, true) => (vk::ImageLayout::GENERAL, vk::AttachmentLoadOp::LOAD),
+                    (true, false) => (vk::ImageLayout::GENERAL, vk::AttachmentLoadOp::CLEAR),
+                    (false, _) => (
+                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                        vk::AttachmentLoadOp::CLEAR,
+                    ),
+                };
                 vk::RenderingAttachmentInfo::default()
                     .image_view(c.image.view)
-                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .image_layout(layout)
+                    .load_op(load)
                     .store_op(vk::AttachmentStoreOp::STORE)
                     .clear_value(vk::ClearValue {
                         color: c.clear.raw(),

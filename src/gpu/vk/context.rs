@@ -55,6 +55,8 @@ pub struct Context {
     _entry: ash::Entry,
     pub(crate) instance: ash::Instance,
     pub(crate) device: ash::Device,
+    /// The selected physical device (format and image-format queries).
+    pub(crate) physical: vk::PhysicalDevice,
     pub(crate) queue: vk::Queue,
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) memory_properties: vk::PhysicalDeviceMemoryProperties,
@@ -216,6 +218,7 @@ impl Context {
             _entry: entry,
             instance,
             device,
+            physical,
             queue,
             command_pool,
             memory_properties,
@@ -239,6 +242,35 @@ impl Context {
     /// Whether the validation layer is active on this context.
     pub fn validating(&self) -> bool {
         self.debug.is_some()
+    }
+
+    /// Whether a `width` x `height` image of `format` with LINEAR tiling can be a colour
+    /// attachment (`linearTilingFeatures` has COLOR_ATTACHMENT and the image-format limits
+    /// allow the size): a render target the host can then read in place
+    /// ([`super::ImageUsage::HostColorTarget`]).
+    pub fn linear_color_target(&self, format: super::Format, width: u32, height: u32) -> bool {
+        let i = &self.instance;
+        // SAFETY: plain queries on the context's own physical device.
+        let features =
+            unsafe { i.get_physical_device_format_properties(self.physical, format.raw()) };
+        if !features
+            .linear_tiling_features
+            .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT)
+        {
+            return false;
+        }
+        // SAFETY: as above.
+        let limits = unsafe {
+            i.get_physical_device_image_format_properties(
+                self.physical,
+                format.raw(),
+                vk::ImageType::TYPE_2D,
+                vk::ImageTiling::LINEAR,
+                super::ImageUsage::HostColorTarget.raw(),
+                vk::ImageCreateFlags::empty(),
+            )
+        };
+        limits.is_ok_and(|l| l.max_extent.width >= width && l.max_extent.height >= height)
     }
 
     /// Checks an image size against the device limit. Errors are usage errors (exit 2).

@@ -48,6 +48,9 @@ pub enum ImageUsage {
     ColorTarget,
     /// Depth attachment only.
     DepthTarget,
+    /// A colour attachment the host reads in place: LINEAR tiling, host-visible memory,
+    /// rendered in GENERAL layout (see [`super::Image::take_rows`]).
+    HostColorTarget,
 }
 
 impl ImageUsage {
@@ -57,6 +60,7 @@ impl ImageUsage {
                 vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
             }
             ImageUsage::DepthTarget => vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            ImageUsage::HostColorTarget => vk::ImageUsageFlags::COLOR_ATTACHMENT,
         }
     }
 }
@@ -99,6 +103,15 @@ pub enum Clear {
 }
 
 impl Clear {
+    /// Whether every bit of the clear value is zero (+0.0 or 0 in every channel): the
+    /// contents of a target that [`super::Image::take_rows`] left.
+    pub fn is_zero_bits(self) -> bool {
+        match self {
+            Clear::Float(v) => v.iter().all(|x| x.to_bits() == 0),
+            Clear::Uint(v) => v.iter().all(|&x| x == 0),
+        }
+    }
+
     pub(crate) fn raw(self) -> vk::ClearColorValue {
         match self {
             Clear::Float(float32) => vk::ClearColorValue { float32 },
@@ -124,6 +137,17 @@ impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_all_zero_bits_clears_count_as_zero() {
+        assert!(Clear::Float([0.0; 4]).is_zero_bits());
+        assert!(Clear::Uint([0; 4]).is_zero_bits());
+        // Teeth: -0.0 compares equal to 0.0 but is not zero bits, so a host target holding
+        // zeroes must still be cleared to it; any non-zero channel too.
+        assert!(!Clear::Float([0.0, 0.0, 0.0, -0.0]).is_zero_bits());
+        assert!(!Clear::Float([0.0, 1.0, 0.0, 0.0]).is_zero_bits());
+        assert!(!Clear::Uint([0, 0, 7, 0]).is_zero_bits());
+    }
 
     #[test]
     fn vulkan_error_names_the_call() {
