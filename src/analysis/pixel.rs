@@ -164,8 +164,10 @@ impl PixelErrors {
             .map(move |i| ((i % w) as u32, (i / w) as u32, self.signed[i]))
     }
 
-    /// The normal angle error of every measured pixel with one, in pixel order.
-    pub fn angles(&self) -> Vec<f64> {
+    /// The normal angle error of every measured pixel with one, in pixel order: the tests'
+    /// oracle of [`PixelErrors::angle_percentile`] (compare reads the percentile only).
+    #[cfg(test)]
+    pub(crate) fn angles(&self) -> Vec<f64> {
         let mut v = Vec::with_capacity(self.counts.measured);
         v.extend(
             (0..self.has_angle.len())

@@ -148,9 +148,9 @@ impl Cosines {
             &self.ref_len[..m],
             &mut len_error[..m],
         );
-        for j in 0..m {
-            *max_len = max_len.max(len_error[j]);
-            let a = self.dot[j].acos().to_degrees();
+        for (j, (&cos, &len_error)) in self.dot[..m].iter().zip(&len_error[..m]).enumerate() {
+            *max_len = max_len.max(len_error);
+            let a = cos.acos().to_degrees();
             sums[2] += a;
             sums[3] = sums[3].max(a);
             if store {
