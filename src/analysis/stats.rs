@@ -21,8 +21,15 @@ pub(crate) fn rank_index(n: usize, p: f64) -> usize {
 /// is its own inverse: applied twice it gives back the same bits.
 fn flip_total_order_keys(keys: &mut [i64]) {
     for k in keys {
-        *k ^= (((*k >> 63) as u64) >> 1) as i64;
+        *k = total_order_flip(*k);
     }
+}
+
+/// One key of [`flip_total_order_keys`]: the 63 low bits of `b` inverted when its sign bit is
+/// set (its own inverse).
+#[inline]
+fn total_order_flip(b: i64) -> i64 {
+    b ^ (((b >> 63) as u64) >> 1) as i64
 }
 
 /// [`percentile`] of `values` at each of `ps` (nearest rank in the order of `f64::total_cmp`),
@@ -57,14 +64,12 @@ pub fn percentiles<const N: usize>(values: &mut [f64], ps: [f64; N]) -> [f64; N]
 /// the key of [`flip_total_order_keys`] with the sign bit turned over.
 #[inline]
 fn total_key(x: f64) -> u64 {
-    let b = x.to_bits() as i64;
-    (b ^ (((b >> 63) as u64) >> 1) as i64) as u64 ^ (1 << 63)
+    total_order_flip(x.to_bits() as i64) as u64 ^ (1 << 63)
 }
 
 /// The f64 of a [`total_key`].
 fn from_total_key(k: u64) -> f64 {
-    let b = (k ^ (1 << 63)) as i64;
-    f64::from_bits((b ^ (((b >> 63) as u64) >> 1) as i64) as u64)
+    f64::from_bits(total_order_flip((k ^ (1 << 63)) as i64) as u64)
 }
 
 /// Bits of a [`total_key`] below its bucket in a [`RankHistogram`]: 2^16 buckets, the sign,

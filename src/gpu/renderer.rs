@@ -233,6 +233,21 @@ struct Pass {
     normal_buf: Option<Buffer>,
 }
 
+impl Pass {
+    /// The rendered colour and normal pixels (no normal target: none), read into the memory of
+    /// `recycled` when there is one ([`take_pixels`]: in place from host targets, zeroing them
+    /// for the next render, else from the read-back buffers).
+    fn take_pixels(&mut self, recycled: Option<Frame>) -> Result<(Vec<[f32; 4]>, Vec<[f32; 4]>)> {
+        let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
+        let color = take_pixels(&mut self.targets.color, self.color_buf.as_ref(), old_color)?;
+        let normal = match self.targets.normal.as_mut() {
+            Some(img) => take_pixels(img, self.normal_buf.as_ref(), old_normal)?,
+            None => Vec::new(),
+        };
+        Ok((color, normal))
+    }
+}
+
 /// Renders scenes offscreen on one device.
 pub struct Renderer {
     pub(super) ctx: Arc<Context>,
@@ -561,18 +576,7 @@ impl Renderer {
         // The work is done (synchronous submit): the pipeline goes, the pass's targets and
         // buffers stay for the next render of the same size.
         drop(pipeline);
-        let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
-        let Pass {
-            targets,
-            color_buf,
-            normal_buf,
-            ..
-        } = &mut pass;
-        let color = take_pixels(&mut targets.color, color_buf.as_ref(), old_color)?;
-        let normal = match targets.normal.as_mut() {
-            Some(img) => take_pixels(img, normal_buf.as_ref(), old_normal)?,
-            None => Vec::new(),
-        };
+        let (color, normal) = pass.take_pixels(recycled)?;
         *self.kept.lock().unwrap_or_else(|e| e.into_inner()) = Some(pass);
         let frame = Frame {
             width: w,
@@ -688,22 +692,13 @@ impl Renderer {
         record_read(&mut cmd, targets.normal()?, normal_buf.as_ref())?;
         cmd.submit()?;
         drop(draws);
-        let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
-        let Pass {
-            targets,
-            color_buf,
-            normal_buf,
-            ..
-        } = &mut pass;
-        let normal = targets
-            .normal
-            .as_mut()
-            .ok_or_else(|| Error::Internal("a pass with a normal target has its image".into()))?;
+        // (the normal target exists: `targets.normal()?` above)
+        let (color, normal) = pass.take_pixels(recycled)?;
         let frame = Frame {
             width: w,
             height: h,
-            normal: take_pixels(normal, normal_buf.as_ref(), old_normal)?,
-            color: take_pixels(&mut targets.color, color_buf.as_ref(), old_color)?,
+            color,
+            normal,
         };
         *self.kept.lock().unwrap_or_else(|e| e.into_inner()) = Some(pass);
         Ok(frame)

@@ -14,15 +14,9 @@
 use std::ops::Range;
 
 use super::kernel::{
-    clamp01, mat, Params, GPT, GQC, GQF, ILLUMINANT, INV_ILLUMINANT, RGB_TO_XYZ, XYZ_TO_RGB,
+    clamp01, mat, Params, DELTA_CUBE, FACTOR, GPT, GQC, GQF, ILLUMINANT, INV_ILLUMINANT,
+    RGB_TO_XYZ, TERM, XYZ_TO_RGB,
 };
-
-/// `XYZ2CIELab`'s constants (color.h), computed in f32 as there.
-const DELTA: f32 = 6.0 / 29.0;
-const DELTA_SQUARE: f32 = DELTA * DELTA;
-pub(crate) const DELTA_CUBE: f32 = DELTA * DELTA_SQUARE;
-pub(crate) const FACTOR: f32 = 1.0 / (3.0 * DELTA_SQUARE);
-pub(crate) const TERM: f32 = 4.0 / 29.0;
 
 /// One output row's sides over the filtered area's columns (index `i`: image column
 /// `area.x0 + i`), struct of arrays, with the scratch rows of the passes.

@@ -79,19 +79,21 @@ fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
+/// `XYZ2CIELab`'s constants (color.h), computed in f32 as there.
+const DELTA: f32 = 6.0 / 29.0;
+const DELTA_SQUARE: f32 = DELTA * DELTA;
+pub(crate) const DELTA_CUBE: f32 = DELTA * DELTA_SQUARE;
+pub(crate) const FACTOR: f32 = 1.0 / (3.0 * DELTA_SQUARE);
+pub(crate) const TERM: f32 = 4.0 / 29.0;
+
 /// `color3::XYZ2CIELab` (D65).
 fn xyz_to_lab(xyz: [f32; 3]) -> [f32; 3] {
-    let delta = 6.0f32 / 29.0;
-    let delta_square = delta * delta;
-    let delta_cube = delta * delta_square;
-    let factor = 1.0 / (3.0 * delta_square);
-    let term = 4.0f32 / 29.0;
     let v = [0, 1, 2].map(|i| {
         let v = xyz[i] * INV_ILLUMINANT[i];
-        if v > delta_cube {
+        if v > DELTA_CUBE {
             v.powf(std::hint::black_box(1.0 / 3.0))
         } else {
-            factor * v + term
+            FACTOR * v + TERM
         }
     });
     [
