@@ -24,8 +24,9 @@ pub(crate) struct SideRow {
     /// The column ranges whose vertical sums were computed (the needed blocks, clipped to the
     /// area's width): the vector passes run over these.
     pub(crate) spans: Vec<Range<usize>>,
-    /// The wanted columns, ascending, all within `spans`: the libm passes run over these.
-    pub(crate) wanted: Vec<usize>,
+    /// The wanted columns, as ascending disjoint runs, all within `spans`: the libm passes
+    /// run over these, column by column.
+    pub(crate) wanted: Vec<Range<usize>>,
     /// Lab after Hunt, edge and point value of each column (valid at the wanted ones).
     pub(crate) lab: [Vec<f32>; 3],
     pub(crate) edge: Vec<f32>,
@@ -63,7 +64,7 @@ impl SideRow {
         // the cube roots, wanted pixels only (libm)
         let third = std::hint::black_box(1.0f32 / 3.0);
         for (v, c) in [(&*v0, &mut *c0), (&*v1, &mut *c1), (&*v2, &mut *c2)] {
-            for &i in &self.wanted {
+            for i in self.wanted.iter().flat_map(Range::clone) {
                 if v[i] > DELTA_CUBE {
                     c[i] = v[i].powf(third);
                 }
@@ -106,14 +107,14 @@ impl SideRow {
         // the exponents hidden from the optimiser, as in `flip_value`: `powf(x, 0.5)` must stay
         // glibc's powf, not become sqrt
         let (gqc, gqf) = (std::hint::black_box(GQC), std::hint::black_box(GQF));
-        for &i in &self.wanted {
+        for i in self.wanted.iter().flat_map(Range::clone) {
             color[i] = hy[i].powf(gqc);
             feature[i] = base[i].powf(gqf);
         }
         for s in &self.spans {
             rescale(p, &mut color[s.clone()]);
         }
-        for &i in &self.wanted {
+        for i in self.wanted.iter().flat_map(Range::clone) {
             map[i] = color[i].powf(1.0 - feature[i]);
         }
     }
@@ -279,11 +280,11 @@ mod tests {
         let mut reference = SidePlanes::new(n + 5);
         let mut row = SideRow::new(n);
         row.spans.push(0..n);
-        row.wanted = (0..n).collect();
+        row.wanted = vec![0..n];
         row.compute(reference_acc);
         reference.store(5, n, &row);
         row.spans = spans.to_vec();
-        row.wanted = wanted.to_vec();
+        row.wanted = as_runs(wanted);
         row.compute(acc);
         let mut map = vec![f32::NAN; n];
         row.flip(&p, &reference, 5, &mut map);
@@ -296,6 +297,18 @@ mod tests {
             };
             side_bits(&got) != side_bits(&t) || map[i].to_bits() != flip_value(&p, &r, &t).to_bits()
         })
+    }
+
+    /// Ascending columns as runs of consecutive ones.
+    fn as_runs(columns: &[usize]) -> Vec<Range<usize>> {
+        let mut runs: Vec<Range<usize>> = Vec::new();
+        for &i in columns {
+            match runs.last_mut() {
+                Some(r) if r.end == i => r.end += 1,
+                _ => runs.push(i..i + 1),
+            }
+        }
+        runs
     }
 
     /// Random sums over rows of several widths, spans with gaps and a random subset of their

@@ -367,7 +367,8 @@ pub(crate) fn filter_side(
             {
                 let near = &row_near[next * w..(next + 1) * w];
                 for (b, c) in computed.iter_mut().enumerate() {
-                    *c = near[columns(b)].iter().any(|&n| n > 0);
+                    // an OR over the block (vectorised), not a search
+                    *c = near[columns(b)].iter().fold(0, |a, &n| a | n) != 0;
                     if !*c {
                         copy_block(
                             reference,
@@ -388,16 +389,17 @@ pub(crate) fn filter_side(
             }
             next += 1;
         }
-        let wanted = match &mode {
-            Mode::Test { wanted, .. } => Some(&wanted[y * w..(y + 1) * w]),
-            Mode::Reference(_) => None,
-        };
-        if let Some(m) = wanted {
-            for (b, n) in needed.iter_mut().enumerate() {
-                *n = m[columns(b).start..columns(b).end.min(area.x1)]
-                    .iter()
-                    .any(|&m| m);
+        sides.wanted.clear();
+        match &mode {
+            Mode::Test { wanted, .. } => {
+                wanted_runs(&wanted[y * w + area.x0..y * w + area.x1], &mut sides.wanted);
+                // a block is needed where a wanted run meets its columns
+                needed.fill(false);
+                for s in &sides.wanted {
+                    needed[s.start / LANES..=(s.end - 1) / LANES].fill(true);
+                }
             }
+            Mode::Reference(_) => sides.wanted.extend((width > 0).then_some(0..width)),
         }
         vertical(p, &ring, (y, h), rw, &needed, &mut acc);
         sides.spans.clear();
@@ -406,11 +408,6 @@ pub(crate) fn filter_side(
                 .map(|s| s.start..s.end.min(width))
                 .filter(|s| !s.is_empty()),
         );
-        sides.wanted.clear();
-        match wanted {
-            Some(m) => sides.wanted.extend((0..width).filter(|&i| m[area.x0 + i])),
-            None => sides.wanted.extend(0..width),
-        }
         sides.compute(&acc);
         out(y, &mut sides);
     }
@@ -427,6 +424,19 @@ fn copy_block(
     let n = cols.len();
     for (q, p) in ring.iter_mut().zip(reference) {
         q[to..to + n].copy_from_slice(&p[at + cols.start..at + cols.end]);
+    }
+}
+
+/// The runs of set flags in `row`, ascending, into `out` (cleared by the caller).
+fn wanted_runs(row: &[bool], out: &mut Vec<std::ops::Range<usize>>) {
+    let mut i = 0;
+    while let Some(start) = row[i..].iter().position(|&m| m).map(|s| i + s) {
+        let end = row[start..]
+            .iter()
+            .position(|&m| !m)
+            .map_or(row.len(), |e| start + e);
+        out.push(start..end);
+        i = end;
     }
 }
 
@@ -580,14 +590,18 @@ fn vertical(
 ) {
     let ring_rows = ring[0].len() / rw.max(1);
     let (rs, rf) = (p.spatial_radius, p.feature_radius);
+    // the ring offsets of the taps' rows (edge clamped), once per output row
+    let offsets = |radius: usize| -> Vec<usize> {
+        (0..2 * radius + 1)
+            .map(|k| (y + k).saturating_sub(radius).min(h - 1) % ring_rows * rw)
+            .collect()
+    };
+    let (at_s, at_f) = (offsets(rs), offsets(rf));
     for run in runs(needed) {
         let taps = |plane: usize, radius: usize| -> Vec<&[f32]> {
-            (0..2 * radius + 1)
-                .map(|k| {
-                    let yy = (y + k).saturating_sub(radius).min(h - 1);
-                    let slot = yy % ring_rows;
-                    &ring[plane][slot * rw + run.start..slot * rw + run.end]
-                })
+            let at = if radius == rs { &at_s } else { &at_f };
+            at.iter()
+                .map(|&o| &ring[plane][o + run.start..o + run.end])
                 .collect()
         };
         for (c, a) in acc.iter_mut().take(4).enumerate() {
@@ -626,6 +640,32 @@ pub(crate) fn side_at(acc: &[Vec<f32>; 8], i: usize) -> Side {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `wanted_runs` against the flags: every set flag in exactly one run, in order, runs
+    /// maximal (never touching). Teeth: a cleared flag splits or shortens a run.
+    #[test]
+    fn wanted_runs_are_the_set_flags() {
+        let mut rng = fastrand::Rng::with_seed(31);
+        for n in [0usize, 1, 2, 7, 64, 300] {
+            for share in [0.0, 0.1, 0.5, 0.95, 1.0] {
+                let flags: Vec<bool> = (0..n).map(|_| rng.f64() < share).collect();
+                let mut runs = Vec::new();
+                wanted_runs(&flags, &mut runs);
+                let listed: Vec<usize> = runs.iter().flat_map(|r| r.clone()).collect();
+                let set: Vec<usize> = (0..n).filter(|&i| flags[i]).collect();
+                assert_eq!(listed, set, "{n} flags, share {share}");
+                assert!(runs.iter().all(|r| !r.is_empty()));
+                assert!(runs.windows(2).all(|p| p[0].end < p[1].start));
+                if let Some(&i) = set.get(set.len() / 2) {
+                    let mut fewer = flags.clone();
+                    fewer[i] = false;
+                    let mut other = Vec::new();
+                    wanted_runs(&fewer, &mut other);
+                    assert_ne!(other, runs, "{n} flags, share {share}");
+                }
+            }
+        }
+    }
 
     /// Random weights and rows of every length around the block widths: the dispatched
     /// [`convolve`] (AVX2 where the CPU has it) gives the portable path's bits.

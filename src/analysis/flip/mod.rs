@@ -76,32 +76,54 @@ impl Rect {
 /// Finest grid cell (pixels) in which the differing pixels are boxed.
 const CELL: usize = 8;
 
-/// The bounding boxes of the pixels where the two RGB8 images differ, per `CELL` x `CELL` cell
-/// (row-major cells; `None` where the cell has none), and the number of cell columns.
-fn differing_cells(
-    reference: &[u8],
-    test: &[u8],
-    w: usize,
-    h: usize,
-) -> (Vec<Option<Rect>>, usize) {
+/// Where the RGB8 images `a` and `b` (`w` x `h`) differ: per pixel (row-major; rows equal in
+/// both images keep `false`), and per row whether any pixel does. The one pixel compare that
+/// [`differing_cells`] and [`near_differences`] share.
+struct Differences {
+    pixels: Vec<bool>,
+    rows: Vec<bool>,
+}
+
+impl Differences {
+    fn new(a: &[u8], b: &[u8], w: usize, h: usize) -> Differences {
+        let mut pixels = vec![false; w * h];
+        let rows: Vec<bool> = (0..h)
+            .map(|y| a[3 * w * y..3 * w * (y + 1)] != b[3 * w * y..3 * w * (y + 1)])
+            .collect();
+        for y in (0..h).filter(|&y| rows[y]) {
+            let (ra, rb) = (
+                &a[3 * w * y..3 * w * (y + 1)],
+                &b[3 * w * y..3 * w * (y + 1)],
+            );
+            let px = ra.chunks_exact(3).zip(rb.chunks_exact(3));
+            for (d, (p, q)) in pixels[y * w..(y + 1) * w].iter_mut().zip(px) {
+                *d = ((p[0] ^ q[0]) | (p[1] ^ q[1]) | (p[2] ^ q[2])) != 0;
+            }
+        }
+        Differences { pixels, rows }
+    }
+}
+
+/// The bounding boxes of the differing pixels per `CELL` x `CELL` cell (row-major cells;
+/// `None` where the cell has none), and the number of cell columns. A row's pixels in a cell
+/// enter as one segment, its first to its last differing pixel (the union of their one-pixel
+/// boxes: `differing_cells_pixel_by_pixel`, the tests' oracle).
+fn differing_cells(d: &Differences, w: usize, h: usize) -> (Vec<Option<Rect>>, usize) {
     let cw = w.div_ceil(CELL);
     let mut cells = vec![None; cw * h.div_ceil(CELL)];
-    for y in 0..h {
-        let row = 3 * w * y..3 * w * (y + 1);
-        let (a, b) = (&reference[row.clone()], &test[row]);
-        if a == b {
-            continue;
-        }
-        for x in 0..w {
-            if a[3 * x..3 * x + 3] != b[3 * x..3 * x + 3] {
-                let c = &mut cells[(y / CELL) * cw + x / CELL];
-                let px = Rect {
-                    x0: x,
+    for y in (0..h).filter(|&y| d.rows[y]) {
+        let row = &d.pixels[y * w..(y + 1) * w];
+        for (cx, chunk) in row.chunks(CELL).enumerate() {
+            if let Some(first) = chunk.iter().position(|&d| d) {
+                let last = chunk.iter().rposition(|&d| d).unwrap_or(first);
+                let c = &mut cells[(y / CELL) * cw + cx];
+                let segment = Rect {
+                    x0: cx * CELL + first,
                     y0: y,
-                    x1: x + 1,
+                    x1: cx * CELL + last + 1,
                     y1: y + 1,
                 };
-                *c = Some(Rect::union(*c, px));
+                *c = Some(Rect::union(*c, segment));
             }
         }
     }
@@ -112,8 +134,8 @@ fn differing_cells(
 /// pixels' boxes in cells of `CELL * 2^k` pixels (k = 0..5), or their one bounding box,
 /// whichever reads the fewest pixels (areas `box + 2r`, the pixels the filters of `box + r`
 /// read, summed).
-fn regions(reference: &[u8], test: &[u8], w: usize, h: usize, r: usize) -> Vec<Rect> {
-    let (mut cells, mut cw) = differing_cells(reference, test, w, h);
+fn regions(d: &Differences, w: usize, h: usize, r: usize) -> Vec<Rect> {
+    let (mut cells, mut cw) = differing_cells(d, w, h);
     let cost = |rects: &[Option<Rect>]| -> usize {
         rects
             .iter()
@@ -215,11 +237,12 @@ impl FlipReference {
             "FLIP: test image of another size"
         );
         let mut map = vec![0.0f32; w * h];
-        let (near, mut row_near) = near_differences(&self.ref8, test, w, h, r);
+        let differences = Differences::new(&self.ref8, test, w, h);
+        let (near, mut row_near) = near_differences(&differences, w, h, r);
         if r_row != r {
-            row_near = near_differences(&self.ref8, test, w, h, r_row).1;
+            row_near = near_differences(&differences, w, h, r_row).1;
         }
-        for b in regions(&self.ref8, test, w, h, r) {
+        for b in regions(&differences, w, h, r) {
             let area = b.grow(r, w, h);
             let mode = Mode::Test {
                 wanted: &near,
@@ -235,25 +258,21 @@ impl FlipReference {
     }
 }
 
-/// Per pixel (row-major), whether a pixel where the RGB8 images `a` and `b` differ lies within
-/// Chebyshev distance `r` of it: FLIP can be non-zero there only (module doc); and the number
-/// of differing pixels within `r` columns in its row. Running counts along each row, then down
-/// each column.
-fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> (Vec<bool>, Vec<u32>) {
+/// Per pixel (row-major), whether a differing pixel lies within Chebyshev distance `r` of
+/// it: FLIP can be non-zero there only (module doc); and the number of differing pixels within
+/// `r` columns in its row. Running counts along each row, then down each column.
+fn near_differences(d: &Differences, w: usize, h: usize, r: usize) -> (Vec<bool>, Vec<u32>) {
     // along rows: differing pixels within r columns (a row equal in both images keeps 0s)
     let mut rows = vec![0u32; w * h];
     let mut prefix = vec![0u32; w + 1];
-    let differs: Vec<bool> = (0..h)
-        .map(|y| a[3 * w * y..3 * w * (y + 1)] != b[3 * w * y..3 * w * (y + 1)])
-        .collect();
+    let differs = &d.rows;
     for y in (0..h).filter(|&y| differs[y]) {
-        for x in 0..w {
-            let i = 3 * (y * w + x);
-            prefix[x + 1] = prefix[x] + u32::from(a[i..i + 3] != b[i..i + 3]);
+        let mut count = 0u32;
+        for (p, &f) in prefix[1..].iter_mut().zip(&d.pixels[y * w..(y + 1) * w]) {
+            count += u32::from(f);
+            *p = count;
         }
-        for x in 0..w {
-            rows[y * w + x] = prefix[(x + r + 1).min(w)] - prefix[x.saturating_sub(r)];
-        }
+        window_counts(&prefix, r, &mut rows[y * w..(y + 1) * w]);
     }
     // down columns: a window of 2r + 1 rows (rows of 0s add and remove nothing; an output row
     // with no differing row in its window stays false)
@@ -283,6 +302,33 @@ fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> (Vec<bo
     (near, rows)
 }
 
+/// `out[x] = prefix[min(x + r + 1, w)] - prefix[max(x - r, 0)]` (`w = out.len()`, `prefix`
+/// `w + 1` running counts): the count within `r` columns of `x`. The columns whose window
+/// is clipped by neither end in one subtraction of shifted slices (vectorised), the rest one
+/// by one; the same integers either way.
+fn window_counts(prefix: &[u32], r: usize, out: &mut [u32]) {
+    let w = out.len();
+    let at = |x: usize| prefix[(x + r + 1).min(w)] - prefix[x.saturating_sub(r)];
+    // interior: x >= r and x + r + 1 <= w
+    let start = r.min(w);
+    let end = w.saturating_sub(r).max(start);
+    for (x, o) in out.iter_mut().enumerate().take(start) {
+        *o = at(x);
+    }
+    if end > start {
+        let (hi, lo) = (
+            &prefix[start + r + 1..end + r + 1],
+            &prefix[start - r..end - r],
+        );
+        for ((o, &a), &b) in out[start..end].iter_mut().zip(hi).zip(lo) {
+            *o = a - b;
+        }
+    }
+    for (x, o) in out.iter_mut().enumerate().skip(end) {
+        *o = at(x);
+    }
+}
+
 /// Mean and p95 (nearest rank, by `f64::total_cmp`) of a FLIP map over the `mask` pixels, the
 /// sum in pixel order: bit for bit those of the masked values collected whole
 /// ([`pool_collected`], the tests compare the two), without collecting the +0.0 values, most
@@ -299,14 +345,34 @@ fn near_differences(a: &[u8], b: &[u8], w: usize, h: usize, r: usize) -> (Vec<bo
 /// and before every other, so with `neg` of those and `zeros` +0.0s the k-th is the k-th of
 /// the rest for `k < neg`, +0.0 for `k < neg + zeros`, and else the `(k - zeros)`-th of the
 /// rest.
+///
+/// The pixels go by chunks of [`POOL_CHUNK`]: a chunk whose values are all +0.0 only counts
+/// its masked pixels (a vectorised test and sum); any other goes pixel by pixel as before, so
+/// the rest is collected in pixel order all the same. `rest` gets its exact length up front
+/// (a first vectorised count), not grown push by push.
 pub(crate) fn pool(map: &[f32], mask: &[bool]) -> (f64, f64) {
+    let (map, mask) = (
+        &map[..map.len().min(mask.len())],
+        &mask[..map.len().min(mask.len())],
+    );
+    let nonzero = map
+        .iter()
+        .zip(mask)
+        .map(|(e, &m)| usize::from(m & (e.to_bits() != 0)))
+        .sum::<usize>();
     let mut zeros = 0usize;
-    let mut rest: Vec<f64> = Vec::new();
-    for (&e, _) in map.iter().zip(mask).filter(|(_, &m)| m) {
-        if e.to_bits() == 0 {
-            zeros += 1;
-        } else {
-            rest.push(e as f64);
+    let mut rest: Vec<f64> = Vec::with_capacity(nonzero);
+    for (es, ms) in map.chunks(POOL_CHUNK).zip(mask.chunks(POOL_CHUNK)) {
+        if es.iter().fold(0u32, |a, e| a | e.to_bits()) == 0 {
+            zeros += ms.iter().map(|&m| usize::from(m)).sum::<usize>();
+            continue;
+        }
+        for (&e, _) in es.iter().zip(ms).filter(|(_, &m)| m) {
+            if e.to_bits() == 0 {
+                zeros += 1;
+            } else {
+                rest.push(e as f64);
+            }
         }
     }
     let n = rest.len() + zeros;
@@ -328,6 +394,9 @@ pub(crate) fn pool(map: &[f32], mask: &[bool]) -> (f64, f64) {
     };
     (sum / n as f64, p95)
 }
+
+/// Pixels per chunk of [`pool`]'s zero test.
+const POOL_CHUNK: usize = 32;
 
 /// [`pool`] as it was: every masked value collected, summed in pixel order and selected from
 /// (the tests' check of the shortcut).

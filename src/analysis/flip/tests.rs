@@ -229,12 +229,12 @@ fn regions_box_isolated_pixels_alone_and_dense_ones_together() {
     let (w, h) = (200usize, 200usize);
     let base = image(w, h);
     let sparse = changed(&base, w, &[(10, 10), (150, 20), (100, 180)]);
-    let r = regions(&base, &sparse, w, h, 10);
+    let r = regions(&Differences::new(&base, &sparse, w, h), w, h, 10);
     assert_eq!(r.len(), 3, "{r:?}");
     assert!(r.iter().all(|b| b.area() == 1), "{r:?}");
     let all: Vec<_> = (0..w).flat_map(|x| (0..h).map(move |y| (x, y))).collect();
     let dense = changed(&base, w, &all);
-    let r = regions(&base, &dense, w, h, 10);
+    let r = regions(&Differences::new(&base, &dense, w, h), w, h, 10);
     assert_eq!(
         r,
         vec![Rect {
@@ -244,7 +244,7 @@ fn regions_box_isolated_pixels_alone_and_dense_ones_together() {
             y1: h
         }]
     );
-    assert!(regions(&base, &base, w, h, 10).is_empty());
+    assert!(regions(&Differences::new(&base, &base, w, h), w, h, 10).is_empty());
 }
 
 /// `near_differences` against the definition (a differing pixel within Chebyshev distance r;
@@ -256,7 +256,7 @@ fn near_differences_is_the_chebyshev_neighbourhood() {
     let base = image(w, h);
     let at = [(0, 0), (52, 36), (20, 10), (21, 30), (45, 3)];
     let test = changed(&base, w, &at);
-    let (near, rows) = near_differences(&base, &test, w, h, r);
+    let (near, rows) = near_differences(&Differences::new(&base, &test, w, h), w, h, r);
     for y in 0..h {
         for x in 0..w {
             let want = at
@@ -270,7 +270,7 @@ fn near_differences_is_the_chebyshev_neighbourhood() {
             assert_eq!(rows[y * w + x] as usize, in_row, "({x}, {y})");
         }
     }
-    let (near1, rows1) = near_differences(&base, &test, w, h, r - 1);
+    let (near1, rows1) = near_differences(&Differences::new(&base, &test, w, h), w, h, r - 1);
     assert_ne!(near1, near);
     assert_ne!(rows1, rows);
 }
@@ -291,7 +291,10 @@ fn copying_the_reference_rows_too_close_to_a_difference_changes_the_map() {
     let full = flip_map_full(&base, &test, w as u32, h as u32);
     let reference = FlipReference::new(&base, w as u32, h as u32);
     let r = exact_radius();
-    assert_eq!(regions(&base, &test, w, h, r).len(), 1);
+    assert_eq!(
+        regions(&Differences::new(&base, &test, w, h), w, h, r).len(),
+        1
+    );
     assert_eq!(bits(&reference.map_within(&test, r, r)), bits(&full));
     assert_ne!(bits(&reference.map_within(&test, r, 0)), bits(&full));
 }
@@ -364,4 +367,93 @@ fn pool_skipping_zeros_is_the_collected_pool_bit_for_bit() {
         pooled_bits(pool(&nudged, &mask)),
         pooled_bits(pool_collected(&map, &mask))
     );
+}
+
+/// `differing_cells` as it was: every differing pixel's one-pixel box joined into its cell,
+/// comparing the two images pixel by pixel (the oracle of the segment-per-row version).
+fn differing_cells_pixel_by_pixel(
+    reference: &[u8],
+    test: &[u8],
+    w: usize,
+    h: usize,
+) -> (Vec<Option<Rect>>, usize) {
+    let cw = w.div_ceil(CELL);
+    let mut cells = vec![None; cw * h.div_ceil(CELL)];
+    for y in 0..h {
+        for x in 0..w {
+            let i = 3 * (y * w + x);
+            if reference[i..i + 3] != test[i..i + 3] {
+                let c = &mut cells[(y / CELL) * cw + x / CELL];
+                let px = Rect {
+                    x0: x,
+                    y0: y,
+                    x1: x + 1,
+                    y1: y + 1,
+                };
+                *c = Some(Rect::union(*c, px));
+            }
+        }
+    }
+    (cells, cw)
+}
+
+/// The shared pixel compare and the cells' row segments against the pixel-by-pixel boxes, on
+/// images of sizes that are and are not multiples of the cell, with a few to most pixels
+/// changed in one channel each (every channel's change must count). Teeth: one more changed
+/// pixel, in a cell without differences, gives other cells.
+#[test]
+fn differing_cells_are_the_pixel_by_pixel_boxes() {
+    let mut rng = fastrand::Rng::with_seed(29);
+    for (w, h) in [(1usize, 1usize), (8, 8), (13, 5), (37, 29), (64, 17)] {
+        let base = noise(&mut rng, w, h);
+        for share in [0.0, 0.01, 0.1, 0.6] {
+            let mut test = base.clone();
+            for i in 0..w * h {
+                if rng.f64() < share {
+                    let o = 3 * i + rng.usize(..3);
+                    test[o] = test[o].wrapping_add(rng.u8(1..));
+                }
+            }
+            let d = Differences::new(&base, &test, w, h);
+            let oracle = differing_cells_pixel_by_pixel(&base, &test, w, h);
+            assert_eq!(differing_cells(&d, w, h), oracle, "{w}x{h}, share {share}");
+            // teeth: a pixel changed in a cell without differences (its first pixel)
+            let (cells, cw) = &oracle;
+            if let Some(c) = cells.iter().position(Option::is_none) {
+                let (x, y) = ((c % cw) * CELL, (c / cw) * CELL);
+                let mut more = test.clone();
+                more[3 * (y * w + x) + 2] ^= 0x10;
+                let d_more = Differences::new(&base, &more, w, h);
+                assert_ne!(
+                    differing_cells(&d_more, w, h),
+                    oracle,
+                    "{w}x{h}, share {share}"
+                );
+            }
+        }
+    }
+}
+
+/// `window_counts` against its definition at every column, for widths below, at and above
+/// the window (`2r + 1`), radius 0 included. Teeth: the counts of one radius more differ.
+#[test]
+fn window_counts_are_the_clamped_window() {
+    let mut rng = fastrand::Rng::with_seed(30);
+    for w in [0usize, 1, 2, 5, 9, 20, 21, 22, 40, 100] {
+        for r in [0usize, 1, 3, 10, 12] {
+            let mut prefix = vec![0u32; w + 1];
+            for x in 0..w {
+                prefix[x + 1] = prefix[x] + u32::from(rng.bool());
+            }
+            let mut out = vec![u32::MAX; w];
+            window_counts(&prefix, r, &mut out);
+            let at = |r: usize, x: usize| prefix[(x + r + 1).min(w)] - prefix[x.saturating_sub(r)];
+            let want: Vec<u32> = (0..w).map(|x| at(r, x)).collect();
+            assert_eq!(out, want, "w {w}, r {r}");
+            let wider: Vec<u32> = (0..w).map(|x| at(r + 1, x)).collect();
+            if prefix[w] > 0 && prefix[w] < w as u32 && w > 2 * r + 2 {
+                assert_ne!(out, wider, "w {w}, r {r}");
+            }
+        }
+    }
 }
