@@ -64,9 +64,11 @@ impl SideRow {
         // the cube roots, wanted pixels only (libm)
         let third = std::hint::black_box(1.0f32 / 3.0);
         for (v, c) in [(&*v0, &mut *c0), (&*v1, &mut *c1), (&*v2, &mut *c2)] {
-            for i in self.wanted.iter().flat_map(Range::clone) {
-                if v[i] > DELTA_CUBE {
-                    c[i] = v[i].powf(third);
+            for run in &self.wanted {
+                for i in run.clone() {
+                    if v[i] > DELTA_CUBE {
+                        c[i] = v[i].powf(third);
+                    }
                 }
             }
         }
@@ -107,15 +109,19 @@ impl SideRow {
         // the exponents hidden from the optimiser, as in `flip_value`: `powf(x, 0.5)` must stay
         // glibc's powf, not become sqrt
         let (gqc, gqf) = (std::hint::black_box(GQC), std::hint::black_box(GQF));
-        for i in self.wanted.iter().flat_map(Range::clone) {
-            color[i] = hy[i].powf(gqc);
-            feature[i] = base[i].powf(gqf);
+        for run in &self.wanted {
+            for i in run.clone() {
+                color[i] = hy[i].powf(gqc);
+                feature[i] = base[i].powf(gqf);
+            }
         }
         for s in &self.spans {
             rescale(p, &mut color[s.clone()]);
         }
-        for i in self.wanted.iter().flat_map(Range::clone) {
-            map[i] = color[i].powf(1.0 - feature[i]);
+        for run in &self.wanted {
+            for i in run.clone() {
+                map[i] = color[i].powf(1.0 - feature[i]);
+            }
         }
     }
 }
@@ -280,7 +286,7 @@ mod tests {
         let mut reference = SidePlanes::new(n + 5);
         let mut row = SideRow::new(n);
         row.spans.push(0..n);
-        row.wanted = vec![0..n];
+        row.wanted.push(0..n);
         row.compute(reference_acc);
         reference.store(5, n, &row);
         row.spans = spans.to_vec();

@@ -314,12 +314,14 @@ pub(crate) enum Mode<'a> {
     Reference(&'a mut Planes),
     /// The test side, the reference's horizontal [`Planes`] beside it: only the pixels whose
     /// `wanted` flag is set (row-major over the image) are handed on; a block of a row's
-    /// horizontal pass whose `row_near` counts (per pixel: the differing pixels within the
-    /// radius in the same row) are all 0 reads the same source bytes as the reference did
-    /// there and is copied from it; the vertical pass runs only for blocks with a wanted pixel.
+    /// horizontal pass with no `differs` pixel (row-major: where the two images differ)
+    /// within `r_row` columns of its own (the radius; the tests give less) in the same row
+    /// reads the same source bytes as the reference did there and is copied from it; the
+    /// vertical pass runs only for blocks with a wanted pixel.
     Test {
         wanted: &'a [bool],
-        row_near: &'a [u32],
+        differs: &'a [bool],
+        r_row: usize,
         reference: &'a Planes,
     },
 }
@@ -360,15 +362,18 @@ pub(crate) fn filter_side(
         while next < last && next <= y + r {
             let slot = next % ring_rows;
             if let Mode::Test {
-                row_near,
+                differs,
+                r_row,
                 reference,
                 ..
             } = &mode
             {
-                let near = &row_near[next * w..(next + 1) * w];
+                let row = &differs[next * w..(next + 1) * w];
                 for (b, c) in computed.iter_mut().enumerate() {
-                    // an OR over the block (vectorised), not a search
-                    *c = near[columns(b)].iter().fold(0, |a, &n| a | n) != 0;
+                    // an OR over the block's columns and r_row each side (vectorised)
+                    let cols = columns(b);
+                    let reach = cols.start.saturating_sub(*r_row)..(cols.end + r_row).min(w);
+                    *c = !cols.is_empty() && row[reach].iter().fold(false, |a, &d| a | d);
                     if !*c {
                         copy_block(
                             reference,

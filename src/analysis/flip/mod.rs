@@ -238,15 +238,13 @@ impl FlipReference {
         );
         let mut map = vec![0.0f32; w * h];
         let differences = Differences::new(&self.ref8, test, w, h);
-        let (near, mut row_near) = near_differences(&differences, w, h, r);
-        if r_row != r {
-            row_near = near_differences(&differences, w, h, r_row).1;
-        }
+        let near = near_differences(&differences, w, h, r);
         for b in regions(&differences, w, h, r) {
             let area = b.grow(r, w, h);
             let mode = Mode::Test {
                 wanted: &near,
-                row_near: &row_near,
+                differs: &differences.pixels,
+                r_row,
                 reference: &self.horizontal,
             };
             kernel::filter_side(&self.params, test, (w, h), area, mode, |y, row| {
@@ -259,37 +257,38 @@ impl FlipReference {
 }
 
 /// Per pixel (row-major), whether a differing pixel lies within Chebyshev distance `r` of
-/// it: FLIP can be non-zero there only (module doc); and the number of differing pixels within
-/// `r` columns in its row. Running counts along each row, then down each column.
-fn near_differences(d: &Differences, w: usize, h: usize, r: usize) -> (Vec<bool>, Vec<u32>) {
-    // along rows: differing pixels within r columns (a row equal in both images keeps 0s)
-    let mut rows = vec![0u32; w * h];
+/// it: FLIP can be non-zero there only (module doc). Running counts along each differing row
+/// (the differing pixels within `r` columns), then a window of `2r + 1` rows down each column;
+/// a row's counts live in a ring of `2r + 1` rows, from its entry to its exit of the window.
+fn near_differences(d: &Differences, w: usize, h: usize, r: usize) -> Vec<bool> {
+    let ring_rows = 2 * r + 1;
+    let mut counts = vec![0u32; ring_rows * w];
     let mut prefix = vec![0u32; w + 1];
     let differs = &d.rows;
-    for y in (0..h).filter(|&y| differs[y]) {
-        let mut count = 0u32;
-        for (p, &f) in prefix[1..].iter_mut().zip(&d.pixels[y * w..(y + 1) * w]) {
-            count += u32::from(f);
-            *p = count;
-        }
-        window_counts(&prefix, r, &mut rows[y * w..(y + 1) * w]);
-    }
-    // down columns: a window of 2r + 1 rows (rows of 0s add and remove nothing; an output row
-    // with no differing row in its window stays false)
+    // an output row with no differing row in its window stays false
     let mut near = vec![false; w * h];
     let mut window = vec![0u32; w];
     let mut active = 0usize;
     for y in 0..h + r {
-        if y < h && differs[y] {
-            active += 1;
-            for (c, v) in window.iter_mut().zip(&rows[y * w..(y + 1) * w]) {
-                *c += v;
+        // the row leaving the window first: the entering one takes its ring slot
+        if let Some(gone) = y.checked_sub(ring_rows).filter(|&g| g < h && differs[g]) {
+            active -= 1;
+            let slot = gone % ring_rows * w;
+            for (c, v) in window.iter_mut().zip(&counts[slot..slot + w]) {
+                *c -= v;
             }
         }
-        if let Some(gone) = y.checked_sub(2 * r + 1).filter(|&g| g < h && differs[g]) {
-            active -= 1;
-            for (c, v) in window.iter_mut().zip(&rows[gone * w..(gone + 1) * w]) {
-                *c -= v;
+        if y < h && differs[y] {
+            active += 1;
+            let mut count = 0u32;
+            for (p, &f) in prefix[1..].iter_mut().zip(&d.pixels[y * w..(y + 1) * w]) {
+                count += u32::from(f);
+                *p = count;
+            }
+            let slot = y % ring_rows * w;
+            window_counts(&prefix, r, &mut counts[slot..slot + w]);
+            for (c, v) in window.iter_mut().zip(&counts[slot..slot + w]) {
+                *c += v;
             }
         }
         if y >= r && active > 0 {
@@ -299,7 +298,7 @@ fn near_differences(d: &Differences, w: usize, h: usize, r: usize) -> (Vec<bool>
             }
         }
     }
-    (near, rows)
+    near
 }
 
 /// `out[x] = prefix[min(x + r + 1, w)] - prefix[max(x - r, 0)]` (`w = out.len()`, `prefix`

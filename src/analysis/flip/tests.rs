@@ -247,32 +247,30 @@ fn regions_box_isolated_pixels_alone_and_dense_ones_together() {
     assert!(regions(&Differences::new(&base, &base, w, h), w, h, 10).is_empty());
 }
 
-/// `near_differences` against the definition (a differing pixel within Chebyshev distance r;
-/// the row counts: the differing pixels within r columns in the row), pixel by pixel, on
-/// scattered differences including the corners; a radius one less gives other ones (teeth).
+/// `near_differences` against the definition (a differing pixel within Chebyshev distance r),
+/// pixel by pixel, on scattered differences including the corners, and on differences in
+/// every row (the ring of row counts reused all the way down); a radius one less gives other
+/// ones (teeth).
 #[test]
 fn near_differences_is_the_chebyshev_neighbourhood() {
     let (w, h, r) = (53usize, 37usize, 4usize);
     let base = image(w, h);
-    let at = [(0, 0), (52, 36), (20, 10), (21, 30), (45, 3)];
-    let test = changed(&base, w, &at);
-    let (near, rows) = near_differences(&Differences::new(&base, &test, w, h), w, h, r);
-    for y in 0..h {
-        for x in 0..w {
-            let want = at
-                .iter()
-                .any(|&(ax, ay)| ax.abs_diff(x).max(ay.abs_diff(y)) <= r);
-            assert_eq!(near[y * w + x], want, "({x}, {y})");
-            let in_row = at
-                .iter()
-                .filter(|&&(ax, ay)| ay == y && ax.abs_diff(x) <= r)
-                .count();
-            assert_eq!(rows[y * w + x] as usize, in_row, "({x}, {y})");
+    let scattered = vec![(0, 0), (52, 36), (20, 10), (21, 30), (45, 3)];
+    let every_row: Vec<_> = (0..h).map(|y| ((y * 7) % w, y)).collect();
+    for at in [scattered, every_row] {
+        let test = changed(&base, w, &at);
+        let d = Differences::new(&base, &test, w, h);
+        let near = near_differences(&d, w, h, r);
+        for y in 0..h {
+            for x in 0..w {
+                let want = at
+                    .iter()
+                    .any(|&(ax, ay)| ax.abs_diff(x).max(ay.abs_diff(y)) <= r);
+                assert_eq!(near[y * w + x], want, "({x}, {y})");
+            }
         }
+        assert_ne!(near_differences(&d, w, h, r - 1), near);
     }
-    let (near1, rows1) = near_differences(&Differences::new(&base, &test, w, h), w, h, r - 1);
-    assert_ne!(near1, near);
-    assert_ne!(rows1, rows);
 }
 
 /// Teeth of the copy of the reference's horizontal pass: with the rows' differences counted
