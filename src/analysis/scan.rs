@@ -11,6 +11,7 @@
 use glam::DVec3;
 
 use crate::analysis::pixel::{d3, lum, PixelErrors, ReferencePixels};
+use crate::analysis::stats::RankHistogram;
 use crate::frame::Frame;
 use crate::truth::{RefPixel, Values};
 
@@ -133,12 +134,13 @@ impl Cosines {
 
     /// The queued angles in order: `len = square.sqrt()` (glam's `length`), the clamped
     /// cosine `dot / (len * ref_len)` (-1 at length 0), `acos().to_degrees()` into the angle's
-    /// running sum and max (`sums[2]`, `sums[3]`) and, with `store`, the angle map; `|len - 1|`
-    /// into `max_len`. Then empties. The lengths and cosines in a loop of their own, which
-    /// vectorises (the same IEEE sqrt and division per lane), the `acos` calls in a tight loop
-    /// apart from the scan: the scan's loop has no call in it, so its accumulators stay in
-    /// registers.
-    fn drain(&mut self, sums: &mut [f64; 4], max_len: &mut f64, f: &mut PixelErrors, store: bool) {
+    /// running sum and max (`sums[2]`, `sums[3]`) and into `maps` when given (the scan's
+    /// per-pixel vectors: the angle map, the has-angle mask and the angles' histogram);
+    /// `|len - 1|` into `max_len`. Then empties. The lengths and
+    /// cosines in a loop of their own, which vectorises (the same IEEE sqrt and division per
+    /// lane), the `acos` calls in a tight loop apart from the scan: the scan's loop has no
+    /// call in it, so its accumulators stay in registers.
+    fn drain(&mut self, sums: &mut [f64; 4], max_len: &mut f64, mut maps: Option<AngleMaps>) {
         let m = self.len;
         let mut len_error = [0.0f64; BLOCK];
         // in place: `dot` becomes the clamped cosine
@@ -148,20 +150,29 @@ impl Cosines {
             &self.ref_len[..m],
             &mut len_error[..m],
         );
-        for (j, (&cos, &len_error)) in self.dot[..m].iter().zip(&len_error[..m]).enumerate() {
+        // each cosine becomes its angle, for the histogram after the calls
+        let angles = self.dot[..m].iter_mut().zip(&len_error[..m]);
+        for ((cos, &len_error), &at) in angles.zip(&self.at[..m]) {
             *max_len = max_len.max(len_error);
             let a = cos.acos().to_degrees();
+            *cos = a;
             sums[2] += a;
             sums[3] = sums[3].max(a);
-            if store {
-                let i = self.at[j] as usize;
-                f.angle[i] = a;
-                f.has_angle[i] = true;
+            if let Some((angle, has_angle, _)) = &mut maps {
+                angle[at as usize] = a;
+                has_angle[at as usize] = true;
             }
+        }
+        if let Some((_, _, hist)) = maps {
+            hist.add_all(&self.dot[..m]);
         }
         self.len = 0;
     }
 }
+
+/// What [`Cosines::drain`] writes besides the sums: [`PixelErrors`]' angle map, has-angle mask
+/// and histogram of the angles.
+type AngleMaps<'a> = (&'a mut [f64], &'a mut [bool], &'a mut RankHistogram);
 
 /// Per queued angle ([`Cosines::drain`]): `dot` becomes the clamped cosine, `len_error`
 /// `|len - 1|`; the expressions of `pixel::scan` on the same values. Compiled for AVX2 too
@@ -206,6 +217,8 @@ where
     let (mut sums, mut max_len) = ([0.0f64; 4], 0.0f64);
     let mut channels = f.channels;
     let mut counts = f.counts;
+    // with `store`: |dI|'s running sums, and the block's |dI|s for its histogram (f.ranks.abs)
+    let (mut run, mut abs, mut abs_len) = (f.ranks.run, [0.0f64; BLOCK], 0);
     let mut cosines = Cosines {
         dot: [0.0; BLOCK],
         square: [0.0; BLOCK],
@@ -256,15 +269,22 @@ where
             if store {
                 f.measured[i] = true;
                 f.signed[i] = e;
+                abs[abs_len] = e.abs();
+                abs_len += 1;
+                run.add(i, e.abs());
             }
             if has_normal && (r.has_normal)(t) {
                 let nrm = d3(frame.normal[i]);
                 cosines.push(nrm.dot(r.normal[t]), nrm.dot(nrm), c.normal_len[t], i);
             }
         }
-        cosines.drain(&mut sums, &mut max_len, &mut f, store);
+        f.ranks.abs.add_all(&abs[..abs_len]);
+        abs_len = 0;
+        let maps = store.then_some((&mut f.angle[..], &mut f.has_angle[..], &mut f.ranks.angle));
+        cosines.drain(&mut sums, &mut max_len, maps);
     }
     (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
+    f.ranks.run = run;
     f
 }
 
@@ -272,7 +292,7 @@ where
 mod tests {
     use super::*;
     use crate::analysis::pixel::{intensity_stats, pixel_errors};
-    use crate::analysis::stats::percentile;
+    use crate::analysis::stats::{percentile, RankHistogram};
     use crate::truth::{Truth, TruthPixel};
 
     /// A reference and a frame of `n` pixels with every class of pixel and every kind of value
@@ -333,11 +353,14 @@ mod tests {
     /// first non-finite pixel, with and without normals, on random references and frames.
     /// `intensity_stats` and `angle_percentile` of those errors (from the maps) equal the
     /// generic `intensity_stats` of `errors()` and `percentile` of a copy of `angles()`.
-    /// Teeth: a constant 2^20 ulps off, or a pixel's finiteness flipped, shows in the errors.
+    /// The histograms of |dI| and of the angles that the scan counts ([`PixelErrors`]' `ranks`)
+    /// equal those of the maps' values.
+    /// Teeth: a constant 2^20 ulps off, or a pixel's finiteness flipped, shows in the errors;
+    /// a histogram one value short differs, and so do the statistics of a largest |dI| moved.
     #[test]
     fn the_column_scan_gives_the_generic_errors() {
         let mut rng = fastrand::Rng::with_seed(27);
-        let (mut measured_cases, mut perturbed_differ) = (0, [0, 0]);
+        let (mut measured_cases, mut perturbed_differ, mut ranks_differ) = (0, [0, 0], [0, 0]);
         for round in 0..200 {
             // 2500: more than two blocks of `BLOCK` pixels
             let n = [0, 1, 2, 7, 63, 700, 2500][round % 7];
@@ -362,10 +385,23 @@ mod tests {
                     format!("{:?}", errors.intensity_stats(0.1)),
                     format!("{want:?}")
                 );
+                // the histograms the scan counted are those of the maps' values
+                let (mut abs, mut angle) = (RankHistogram::default(), RankHistogram::default());
+                errors.errors().for_each(|(_, _, e)| abs.add(e.abs()));
+                errors.angles().into_iter().for_each(|a| angle.add(a));
+                assert!(errors.ranks.abs == abs && errors.ranks.angle == angle);
                 let Some(i) = errors.measured.iter().position(|&m| m) else {
                     continue;
                 };
                 measured_cases += 1;
+                // teeth: a histogram one value short, or the largest |dI| at the next pixel
+                let mut short = RankHistogram::default();
+                errors.errors().skip(1).for_each(|(_, _, e)| short.add(e.abs()));
+                ranks_differ[0] += usize::from(short != errors.ranks.abs);
+                let mut off = errors.clone();
+                off.ranks.run.max_at = off.ranks.run.max_at.map(|i| i + 1);
+                let (a, b) = (off.intensity_stats(0.1), errors.intensity_stats(0.1));
+                ranks_differ[1] += usize::from(format!("{a:?}") != format!("{b:?}"));
                 let k = values.covered()[..i].iter().filter(|&&c| c).count();
                 let c = &mut prepared.constants;
                 c.lum[k] = f64::from_bits(c.lum[k].to_bits() + (1 << 20));
@@ -380,6 +416,7 @@ mod tests {
         // nearly all (dI = lum(col) - lum rounds them away where |lum| << |dI|)
         assert!(measured_cases > 100, "{measured_cases}");
         assert_eq!(perturbed_differ[1], measured_cases);
+        assert_eq!(ranks_differ, [measured_cases; 2]);
         assert!(
             perturbed_differ[0] * 10 > measured_cases * 9,
             "{perturbed_differ:?}"
