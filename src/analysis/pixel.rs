@@ -428,7 +428,7 @@ impl Twin {
             has_normal: |k| self.has_normal[k],
             ill_conditioned: |k| reference.ill_conditioned(k),
         };
-        Ok(scan_columns(frame, has_normal, false, &columns).stats())
+        Ok(scan_columns::<false, _, _>(frame, has_normal, &columns).stats())
     }
 }
 
@@ -714,6 +714,12 @@ impl ChannelSums {
     /// Adds one pixel's signed error.
     pub fn add(&mut self, e: f64) {
         self.n += 1;
+        self.add_but_count(e);
+    }
+
+    /// [`ChannelSums::add`] but for `n` (the scan of [`crate::analysis::scan`] sets it once).
+    #[inline]
+    pub(crate) fn add_but_count(&mut self, e: f64) {
         self.sum_abs += e.abs();
         self.sum_sq += e * e;
         self.max_abs = self.max_abs.max(e.abs());

@@ -96,7 +96,7 @@ impl ReferencePixels for Prepared<'_> {
             has_normal: |k| v.has_normal(k),
             ill_conditioned: |k| v.ill_conditioned(k),
         };
-        scan_columns(frame, has_normal, true, &columns)
+        scan_columns::<true, _, _>(frame, has_normal, &columns)
     }
 }
 
@@ -194,22 +194,23 @@ fn cosines(dot: &mut [f64], square: &[f64], ref_len: &[f64], len_error: &mut [f6
 
 /// The generic scan (`pixel::scan`) of `frame` against the reference `r`, from its columns:
 /// the same classes, the same operations per measured pixel in the same order, the same
-/// [`PixelErrors`]; `store`: keep the per-pixel vectors.
+/// [`PixelErrors`]; `STORE`: keep the per-pixel vectors (a constant: the scan without them,
+/// the slerp twin's, has no branch on it).
 ///
 /// The pixels go in blocks of [`BLOCK`]: per block, every statistic but the normal angle, and
 /// the angle's clamped cosine into [`Cosines`]; then the block's `acos`s in pixel order
 /// ([`Cosines::drain`]). The angle's sum and max see the same angles in the same order as in
 /// the generic scan, every other accumulator the same values in the same order: the same bits.
-pub(crate) fn scan_columns<H, I>(
+pub(crate) fn scan_columns<const STORE: bool, H, I>(
     frame: &Frame,
     has_normal: bool,
-    store: bool,
     r: &Columns<'_, H, I>,
 ) -> PixelErrors
 where
     H: Fn(usize) -> bool,
     I: Fn(usize) -> bool,
 {
+    let store = STORE;
     let n = r.covered.len();
     assert!(n <= u32::MAX as usize, "pixel index of {n} pixels in a u32");
     let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
@@ -264,7 +265,7 @@ where
             sums[0] += e.abs();
             sums[1] = sums[1].max(e.abs());
             for j in 0..3 {
-                channels[j].add(d[j]);
+                channels[j].add_but_count(d[j]);
             }
             if store {
                 f.measured[i] = true;
@@ -283,6 +284,8 @@ where
         let maps = store.then_some((&mut f.angle[..], &mut f.has_angle[..], &mut f.ranks.angle));
         cosines.drain(&mut sums, &mut max_len, maps);
     }
+    // every channel counts the measured pixels
+    channels.iter_mut().for_each(|c| c.n = counts.measured);
     (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
     f.ranks.run = run;
     f
