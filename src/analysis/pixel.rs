@@ -568,20 +568,27 @@ impl PixelErrors {
     /// of the |dI|s: the scan counted the |dI|s into a [`RankHistogram`] and kept the running
     /// sums ([`Ranks`]); one pass over the map counts those above `threshold` and gathers the
     /// values of the percentiles' buckets.
+    ///
+    /// That pass skips the mask where it need not read it: the map holds +0 where a pixel is
+    /// not measured, and when no measured |dI| shares +0's bucket (so that no percentile
+    /// wants it: a wanted bucket has values) and the threshold is at least 0, the zeros of
+    /// the other pixels change neither the count nor the values gathered.
     pub fn intensity_stats(&self, threshold: f64) -> IntensityStats {
         let w = self.width as usize;
         let (hist, mut above) = (&self.ranks.abs, 0);
-        let abs = (self.measured.iter().zip(&self.signed))
-            .filter(|(&m, _)| m)
-            .map(|(_, e)| {
-                let a = e.abs();
-                above += usize::from(a > threshold);
-                a
-            });
+        let ps = [50.0, 95.0, 99.0];
+        let mut abs = |e: &f64| {
+            let a = e.abs();
+            above += usize::from(a > threshold);
+            a
+        };
         let p = if hist.is_empty() {
             [f64::NAN; 3]
+        } else if hist.bucket_count(0.0) == 0 && threshold >= 0.0 {
+            hist.percentiles(ps, self.signed.iter().map(abs))
         } else {
-            hist.percentiles([50.0, 95.0, 99.0], abs)
+            let measured = self.measured.iter().zip(&self.signed).filter(|(&m, _)| m);
+            hist.percentiles(ps, measured.map(|(_, e)| abs(e)))
         };
         let run = self.ranks.run;
         run.finish(hist.len(), p, above, |i| [(i % w) as u32, (i / w) as u32])

@@ -108,7 +108,7 @@ fn finite3(v: [f32; 4]) -> bool {
 
 /// Pixels per block of [`scan_columns`]: the cosines of a block's normal angles wait in a
 /// buffer of this size ([`Cosines`], 28 KB on the stack, and 8 KB more while it drains) for
-/// their `acos`.
+/// their `acos`, and the block's |dI|s (8 KB) for their histogram.
 const BLOCK: usize = 1024;
 
 /// The normal angles of one block, waiting for their `acos`, in pixel order: per angle the
@@ -294,7 +294,7 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::pixel::{intensity_stats, pixel_errors};
+    use crate::analysis::pixel::{intensity_stats, pixel_errors, Running};
     use crate::analysis::stats::{percentile, RankHistogram};
     use crate::truth::{Truth, TruthPixel};
 
@@ -364,6 +364,7 @@ mod tests {
     fn the_column_scan_gives_the_generic_errors() {
         let mut rng = fastrand::Rng::with_seed(27);
         let (mut measured_cases, mut perturbed_differ, mut ranks_differ) = (0, [0, 0], [0, 0]);
+        let mut mask_needed = [0, 0];
         for round in 0..200 {
             // 2500: more than two blocks of `BLOCK` pixels
             let n = [0, 1, 2, 7, 63, 700, 2500][round % 7];
@@ -383,11 +384,32 @@ mod tests {
                     let want = percentile(&mut errors.angles(), p);
                     assert_eq!(errors.angle_percentile(p).to_bits(), want.to_bits());
                 }
-                let want = intensity_stats(errors.errors(), 0.1);
-                assert_eq!(
-                    format!("{:?}", errors.intensity_stats(0.1)),
-                    format!("{want:?}")
-                );
+                // thresholds that skip the mask and that read it; then with exact zeros measured
+                // (every third measured pixel), which make the mask needed
+                let mut zeros = errors.clone();
+                let (mut hist, mut run) = (RankHistogram::default(), Running::default());
+                for (j, i) in (0..n).filter(|&i| zeros.measured[i]).enumerate() {
+                    if j % 3 == 0 {
+                        zeros.signed[i] = 0.0;
+                    }
+                    hist.add(zeros.signed[i].abs());
+                    run.add(i, zeros.signed[i].abs());
+                }
+                (zeros.ranks.abs, zeros.ranks.run) = (hist, run);
+                for e in [&errors, &zeros] {
+                    for t in [0.1, 0.0, -1.0, f64::NAN] {
+                        let want = intensity_stats(e.errors(), t);
+                        assert_eq!(format!("{:?}", e.intensity_stats(t)), format!("{want:?}"));
+                    }
+                }
+                // teeth: with zeros measured, the whole map's zeros are not the measured ones
+                if zeros.counts.measured > 0 && zeros.counts.measured < n {
+                    let all = zeros.signed.iter().map(|e| e.abs());
+                    let h = &zeros.ranks.abs;
+                    let r = std::panic::catch_unwind(|| h.percentiles([0.0], all));
+                    mask_needed[0] += 1;
+                    mask_needed[1] += usize::from(r.is_err());
+                }
                 // the histograms the scan counted are those of the maps' values
                 let (mut abs, mut angle) = (RankHistogram::default(), RankHistogram::default());
                 errors.errors().for_each(|(_, _, e)| abs.add(e.abs()));
@@ -399,7 +421,10 @@ mod tests {
                 measured_cases += 1;
                 // teeth: a histogram one value short, or the largest |dI| at the next pixel
                 let mut short = RankHistogram::default();
-                errors.errors().skip(1).for_each(|(_, _, e)| short.add(e.abs()));
+                errors
+                    .errors()
+                    .skip(1)
+                    .for_each(|(_, _, e)| short.add(e.abs()));
                 ranks_differ[0] += usize::from(short != errors.ranks.abs);
                 let mut off = errors.clone();
                 off.ranks.run.max_at = off.ranks.run.max_at.map(|i| i + 1);
@@ -420,6 +445,10 @@ mod tests {
         assert!(measured_cases > 100, "{measured_cases}");
         assert_eq!(perturbed_differ[1], measured_cases);
         assert_eq!(ranks_differ, [measured_cases; 2]);
+        assert!(
+            mask_needed[0] > 100 && mask_needed[1] == mask_needed[0],
+            "{mask_needed:?}"
+        );
         assert!(
             perturbed_differ[0] * 10 > measured_cases * 9,
             "{perturbed_differ:?}"

@@ -118,13 +118,17 @@ impl RankHistogram {
     /// Counts every value of `xs` (`add` of each, in a loop of its own: the scan of
     /// [`crate::analysis::scan`] counts a block of values at a time).
     pub fn add_all(&mut self, xs: &[f64]) {
-        let counts: &mut [u32; 1 << (64 - BUCKET_SHIFT)] = (&mut self.counts[..])
-            .try_into()
-            .expect("2^16 buckets");
+        let counts: &mut [u32; 1 << (64 - BUCKET_SHIFT)] =
+            (&mut self.counts[..]).try_into().expect("2^16 buckets");
         for &x in xs {
             counts[(total_key(x) >> BUCKET_SHIFT) as usize] += 1;
         }
         self.n += xs.len();
+    }
+
+    /// How many counted values share the bucket of `x`.
+    pub fn bucket_count(&self, x: f64) -> usize {
+        self.counts[(total_key(x) >> BUCKET_SHIFT) as usize] as usize
     }
 
     /// How many values were counted.
