@@ -121,6 +121,31 @@ pub struct PixelErrors {
     pub first_non_finite: Option<[u32; 2]>,
     /// Running sums over the measured pixels: |dI| (sum, max) and the normal angle (sum, max).
     pub(super) sums: [f64; 4],
+    /// What the percentiles and the intensity statistics read besides the maps, gathered as
+    /// the scan meets the values (empty without the per-pixel vectors).
+    pub(super) ranks: Ranks,
+}
+
+/// What [`PixelErrors::intensity_stats`] and [`PixelErrors::angle_percentile`] would otherwise
+/// gather in a first pass over the maps, counted by the scan (with the per-pixel vectors) as
+/// it writes them: the values are those it stores, so the statistics are the same bits.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Ranks {
+    /// |dI| of every measured pixel.
+    pub(super) abs: RankHistogram,
+    /// The normal angle of every pixel with one.
+    pub(super) angle: RankHistogram,
+    /// [`intensity_stats`]' running sums over |dI| in pixel order (the pixel's index).
+    pub(super) run: Running<usize>,
+}
+
+impl Ranks {
+    /// Counts the |dI| `a` of measured pixel `i` (pixels in order).
+    #[inline]
+    pub(super) fn add_abs(&mut self, i: usize, a: f64) {
+        self.abs.add(a);
+        self.run.add(i, a);
+    }
 }
 
 impl PixelErrors {
@@ -141,6 +166,7 @@ impl PixelErrors {
             has_angle: vec![false; angles],
             first_non_finite: None,
             sums: [0.0; 4],
+            ranks: Ranks::default(),
         }
     }
 
@@ -402,7 +428,7 @@ impl Twin {
             has_normal: |k| self.has_normal[k],
             ill_conditioned: |k| reference.ill_conditioned(k),
         };
-        Ok(scan_columns(frame, has_normal, false, &columns).stats())
+        Ok(scan_columns::<false, _, _>(frame, has_normal, &columns).stats())
     }
 }
 
@@ -456,6 +482,7 @@ fn scan(
         if store {
             f.measured[i] = true;
             f.signed[i] = e;
+            f.ranks.add_abs(i, e.abs());
         }
         if let (true, Some(r)) = (has_normal, t.normal) {
             let nrm = d3(frame.normal[i]);
@@ -471,6 +498,7 @@ fn scan(
             if store {
                 f.angle[i] = a;
                 f.has_angle[i] = true;
+                f.ranks.angle.add(a);
             }
             f.max_len = f.max_len.max((len - 1.0).abs());
         }
@@ -537,52 +565,53 @@ impl PixelErrors {
     /// [`intensity_stats`] of [`PixelErrors::errors`], the same statistics bit for bit (the same
     /// errors in the same order through the same operations), without an (x, y) per pixel
     /// (only the largest error's position is turned into one, at the end) and without a copy
-    /// of the |dI|s: the percentiles come from a [`RankHistogram`] and a second pass over the
-    /// map.
+    /// of the |dI|s: the scan counted the |dI|s into a [`RankHistogram`] and kept the running
+    /// sums ([`Ranks`]); one pass over the map counts those above `threshold` and gathers the
+    /// values of the percentiles' buckets.
+    ///
+    /// That pass skips the mask where it need not read it: the map holds +0 where a pixel is
+    /// not measured, and when no measured |dI| shares +0's bucket (so that no percentile
+    /// wants it: a wanted bucket has values) and the threshold is at least 0, the zeros of
+    /// the other pixels change neither the count nor the values gathered.
     pub fn intensity_stats(&self, threshold: f64) -> IntensityStats {
         let w = self.width as usize;
-        let abs = || {
-            (self.measured.iter().zip(&self.signed))
-                .enumerate()
-                .filter(|(_, (&m, _))| m)
-                .map(|(i, (_, e))| (i, e.abs()))
+        let (hist, mut above) = (&self.ranks.abs, 0);
+        let ps = [50.0, 95.0, 99.0];
+        let mut abs = |e: &f64| {
+            let a = e.abs();
+            above += usize::from(a > threshold);
+            a
         };
-        let mut hist = RankHistogram::default();
-        let mut run = Running::default();
-        for (i, a) in abs() {
-            hist.add(a);
-            run.add(i, a, threshold);
-        }
         let p = if hist.is_empty() {
             [f64::NAN; 3]
+        } else if hist.bucket_count(0.0) == 0 && threshold >= 0.0 {
+            hist.percentiles(ps, self.signed.iter().map(abs))
         } else {
-            hist.percentiles([50.0, 95.0, 99.0], abs().map(|(_, a)| a))
+            let measured = self.measured.iter().zip(&self.signed).filter(|(&m, _)| m);
+            hist.percentiles(ps, measured.map(|(_, e)| abs(e)))
         };
-        run.finish(hist.len(), p, |i| [(i % w) as u32, (i / w) as u32])
+        let run = self.ranks.run;
+        run.finish(hist.len(), p, above, |i| [(i % w) as u32, (i / w) as u32])
     }
 
     /// The nearest-rank percentile `p` of the normal angle errors: `percentile(&mut
-    /// self.angles(), p)` bit for bit (the same values; a [`RankHistogram`] and a second pass
-    /// over the map instead of a copy). 0 without any angle.
+    /// self.angles(), p)` bit for bit (the same values; the scan's [`RankHistogram`] of them
+    /// and one pass over the map instead of a copy). 0 without any angle.
     pub fn angle_percentile(&self, p: f64) -> f64 {
-        let angles = || {
-            (self.angle.iter().zip(&self.has_angle))
-                .filter(|(_, &h)| h)
-                .map(|(&a, _)| a)
-        };
-        let mut hist = RankHistogram::default();
-        angles().for_each(|a| hist.add(a));
-        hist.percentiles([p], angles())[0]
+        let angles = (self.angle.iter().zip(&self.has_angle))
+            .filter(|(_, &h)| h)
+            .map(|(&a, _)| a);
+        self.ranks.angle.percentiles([p], angles)[0]
     }
 }
 
 /// The running sums of [`intensity_stats`] over |dI|, in the order the errors come.
-struct Running<P> {
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Running<P> {
     sum: f64,
     sq: f64,
     max: f64,
-    max_at: Option<P>,
-    above: usize,
+    pub(super) max_at: Option<P>,
 }
 
 impl<P> Default for Running<P> {
@@ -592,7 +621,6 @@ impl<P> Default for Running<P> {
             sq: 0.0,
             max: 0.0,
             max_at: None,
-            above: 0,
         }
     }
 }
@@ -600,19 +628,25 @@ impl<P> Default for Running<P> {
 impl<P> Running<P> {
     /// Adds |dI| `a` at position `p`.
     #[inline]
-    fn add(&mut self, p: P, a: f64, threshold: f64) {
+    pub(super) fn add(&mut self, p: P, a: f64) {
         self.sum += a;
         self.sq += a * a;
         if self.max_at.is_none() || a > self.max {
             self.max = a;
             self.max_at = Some(p);
         }
-        self.above += usize::from(a > threshold);
     }
 
     /// The statistics of the `n` errors added, with their 50th, 95th and 99th percentiles
-    /// `p`; `at` turns the position of the largest |error| into (x, y).
-    fn finish(self, n: usize, p: [f64; 3], at: impl Fn(P) -> [u32; 2]) -> IntensityStats {
+    /// `p`, `above` of them above the threshold; `at` turns the position of the largest
+    /// |error| into (x, y).
+    fn finish(
+        self,
+        n: usize,
+        p: [f64; 3],
+        above: usize,
+        at: impl Fn(P) -> [u32; 2],
+    ) -> IntensityStats {
         // No measured pixel: no error figure exists. NaN (JSON null), not 0, so that nothing
         // reads as "exact" and every limit fails (compare::exceeded also says why).
         let per = |x: f64| if n > 0 { x / n as f64 } else { f64::NAN };
@@ -626,8 +660,8 @@ impl<P> Running<P> {
             p99_abs_error: p[2],
             rmse: mse.sqrt(),
             psnr_db: (mse > 0.0).then(|| 10.0 * (1.0 / mse).log10()),
-            pixels_above_threshold: Some(self.above),
-            fraction_above_threshold: per(self.above as f64),
+            pixels_above_threshold: Some(above),
+            fraction_above_threshold: per(above as f64),
         }
     }
 }
@@ -641,11 +675,12 @@ fn intensity_of<P: Copy>(
     at: impl Fn(P) -> [u32; 2],
 ) -> IntensityStats {
     let mut abs: Vec<f64> = Vec::with_capacity(capacity);
-    let mut run = Running::default();
+    let (mut run, mut above) = (Running::default(), 0);
     for (p, e) in errors {
         let a = e.abs();
         abs.push(a);
-        run.add(p, a, threshold);
+        run.add(p, a);
+        above += usize::from(a > threshold);
     }
     let n = abs.len();
     let p = if n > 0 {
@@ -653,7 +688,7 @@ fn intensity_of<P: Copy>(
     } else {
         [f64::NAN; 3]
     };
-    run.finish(n, p, at)
+    run.finish(n, p, above, at)
 }
 
 /// Per-channel statistics of the signed R, G or B error.
@@ -686,6 +721,12 @@ impl ChannelSums {
     /// Adds one pixel's signed error.
     pub fn add(&mut self, e: f64) {
         self.n += 1;
+        self.add_but_count(e);
+    }
+
+    /// [`ChannelSums::add`] but for `n` (the scan of [`crate::analysis::scan`] sets it once).
+    #[inline]
+    pub(crate) fn add_but_count(&mut self, e: f64) {
         self.sum_abs += e.abs();
         self.sum_sq += e * e;
         self.max_abs = self.max_abs.max(e.abs());

@@ -11,6 +11,7 @@
 use glam::DVec3;
 
 use crate::analysis::pixel::{d3, lum, PixelErrors, ReferencePixels};
+use crate::analysis::stats::RankHistogram;
 use crate::frame::Frame;
 use crate::truth::{RefPixel, Values};
 
@@ -95,7 +96,7 @@ impl ReferencePixels for Prepared<'_> {
             has_normal: |k| v.has_normal(k),
             ill_conditioned: |k| v.ill_conditioned(k),
         };
-        scan_columns(frame, has_normal, true, &columns)
+        scan_columns::<true, _, _>(frame, has_normal, &columns)
     }
 }
 
@@ -107,7 +108,7 @@ fn finite3(v: [f32; 4]) -> bool {
 
 /// Pixels per block of [`scan_columns`]: the cosines of a block's normal angles wait in a
 /// buffer of this size ([`Cosines`], 28 KB on the stack, and 8 KB more while it drains) for
-/// their `acos`.
+/// their `acos`, and the block's |dI|s (8 KB) for their histogram.
 const BLOCK: usize = 1024;
 
 /// The normal angles of one block, waiting for their `acos`, in pixel order: per angle the
@@ -133,12 +134,13 @@ impl Cosines {
 
     /// The queued angles in order: `len = square.sqrt()` (glam's `length`), the clamped
     /// cosine `dot / (len * ref_len)` (-1 at length 0), `acos().to_degrees()` into the angle's
-    /// running sum and max (`sums[2]`, `sums[3]`) and, with `store`, the angle map; `|len - 1|`
-    /// into `max_len`. Then empties. The lengths and cosines in a loop of their own, which
-    /// vectorises (the same IEEE sqrt and division per lane), the `acos` calls in a tight loop
-    /// apart from the scan: the scan's loop has no call in it, so its accumulators stay in
-    /// registers.
-    fn drain(&mut self, sums: &mut [f64; 4], max_len: &mut f64, f: &mut PixelErrors, store: bool) {
+    /// running sum and max (`sums[2]`, `sums[3]`) and into `maps` when given (the scan's
+    /// per-pixel vectors: the angle map, the has-angle mask and the angles' histogram);
+    /// `|len - 1|` into `max_len`. Then empties. The lengths and
+    /// cosines in a loop of their own, which vectorises (the same IEEE sqrt and division per
+    /// lane), the `acos` calls in a tight loop apart from the scan: the scan's loop has no
+    /// call in it, so its accumulators stay in registers.
+    fn drain(&mut self, sums: &mut [f64; 4], max_len: &mut f64, mut maps: Option<AngleMaps>) {
         let m = self.len;
         let mut len_error = [0.0f64; BLOCK];
         // in place: `dot` becomes the clamped cosine
@@ -148,20 +150,29 @@ impl Cosines {
             &self.ref_len[..m],
             &mut len_error[..m],
         );
-        for (j, (&cos, &len_error)) in self.dot[..m].iter().zip(&len_error[..m]).enumerate() {
+        // each cosine becomes its angle, for the histogram after the calls
+        let angles = self.dot[..m].iter_mut().zip(&len_error[..m]);
+        for ((cos, &len_error), &at) in angles.zip(&self.at[..m]) {
             *max_len = max_len.max(len_error);
             let a = cos.acos().to_degrees();
+            *cos = a;
             sums[2] += a;
             sums[3] = sums[3].max(a);
-            if store {
-                let i = self.at[j] as usize;
-                f.angle[i] = a;
-                f.has_angle[i] = true;
+            if let Some((angle, has_angle, _)) = &mut maps {
+                angle[at as usize] = a;
+                has_angle[at as usize] = true;
             }
+        }
+        if let Some((_, _, hist)) = maps {
+            hist.add_all(&self.dot[..m]);
         }
         self.len = 0;
     }
 }
+
+/// What [`Cosines::drain`] writes besides the sums: [`PixelErrors`]' angle map, has-angle mask
+/// and histogram of the angles.
+type AngleMaps<'a> = (&'a mut [f64], &'a mut [bool], &'a mut RankHistogram);
 
 /// Per queued angle ([`Cosines::drain`]): `dot` becomes the clamped cosine, `len_error`
 /// `|len - 1|`; the expressions of `pixel::scan` on the same values. Compiled for AVX2 too
@@ -183,22 +194,23 @@ fn cosines(dot: &mut [f64], square: &[f64], ref_len: &[f64], len_error: &mut [f6
 
 /// The generic scan (`pixel::scan`) of `frame` against the reference `r`, from its columns:
 /// the same classes, the same operations per measured pixel in the same order, the same
-/// [`PixelErrors`]; `store`: keep the per-pixel vectors.
+/// [`PixelErrors`]; `STORE`: keep the per-pixel vectors (a constant: the scan without them,
+/// the slerp twin's, has no branch on it).
 ///
 /// The pixels go in blocks of [`BLOCK`]: per block, every statistic but the normal angle, and
 /// the angle's clamped cosine into [`Cosines`]; then the block's `acos`s in pixel order
 /// ([`Cosines::drain`]). The angle's sum and max see the same angles in the same order as in
 /// the generic scan, every other accumulator the same values in the same order: the same bits.
-pub(crate) fn scan_columns<H, I>(
+pub(crate) fn scan_columns<const STORE: bool, H, I>(
     frame: &Frame,
     has_normal: bool,
-    store: bool,
     r: &Columns<'_, H, I>,
 ) -> PixelErrors
 where
     H: Fn(usize) -> bool,
     I: Fn(usize) -> bool,
 {
+    let store = STORE;
     let n = r.covered.len();
     assert!(n <= u32::MAX as usize, "pixel index of {n} pixels in a u32");
     let mut f = PixelErrors::empty(frame.width, has_normal, n, store);
@@ -206,6 +218,8 @@ where
     let (mut sums, mut max_len) = ([0.0f64; 4], 0.0f64);
     let mut channels = f.channels;
     let mut counts = f.counts;
+    // with `store`: |dI|'s running sums, and the block's |dI|s for its histogram (f.ranks.abs)
+    let (mut run, mut abs, mut abs_len) = (f.ranks.run, [0.0f64; BLOCK], 0);
     let mut cosines = Cosines {
         dot: [0.0; BLOCK],
         square: [0.0; BLOCK],
@@ -251,28 +265,37 @@ where
             sums[0] += e.abs();
             sums[1] = sums[1].max(e.abs());
             for j in 0..3 {
-                channels[j].add(d[j]);
+                channels[j].add_but_count(d[j]);
             }
             if store {
                 f.measured[i] = true;
                 f.signed[i] = e;
+                abs[abs_len] = e.abs();
+                abs_len += 1;
+                run.add(i, e.abs());
             }
             if has_normal && (r.has_normal)(t) {
                 let nrm = d3(frame.normal[i]);
                 cosines.push(nrm.dot(r.normal[t]), nrm.dot(nrm), c.normal_len[t], i);
             }
         }
-        cosines.drain(&mut sums, &mut max_len, &mut f, store);
+        f.ranks.abs.add_all(&abs[..abs_len]);
+        abs_len = 0;
+        let maps = store.then_some((&mut f.angle[..], &mut f.has_angle[..], &mut f.ranks.angle));
+        cosines.drain(&mut sums, &mut max_len, maps);
     }
+    // every channel counts the measured pixels
+    channels.iter_mut().for_each(|c| c.n = counts.measured);
     (f.sums, f.max_len, f.channels, f.counts) = (sums, max_len, channels, counts);
+    f.ranks.run = run;
     f
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::pixel::{intensity_stats, pixel_errors};
-    use crate::analysis::stats::percentile;
+    use crate::analysis::pixel::{intensity_stats, pixel_errors, Running};
+    use crate::analysis::stats::{percentile, RankHistogram};
     use crate::truth::{Truth, TruthPixel};
 
     /// A reference and a frame of `n` pixels with every class of pixel and every kind of value
@@ -333,11 +356,15 @@ mod tests {
     /// first non-finite pixel, with and without normals, on random references and frames.
     /// `intensity_stats` and `angle_percentile` of those errors (from the maps) equal the
     /// generic `intensity_stats` of `errors()` and `percentile` of a copy of `angles()`.
-    /// Teeth: a constant 2^20 ulps off, or a pixel's finiteness flipped, shows in the errors.
+    /// The histograms of |dI| and of the angles that the scan counts ([`PixelErrors`]' `ranks`)
+    /// equal those of the maps' values.
+    /// Teeth: a constant 2^20 ulps off, or a pixel's finiteness flipped, shows in the errors;
+    /// a histogram one value short differs, and so do the statistics of a largest |dI| moved.
     #[test]
     fn the_column_scan_gives_the_generic_errors() {
         let mut rng = fastrand::Rng::with_seed(27);
-        let (mut measured_cases, mut perturbed_differ) = (0, [0, 0]);
+        let (mut measured_cases, mut perturbed_differ, mut ranks_differ) = (0, [0, 0], [0, 0]);
+        let mut mask_needed = [0, 0];
         for round in 0..200 {
             // 2500: more than two blocks of `BLOCK` pixels
             let n = [0, 1, 2, 7, 63, 700, 2500][round % 7];
@@ -357,15 +384,52 @@ mod tests {
                     let want = percentile(&mut errors.angles(), p);
                     assert_eq!(errors.angle_percentile(p).to_bits(), want.to_bits());
                 }
-                let want = intensity_stats(errors.errors(), 0.1);
-                assert_eq!(
-                    format!("{:?}", errors.intensity_stats(0.1)),
-                    format!("{want:?}")
-                );
+                // thresholds that skip the mask and that read it; then with exact zeros measured
+                // (every third measured pixel), which make the mask needed
+                let mut zeros = errors.clone();
+                let (mut hist, mut run) = (RankHistogram::default(), Running::default());
+                for (j, i) in (0..n).filter(|&i| zeros.measured[i]).enumerate() {
+                    if j % 3 == 0 {
+                        zeros.signed[i] = 0.0;
+                    }
+                    hist.add(zeros.signed[i].abs());
+                    run.add(i, zeros.signed[i].abs());
+                }
+                (zeros.ranks.abs, zeros.ranks.run) = (hist, run);
+                for e in [&errors, &zeros] {
+                    for t in [0.1, 0.0, -1.0, f64::NAN] {
+                        let want = intensity_stats(e.errors(), t);
+                        assert_eq!(format!("{:?}", e.intensity_stats(t)), format!("{want:?}"));
+                    }
+                }
+                // teeth: with zeros measured, the whole map's zeros are not the measured ones
+                if zeros.counts.measured > 0 && zeros.counts.measured < n {
+                    let all = zeros.signed.iter().map(|e| e.abs());
+                    let h = &zeros.ranks.abs;
+                    let r = std::panic::catch_unwind(|| h.percentiles([0.0], all));
+                    mask_needed[0] += 1;
+                    mask_needed[1] += usize::from(r.is_err());
+                }
+                // the histograms the scan counted are those of the maps' values
+                let (mut abs, mut angle) = (RankHistogram::default(), RankHistogram::default());
+                errors.errors().for_each(|(_, _, e)| abs.add(e.abs()));
+                errors.angles().into_iter().for_each(|a| angle.add(a));
+                assert!(errors.ranks.abs == abs && errors.ranks.angle == angle);
                 let Some(i) = errors.measured.iter().position(|&m| m) else {
                     continue;
                 };
                 measured_cases += 1;
+                // teeth: a histogram one value short, or the largest |dI| at the next pixel
+                let mut short = RankHistogram::default();
+                errors
+                    .errors()
+                    .skip(1)
+                    .for_each(|(_, _, e)| short.add(e.abs()));
+                ranks_differ[0] += usize::from(short != errors.ranks.abs);
+                let mut off = errors.clone();
+                off.ranks.run.max_at = off.ranks.run.max_at.map(|i| i + 1);
+                let (a, b) = (off.intensity_stats(0.1), errors.intensity_stats(0.1));
+                ranks_differ[1] += usize::from(format!("{a:?}") != format!("{b:?}"));
                 let k = values.covered()[..i].iter().filter(|&&c| c).count();
                 let c = &mut prepared.constants;
                 c.lum[k] = f64::from_bits(c.lum[k].to_bits() + (1 << 20));
@@ -380,6 +444,11 @@ mod tests {
         // nearly all (dI = lum(col) - lum rounds them away where |lum| << |dI|)
         assert!(measured_cases > 100, "{measured_cases}");
         assert_eq!(perturbed_differ[1], measured_cases);
+        assert_eq!(ranks_differ, [measured_cases; 2]);
+        assert!(
+            mask_needed[0] > 100 && mask_needed[1] == mask_needed[0],
+            "{mask_needed:?}"
+        );
         assert!(
             perturbed_differ[0] * 10 > measured_cases * 9,
             "{perturbed_differ:?}"

@@ -81,6 +81,7 @@ const BUCKET_SHIFT: u32 = 48;
 /// and, in a second pass over the same values, selects among the values of those buckets
 /// only. The k-th smallest key is the same bits however it is found, so the result is
 /// [`percentiles`]'s bit for bit (tested against it).
+#[derive(Clone, PartialEq)]
 pub struct RankHistogram {
     counts: Vec<u32>,
     n: usize,
@@ -95,12 +96,39 @@ impl Default for RankHistogram {
     }
 }
 
+/// The count and the non-empty buckets (bucket, count), not 2^16 numbers.
+impl std::fmt::Debug for RankHistogram {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let buckets = (self.counts.iter().enumerate()).filter(|(_, &c)| c != 0);
+        f.debug_struct("RankHistogram")
+            .field("n", &self.n)
+            .field("buckets", &buckets.collect::<Vec<_>>())
+            .finish()
+    }
+}
+
 impl RankHistogram {
     /// Counts `x`.
     #[inline]
     pub fn add(&mut self, x: f64) {
         self.counts[(total_key(x) >> BUCKET_SHIFT) as usize] += 1;
         self.n += 1;
+    }
+
+    /// Counts every value of `xs` (`add` of each, in a loop of its own: the scan of
+    /// [`crate::analysis::scan`] counts a block of values at a time).
+    pub fn add_all(&mut self, xs: &[f64]) {
+        let counts: &mut [u32; 1 << (64 - BUCKET_SHIFT)] =
+            (&mut self.counts[..]).try_into().expect("2^16 buckets");
+        for &x in xs {
+            counts[(total_key(x) >> BUCKET_SHIFT) as usize] += 1;
+        }
+        self.n += xs.len();
+    }
+
+    /// How many counted values share the bucket of `x`.
+    pub fn bucket_count(&self, x: f64) -> usize {
+        self.counts[(total_key(x) >> BUCKET_SHIFT) as usize] as usize
     }
 
     /// How many values were counted.
