@@ -434,29 +434,26 @@ fn copy_block(
 
 /// The runs of set flags in `row`, ascending, into `out` (cleared by the caller).
 fn wanted_runs(row: &[bool], out: &mut Vec<std::ops::Range<usize>>) {
-    let mut i = 0;
-    while let Some(start) = row[i..].iter().position(|&m| m).map(|s| i + s) {
-        let end = row[start..]
-            .iter()
-            .position(|&m| !m)
-            .map_or(row.len(), |e| start + e);
-        out.push(start..end);
-        i = end;
-    }
+    out.extend(flag_runs(row));
 }
 
 /// The runs of consecutive set flags, as pixel ranges (`LANES` pixels a flag).
 fn runs(flags: &[bool]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
-    let mut b = 0;
+    flag_runs(flags).map(|r| r.start * LANES..r.end * LANES)
+}
+
+/// The maximal runs of consecutive set flags in `flags`, ascending, as flag index ranges: the
+/// one search behind [`wanted_runs`] (columns) and [`runs`] (blocks).
+fn flag_runs(flags: &[bool]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    let mut i = 0;
     std::iter::from_fn(move || {
-        while b < flags.len() && !flags[b] {
-            b += 1;
-        }
-        let start = b;
-        while b < flags.len() && flags[b] {
-            b += 1;
-        }
-        (b > start).then_some(start * LANES..b * LANES)
+        let start = i + flags[i..].iter().position(|&m| m)?;
+        let end = flags[start..]
+            .iter()
+            .position(|&m| !m)
+            .map_or(flags.len(), |e| start + e);
+        i = end;
+        Some(start..end)
     })
 }
 
