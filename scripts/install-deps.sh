@@ -45,6 +45,12 @@ else
   exit 2
 fi
 echo "install-deps: installing ${missing[*]}" >&2
+# One apt at a time on this machine: two apt-get runs at once (two checkouts building side by
+# side) break each other's update. flock waits for the other one to finish.
+if command -v flock >/dev/null 2>&1; then
+  exec 9>"${TMPDIR:-/tmp}/shadelab-apt.lock"
+  flock 9
+fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo[@]}" apt-get update -qq
 "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
