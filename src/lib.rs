@@ -7,8 +7,8 @@
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
 //! | report | [`report`], [`corpus`] | the main job: compare, bench and stress per scene, one offline HTML page; a mesh corpus in shards, merged |
-//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`], [`isa`], [`prove`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain; the programs compiled for AMD GPU generations (RADV's null device); proven error bounds by interval branch-and-bound |
-//! | judgement | [`analysis`], [`truth`], [`cases`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; the cases of the sweeps, shared by the jobs that sweep; `auto`'s budget, candidates and per-triangle choice |
+//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`], [`isa`], [`prove`], [`costs`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain; the programs compiled for AMD GPU generations (RADV's null device); proven error bounds by interval branch-and-bound |
+//! | judgement | [`analysis`], [`truth`], [`cases`], [`cost`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; the cases of the sweeps, shared by the jobs that sweep; cost models (one type family, their sources' interface and registry, the verdict rules); `auto`'s budget, candidates and per-triangle choice |
 //! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
@@ -40,6 +40,8 @@ pub mod cases;
 pub mod cli;
 pub mod compare;
 pub mod corpus;
+pub mod cost;
+pub mod costs;
 pub mod engine;
 pub mod error;
 pub mod frame;

@@ -11,9 +11,9 @@ const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["report", "corpus"],
     &[
-        "compare", "bench", "verify", "stress", "plan", "isa", "prove",
+        "compare", "bench", "verify", "stress", "plan", "isa", "prove", "costs",
     ],
-    &["analysis", "truth", "cases", "auto"],
+    &["analysis", "truth", "cases", "cost", "auto"],
     &["gpu", "software", "engine"],
     &["scene", "frame"],
     &["method", "geometry"],

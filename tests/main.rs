@@ -28,6 +28,7 @@ mod bench;
 mod cli;
 mod compare;
 mod corpus;
+mod costs;
 mod float16;
 mod fuzz;
 mod gpu;

@@ -246,27 +246,36 @@ fn spec_with_costs(costs: &[f64]) -> AutoSpec {
 }
 
 #[test]
-fn cost_models_are_lavapipe_or_isa_with_a_family() {
-    assert_eq!(CostModel::parse("lavapipe"), Ok(CostModel::Lavapipe));
+fn cost_model_ids_have_one_spelling() {
+    use crate::cost::CostModelId;
+    let id = |s: &str| CostModelId::parse(s).map(|i| i.to_string());
+    assert_eq!(id("lavapipe_isolated").as_deref(), Ok("lavapipe_isolated"));
+    assert_eq!(id(" isa:Navi21 ").as_deref(), Ok("isa:navi21"));
     assert_eq!(
-        CostModel::parse(" isa:Navi21 "),
-        Ok(CostModel::Isa("navi21".into()))
+        CostModelId::isa("navi21", crate::method::Precision::F16).to_string(),
+        "isa:navi21:f16"
     );
     assert_eq!(
-        CostModel::parse("isa:gfx1100").unwrap().name(),
-        "isa:gfx1100"
+        CostModelId::slug("bench", "llvmpipe (LLVM 15) | Mesa 22.3.6").to_string(),
+        "bench:llvmpipe-llvm-15-mesa-22.3.6"
     );
-    for bad in [
-        "",
-        "isa",
-        "isa:",
-        "isa:a b",
-        "gpu:navi21",
-        "lavapipe:x",
-        "isa:../x",
-    ] {
-        assert!(CostModel::parse(bad).is_err(), "{bad:?} accepted");
+    for bad in ["", "isa:", ":x", "isa:a b", "isa:../x", "isa:x/y", "é"] {
+        assert!(CostModelId::parse(bad).is_err(), "{bad:?} accepted");
     }
+    // Only the registered sources measure on demand: anything else is a usage error naming
+    // the ids that are.
+    let e = crate::costs::builtin()
+        .measure(
+            &CostModelId::parse("gpu:navi21").unwrap(),
+            &[],
+            &crate::cost::Evidence::new(),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("lavapipe_isolated") && e.contains("isa:FAMILY"),
+        "{e}"
+    );
 }
 
 /// When the extra programs save less than a switch costs (every candidate as dear as the next)

@@ -14,7 +14,9 @@ pub mod baseline;
 pub mod chart;
 pub mod claims;
 pub mod clock;
+pub mod cost;
 pub mod isolated;
+pub mod per_machine;
 mod programs;
 pub mod report;
 pub mod rounds;
@@ -112,6 +114,8 @@ pub struct BenchOptions {
     /// Whether the speed claims' software-engine column is timed (after lavapipe's rounds,
     /// [`speed_claims::software_column`]); `--no-software` leaves it out.
     pub software_column: bool,
+    /// The cost models of the speed claims' columns ([`crate::costs::builtin`] by default).
+    pub costs: crate::cost::Registry,
 }
 
 impl BenchOptions {
@@ -144,6 +148,7 @@ impl Default for BenchOptions {
             runs: Runs::One,
             static_cost: speed_claims::StaticCostSource::Skip,
             software_column: false,
+            costs: crate::costs::builtin(),
         }
     }
 }

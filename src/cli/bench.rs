@@ -80,6 +80,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         runs,
         static_cost,
         software_column: !b.no_software,
+        costs: crate::costs::builtin(),
     };
     let (dev, out) = (&b.device, b.out.as_path());
     b.precision.check_engine(dev)?;

@@ -158,10 +158,11 @@ struct BudgetArgs {
     /// like 4/255.
     #[arg(long = "error-budget", value_name = "E", default_value = "1/255", value_parser = ErrorBudget::parse)]
     budget: ErrorBudget,
-    /// What ranks auto's candidates: `lavapipe` (isolated cost, measured at start) or
-    /// `isa:FAMILY` (ACO's static cost on that AMD GPU family, e.g. isa:navi21; docs/isa.md).
-    #[arg(long = "cost-model", value_name = "MODEL", default_value = "lavapipe", value_parser = crate::auto::CostModel::parse)]
-    cost_model: crate::auto::CostModel,
+    /// What ranks auto's candidates: a cost model measured at start, `lavapipe_isolated`
+    /// (lavapipe's isolated cost) or `isa:FAMILY` (the static cost on that GPU family, e.g.
+    /// isa:navi21; docs/isa.md).
+    #[arg(long = "cost-model", value_name = "MODEL", default_value = crate::cost::LAVAPIPE_ISOLATED, value_parser = crate::cost::CostModelId::parse)]
+    cost_model: crate::cost::CostModelId,
 }
 
 /// `--engine`.
@@ -758,19 +759,17 @@ fn check_validation(ctx: &Arc<Context>) -> Result<()> {
 /// measured now on the run's device, or a GPU family's static cost compiled now.
 fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
     let t = std::time::Instant::now();
-    let order = match &b.cost_model {
-        crate::auto::CostModel::Lavapipe => crate::plan::auto_order(r.context())?,
-        crate::auto::CostModel::Isa(f) => crate::isa::auto_order(f)?,
-    };
+    let ev = crate::cost::Evidence::new().with(r.context().clone());
+    let (order, model) = crate::auto::order_by_model(&crate::costs::builtin(), &b.cost_model, &ev)?;
     eprintln!(
         "auto: candidates by {} in {} (measured in {:.1} s): {}",
-        b.cost_model.name(),
-        b.cost_model.unit(),
+        model.id,
+        model.measure.unit,
         t.elapsed().as_secs_f64(),
         crate::auto::order_line(&order)
     );
     let mut spec = crate::auto::AutoSpec::new(b.budget, &order);
-    spec.cost_model = b.cost_model.name();
+    spec.cost_model = model.id.to_string();
     Ok(spec)
 }
 

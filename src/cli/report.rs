@@ -203,6 +203,7 @@ pub(super) fn cmd_report(
         runs: how.runs,
         exe: Some(std::env::current_exe().map_err(|e| Error::io(Path::new("shadelab"), e))?),
         device_args,
+        costs: crate::costs::builtin(),
     };
     let w = report::run(&r, &scenes, &methods, out, &opts)?;
     check_validation(r.context())?;

@@ -14,6 +14,7 @@
 pub mod chart;
 pub mod child;
 pub mod claims;
+pub mod cost;
 pub mod files;
 pub mod rank;
 pub mod table;
@@ -201,50 +202,4 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
         .map(|(i, o)| (opts.families[i].clone(), o))
         .collect();
     table::report(opts, outcomes, start.elapsed().as_secs_f64())
-}
-
-/// `auto --cost-model isa:FAMILY`: the candidates ordered by the inverse throughput of the
-/// timed draw's fragment shader on `family` (the shipped generated torus's draw, compiled
-/// now by one child with the system's RADV), with those costs. A family the driver does not
-/// compile is a usage error: the user asked for that model.
-pub fn auto_order(family: &str) -> Result<Vec<(&'static Method, f64)>> {
-    let exe = std::env::current_exe()
-        .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
-    crate::auto::order_by_cost(|ms| {
-        let opts = IsaOptions {
-            methods: ms.to_vec(),
-            families: vec![family.to_string()],
-            driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
-            scene: None,
-            exe,
-            precision: Precision::F32,
-            probes: Vec::new(),
-        };
-        let report = run(&opts, &|_| {})?;
-        static_costs(&report, family, ms)
-    })
-}
-
-/// Each method's fragment-shader inverse throughput on `family` (NaN where not compiled); an
-/// error when the family did not compile at all.
-pub fn static_costs(report: &IsaReport, family: &str, ms: &[&'static Method]) -> Result<Vec<f64>> {
-    let status = report.families.iter().find(|f| f.family == family);
-    match status {
-        Some(s) if s.supported => Ok(ms
-            .iter()
-            .map(|m| {
-                report
-                    .row(family, m.name, "fragment", "draw")
-                    .and_then(|r| r.statistics.get("inverse_throughput").copied())
-                    .unwrap_or(f64::NAN)
-            })
-            .collect()),
-        Some(s) => Err(Error::Usage(format!(
-            "--cost-model isa:{family}: {}",
-            s.status
-        ))),
-        None => Err(Error::Usage(format!(
-            "--cost-model isa:{family}: the family was not compiled"
-        ))),
-    }
 }

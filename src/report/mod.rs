@@ -69,6 +69,8 @@ pub struct ReportOptions {
     pub exe: Option<PathBuf>,
     /// Arguments every bench run gets (the device: `--device`, `--validate`).
     pub device_args: Vec<String>,
+    /// The cost models of the answer and of the benches' speed claims.
+    pub costs: crate::cost::Registry,
 }
 
 /// Everything one scene contributed: the compare summary and the bench report, and where their
@@ -325,6 +327,7 @@ impl SceneRun<'_> {
             isolated_rounds,
             command_line: std::env::args().collect(),
             runs: self.bench_runs(s, &bdir, isolated_rounds),
+            costs: self.opts.costs.clone(),
             ..BenchOptions::default()
         };
         let bench = self.bar.suspend(|| {
@@ -541,7 +544,7 @@ pub fn run(
             seconds: start.elapsed().as_secs_f64(),
         },
     };
-    data.answer = front::answer_of(&data);
+    data.answer = front::answer_of(&data, &opts.costs);
     let index = write_page(out, &data, &methods)?;
     bar.inc(1);
     bar.finish_and_clear();
