@@ -12,3 +12,23 @@ pub fn builtin() -> Registry {
         .with(crate::isa::cost::StaticCost)
         .with(crate::bench::per_machine::BenchPerMachine)
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::cost::{CostModelId, Evidence};
+
+    /// Only the registered sources measure on demand: anything else is a usage error naming
+    /// the ids that are.
+    #[test]
+    fn an_unknown_model_is_refused_with_the_known_ones() {
+        let id = CostModelId::parse("gpu:navi21").unwrap();
+        let e = super::builtin()
+            .measure(&id, &[], &Evidence::new())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("lavapipe_isolated") && e.contains("isa:FAMILY"),
+            "{e}"
+        );
+    }
+}

@@ -12,7 +12,7 @@
 //! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
-//! | base | [`output`], [`error`] | atomic files, PNG/NPY, figures, provenance; the error type |
+//! | base | [`output`], [`error`], [`child`] | atomic files, PNG/NPY, figures, provenance; the error type; the protocol of shadelab's child processes (one typed request, one typed reply) |
 //!
 //! # Data flow
 //! scene file -> [`scene::Scene`] -> [`scene::SceneInputs`] (f64, rounded to f32 once) ->
@@ -37,6 +37,7 @@ pub mod analysis;
 pub mod auto;
 pub mod bench;
 pub mod cases;
+pub mod child;
 pub mod cli;
 pub mod compare;
 pub mod corpus;

@@ -107,7 +107,7 @@ fn a_registered_cost_model_reaches_the_report_and_the_speed_claims() {
     let scenes = vec![shadelab::report::ReportScene {
         source: Path::new("scenes/sphere_fine.toml").into(),
         scene,
-        bench_args: Vec::new(),
+        load: Default::default(),
     }];
     let opts = shadelab::report::ReportOptions {
         full: false,
@@ -115,7 +115,7 @@ fn a_registered_cost_model_reaches_the_report_and_the_speed_claims() {
         progress: false,
         runs: 1,
         exe: None,
-        device_args: Vec::new(),
+        device: Default::default(),
         costs: registry(),
     };
     let out = dir.path().join("r");

@@ -24,8 +24,22 @@ use crate::scene::SceneInputs;
 /// An error budget: the largest [`colour_error`] (linear) a method may make. Finite and > 0;
 /// written as a number (`0.0039`) or a fraction (`4/255`). Every command parses it with
 /// [`ErrorBudget::parse`] (one message); the library takes it as this type.
-#[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "f64", into = "f64")]
 pub struct ErrorBudget(f64);
+
+impl TryFrom<f64> for ErrorBudget {
+    type Error = String;
+    fn try_from(v: f64) -> std::result::Result<Self, String> {
+        Self::new(v)
+    }
+}
+
+impl From<ErrorBudget> for f64 {
+    fn from(b: ErrorBudget) -> f64 {
+        b.0
+    }
+}
 
 impl ErrorBudget {
     /// 1/255, the default of every command.
@@ -180,11 +194,13 @@ pub fn split_methods(list: &str) -> (String, bool) {
 }
 
 /// What `auto` needs: the candidates cheapest first (the last is the fallback) and the budget.
-#[derive(Debug, Clone)]
+/// In JSON (a bench run's request) the candidates are their names.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct AutoSpec {
     /// `auto` for the run's budget; `auto_<k>_255` and the like for a point of the budget curve
     /// ([`curve_name`]).
     pub name: String,
+    #[serde(with = "method_names")]
     pub order: Vec<&'static Method>,
     pub budget: ErrorBudget,
     /// The cost of each candidate of `order` in `cost_model` (what [`grouping`] compares).
@@ -221,6 +237,27 @@ impl AutoSpec {
             }
         }
         specs
+    }
+}
+
+/// Methods as their names in JSON, found again in the method table when read.
+mod method_names {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(
+        ms: &[&'static crate::method::Method],
+        s: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_seq(ms.iter().map(|m| m.name))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Vec<&'static crate::method::Method>, D::Error> {
+        Vec::<String>::deserialize(d)?
+            .iter()
+            .map(|n| crate::method::find(n).map_err(serde::de::Error::custom))
+            .collect()
     }
 }
 

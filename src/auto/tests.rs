@@ -245,39 +245,6 @@ fn spec_with_costs(costs: &[f64]) -> AutoSpec {
     }
 }
 
-#[test]
-fn cost_model_ids_have_one_spelling() {
-    use crate::cost::CostModelId;
-    let id = |s: &str| CostModelId::parse(s).map(|i| i.to_string());
-    assert_eq!(id("lavapipe_isolated").as_deref(), Ok("lavapipe_isolated"));
-    assert_eq!(id(" isa:Navi21 ").as_deref(), Ok("isa:navi21"));
-    assert_eq!(
-        CostModelId::isa("navi21", crate::method::Precision::F16).to_string(),
-        "isa:navi21:f16"
-    );
-    assert_eq!(
-        CostModelId::slug("bench", "llvmpipe (LLVM 15) | Mesa 22.3.6").to_string(),
-        "bench:llvmpipe-llvm-15-mesa-22.3.6"
-    );
-    for bad in ["", "isa:", ":x", "isa:a b", "isa:../x", "isa:x/y", "é"] {
-        assert!(CostModelId::parse(bad).is_err(), "{bad:?} accepted");
-    }
-    // Only the registered sources measure on demand: anything else is a usage error naming
-    // the ids that are.
-    let e = crate::costs::builtin()
-        .measure(
-            &CostModelId::parse("gpu:navi21").unwrap(),
-            &[],
-            &crate::cost::Evidence::new(),
-        )
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("lavapipe_isolated") && e.contains("isa:FAMILY"),
-        "{e}"
-    );
-}
-
 /// When the extra programs save less than a switch costs (every candidate as dear as the next)
 /// the torus is drawn with one program, however many the per-triangle choice used: drawing
 /// the choice as it is (the behaviour before) fails this. Where the cheap program saves much

@@ -206,3 +206,26 @@ impl CostModel {
         self.figures.iter().find(|f| f.method == method)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cost_model_ids_have_one_spelling() {
+        let id = |s: &str| CostModelId::parse(s).map(|i| i.to_string());
+        assert_eq!(id("lavapipe_isolated").as_deref(), Ok("lavapipe_isolated"));
+        assert_eq!(id(" isa:Navi21 ").as_deref(), Ok("isa:navi21"));
+        assert_eq!(
+            CostModelId::isa("navi21", crate::method::Precision::F16).to_string(),
+            "isa:navi21:f16"
+        );
+        assert_eq!(
+            CostModelId::slug("bench", "llvmpipe (LLVM 15) | Mesa 22.3.6").to_string(),
+            "bench:llvmpipe-llvm-15-mesa-22.3.6"
+        );
+        for bad in ["", "isa:", ":x", "isa:a b", "isa:../x", "isa:x/y", "é"] {
+            assert!(CostModelId::parse(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+}

@@ -4,6 +4,7 @@
 //! ([`evaluate`]), and the timed draw's programs as a driver compiled them ([`compiled`], for
 //! `shadelab isa`).
 pub mod compiled;
+pub mod device;
 pub mod evaluate;
 mod readback;
 pub mod renderer;
@@ -12,5 +13,6 @@ pub mod spirv;
 pub mod timing;
 pub mod vk;
 
+pub use device::DeviceSpec;
 pub use renderer::*;
 pub use timing::*;

@@ -3,8 +3,8 @@
 //! through the production ACO compiler; VK_KHR_pipeline_executable_properties returns its
 //! statistics and disassembly (../shared/TOOLCHAIN.md "RADV null device").
 //!
-//! Each family is compiled in a child process of its own ([`child`]: the binary re-executing
-//! itself with `isa --child FAMILY`), two at a time, with the driver selected in the child's
+//! Each family is compiled in a child process of its own ([`child`], started through
+//! [`crate::child`]'s protocol: `shadelab child REQUEST`), two at a time, with the driver selected in the child's
 //! environment before Vulkan loads: a family the driver refuses or crashes on (Mesa 22.3.6
 //! dies of SIGFPE on navi24) is reported as not supported, never fatal. [`table`] turns the
 //! children's reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv,
@@ -20,7 +20,6 @@ pub mod rank;
 pub mod table;
 
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -48,8 +47,6 @@ pub const DEFAULT_DRIVER_FILES: &str = "/usr/share/vulkan/icd.d/radeon_icd.x86_6
 pub const KERNEL_COUNTS: [u32; 2] = [2, 3];
 /// Children compiling at a time (the project's machines have two cores).
 pub const PARALLEL_CHILDREN: usize = 2;
-/// Lines of a failed child's stderr kept in the report.
-const STDERR_TAIL_LINES: usize = 6;
 
 pub use crate::method::Precision;
 
@@ -95,8 +92,9 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
     ]
 }
 
-/// Runs one child and reads its report.
-pub fn run_child(opts: &IsaOptions, family: &str) -> ChildOutcome {
+/// Runs one child (the protocol of [`crate::child`], its request and reply under `dir`) and
+/// reads its report.
+pub fn run_child(opts: &IsaOptions, family: &str, dir: &std::path::Path) -> ChildOutcome {
     let req = ChildRequest {
         family: family.to_string(),
         methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
@@ -105,57 +103,15 @@ pub fn run_child(opts: &IsaOptions, family: &str) -> ChildOutcome {
         probes: opts.probes.clone(),
         precision: opts.precision,
     };
-    let request = match serde_json::to_string(&req) {
-        Ok(r) => r,
-        Err(e) => return ChildOutcome::Failed(format!("cannot encode the request: {e}")),
+    let spawn = crate::child::Spawn {
+        exe: opts.exe.clone(),
+        driver_env: child_env(family, &opts.driver_files),
+        method_files: crate::method::user::paths(),
+        show_stderr: false,
     };
-    let mut cmd = Command::new(&opts.exe);
-    cmd.args(["isa", "--child", &request])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    for (k, v) in child_env(family, &opts.driver_files) {
-        cmd.env(k, v);
-    }
-    let out = match cmd.output() {
-        Ok(o) => o,
-        Err(e) => return ChildOutcome::Failed(format!("cannot start {}: {e}", opts.exe.display())),
-    };
-    if out.status.success() {
-        return match serde_json::from_slice::<ChildReport>(&out.stdout) {
-            Ok(r) => ChildOutcome::Compiled(r),
-            Err(e) => ChildOutcome::Failed(format!("the child's report is not readable: {e}")),
-        };
-    }
-    ChildOutcome::Failed(describe_failure(out.status, &out.stderr))
-}
-
-/// "killed by signal 8 (SIGFPE)" or "exit code 2", then the last lines of stderr.
-fn describe_failure(status: std::process::ExitStatus, stderr: &[u8]) -> String {
-    use std::os::unix::process::ExitStatusExt;
-    let how = match (status.code(), status.signal()) {
-        (Some(c), _) => format!("exit code {c}"),
-        (None, Some(s)) => format!("killed by signal {s}{}", signal_name(s)),
-        (None, None) => format!("{status}"),
-    };
-    let text = String::from_utf8_lossy(stderr);
-    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
-    let tail = lines[lines.len().saturating_sub(STDERR_TAIL_LINES)..].join(" | ");
-    if tail.is_empty() {
-        how
-    } else {
-        format!("{how}; stderr: {tail}")
-    }
-}
-
-fn signal_name(s: i32) -> &'static str {
-    match s {
-        4 => " (SIGILL)",
-        6 => " (SIGABRT)",
-        8 => " (SIGFPE)",
-        9 => " (SIGKILL)",
-        11 => " (SIGSEGV)",
-        _ => "",
+    match crate::child::call(&spawn, &req, dir, family) {
+        Ok(r) => ChildOutcome::Compiled(r),
+        Err(f) => ChildOutcome::Failed(f.why),
     }
 }
 
@@ -165,6 +121,10 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
         return Err(Error::Usage("--families: no family given".into()));
     }
     let start = Instant::now();
+    let dir = tempfile::Builder::new()
+        .prefix("shadelab-isa-")
+        .tempdir()
+        .map_err(|e| Error::io(std::path::Path::new("a temporary folder"), e))?;
     let queue: Mutex<Vec<(usize, String)>> =
         Mutex::new(opts.families.iter().cloned().enumerate().rev().collect());
     let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());
@@ -173,7 +133,7 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
             s.spawn(|| loop {
                 let next = queue.lock().ok().and_then(|mut q| q.pop());
                 let Some((i, family)) = next else { break };
-                let outcome = run_child(opts, &family);
+                let outcome = run_child(opts, &family, dir.path());
                 progress(&match &outcome {
                     ChildOutcome::Compiled(r) => {
                         format!("{family}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
