@@ -188,6 +188,8 @@ pub struct OutOfReach {
 #[derive(Debug, Clone, Serialize)]
 pub struct ProofReport {
     pub schema_version: u32,
+    /// The largest angle between any two vertex normals (triangle domain), or between N0 and
+    /// N1 (edge domain), degrees.
     pub max_angle_deg: f64,
     pub tolerance: f64,
     pub shininess: f64,
