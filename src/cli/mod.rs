@@ -311,8 +311,10 @@ enum Command {
         #[command(flatten)]
         precision: PrecisionArgs,
     },
-    /// Proven upper bounds of each covered method's normal-space and colour errors over a
-    /// declared domain (interval branch-and-bound), beside the worst values found at real points.
+    /// Proven upper bounds of each covered method's normal-space and colour errors, and its
+    /// largest valid angle, over two declared domains (interval branch-and-bound): any triangle
+    /// (three vertex normals pairwise within --max-angle) and stress's edge geometry (N2 the
+    /// bisector), beside the worst values found at real points of each.
     Prove(self::prove::ProveArgs),
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
     /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
