@@ -184,7 +184,7 @@ pub fn specular_bound_specs(k: u32) -> Vec<CaseSpec> {
 /// The validity claims checked by the sweeps: (method, claimed range in degrees, claim).
 const USABLE_UP_TO: [(&str, f64, &str); 5] = [
     ("newton_raphson", 40.0, "usable for angles between vertex normals up to 40 degrees (docs/formulas.md#newton-raphson-step)"),
-    ("romanyuk_poly", 90.0, "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (docs/formulas.md#mikami-square-root)"),
+    ("romanyuk_poly", 90.0, "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial)"),
     ("barycentric_quadratic", 90.0, "the M_ij polynomial is fitted for vertex normals up to 90 degrees apart (docs/formulas.md#barycentric-quadratic-triangle)"),
     ("dichotomy_poly1", 45.0, "the degree-1 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)"),
     ("dichotomy_poly2", 45.0, "the degree-2 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)"),
