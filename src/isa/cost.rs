@@ -4,7 +4,7 @@
 //! family compiled now by one child.
 use std::path::PathBuf;
 
-use super::{IsaOptions, IsaReport, DEFAULT_DRIVER_FILES};
+use super::{IsaOptions, IsaReport, DEFAULT_DRIVER_FILES, DEFAULT_FAMILIES};
 use crate::cost::rule::static_cheaper;
 use crate::cost::{CostFigure, CostKind, CostModel, CostModelId, CostSource, Evidence, Measure};
 use crate::error::{Error, Result};
@@ -104,7 +104,15 @@ impl CostSource for StaticCost {
     }
 
     fn on_demand(&self) -> Option<&'static str> {
-        Some("isa:FAMILY (a Mesa chip name, e.g. isa:navi21; see shadelab isa)")
+        Some("isa:FAMILY or isa:FAMILY:f16 (a Mesa chip name, e.g. isa:navi21; see shadelab isa)")
+    }
+
+    /// The default families, float32 then float16 programs.
+    fn on_demand_ids(&self) -> Vec<CostModelId> {
+        Precision::ALL
+            .iter()
+            .flat_map(|&p| DEFAULT_FAMILIES.iter().map(move |f| CostModelId::isa(f, p)))
+            .collect()
     }
 
     fn measures(&self, id: &CostModelId) -> bool {
@@ -119,7 +127,7 @@ impl CostSource for StaticCost {
         methods: &[&'static Method],
         _ev: &Evidence,
     ) -> Result<CostModel> {
-        let family = family_of(id).unwrap_or_default();
+        let (family, precision) = family_of(id).unwrap_or_default();
         let exe = std::env::current_exe()
             .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
         let opts = IsaOptions {
@@ -128,7 +136,7 @@ impl CostSource for StaticCost {
             driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
             scene: None,
             exe,
-            precision: Precision::F32,
+            precision,
             probes: Vec::new(),
         };
         let report = super::run(&opts, &|_| {})?;
@@ -148,8 +156,36 @@ impl CostSource for StaticCost {
     }
 }
 
-/// The family of a float32 `isa:FAMILY` id.
-fn family_of(id: &CostModelId) -> Option<&str> {
+/// The family and precision of an `isa:FAMILY` (float32) or `isa:FAMILY:f16` id.
+fn family_of(id: &CostModelId) -> Option<(&str, Precision)> {
     let f = id.as_str().strip_prefix("isa:")?;
-    (!f.is_empty() && !f.contains(':')).then_some(f)
+    let (f, p) = match f.rsplit_once(':') {
+        Some((f, p)) => (f, p.parse::<Precision>().ok()?),
+        None => (f, Precision::F32),
+    };
+    (!f.is_empty() && !f.contains(':')).then_some((f, p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_name_a_family_and_a_precision() {
+        let id = |s: &str| CostModelId::parse(s).unwrap();
+        assert_eq!(
+            family_of(&id("isa:navi21")),
+            Some(("navi21", Precision::F32))
+        );
+        assert_eq!(
+            family_of(&id("isa:navi21:f16")),
+            Some(("navi21", Precision::F16))
+        );
+        for bad in ["isa:navi21:f64", "lavapipe_isolated", "isa:a:b:f16"] {
+            assert_eq!(family_of(&id(bad)), None, "{bad}");
+        }
+        let ids = StaticCost.on_demand_ids();
+        assert_eq!(ids.len(), 2 * DEFAULT_FAMILIES.len());
+        assert!(ids.iter().all(|i| family_of(i).is_some()));
+    }
 }

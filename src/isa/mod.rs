@@ -106,7 +106,7 @@ pub fn run_child(opts: &IsaOptions, family: &str, dir: &std::path::Path) -> Chil
     let spawn = crate::child::Spawn {
         exe: opts.exe.clone(),
         driver_env: child_env(family, &opts.driver_files),
-        method_files: crate::method::user::paths(),
+        method_files: crate::method::user::paths_of(&opts.methods),
         show_stderr: false,
     };
     match crate::child::call(&spawn, &req, dir, family) {
