@@ -138,6 +138,11 @@ impl Registry {
         }
     }
 
+    /// Whether some source measures `id` on demand.
+    pub fn knows(&self, id: &CostModelId) -> bool {
+        self.sources.iter().any(|s| s.measures(id))
+    }
+
     /// Every concrete id the sources can measure on demand, sources in registration order.
     pub fn on_demand_ids(&self) -> Vec<CostModelId> {
         self.sources

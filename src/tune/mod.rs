@@ -413,6 +413,13 @@ pub fn run(
     ev: &Evidence,
     out: &Path,
 ) -> Result<TuneReport> {
+    if let Some(id) = opts.cost_models.iter().find(|id| !registry.knows(id)) {
+        return Err(Error::Usage(format!(
+            "--cost-model {id}: no cost model of that id is measured on demand; expected one \
+             of: {}",
+            registry.on_demand().join(", ")
+        )));
+    }
     let start = Instant::now();
     let mut timings = Timings::default();
     let (name, info, dom, lights) = domain_of(source, ev, opts.threads)?;
