@@ -11,6 +11,8 @@
 //!   relative error, scaled so that the error after the steps is equal at its two ends (one
 //!   step turns a seed error e into `-(3/2) e^2 - e^3/2 <= 0`, larger for e > 0 than for -e).
 //! - [`Family::Paper`]: the covered methods of the table (the papers' fixed formulas), by name.
+//! - [`Family::Reference`]: phong_exact itself, `1/sqrt(z)`: the yardstick of every cost, and
+//!   its own proven bound (the rounding of its program) beside the candidates'.
 use serde::Serialize;
 
 use super::remez::{self, Certificate, Target};
@@ -25,6 +27,7 @@ pub enum Family {
     Minimax,
     Newton,
     Paper,
+    Reference,
 }
 
 impl Family {
@@ -33,6 +36,7 @@ impl Family {
             Family::Minimax => "minimax",
             Family::Newton => "newton",
             Family::Paper => "paper",
+            Family::Reference => "reference",
         }
     }
 }
@@ -106,6 +110,8 @@ impl Candidate {
     pub fn k<T: Real>(&self, z: T) -> T {
         match self.family {
             Family::Paper => paper_k(&self.id, z),
+            // normalize(n): as n (1 / sqrt(n.n)), whose two roundings bound Vulkan's
+            Family::Reference => T::c(1.0) / z.sqrt(),
             Family::Minimax => horner(&self.coeffs, z),
             Family::Newton => {
                 let mut y = horner(&self.coeffs, z);
@@ -128,6 +134,15 @@ impl Candidate {
             fitted_on: None,
             remez: None,
             seed_scale: None,
+        }
+    }
+
+    /// phong_exact, the reference.
+    pub fn reference() -> Candidate {
+        Candidate {
+            id: crate::method::PHONG_EXACT.to_string(),
+            family: Family::Reference,
+            ..Candidate::paper("phong_unnormalized")
         }
     }
 
@@ -194,14 +209,14 @@ impl Candidate {
                 "y0 = {p}; {} x y <- y (1.5 - 0.5 z y y); k(z) = y",
                 self.steps
             ),
-            Family::Paper => format!("the table's {}", self.id),
+            Family::Paper | Family::Reference => format!("the table's {}", self.id),
         }
     }
 
     /// The method file (None for a paper: its file is the table's). `header` lines are
     /// written as comments after the formula.
     pub fn glsl(&self, header: &[String]) -> Option<String> {
-        if self.family == Family::Paper {
+        if matches!(self.family, Family::Paper | Family::Reference) {
             return None;
         }
         let mut s = format!("// {}: {} (shadelab tune)\n", self.id, self.label());

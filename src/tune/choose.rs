@@ -4,7 +4,7 @@
 //! sampled error (the pixels' z) is shown beside, never consulted.
 use serde::Serialize;
 
-use super::candidate::Candidate;
+use super::candidate::{Candidate, Family};
 use super::proof::Bound;
 use crate::cost::{verdict_words, CostModel};
 use crate::method::Precision;
@@ -89,7 +89,12 @@ fn ratio_key(p: &Pick) -> f64 {
 
 /// The answer of model `m` over `rows` at `budget`.
 pub fn answer(rows: &[Row], m: &CostModel, budget: f64) -> Answer {
-    let picks: Vec<Pick> = rows.iter().map(|r| pick(r, m, budget)).collect();
+    // phong_exact is the yardstick, never an answer
+    let picks: Vec<Pick> = rows
+        .iter()
+        .filter(|r| r.candidate.family != Family::Reference)
+        .map(|r| pick(r, m, budget))
+        .collect();
     let cheaper = |p: &&Pick| m.figure(&p.candidate).is_some_and(|f| f.cheaper());
     let best = picks
         .iter()

@@ -6,6 +6,7 @@
 //! only on the operations: tests/tune.rs compiles two coefficient sets and compares them).
 use serde::Serialize;
 
+use super::candidate::Family;
 use super::choose::{self, Row};
 use super::domain::{widened, MeshDomain, CLASS_EDGES};
 use super::proof::{Lights, ProofBudget};
@@ -105,6 +106,7 @@ pub fn of_mesh(
 fn answer(class_rows: &[Row], rows: &[Row], m: &CostModel, budget: f64) -> ClassAnswer {
     let best = class_rows
         .iter()
+        .filter(|r| r.candidate.family != Family::Reference)
         .filter(|r| r.bound(m.precision).is_some_and(|b| b.within(budget)))
         .filter_map(|r| {
             let mesh = rows

@@ -156,7 +156,7 @@ pub fn form_id(prefix: &str, family: Family, d: usize, steps: u32) -> String {
 }
 
 /// Every form fitted on [lo, hi] (lo at least 1e-3: 1/sqrt(z) has no relative fit at 0), then
-/// the papers; the forms that cannot be fitted, with why.
+/// the papers and phong_exact; the forms that cannot be fitted, with why.
 pub fn fit_all(prefix: &str, lo: f64, hi: f64) -> (Vec<Candidate>, Vec<String>) {
     let lo = lo.max(1e-3).min(hi - 1e-9);
     let (mut out, mut skipped) = (Vec::new(), Vec::new());
@@ -172,6 +172,7 @@ pub fn fit_all(prefix: &str, lo: f64, hi: f64) -> (Vec<Candidate>, Vec<String>) 
         }
     }
     out.extend(PAPERS.iter().map(|p| Candidate::paper(p)));
+    out.push(Candidate::reference());
     (out, skipped)
 }
 
@@ -446,7 +447,10 @@ pub fn run(
     timings.files_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let mut methods = vec![method::phong_exact()];
-    for r in &rows {
+    for r in rows
+        .iter()
+        .filter(|r| r.candidate.family != Family::Reference)
+    {
         methods.push(method::find(&r.candidate.id)?);
     }
     let ids = if opts.cost_models.is_empty() {

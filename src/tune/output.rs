@@ -68,7 +68,7 @@ fn domain_lines(r: &TuneReport) -> String {
 pub fn table(r: &TuneReport) -> String {
     let mut s = domain_lines(r);
     s += &format!(
-        "{:<28} {:<20} {:>10} {:>10} {:>10} {:>10} {:>10}\n",
+        "{:<32} {:<20} {:>10} {:>10} {:>10} {:>10} {:>10}\n",
         "candidate", "form", "f32 length", "f32 colour", "f16 colour", "in budget", "sampled"
     );
     for row in &r.candidates {
@@ -79,7 +79,7 @@ pub fn table(r: &TuneReport) -> String {
             .map(|p| p.as_str())
             .collect();
         s += &format!(
-            "{:<28} {:<20} {:>10} {:>10} {:>10} {:>10} {:>10}\n",
+            "{:<32} {:<20} {:>10} {:>10} {:>10} {:>10} {:>10}\n",
             row.candidate.id,
             row.candidate.label(),
             num(b(Precision::F32).and_then(|x| x.length_error)),
@@ -123,13 +123,13 @@ fn cost_table(r: &TuneReport) -> String {
         return "costs: no cost model measured\n".into();
     }
     let mut s = String::from("cost / phong_exact's (* cheaper):\n");
-    s += &format!("{:<28}", "candidate");
+    s += &format!("{:<32}", "candidate");
     for m in &models {
         s += &format!(" {:>16}", m.trim_start_matches("isa:"));
     }
     s.push('\n');
     for row in &r.candidates {
-        s += &format!("{:<28}", row.candidate.id);
+        s += &format!("{:<32}", row.candidate.id);
         for m in &models {
             let c = row.costs.iter().find(|c| c.model == *m);
             let cell = c.map_or("n/a".to_string(), |c| {
