@@ -454,7 +454,7 @@ mod tests {
         let r = report(
             &[("navi21", true), ("bogus", false)],
             &[
-                ("phong_exact", 70.0),
+                (PHONG_EXACT, 70.0),
                 ("newton_raphson", 70.0),
                 // 1/70 of phong_exact: within even the "50 times faster" claim.
                 ("gouraud", 1.0),
@@ -483,7 +483,7 @@ mod tests {
     fn a_pair_timed_together_is_judged_by_its_own_interval() {
         let specs = claim_specs();
         let spec = specs.iter().find(|c| c.num == "newton_raphson").unwrap();
-        let names: Vec<String> = ["newton_raphson", "phong_exact"].map(String::from).to_vec();
+        let names: Vec<String> = ["newton_raphson", PHONG_EXACT].map(String::from).to_vec();
         let model = |values: Vec<Vec<f64>>| {
             let claims = super::super::software::judge_claims(&names, &values, None);
             let mut m = crate::isa::cost::StaticCost.models(&Evidence::new());
@@ -535,6 +535,6 @@ mod tests {
         let m = |n| crate::method::find(n).unwrap();
         let ms = claim_methods(&[m("newton_raphson"), m("flat"), m("gouraud")]);
         let names: Vec<&str> = ms.iter().map(|m| m.name).collect();
-        assert_eq!(names, ["newton_raphson", "gouraud", "phong_exact"]);
+        assert_eq!(names, ["newton_raphson", "gouraud", PHONG_EXACT]);
     }
 }

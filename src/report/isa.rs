@@ -109,11 +109,6 @@ pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
     h + "</section>"
 }
 
-/// `page` with the [`section`] before its `</main>` (the report's hook).
-pub fn splice(page: &str, run: &IsaRun, methods: &[&'static Method]) -> String {
-    page.replacen("</main>", &(section(run, methods) + "</main>"), 1)
-}
-
 /// The options of `isa` on the report's methods (phong_exact included) in `precision`.
 fn options(
     methods: &[&'static Method],

@@ -24,6 +24,7 @@ pub mod front;
 pub mod html;
 pub mod isa;
 pub mod links;
+pub mod sections;
 pub mod svg;
 #[cfg(test)]
 mod tests;
@@ -129,6 +130,8 @@ pub struct ReportData {
     pub answer: answer::Answer,
     /// `isa` on the report's methods, float32 and float16 (static cost models of the answer).
     pub isa: isa::IsaRun,
+    /// The report's methods (the references included), in its order.
+    pub methods: Vec<&'static Method>,
 }
 
 /// What a run wrote.
@@ -408,7 +411,7 @@ impl SceneRun<'_> {
 }
 
 /// Writes answer.json, answer.md, the style sheet, the script and index.html of `data`.
-fn write_page(out: &Path, data: &ReportData, methods: &[&'static Method]) -> Result<PathBuf> {
+fn write_page(out: &Path, data: &ReportData) -> Result<PathBuf> {
     let json =
         serde_json::to_string_pretty(&data.answer).map_err(|e| Error::output("answer.json", e))?;
     output::write_bytes_atomic(&out.join("answer.json"), (json + "\n").as_bytes())?;
@@ -417,8 +420,7 @@ fn write_page(out: &Path, data: &ReportData, methods: &[&'static Method]) -> Res
     output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
     let sources = formulas::page(formulas::SOURCE);
     output::write_bytes_atomic(&out.join(formulas::PAGE), sources.as_bytes())?;
-    let page = html::page(data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
-    let page = isa::splice(&page, &data.isa, methods);
+    let page = sections::page(data, &|rel| image::image_dimensions(out.join(rel)).ok());
     let index = out.join("index.html");
     output::write_bytes_atomic(&index, page.as_bytes())?;
     Ok(index)
@@ -504,6 +506,7 @@ pub fn run(
     let mut data = ReportData {
         answer: answer::answer(&[], &[], &[], Vec::new()),
         isa,
+        methods: methods.clone(),
         scenes: results,
         stress,
         stress_dir: "stress".into(),
@@ -522,7 +525,7 @@ pub fn run(
         },
     };
     data.answer = front::answer_of(&data, &opts.costs);
-    let index = write_page(out, &data, &methods)?;
+    let index = write_page(out, &data)?;
     bar.inc(1);
     bar.finish_and_clear();
     let broken = links::broken_links(&index)?;
