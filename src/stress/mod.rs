@@ -258,6 +258,9 @@ pub struct MethodStress {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_valid_angle_deg_f32: Option<Option<f64>>,
     pub error_vs_angle: Vec<CurvePoint>,
+    /// The normal's length error ||N| - 1| per angle, facing the viewer (the length criterion
+    /// of a validity claim); empty for a method without a normal.
+    pub length_error_vs_angle: Vec<CurvePoint>,
     pub error_vs_shininess: Vec<CurvePoint>,
     pub error_vs_span: Vec<CurvePoint>,
     pub error_vs_length: Vec<CurvePoint>,
@@ -450,6 +453,7 @@ pub fn stress_method(
         // a method without a device program is its f64 twin in both precisions
         max_valid_angle_deg_f32: valid_f32.map(|v| if dev.is_some() { v } else { max_valid_f64 }),
         error_vs_angle: curves.angle,
+        length_error_vs_angle: curves.length_vs_angle,
         error_vs_shininess: curves.shininess,
         error_vs_span: curves.span,
         error_vs_length: curves.length,
@@ -473,6 +477,7 @@ fn without_twin(m: &Method, mut s: MethodStress) -> MethodStress {
     s.max_valid_angle_deg_f64 = None;
     for curve in [
         &mut s.error_vs_angle,
+        &mut s.length_error_vs_angle,
         &mut s.error_vs_shininess,
         &mut s.error_vs_span,
         &mut s.error_vs_length,
@@ -485,12 +490,12 @@ fn without_twin(m: &Method, mut s: MethodStress) -> MethodStress {
     s
 }
 
-/// The error of `spec` (device, or f64 without a device program); NaN when non-finite.
+/// The errors of `cases` (device, or f64 without a device program), with the device outputs.
 fn measure(
     kernel: &mut Option<&mut Kernel>,
     m: &Method,
     cases: &[Case],
-) -> Result<Vec<(f64, Option<Output>)>> {
+) -> Result<Vec<(Errors, Option<Output>)>> {
     match kernel {
         Some(k) => {
             let gpu = cases
@@ -503,7 +508,7 @@ fn measure(
                 .zip(out)
                 .map(|(c, e)| {
                     let o = Output::from_device(&e);
-                    (errors(c, o.color(), o.normal()).abs, Some(o))
+                    (errors(c, o.color(), o.normal()), Some(o))
                 })
                 .collect())
         }
@@ -511,7 +516,7 @@ fn measure(
             .iter()
             .map(|c| {
                 let r = f64_formula(m)(&c.fragment, &c.lighting);
-                (errors(c, r.color, r.normal).abs, None)
+                (errors(c, r.color, r.normal), None)
             })
             .collect()),
     }
@@ -519,7 +524,9 @@ fn measure(
 
 /// Local search around `start` (error `start_err`): each round perturbs the continuous
 /// parameters of the best case so far (angles, light, pixel) by steps that shrink by half per
-/// round, evaluates a batch and keeps the worst finite one. Returns it when it beats the grid.
+/// round, evaluates a batch and keeps the worst one the grid would count ([`Errors::counted`]:
+/// finite, and not ill-conditioned, so a neighbour whose interpolated normal is shorter than
+/// [`crate::cases::ILL_CONDITIONED`] never wins). Returns it when it beats the grid.
 fn refine(
     mut kernel: Option<&mut Kernel>,
     m: &Method,
@@ -538,8 +545,11 @@ fn refine(
             .collect();
         let cases: Vec<Case> = specs.into_iter().map(Case::new).collect();
         let measured = measure(&mut kernel, m, &cases)?;
-        for (case, (err, out)) in cases.into_iter().zip(measured) {
-            if err.is_finite() && err > best_err {
+        for (case, (e, out)) in cases.into_iter().zip(measured) {
+            let Some(err) = e.counted().filter(|v| v.is_finite()) else {
+                continue;
+            };
+            if err > best_err {
                 best_err = err;
                 best = case.spec;
                 found = Some((case, out, err));
