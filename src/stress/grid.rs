@@ -308,10 +308,9 @@ fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<S
             at.non_finite
         );
         let how_colour = format!(
-            "colour criterion: max_valid_angle_deg, the largest angle of the sweep up to which \
-             every case facing the viewer (elevation < 90, 4 frames, 5 lights, shininess 20, 17 \
-             pixels) is finite and within {threshold:.6} on the device, holds when it reaches \
-             the claimed angle"
+            "max_valid_angle_deg: the largest angle of the sweep up to which every case facing \
+             the viewer (elevation < 90, 4 frames, 5 lights, shininess 20, 17 pixels) is finite \
+             and within {threshold:.6} on the device"
         );
         let (measured, verdict, how) = match c.criteria {
             Criteria::Colour => (
@@ -321,7 +320,7 @@ fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<S
                 } else {
                     Verdict::Disagrees
                 },
-                format!("{how_colour}; agrees when it holds"),
+                format!("{how_colour}; agrees when it reaches the claimed angle"),
             ),
             Criteria::LengthAndColour => {
                 let len = worst_of(&m.length_error_vs_angle, f64::NEG_INFINITY, range);
@@ -346,8 +345,9 @@ fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<S
                          criterion, the worst ||N| - 1| of the device's normal over the same \
                          facing cases up to the claimed angle, holds when within \
                          {VISIBLE_LENGTH_ERROR_PCT} % (the project's visible-length threshold); \
-                         the {how_colour}; agrees when both hold, partly when one does, \
-                         disagrees when neither"
+                         the colour criterion, {how_colour}, holds when it reaches the claimed \
+                         angle; agrees when both hold, partly when one does, disagrees when \
+                         neither"
                     ),
                 )
             }
