@@ -307,9 +307,9 @@ pub(crate) fn flat_off_arc((a, b): (DVec3, DVec3), s: f64, off_deg: f64, dir_deg
 pub(crate) const FLAT_OFFSETS: [f64; 3] = [0.0, 10.0, 20.0];
 
 /// Positions of the flat normal along the arc: `s = i / FLAT_STEPS`.
-const FLAT_STEPS: u32 = 20;
+const FLAT_STEPS: u32 = 10;
 
-/// The flat normals of [`flat_based_is_unit`] `off` degrees from the arc of the pair `p`: 21
+/// The flat normals of [`flat_based_is_unit`] `off` degrees from the arc of the pair `p`: 11
 /// positions along it, each turned towards 12 directions (30-degree steps; one, on the arc,
 /// for `off` = 0).
 fn flats(p: (DVec3, DVec3), off: f64) -> impl Iterator<Item = DVec3> {
@@ -327,7 +327,7 @@ fn flats(p: (DVec3, DVec3), off: f64) -> impl Iterator<Item = DVec3> {
 }
 
 /// The length of `method(lerp, flat)` along edges 40..120 degrees wide, the flat normal on the
-/// arc between the vertex normals (21 positions, vertex normals and bisector included) and up
+/// arc between the vertex normals (11 positions, vertex normals and bisector included) and up
 /// to [`FLAT_OFFSETS`] off it ([`flats`]): agrees when it is 1 to 1e-12 everywhere (the result
 /// needs no normalisation, so no square root). Also prints the angle error against
 /// normalize(lerp) at 90 degrees, for each distance the least and the largest over the flat
@@ -385,9 +385,13 @@ pub(crate) fn flat_based_is_unit(method: fn(DVec3, DVec3) -> DVec3) -> Measureme
         ),
         &format!(
             "formulas::hbb, flat normal at {} positions along the arc between the vertex \
-             normals and {FLAT_OFFSETS:?} deg off it in 12 directions",
-            FLAT_STEPS + 1
+             normals and {FLAT_OFFSETS:?} deg off it in 12 directions; the angle error along the \
+             edge at {} points with the flat normal on the arc, {} off it",
+            FLAT_STEPS + 1,
+            STEPS + 1,
+            STEPS / 100 + 1
         ),
+        STEPS / 100 + 1,
     )
 }
 
@@ -433,7 +437,14 @@ pub(crate) fn quaternion_recovery_is_unit(recover: fn(DVec3) -> DVec3) -> Measur
             at(&frames.facing),
             at(&frames.all),
         ),
-        "formulas::normal_from_quat of the lerped formulas::quat_from_normal",
+        &format!(
+            "formulas::normal_from_quat of the lerped formulas::quat_from_normal; the angle \
+             error over frames: the pair's bisector tilted 0..180 deg from +Z in 1-degree steps, \
+             its spread 0..150 deg from the tilt plane in 30-degree steps, frames with a vertex \
+             normal within {QUAT_NZ_MARGIN:e} of n_z = -1 left out, {} points per edge",
+            STEPS / 100 + 1
+        ),
+        STEPS + 1,
     )
 }
 
@@ -493,7 +504,7 @@ const QUAT_NZ_MARGIN: f64 = 1e-6;
 /// The quaternion of a normal is taken in a fixed frame (+Z), so its angle error depends on
 /// where the pair sits. Turning the pair about +Z turns the quaternions with it, so every pair
 /// `theta` apart is, up to that turn, a pair whose bisector is tilted 0..=180 degrees from +Z
-/// (1-degree steps) and whose spread makes 0..180 degrees with the tilt plane (15-degree
+/// (1-degree steps) and whose spread makes 0..180 degrees with the tilt plane (30-degree
 /// steps): that is the method's whole validity (both n_z > -1; frames with a normal within
 /// [`QUAT_NZ_MARGIN`] of -Z are left out), swept at 1,001 points per edge. Returns the worst
 /// over all of them and over those whose vertex normals both face the viewer (n_z >= 0).
@@ -502,7 +513,7 @@ pub(crate) fn quaternion_angle_over_frames(recover: fn(DVec3) -> DVec3, theta: f
     let mut facing = QuatFrame::default();
     for tilt in 0..=180u32 {
         let r = glam::DQuat::from_rotation_y(f64::from(tilt).to_radians());
-        for spread in (0..180u32).step_by(15) {
+        for spread in (0..180u32).step_by(30) {
             let spin = glam::DQuat::from_rotation_z(f64::from(spread).to_radians());
             let (a, b) = pair(theta);
             let (a, b) = (r * (spin * a), r * (spin * b));
@@ -526,7 +537,9 @@ pub(crate) fn quaternion_angle_over_frames(recover: fn(DVec3) -> DVec3, theta: f
     QuatFrames { all, facing }
 }
 
-fn unit_measurement(dev: Worst, extra: String, what: &str) -> Measurement {
+/// The unit-length verdict of a sweep of `points` points per edge (`what`: the formula and
+/// where the sweep goes).
+fn unit_measurement(dev: Worst, extra: String, what: &str, points: usize) -> Measurement {
     Measurement {
         evidence: Evidence::found(dev.value(), Quantity::RelativeError),
         measured: format!("max ||N'| - 1| = {:.1e}{}{extra}", dev.finite, dev.note()),
@@ -536,9 +549,10 @@ fn unit_measurement(dev: Worst, extra: String, what: &str) -> Measurement {
             Verdict::Disagrees
         },
         how: format!(
-            "{} ({what}; edges {UNIT_ANGLES:?} deg); agrees when |N'| = 1 to {UNIT_TOLERANCE:e} \
-             everywhere, i.e. the result needs no square root to be unit",
-            sweep_how("|N'|")
+            "f64 sweep of |N'| (src/method/formulas.rs) at {points} points along an edge between \
+             two unit vertex normals, run when this was written (src/method/checks.rs) ({what}; \
+             edges {UNIT_ANGLES:?} deg); agrees when |N'| = 1 to {UNIT_TOLERANCE:e} everywhere, \
+             i.e. the result needs no square root to be unit"
         ),
     }
 }
@@ -875,7 +889,7 @@ mod tests {
             all.worst.finite > 179.99 && all.worst.non_finite == 0,
             "{all:?}"
         );
-        assert!(all.worst.points > 180 * 12 * 1000, "{all:?}");
+        assert!(all.worst.points > 180 * 6 * 1000, "{all:?}");
         let m = quaternion_is_unit();
         assert!(
             m.measured

@@ -342,6 +342,61 @@ fn valid_angle_f32(
     Ok(Some(sweeps::max_valid_angle(grid, &errs, opts.threshold)))
 }
 
+/// A method's errors on the grid folded into its worst figures (the cases a sweep applies to).
+struct GridWorst {
+    /// The counted colour errors (device, or f64 without a device program), and the f64 twin's.
+    all: Worst,
+    all_f64: Worst,
+    vs_slerp: Worst,
+    angle: Worst,
+    length: Worst,
+    /// The worst finite counted case, and the first non-finite one.
+    worst_i: Option<usize>,
+    non_finite_i: Option<usize>,
+    /// Finite results on ill-conditioned cases, left out.
+    ill: usize,
+}
+
+/// Folds `primary` (and the twin's `f64_err`) over the cases `applies` selects.
+fn fold_grid(m: &Method, applies: &[bool], primary: &[Errors], f64_err: &[Errors]) -> GridWorst {
+    let mut g = GridWorst {
+        all: Worst::default(),
+        all_f64: Worst::default(),
+        vs_slerp: Worst::default(),
+        angle: Worst::default(),
+        length: Worst::default(),
+        worst_i: None,
+        non_finite_i: None,
+        ill: 0,
+    };
+    for i in (0..primary.len()).filter(|&i| applies[i]) {
+        let e = &primary[i];
+        if let Some(v) = f64_err[i].counted() {
+            g.all_f64.add(v);
+        }
+        let Some(v) = e.counted() else {
+            g.ill += 1;
+            continue;
+        };
+        g.all.add(v);
+        if m.reference == Reference::PhongAndSlerp {
+            g.vs_slerp.add(e.abs_slerp);
+        }
+        if let Some(a) = e.angle_deg {
+            g.angle.add(a);
+        }
+        if let Some(l) = e.length {
+            g.length.add(l);
+        }
+        if e.non_finite {
+            g.non_finite_i.get_or_insert(i);
+        } else if g.worst_i.is_none_or(|w| e.abs > primary[w].abs) {
+            g.worst_i = Some(i);
+        }
+    }
+    g
+}
+
 /// Runs the sweeps for one method.
 pub fn stress_method(
     ctx: &Arc<Context>,
@@ -372,38 +427,16 @@ pub fn stress_method(
     // The measure of a case: the device's error, or the twin's without a device program.
     let primary = dev_err.as_ref().unwrap_or(&f64_err);
 
-    let mut all = Worst::default();
-    let mut all_f64 = Worst::default();
-    let mut vs_slerp = Worst::default();
-    let (mut angle, mut length) = (Worst::default(), Worst::default());
-    let mut worst_i: Option<usize> = None;
-    let mut non_finite_i: Option<usize> = None;
-    let mut ill = 0;
-    for i in (0..grid.cases.len()).filter(|&i| applies[i]) {
-        let e = &primary[i];
-        if let Some(v) = f64_err[i].counted() {
-            all_f64.add(v);
-        }
-        let Some(v) = e.counted() else {
-            ill += 1;
-            continue;
-        };
-        all.add(v);
-        if m.reference == Reference::PhongAndSlerp {
-            vs_slerp.add(e.abs_slerp);
-        }
-        if let Some(a) = e.angle_deg {
-            angle.add(a);
-        }
-        if let Some(l) = e.length {
-            length.add(l);
-        }
-        if e.non_finite {
-            non_finite_i.get_or_insert(i);
-        } else if worst_i.is_none_or(|w| e.abs > primary[w].abs) {
-            worst_i = Some(i);
-        }
-    }
+    let GridWorst {
+        all,
+        all_f64,
+        vs_slerp,
+        angle,
+        length,
+        worst_i,
+        non_finite_i,
+        ill,
+    } = fold_grid(m, &applies, primary, &f64_err);
     let report =
         |i: usize, out: Option<&Output>| case_report(m, &grid.cases[i], out, opts.precision);
     let dev_out = |i: usize| dev.as_ref().map(|d| &d[i]);
