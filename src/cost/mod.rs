@@ -159,7 +159,7 @@ impl CostFigure {
 /// inconclusive, unmeasured.
 pub fn verdict_words(v: Verdict) -> &'static str {
     match v {
-        Verdict::Agrees | Verdict::AgreesRounded => "cheaper",
+        Verdict::Agrees => "cheaper",
         Verdict::Disagrees => "not cheaper",
         Verdict::Inconclusive | Verdict::Partly => "inconclusive",
         Verdict::NotChecked => "unmeasured",

@@ -469,11 +469,10 @@ pub(super) fn scene_section(s: &SceneResult, dims: Dims) -> String {
     };
     let _ = write!(
         h,
-        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} agree to the claim's \
-         printed digits, {} partly, {} disagree, {} inconclusive, {} not checked</summary>",
+        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} partly, {} disagree, {} \
+         inconclusive, {} not checked</summary>",
         s.bench.claims.len(),
         count("agrees"),
-        count("agrees_rounded"),
         count("partly"),
         count("disagrees"),
         count("inconclusive"),
