@@ -395,9 +395,9 @@ enum Command {
         models: Option<PathBuf>,
         /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
         /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
-        /// run in this process).
-        #[arg(long, value_name = "N", default_value_t = crate::bench::plan::DEFAULT_RUNS)]
-        runs: usize,
+        /// run in this process; default 5).
+        #[arg(long, value_name = "N")]
+        runs: Option<usize>,
         /// Output directory (index.html and everything it shows).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
