@@ -1,5 +1,6 @@
-//! `shadelab isa`: the methods compiled for AMD GPU generations by RADV's null device (ACO's
-//! statistics and disassembly); see [`crate::isa`]. The hidden `--child REQUEST` runs one
+//! `shadelab isa`: the methods compiled for GPU generations of several vendors without their
+//! GPUs (AMD through RADV's null device, Intel, NVIDIA and AMD TeraScale through Mesa's
+//! drm-shims); see [`crate::isa`] and its vendor seam [`crate::isa::vendor`]. The hidden `--child REQUEST` runs one
 //! family inside the process the parent started with the driver selected in its environment.
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -16,8 +17,10 @@ pub(super) struct IsaArgs {
     /// base).
     #[arg(long, default_value = "all")]
     methods: String,
-    /// Comma-separated Mesa chip names (RADV_FORCE_FAMILY), e.g. polaris10,navi21,gfx1100.
-    #[arg(long, default_value_t = isa::DEFAULT_FAMILIES.join(","))]
+    /// Comma-separated family ids, `<vendor>:<chip>` (amd:navi21, intel:tgl, nvidia:nv162,
+    /// terascale:cayman; a bare chip name is AMD's), or `all`: every default family of every
+    /// vendor (docs/isa.md); a vendor whose route is not set up is reported as such.
+    #[arg(long, default_value = "all")]
     families: String,
     /// The RADV Vulkan ICD manifest to load (VK_DRIVER_FILES), e.g. a Mesa 25 build (docs/isa.md).
     #[arg(long, value_name = "JSON", default_value = isa::DEFAULT_DRIVER_FILES)]

@@ -15,8 +15,10 @@ pub mod chart;
 pub mod child;
 pub mod claims;
 pub mod files;
+pub mod gl_child;
 pub mod rank;
 pub mod table;
+pub mod vendor;
 
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -27,6 +29,7 @@ use crate::error::{Error, Result};
 use crate::method::Method;
 pub use child::{ChildReport, ChildRequest, Compiled};
 pub use table::{FamilyStatus, IsaReport, Row};
+pub use vendor::{Family, Vendor};
 
 /// The families compiled by default: a spread Mesa 22.3.6 accepts, oldest first (GCN1, GCN4,
 /// GCN5, RDNA1, RDNA2, RDNA3).
@@ -75,6 +78,8 @@ pub enum ChildOutcome {
     Compiled(ChildReport),
     /// Not supported by this driver: what happened (signal, exit code, stderr tail).
     Failed(String),
+    /// The vendor's route is not set up (why); no child was started.
+    NotSetUp(String),
 }
 
 /// The environment of a child compiling for `family` with the ICD `driver_files`: set before
@@ -94,10 +99,18 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
     ]
 }
 
-/// Runs one child and reads its report.
-pub fn run_child(opts: &IsaOptions, family: &str) -> ChildOutcome {
+/// Runs one child for `family` and reads its report; a route that is not set up starts none.
+pub fn run_child(opts: &IsaOptions, family: &Family) -> ChildOutcome {
+    let env = match family.vendor.setup(&opts.driver_files).and_then(|setup| {
+        family
+            .vendor
+            .child_env(family.chip, &setup, &opts.driver_files)
+    }) {
+        Ok(env) => env,
+        Err(why) => return ChildOutcome::NotSetUp(why),
+    };
     let req = ChildRequest {
-        family: family.to_string(),
+        family: family.id(),
         methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
         scene: opts.scene.clone(),
         kernel_counts: KERNEL_COUNTS,
@@ -113,7 +126,7 @@ pub fn run_child(opts: &IsaOptions, family: &str) -> ChildOutcome {
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    for (k, v) in child_env(family, &opts.driver_files) {
+    for (k, v) in env {
         cmd.env(k, v);
     }
     let out = match cmd.output() {
@@ -158,26 +171,46 @@ fn signal_name(s: i32) -> &'static str {
     }
 }
 
+/// The families of `ids` (family ids, or bare AMD chip names), in order; an unknown vendor
+/// is a usage error.
+pub fn families(ids: &[String]) -> Result<Vec<Family>> {
+    ids.iter()
+        .map(|id| {
+            let (vendor, chip) = vendor::resolve(id).map_err(Error::Usage)?;
+            // Chips live as long as the run: a family is a small, fixed set of names, leaked
+            // once per process (the CLI and tests make a handful).
+            let chip: &'static str = Box::leak(chip.into_boxed_str());
+            Ok(Family { vendor, chip })
+        })
+        .collect()
+}
+
 /// Compiles every family (children [`PARALLEL_CHILDREN`] at a time) and builds the report.
 pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaReport> {
     if opts.families.is_empty() {
         return Err(Error::Usage("--families: no family given".into()));
     }
+    let families = families(&opts.families)?;
     let start = Instant::now();
-    let queue: Mutex<Vec<(usize, String)>> =
-        Mutex::new(opts.families.iter().cloned().enumerate().rev().collect());
+    let queue: Mutex<Vec<(usize, Family)>> =
+        Mutex::new(families.iter().copied().enumerate().rev().collect());
     let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());
     std::thread::scope(|s| {
-        for _ in 0..PARALLEL_CHILDREN.min(opts.families.len()) {
+        for _ in 0..PARALLEL_CHILDREN.min(families.len()) {
             s.spawn(|| loop {
                 let next = queue.lock().ok().and_then(|mut q| q.pop());
                 let Some((i, family)) = next else { break };
                 let outcome = run_child(opts, &family);
+                let id = family.id();
                 progress(&match &outcome {
                     ChildOutcome::Compiled(r) => {
-                        format!("{family}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
+                        format!("{id}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
                     }
-                    ChildOutcome::Failed(why) => format!("{family}: not supported ({why})"),
+                    ChildOutcome::Failed(why) => format!("{id}: not supported ({why})"),
+                    ChildOutcome::NotSetUp(why) => format!(
+                        "{id}: not set up ({why}); run {}",
+                        family.vendor.setup_command()
+                    ),
                 });
                 if let Ok(mut d) = done.lock() {
                     d.push((i, outcome));
@@ -188,17 +221,17 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
     let mut outcomes = done
         .into_inner()
         .map_err(|_| Error::Internal("isa: a child thread panicked".into()))?;
-    if outcomes.len() != opts.families.len() {
+    if outcomes.len() != families.len() {
         return Err(Error::Internal(format!(
             "isa: {} of {} families came back",
             outcomes.len(),
-            opts.families.len()
+            families.len()
         )));
     }
     outcomes.sort_by_key(|(i, _)| *i);
-    let outcomes: Vec<(String, ChildOutcome)> = outcomes
+    let outcomes: Vec<(Family, ChildOutcome)> = outcomes
         .into_iter()
-        .map(|(i, o)| (opts.families[i].clone(), o))
+        .map(|(i, o)| (families[i], o))
         .collect();
     table::report(opts, outcomes, start.elapsed().as_secs_f64())
 }
@@ -225,19 +258,18 @@ pub fn auto_order(family: &str) -> Result<Vec<(&'static Method, f64)>> {
     })
 }
 
-/// Each method's fragment-shader inverse throughput on `family` (NaN where not compiled); an
-/// error when the family did not compile at all.
+/// Each method's figure on `family`'s ranking statistic (AMD: the fragment shader's inverse
+/// throughput; [`vendor::Ranking`]), NaN where not compiled; an error when the family did
+/// not compile at all. `family` is a row key or a family id.
 pub fn static_costs(report: &IsaReport, family: &str, ms: &[&'static Method]) -> Result<Vec<f64>> {
-    let status = report.families.iter().find(|f| f.family == family);
+    let status = report
+        .families
+        .iter()
+        .find(|f| f.family == family || f.id == family);
     match status {
         Some(s) if s.supported => Ok(ms
             .iter()
-            .map(|m| {
-                report
-                    .row(family, m.name, "fragment", "draw")
-                    .and_then(|r| r.statistics.get("inverse_throughput").copied())
-                    .unwrap_or(f64::NAN)
-            })
+            .map(|m| report.ranking_value(&s.family, m.name).unwrap_or(f64::NAN))
             .collect()),
         Some(s) => Err(Error::Usage(format!(
             "--cost-model isa:{family}: {}",
