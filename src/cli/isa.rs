@@ -69,19 +69,15 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
     if !methods.iter().any(|m| m.name == exact.name) {
         methods.insert(0, exact);
     }
-    let families: Vec<String> = args
-        .families
-        .split(',')
-        .map(|s| s.trim().to_lowercase())
-        .filter(|s| !s.is_empty())
-        .collect();
-    if !args.driver_files.is_file() {
-        return Err(Error::Usage(format!(
-            "--driver-files {}: no such file; install mesa-vulkan-drivers (RADV) or point at \
-             another RADV build's ICD manifest (docs/isa.md)",
-            args.driver_files.display()
-        )));
-    }
+    let families: Vec<String> = if args.families.trim() == "all" {
+        isa::vendor::default_family_ids()
+    } else {
+        args.families
+            .split(',')
+            .map(|s| s.trim().to_lowercase())
+            .filter(|s| !s.is_empty())
+            .collect()
+    };
     let exe = std::env::current_exe()
         .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
     let opts = IsaOptions {

@@ -450,7 +450,7 @@ impl IsaReport {
     }
 
     /// The text table: per method and family, the fragment shader's and one evaluation's
-    /// inverse throughput over phong_exact's.
+    /// ranking statistic over phong_exact's, then each family's statistic.
     pub fn text_table(&self) -> String {
         let fams = self.supported();
         let mut methods: Vec<&str> = Vec::new();
@@ -460,26 +460,49 @@ impl IsaReport {
             }
         }
         let mut s = String::from(
-            "inverse throughput / phong_exact's (ACO's static model, not a timing): \
-             fragment shader of the timed draw | one evaluation of the isolated kernel\n",
+            "ranking statistic / phong_exact's (each family's static model, not a timing; the \
+             statistics are listed below): fragment shader of the timed draw | one evaluation \
+             of the isolated kernel\n",
         );
         s += &format!("{:<30}", "method");
         for f in &fams {
-            s += &format!(" {f:>15}");
+            s += &format!(" {f:>17}");
         }
         s += "\n";
-        let cell = |r: Option<&Row>| {
-            r.and_then(|r| r.ratio_to_phong_exact.get("inverse_throughput"))
+        let cell = |r: Option<&Row>, key: &str| {
+            r.and_then(|r| r.ratio_to_phong_exact.get(key))
                 .map_or("  -  ".to_string(), |v| format!("{v:.3}"))
         };
         for m in methods {
             s += &format!("{m:<30}");
             for f in &fams {
-                let a = cell(self.row(f, m, "fragment", "draw"));
-                let b = cell(self.row(f, m, "compute", "evaluation"));
-                s += &format!(" {:>15}", format!("{a}|{b}"));
+                let key = self
+                    .family(f)
+                    .and_then(FamilyStatus::ranking)
+                    .map_or(String::new(), |r| r.key);
+                let a = cell(self.row(f, m, "fragment", "draw"), &key);
+                let b = cell(self.row(f, m, "compute", "evaluation"), &key);
+                s += &format!(" {:>17}", format!("{a}|{b}"));
             }
             s += "\n";
+        }
+        for f in self.families.iter().filter(|f| f.supported) {
+            if let (Some(r), Some(c)) = (f.ranking(), f.compiler()) {
+                s += &format!(
+                    "{}: {} ({}; {}, {}{}): {}\n",
+                    f.family,
+                    r.key,
+                    r.unit,
+                    c.driver,
+                    c.mesa_version.as_deref().unwrap_or("Mesa ?"),
+                    if c.production {
+                        ", the vendor's production compiler"
+                    } else {
+                        ", Mesa's own compiler, not the vendor's"
+                    },
+                    r.meaning
+                );
+            }
         }
         for v in &self.op_count {
             s += &format!(
