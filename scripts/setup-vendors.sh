@@ -107,7 +107,9 @@ intel_build() {
       -Dbuild-tests=false
     ninja -C "$build" src/intel/tools/libintel_noop_drm_shim.so
     cp "$build/src/intel/tools/libintel_noop_drm_shim.so" "$key/"
+    # Keep the shim and the .dsc (its key); the sources and build are 500 MB.
     rm -rf "$src" "$build"
+    find "$cache/intel/download" -type f ! -name '*.dsc' -delete
   fi
   {
     echo "SHIM=$key/libintel_noop_drm_shim.so"

@@ -535,6 +535,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_mesa_version_is_read_from_either_api() {
+        assert_eq!(mesa_version("Mesa 22.3.6").as_deref(), Some("Mesa 22.3.6"));
+        assert_eq!(
+            mesa_version("4.3 (Core Profile) Mesa 22.3.6").as_deref(),
+            Some("Mesa 22.3.6")
+        );
+        assert_eq!(mesa_version("other 1.0").as_deref(), Some("other 1.0"));
+        assert_eq!(mesa_version(" "), None);
+    }
+
+    #[test]
     fn keys_are_snake_case_driver_names() {
         assert_eq!(key("Inverse Throughput"), "inverse_throughput");
         assert_eq!(key("Spilled VGPRs"), "spilled_vgprs");

@@ -138,7 +138,7 @@ pub fn grf_registers(asm: &str) -> Option<u32> {
             seen.insert(n);
         }
     }
-    (!seen.is_empty()).then(|| seen.len() as u32)
+    (!seen.is_empty()).then_some(seen.len() as u32)
 }
 
 fn stat(name: String, value: f64) -> Statistic {

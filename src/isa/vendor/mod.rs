@@ -208,6 +208,11 @@ pub fn cache_dir() -> Option<PathBuf> {
 /// exist. An error says what is missing.
 pub fn read_env(route: &str) -> Result<Setup, String> {
     let dir = cache_dir().ok_or("no cache directory (neither XDG_CACHE_HOME nor HOME is set)")?;
+    read_env_in(&dir, route)
+}
+
+/// [`read_env`] in the cache folder `dir`.
+pub fn read_env_in(dir: &std::path::Path, route: &str) -> Result<Setup, String> {
     let path = dir.join(format!("{route}.env"));
     let text = std::fs::read_to_string(&path)
         .map_err(|e| format!("{} cannot be read ({e})", path.display()))?;
@@ -322,9 +327,8 @@ mod tests {
         assert_eq!((v.prefix(), c.as_str()), ("intel", "tgl"));
         assert!(resolve("nvidia:nv162").is_ok());
         // Teeth: an unknown vendor and an empty or odd chip are refused.
-        assert!(resolve("qualcomm:a630")
-            .unwrap_err()
-            .contains("unknown vendor"));
+        let why = resolve("qualcomm:a630").err().unwrap_or_default();
+        assert!(why.contains("unknown vendor"), "{why}");
         assert!(resolve("intel:").is_err());
         assert!(resolve("intel:t/gl").is_err());
     }
@@ -362,6 +366,29 @@ mod tests {
         ] {
             assert!(ids.iter().any(|i| i == want), "{want} not among {ids:?}");
         }
+    }
+
+    #[test]
+    fn a_route_is_set_up_when_its_env_file_and_files_are_there() {
+        let dir = tempfile::tempdir().unwrap();
+        let why = read_env_in(dir.path(), "gl").err().unwrap_or_default();
+        assert!(why.contains("gl.env cannot be read"), "{why}");
+        let shim = dir.path().join("shim.so");
+        let env = dir.path().join("gl.env");
+        std::fs::write(
+            &env,
+            format!("NOUVEAU_SHIM={}\nSOURCE=x.deb\n", shim.display()),
+        )
+        .unwrap();
+        // Teeth: a path that does not exist is not set up.
+        let why = read_env_in(dir.path(), "gl").err().unwrap_or_default();
+        assert!(why.contains("does not exist"), "{why}");
+        std::fs::write(&shim, b"").unwrap();
+        let setup = read_env_in(dir.path(), "gl").unwrap();
+        assert_eq!(setup.get("SOURCE"), Ok("x.deb"));
+        assert!(setup.get("RADEON_SHIM").is_err());
+        std::fs::write(&env, "no equals sign\n").unwrap();
+        assert!(read_env_in(dir.path(), "gl").is_err());
     }
 
     #[test]
