@@ -187,24 +187,9 @@ fn d3(v: [f32; 3]) -> DVec3 {
 pub fn auto_order(
     ctx: &std::sync::Arc<crate::gpu::vk::Context>,
 ) -> crate::error::Result<Vec<(&'static crate::method::Method, f64)>> {
-    crate::auto::order_by_cost(|ms| {
-        let opts = crate::bench::isolated::IsolatedOptions {
-            rounds: 7,
-            warmup: 1,
-            invocations: 4096,
-            ..Default::default()
-        };
-        let costs = crate::bench::isolated::measure(ctx, ms, &opts, &|_| {})?;
-        Ok(ms
-            .iter()
-            .map(|m| {
-                costs
-                    .iter()
-                    .find(|c| c.name == m.name)
-                    .map_or(f64::INFINITY, |c| c.ns_per_eval.median)
-            })
-            .collect())
-    })
+    let ev = crate::cost::Evidence::new().with(ctx.clone());
+    let id = crate::cost::CostModelId::of(crate::cost::LAVAPIPE_ISOLATED);
+    Ok(crate::auto::order_by_model(&crate::costs::builtin(), &id, &ev)?.0)
 }
 
 /// The plan with `auto`'s choice at `budget`, its candidates ordered by `order`

@@ -264,7 +264,7 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
     let cells = bench1["speed_claims"][0]["cells"].as_array().unwrap();
     assert!(cells
         .iter()
-        .all(|c| !c["measure"].as_str().unwrap().starts_with("isa:")));
+        .all(|c| !c["cost_model"].as_str().unwrap().starts_with("isa:")));
     let isa_dir = p("isa");
     let bench1_json = dir.path().join("b1/bench.json");
     ok(&[
@@ -320,27 +320,24 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
         let cell = |m: &str| {
             cells
                 .iter()
-                .find(|x| x["measure"] == m)
+                .find(|x| x["cost_model"] == m)
                 .unwrap_or_else(|| panic!("no {m} cell"))
         };
-        for m in [
-            "lavapipe frame time",
-            "lavapipe isolated cost",
-            "software engine",
-        ] {
+        for m in ["lavapipe_frame", "lavapipe_isolated", "software"] {
             cell(m);
         }
         // The software engine's column is timed by this bench (its programs paired per round).
-        let sw = cell("software engine");
+        let sw = cell("software");
         assert!(
             ["agrees", "disagrees", "inconclusive"].contains(&sw["verdict"].as_str().unwrap()),
             "{sw}"
         );
         assert!(
-            sw["note"].as_str().unwrap().contains("software/bench.json"),
+            sw["note"].as_str().unwrap().contains("paired per round"),
             "{sw}"
         );
-        assert_eq!(cell("isa:bogus")["verdict"], "not_supported");
+        // A family the driver refused is no column; bench.json's static_cost names it.
+        assert!(cells.iter().all(|x| x["cost_model"] != "isa:bogus"), "{c}");
         let navi = cell("isa:navi21");
         let it = |m: &serde_json::Value| {
             inverse_throughput(&report, "navi21", m.as_str().unwrap(), "fragment", "draw")
@@ -359,6 +356,13 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
             "{c}"
         );
     }
+    let refused = bench2["static_cost"]["families"].as_array().unwrap();
+    assert!(
+        refused
+            .iter()
+            .any(|f| f[0] == "bogus" && f[1].as_str().unwrap().starts_with("not supported")),
+        "{refused:?}"
+    );
     // The op-count claim per compiled family, in the claims list.
     let claims_list = bench2["claims"].as_array().unwrap();
     assert!(claims_list.iter().any(|c| c["measured"]

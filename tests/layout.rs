@@ -11,13 +11,13 @@ const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["report", "corpus"],
     &[
-        "compare", "bench", "verify", "stress", "plan", "isa", "prove",
+        "compare", "bench", "verify", "stress", "plan", "isa", "prove", "costs",
     ],
-    &["analysis", "truth", "cases", "auto"],
+    &["analysis", "truth", "cases", "cost", "auto"],
     &["gpu", "software", "engine"],
     &["scene", "frame"],
     &["method", "geometry"],
-    &["output", "error", "testutil", "lib"],
+    &["output", "error", "child", "testutil", "lib"],
 ];
 
 /// A production file longer than this (its `#[cfg(test)]` items left out) is a file to split.

@@ -20,7 +20,8 @@
 //!   multiplications cost more, a refused family is reported, isa.json against its schema.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
-//! - `prove`: proof.json against its schema, bounds above found values, --replay of a found input.
+//! - `prove`: proof.json against its schema, its two domains, bounds above found values, --replay
+//!   of a found input (a triangle's and an edge's), the help naming the angle's domain.
 //! - `yours`: `--method-file` (issue 28): the examples of docs/examples/methods/ through compare,
 //!   stress, isa and report; the bit trick's error against its known figure; the refusals.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
@@ -28,6 +29,7 @@ mod bench;
 mod cli;
 mod compare;
 mod corpus;
+mod costs;
 mod float16;
 mod fuzz;
 mod gpu;

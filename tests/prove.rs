@@ -1,6 +1,7 @@
-//! `shadelab prove`: proof.json against its schema (with teeth), the bounds above the found
-//! values, the methods out of reach listed, the found input replayed by `stress --replay`, and
-//! the exact error texts of bad input.
+//! `shadelab prove`: proof.json against its schema (with teeth), its two domains, the bounds
+//! above the found values, the methods out of reach listed, the found inputs (a triangle's and
+//! an edge's) replayed by `stress --replay`, the help naming the angle's domain, and the exact
+//! error texts of bad input.
 use crate::support::*;
 
 #[test]
@@ -23,21 +24,37 @@ fn prove_writes_a_valid_proof_whose_found_inputs_replay() {
     assert_schema(
         &report,
         "docs/proof.schema.json",
-        "/methods/0/colour",
+        "/methods/0/domains/0/colour",
         "proven_upper",
     );
+    let domains: Vec<_> = report["domains"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(domains, ["triangle", "edge"]);
     let methods = report["methods"].as_array().unwrap();
     assert_eq!(methods.len(), 2);
     for m in methods {
-        for x in m["metrics"].as_array().unwrap() {
-            let (p, f) = (
-                x["proven_upper"].as_f64().unwrap(),
-                x["found"].as_f64().unwrap(),
-            );
-            assert!(f <= p + 1e-12, "{x}");
+        let mut length = Vec::new();
+        for (d, name) in m["domains"].as_array().unwrap().iter().zip(&domains) {
+            assert_eq!(d["domain"], *name, "{d}");
+            for x in d["metrics"].as_array().unwrap() {
+                let (p, f) = (
+                    x["proven_upper"].as_f64().unwrap(),
+                    x["found"].as_f64().unwrap(),
+                );
+                assert!(f <= p + 1e-12, "{x}");
+            }
+            length.push(d["metrics"][0]["proven_upper"].as_f64().unwrap());
+            let c = &d["colour"];
+            assert!(c["found"].as_f64().unwrap() <= c["proven_upper"].as_f64().unwrap());
         }
-        let c = &m["colour"];
-        assert!(c["found"].as_f64().unwrap() <= c["proven_upper"].as_f64().unwrap());
+        // the edge is a part of the triangle domain (each bound within 1 % of a real point);
+        // stress's grid is of edges
+        assert!(length[0] * 1.01 + 1e-12 >= length[1], "{m}");
+        assert_eq!(m["stress_grid"]["domain"], "edge");
     }
     let oor = report["out_of_reach"].as_array().unwrap();
     assert_eq!(oor.len(), 1);
@@ -55,11 +72,25 @@ fn prove_writes_a_valid_proof_whose_found_inputs_replay() {
         mikami["found"].as_f64().unwrap(),
     );
     assert!(f <= p && p <= 0.015, "{mikami}");
-    // the found input is a stress case: --replay evaluates it again (f64 twin and device)
-    let case = out.join("cases/newton_raphson_length_error.json");
-    let (code, stdout, stderr) = run(&["stress", "--replay", case.to_str().unwrap()]);
-    assert_eq!(code, 0, "{stdout}{stderr}");
-    assert!(stdout.contains("method   newton_raphson"), "{stdout}");
+    // the found inputs are stress cases: --replay evaluates them again (f64 twin and device),
+    // a triangle's too (N2 off the bisector, a pixel inside the strip)
+    for domain in ["triangle", "edge"] {
+        let case = out.join(format!("cases/newton_raphson_{domain}_length_error.json"));
+        let (code, stdout, stderr) = run(&["stress", "--replay", case.to_str().unwrap()]);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        assert!(stdout.contains("method   newton_raphson"), "{stdout}");
+    }
+}
+
+#[test]
+fn prove_help_names_the_domain_of_its_angle() {
+    let (code, stdout, stderr) = run(&["prove", "--help"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("Largest angle between any two vertex normals")
+            && stdout.contains("any triangle"),
+        "{stdout}"
+    );
 }
 
 #[test]

@@ -4,8 +4,8 @@
 //! (the order alternating per round, as bench's rounds do for two programs); otherwise auto
 //! draws one program and says so ([`crate::auto::FrameCheck`]). Every command that draws
 //! `auto` with Vulkan (render, compare, bench, skips) goes through [`choose_checked`]; a run of
-//! a `bench --runs N` draws its parent's decision ([`FRAME_ENV`]) so that every run times the
-//! same draw.
+//! a bench of several runs draws its parent's decision ([`decisions`], in its request) so that
+//! every run times the same draw.
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
 use crate::auto::{AutoSpec, AutoSummary, Cache, FrameCheck};
 use crate::error::Result;
@@ -18,47 +18,27 @@ use crate::scene::{Scene, SceneInputs};
 pub const CHECK_ROUNDS: usize = 16;
 pub const CHECK_WARMUP: usize = 2;
 
-/// Set by a `bench --runs N` parent for its runs: `name=grouped` or `name=one` per `auto` spec,
-/// separated by commas.
-pub const FRAME_ENV: &str = "SHADELAB_AUTO_FRAME";
-
-/// [`FRAME_ENV`]'s value for `summaries` (specs whose grouping was checked).
-pub fn decisions_env(summaries: &[AutoSummary]) -> String {
+/// The frame checks' decisions of `summaries` (specs whose grouping was checked): (spec
+/// name, grouped), what a bench of several runs gives its runs so that every run times the
+/// same draw.
+pub fn decisions(summaries: &[AutoSummary]) -> Vec<(String, bool)> {
     summaries
         .iter()
-        .filter_map(|s| {
-            let f = s.grouping.as_ref()?.frame.as_ref()?;
-            Some(format!(
-                "{}={}",
-                s.name,
-                if f.grouped { "grouped" } else { "one" }
-            ))
-        })
-        .collect::<Vec<_>>()
-        .join(",")
-}
-
-/// The decision for `name` in a [`FRAME_ENV`] value, if it has one.
-pub fn given_decision(env: &str, name: &str) -> Option<bool> {
-    env.split(',').find_map(|kv| match kv.split_once('=') {
-        Some((n, "grouped")) if n == name => Some(true),
-        Some((n, "one")) if n == name => Some(false),
-        _ => None,
-    })
+        .filter_map(|s| Some((s.name.clone(), s.grouping.as_ref()?.frame.as_ref()?.grouped)))
+        .collect()
 }
 
 /// `spec`'s choice on `inputs` (`scene` uploaded), settled by the model and then by the frame
-/// check: the triangles' methods, the summary, and the uploaded draw. `child`: a run of a
-/// `bench --runs N`, which draws the decision its parent put in [`FRAME_ENV`] without timing.
+/// check: the triangles' methods, the summary, and the uploaded draw. `given`: the decision of
+/// the parent of a bench run (grouped or not), drawn without timing.
 pub fn choose_checked(
     renderer: &Renderer,
     scene: &Scene,
     inputs: &SceneInputs,
     spec: &AutoSpec,
     cache: Cache,
-    child: bool,
+    given: Option<bool>,
 ) -> Result<(Vec<usize>, AutoSummary, AutoScene)> {
-    let given = child.then(|| std::env::var(FRAME_ENV).ok()).flatten();
     let (mut pick, mut summary) = crate::auto::choose_summarised(inputs, spec, cache);
     let grouped = renderer.prepare_auto(scene, &spec.order, &pick)?;
     let Some((single, predicted)) = summary
@@ -73,7 +53,7 @@ pub fn choose_checked(
     // the same draw as `render --method <it>` (a fallback that uploads every candidate's
     // streams measured 2.6 % slower than that draw on suzanne).
     let one = renderer.prepare_auto(scene, &spec.order[single..=single], &vec![0; pick.len()])?;
-    let check = match given.and_then(|e| given_decision(&e, &spec.name)) {
+    let check = match given {
         Some(keep) => FrameCheck::given(keep, predicted),
         None => {
             eprintln!(
@@ -113,18 +93,6 @@ fn time_pair(renderer: &Renderer, a: &AutoScene, b: &AutoScene) -> Result<RatioE
 mod tests {
     use super::*;
 
-    /// A parent's decisions travel by name; a malformed or absent entry gives none (the run
-    /// then measures for itself).
-    #[test]
-    fn a_parent_decision_is_read_by_name() {
-        let env = "auto=one,auto_4_255=grouped";
-        assert_eq!(given_decision(env, "auto"), Some(false));
-        assert_eq!(given_decision(env, "auto_4_255"), Some(true));
-        assert_eq!(given_decision(env, "auto_16_255"), None);
-        assert_eq!(given_decision("auto=maybe", "auto"), None);
-        assert_eq!(given_decision("", "auto"), None);
-    }
-
     /// What a parent measured is what its runs read back, per spec; a spec without a check
     /// (one program anyway) is left out.
     #[test]
@@ -147,10 +115,13 @@ mod tests {
         };
         let mut plain = summary(true, "auto_16_255");
         plain.grouping.as_mut().unwrap().frame = None;
-        let env = decisions_env(&[summary(false, "auto"), summary(true, "auto_1_1024"), plain]);
-        assert_eq!(env, "auto=one,auto_1_1024=grouped");
-        assert_eq!(given_decision(&env, "auto"), Some(false));
-        assert_eq!(given_decision(&env, "auto_1_1024"), Some(true));
-        assert_eq!(given_decision(&env, "auto_16_255"), None);
+        let given = decisions(&[summary(false, "auto"), summary(true, "auto_1_1024"), plain]);
+        assert_eq!(
+            given,
+            [
+                ("auto".to_string(), false),
+                ("auto_1_1024".to_string(), true)
+            ]
+        );
     }
 }

@@ -5,7 +5,7 @@
 //! four programs where half the triangles needed phong_exact).
 //!
 //! The model: a triangle's shading work is its window-space area (a proxy for its fragments)
-//! times its program's cost per fragment in the run's cost model ([`super::CostModel`]); a
+//! times its program's cost per fragment in the run's cost model ([`crate::cost::CostModel`]); a
 //! program switch costs [`SWITCH_COST`] of the whole frame's shading work with the one program.
 //! A group is kept when moving it to the one program would add more than that.
 use serde::{Deserialize, Serialize};

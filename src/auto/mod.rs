@@ -4,11 +4,8 @@
 //! ([`choice`]), whether grouping pays ([`grouping`]: one program when the extra programs cost
 //! more than they save; [`frame`]: and only when the grouped frame measured cheaper than one
 //! program's), and what was chosen ([`AutoSummary`], [`choose_summarised`]).
-//! [`CostModel`] names what ranks the candidates: lavapipe's isolated cost or a GPU family's
-//! static cost (`shadelab isa`).
-//!
-//! The cost of each candidate is measured by the jobs above (`plan::auto_order`, with bench's
-//! isolated kernels): this module sits below them, so it takes the costs as numbers.
+//! A cost model of [`crate::cost`] ranks the candidates ([`order_by_model`]: lavapipe's isolated
+//! cost, a GPU family's static cost, any source of the registry that measures on demand).
 mod choice;
 pub mod frame;
 mod grouping;
@@ -27,8 +24,22 @@ use crate::scene::SceneInputs;
 /// An error budget: the largest [`colour_error`] (linear) a method may make. Finite and > 0;
 /// written as a number (`0.0039`) or a fraction (`4/255`). Every command parses it with
 /// [`ErrorBudget::parse`] (one message); the library takes it as this type.
-#[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "f64", into = "f64")]
 pub struct ErrorBudget(f64);
+
+impl TryFrom<f64> for ErrorBudget {
+    type Error = String;
+    fn try_from(v: f64) -> std::result::Result<Self, String> {
+        Self::new(v)
+    }
+}
+
+impl From<ErrorBudget> for f64 {
+    fn from(b: ErrorBudget) -> f64 {
+        b.0
+    }
+}
 
 impl ErrorBudget {
     /// 1/255, the default of every command.
@@ -94,58 +105,6 @@ pub fn colour_error(abs_error_per_channel: [f64; 3]) -> f64 {
     abs_error_per_channel.into_iter().fold(0.0, f64::max)
 }
 
-/// What ranks `auto`'s candidates (`--cost-model`): lavapipe's isolated cost per evaluation
-/// (measured at start), or ACO's inverse throughput of the timed draw's fragment shader on an
-/// AMD GPU family (`isa:navi21`, compiled at start by `shadelab isa`'s children).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum CostModel {
-    Lavapipe,
-    Isa(String),
-}
-
-impl CostModel {
-    /// `lavapipe` or `isa:FAMILY`.
-    pub fn parse(s: &str) -> std::result::Result<Self, String> {
-        let s = s.trim();
-        match s.split_once(':') {
-            None if s == "lavapipe" => Ok(CostModel::Lavapipe),
-            Some(("isa", f))
-                if !f.trim().is_empty()
-                    && f.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') =>
-            {
-                Ok(CostModel::Isa(f.trim().to_lowercase()))
-            }
-            _ => Err(format!(
-                "{s:?} is not a cost model: expected lavapipe or isa:FAMILY (a Mesa chip name, \
-                 e.g. isa:navi21; see shadelab isa)"
-            )),
-        }
-    }
-
-    /// As written on the command line.
-    pub fn name(&self) -> String {
-        match self {
-            CostModel::Lavapipe => "lavapipe".into(),
-            CostModel::Isa(f) => format!("isa:{f}"),
-        }
-    }
-
-    /// The unit of its costs.
-    pub fn unit(&self) -> &'static str {
-        match self {
-            CostModel::Lavapipe => "ns per evaluation (lavapipe, isolated kernel)",
-            CostModel::Isa(_) => "busy cycles per wave (ACO inverse throughput, fragment shader)",
-        }
-    }
-}
-
-impl std::str::FromStr for CostModel {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        Self::parse(s)
-    }
-}
-
 /// The methods `auto` chooses from (gouraud and flat included), ordered at run time by their
 /// measured cost ([`order_by_cost`]); phong_exact is the fallback.
 pub const CANDIDATES: [&str; 5] = [
@@ -189,6 +148,34 @@ pub fn order_by_cost(
     Ok(order)
 }
 
+/// The candidates ordered by cost model `id` of `costs`, measured now (with what `ev` holds:
+/// the device's context), and the model measured. A candidate's cost is its figure in the
+/// model's unit, or its ratio to phong_exact where the model kept no figure.
+pub fn order_by_model(
+    costs: &crate::cost::Registry,
+    id: &crate::cost::CostModelId,
+    ev: &crate::cost::Evidence,
+) -> Result<(Vec<(&'static Method, f64)>, crate::cost::CostModel)> {
+    let mut measured = None;
+    let order = order_by_cost(|ms| {
+        let model = costs.measure(id, ms, ev)?;
+        let costs = ms
+            .iter()
+            .map(|m| {
+                model
+                    .figure(m.name)
+                    .and_then(|f| f.value.or(f.ratio))
+                    .unwrap_or(f64::NAN)
+            })
+            .collect();
+        measured = Some(model);
+        Ok(costs)
+    })?;
+    let model = measured
+        .ok_or_else(|| Error::Internal(format!("auto: cost model {id} measured nothing")))?;
+    Ok((order, model))
+}
+
 /// One line telling the candidates' order and costs (in the cost model's unit).
 pub fn order_line(order: &[(&'static Method, f64)]) -> String {
     order
@@ -207,16 +194,18 @@ pub fn split_methods(list: &str) -> (String, bool) {
 }
 
 /// What `auto` needs: the candidates cheapest first (the last is the fallback) and the budget.
-#[derive(Debug, Clone)]
+/// In JSON (a bench run's request) the candidates are their names.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct AutoSpec {
     /// `auto` for the run's budget; `auto_<k>_255` and the like for a point of the budget curve
     /// ([`curve_name`]).
     pub name: String,
+    #[serde(with = "method_names")]
     pub order: Vec<&'static Method>,
     pub budget: ErrorBudget,
     /// The cost of each candidate of `order` in `cost_model` (what [`grouping`] compares).
     pub costs: Vec<f64>,
-    /// [`CostModel::name`] of the costs.
+    /// The id of the costs' model ([`crate::cost::CostModelId`]).
     pub cost_model: String,
 }
 
@@ -228,7 +217,7 @@ impl AutoSpec {
             order: order.iter().map(|(m, _)| *m).collect(),
             budget,
             costs: order.iter().map(|(_, c)| *c).collect(),
-            cost_model: CostModel::Lavapipe.name(),
+            cost_model: crate::cost::LAVAPIPE_ISOLATED.into(),
         }
     }
 
@@ -248,6 +237,27 @@ impl AutoSpec {
             }
         }
         specs
+    }
+}
+
+/// Methods as their names in JSON, found again in the method table when read.
+mod method_names {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(
+        ms: &[&'static crate::method::Method],
+        s: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_seq(ms.iter().map(|m| m.name))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Vec<&'static crate::method::Method>, D::Error> {
+        Vec::<String>::deserialize(d)?
+            .iter()
+            .map(|n| crate::method::find(n).map_err(serde::de::Error::custom))
+            .collect()
     }
 }
 

@@ -2,6 +2,7 @@
 //! timings (never two separate intervals), SPIR-V operation counts, GPU errors, and the method
 //! table's f64 checks.
 use super::*;
+use crate::cost::rule::{factor_verdict, FACTOR_RULE};
 
 use crate::bench::isolated::Comparison;
 use crate::gpu::spirv::OpCountsDelta;
@@ -240,31 +241,6 @@ impl Measure {
         .filter(|(lo, _, hi)| lo.is_finite() && hi.is_finite())
     }
 }
-
-/// The one rule for every "k times faster" (or "cheaper") claim, for every engine and cost
-/// model. `lo..hi` is the 95% interval of the ratio `method / reference` (frame time or
-/// isolated cost), `target` the largest ratio the claim allows (1 / k). The speed-up is the
-/// reciprocal of the ratio, so its interval is [1 / hi, 1 / lo]:
-/// - agrees when the whole speed-up interval reaches k: `0 < hi <= target`;
-/// - disagrees when the whole speed-up interval lies below k: `lo > target`;
-/// - inconclusive when the interval straddles k, when an end is not finite, or when the whole
-///   ratio interval is at or below 0 (a cost the measurement cannot resolve).
-pub(crate) fn factor_verdict(lo: f64, hi: f64, target: f64) -> Verdict {
-    if !(lo.is_finite() && hi.is_finite() && target.is_finite()) || lo > hi {
-        Verdict::Inconclusive
-    } else if hi > 0.0 && hi <= target {
-        Verdict::Agrees
-    } else if lo > target {
-        Verdict::Disagrees
-    } else {
-        Verdict::Inconclusive
-    }
-}
-
-/// How [`factor_verdict`] reads, for the claims' `how`.
-pub(crate) const FACTOR_RULE: &str = "agrees when the whole 95% interval of the speed-up \
-     reaches the claimed factor, disagrees when the whole interval is below it, inconclusive \
-     when it straddles the factor";
 
 /// A claim "`factor` times faster than phong_exact" (a range `factor..factor_hi`), judged by
 /// `measure`: the method's paired ratio to phong_exact should be at most 1 / factor, by

@@ -14,7 +14,10 @@ pub mod baseline;
 pub mod chart;
 pub mod claims;
 pub mod clock;
+pub mod cost;
 pub mod isolated;
+pub mod per_machine;
+pub mod plan;
 mod programs;
 pub mod report;
 pub mod rounds;
@@ -83,67 +86,53 @@ pub enum Sweep {
 /// Options of a bench run.
 #[derive(Debug, Clone)]
 pub struct BenchOptions {
-    /// Rounds (the minimum with `until_ci_pct`).
-    pub repeat: usize,
-    pub warmup: usize,
+    /// Everything about the measurement: runs, rounds, warm-up, isolated rounds, control
+    /// ([`plan::RunPlan`], decided once).
+    pub plan: plan::RunPlan,
     /// A compare metric (JSON name) for the Pareto chart's y axis.
     pub error_metric: String,
-    /// Add `phong_exact_control`: phong_exact's program under a second name.
-    pub control: bool,
     pub sweeps: Vec<Sweep>,
-    /// `--until-ci PCT`: add rounds until every paired ratio interval is within +-PCT %.
-    pub until_ci_pct: Option<f64>,
-    /// The time cap of `until_ci_pct`, seconds of timed rounds.
-    pub max_time_s: f64,
     /// `--baseline OLD/bench.json` and `--fail-slower PCT`.
     pub baseline: Option<PathBuf>,
     pub fail_slower_pct: Option<f64>,
     /// The command line, recorded in bench.json.
     pub command_line: Vec<String>,
-    /// Rounds of the isolated cost per formula ([`isolated`]; 0: not measured).
-    pub isolated_rounds: usize,
     /// `auto` (named `auto`) and the points of its budget curve (`auto_<k>_255`, `auto_1_<k>`), timed and
     /// judged like the methods.
     pub auto: Vec<crate::auto::AutoSpec>,
-    /// One run in this process, or N fresh processes ([`runs`]).
+    /// Where this process stands: the only run, the parent of `plan.runs` fresh processes, or
+    /// one of them ([`runs`]).
     pub runs: Runs,
     /// Where the static cost of the speed claims' per-family columns comes from.
     pub static_cost: speed_claims::StaticCostSource,
     /// Whether the speed claims' software-engine column is timed (after lavapipe's rounds,
     /// [`speed_claims::software_column`]); `--no-software` leaves it out.
     pub software_column: bool,
-}
-
-impl BenchOptions {
-    /// The rounds of each run.
-    pub fn rounds_plan(&self) -> RoundsPlan {
-        RoundsPlan {
-            repeat: self.repeat,
-            warmup: self.warmup,
-            until_ci_pct: self.until_ci_pct,
-            max_time_s: self.max_time_s,
-        }
-    }
+    /// The cost models of the speed claims' columns (the CLI and the report give
+    /// [`crate::costs::builtin`]; none by default).
+    pub costs: crate::cost::Registry,
 }
 
 impl Default for BenchOptions {
+    /// One run in this process with bench's defaults ([`plan::RunPlan::new`]).
     fn default() -> Self {
+        let given = plan::Given {
+            runs: Some(1),
+            ..plan::Given::default()
+        };
         BenchOptions {
-            repeat: 40,
-            warmup: 3,
+            plan: plan::RunPlan::new(plan::Job::Bench { software: false }, &given)
+                .expect("bench's defaults are a valid plan"),
             error_metric: "p99_abs_error".into(),
-            control: false,
             sweeps: Vec::new(),
-            until_ci_pct: None,
-            max_time_s: DEFAULT_MAX_TIME_S,
             baseline: None,
-            isolated_rounds: isolated::IsolatedOptions::default().rounds,
             fail_slower_pct: None,
             command_line: Vec::new(),
             auto: Vec::new(),
             runs: Runs::One,
             static_cost: speed_claims::StaticCostSource::Skip,
             software_column: false,
+            costs: crate::cost::Registry::new(),
         }
     }
 }
@@ -216,8 +205,8 @@ fn setup(
         }
     }
     let clock = match &opts.runs {
-        Runs::Child { clock, .. } => ClockCheck {
-            clock: clock.clone(),
+        Runs::Child(run) => ClockCheck {
+            clock: run.clock.clone(),
             reason: "chosen by the parent run's clock check".into(),
             points: Vec::new(),
         },
@@ -239,7 +228,7 @@ fn setup(
             &prepared.base().inputs,
             spec,
             crate::auto::Cache::Use,
-            matches!(opts.runs, Runs::Child { .. }),
+            opts.runs.frame_decision(&spec.name),
         )?;
         eprintln!("bench: {}", summary.line());
         auto_summaries.push(summary);
@@ -255,24 +244,18 @@ fn setup(
     })
 }
 
-/// Whether the programs include `phong_exact_control`: asked for, or a bench of several runs
-/// (their noise floor).
-fn with_control(opts: &BenchOptions) -> bool {
-    opts.control || !matches!(opts.runs, Runs::One)
-}
-
-/// One measurement run of a `--runs N` bench, in this (fresh) process: the programs' warm-up
-/// and rounds and the isolated costs, written to `file` for the parent ([`runs`]).
+/// One measurement run of a bench of several runs, in this (fresh) process: the programs'
+/// warm-up and rounds and the isolated costs, the reply to its parent ([`runs`]).
 pub fn measure_run(
     renderer: &Renderer,
     scene: &Scene,
     methods_: &[&'static Method],
     opts: &BenchOptions,
-) -> Result<()> {
+) -> Result<runs::RunFigures> {
     check_options(opts)?;
-    let Runs::Child { file, .. } = &opts.runs else {
+    let Runs::Child(run) = &opts.runs else {
         return Err(Error::Internal(
-            "measure_run outside a run of a --runs bench".into(),
+            "measure_run outside a run of a bench of several runs".into(),
         ));
     };
     let s = setup(renderer, scene, methods_, opts)?;
@@ -280,8 +263,8 @@ pub fn measure_run(
     let (samples, rounds) = time_rounds(renderer, &programs, &s.clock.clock, opts)?;
     let methods: Vec<&'static Method> = s.all.clone();
     let isolated = isolated_costs(renderer, &methods, opts)?;
-    runs::RunFigures {
-        seed: runs::run_seed(),
+    Ok(runs::RunFigures {
+        seed: Some(run.seed),
         rounds: rounds.rounds,
         timing_s: rounds.timing_s,
         programs: programs
@@ -290,8 +273,7 @@ pub fn measure_run(
             .map(|(p, s)| runs::ProgramRounds::new(&p.name, s))
             .collect(),
         isolated,
-    }
-    .write(file)
+    })
 }
 
 /// The isolated cost of `methods` (with the control in a bench of several runs), or nothing
@@ -301,19 +283,16 @@ fn isolated_costs(
     methods: &[&'static Method],
     opts: &BenchOptions,
 ) -> Result<Vec<isolated::IsolatedCost>> {
-    if opts.isolated_rounds == 0 {
+    let plan = &opts.plan;
+    if plan.isolated_rounds == 0 {
         return Ok(Vec::new());
     }
     let iso_opts = isolated::IsolatedOptions {
-        rounds: opts.isolated_rounds,
-        control: !matches!(opts.runs, Runs::One),
+        rounds: plan.isolated_rounds,
+        control: plan.many(),
         precision: renderer.precision(),
-        order_seed: runs::run_seed().filter(|_| matches!(opts.runs, Runs::Child { .. })),
-        warmup: if matches!(opts.runs, Runs::Child { .. }) {
-            runs::RUN_ISOLATED_WARMUP
-        } else {
-            isolated::IsolatedOptions::default().warmup
-        },
+        order_seed: opts.runs.seed(),
+        warmup: plan.isolated_warmup,
         ..isolated::IsolatedOptions::default()
     };
     let bar = crate::output::progress_bar(true, 0);
@@ -338,12 +317,12 @@ fn timed(
     Vec<runs::RunFigures>,
 )> {
     let clock = s.clock.clock.as_str();
-    let Runs::Many { count, launcher } = &opts.runs else {
+    let Runs::Many(launcher) = &opts.runs else {
         let (samples, report) = time_rounds(renderer, programs, clock, opts)?;
         return Ok((samples, report, Vec::new()));
     };
-    let frame_env = crate::auto::frame::decisions_env(&s.auto_summaries);
-    let figures = runs::run_all(*count, launcher, clock, &frame_env)?;
+    let frame = crate::auto::frame::decisions(&s.auto_summaries);
+    let figures = runs::run_all(launcher, opts, &s.all, clock, &frame)?;
     let samples: Vec<Vec<crate::gpu::Sample>> = programs
         .iter()
         .map(|p| figures.iter().flat_map(|f| f.samples_of(&p.name)).collect())
@@ -359,7 +338,7 @@ fn timed(
     let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
     let (p, f) = ratios(&values, phong, &floors);
     let report = RoundsReport::new(
-        &opts.rounds_plan(),
+        &opts.plan.rounds,
         rounds,
         Stop::FixedRepeat,
         timing_s,
@@ -388,7 +367,7 @@ pub fn bench(
         .transpose()?;
     let s = setup(renderer, scene, methods_, opts)?;
     let (all, clock) = (&s.all, s.clock.clone());
-    let control = with_control(opts).then_some(s.exact);
+    let control = opts.plan.control.then_some(s.exact);
     let programs = programs(&s.prepared, all, control, &s.autos);
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
     let phong = programs
@@ -452,8 +431,8 @@ pub fn bench(
         width: scene.width,
         height: scene.height,
         triangles: s.prepared.base().inputs.triangle_count(),
-        repeat: opts.repeat,
-        warmup: opts.warmup,
+        repeat: opts.plan.rounds.repeat,
+        warmup: opts.plan.rounds.warmup,
         rounds: rounds_report,
         runs: runs_report,
         ratio_interval: (if run_figures.is_empty() {
@@ -730,18 +709,12 @@ fn check_options(opts: &BenchOptions) -> Result<()> {
             compare::METRICS.join(", ")
         )));
     }
-    opts.rounds_plan().check()?;
-    if let Runs::Many { count, .. } = &opts.runs {
-        if *count < 2 {
-            return Err(Error::Usage(format!(
-                "several runs need at least 2, got {count}"
-            )));
-        }
-        if opts.until_ci_pct.is_some() {
-            return Err(Error::Usage(
-                "--until-ci adds rounds within one run: use it with --runs 1".into(),
-            ));
-        }
+    opts.plan.rounds.check()?;
+    if matches!(opts.runs, Runs::Many(_)) != opts.plan.many() {
+        return Err(Error::Internal(format!(
+            "bench: a plan of {} runs in a process that is {:?}",
+            opts.plan.runs, opts.runs
+        )));
     }
     if let Some(p) = opts.fail_slower_pct {
         if !(p.is_finite() && p >= 0.0) {
@@ -772,14 +745,14 @@ fn time_rounds(
         .iter()
         .position(|n| n == crate::method::PHONG_EXACT)
         .unwrap_or(0);
-    let plan = opts.rounds_plan();
+    let plan = &opts.plan.rounds;
     eprintln!(
         "bench: timing {} programs in the same interleaved rounds: {}",
         programs.len(),
         plan.describe()
     );
     let draws = renderer.timed_draw_lists(&lists)?;
-    rounds::run_rounds(&draws, &plan, "bench", |samples| {
+    rounds::run_rounds(&draws, plan, "bench", |samples| {
         let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
         let (p, f) = ratios(&values, phong, &floors);
         widest(&names, &p, &f)

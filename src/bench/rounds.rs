@@ -153,7 +153,7 @@ pub(crate) fn widest(
 /// discarded submissions of each program, `repeat` rounds, then with `until_ci_pct` one round
 /// at a time until every paired ratio interval is within +-PCT % or `max_time_s` of rounds has
 /// passed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RoundsPlan {
     pub repeat: usize,
     pub warmup: usize,

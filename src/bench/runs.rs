@@ -7,39 +7,28 @@
 //! ([`summarize`]), against the between-run spread of `phong_exact_control` (an A/A control,
 //! timed in every run) as the noise floor.
 //!
-//! A run is started by the [`Launcher`] the command line gives (the binary itself with the
-//! same arguments and [`RUN_FILE_ENV`] / [`CLOCK_ENV`] set); it measures, writes its
-//! [`RunFigures`] to that file and stops.
+//! A run is a child process of [`crate::child`]'s protocol: the parent ([`run_all`]) sends one
+//! [`RunRequest`] (the scene's source, the device, the methods, the run plan, the clock it
+//! chose, the run's seed, `auto`'s specs and frame decisions); the run measures and replies
+//! with its [`RunFigures`].
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::{median_ci, paired_ratio};
 use crate::error::{Error, Result};
-use crate::gpu::Sample;
+use crate::gpu::{DeviceSpec, Sample};
+use crate::scene::SceneSource;
 
 use super::isolated::{Comparison, Interval, IsolatedCost};
+use super::plan::RunPlan;
 use super::rounds::round_values;
 use super::{MethodTiming, Speed};
 
-/// Environment variable naming the file a measurement run writes its figures to; set only by
-/// the parent of a `--runs N` bench.
-pub const RUN_FILE_ENV: &str = "SHADELAB_BENCH_RUN_FILE";
-/// Environment variable with the clock the parent's clock check chose (`timestamp` or `wall`).
-pub const CLOCK_ENV: &str = "SHADELAB_BENCH_CLOCK";
-/// Environment variable with a run's seed: the order in which it compiles and times the
-/// isolated-cost kernels ([`super::isolated::Order::seeded`]). The parent gives run k (1-based)
-/// the seed `base + k`, so consecutive runs alternate which of phong_exact and its control is
-/// compiled first; bench.json `runs.seeds` records them.
-pub const SEED_ENV: &str = "SHADELAB_BENCH_RUN_SEED";
-
-/// The seed of this measurement run ([`SEED_ENV`]), if its parent gave one.
-pub fn run_seed() -> Option<u64> {
-    std::env::var(SEED_ENV).ok()?.parse().ok()
-}
-
-/// A base seed for the runs of one bench: from the clock (each bench its own orders).
+/// A base seed for the runs of one bench: from the clock (each bench its own orders). Run k
+/// (1-based) gets `base + k`, so consecutive runs alternate which of phong_exact and its
+/// control is compiled first ([`super::isolated::Order::seeded`]); bench.json `runs.seeds`
+/// records them.
 pub fn base_seed() -> u64 {
     std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
@@ -47,52 +36,78 @@ pub fn base_seed() -> u64 {
         & 0xffff_ffff_ffff
 }
 
-/// The default number of runs of `bench` (the report too).
-pub const DEFAULT_RUNS: usize = 5;
-/// Rounds per run when `--runs` > 1 and `--repeat` is not given (the between-run spread
-/// dominates, so a run needs fewer rounds). 7 since issue 21's follow-up (was 10): the default
-/// bench took 149-158 s idle against a 150 s target, about 1 s per round and run.
-pub const RUN_REPEAT: usize = 7;
-/// Isolated-cost rounds per run when `--runs` > 1 and `--isolated-rounds` is not given (5, was
-/// 7), after [`RUN_ISOLATED_WARMUP`].
-pub const RUN_ISOLATED_ROUNDS: usize = 5;
-/// Discarded isolated-cost rounds per run (1, the in-process bench 2): the pipelines' JIT is
-/// done when they are created, and the K = 1 kernel has run once for its check already.
-pub const RUN_ISOLATED_WARMUP: usize = 1;
 /// How the between-run intervals are computed (bench.json `runs.interval`).
 pub const RUNS_INTERVAL: &str = "across runs: the median of the N runs' paired median ratios \
      with the order-statistic interval of that median [r(l), r(N+1-l)], l the largest rank with \
      P(Bin(N, 1/2) < l) <= 2.5 % ([min, max] below 6 runs); its exact coverage is \
      1 - 2 P(Bin(N, 1/2) < l) (5 runs: 93.75 %)";
 
-/// How many measurement runs a bench makes, and where this process stands.
+/// Where this process stands in a bench.
 #[derive(Debug, Clone, Default)]
 pub enum Runs {
     /// One run in this process (the rounds' own intervals give the verdicts).
     #[default]
     One,
-    /// `count` (>= 2) runs, each a fresh process started by `launcher`.
-    Many { count: usize, launcher: Launcher },
-    /// This process is one run of a parent's `Many`: measure with `clock`, write the figures
-    /// to `file`, stop.
-    Child { file: PathBuf, clock: String },
+    /// The parent of the plan's runs (>= 2), each a fresh process started by the launcher.
+    Many(Launcher),
+    /// One run of a parent's: measure as the request says, reply.
+    Child(RunContext),
+}
+
+/// What a run takes from its parent besides the plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunContext {
+    /// The clock the parent's check chose (`timestamp` or `wall`).
+    pub clock: String,
+    /// The order in which it compiles and times the isolated-cost kernels.
+    pub seed: u64,
+    /// `auto`'s frame-check decisions (spec name, grouped).
+    pub frame: Vec<(String, bool)>,
 }
 
 impl Runs {
-    /// The number of runs whose figures make the verdicts (1 for a child: it judges nothing).
-    pub fn count(&self) -> usize {
+    /// The isolated kernels' order seed of a run (none outside one).
+    pub fn seed(&self) -> Option<u64> {
         match self {
-            Runs::Many { count, .. } => *count,
-            _ => 1,
+            Runs::Child(c) => Some(c.seed),
+            _ => None,
+        }
+    }
+
+    /// The parent's frame-check decision for `auto` spec `name` (a run draws it untimed).
+    pub fn frame_decision(&self, name: &str) -> Option<bool> {
+        match self {
+            Runs::Child(c) => c.frame.iter().find(|(n, _)| n == name).map(|(_, g)| *g),
+            _ => None,
         }
     }
 }
 
-/// How to start one run: the program and its arguments (the parent's own command line).
+/// How to start the runs: the binary, and what loads the same scene on the same device.
 #[derive(Debug, Clone)]
 pub struct Launcher {
     pub exe: PathBuf,
-    pub args: Vec<String>,
+    pub scene: SceneSource,
+    pub device: DeviceSpec,
+    /// Environment lavapipe reads when it loads (`LP_NUM_THREADS` of `--threads`).
+    pub driver_env: Vec<(String, String)>,
+}
+
+/// What one run is asked: child job `bench_run`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunRequest {
+    pub scene: SceneSource,
+    pub device: DeviceSpec,
+    pub methods: Vec<String>,
+    pub plan: RunPlan,
+    pub context: RunContext,
+    /// `auto`'s specs, as the parent measured their candidates' order.
+    pub auto: Vec<crate::auto::AutoSpec>,
+}
+
+impl crate::child::Job for RunRequest {
+    const NAME: &'static str = "bench_run";
+    type Reply = RunFigures;
 }
 
 /// One program's figures in one run (bench.json `run_figures`).
@@ -152,22 +167,6 @@ pub struct RunFigures {
 }
 
 impl RunFigures {
-    /// Writes the figures to `path` (a child's last act).
-    pub fn write(&self, path: &Path) -> Result<()> {
-        let json = serde_json::to_string(self).map_err(|e| Error::output("run figures", e))?;
-        crate::output::write_bytes_atomic(path, json.as_bytes())
-    }
-
-    fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        serde_json::from_str(&text).map_err(|e| {
-            Error::Internal(format!(
-                "{}: not the figures of a bench run: {e}",
-                path.display()
-            ))
-        })
-    }
-
     /// The rounds of program `name`, in round order (empty when the run lacks it).
     pub fn samples_of(&self, name: &str) -> Vec<Sample> {
         self.programs
@@ -178,37 +177,50 @@ impl RunFigures {
     }
 }
 
-/// Runs `count` measurement runs one after another, each a fresh process of `launcher` with
-/// `clock` and `auto`'s frame-check decisions (`frame_env`, [`crate::auto::frame::FRAME_ENV`]),
-/// saying on stderr which run of N is going; returns their figures in run order.
+/// Runs the plan's runs one after another, each a fresh process of `launcher` timing
+/// `methods` (with `opts`' plan and `auto` specs, the `clock` and `auto`'s frame decisions
+/// `frame`), saying on stderr which run of N is going; returns their figures in run order.
 pub fn run_all(
-    count: usize,
     launcher: &Launcher,
+    opts: &super::BenchOptions,
+    methods: &[&'static crate::method::Method],
     clock: &str,
-    frame_env: &str,
+    frame: &[(String, bool)],
 ) -> Result<Vec<RunFigures>> {
-    let dir = tempfile::tempdir().map_err(|e| Error::io(Path::new("temporary directory"), e))?;
-    let mut out = Vec::with_capacity(count);
+    let dir = tempfile::Builder::new()
+        .prefix("shadelab-bench-")
+        .tempdir()
+        .map_err(|e| Error::io(Path::new("a temporary folder"), e))?;
+    let count = opts.plan.runs;
+    let spawn = crate::child::Spawn {
+        exe: launcher.exe.clone(),
+        driver_env: launcher.driver_env.clone(),
+        method_files: crate::method::user::paths(),
+        show_stderr: true,
+    };
     let base = base_seed();
+    let mut out = Vec::with_capacity(count);
     for k in 1..=count {
         eprintln!("bench: run {k} of {count} (a fresh process: its own Vulkan device, JIT, warm-up and rounds)");
-        let file = dir.path().join(format!("run_{k}.json"));
-        let status = Command::new(&launcher.exe)
-            .args(&launcher.args)
-            .env(RUN_FILE_ENV, &file)
-            .env(CLOCK_ENV, clock)
-            .env(crate::auto::frame::FRAME_ENV, frame_env)
-            .env(SEED_ENV, (base + k as u64).to_string())
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .status()
-            .map_err(|e| Error::io(&launcher.exe, e))?;
-        if !status.success() {
-            return Err(Error::Internal(format!(
-                "bench: run {k} of {count} failed ({status}); its messages are above"
-            )));
+        let req = RunRequest {
+            scene: launcher.scene.clone(),
+            device: launcher.device.clone(),
+            methods: methods.iter().map(|m| m.name.to_string()).collect(),
+            plan: opts.plan.clone(),
+            context: RunContext {
+                clock: clock.to_string(),
+                seed: base + k as u64,
+                frame: frame.to_vec(),
+            },
+            auto: opts.auto.clone(),
+        };
+        match crate::child::call(&spawn, &req, dir.path(), &format!("run_{k}")) {
+            Ok(f) => out.push(f),
+            Err(f) => {
+                let _ = dir.keep();
+                return Err(Error::Internal(format!("bench: run {k} of {count}: {f}")));
+            }
         }
-        out.push(RunFigures::read(&file)?);
     }
     Ok(out)
 }
@@ -540,10 +552,10 @@ mod tests {
         );
     }
 
+    /// A run's figures survive the child protocol's reply (JSON) and give each program's
+    /// rounds back in order; a reply of another shape is refused.
     #[test]
-    fn run_figures_round_trip_through_their_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("r.json");
+    fn run_figures_round_trip_through_a_reply() {
         let s = [
             Sample {
                 wall_ms: 2.0,
@@ -561,14 +573,13 @@ mod tests {
             programs: vec![ProgramRounds::new(crate::method::PHONG_EXACT, &s)],
             isolated: Vec::new(),
         };
-        f.write(&p).unwrap();
-        let back = RunFigures::read(&p).unwrap();
+        let json = serde_json::to_string(&f).unwrap();
+        let back: RunFigures = serde_json::from_str(&json).unwrap();
         let got = back.samples_of(crate::method::PHONG_EXACT);
         assert_eq!(got.len(), 2);
         assert_eq!((got[0].wall_ms, got[0].timestamp_ms), (2.0, Some(1.5)));
         assert_eq!(got[1].timestamp_ms, None);
         assert!(back.samples_of("gouraud").is_empty());
-        std::fs::write(&p, "{}").unwrap();
-        assert!(RunFigures::read(&p).is_err());
+        assert!(serde_json::from_str::<RunFigures>("{}").is_err());
     }
 }

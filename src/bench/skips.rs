@@ -227,7 +227,7 @@ pub fn skips(
         &culled.base().inputs,
         &opts.auto,
         crate::auto::Cache::Use,
-        false,
+        None,
     )?;
     eprintln!("skips: {}", auto_summary.line());
 

@@ -1,11 +1,11 @@
-//! The seeds' speed claims as one table, a column per cost model, each named: lavapipe's
-//! frame time and isolated cost (this run's paired intervals), the software engine (timed by
-//! this run after lavapipe's rounds, its programs paired in their own rounds, written to
-//! DIR/software/: [`software_column`]), and per AMD GPU family the static cost
-//! (ACO's inverse throughput of the timed draw's fragment shader, `shadelab isa`). One verdict
-//! rule for every column ([`factor_verdict`]); a static cost is one deterministic figure, no
-//! interval, so it agrees or disagrees, never inconclusive. The op-count claim is judged per
-//! family on the compiled instructions ([`crate::isa::claims::op_count`]).
+//! The seeds' speed claims as one table, a column per cost model of the run's
+//! [`crate::cost::Registry`]: lavapipe's frame time and isolated cost (this run's paired
+//! intervals), the software engine (timed by this run after lavapipe's rounds, its programs
+//! paired in their own rounds, written to DIR/software/: [`software_column`]), and per GPU
+//! family the static cost (`shadelab isa`). Each cell is [`CostModel::ratio`] judged by one rule
+//! ([`crate::cost::factor_verdict`]); a static cost is one deterministic figure, no interval,
+//! so it agrees or disagrees, never inconclusive. The op-count claim is judged per family on
+//! the compiled instructions ([`crate::isa::claims::op_count`]).
 //!
 //! Where the static cost comes from ([`StaticCostSource`]): compiled now by `shadelab isa`'s
 //! children (after the timed rounds, never during them), read from an isa.json (`--isa`), or
@@ -14,12 +14,11 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-use super::claims::factor_verdict;
 use super::software::claims::claim_specs;
 use super::MethodTiming;
-use crate::error::{Error, Result};
+use crate::cost::{CostModel, CostModelId, Evidence};
 use crate::isa::IsaReport;
-use crate::method::Verdict;
+use crate::method::{Verdict, PHONG_EXACT};
 
 /// Where bench's static cost comes from.
 #[derive(Debug, Clone, Default)]
@@ -37,23 +36,17 @@ pub enum StaticCostSource {
     },
 }
 
-/// The column names other than the families'.
-pub const FRAME_TIME: &str = "lavapipe frame time";
-pub const ISOLATED: &str = "lavapipe isolated cost";
-pub const SOFTWARE: &str = "software engine";
-
-/// One cell: a measure's ratio `num / den` and its verdict.
+/// One cell: a cost model's ratio `num / den` and its verdict.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Cell {
-    /// [`FRAME_TIME`], [`ISOLATED`], [`SOFTWARE`] or `isa:<family>`.
-    pub measure: String,
+    pub cost_model: CostModelId,
     pub ratio: Option<f64>,
     /// The 95% interval (timings); absent for a static cost (one deterministic figure).
     pub ci95_low: Option<f64>,
     pub ci95_high: Option<f64>,
-    /// agrees, disagrees, inconclusive, not_supported (the driver refused the family) or
-    /// not_measured.
-    pub verdict: String,
+    /// agrees, disagrees, inconclusive, or not_checked (a program of the ratio was not
+    /// measured by the model).
+    pub verdict: Verdict,
     pub note: String,
 }
 
@@ -90,7 +83,8 @@ pub const SOFTWARE_REPEAT: usize = 21;
 pub struct SoftwareColumn {
     /// "timed now: DIR/software/bench.json (...)", "skipped (--no-software)", or why not.
     pub source: String,
-    pub claims: Vec<super::software::SpeedClaim>,
+    /// The software bench, when it ran.
+    pub bench: Option<super::software::SoftwareBench>,
 }
 
 /// The programs of the speed claims among `methods` (phong_exact always): what the software
@@ -121,7 +115,7 @@ pub fn software_column(
     if !on {
         return SoftwareColumn {
             source: "skipped (--no-software)".into(),
-            claims: Vec::new(),
+            bench: None,
         };
     }
     let ms = claim_methods(methods);
@@ -151,36 +145,12 @@ pub fn software_column(
                 r.rounds.rounds,
                 r.total_s
             ),
-            claims: r.claims,
+            bench: Some(r),
         },
         Err(e) => SoftwareColumn {
             source: format!("not measured: the software engine failed: {e}"),
-            claims: Vec::new(),
+            bench: None,
         },
-    }
-}
-
-/// The software cell of claim `c` from `sw`'s judged claims.
-fn software_cell(sw: &SoftwareColumn, claim: &str, num: &str, den: &str) -> Cell {
-    let judged = sw
-        .claims
-        .iter()
-        .find(|c| c.claim == claim && c.num == num && c.den == den)
-        .and_then(|c| c.software.as_ref());
-    match judged {
-        Some(j) => Cell {
-            measure: SOFTWARE.into(),
-            ratio: Some(j.median).filter(|v| v.is_finite()),
-            ci95_low: Some(j.ci95_low).filter(|v| v.is_finite()),
-            ci95_high: Some(j.ci95_high).filter(|v| v.is_finite()),
-            verdict: j.verdict.as_str().into(),
-            note: format!(
-                "paired per round in the software engine ({} rounds, {} not finite); {}",
-                j.rounds, j.non_finite, sw.source
-            ),
-        },
-        None if sw.claims.is_empty() => not_measured(SOFTWARE, &sw.source),
-        None => not_measured(SOFTWARE, "a program of the ratio was not timed"),
     }
 }
 
@@ -192,7 +162,7 @@ pub fn load(
 ) -> (Option<IsaReport>, String) {
     match src {
         StaticCostSource::Skip => (None, "skipped (--no-isa)".into()),
-        StaticCostSource::File(p) => match read(p) {
+        StaticCostSource::File(p) => match crate::isa::files::read(p) {
             Ok(r) => (Some(r), format!("read from {}", p.display())),
             Err(e) => (None, format!("not read: {e}")),
         },
@@ -232,11 +202,6 @@ pub fn load(
     }
 }
 
-fn read(p: &std::path::Path) -> Result<IsaReport> {
-    let text = std::fs::read_to_string(p).map_err(|e| Error::io(p, e))?;
-    serde_json::from_str(&text).map_err(|e| Error::input(p, None, format!("not an isa.json: {e}")))
-}
-
 /// [`StaticCost`] of `report` (or of none).
 pub fn summary(report: Option<&IsaReport>, source: String) -> StaticCost {
     StaticCost {
@@ -252,125 +217,35 @@ pub fn summary(report: Option<&IsaReport>, source: String) -> StaticCost {
     }
 }
 
-/// The verdict of a static ratio: [`factor_verdict`] on the degenerate interval [r, r]. A
-/// "faster" claim (claimed below 1) needs a ratio strictly below 1: equal cost is not faster.
-pub fn static_verdict(ratio: f64, claimed_below: f64) -> Verdict {
-    let target = if claimed_below == 1.0 {
-        1.0 - f64::EPSILON
-    } else {
-        claimed_below
-    };
-    factor_verdict(ratio, ratio, target)
-}
-
-/// A ratio interval of `num / den` from two rows' intervals to phong_exact: `num`'s own when
-/// `den` is phong_exact (paired), else bounded from the two (not paired).
-fn interval(
-    a: Option<(f64, f64, f64)>,
-    b: Option<(f64, f64, f64)>,
-    den_is_exact: bool,
-) -> Option<(f64, f64, f64, bool)> {
-    let (alo, amid, ahi) = a?;
-    if den_is_exact {
-        return Some((alo, amid, ahi, true));
-    }
-    let (blo, bmid, bhi) = b?;
-    (blo > 0.0).then(|| (alo / bhi, amid / bmid, ahi / blo, false))
-}
-
-fn timed_cell(measure: &str, iv: Option<(f64, f64, f64, bool)>, target: f64) -> Cell {
-    match iv.filter(|(lo, _, hi, _)| lo.is_finite() && hi.is_finite()) {
-        Some((lo, mid, hi, paired)) => Cell {
-            measure: measure.into(),
-            ratio: Some(mid),
-            ci95_low: Some(lo),
-            ci95_high: Some(hi),
-            verdict: factor_verdict(lo, hi, target).as_str().into(),
-            note: if paired {
-                "paired per round"
-            } else {
-                "bounded from two intervals, not paired"
-            }
-            .into(),
-        },
-        None => not_measured(measure, "not measured in this run"),
-    }
-}
-
-fn not_measured(measure: &str, note: &str) -> Cell {
-    Cell {
-        measure: measure.into(),
-        ratio: None,
-        ci95_low: None,
-        ci95_high: None,
-        verdict: "not_measured".into(),
-        note: note.into(),
-    }
-}
-
-/// The static cell of `num / den` on `family`.
-fn static_cell(
-    r: &IsaReport,
-    family: &str,
-    status: &str,
-    num: &str,
-    den: &str,
-    target: f64,
-) -> Cell {
-    let measure = format!("isa:{family}");
-    if !status.starts_with("compiled") {
-        return Cell {
-            verdict: "not_supported".into(),
-            ..not_measured(&measure, status)
-        };
-    }
-    let it = |m: &str| {
-        r.row(family, m, "fragment", "draw")
-            .and_then(|row| row.statistics.get("inverse_throughput").copied())
-    };
-    match (it(num), it(den)) {
-        (Some(a), Some(b)) if b > 0.0 && a.is_finite() && b.is_finite() => Cell {
-            measure,
-            ratio: Some(a / b),
-            ci95_low: None,
-            ci95_high: None,
-            verdict: static_verdict(a / b, target).as_str().into(),
-            note: format!("fragment shader inverse throughput {a} / {b} busy cycles per wave (ACO's static model)"),
-        },
-        _ => not_measured(&measure, "a program of the ratio was not compiled"),
-    }
-}
-
-/// Every seed speed claim whose programs are in `rows`, with a cell per measure.
-pub fn table(
-    rows: &[MethodTiming],
-    isa: Option<&IsaReport>,
-    sw: &SoftwareColumn,
-) -> Vec<SpeedClaim> {
-    let find = |n: &str| rows.iter().find(|r| r.name == n);
-    let frame = |r: &MethodTiming| {
-        (r.ratio_rounds > 0).then_some((r.ratio_ci95_low, r.ratio_median, r.ratio_ci95_high))
-    };
-    let iso = |r: &MethodTiming| {
-        r.isolated_ratio_to_phong_exact
-            .map(|i| (i.ci95_low, i.median, i.ci95_high))
-    };
+/// Every seed speed claim whose programs `models` measured, with a cell per model.
+pub fn table(models: &[CostModel]) -> Vec<SpeedClaim> {
     let mut out = Vec::new();
     for c in claim_specs() {
-        let (Some(a), Some(b)) = (find(c.num), find(c.den)) else {
+        let measured = |m: &str| models.iter().any(|x| x.figure(m).is_some());
+        if !(measured(c.num) && measured(c.den)) {
             continue;
-        };
-        let exact = c.den == crate::method::PHONG_EXACT;
-        let mut cells = vec![
-            timed_cell(FRAME_TIME, interval(frame(a), frame(b), exact), c.target),
-            timed_cell(ISOLATED, interval(iso(a), iso(b), exact), c.target),
-            software_cell(sw, &c.claim, c.num, c.den),
-        ];
-        if let Some(r) = isa {
-            for f in &r.families {
-                cells.push(static_cell(r, &f.family, &f.status, c.num, c.den, c.target));
-            }
         }
+        let cells = models
+            .iter()
+            .map(|m| match m.ratio(c.num, c.den, PHONG_EXACT) {
+                Some(r) => Cell {
+                    cost_model: m.id.clone(),
+                    ratio: Some(r.median),
+                    ci95_low: r.interval.map(|i| i.0),
+                    ci95_high: r.interval.map(|i| i.1),
+                    verdict: r.verdict(c.target),
+                    note: r.note,
+                },
+                None => Cell {
+                    cost_model: m.id.clone(),
+                    ratio: None,
+                    ci95_low: None,
+                    ci95_high: None,
+                    verdict: Verdict::NotChecked,
+                    note: "a program of the ratio was not measured".into(),
+                },
+            })
+            .collect();
         out.push(SpeedClaim {
             claim: c.claim,
             num: c.num.into(),
@@ -411,7 +286,7 @@ pub fn markdown(claims: &[SpeedClaim], stat: Option<&StaticCost>) -> String {
     }
     md += "\n| claim | ratio | claimed below |";
     for c in &first.cells {
-        md += &format!(" {} |", c.measure);
+        md += &format!(" {} |", c.cost_model);
     }
     md += "\n|---|---|---|";
     md += &"---|".repeat(first.cells.len());
@@ -493,8 +368,8 @@ pub fn op_count_checks(s: &StaticCost) -> Vec<super::ClaimCheck> {
 }
 
 /// The software column (timed now on `scene`, into `out`/software/, unless `--no-software`),
-/// the static cost from `opts.static_cost`, the speed table, its summary, and the op-count rows
-/// added to `claims`.
+/// the static cost from `opts.static_cost`, the cost models of `opts.costs` over this run's
+/// timings (`rows`), the speed table, its summary, and the op-count rows added to `claims`.
 pub fn judge(
     opts: &super::BenchOptions,
     (scene, out): (&crate::scene::Scene, &std::path::Path),
@@ -504,7 +379,26 @@ pub fn judge(
 ) -> (Vec<SpeedClaim>, StaticCost) {
     let sw = software_column(scene, methods, out, opts.software_column);
     let (isa, source) = load(&opts.static_cost, methods);
-    let speed = table(rows, isa.as_ref(), &sw);
+    let name = scene.name.clone();
+    let mut ev = Evidence::new().with(super::cost::TimedScene {
+        scene: name.clone(),
+        methods: rows.to_vec(),
+        link: |_, _| "bench.json".into(),
+    });
+    if let Some(b) = &sw.bench {
+        ev.push(super::software::cost::SoftwareScene {
+            scene: name,
+            evidence: "software/bench.json".into(),
+            bench: b.clone(),
+        });
+    }
+    if let Some(r) = &isa {
+        ev.push(crate::isa::cost::Compiled {
+            report: r.clone(),
+            evidence: "isa.json".into(),
+        });
+    }
+    let speed = table(&opts.costs.models(&ev));
     let stat = summary(isa.as_ref(), source);
     claims.extend(op_count_checks(&stat));
     (speed, stat)
@@ -513,17 +407,7 @@ pub fn judge(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_static_ratio_agrees_or_disagrees_and_equal_is_not_faster() {
-        assert_eq!(static_verdict(0.93, 1.0), Verdict::Agrees);
-        assert_eq!(static_verdict(1.0, 1.0), Verdict::Disagrees);
-        assert_eq!(static_verdict(1.06, 1.0), Verdict::Disagrees);
-        assert_eq!(static_verdict(0.5, 0.5), Verdict::Agrees);
-        assert_eq!(static_verdict(0.2, 0.02), Verdict::Disagrees);
-        // Not a figure: never sorted as agreeing.
-        assert_eq!(static_verdict(f64::NAN, 1.0), Verdict::Inconclusive);
-    }
+    use crate::cost::{CostSource, Evidence};
 
     fn report(families: &[(&str, bool)], costs: &[(&str, f64)]) -> IsaReport {
         let fam = |(f, ok): &(&str, bool)| {
@@ -533,8 +417,7 @@ mod tests {
                 "statistics": []})
         };
         let mut rows = Vec::new();
-        for (f, ok) in families.iter().filter(|(_, ok)| *ok) {
-            let _ = ok;
+        for (f, _) in families.iter().filter(|(_, ok)| *ok) {
             for (m, it) in costs {
                 rows.push(
                     serde_json::json!({"family": f, "method": m, "stage": "fragment",
@@ -543,101 +426,106 @@ mod tests {
                 );
             }
         }
-        serde_json::from_value(serde_json::json!({"version": 1, "precision": "f32",
-            "scene": "s", "kernel_counts": [2, 3], "model": "m",
+        let mut r: IsaReport = serde_json::from_value(serde_json::json!({"version": 1,
+            "precision": "f32", "scene": "s", "kernel_counts": [2, 3], "model": "m",
             "families": families.iter().map(fam).collect::<Vec<_>>(),
             "results": rows, "elapsed_s": 0.0}))
-        .unwrap()
+        .unwrap();
+        crate::isa::table::fill_ratios(&mut r.results);
+        r
     }
 
-    /// A refused family is a named not_supported cell; a compiled one is judged by its ratio.
+    fn cell<'a>(t: &'a [SpeedClaim], num: &str, model: &str) -> &'a Cell {
+        let c = t
+            .iter()
+            .find(|c| c.num == num && c.den == PHONG_EXACT)
+            .unwrap_or_else(|| panic!("no claim of {num}: {t:?}"));
+        c.cells
+            .iter()
+            .find(|c| c.cost_model == *model)
+            .unwrap_or_else(|| panic!("no {model} cell: {c:?}"))
+    }
+
+    /// A compiled family is a column judged by its static ratio (equal cost is not faster); a
+    /// refused family is no column (bench.json's static_cost names it); a program a model did
+    /// not measure is not_checked.
     #[test]
-    fn every_family_gets_a_named_cell() {
+    fn every_compiled_family_is_a_column_judged_by_its_ratio() {
         let r = report(
             &[("navi21", true), ("bogus", false)],
             &[
                 ("phong_exact", 70.0),
                 ("newton_raphson", 70.0),
-                ("gouraud", 14.0),
+                // 1/70 of phong_exact: within even the "50 times faster" claim.
+                ("gouraud", 1.0),
             ],
         );
-        let rows: Vec<MethodTiming> = Vec::new();
-        // No timing row: no claim (the table follows the run's methods).
-        assert!(table(&rows, Some(&r), &SoftwareColumn::default()).is_empty());
-        let c = static_cell(
-            &r,
-            "navi21",
-            "compiled",
-            "newton_raphson",
-            "phong_exact",
-            1.0,
-        );
-        assert_eq!(
-            (c.measure.as_str(), c.verdict.as_str()),
-            ("isa:navi21", "disagrees")
-        );
-        assert_eq!(c.ratio, Some(1.0));
+        let ev = Evidence::new().with(crate::isa::cost::Compiled {
+            report: r,
+            evidence: "isa.json".into(),
+        });
+        let models = crate::isa::cost::StaticCost.models(&ev);
+        assert_eq!(models.len(), 1, "the refused family is no model");
+        let t = table(&models);
+        let c = cell(&t, "newton_raphson", "isa:navi21");
+        assert_eq!((c.ratio, c.verdict), (Some(1.0), Verdict::Disagrees));
         assert_eq!(c.ci95_low, None);
-        let c = static_cell(&r, "navi21", "compiled", "gouraud", "phong_exact", 1.0);
-        assert_eq!(c.verdict, "agrees");
-        let c = static_cell(
-            &r,
-            "bogus",
-            &r.families[1].status,
-            "gouraud",
-            "phong_exact",
-            1.0,
-        );
-        assert_eq!(c.verdict, "not_supported");
-        assert!(
-            c.note.starts_with("not supported by this driver"),
-            "{}",
-            c.note
-        );
-        let c = static_cell(&r, "navi21", "compiled", "slerp", "phong_exact", 1.0);
-        assert_eq!(c.verdict, "not_measured");
+        assert_eq!(cell(&t, "gouraud", "isa:navi21").verdict, Verdict::Agrees);
+        // No model measured slerp: its claims are not in the table at all.
+        assert!(t.iter().all(|c| c.num != "slerp"), "{t:?}");
+        // Teeth: without any model there is no claim.
+        assert!(table(&[]).is_empty());
     }
 
-    /// The software cell carries the software engine's paired interval and its verdict, and
-    /// says where it comes from; without a software run it is not_measured and says why.
+    /// The software column's pairs (timed against each other in the same rounds) are judged
+    /// by their own interval; slower in every round disagrees.
     #[test]
-    fn the_software_cell_is_the_software_engines_verdict() {
+    fn a_pair_timed_together_is_judged_by_its_own_interval() {
         let specs = claim_specs();
         let spec = specs.iter().find(|c| c.num == "newton_raphson").unwrap();
         let names: Vec<String> = ["newton_raphson", "phong_exact"].map(String::from).to_vec();
+        let model = |values: Vec<Vec<f64>>| {
+            let claims = super::super::software::judge_claims(&names, &values, None);
+            let mut m = crate::isa::cost::StaticCost.models(&Evidence::new());
+            assert!(m.is_empty());
+            let pairs = super::super::software::cost::pairs("s", &claims);
+            let fig = |n: &str| crate::cost::CostFigure {
+                method: n.into(),
+                value: None,
+                ratio: Some(1.0),
+                ci95_low: Some(0.5),
+                ci95_high: Some(1.5),
+                verdict: Verdict::Inconclusive,
+                evidence: String::new(),
+                note: String::new(),
+            };
+            m.push(crate::cost::CostModel {
+                id: crate::cost::CostModelId::of(crate::cost::SOFTWARE),
+                title: "software engine".into(),
+                kind: crate::cost::CostKind::Interval,
+                measure: crate::cost::Measure {
+                    statistic: "frame time".into(),
+                    unit: "ms".into(),
+                },
+                description: String::new(),
+                precision: crate::method::Precision::F32,
+                figures: vec![fig("newton_raphson"), fig(PHONG_EXACT)],
+                pairs,
+            });
+            m
+        };
         // newton_raphson at 0.9 of phong_exact in every round: agrees with "faster".
-        let values = vec![vec![9.0, 9.1, 8.9, 9.0, 9.2, 8.8, 9.0, 9.0], vec![10.0; 8]];
-        let sw = SoftwareColumn {
-            source: "timed now in the software engine: D/software/bench.json".into(),
-            claims: super::super::software::judge_claims(&names, &values, None),
-        };
-        let c = software_cell(&sw, &spec.claim, spec.num, spec.den);
-        assert_eq!(
-            (c.measure.as_str(), c.verdict.as_str()),
-            (SOFTWARE, "agrees")
-        );
+        let faster = vec![vec![9.0, 9.1, 8.9, 9.0, 9.2, 8.8, 9.0, 9.0], vec![10.0; 8]];
+        let t = table(&model(faster));
+        let c = cell(&t, spec.num, crate::cost::SOFTWARE);
+        assert_eq!(c.verdict, Verdict::Agrees, "{c:?}");
         assert!((c.ratio.unwrap() - 0.9).abs() < 0.02, "{c:?}");
-        assert!(c.ci95_high.unwrap() < 1.0 && c.note.contains("software/bench.json"));
-        // Teeth: slower in every round disagrees.
-        let slower = vec![vec![11.0; 8], vec![10.0; 8]];
-        let sw2 = SoftwareColumn {
-            claims: super::super::software::judge_claims(&names, &slower, None),
-            ..sw.clone()
-        };
-        let c = software_cell(&sw2, &spec.claim, spec.num, spec.den);
-        assert_eq!(c.verdict, "disagrees");
-        // A claim whose programs were not timed, and no run at all.
-        let other = specs.iter().find(|c| c.num == "gouraud").unwrap();
-        let c = software_cell(&sw, &other.claim, other.num, other.den);
-        assert_eq!(c.verdict, "not_measured");
-        let none = SoftwareColumn {
-            source: "skipped (--no-software)".into(),
-            claims: Vec::new(),
-        };
-        let c = software_cell(&none, &spec.claim, spec.num, spec.den);
+        assert!(c.ci95_high.unwrap() < 1.0 && c.note.contains("paired per round"));
+        // Teeth: slower in every round disagrees (the figures alone would say inconclusive).
+        let t = table(&model(vec![vec![11.0; 8], vec![10.0; 8]]));
         assert_eq!(
-            (c.verdict.as_str(), c.note.as_str()),
-            ("not_measured", "skipped (--no-software)")
+            cell(&t, spec.num, crate::cost::SOFTWARE).verdict,
+            Verdict::Disagrees
         );
     }
 

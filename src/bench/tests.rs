@@ -580,12 +580,13 @@ fn auto_is_beaten_only_by_a_fixed_method_with_no_more_error_and_a_faster_paired_
 }
 
 /// One rule for every "k times faster" claim: the Vulkan frame-time and isolated-cost claims
-/// and the software engine's judge all follow [`claims::factor_verdict`].
+/// and the software engine's judge all follow [`crate::cost::factor_verdict`].
 #[test]
 fn one_factor_rule_for_every_engine_and_cost_model() {
-    use super::claims::{factor_claim, factor_verdict, Measure};
+    use super::claims::{factor_claim, Measure};
     use super::software::judge;
     use crate::bench::isolated::Interval;
+    use crate::cost::factor_verdict;
     let target = 0.5; // a 2x claim
     let cases = [
         ((0.30, 0.35, 0.40), Verdict::Agrees),

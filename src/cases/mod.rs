@@ -6,11 +6,15 @@
 //! Geometry of a case. The two vertex normals N0, N1 make the angle `theta_deg` about their
 //! bisector M, which points `elevation_deg` away from the viewer (+Z; 90 is edge-on, 180 faces
 //! away); `pair_azimuth_deg` turns their plane about M (0: the plane holds the view axis, 90:
-//! across it) and `roll_deg` turns everything about the view axis. N2 = M. The light makes
+//! across it) and `roll_deg` turns everything about the view axis. N2 = M, or M turned by
+//! `apex_deg` out of the pair's plane towards M x T (three normals pairwise theta apart for
+//! cos(apex) = cos(theta) / cos(theta/2), theta <= 120 deg: `prove`'s triangles). The light makes
 //! `light_deg` with M, in the pair's plane (`light_out_of_plane` false) or across it; H =
 //! normalize(L + V). On screen, the triangle is a strip whose first row is a span of `span_px`
-//! pixels from N0 (left) to N1 (right), its third corner far below, or one of the shapes of
-//! [`Shape`]; the pixel is `pixel` (a pixel index along the span, or along the shape). In 3-D
+//! pixels from N0 (left) to N1 (right), its third corner far below ([`STRIP_APEX_Y`]), or one of
+//! the shapes of [`Shape`]; the pixel is `pixel` (a pixel index along the span, or along the
+//! shape) on the strip's row `row` (0: the span; row r puts r / (STRIP_APEX_Y - 0.5) of the
+//! weight on N2, [`strip_row_weight`]: the pixel `span_px / 2` walks the median to N2). In 3-D
 //! the triangle is flat across M (flat normal M), which gives the PN mid-edge normals. Every value is
 //! rounded to f32 once, so the device and the f64 twin see the same numbers.
 pub mod grid;
@@ -54,6 +58,31 @@ pub struct CaseSpec {
     /// Ambient and diffuse 0, specular 1: the colour is the specular term alone.
     #[serde(default)]
     pub specular_only: bool,
+    /// N2 turned from the bisector M by this angle, degrees, out of the pair's plane (towards
+    /// M x T); 0 (absent in a file): N2 = M.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub apex_deg: f64,
+    /// The strip's pixel row (strip only; 0, absent in a file: the span N0-N1). A pixel off
+    /// the median (`span_px / 2`) may lie outside the triangle at a deep row (weights < 0).
+    #[serde(default, skip_serializing_if = "is_zero_u32")]
+    pub row: u32,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+fn is_zero_u32(x: &u32) -> bool {
+    *x == 0
+}
+
+/// The window y of a strip's third corner (N2's): the rows run from 0 to below it.
+pub const STRIP_APEX_Y: f64 = 1e5;
+
+/// The weight on N2 of a strip's pixel on `row` (exact in f64 up to its rounding; the median's
+/// pixel has the other two weights equal).
+pub fn strip_row_weight(row: u32) -> f64 {
+    f64::from(row) / (STRIP_APEX_Y - 0.5)
 }
 
 impl Default for CaseSpec {
@@ -71,6 +100,8 @@ impl Default for CaseSpec {
             span_px: 64,
             pixel: 20,
             specular_only: false,
+            apex_deg: 0.0,
+            row: 0,
         }
     }
 }
@@ -146,10 +177,11 @@ fn screen(spec: &CaseSpec) -> ([DVec2; 3], DVec2) {
             let w = [
                 DVec2::new(0.5, 0.5),
                 DVec2::new(s + 0.5, 0.5),
-                DVec2::new(0.5 * s + 0.5, 1e5),
+                DVec2::new(0.5 * s + 0.5, STRIP_APEX_Y),
             ];
             let i = f64::from(spec.pixel.min(spec.span_px.max(1) - 1));
-            (w, DVec2::new(i + 0.5, 0.5))
+            let row = f64::from(spec.row).min(STRIP_APEX_Y - 1.0);
+            (w, DVec2::new(i + 0.5, row + 0.5))
         }
         // Both slivers: 4096 x 0.1 px (aspect 4e4 at the wide end, 1e4 on average); their
         // pixel centres lie inside from index 0 (the rows or columns 683..4095).
@@ -193,7 +225,13 @@ impl Case {
         let m = roll(m0, spec.roll_deg);
         let t = roll(t0, spec.roll_deg);
         let (sh, ch) = (0.5 * th).sin_cos();
-        let unit = [m * ch - t * sh, m * ch + t * sh, m].map(|n| r3(n.normalize()));
+        let apex = if spec.apex_deg == 0.0 {
+            m
+        } else {
+            let (sa, ca) = spec.apex_deg.to_radians().sin_cos();
+            m * ca + m.cross(t) * sa
+        };
+        let unit = [m * ch - t * sh, m * ch + t * sh, apex].map(|n| r3(n.normalize()));
         let normals = unit.map(|n| r3(n * spec.length));
         let (sl, cl) = spec.light_deg.to_radians().sin_cos();
         let side = if spec.light_out_of_plane {

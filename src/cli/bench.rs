@@ -3,32 +3,42 @@ use std::process::ExitCode;
 
 use super::*;
 use crate::error::{Error, Result};
-/// `--runs`: one run here, N fresh processes of this binary with the same arguments, or (with
-/// [`crate::bench::runs::RUN_FILE_ENV`] set by such a parent) one of those runs.
-pub(super) fn bench_runs(runs: Option<usize>, software: bool) -> Result<crate::bench::Runs> {
-    use crate::bench::runs::{Launcher, CLOCK_ENV, DEFAULT_RUNS, RUN_FILE_ENV};
-    use crate::bench::Runs;
-    if let Some(file) = std::env::var_os(RUN_FILE_ENV) {
-        return Ok(Runs::Child {
-            file: file.into(),
-            clock: std::env::var(CLOCK_ENV).unwrap_or_else(|_| "wall".into()),
-        });
+impl BenchCmd {
+    /// What the command line gave of the run plan.
+    fn given(&self) -> crate::bench::plan::Given {
+        crate::bench::plan::Given {
+            runs: self.runs,
+            repeat: self.repeat,
+            warmup: self.warmup,
+            isolated_rounds: self.isolated_rounds,
+            control: self.control,
+            until_ci_pct: self.until_ci,
+            max_time_s: self.max_time,
+        }
     }
-    match (runs, software) {
-        (Some(0), _) => Err(Error::Usage("--runs must be at least 1".into())),
-        (Some(n), true) if n > 1 => Err(Error::Usage(
-            "--runs N > 1 is measured by the Vulkan bench only: use --runs 1 with --engine software"
-                .into(),
-        )),
-        (None, true) | (Some(1), _) => Ok(Runs::One),
-        (n, false) | (n @ Some(_), true) => Ok(Runs::Many {
-            count: n.unwrap_or(DEFAULT_RUNS),
-            launcher: Launcher {
-                exe: std::env::current_exe().map_err(|e| Error::io(std::path::Path::new("shadelab"), e))?,
-                args: std::env::args().skip(1).collect(),
-            },
-        }),
+}
+
+/// One run here, or the plan's runs as fresh processes of this binary on the same scene and
+/// device ([`crate::bench::runs`]).
+fn bench_runs(b: &BenchCmd, plan: &crate::bench::plan::RunPlan) -> Result<crate::bench::Runs> {
+    use crate::bench::runs::{Launcher, Runs};
+    if !plan.many() {
+        return Ok(Runs::One);
     }
+    Ok(Runs::Many(Launcher {
+        exe: std::env::current_exe().map_err(|e| Error::io(std::path::Path::new("shadelab"), e))?,
+        scene: b.scene.source(),
+        device: crate::gpu::DeviceSpec {
+            device: b.device.device.clone(),
+            validate: b.device.validate,
+            precision: b.precision.precision,
+        },
+        driver_env: b
+            .threads
+            .map(|n| ("LP_NUM_THREADS".to_string(), n.to_string()))
+            .into_iter()
+            .collect(),
+    }))
 }
 
 /// `--isa FILE`, `--no-isa`, or compile now (the default) with this binary's children.
@@ -52,34 +62,23 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     let (list, with_auto) = crate::auto::split_methods(&b.methods);
     let methods = select_methods(&list)?;
     let scene = load_scene(&b.scene)?;
-    let runs = bench_runs(b.runs, b.device.engine == EngineArg::Software)?;
-    let many = !matches!(runs, crate::bench::Runs::One);
-    let defaults = crate::bench::BenchOptions::default();
+    let software = b.device.engine == EngineArg::Software;
+    let plan =
+        crate::bench::plan::RunPlan::new(crate::bench::plan::Job::Bench { software }, &b.given())?;
+    let runs = bench_runs(&b, &plan)?;
     let static_cost = static_cost_source(&b)?;
     let mut opts = crate::bench::BenchOptions {
-        repeat: b.repeat.unwrap_or(if many {
-            crate::bench::runs::RUN_REPEAT
-        } else {
-            defaults.repeat
-        }),
-        warmup: b.warmup,
+        plan,
         error_metric: b.error_metric,
-        control: b.control,
         sweeps: b.sweep.into_iter().map(Into::into).collect(),
-        until_ci_pct: b.until_ci,
-        max_time_s: b.max_time,
         baseline: b.baseline,
         fail_slower_pct: b.fail_slower,
         command_line: std::env::args().collect(),
-        isolated_rounds: b.isolated_rounds.unwrap_or(if many {
-            crate::bench::runs::RUN_ISOLATED_ROUNDS
-        } else {
-            defaults.isolated_rounds
-        }),
         auto: Vec::new(),
         runs,
         static_cost,
         software_column: !b.no_software,
+        costs: crate::costs::builtin(),
     };
     let (dev, out) = (&b.device, b.out.as_path());
     b.precision.check_engine(dev)?;
@@ -94,7 +93,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         let vulkan_only = [
             ("--sweep", !opts.sweeps.is_empty()),
             ("--baseline", opts.baseline.is_some()),
-            ("--control", opts.control),
+            ("--control", b.control),
         ];
         if let Some((flag, _)) = vulkan_only.iter().find(|(_, given)| *given) {
             return Err(Error::Usage(format!(
@@ -103,7 +102,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
             )));
         }
         let sw = crate::bench::software::SoftwareOptions {
-            rounds: opts.rounds_plan(),
+            rounds: opts.plan.rounds.clone(),
             threads: b
                 .threads
                 .map_or_else(crate::software::default_threads, |n| n as usize),
@@ -144,10 +143,6 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     }
     if with_auto {
         opts.auto = auto_spec(&r, &b.error_budget)?.with_curve(&b.auto_curve);
-    }
-    if matches!(opts.runs, crate::bench::Runs::Child { .. }) {
-        crate::bench::measure_run(&r, &scene, &methods, &opts)?;
-        return Ok(ExitCode::SUCCESS);
     }
     let report = crate::bench::bench(&r, &scene, &methods, out, &opts)?;
     print_table(&report);

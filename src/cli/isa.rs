@@ -43,27 +43,12 @@ pub(super) struct IsaArgs {
     #[arg(long, value_name = "FILE.spv", hide = true)]
     probe: Vec<PathBuf>,
     /// Output directory (isa.json, isa.csv, asm/).
-    #[arg(long, value_name = "DIR", required_unless_present = "child")]
-    out: Option<PathBuf>,
-    /// Internal: compile one family's request (JSON) on the device the environment selects and
-    /// print the report on stdout.
-    #[arg(long, value_name = "REQUEST", hide = true)]
-    child: Option<String>,
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
 }
 
 pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
-    if let Some(request) = &args.child {
-        let req: isa::ChildRequest = serde_json::from_str(request)
-            .map_err(|e| Error::Usage(format!("isa --child: not a request: {e}")))?;
-        let report = isa::child::compile(&req)?;
-        let text =
-            serde_json::to_string(&report).map_err(|e| Error::output("the child report", e))?;
-        println!("{text}");
-        return Ok(ExitCode::SUCCESS);
-    }
-    let Some(out) = args.out else {
-        return Err(Error::Usage("isa: give --out DIR".into()));
-    };
+    let out = args.out;
     let mut methods = super::select_methods(&args.methods)?;
     let exact = crate::method::phong_exact();
     if !methods.iter().any(|m| m.name == exact.name) {

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::Args;
 
 use crate::corpus::{merge, tables};
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 #[derive(Args, Debug)]
 pub(super) struct MergeArgs {
@@ -25,17 +25,14 @@ pub(super) fn cmd_merge(a: MergeArgs) -> Result<ExitCode> {
         .iter()
         .map(|s| s.dir.join("isa").join("isa.json"))
         .find(|p| p.is_file());
-    let isa_json = match &isa {
-        Some(p) => Some(
-            serde_json::from_slice::<serde_json::Value>(
-                &std::fs::read(p).map_err(|e| Error::io(p, e))?,
-            )
-            .map_err(|e| Error::input(p, None, format!("not an isa.json: {e}")))?,
-        ),
+    let isa = match &isa {
+        Some(p) => Some(crate::isa::cost::Compiled {
+            report: crate::isa::files::read(p)?,
+            evidence: p.display().to_string(),
+        }),
         None => None,
     };
-    let isa_path = isa.as_ref().map(|p| p.display().to_string());
-    let report = tables::report(&shards, &meshes, isa_path.as_deref().zip(isa_json.as_ref()));
+    let report = tables::report(&shards, &meshes, isa.as_ref(), &crate::costs::builtin());
     tables::write(&a.out, &report, &meshes)?;
     if report.mixed_machines {
         eprintln!(

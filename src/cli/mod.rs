@@ -1,6 +1,7 @@
 //! The command line: argument parsing (clap) and one function per command. `main.rs` only calls
 //! [`run`] and maps its result to an exit code.
 mod bench;
+mod child;
 mod compare;
 mod corpus;
 mod demo;
@@ -60,7 +61,7 @@ pub struct Cli {
     /// declare its inputs (`// shadelab-inputs: interpolated_normal`); its id is the file stem.
     /// Repeatable. It joins `all` and can be named in --methods / --method of render, compare,
     /// bench, stress, isa, report and corpus (docs/your-method.md). Child processes get it
-    /// through SHADELAB_METHOD_FILES.
+    /// in their request.
     #[arg(long = "method-file", value_name = "PATH.glsl", global = true)]
     method_file: Vec<PathBuf>,
 }
@@ -158,10 +159,11 @@ struct BudgetArgs {
     /// like 4/255.
     #[arg(long = "error-budget", value_name = "E", default_value = "1/255", value_parser = ErrorBudget::parse)]
     budget: ErrorBudget,
-    /// What ranks auto's candidates: `lavapipe` (isolated cost, measured at start) or
-    /// `isa:FAMILY` (ACO's static cost on that AMD GPU family, e.g. isa:navi21; docs/isa.md).
-    #[arg(long = "cost-model", value_name = "MODEL", default_value = "lavapipe", value_parser = crate::auto::CostModel::parse)]
-    cost_model: crate::auto::CostModel,
+    /// What ranks auto's candidates: a cost model measured at start, `lavapipe_isolated`
+    /// (lavapipe's isolated cost) or `isa:FAMILY` (the static cost on that GPU family, e.g.
+    /// isa:navi21; docs/isa.md).
+    #[arg(long = "cost-model", value_name = "MODEL", default_value = crate::cost::LAVAPIPE_ISOLATED, value_parser = crate::cost::CostModelId::parse)]
+    cost_model: crate::cost::CostModelId,
 }
 
 /// `--engine`.
@@ -309,8 +311,10 @@ enum Command {
         #[command(flatten)]
         precision: PrecisionArgs,
     },
-    /// Proven upper bounds of each covered method's normal-space and colour errors over a
-    /// declared domain (interval branch-and-bound), beside the worst values found at real points.
+    /// Proven upper bounds of each covered method's normal-space and colour errors, and its
+    /// largest valid angle, over two declared domains (interval branch-and-bound): any triangle
+    /// (three vertex normals pairwise within --max-angle) and stress's edge geometry (N2 the
+    /// bisector), beside the worst values found at real points of each.
     Prove(self::prove::ProveArgs),
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
     /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
@@ -392,7 +396,7 @@ enum Command {
         /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
         /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
         /// run in this process).
-        #[arg(long, value_name = "N", default_value_t = crate::bench::runs::DEFAULT_RUNS)]
+        #[arg(long, value_name = "N", default_value_t = crate::bench::plan::DEFAULT_RUNS)]
         runs: usize,
         /// Output directory (index.html and everything it shows).
         #[arg(long, value_name = "DIR")]
@@ -423,6 +427,12 @@ enum Command {
     Merge(self::merge::MergeArgs),
     /// List the Vulkan devices the loader reports.
     Devices,
+    /// Internal: one job of a parent shadelab process (src/child.rs), from its request file.
+    #[command(hide = true)]
+    Child {
+        #[arg(value_name = "REQUEST.json")]
+        request: PathBuf,
+    },
 }
 
 // `shadelab bench` (its help is the variant's doc comment).
@@ -439,7 +449,7 @@ struct BenchCmd {
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
     /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
-    /// --runs 1, 10 with more runs).
+    /// --runs 1, 7 with more runs; src/bench/plan.rs).
     #[arg(long)]
     repeat: Option<usize>,
     /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,
@@ -448,9 +458,9 @@ struct BenchCmd {
     /// engine: 1).
     #[arg(long, value_name = "N")]
     runs: Option<usize>,
-    /// Discarded submissions per program (the first includes lavapipe's shader JIT).
-    #[arg(long, default_value_t = 3)]
-    warmup: usize,
+    /// Discarded submissions per program (the first includes lavapipe's shader JIT; default 3).
+    #[arg(long)]
+    warmup: Option<usize>,
     /// The compare metric on the Pareto chart's y axis.
     #[arg(long, default_value = "p99_abs_error")]
     error_metric: String,
@@ -465,9 +475,9 @@ struct BenchCmd {
     /// and to the floor) is within +-PCT percent of its median, or --max-time is reached.
     #[arg(long, value_name = "PCT")]
     until_ci: Option<f64>,
-    /// Time cap of --until-ci: seconds of timed rounds.
-    #[arg(long, value_name = "SECONDS", default_value_t = crate::bench::DEFAULT_MAX_TIME_S)]
-    max_time: f64,
+    /// Time cap of --until-ci: seconds of timed rounds (default 300).
+    #[arg(long, value_name = "SECONDS")]
+    max_time: Option<f64>,
     /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
     /// (0: render on the submitting thread). Recorded in bench.json. With --engine
     /// software: the software engine's threads (default: all cores).
@@ -483,7 +493,7 @@ struct BenchCmd {
     fail_slower: Option<f64>,
     /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
     /// 1, 16, 64 times per invocation; 0: skip it)
-    /// (default: 21 with --runs 1, 7 per run with more runs).
+    /// (default: 21 with --runs 1, 5 per run with more runs).
     #[arg(long, value_name = "N")]
     isolated_rounds: Option<usize>,
     #[command(flatten)]
@@ -570,11 +580,7 @@ fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
 pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
     // Before anything resolves a method set or starts a thread or child process.
-    // The files of a parent process (SHADELAB_METHOD_FILES), then this command's.
-    let mut files = method::user::env_paths();
-    files.extend(cli.method_file.iter().cloned());
-    crate::gpu::shaders::register_user(&files)?;
-    method::user::export_env()?;
+    crate::gpu::shaders::register_user(&cli.method_file)?;
     match cli.command {
         Command::Compare {
             scene,
@@ -655,6 +661,7 @@ pub fn run() -> Result<ExitCode> {
         } => cmd_plan(&scene, &device, json, error_budget),
         Command::Skips(k) => cmd_skips(k),
         Command::Isa(args) => self::isa::cmd_isa(args),
+        Command::Child { request } => self::child::cmd_child(&request),
         Command::Prove(a) => cmd_prove(&a),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
@@ -681,33 +688,28 @@ pub fn run() -> Result<ExitCode> {
     }
 }
 
-fn load_scene(args: &SceneArgs) -> Result<Scene> {
-    let mut scene = match (&args.scene, &args.mesh) {
-        (Some(s), _) => scene::load_scene(s)?,
-        (None, Some(m)) => scene::scene_for_mesh(m)?,
-        (None, None) => return Err(Error::Usage("give --scene FILE or --mesh FILE".into())),
-    };
-    if let Some((w, h)) = args.size {
-        scene.width = w;
-        scene.height = h;
-        if args.scene.is_none() && h > 0 {
-            // --mesh: the camera was fitted for the default aspect; refit it for this one.
-            scene.camera = scene::fit_camera(scene.camera.fov_y_deg, w as f64 / h as f64);
+impl SceneArgs {
+    /// The scene's source as data (what a child process is given).
+    fn source(&self) -> scene::SceneSource {
+        scene::SceneSource {
+            scene: self.scene.clone(),
+            mesh: self.mesh.clone(),
+            size: self.size,
+            interpolation: self.interpolation.map(|i| match i {
+                InterpArg::ScreenLinear => Interpolation::ScreenLinear,
+                InterpArg::Perspective => Interpolation::Perspective,
+            }),
+            cull: self.cull.map(|c| match c {
+                CullArg::Auto => scene::Cull::Auto,
+                CullArg::Back => scene::Cull::Back,
+                CullArg::None => scene::Cull::None,
+            }),
         }
     }
-    if let Some(i) = args.interpolation {
-        scene.interpolation = match i {
-            InterpArg::ScreenLinear => Interpolation::ScreenLinear,
-            InterpArg::Perspective => Interpolation::Perspective,
-        };
-    }
-    if let Some(c) = args.cull {
-        scene.cull = match c {
-            CullArg::Auto => scene::Cull::Auto,
-            CullArg::Back => scene::Cull::Back,
-            CullArg::None => scene::Cull::None,
-        };
-    }
+}
+
+fn load_scene(args: &SceneArgs) -> Result<Scene> {
+    let scene = args.source().load()?;
     if let Some(report) = &scene.mesh_report {
         for w in &report.warnings {
             eprintln!("shadelab: warning: {}: {w}", scene.mesh.source);
@@ -758,19 +760,17 @@ fn check_validation(ctx: &Arc<Context>) -> Result<()> {
 /// measured now on the run's device, or a GPU family's static cost compiled now.
 fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
     let t = std::time::Instant::now();
-    let order = match &b.cost_model {
-        crate::auto::CostModel::Lavapipe => crate::plan::auto_order(r.context())?,
-        crate::auto::CostModel::Isa(f) => crate::isa::auto_order(f)?,
-    };
+    let ev = crate::cost::Evidence::new().with(r.context().clone());
+    let (order, model) = crate::auto::order_by_model(&crate::costs::builtin(), &b.cost_model, &ev)?;
     eprintln!(
         "auto: candidates by {} in {} (measured in {:.1} s): {}",
-        b.cost_model.name(),
-        b.cost_model.unit(),
+        model.id,
+        model.measure.unit,
         t.elapsed().as_secs_f64(),
         crate::auto::order_line(&order)
     );
     let mut spec = crate::auto::AutoSpec::new(b.budget, &order);
-    spec.cost_model = b.cost_model.name();
+    spec.cost_model = model.id.to_string();
     Ok(spec)
 }
 

@@ -12,7 +12,10 @@ pub struct ProveArgs {
     /// Comma-separated method identifiers, or `all` (methods out of reach are listed).
     #[arg(long, default_value = "all")]
     methods: String,
-    /// Largest angle between the vertex normals, degrees (0, 180].
+    /// Largest angle between any two vertex normals, degrees (0, 180]. Each figure is for
+    /// one of two domains: `triangle`, any triangle (three free unit normals pairwise at most
+    /// DEG apart, any weights); `edge`, stress's cases (N0, N1 at most DEG apart, N2 their
+    /// bisector), a part of it.
     #[arg(long, value_name = "DEG")]
     max_angle: f64,
     /// Relative gap at which a bound counts as tight.
@@ -21,7 +24,7 @@ pub struct ProveArgs {
     /// Phong exponent of the colour bound (default: the scenes' material).
     #[arg(long)]
     shininess: Option<f64>,
-    /// Output directory (proof.json, cases/<method>_<metric>.json).
+    /// Output directory (proof.json, cases/<method>_<domain>_<metric>.json).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
 }

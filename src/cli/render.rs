@@ -84,7 +84,7 @@ fn render_auto(
         &inputs,
         &spec,
         crate::auto::Cache::Use,
-        false,
+        None,
     )?;
     eprintln!("{}", summary.line());
     let frame = r.render_auto(&a)?;

@@ -158,16 +158,6 @@ pub(super) fn cmd_report(
     if how.runs == 0 {
         return Err(Error::Usage("--runs must be at least 1".into()));
     }
-    let (w, h) = how.size;
-    let mut common = vec!["--size".to_string(), format!("{w}x{h}")];
-    if let Some(i) = how.interpolation {
-        common.push("--interpolation".into());
-        common.push(
-            clap::ValueEnum::to_possible_value(&i)
-                .map(|v| v.get_name().to_string())
-                .unwrap_or_default(),
-        );
-    }
     let scenes = inputs(src)?
         .into_iter()
         .map(|(source, is_mesh)| {
@@ -178,23 +168,13 @@ pub(super) fn cmd_report(
                 interpolation: how.interpolation,
                 cull: None,
             };
-            let flag = if is_mesh { "--mesh" } else { "--scene" };
-            let mut bench_args = vec![flag.to_string(), source.display().to_string()];
-            bench_args.extend(common.iter().cloned());
             Ok(ReportScene {
                 scene: load_scene(&a)?,
+                load: a.source(),
                 source,
-                bench_args,
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    let mut device_args = Vec::new();
-    if let Some(d) = &dev.device {
-        device_args.extend(["--device".to_string(), d.clone()]);
-    }
-    if dev.validate {
-        device_args.push("--validate".into());
-    }
     let r = renderer(dev)?;
     let opts = ReportOptions {
         full: how.full,
@@ -202,7 +182,12 @@ pub(super) fn cmd_report(
         progress: true,
         runs: how.runs,
         exe: Some(std::env::current_exe().map_err(|e| Error::io(Path::new("shadelab"), e))?),
-        device_args,
+        device: crate::gpu::DeviceSpec {
+            device: dev.device.clone(),
+            validate: dev.validate,
+            precision: crate::method::Precision::F32,
+        },
+        costs: crate::costs::builtin(),
     };
     let w = report::run(&r, &scenes, &methods, out, &opts)?;
     check_validation(r.context())?;

@@ -474,7 +474,7 @@ impl Run<'_> {
                     self.prepared.base(),
                     spec,
                     crate::auto::Cache::Use,
-                    false,
+                    None,
                 )?;
                 auto_summaries.push(summary);
                 let frame = renderer.render_auto_into(&scene_auto, spare.take())?;

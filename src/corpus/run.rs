@@ -155,39 +155,54 @@ fn finished(dir: &Path, hash: &str, config_hash: &str, bench: bool) -> bool {
         && (!bench || dir.join("bench/bench.json").is_file())
 }
 
-/// `shadelab bench` on one mesh in a child process, its bench.json's paired ratio per method.
-fn bench_mesh(m: &Mesh, opts: &ShardOptions, runs: usize, dir: &Path) -> Result<Value> {
+/// bench on one mesh (its runs fresh processes of [`ShardOptions::exe`], bench.json in
+/// `dir`/bench/), its paired ratio to phong_exact per method.
+fn bench_mesh(
+    r: &Renderer,
+    m: &Mesh,
+    opts: &ShardOptions,
+    runs: usize,
+    dir: &Path,
+) -> Result<Value> {
     let c = &opts.config;
-    let names: Vec<&str> = opts.methods.iter().map(|m| m.name).collect();
+    let load = crate::scene::SceneSource {
+        mesh: Some(m.path.clone()),
+        size: Some((c.width, c.height)),
+        ..Default::default()
+    };
+    let plan = crate::bench::plan::RunPlan::new(
+        crate::bench::plan::Job::Bench { software: false },
+        &crate::bench::plan::Given {
+            runs: Some(runs),
+            ..Default::default()
+        },
+    )?;
+    let bopts = crate::bench::BenchOptions {
+        runs: if plan.many() {
+            crate::bench::Runs::Many(crate::bench::runs::Launcher {
+                exe: opts.exe.clone(),
+                scene: load.clone(),
+                device: crate::gpu::DeviceSpec {
+                    precision: r.precision(),
+                    ..Default::default()
+                },
+                driver_env: Vec::new(),
+            })
+        } else {
+            crate::bench::Runs::One
+        },
+        plan,
+        command_line: std::env::args().collect(),
+        ..crate::bench::BenchOptions::default()
+    };
     let out = dir.join("bench");
-    let status = std::process::Command::new(&opts.exe)
-        .arg("bench")
-        .arg("--mesh")
-        .arg(&m.path)
-        .args(["--size", &format!("{}x{}", c.width, c.height)])
-        .args(["--methods", &names.join(",")])
-        .args(["--runs", &runs.to_string()])
-        .arg("--out")
-        .arg(&out)
-        .stdout(std::process::Stdio::null())
-        .status()
-        .map_err(|e| Error::io(&opts.exe, e))?;
-    if !status.success() {
-        return Err(Error::Device(format!(
-            "bench on {} ended with {status}",
-            m.rel
-        )));
-    }
-    let bench: Value = serde_json::from_slice(
-        &std::fs::read(out.join("bench.json")).map_err(|e| Error::io(&out, e))?,
-    )
-    .map_err(|e| Error::input(out.join("bench.json"), None, e.to_string()))?;
-    let mut ratios = serde_json::Map::new();
-    for row in bench["methods"].as_array().into_iter().flatten() {
-        if let Some(name) = row["name"].as_str() {
-            ratios.insert(name.into(), row["ratio_median"].clone());
-        }
-    }
+    std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
+    let bench = crate::bench::bench(r, &load.load()?, &opts.methods, &out, &bopts)?;
+    let ratios = bench
+        .methods
+        .iter()
+        .map(|row| (row.name.clone(), serde_json::json!(row.ratio_median)))
+        .collect();
     Ok(Value::Object(ratios))
 }
 
@@ -212,7 +227,7 @@ fn run_mesh(r: &Renderer, m: &Mesh, opts: &ShardOptions, hash: &str) -> Result<(
     let mut error = error;
     let mut bench = Value::Null;
     if let (None, Some(runs)) = (&error, opts.config.bench_runs) {
-        match bench_mesh(m, opts, runs, &dir) {
+        match bench_mesh(r, m, opts, runs, &dir) {
             Ok(b) => bench = b,
             Err(e) => error = Some(format!("bench: {e}")),
         }

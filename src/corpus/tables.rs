@@ -9,14 +9,15 @@ use std::io::Write;
 use std::path::Path;
 
 use serde::Serialize;
-use serde_json::Value;
 
 use super::merge::{Merged, ShardDir};
 use crate::analysis::stats::percentile;
+use crate::bench::per_machine::MeshTiming;
+use crate::cost::{CostModel, Evidence, Registry};
 use crate::error::{Error, Result};
 use crate::method::Precision;
 use crate::output::write_atomic;
-use crate::report::answer::{self, Answer, CostFigure, CostKind, CostModel, SceneError};
+use crate::report::answer::{self, Answer, SceneError};
 
 /// The budgets of the tables: the largest colour error a method may make (linear).
 pub const BUDGETS: [(&str, f64); 3] = [
@@ -140,118 +141,27 @@ pub fn method_tables(meshes: &[Merged]) -> Vec<MethodTable> {
         .collect()
 }
 
-/// Per family, the fragment program's inverse throughput over phong_exact's (isa.json, draw
-/// kind): a static cost model of the answer, cheaper below 1 (the report's rows,
-/// [`crate::report::isa`]).
-pub fn isa_costs(isa: &Value, evidence: &str) -> Vec<CostModel> {
-    let mut out: Vec<CostModel> = Vec::new();
-    let precision = isa["precision"]
-        .as_str()
-        .and_then(|p| p.parse().ok())
-        .unwrap_or(Precision::F32);
-    for row in isa["results"].as_array().into_iter().flatten() {
-        if row["kind"] != "draw" || row["stage"] != "fragment" {
-            continue;
-        }
-        let (Some(f), Some(m)) = (row["family"].as_str(), row["method"].as_str()) else {
-            continue;
-        };
-        let ratio = row["ratio_to_phong_exact"]["inverse_throughput"]
-            .as_f64()
-            .filter(|v| v.is_finite());
-        let verdict = crate::report::isa::static_verdict(ratio);
-        let fig = CostFigure {
-            method: m.into(),
-            ratio,
-            ci95_low: None,
-            ci95_high: None,
-            verdict: verdict.into(),
-            cheaper: verdict == "cheaper",
-            evidence: evidence.into(),
-            note: format!("{f}, fragment program"),
-        };
-        let name = format!("isa_{f}");
-        match out.iter_mut().find(|k| k.name == name) {
-            Some(k) => k.figures.push(fig),
-            None => out.push(CostModel {
-                title: format!("{f} (static)"),
-                kind: CostKind::Static,
-                description: format!(
-                    "ACO's static model on RADV's null device (shadelab isa): the inverse \
-                     throughput of the draw's fragment program on {f}, over phong_exact's; \
-                     deterministic, no interval"
-                ),
-                precision,
-                figures: vec![fig],
-                name,
-            }),
-        }
+/// What the corpus measured, as the cost sources read it: each mesh's bench ratios with its
+/// machine, and the shards' `isa` report.
+pub fn evidence(meshes: &[Merged], isa: Option<&crate::isa::cost::Compiled>) -> Evidence {
+    let mut ev = Evidence::new();
+    if let Some(c) = isa {
+        ev.push(c.clone());
     }
-    out
-}
-
-/// Per machine, bench's paired ratio to phong_exact over the meshes: the median as the figure,
-/// cheaper only when the ratio is below 1 on every mesh that timed the method.
-pub fn bench_costs(meshes: &[Merged]) -> Vec<CostModel> {
-    let mut per: Vec<(String, Vec<(String, Vec<f64>)>)> = Vec::new();
     for m in meshes {
         let Some(ratios) = m.timing["bench_ratio_median"].as_object() else {
             continue;
         };
-        let idx = match per.iter().position(|(k, _)| *k == m.machine) {
-            Some(i) => i,
-            None => {
-                per.push((m.machine.clone(), Vec::new()));
-                per.len() - 1
-            }
-        };
-        for (name, r) in ratios {
-            let r = r.as_f64().unwrap_or(f64::INFINITY);
-            let list = &mut per[idx].1;
-            match list.iter_mut().find(|(n, _)| n == name) {
-                Some((_, v)) => v.push(r),
-                None => list.push((name.clone(), vec![r])),
-            }
-        }
+        ev.push(MeshTiming {
+            machine: m.machine.clone(),
+            mesh: m.result.id.clone(),
+            ratios: ratios
+                .iter()
+                .map(|(n, r)| (n.clone(), r.as_f64().unwrap_or(f64::INFINITY)))
+                .collect(),
+        });
     }
-    per.into_iter()
-        .map(|(machine, list)| {
-            let figures = list
-                .into_iter()
-                .map(|(n, mut v)| {
-                    let all = v.iter().all(|r| r.is_finite() && *r < 1.0);
-                    let count = v.len();
-                    let med = percentile(&mut v, 50.0);
-                    CostFigure {
-                        ratio: med.is_finite().then_some(med),
-                        ci95_low: None,
-                        ci95_high: None,
-                        verdict: if all {
-                            "faster on every mesh"
-                        } else {
-                            "not faster on every mesh"
-                        }
-                        .into(),
-                        cheaper: all,
-                        evidence: String::new(),
-                        note: format!("median over {count} meshes"),
-                        method: n,
-                    }
-                })
-                .collect();
-            CostModel {
-                name: format!("bench_{machine}"),
-                title: format!("bench on {machine}"),
-                kind: CostKind::Interval,
-                description: "bench's paired frame-time ratio to phong_exact per mesh: the \
-                              median over the meshes, cheaper only when below 1 on every mesh \
-                              (no interval across meshes)"
-                    .into(),
-                precision: Precision::F32,
-                figures,
-            }
-        })
-        .collect()
+    ev
 }
 
 /// Every ok mesh's error per method, as the report's budget check reads a scene's.
@@ -330,12 +240,17 @@ pub struct ShardInfo {
     pub machine: String,
 }
 
-/// Builds corpus.json's content from the checked shards and their meshes.
-pub fn report(shards: &[ShardDir], meshes: &[Merged], isa: Option<(&str, &Value)>) -> CorpusReport {
+/// Builds corpus.json's content from the checked shards and their meshes, with the cost models
+/// of `costs`.
+pub fn report(
+    shards: &[ShardDir],
+    meshes: &[Merged],
+    isa: Option<&crate::isa::cost::Compiled>,
+    costs: &Registry,
+) -> CorpusReport {
     let first = &shards[0].manifest;
     let methods = method_tables(meshes);
-    let mut models = isa.map(|(p, v)| isa_costs(v, p)).unwrap_or_default();
-    models.extend(bench_costs(meshes));
+    let models = costs.models(&evidence(meshes, isa));
     let precision = first.config.precision;
     let mut machines: Vec<String> = shards.iter().map(|s| s.manifest.machine.key()).collect();
     machines.sort();
@@ -366,7 +281,7 @@ pub fn report(shards: &[ShardDir], meshes: &[Merged], isa: Option<(&str, &Value)
         machines,
         isa: isa.map_or_else(
             || "unavailable (no shard has isa/isa.json)".into(),
-            |(p, _)| p.to_string(),
+            |c| c.evidence.clone(),
         ),
         answer: answer_of(meshes, precision, models),
         methods,

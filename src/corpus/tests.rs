@@ -176,18 +176,27 @@ fn the_corpus_answer_is_the_reports_on_the_same_inputs() {
         ));
     }
     meshes.push(merged("broken", "failed", None));
-    let isa = serde_json::json!({"precision": "f32", "results": [
-        isa_row("phong_exact", 1.0), isa_row("fast", 0.8), isa_row("rough", 0.5)]});
-    let models = super::tables::isa_costs(&isa, "isa/isa.json");
-    assert_eq!(models.len(), 1);
-    assert_eq!(models[0].name, "isa_gfx1100");
+    let isa = crate::isa::cost::Compiled {
+        report: serde_json::from_value(serde_json::json!({"version": 1, "precision": "f32",
+            "scene": "s", "kernel_counts": [2, 3], "model": "m", "elapsed_s": 0.0,
+            "families": [{"family": "gfx1100", "supported": true, "status": "compiled",
+                "device_name": null, "driver_name": null, "driver_info": null,
+                "elapsed_ms": null, "statistics": []}],
+            "results": [isa_row("phong_exact", 1.0), isa_row("fast", 0.8),
+                        isa_row("rough", 0.5)]}))
+        .unwrap(),
+        evidence: "isa/isa.json".into(),
+    };
+    let models = crate::costs::builtin().models(&super::tables::evidence(&meshes, Some(&isa)));
+    assert_eq!(models.len(), 1, "{models:?}");
+    assert_eq!(models[0].id, *"isa:gfx1100");
     let corpus = super::tables::answer_of(&meshes, Precision::F32, models.clone());
     let names: Vec<String> = ["phong_exact", "fast", "rough"].map(String::from).to_vec();
     let report = answer(&["a".into(), "b".into()], &names, &errors, models);
     assert_eq!(corpus.cells, report.cells);
     assert_eq!(corpus.checks, report.checks);
     // max 1/255: fast (0.8) and rough (0.5) both within on a and b? rough is not (0.1 on a).
-    let c = corpus.cell("max_1_255", "isa_gfx1100").unwrap();
+    let c = corpus.cell("max_1_255", "isa:gfx1100").unwrap();
     assert_eq!(c.answer.method, "fast");
     assert_eq!(c.binding.as_ref().unwrap().scene, "a");
     // Teeth: a mesh's different figure changes the corpus's cells, not the report's.
@@ -218,5 +227,6 @@ fn merged(id: &str, status: &str, summary: Option<serde_json::Value>) -> super::
 
 fn isa_row(method: &str, ratio: f64) -> serde_json::Value {
     serde_json::json!({"family": "gfx1100", "method": method, "stage": "fragment", "kind": "draw",
-                       "ratio_to_phong_exact": {"inverse_throughput": ratio}})
+                       "program": method, "statistics": {"inverse_throughput": 70.0 * ratio},
+                       "ratio_to_phong_exact": {"inverse_throughput": ratio}, "hash": []})
 }

@@ -5,6 +5,7 @@
 //! `shadelab isa`). [`gl`] is the only user of EGL and OpenGL (khronos-egl, glow): the
 //! OpenGL-only drivers' compilers, for `shadelab isa`.
 pub mod compiled;
+pub mod device;
 pub mod evaluate;
 pub mod gl;
 mod readback;
@@ -14,5 +15,6 @@ pub mod spirv;
 pub mod timing;
 pub mod vk;
 
+pub use device::DeviceSpec;
 pub use renderer::*;
 pub use timing::*;

@@ -26,6 +26,11 @@ pub const DEFAULT_SCENE: &str = include_str!("../../scenes/torus_generated.toml"
 /// Its name in reports.
 pub const DEFAULT_SCENE_NAME: &str = "scenes/torus_generated.toml";
 
+impl crate::child::Job for ChildRequest {
+    const NAME: &'static str = "isa_family";
+    type Reply = ChildReport;
+}
+
 /// What a child is asked to compile.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ChildRequest {

@@ -11,6 +11,13 @@ use super::table::{IsaReport, REQUIRED};
 use crate::error::{Error, Result};
 use crate::output::{write_atomic, write_bytes_atomic};
 
+/// Reads an isa.json of `shadelab isa`.
+pub fn read(path: &Path) -> Result<IsaReport> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text)
+        .map_err(|e| Error::input(path, None, format!("not an isa.json: {e}")))
+}
+
 /// Writes isa.json, isa.csv and the disassembly into `out`.
 pub fn write(out: &Path, report: &IsaReport) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;

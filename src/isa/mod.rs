@@ -3,8 +3,8 @@
 //! through the production ACO compiler; VK_KHR_pipeline_executable_properties returns its
 //! statistics and disassembly (../shared/TOOLCHAIN.md "RADV null device").
 //!
-//! Each family is compiled in a child process of its own ([`child`]: the binary re-executing
-//! itself with `isa --child FAMILY`), two at a time, with the driver selected in the child's
+//! Each family is compiled in a child process of its own ([`child`], started through
+//! [`crate::child`]'s protocol: `shadelab child REQUEST`), two at a time, with the driver selected in the child's
 //! environment before Vulkan loads: a family the driver refuses or crashes on (Mesa 22.3.6
 //! dies of SIGFPE on navi24) is reported as not supported, never fatal. [`table`] turns the
 //! children's reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv,
@@ -14,6 +14,7 @@
 pub mod chart;
 pub mod child;
 pub mod claims;
+pub mod cost;
 pub mod files;
 pub mod gl_child;
 pub mod rank;
@@ -21,7 +22,6 @@ pub mod table;
 pub mod vendor;
 
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -50,8 +50,6 @@ pub const DEFAULT_DRIVER_FILES: &str = "/usr/share/vulkan/icd.d/radeon_icd.x86_6
 pub const KERNEL_COUNTS: [u32; 2] = [2, 3];
 /// Children compiling at a time (the project's machines have two cores).
 pub const PARALLEL_CHILDREN: usize = 2;
-/// Lines of a failed child's stderr kept in the report.
-const STDERR_TAIL_LINES: usize = 6;
 
 pub use crate::method::Precision;
 
@@ -99,8 +97,9 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
     ]
 }
 
-/// Runs one child for `family` and reads its report; a route that is not set up starts none.
-pub fn run_child(opts: &IsaOptions, family: &Family) -> ChildOutcome {
+/// Runs one child for `family` (the protocol of [`crate::child`], its request and reply under
+/// `dir`) and reads its report; a route that is not set up starts none.
+pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> ChildOutcome {
     let env = match family.vendor.setup(&opts.driver_files).and_then(|setup| {
         family
             .vendor
@@ -117,57 +116,15 @@ pub fn run_child(opts: &IsaOptions, family: &Family) -> ChildOutcome {
         probes: opts.probes.clone(),
         precision: opts.precision,
     };
-    let request = match serde_json::to_string(&req) {
-        Ok(r) => r,
-        Err(e) => return ChildOutcome::Failed(format!("cannot encode the request: {e}")),
+    let spawn = crate::child::Spawn {
+        exe: opts.exe.clone(),
+        driver_env: env,
+        method_files: crate::method::user::paths(),
+        show_stderr: false,
     };
-    let mut cmd = Command::new(&opts.exe);
-    cmd.args(["isa", "--child", &request])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    let out = match cmd.output() {
-        Ok(o) => o,
-        Err(e) => return ChildOutcome::Failed(format!("cannot start {}: {e}", opts.exe.display())),
-    };
-    if out.status.success() {
-        return match serde_json::from_slice::<ChildReport>(&out.stdout) {
-            Ok(r) => ChildOutcome::Compiled(r),
-            Err(e) => ChildOutcome::Failed(format!("the child's report is not readable: {e}")),
-        };
-    }
-    ChildOutcome::Failed(describe_failure(out.status, &out.stderr))
-}
-
-/// "killed by signal 8 (SIGFPE)" or "exit code 2", then the last lines of stderr.
-fn describe_failure(status: std::process::ExitStatus, stderr: &[u8]) -> String {
-    use std::os::unix::process::ExitStatusExt;
-    let how = match (status.code(), status.signal()) {
-        (Some(c), _) => format!("exit code {c}"),
-        (None, Some(s)) => format!("killed by signal {s}{}", signal_name(s)),
-        (None, None) => format!("{status}"),
-    };
-    let text = String::from_utf8_lossy(stderr);
-    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
-    let tail = lines[lines.len().saturating_sub(STDERR_TAIL_LINES)..].join(" | ");
-    if tail.is_empty() {
-        how
-    } else {
-        format!("{how}; stderr: {tail}")
-    }
-}
-
-fn signal_name(s: i32) -> &'static str {
-    match s {
-        4 => " (SIGILL)",
-        6 => " (SIGABRT)",
-        8 => " (SIGFPE)",
-        9 => " (SIGKILL)",
-        11 => " (SIGSEGV)",
-        _ => "",
+    match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
+        Ok(r) => ChildOutcome::Compiled(r),
+        Err(f) => ChildOutcome::Failed(f.why),
     }
 }
 
@@ -192,6 +149,10 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
     }
     let families = families(&opts.families)?;
     let start = Instant::now();
+    let dir = tempfile::Builder::new()
+        .prefix("shadelab-isa-")
+        .tempdir()
+        .map_err(|e| Error::io(std::path::Path::new("a temporary folder"), e))?;
     let queue: Mutex<Vec<(usize, Family)>> =
         Mutex::new(families.iter().copied().enumerate().rev().collect());
     let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());
@@ -200,7 +161,7 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
             s.spawn(|| loop {
                 let next = queue.lock().ok().and_then(|mut q| q.pop());
                 let Some((i, family)) = next else { break };
-                let outcome = run_child(opts, &family);
+                let outcome = run_child(opts, &family, dir.path());
                 let id = family.id();
                 progress(&match &outcome {
                     ChildOutcome::Compiled(r) => {
@@ -234,49 +195,4 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
         .map(|(i, o)| (families[i], o))
         .collect();
     table::report(opts, outcomes, start.elapsed().as_secs_f64())
-}
-
-/// `auto --cost-model isa:FAMILY`: the candidates ordered by the inverse throughput of the
-/// timed draw's fragment shader on `family` (the shipped generated torus's draw, compiled
-/// now by one child with the system's RADV), with those costs. A family the driver does not
-/// compile is a usage error: the user asked for that model.
-pub fn auto_order(family: &str) -> Result<Vec<(&'static Method, f64)>> {
-    let exe = std::env::current_exe()
-        .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
-    crate::auto::order_by_cost(|ms| {
-        let opts = IsaOptions {
-            methods: ms.to_vec(),
-            families: vec![family.to_string()],
-            driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
-            scene: None,
-            exe,
-            precision: Precision::F32,
-            probes: Vec::new(),
-        };
-        let report = run(&opts, &|_| {})?;
-        static_costs(&report, family, ms)
-    })
-}
-
-/// Each method's figure on `family`'s ranking statistic (AMD: the fragment shader's inverse
-/// throughput; [`vendor::Ranking`]), NaN where not compiled; an error when the family did
-/// not compile at all. `family` is a row key or a family id.
-pub fn static_costs(report: &IsaReport, family: &str, ms: &[&'static Method]) -> Result<Vec<f64>> {
-    let status = report
-        .families
-        .iter()
-        .find(|f| f.family == family || f.id == family);
-    match status {
-        Some(s) if s.supported => Ok(ms
-            .iter()
-            .map(|m| report.ranking_value(&s.family, m.name).unwrap_or(f64::NAN))
-            .collect()),
-        Some(s) => Err(Error::Usage(format!(
-            "--cost-model isa:{family}: {}",
-            s.status
-        ))),
-        None => Err(Error::Usage(format!(
-            "--cost-model isa:{family}: the family was not compiled"
-        ))),
-    }
 }

@@ -262,7 +262,7 @@ pub enum InvRoot {
 }
 
 /// A verdict on a claim, computed from a measurement (never written by hand).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
     /// The measurement supports the claim.

@@ -8,9 +8,8 @@
 //! are compiled before registration ([`crate::gpu::shaders::register_user`]) from
 //! the GLSL embedded in the binary, so it runs outside the repository too.
 //!
-//! Child processes (bench's fresh runs, isa's one process per GPU family, corpus) see the same
-//! methods: registration records the files in the environment variable [`ENV`], which every
-//! shadelab process reads at start.
+//! Child processes (bench's fresh runs, isa's one process per GPU family) see the same
+//! methods: their request carries the files ([`paths`], [`crate::child`]).
 use std::path::{Path, PathBuf};
 use std::sync::RwLock;
 
@@ -19,10 +18,6 @@ use sha2::{Digest, Sha256};
 
 use super::{Family, Geometry, Input, Method, Reference, SoftwareKernel, METHODS};
 use crate::error::{Error, Result};
-
-/// The environment variable that carries the registered method files to child processes
-/// (paths joined like `PATH`); a user may also set it by hand.
-pub const ENV: &str = "SHADELAB_METHOD_FILES";
 
 /// The marker of the declaration line.
 pub const INPUTS_MARKER: &str = "// shadelab-inputs:";
@@ -231,27 +226,13 @@ fn leak(s: String) -> &'static str {
     Box::leak(s.into_boxed_str())
 }
 
-/// The files of [`ENV`] (set by a parent shadelab process, or by hand).
-pub fn env_paths() -> Vec<PathBuf> {
-    std::env::var_os(ENV)
-        .map(|v| {
-            std::env::split_paths(&v)
-                .filter(|p| !p.as_os_str().is_empty())
-                .collect()
-        })
-        .unwrap_or_default()
-}
-
-/// Records every registered file in [`ENV`] for this process's children. Call it before any
-/// thread or child process starts (the CLI does, right after registering).
-pub fn export_env() -> Result<()> {
-    if registered().is_empty() {
-        return Ok(());
-    }
-    let joined = std::env::join_paths(registered().iter().map(|u| PathBuf::from(&u.path)))
-        .map_err(|e| Error::Usage(format!("a method file's path cannot be passed on: {e}")))?;
-    std::env::set_var(ENV, joined);
-    Ok(())
+/// The registered files' paths, in registration order: what a child process is given
+/// ([`crate::child::Envelope::method_files`]).
+pub fn paths() -> Vec<PathBuf> {
+    registered()
+        .iter()
+        .map(|u| PathBuf::from(&u.path))
+        .collect()
 }
 
 /// Whether the file at the absolute path `abs` is registered already.

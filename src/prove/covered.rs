@@ -4,12 +4,13 @@
 //! generic function the f64 twin instantiates with f64). Every other method is listed with the
 //! reason it is out of reach.
 //!
-//! Domain (the geometry of `stress`'s cases, [`crate::cases::Case`]): two unit vertex normals
-//! N0, N1 `theta` apart, N2 their bisector; weights `((1-s)(1-t), (1-s) t, s)` with t, s in
-//! [0, 1] (s = 0: the edge N0-N1, a strip's span in `stress`); each normal component and each
-//! weight perturbed by its float32 rounding (relative 2^-24, as the device and the f64 twin
-//! receive them). The view and the light do not change z, so the normal-space errors do not
-//! depend on them.
+//! The domains ([`super::domain`]) enter as ranges of z: [`triangle_z_range`] for any triangle
+//! (three free unit normals pairwise at most theta apart, any weights), [`z_range`] for the
+//! geometry of `stress`'s cases ([`crate::cases::Case`]: N0, N1 `theta` apart, N2 their
+//! bisector, weights `((1-s)(1-t), (1-s) t, s)`); in both each normal component and each
+//! weight is perturbed by its float32 rounding (relative 2^-24, as the device and the f64 twin
+//! receive them), [`INPUT_ROUNDING`]. The view and the light do not change z, so the
+//! normal-space errors do not depend on them.
 use glam::DVec3;
 
 use super::bnb::{maximise, Budget, Cell, Point};
@@ -280,8 +281,12 @@ pub fn z_range(max_angle_deg: f64) -> Interval {
 /// `max_angle_deg` apart and any weights (each input rounded to float32). With the weights
 /// w_i >= 0 summing to 1 and cos(a_ij) >= cos(theta) (a_ij <= theta <= 180 deg):
 /// `z = sum w_i^2 + sum_{i != j} w_i w_j cos a_ij >= cos theta + (1 - cos theta) sum w_i^2
-/// >= (1 + 2 cos theta) / 3` (sum w_i^2 >= 1/3), reached at the centroid of three normals
-/// pairwise theta apart (theta <= 120 deg); z >= 0 always. The upper end as [`z_range`]'s.
+/// >= (1 + 2 cos theta) / 3` (sum w_i^2 >= 1/3, and 1 - cos theta >= 0), reached at the
+/// centroid of three normals pairwise theta apart (theta <= 120 deg); z >= 0 always, reached
+/// from 120 deg on (three coplanar normals 120 deg apart sum to 0), where (1 + 2 cos theta)/3
+/// <= 0. The real z of the rounded inputs is within [`INPUT_ROUNDING`] of |N| (the same
+/// widening as [`squared_length`]'s). The upper end as [`z_range`]'s. docs/proof.md has the
+/// argument; `prove::triangles` samples random triangles against it.
 pub fn triangle_z_range(max_angle_deg: f64) -> Interval {
     let deg = std::f64::consts::PI / 180.0;
     let to_rad = Interval::new(deg.next_down(), deg.next_up());
@@ -334,6 +339,8 @@ pub fn spec_at(p: &Point, shininess: f64) -> CaseSpec {
         span_px: SPAN,
         pixel,
         specular_only: false,
+        apex_deg: 0.0,
+        row: 0,
     }
 }
 
@@ -348,7 +355,13 @@ pub fn measure(m: &Method, case: &Case, metric: Metric) -> Option<(f64, f64)> {
     let v = match metric {
         Metric::Length => n.length() - 1.0,
         Metric::LengthSigned => n.length() - 1.0,
-        Metric::Angle => e.angle_deg.unwrap_or(f64::NAN).to_radians(),
+        // atan2 of |cross| and dot: exact to an ulp near 0, where acos of a dot within an
+        // ulp of 1 reads 1.5e-8 rad of nothing; no direction at length 0 (NaN, as `errors`)
+        Metric::Angle if n.length() > 0.0 => n
+            .cross(case.phong_normal)
+            .length()
+            .atan2(n.dot(case.phong_normal)),
+        Metric::Angle => f64::NAN,
     };
     let v = if metric == Metric::Length { v.abs() } else { v };
     Some((if e.non_finite { f64::NAN } else { v }, e.abs))

@@ -236,8 +236,8 @@ impl Real for Interval {
     }
 
     /// sqrt of the non-negative part: the formulas take roots of squared lengths, real values
-    /// >= 0 whose enclosure may dip below 0. An interval wholly below 0 gives the whole line
-    /// (nothing is claimed there).
+    /// of at least 0 whose enclosure may dip below 0. An interval wholly below 0 gives the
+    /// whole line (nothing is claimed there).
     fn sqrt(self) -> Interval {
         if self.hi < 0.0 {
             return Interval::ENTIRE;

@@ -1,42 +1,41 @@
 //! `shadelab prove`: for each covered method, a proven upper bound of its normal-space errors
-//! over a declared input domain ([`covered`]), by interval branch-and-bound ([`bnb`]) on the
-//! method's own formula evaluated in outward-rounded intervals ([`interval`]), beside the best
-//! value found at a real point (a `stress` case, replayable with `stress --replay`) and the gap
-//! between the two. The colour error is carried from the normal-space bounds through the
-//! lighting's derivatives; `max_valid_angle` is proven (the largest angle at which that colour
-//! bound stays within the threshold) next to `stress`'s grid's. The claims that are bounds are
-//! judged in [`claims`]. Output: proof.json (docs/proof.schema.json), a table.
+//! over each declared input domain ([`domain`]: any triangle, and stress's edge geometry), by
+//! interval branch-and-bound ([`bnb`]) on the method's own formula evaluated in outward-rounded
+//! intervals ([`interval`]), beside the best value found at a real point of that domain (a
+//! `stress` case, replayable with `stress --replay`) and the gap between the two. The colour
+//! error is carried from the normal-space bounds through the lighting's derivatives;
+//! `max_valid_angle` is proven per domain (the largest angle at which that colour bound stays
+//! within the threshold), stress's grid's beside it (its cases are edges). The claims that are
+//! bounds are judged in [`claims`]. Output: proof.json (docs/proof.schema.json), a table.
 pub mod bnb;
 pub mod bounds;
 pub mod claims;
 pub mod covered;
+pub mod domain;
 pub mod dual;
 pub mod interval;
+mod output;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod triangles;
 
-use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
 
-use self::bnb::{Budget, Cell, Outcome};
+use self::bnb::{Budget, Outcome};
 use self::covered::{Factor, Metric};
+pub use self::domain::Domain;
 use self::interval::Interval;
+pub use self::output::{table, write};
 use crate::cases::grid::{self as sweeps, Grid, Sweep};
 use crate::cases::{errors, Case, CaseSpec, DIFFUSE, SPECULAR};
 use crate::error::{Error, Result};
 use crate::method::Method;
 
 /// Version of proof.json (docs/proof.schema.json).
-pub const SCHEMA_VERSION: u32 = 2;
-
-/// The declared domain, as proof.json states it.
-pub const DOMAIN: &str = "stress's case geometry: unit vertex normals N0, N1 at angle theta in \
-     [0, max_angle_deg], N2 their bisector; weights ((1-s)(1-t), (1-s)t, s), t and s in [0, 1] \
-     (s = 0: the edge, stress's strip); every normal component and weight perturbed by its \
-     float32 rounding (relative 2^-24); any view and light (they do not change N.N); one white \
-     light, diffuse and specular of the cases (0.6, 0.35, rounded to float32), shininess as given";
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// Options of a proof run.
 #[derive(Debug, Clone)]
@@ -77,7 +76,8 @@ pub struct MetricProof {
     /// Null: a real point gave a non-finite value (a failure, see `found_non_finite`).
     pub found: Option<f64>,
     pub found_non_finite: bool,
-    /// The stress case of the found point (`stress --replay` runs it: cases/<method>_<metric>.json).
+    /// The stress case of the found point (`stress --replay` runs it:
+    /// cases/<method>_<domain>_<metric>.json).
     pub found_input: Option<CaseSpec>,
     pub gap: Option<f64>,
     pub relative_gap: Option<f64>,
@@ -92,13 +92,13 @@ fn finite(x: f64) -> Option<f64> {
 }
 
 impl MetricProof {
-    fn new(metric: Metric, o: &Outcome, shininess: f64) -> MetricProof {
+    fn new(metric: Metric, o: &Outcome, domain: Domain, shininess: f64) -> MetricProof {
         MetricProof {
             metric: metric.as_str(),
             proven_upper: finite(o.proven_upper),
             found: finite(o.found),
             found_non_finite: o.found.is_nan(),
-            found_input: o.found_at.map(|p| covered::spec_at(&p, shininess)),
+            found_input: o.found_at.map(|p| domain.spec_at(&p, shininess)),
             gap: finite(o.gap()),
             relative_gap: finite(o.relative_gap()),
             within_tolerance: o.converged && o.proven_upper.is_finite(),
@@ -108,7 +108,7 @@ impl MetricProof {
     }
 }
 
-/// The colour error: proven through the lighting, found at real points, found by stress's grid.
+/// The colour error over one domain: proven through the lighting, found at its real points.
 #[derive(Debug, Clone, Serialize)]
 pub struct ColourProof {
     pub shininess: f64,
@@ -122,23 +122,39 @@ pub struct ColourProof {
     /// along the exact normal there).
     pub found: Option<f64>,
     pub found_input: Option<CaseSpec>,
-    /// Max f64 colour error over stress's angle sweep (facing cases, theta <= max_angle_deg),
-    /// at this shininess.
-    pub stress_grid_found: Option<f64>,
-    pub stress_grid_cases: usize,
-    pub stress_grid_non_finite: usize,
 }
 
-/// The largest valid angle, proven and as stress's grid finds it.
+/// The largest valid angle proven over one domain.
 #[derive(Debug, Clone, Serialize)]
 pub struct ValidAngle {
     pub threshold: f64,
-    /// Largest angle (bisection to max_angle/4096) at which the proven colour bound is within
-    /// the threshold; null: not even at 0.
+    /// Largest angle (bisection to max_angle/4096) at which the proven colour bound over the
+    /// domain is within the threshold; null: not even at 0.
     pub proven_deg: Option<f64>,
-    /// stress's rule on its angle sweep (f64 twin, this shininess): the largest grid angle up to
-    /// which every facing case is within the threshold.
-    pub stress_grid_found_deg: Option<f64>,
+}
+
+/// Everything proven about one method over one domain.
+#[derive(Debug, Clone, Serialize)]
+pub struct DomainProof {
+    pub domain: Domain,
+    pub metrics: Vec<MetricProof>,
+    pub colour: ColourProof,
+    pub max_valid_angle: ValidAngle,
+}
+
+/// stress's angle sweep for one method (f64 twin, this shininess): its cases are edges, so
+/// its figures stand beside the edge domain's.
+#[derive(Debug, Clone, Serialize)]
+pub struct StressGrid {
+    /// The domain its cases lie in: always the edge.
+    pub domain: Domain,
+    /// Max f64 colour error over the facing cases with theta <= max_angle_deg.
+    pub colour_found: Option<f64>,
+    pub cases: usize,
+    pub non_finite: usize,
+    /// stress's rule: the largest grid angle up to which every facing case is within the
+    /// threshold.
+    pub max_valid_angle_deg: Option<f64>,
 }
 
 /// Everything proven about one method.
@@ -148,10 +164,17 @@ pub struct MethodProof {
     /// The reference: exact normalisation (a scale of N keeps its direction, so exact slerp
     /// does not apply).
     pub reference: &'static str,
-    pub metrics: Vec<MetricProof>,
-    pub colour: ColourProof,
-    pub max_valid_angle: ValidAngle,
+    /// One per domain, in [`Domain::ALL`]'s order (triangle, edge).
+    pub domains: Vec<DomainProof>,
+    pub stress_grid: StressGrid,
     pub seconds: f64,
+}
+
+impl MethodProof {
+    /// The proof over `d`.
+    pub fn over(&self, d: Domain) -> Option<&DomainProof> {
+        self.domains.iter().find(|p| p.domain == d)
+    }
 }
 
 /// A method out of reach and why.
@@ -165,30 +188,29 @@ pub struct OutOfReach {
 #[derive(Debug, Clone, Serialize)]
 pub struct ProofReport {
     pub schema_version: u32,
+    /// The largest angle between any two vertex normals (triangle domain), or between N0 and
+    /// N1 (edge domain), degrees.
     pub max_angle_deg: f64,
     pub tolerance: f64,
     pub shininess: f64,
     pub threshold: f64,
-    pub domain: &'static str,
+    /// The domains each method's figures are for, described.
+    pub domains: Vec<domain::DomainInfo>,
     pub methods: Vec<MethodProof>,
     pub out_of_reach: Vec<OutOfReach>,
     pub claims: Vec<claims::ProofClaim>,
-    /// Every metric of every covered method within the tolerance.
+    /// Every metric of every covered method within the tolerance, over both domains.
     pub all_within_tolerance: bool,
     pub seconds: f64,
 }
 
-/// The root cell of the domain up to `max_angle_deg`.
-pub fn root(max_angle_deg: f64) -> Cell {
-    let unit = Interval::new(0.0, 1.0);
-    [Interval::new(0.0, max_angle_deg), unit, unit]
-}
-
-/// Branch-and-bound of one metric of `m` (interval factor `k`) up to `max_angle_deg`.
+/// Branch-and-bound of one metric of `m` (interval factor `k`) over `domain` up to
+/// `max_angle_deg`.
 pub fn prove_metric(
     m: &Method,
     k: Factor,
     metric: Metric,
+    domain: Domain,
     max_angle_deg: f64,
     opts: &ProveOptions,
 ) -> Outcome {
@@ -196,19 +218,21 @@ pub fn prove_metric(
         m,
         k,
         metric,
+        domain,
         max_angle_deg,
-        covered::z_range(max_angle_deg),
+        domain.z_range(max_angle_deg),
         opts,
     )
 }
 
 /// [`prove_metric`] over the proven range `z` of N.N: a covered method's metrics depend on the
-/// inputs only through z, so the search is one-dimensional; each z probed is a real point on
-/// the edge at the largest angle ([`covered::point_for_z`]).
+/// inputs only through z, so the search is one-dimensional; each z probed is a real point of
+/// the domain ([`Domain::point_for_z`]).
 fn prove_metric_in(
     m: &Method,
     k: Factor,
     metric: Metric,
+    domain: Domain,
     max_angle_deg: f64,
     z: Interval,
     opts: &ProveOptions,
@@ -232,22 +256,27 @@ fn prove_metric_in(
         budget,
         |c| covered::upper(k, metric, c[0]),
         |p| {
-            let q = covered::point_for_z(p[0], max_angle_deg);
-            let case = Case::new(covered::spec_at(&q, opts.shininess));
+            let q = domain.point_for_z(p[0], max_angle_deg);
+            let case = Case::new(domain.spec_at(&q, opts.shininess));
             covered::measure(m, &case, metric).map(|v| v.0)
         },
     );
-    o.found_at = o
-        .found_at
-        .map(|p| covered::point_for_z(p[0], max_angle_deg));
+    o.found_at = o.found_at.map(|p| domain.point_for_z(p[0], max_angle_deg));
     o
 }
 
-/// The three normal-space metrics of `m` up to `max_angle_deg`: length, signed length, angle.
-fn prove_metrics(m: &Method, k: Factor, max: f64, opts: &ProveOptions) -> [Outcome; 3] {
-    let z = covered::z_range(max);
+/// The three normal-space metrics of `m` over `domain` up to `max`: length, signed length,
+/// angle.
+fn prove_metrics(
+    m: &Method,
+    k: Factor,
+    domain: Domain,
+    max: f64,
+    opts: &ProveOptions,
+) -> [Outcome; 3] {
+    let z = domain.z_range(max);
     [Metric::Length, Metric::LengthSigned, Metric::Angle]
-        .map(|x| prove_metric_in(m, k, x, max, z, opts))
+        .map(|x| prove_metric_in(m, k, x, domain, max, z, opts))
 }
 
 /// The colour bound from the normal-space bounds E (largest |length error|), e+ (largest
@@ -287,15 +316,17 @@ pub const COLOUR_HOW: &str = "k_d E + k_s max((1 + e+)^n - 1, 1 - (1 - E)^n) whe
      (max(0, x) 1-Lipschitz, x^n's derivative on [0, 1 + e+]); E, e+, A the proven largest \
      |length error|, signed length error and angle";
 
-/// The proven largest valid angle: the whole range if the bound holds there, else bisection.
-fn proven_valid_angle(m: &Method, k: Factor, opts: &ProveOptions) -> Option<f64> {
+/// The proven largest valid angle over `domain`: the whole range if the bound holds there,
+/// else bisection (every angle returned had its colour bound proven within the threshold, and
+/// the domain at a smaller angle is a part of it).
+fn proven_valid_angle(m: &Method, k: Factor, domain: Domain, opts: &ProveOptions) -> Option<f64> {
     let quick = ProveOptions {
         max_boxes: opts.max_boxes / 8,
         max_seconds: opts.max_seconds / 8.0,
         ..opts.clone()
     };
     let valid = |theta: f64| {
-        colour_bound(&prove_metrics(m, k, theta, &quick), opts.shininess)
+        colour_bound(&prove_metrics(m, k, domain, theta, &quick), opts.shininess)
             .is_some_and(|c| c <= opts.threshold)
     };
     if valid(opts.max_angle_deg) {
@@ -333,28 +364,48 @@ pub fn stress_grid(max_angle_deg: f64, shininess: f64) -> Grid {
     }
 }
 
-/// Proves everything about one covered method.
-pub fn prove_method(m: &Method, k: Factor, grid: &Grid, opts: &ProveOptions) -> MethodProof {
-    let start = Instant::now();
-    let outcomes = prove_metrics(m, k, opts.max_angle_deg, opts);
+/// Proves everything about one covered method over one domain.
+pub fn prove_domain(m: &Method, k: Factor, domain: Domain, opts: &ProveOptions) -> DomainProof {
+    let outcomes = prove_metrics(m, k, domain, opts.max_angle_deg, opts);
     let metrics: Vec<MetricProof> = [Metric::Length, Metric::LengthSigned, Metric::Angle]
         .iter()
         .zip(&outcomes)
         .filter(|(&x, _)| x != Metric::LengthSigned)
-        .map(|(&x, o)| MetricProof::new(x, o, opts.shininess))
+        .map(|(&x, o)| MetricProof::new(x, o, domain, opts.shininess))
         .collect();
     // The colour at the found points (view and light along the exact normal there).
     let mut found: Option<(f64, CaseSpec)> = None;
     for o in &outcomes {
         if let Some(p) = o.found_at {
-            let spec = covered::spec_at(&p, opts.shininess);
+            let spec = domain.spec_at(&p, opts.shininess);
             if let Some((_, c)) = covered::measure(m, &Case::new(spec), Metric::Length) {
-                if found.is_none_or(|(f, _)| !(c <= f)) {
+                // a non-finite colour is kept (a failure, never replaced by a finite one)
+                if found.is_none_or(|(f, _)| !f.is_nan() && (c.is_nan() || c > f)) {
                     found = Some((c, spec));
                 }
             }
         }
     }
+    DomainProof {
+        domain,
+        metrics,
+        colour: ColourProof {
+            shininess: opts.shininess,
+            proven_upper: colour_bound(&outcomes, opts.shininess),
+            how: COLOUR_HOW,
+            length_error_signed_upper: finite(outcomes[1].proven_upper),
+            found: found.and_then(|f| finite(f.0)),
+            found_input: found.map(|f| f.1),
+        },
+        max_valid_angle: ValidAngle {
+            threshold: opts.threshold,
+            proven_deg: proven_valid_angle(m, k, domain, opts),
+        },
+    }
+}
+
+/// stress's angle sweep (`grid`, [`stress_grid`]) for `m`.
+fn stress_grid_of(m: &Method, grid: &Grid, threshold: f64) -> StressGrid {
     let errs: Vec<_> = grid
         .cases
         .iter()
@@ -369,26 +420,27 @@ pub fn prove_method(m: &Method, k: Factor, grid: &Grid, opts: &ProveOptions) -> 
             worst.add(v);
         }
     }
+    StressGrid {
+        domain: Domain::Edge,
+        colour_found: worst.max,
+        cases: worst.count,
+        non_finite: worst.non_finite,
+        max_valid_angle_deg: sweeps::max_valid_angle(grid, &errs, threshold),
+    }
+}
+
+/// Proves everything about one covered method: over each domain, beside stress's grid.
+pub fn prove_method(m: &Method, k: Factor, grid: &Grid, opts: &ProveOptions) -> MethodProof {
+    let start = Instant::now();
+    let domains = Domain::ALL
+        .iter()
+        .map(|&d| prove_domain(m, k, d, opts))
+        .collect();
     MethodProof {
         name: m.name.to_string(),
         reference: "phong_exact",
-        metrics,
-        colour: ColourProof {
-            shininess: opts.shininess,
-            proven_upper: colour_bound(&outcomes, opts.shininess),
-            how: COLOUR_HOW,
-            length_error_signed_upper: finite(outcomes[1].proven_upper),
-            found: found.and_then(|f| finite(f.0)),
-            found_input: found.map(|f| f.1),
-            stress_grid_found: worst.max,
-            stress_grid_cases: worst.count,
-            stress_grid_non_finite: worst.non_finite,
-        },
-        max_valid_angle: ValidAngle {
-            threshold: opts.threshold,
-            proven_deg: proven_valid_angle(m, k, opts),
-            stress_grid_found_deg: sweeps::max_valid_angle(grid, &errs, opts.threshold),
-        },
+        domains,
+        stress_grid: stress_grid_of(m, grid, opts.threshold),
         seconds: start.elapsed().as_secs_f64(),
     }
 }
@@ -435,9 +487,11 @@ pub fn run(methods: &[&'static Method], opts: &ProveOptions) -> Result<ProofRepo
             }),
         }
     }
-    let all = proofs
-        .iter()
-        .all(|p| p.metrics.iter().all(|x| x.within_tolerance));
+    let all = proofs.iter().all(|p| {
+        p.domains
+            .iter()
+            .all(|d| d.metrics.iter().all(|x| x.within_tolerance))
+    });
     let claims = claims::judge(methods);
     Ok(ProofReport {
         schema_version: SCHEMA_VERSION,
@@ -445,101 +499,11 @@ pub fn run(methods: &[&'static Method], opts: &ProveOptions) -> Result<ProofRepo
         tolerance: opts.tolerance,
         shininess: opts.shininess,
         threshold: opts.threshold,
-        domain: DOMAIN,
+        domains: domain::described(),
         methods: proofs,
         out_of_reach,
         claims,
         all_within_tolerance: all,
         seconds: start.elapsed().as_secs_f64(),
     })
-}
-
-fn num(x: Option<f64>) -> String {
-    x.map_or("null".into(), |v| format!("{v:.4e}"))
-}
-
-/// The terminal table.
-pub fn table(r: &ProofReport) -> String {
-    let mut s = format!(
-        "{:<20} {:<20} {:>11} {:>11} {:>9} {:>8} {:>7}\n",
-        "method", "metric", "proven", "found", "rel.gap", "boxes", "s"
-    );
-    for m in &r.methods {
-        for x in &m.metrics {
-            s += &format!(
-                "{:<20} {:<20} {:>11} {:>11} {:>9} {:>8} {:>7.2}{}\n",
-                m.name,
-                x.metric,
-                num(x.proven_upper),
-                num(x.found),
-                x.relative_gap.map_or("null".into(), |g| format!("{g:.2e}")),
-                x.boxes,
-                x.seconds,
-                if x.within_tolerance {
-                    ""
-                } else {
-                    "  NOT WITHIN TOLERANCE"
-                }
-            );
-        }
-        s += &format!(
-            "{:<20} {:<20} {:>11} {:>11}   stress grid {}; max valid angle proven {} deg, stress grid {} deg\n",
-            m.name,
-            "colour_error",
-            num(m.colour.proven_upper),
-            num(m.colour.found),
-            num(m.colour.stress_grid_found),
-            m.max_valid_angle.proven_deg.map_or("none".into(), |a| format!("{a:.2}")),
-            m.max_valid_angle.stress_grid_found_deg.map_or("none".into(), |a| format!("{a}")),
-        );
-    }
-    for c in &r.claims {
-        s += &format!(
-            "claim {} [{}, {}]: {}\n",
-            c.method,
-            c.verdict,
-            c.basis.as_str(),
-            c.measured
-        );
-    }
-    for o in &r.out_of_reach {
-        s += &format!("out of reach: {}: {}\n", o.name, o.reason);
-    }
-    s += &format!(
-        "all within tolerance {}: {} ({:.1} s)\n",
-        r.tolerance, r.all_within_tolerance, r.seconds
-    );
-    s
-}
-
-/// Writes DIR/proof.json and DIR/cases/<method>_<metric>.json (each found input as a stress
-/// case file, for `stress --replay`).
-pub fn write(out: &Path, r: &ProofReport) -> Result<()> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let json = serde_json::to_string_pretty(r).map_err(|e| Error::output("proof.json", e))?;
-    crate::output::write_bytes_atomic(&out.join("proof.json"), (json + "\n").as_bytes())?;
-    let cases = out.join("cases");
-    std::fs::create_dir_all(&cases).map_err(|e| Error::io(&cases, e))?;
-    for m in &r.methods {
-        let method = crate::method::find(&m.name)?;
-        let inputs = m
-            .metrics
-            .iter()
-            .map(|x| (x.metric, x.found_input))
-            .chain([("colour_error", m.colour.found_input)]);
-        for (name, spec) in inputs {
-            let Some(spec) = spec else { continue };
-            let case = crate::stress::case_report(
-                method,
-                &Case::new(spec),
-                None,
-                crate::method::Precision::F32,
-            )?;
-            let json =
-                serde_json::to_string_pretty(&case).map_err(|e| Error::output("a case file", e))?;
-            let path = cases.join(format!("{}_{name}.json", m.name));
-            crate::output::write_bytes_atomic(&path, (json + "\n").as_bytes())?;
-        }
-    }
-    Ok(())
 }

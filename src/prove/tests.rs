@@ -102,7 +102,8 @@ fn a_product_rounded_to_nearest_is_caught_leaving_points_out() {
 
 #[test]
 fn the_generic_formulas_give_the_f64_value_inside_the_interval_one() {
-    let ks: [(fn(f64) -> f64, fn(Interval) -> Interval); 4] = [
+    type Both = (fn(f64) -> f64, fn(Interval) -> Interval);
+    let ks: [Both; 4] = [
         (f::k_newton, f::k_newton),
         (f::k_lyon2, f::k_lyon2),
         (f::k_lyon_shift, f::k_lyon_shift),
@@ -135,7 +136,7 @@ fn quick() -> ProveOptions {
 fn newton_is_proven_within_one_percent_of_its_midpoint_error() {
     let m = method::find("newton_raphson").unwrap();
     let k = covered::factor_of(m.name).unwrap();
-    let o = prove_metric(m, k, Metric::Length, 90.0, &quick());
+    let o = prove_metric(m, k, Metric::Length, Domain::Edge, 90.0, &quick());
     // The worst is the edge's midpoint at 90 degrees: z = cos^2(45 deg).
     let z = 45f64.to_radians().cos().powi(2);
     let exact = (1.0 - f::k_newton(z) * z.sqrt()).abs();
@@ -143,44 +144,54 @@ fn newton_is_proven_within_one_percent_of_its_midpoint_error() {
     assert!(o.found <= o.proven_upper + ATOL, "{o:?}");
     assert!(o.proven_upper >= exact * (1.0 - 1e-6), "{o:?} vs {exact}");
     assert!(o.proven_upper <= exact * 1.011, "{o:?} vs {exact}");
-    let angle = prove_metric(m, k, Metric::Angle, 90.0, &quick());
+    let angle = prove_metric(m, k, Metric::Angle, Domain::Edge, 90.0, &quick());
     assert_eq!(angle.proven_upper, 0.0);
 }
 
 #[test]
 fn every_covered_method_converges_and_its_colour_bound_holds_the_found_colour() {
-    let opts = quick();
+    let opts = ProveOptions {
+        max_angle_deg: 40.0,
+        ..quick()
+    };
     let grid = stress_grid(40.0, opts.shininess);
     for m in method::METHODS.iter() {
         let Some(k) = covered::factor_of(m.name) else {
             continue;
         };
-        let outcomes = [Metric::Length, Metric::LengthSigned, Metric::Angle]
-            .map(|x| prove_metric(m, k, x, 40.0, &opts));
-        for (i, o) in outcomes.iter().enumerate() {
-            // [1], the signed length error, is auxiliary (to 1e-6, not within the tolerance)
-            assert!(o.converged || i == 1, "{}: {o:?}", m.name);
-            assert!(o.found <= o.proven_upper + ATOL, "{}: {o:?}", m.name);
+        let p = prove_method(m, k, &grid, &opts);
+        let mut bounds = Vec::new();
+        for domain in Domain::ALL {
+            let outcomes = [Metric::Length, Metric::LengthSigned, Metric::Angle]
+                .map(|x| prove_metric(m, k, x, domain, 40.0, &opts));
+            for (i, o) in outcomes.iter().enumerate() {
+                // [1], the signed length error, is auxiliary (to 1e-6, not within the tolerance)
+                assert!(o.converged || i == 1, "{} {domain:?}: {o:?}", m.name);
+                assert!(
+                    o.found <= o.proven_upper + ATOL,
+                    "{} {domain:?}: {o:?}",
+                    m.name
+                );
+            }
+            let bound = colour_bound(&outcomes, opts.shininess).unwrap();
+            let found = p.over(domain).unwrap().colour.found.unwrap();
+            // + 1e-12: the f64 twin's own rounding (a method exact on the domain is proven 0)
+            assert!(
+                found <= bound * (1.0 + 1e-9) + 1e-12,
+                "{} {domain:?}: {found} > {bound}",
+                m.name
+            );
+            bounds.push(bound);
         }
-        let bound = colour_bound(&outcomes, opts.shininess).unwrap();
-        let forty = ProveOptions {
-            max_angle_deg: 40.0,
-            ..opts.clone()
-        };
-        let p = prove_method(m, k, &grid, &forty);
-        let found = p.colour.found.unwrap();
-        // + 1e-12: the f64 twin's own rounding (a method exact on the domain is proven 0)
-        assert!(
-            found <= bound * (1.0 + 1e-9) + 1e-12,
-            "{}: {found} > {bound}",
-            m.name
-        );
-        let grid_found = p.colour.stress_grid_found.unwrap();
-        assert!(
-            grid_found <= bound * (1.0 + 1e-9) + 1e-12,
-            "{}: {grid_found} > {bound}",
-            m.name
-        );
+        // stress's cases are edges, inside both domains
+        let grid_found = p.stress_grid.colour_found.unwrap();
+        for bound in bounds {
+            assert!(
+                grid_found <= bound * (1.0 + 1e-9) + 1e-12,
+                "{}: {grid_found} > {bound}",
+                m.name
+            );
+        }
     }
 }
 
@@ -247,7 +258,7 @@ fn a_spike_the_grid_misses_is_caught_by_the_proof() {
         ..quick()
     };
     let k = covered::factor!(k_spike);
-    let o = prove_metric(&SPIKED, k, Metric::Length, 90.0, &opts);
+    let o = prove_metric(&SPIKED, k, Metric::Length, Domain::Edge, 90.0, &opts);
     let peak = SPIKE * z_at(37.0, 0.3).sqrt();
     assert!(o.proven_upper >= peak * 0.999, "{o:?}");
     assert!(!o.converged || o.found >= peak * 0.99, "{o:?}");

@@ -3,9 +3,9 @@
 //! cheapest method that meets the budget on every scene of the report, its cost relative to
 //! phong_exact, and the runner-up. Schema: docs/answer.schema.json.
 //!
-//! A cost model is a data row ([`CostModel`]: a name, a kind `interval` or `static`, one figure
-//! per method), so other measurements (an `isa` GPU family, float16) plug in as more rows
-//! without touching the rule. The rule ([`answer`]):
+//! A cost model is a [`CostModel`] of [`crate::cost`] (an id, a kind `interval` or `static`,
+//! one figure per method with its verdict), whatever its source, so other measurements plug in
+//! as more rows without touching the rule. The rule ([`answer`]):
 //! - a method meets a budget when, on every scene, it was measured, covered pixels, has no
 //!   non-finite pixel and its metric (largest or p99 |dI| of the luminance, compare) is finite
 //!   and at most the limit; anything else fails, with the reason shown;
@@ -21,7 +21,8 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
-use crate::method::{Precision, PHONG_EXACT};
+use crate::cost::{CostFigure, CostKind, CostModel};
+use crate::method::{Precision, Verdict, PHONG_EXACT};
 
 /// answer.json `schema_version`.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -55,53 +56,6 @@ pub fn budgets() -> Vec<Budget> {
         }
     }
     v
-}
-
-/// How a cost model gives its figures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum CostKind {
-    /// Measured: a ratio to phong_exact with an interval and the measurement's verdict.
-    Interval,
-    /// Counted: one figure per method (its ratio to phong_exact's), no interval.
-    Static,
-}
-
-/// One method's figure under a cost model, relative to phong_exact.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CostFigure {
-    pub method: String,
-    /// The ratio to phong_exact (the median for an interval model). Non-finite: unmeasured
-    /// (written as null).
-    pub ratio: Option<f64>,
-    pub ci95_low: Option<f64>,
-    pub ci95_high: Option<f64>,
-    /// The model's own verdict against phong_exact (`faster`, `cheaper`, `inconclusive`, ...;
-    /// a static model: `cheaper`, `dearer`, `equal`).
-    pub verdict: String,
-    /// Whether that verdict says cheaper than phong_exact.
-    pub cheaper: bool,
-    /// Where the figure comes from, relative to the report folder.
-    pub evidence: String,
-    /// Which measurement it is (e.g. the scene it was taken from).
-    pub note: String,
-}
-
-/// A cost model: a data row of the answer table's columns.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CostModel {
-    /// Identifier (`lavapipe_frame`, `lavapipe_isolated`, `software`, `isa_rdna3`, ...).
-    pub name: String,
-    /// Column heading.
-    pub title: String,
-    pub kind: CostKind,
-    /// What is measured and how the figure per method is chosen.
-    pub description: String,
-    /// The precision of the programs it costs; a budget is checked on the errors of the same
-    /// precision (compare in float16 for a float16 model).
-    #[serde(default)]
-    pub precision: Precision,
-    pub figures: Vec<CostFigure>,
 }
 
 /// One method's error on one scene (compare's summary), the input of the budget check.
@@ -146,8 +100,8 @@ pub struct Choice {
     pub ratio: Option<f64>,
     pub ci95_low: Option<f64>,
     pub ci95_high: Option<f64>,
-    pub verdict: String,
-    pub cheaper: bool,
+    /// The verdict of "cheaper than phong_exact" under the cell's model.
+    pub verdict: Verdict,
     /// Its worst error under the budget's metric over the scenes.
     pub worst_error: Option<f64>,
     pub cost_evidence: String,
@@ -289,11 +243,22 @@ fn choice(m: &str, fig: Option<&CostFigure>, chk: Option<&BudgetCheck>) -> Choic
         ratio: fig.and_then(|f| f.ratio),
         ci95_low: fig.and_then(|f| f.ci95_low),
         ci95_high: fig.and_then(|f| f.ci95_high),
-        verdict: fig.map_or("reference".into(), |f| f.verdict.clone()),
-        cheaper: fig.is_some_and(|f| f.cheaper),
+        verdict: fig.map_or(Verdict::NotChecked, |f| f.verdict),
         worst_error: chk.and_then(|c| c.worst),
         cost_evidence: fig.map_or(String::new(), |f| f.evidence.clone()),
         error_evidence: chk.map_or(String::new(), |c| c.evidence.clone()),
+    }
+}
+
+impl Choice {
+    /// Whether the cell's model measured it cheaper than phong_exact.
+    pub fn cheaper(&self) -> bool {
+        self.verdict == Verdict::Agrees
+    }
+
+    /// Its verdict in the words of a cost.
+    pub fn verdict_words(&self) -> &'static str {
+        crate::cost::verdict_words(self.verdict)
     }
 }
 
@@ -318,7 +283,7 @@ fn binding(
     let mut failing: Vec<(&CostFigure, &BudgetCheck)> = m
         .figures
         .iter()
-        .filter(|f| f.method != PHONG_EXACT && f.cheaper)
+        .filter(|f| f.method != PHONG_EXACT && f.cheaper())
         .filter(|f| match (f.ratio, answer_ratio) {
             (Some(r), Some(a)) => r.is_finite() && r < a,
             (Some(r), None) => r.is_finite(),
@@ -374,7 +339,7 @@ fn cell_text(b: &Budget, m: &CostModel, c: &Cell) -> String {
                     " (closest: {} at {}, {})",
                     r.method,
                     ratio_text(r),
-                    r.verdict
+                    r.verdict_words()
                 )
             },
         );
@@ -424,7 +389,7 @@ fn cell(b: &Budget, m: &CostModel, checks: &[&BudgetCheck], scenes: &[String]) -
             .then_with(|| a.method.cmp(&c.method))
     });
     let qualifying = checks.iter().filter(|c| c.meets).count();
-    let cheaper: Vec<&CostFigure> = ranked.iter().copied().filter(|f| f.cheaper).collect();
+    let cheaper: Vec<&CostFigure> = ranked.iter().copied().filter(|f| f.cheaper()).collect();
     let exact = m.figures.iter().find(|f| f.method == PHONG_EXACT);
     let (answer, runner_up, nothing) = match cheaper.as_slice() {
         [] => (
@@ -456,7 +421,7 @@ fn cell(b: &Budget, m: &CostModel, checks: &[&BudgetCheck], scenes: &[String]) -
     let answer_ratio = if nothing { None } else { answer.ratio };
     let mut c = Cell {
         budget: b.id.clone(),
-        cost_model: m.name.clone(),
+        cost_model: m.id.to_string(),
         binding: binding(m, answer_ratio, checks, scenes),
         answer,
         runner_up,
@@ -544,7 +509,7 @@ impl Answer {
         for m in &self.cost_models {
             let _ = write!(s, "| {} |", m.title);
             for b in &self.budgets {
-                let Some(c) = self.cell(&b.id, &m.name) else {
+                let Some(c) = self.cell(&b.id, m.id.as_str()) else {
                     s += " - |";
                     continue;
                 };
@@ -555,7 +520,7 @@ impl Answer {
                         "[{}](index.html#answer-{}-{}) {}",
                         c.answer.method,
                         b.id,
-                        m.name,
+                        m.id,
                         ratio_text(&c.answer)
                     )
                 };

@@ -7,11 +7,13 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use super::answer::{self, Answer, CostFigure, CostKind, CostModel, SceneError};
+use super::answer::{self, Answer, SceneError};
 use super::html::{esc, method_anchor};
 use super::ReportData;
-use crate::bench::Speed;
-use crate::method::{Precision, PHONG_EXACT};
+use crate::bench::cost::TimedScene;
+use crate::bench::software::cost::SoftwareScene;
+use crate::cost::{Evidence, Registry};
+use crate::method::Precision;
 
 /// The id of a method's row in a scene's metric table (the bench figures of the cost models).
 pub fn row_anchor(scene: &str, method: &str) -> String {
@@ -53,190 +55,32 @@ pub fn scene_errors(d: &ReportData) -> Vec<SceneError> {
     v
 }
 
-fn finite(x: f64) -> Option<f64> {
-    x.is_finite().then_some(x)
-}
-
-/// Per method, the figure of the scene where its ratio is largest (the conservative one);
-/// cheaper only when `cheaper` holds on every scene that measured it.
-fn worst_over_scenes(per_scene: Vec<(CostFigure, bool)>) -> Vec<CostFigure> {
-    let mut by: BTreeMap<String, (CostFigure, bool, usize)> = BTreeMap::new();
-    for (f, all) in per_scene {
-        match by.get_mut(&f.method) {
-            None => {
-                by.insert(f.method.clone(), (f, all, 1));
-            }
-            Some((w, c, n)) => {
-                *c &= all;
-                *n += 1;
-                let larger = match (f.ratio, w.ratio) {
-                    (Some(a), Some(b)) => a > b,
-                    (None, _) => true,
-                    _ => false,
-                };
-                if larger {
-                    *w = f;
-                }
-            }
-        }
-    }
-    by.into_values()
-        .map(|(mut f, c, n)| {
-            f.cheaper = c && f.ratio.is_some();
-            if n > 1 {
-                f.note = format!("{} (the largest ratio of {n} scenes)", f.note);
-            }
-            f
-        })
-        .collect()
-}
-
-fn frame_model(d: &ReportData) -> CostModel {
-    let mut per = Vec::new();
+/// What this run measured, as the cost sources read it: each scene's bench and software
+/// timings, and `isa`'s reports (float32, float16).
+pub fn evidence(d: &ReportData) -> Evidence {
+    let mut ev = Evidence::new();
     for s in &d.scenes {
-        for r in &s.bench.methods {
-            if r.floor_program == r.name || r.name.ends_with("_control") || r.error.is_none() {
-                continue;
-            }
-            let faster = r.speed_vs_phong_exact == Speed::Faster;
-            let across = r.runs.as_ref().map_or(String::new(), |x| {
-                format!(", {} runs, coverage {:.4}", x.count, x.confidence)
-            });
-            per.push((
-                CostFigure {
-                    method: r.name.clone(),
-                    ratio: finite(r.ratio_median),
-                    ci95_low: finite(r.ratio_ci95_low),
-                    ci95_high: finite(r.ratio_ci95_high),
-                    verdict: r.speed_vs_phong_exact.as_str().into(),
-                    cheaper: faster,
-                    evidence: format!("index.html#{}", row_anchor(&s.id, &r.name)),
-                    note: format!("scene {}{across}", s.id),
-                },
-                faster,
-            ));
-        }
-    }
-    CostModel {
-        name: "lavapipe_frame".into(),
-        title: "lavapipe frame time".into(),
-        kind: CostKind::Interval,
-        description: "frame time of the whole draw on lavapipe (Vulkan on the CPU), paired \
-                      median ratio to phong_exact; with bench runs, the interval across \
-                      fresh-process runs and cheaper only beyond phong_exact_control's spread; \
-                      the scene with the largest ratio, cheaper only on every scene"
-            .into(),
-        precision: Precision::F32,
-        figures: worst_over_scenes(per),
-    }
-}
-
-fn isolated_model(d: &ReportData) -> Option<CostModel> {
-    let s = d.scenes.iter().find(|s| {
-        s.bench
-            .methods
-            .iter()
-            .any(|r| r.isolated_ns_per_eval.is_some())
-    })?;
-    let mut figures = Vec::new();
-    for r in &s.bench.methods {
-        if r.isolated_ns_per_eval.is_none() || r.name.ends_with("_control") {
-            continue;
-        }
-        let (ratio, lo, hi) = match (&r.isolated_ratio_to_phong_exact, r.name == PHONG_EXACT) {
-            (Some(i), _) => (finite(i.median), finite(i.ci95_low), finite(i.ci95_high)),
-            (None, true) => (Some(1.0), None, None),
-            (None, false) => (None, None, None),
-        };
-        let verdict = r
-            .isolated_vs_phong_exact
-            .map_or("reference".to_string(), |c| {
-                serde_json::to_value(c)
-                    .ok()
-                    .and_then(|v| v.as_str().map(String::from))
-                    .unwrap_or_default()
-            });
-        figures.push(CostFigure {
-            method: r.name.clone(),
-            ratio,
-            ci95_low: lo,
-            ci95_high: hi,
-            cheaper: verdict == "cheaper",
-            verdict,
-            evidence: format!("index.html#{}", row_anchor(&s.id, &r.name)),
-            note: format!(
-                "measured once (scene {}): it does not depend on the scene",
-                s.id
-            ),
+        ev.push(TimedScene {
+            scene: s.id.clone(),
+            methods: s.bench.methods.clone(),
+            link: |scene, method| format!("index.html#{}", row_anchor(scene, method)),
         });
-    }
-    Some(CostModel {
-        name: "lavapipe_isolated".into(),
-        title: "lavapipe isolated cost".into(),
-        kind: CostKind::Interval,
-        description: "cost of one evaluation of the method's per-fragment code on lavapipe, \
-                      apart from rasterization (compute kernels, slope per evaluation), paired \
-                      ratio to phong_exact across runs"
-            .into(),
-        precision: Precision::F32,
-        figures,
-    })
-}
-
-fn software_model(d: &ReportData) -> Option<CostModel> {
-    let mut per = Vec::new();
-    for s in &d.scenes {
-        let Some(sw) = &s.software else { continue };
-        for r in &sw.methods {
-            let cheaper = r.ratio_ci95_high < 1.0;
-            let verdict = if !r.ratio_median.is_finite() {
-                "unmeasured"
-            } else if cheaper {
-                "faster"
-            } else if r.ratio_ci95_low > 1.0 {
-                "slower"
-            } else {
-                "inconclusive"
-            };
-            per.push((
-                CostFigure {
-                    method: r.name.clone(),
-                    ratio: finite(r.ratio_median),
-                    ci95_low: finite(r.ratio_ci95_low),
-                    ci95_high: finite(r.ratio_ci95_high),
-                    verdict: verdict.into(),
-                    cheaper,
-                    evidence: format!("{}/bench.json", s.software_dir),
-                    note: format!("scene {}, {} rounds", s.id, sw.repeat),
-                },
-                cheaper,
-            ));
+        if let Some(sw) = &s.software {
+            ev.push(SoftwareScene {
+                scene: s.id.clone(),
+                evidence: format!("{}/bench.json", s.software_dir),
+                bench: sw.clone(),
+            });
         }
     }
-    (!per.is_empty()).then(|| CostModel {
-        name: "software".into(),
-        title: "software engine".into(),
-        kind: CostKind::Interval,
-        description: "frame time of shadelab's scanline engine (float32, incremental span \
-                      forms, all cores), paired median ratio to phong_exact per round with its \
-                      sign-test interval; the scene with the largest ratio"
-            .into(),
-        precision: Precision::F32,
-        figures: worst_over_scenes(per),
-    })
+    for c in super::isa::compiled(&d.isa) {
+        ev.push(c);
+    }
+    ev
 }
 
-/// The cost models this run measured, in column order.
-pub fn cost_models(d: &ReportData) -> Vec<CostModel> {
-    let mut v = vec![frame_model(d)];
-    v.extend(isolated_model(d));
-    v.extend(software_model(d));
-    v.extend(super::isa::cost_models(&d.isa));
-    v
-}
-
-/// The answer of a run.
-pub fn answer_of(d: &ReportData) -> Answer {
+/// The answer of a run under the cost models of `costs`.
+pub fn answer_of(d: &ReportData, costs: &Registry) -> Answer {
     let scenes: Vec<String> = d.scenes.iter().map(|s| s.id.clone()).collect();
     let mut methods: Vec<String> = Vec::new();
     for s in &d.scenes {
@@ -246,7 +90,12 @@ pub fn answer_of(d: &ReportData) -> Answer {
             }
         }
     }
-    answer::answer(&scenes, &methods, &scene_errors(d), cost_models(d))
+    answer::answer(
+        &scenes,
+        &methods,
+        &scene_errors(d),
+        costs.models(&evidence(d)),
+    )
 }
 
 /// `index.html#x` -> `#x` (the page links to itself), other paths unchanged.
@@ -317,12 +166,12 @@ pub fn answer_table(a: &Answer) -> String {
         let _ = write!(
             h,
             "<tr data-model=\"{}\"><th scope=\"row\" title=\"{}\">{}</th>",
-            esc(&m.name),
+            esc(m.id.as_str()),
             esc(&m.description),
             esc(&m.title)
         );
         for b in &a.budgets {
-            let Some(c) = a.cell(&b.id, &m.name) else {
+            let Some(c) = a.cell(&b.id, m.id.as_str()) else {
                 h += "<td>-</td>";
                 continue;
             };
@@ -346,9 +195,9 @@ pub fn answer_table(a: &Answer) -> String {
                 h,
                 "<td id=\"{}\" data-budget=\"{}\" data-model=\"{}\" data-method=\"{}\" \
                  data-nothing=\"{}\" data-runner-up=\"{}\" data-binding=\"{}\">{main}{second}</td>",
-                esc(&format!("answer-{}-{}", b.id, m.name)),
+                esc(&format!("answer-{}-{}", b.id, m.id)),
                 esc(&b.id),
-                esc(&m.name),
+                esc(m.id.as_str()),
                 esc(&c.answer.method),
                 c.nothing_cheaper,
                 esc(c.runner_up.as_ref().map_or("", |r| r.method.as_str())),

@@ -5,11 +5,10 @@
 //! compiles the report's methods in `isa`'s children before the answer (a few seconds per
 //! precision): float32 into DIR/isa/ (isa.json, isa.csv, asm/, charts/), float16 into
 //! DIR/isa-f16/; each supported family becomes a static cost model of the answer
-//! ([`cost_models`]). A failure is a paragraph saying why, never fatal to the report.
+//! ([`compiled`], read by [`crate::isa::cost::StaticCost`]). A failure is a paragraph saying why, never fatal to the report.
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::answer::{CostFigure, CostKind, CostModel};
 use super::html::esc;
 use super::SceneResult;
 use crate::isa::{IsaOptions, IsaReport};
@@ -44,84 +43,18 @@ pub fn compile_all(out: &Path, methods: &[&'static Method], scenes: &[SceneResul
     }
 }
 
-/// One static cost model per supported family of `r`: the fragment shader's inverse
-/// throughput over phong_exact's (the same precision's), cheaper below 1.
-fn models_of(r: &IsaReport, dir: &str) -> Vec<CostModel> {
-    let f16 = r.precision == Precision::F16;
-    let mut v = Vec::new();
-    for fam in r.supported() {
-        let figures: Vec<CostFigure> = r
-            .results
-            .iter()
-            .filter(|x| x.family == fam && x.stage == "fragment" && x.kind == "draw")
-            .map(|x| {
-                let ratio = x
-                    .ratio_to_phong_exact
-                    .get("inverse_throughput")
-                    .copied()
-                    .filter(|v| v.is_finite());
-                let verdict = static_verdict(ratio);
-                CostFigure {
-                    method: x.method.clone(),
-                    ratio,
-                    ci95_low: None,
-                    ci95_high: None,
-                    verdict: verdict.into(),
-                    cheaper: verdict == "cheaper",
-                    evidence: format!("{dir}/isa.json"),
-                    note: format!("{fam}, {} fragment program", r.precision.as_str()),
-                }
-            })
-            .collect();
-        let suffix = if f16 { "_f16" } else { "" };
-        v.push(CostModel {
-            name: format!("isa_{fam}{suffix}"),
-            title: if f16 {
-                format!("{fam} float16 (static)")
-            } else {
-                format!("{fam} (static)")
-            },
-            kind: CostKind::Static,
-            description: format!(
-                "ACO's static model on RADV's null device (shadelab isa{}): the inverse \
-                 throughput of the draw's fragment program on {fam}, over phong_exact's in the \
-                 same precision; deterministic, no interval{}",
-                if f16 { " --precision f16" } else { "" },
-                if f16 {
-                    "; the budgets are checked on the float16 programs' errors (compare in \
-                     float16)"
-                } else {
-                    ""
-                }
-            ),
-            precision: r.precision,
-            figures,
-        });
-    }
-    v
-}
-
-/// A static cost's verdict against phong_exact: one deterministic figure, so cheaper, dearer or
-/// equal (equal cost is not cheaper); no figure (or a non-finite one) is unmeasured.
-pub fn static_verdict(ratio: Option<f64>) -> &'static str {
-    match ratio.filter(|q| q.is_finite()) {
-        None => "unmeasured",
-        Some(q) if q < 1.0 => "cheaper",
-        Some(q) if q > 1.0 => "dearer",
-        Some(_) => "equal",
-    }
-}
-
-/// The answer's static cost models: each supported family in float32, then in float16.
-pub fn cost_models(run: &IsaRun) -> Vec<CostModel> {
-    let mut v = Vec::new();
-    if let Ok((r, _)) = &run.f32 {
-        v.extend(models_of(r, DIR));
-    }
-    if let Ok(r) = &run.f16 {
-        v.extend(models_of(r, DIR_F16));
-    }
-    v
+/// The reports `isa` gave, as the cost sources read them: float32 (DIR/isa/isa.json), then
+/// float16 (DIR/isa-f16/isa.json).
+pub fn compiled(run: &IsaRun) -> Vec<crate::isa::cost::Compiled> {
+    let f32 = run.f32.as_ref().ok().map(|(r, _)| (r, DIR));
+    let f16 = run.f16.as_ref().ok().map(|r| (r, DIR_F16));
+    f32.into_iter()
+        .chain(f16)
+        .map(|(r, dir)| crate::isa::cost::Compiled {
+            report: r.clone(),
+            evidence: format!("{dir}/isa.json"),
+        })
+        .collect()
 }
 
 /// The ISA section of the report for `methods` from `run`.

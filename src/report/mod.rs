@@ -48,9 +48,8 @@ pub struct ReportScene {
     /// Where it came from (scene file or OBJ), for the page.
     pub source: PathBuf,
     pub scene: Scene,
-    /// The `bench` arguments that load the same scene (`--scene F --size WxH ...`): a bench of
-    /// several runs re-executes the binary with them, one fresh process per run.
-    pub bench_args: Vec<String>,
+    /// What loads the same scene: a bench of several runs gives it to each fresh process.
+    pub load: crate::scene::SceneSource,
 }
 
 /// The settings of a report run.
@@ -67,8 +66,10 @@ pub struct ReportOptions {
     /// one run in this process.
     pub runs: usize,
     pub exe: Option<PathBuf>,
-    /// Arguments every bench run gets (the device: `--device`, `--validate`).
-    pub device_args: Vec<String>,
+    /// The device every bench run opens (the report's own).
+    pub device: crate::gpu::DeviceSpec,
+    /// The cost models of the answer and of the benches' speed claims.
+    pub costs: crate::cost::Registry,
 }
 
 /// Everything one scene contributed: the compare summary and the bench report, and where their
@@ -253,10 +254,9 @@ struct SceneRun<'a> {
     half: Option<&'a Renderer>,
     methods: &'a [&'static Method],
     out: &'a Path,
-    repeat: usize,
-    warmup: usize,
-    /// The first scene measures the isolated cost per formula; the others reuse it.
-    first: bool,
+    /// The run plan of this scene (only the first scene measures the isolated cost:
+    /// [`crate::bench::plan::RunPlan::later_scene`]).
+    plan: crate::bench::plan::RunPlan,
     auto: &'a crate::auto::AutoSpec,
     bar: &'a indicatif::ProgressBar,
     opts: &'a ReportOptions,
@@ -310,21 +310,13 @@ impl SceneRun<'_> {
         };
         self.bar.inc(1);
         step(self.bar, self.opts.progress, format!("{id}: bench"));
-        // The isolated cost per formula does not depend on the scene: measured with the first
-        // scene's bench only (short: 5 rounds; --full: bench's default).
-        let isolated_rounds = match (self.first, self.repeat >= BenchOptions::default().repeat) {
-            (false, _) => 0,
-            (true, true) => BenchOptions::default().isolated_rounds,
-            (true, false) => 5,
-        };
         let bdir = self.out.join(&bench_dir);
         std::fs::create_dir_all(&bdir).map_err(|e| Error::io(&bdir, e))?;
         let bopts = BenchOptions {
-            repeat: self.repeat,
-            warmup: self.warmup,
-            isolated_rounds,
+            plan: self.plan.clone(),
             command_line: std::env::args().collect(),
-            runs: self.bench_runs(s, &bdir, isolated_rounds),
+            runs: self.bench_runs(s),
+            costs: self.opts.costs.clone(),
             ..BenchOptions::default()
         };
         let bench = self.bar.suspend(|| {
@@ -334,9 +326,10 @@ impl SceneRun<'_> {
         let pareto = pareto_charts(&bdir, &bench_dir)?;
         step(self.bar, self.opts.progress, format!("{id}: skips"));
         let skips_dir = format!("scenes/{id}/skips");
+        let (repeat, warmup) = self.plan.skips_rounds();
         let sopts = crate::bench::skips::SkipOptions {
-            repeat: self.repeat.max(6),
-            warmup: self.warmup,
+            repeat,
+            warmup,
             auto: self.auto.clone(),
             command_line: std::env::args().collect(),
         };
@@ -377,29 +370,17 @@ impl SceneRun<'_> {
         })
     }
 
-    /// One run here, or `opts.runs` fresh processes of `bench` on the same scene (each with
-    /// its own Vulkan device, JIT, warm-up and rounds; [`crate::bench::runs`]).
-    fn bench_runs(&self, s: &ReportScene, dir: &Path, isolated: usize) -> crate::bench::Runs {
-        let Some(exe) = self.opts.exe.clone().filter(|_| self.opts.runs > 1) else {
-            return crate::bench::Runs::One;
-        };
-        let names: Vec<&str> = self.methods.iter().map(|m| m.name).collect();
-        let mut args = vec!["bench".to_string()];
-        args.extend(s.bench_args.iter().cloned());
-        for (k, v) in [
-            ("--methods", names.join(",")),
-            ("--repeat", self.repeat.to_string()),
-            ("--warmup", self.warmup.to_string()),
-            ("--isolated-rounds", isolated.to_string()),
-            ("--out", dir.display().to_string()),
-        ] {
-            args.push(k.into());
-            args.push(v);
-        }
-        args.extend(self.opts.device_args.iter().cloned());
-        crate::bench::Runs::Many {
-            count: self.opts.runs,
-            launcher: crate::bench::runs::Launcher { exe, args },
+    /// One run here, or the plan's runs as fresh processes on the same scene (each with its
+    /// own Vulkan device, JIT, warm-up and rounds; [`crate::bench::runs`]).
+    fn bench_runs(&self, s: &ReportScene) -> crate::bench::Runs {
+        match self.opts.exe.clone().filter(|_| self.plan.many()) {
+            None => crate::bench::Runs::One,
+            Some(exe) => crate::bench::Runs::Many(crate::bench::runs::Launcher {
+                exe,
+                scene: s.load.clone(),
+                device: self.opts.device.clone(),
+                driver_env: Vec::new(),
+            }),
         }
     }
 
@@ -411,12 +392,7 @@ impl SceneRun<'_> {
     ) -> Result<crate::bench::software::SoftwareBench> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let sw = crate::bench::software::SoftwareOptions {
-            rounds: crate::bench::RoundsPlan {
-                repeat: self.repeat,
-                warmup: self.warmup.max(1),
-                until_ci_pct: None,
-                max_time_s: BenchOptions::default().max_time_s,
-            },
+            rounds: self.plan.software_rounds(),
             threads: crate::software::default_threads(),
             vulkan_bench: None,
             command_line: std::env::args().collect(),
@@ -458,13 +434,15 @@ pub fn run(
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let methods = with_references(methods);
-    // With several bench runs each run needs fewer rounds (the between-run spread dominates).
-    let (repeat, warmup, refine) = match (opts.full, opts.runs > 1 && opts.exe.is_some()) {
-        (true, false) => (40, 3, 8),
-        (true, true) => (crate::bench::runs::RUN_REPEAT, 3, 8),
-        (false, false) => (10, 2, 2),
-        (false, true) => (6, 1, 2),
+    // Decided once (src/bench/plan.rs): several runs only with a binary to start them.
+    let given = crate::bench::plan::Given {
+        runs: Some(if opts.exe.is_some() { opts.runs } else { 1 }),
+        ..Default::default()
     };
+    let plan = crate::bench::plan::RunPlan::new(
+        crate::bench::plan::Job::Report { full: opts.full },
+        &given,
+    )?;
     // Steps: compare, bench and skips per scene, stress, the page.
     let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
     let mut scenes = scenes.to_vec();
@@ -492,9 +470,11 @@ pub fn run(
             half: half.as_ref(),
             methods: &methods,
             out,
-            repeat,
-            warmup,
-            first: results.is_empty(),
+            plan: if results.is_empty() {
+                plan.clone()
+            } else {
+                plan.later_scene()
+            },
             auto: &auto,
             bar: &bar,
             opts,
@@ -503,7 +483,7 @@ pub fn run(
     }
     step(&bar, opts.progress, "stress".to_string());
     let sopts = StressOptions {
-        refine_rounds: refine,
+        refine_rounds: plan.stress_refine,
         progress: false,
         ..StressOptions::default()
     };
@@ -529,19 +509,15 @@ pub fn run(
             cpu_model: output::provenance::cpu_model(),
             available_threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
-            bench_repeat: repeat,
-            bench_warmup: warmup,
-            bench_runs: if opts.exe.is_some() {
-                opts.runs.max(1)
-            } else {
-                1
-            },
-            stress_refine: refine,
+            bench_repeat: plan.rounds.repeat,
+            bench_warmup: plan.rounds.warmup,
+            bench_runs: plan.runs,
+            stress_refine: plan.stress_refine,
             full: opts.full,
             seconds: start.elapsed().as_secs_f64(),
         },
     };
-    data.answer = front::answer_of(&data);
+    data.answer = front::answer_of(&data, &opts.costs);
     let index = write_page(out, &data, &methods)?;
     bar.inc(1);
     bar.finish_and_clear();

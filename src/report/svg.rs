@@ -377,7 +377,7 @@ pub fn cost_chart(d: &ReportData) -> Option<Chart> {
         .answer
         .cost_models
         .iter()
-        .find(|m| m.name == "lavapipe_frame")?;
+        .find(|m| m.id == *crate::cost::LAVAPIPE_FRAME)?;
     let budget = d.answer.budgets.first()?.id.clone();
     let mut points = Vec::new();
     for f in &model.figures {

@@ -129,7 +129,8 @@ fn bench_numbers_keep_nan_apart_from_does_not_apply() {
 
 mod answer_rule {
     use super::super::answer::*;
-    use crate::method::Precision;
+    use crate::cost::{CostFigure, CostKind, CostModel, CostModelId, Measure};
+    use crate::method::{Precision, Verdict};
     use std::collections::BTreeMap;
 
     fn err(scene: &str, method: &str, max: f64, p99: f64) -> SceneError {
@@ -150,11 +151,15 @@ mod answer_rule {
     fn fig(method: &str, ratio: f64, lo: f64, hi: f64) -> CostFigure {
         CostFigure {
             method: method.into(),
+            value: None,
             ratio: Some(ratio),
             ci95_low: Some(lo),
             ci95_high: Some(hi),
-            verdict: if hi < 1.0 { "faster" } else { "inconclusive" }.into(),
-            cheaper: hi < 1.0,
+            verdict: if hi < 1.0 {
+                Verdict::Agrees
+            } else {
+                Verdict::Inconclusive
+            },
             evidence: format!("index.html#row-{method}"),
             note: String::new(),
         }
@@ -162,12 +167,17 @@ mod answer_rule {
 
     fn model(figures: Vec<CostFigure>) -> CostModel {
         CostModel {
-            name: "m".into(),
+            id: CostModelId::parse("m").unwrap(),
             title: "model".into(),
             kind: CostKind::Interval,
+            measure: Measure {
+                statistic: "time".into(),
+                unit: "ms".into(),
+            },
             description: String::new(),
             precision: Precision::F32,
             figures,
+            pairs: Vec::new(),
         }
     }
 
@@ -302,9 +312,13 @@ mod answer_rule {
         assert!(c.nothing_cheaper);
         assert_eq!(c.runner_up.as_ref().unwrap().method, "faster");
         let isa = CostModel {
-            name: "isa_rdna3".into(),
+            id: CostModelId::parse("isa:rdna3").unwrap(),
             title: "RDNA3 (static)".into(),
             kind: CostKind::Static,
+            measure: Measure {
+                statistic: "instructions per fragment".into(),
+                unit: "instructions".into(),
+            },
             description: "instructions per fragment / phong_exact's".into(),
             precision: Precision::F32,
             figures: ["phong_exact", "fast", "faster"]
@@ -312,18 +326,19 @@ mod answer_rule {
                 .zip([1.0, 0.6, 1.3])
                 .map(|(m, r)| CostFigure {
                     method: m.to_string(),
+                    value: None,
                     ratio: Some(r),
                     ci95_low: None,
                     ci95_high: None,
-                    verdict: if r < 1.0 { "cheaper" } else { "dearer" }.into(),
-                    cheaper: r < 1.0,
+                    verdict: crate::cost::rule::static_cheaper(Some(r)),
                     evidence: "isa/isa.json".into(),
                     note: String::new(),
                 })
                 .collect(),
+            pairs: Vec::new(),
         };
         let a = answer(&scenes(), &names(), &errors(), vec![model(figures()), isa]);
-        let c = a.cell("max_1_255", "isa_rdna3").unwrap();
+        let c = a.cell("max_1_255", "isa:rdna3").unwrap();
         assert_eq!(c.answer.method, "fast");
         assert_eq!(ratio_text(&c.answer), "0.600");
         assert!(a.markdown().contains("RDNA3 (static)"));
@@ -385,7 +400,7 @@ mod answer_rule {
     #[test]
     fn a_float16_model_takes_the_float16_errors() {
         let mut f16 = model(figures());
-        f16.name = "isa_x_f16".into();
+        f16.id = CostModelId::isa("x", Precision::F16);
         f16.precision = Precision::F16;
         let mut errs = errors();
         let mut halves: Vec<SceneError> = errors()
@@ -411,13 +426,13 @@ mod answer_rule {
         );
         assert_eq!(a.cell("max_1_255", "m").unwrap().answer.method, "faster");
         assert_eq!(
-            a.cell("max_1_255", "isa_x_f16").unwrap().answer.method,
+            a.cell("max_1_255", "isa:x:f16").unwrap().answer.method,
             "fast"
         );
         assert!(a.checks.iter().any(|k| k.precision == Precision::F16));
         // Teeth: with no float16 error at all, every float16 check fails.
         let a = answer(&scenes(), &names(), &errors(), vec![f16]);
-        let c = a.cell("max_4_255", "isa_x_f16").unwrap();
+        let c = a.cell("max_4_255", "isa:x:f16").unwrap();
         assert!(c.nothing_cheaper && c.qualifying == 0, "{c:?}");
     }
 
@@ -444,15 +459,4 @@ mod answer_rule {
         assert!(sizes.iter().all(|&n| n <= MAX_SERIES));
         assert_eq!(p[1].0, "scanline (1 of 2)");
     }
-}
-
-#[test]
-fn a_static_cost_verdict_says_equal_is_not_cheaper_and_non_finite_is_unmeasured() {
-    use super::isa::static_verdict;
-    assert_eq!(static_verdict(Some(0.934)), "cheaper");
-    assert_eq!(static_verdict(Some(1.0)), "equal");
-    assert_eq!(static_verdict(Some(1.057)), "dearer");
-    assert_eq!(static_verdict(None), "unmeasured");
-    assert_eq!(static_verdict(Some(f64::NAN)), "unmeasured");
-    assert_eq!(static_verdict(Some(f64::INFINITY)), "unmeasured");
 }

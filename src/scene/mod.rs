@@ -54,12 +54,14 @@
 pub mod camera;
 pub mod file;
 mod inputs;
+pub mod source;
 #[cfg(test)]
 mod tests;
 
 pub use camera::*;
 pub use file::*;
 pub use inputs::*;
+pub use source::SceneSource;
 
 use glam::DVec3;
 use serde::Deserialize;

@@ -24,6 +24,7 @@ fn check_spec(path: &Path, s: &CaseSpec) -> Result<()> {
         ("pair_azimuth_deg", s.pair_azimuth_deg),
         ("roll_deg", s.roll_deg),
         ("light_deg", s.light_deg),
+        ("apex_deg", s.apex_deg),
     ];
     for (name, v) in angles {
         if !v.is_finite() || v.abs() > 360.0 {
@@ -48,6 +49,14 @@ fn check_spec(path: &Path, s: &CaseSpec) -> Result<()> {
         return Err(bad(format!(
             "spec.span_px = {}: expected 1..1048576",
             s.span_px
+        )));
+    }
+    let rows = crate::cases::STRIP_APEX_Y as u32;
+    if s.row != 0 && !(s.shape == Shape::Strip && s.row < rows) {
+        return Err(bad(format!(
+            "spec.row = {}: a row is a strip's (shape \"strip\"), 0..{}",
+            s.row,
+            rows - 1
         )));
     }
     Ok(())

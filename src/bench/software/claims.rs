@@ -7,7 +7,8 @@ use serde::Serialize;
 
 use super::SoftwareBench;
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
-use crate::bench::claims::{factor_verdict, FACTOR_CLAIMS, GOURAUD_FACTOR};
+use crate::bench::claims::{FACTOR_CLAIMS, GOURAUD_FACTOR};
+use crate::cost::factor_verdict;
 use crate::error::{Error, Result};
 use crate::method::Verdict;
 use crate::scene::Scene;

@@ -28,6 +28,7 @@ use crate::scene::{Scene, SceneInputs};
 use crate::software;
 
 pub mod claims;
+pub mod cost;
 pub use claims::*;
 
 /// Version of the software bench.json layout.

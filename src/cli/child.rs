@@ -1,0 +1,46 @@
+//! `shadelab child REQUEST.json` (hidden): one job of a parent shadelab process, by the
+//! protocol of [`crate::child`]: a bench run (`bench_run`) or one GPU family of `isa`
+//! (`isa_family`). The reply goes to the file the request names.
+use std::path::Path;
+use std::process::ExitCode;
+
+use crate::child::{self, Job};
+use crate::error::{Error, Result};
+
+pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
+    let env = child::read(file)?;
+    // Before anything resolves a method set: the parent's method files.
+    crate::gpu::shaders::register_user(&env.method_files)?;
+    match env.job.as_str() {
+        crate::bench::runs::RunRequest::NAME => child::serve(env, bench_run)?,
+        crate::isa::ChildRequest::NAME => child::serve(env, |r: crate::isa::ChildRequest| {
+            crate::isa::child::compile(&r)
+        })?,
+        other => {
+            return Err(Error::Usage(format!(
+                "{}: unknown child job {other:?} (expected bench_run or isa_family)",
+                file.display()
+            )))
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// One measurement run of a bench of several runs: the same scene, device, methods and plan
+/// as the parent, with its clock, seed and `auto`'s decisions.
+fn bench_run(req: crate::bench::runs::RunRequest) -> Result<crate::bench::runs::RunFigures> {
+    let renderer = req.device.renderer()?;
+    let scene = req.scene.load()?;
+    let methods = req
+        .methods
+        .iter()
+        .map(|m| crate::method::find(m))
+        .collect::<Result<Vec<_>>>()?;
+    let opts = crate::bench::BenchOptions {
+        plan: req.plan,
+        auto: req.auto,
+        runs: crate::bench::Runs::Child(req.context),
+        ..crate::bench::BenchOptions::default()
+    };
+    crate::bench::measure_run(&renderer, &scene, &methods, &opts)
+}
