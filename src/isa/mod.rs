@@ -1,16 +1,22 @@
-//! `shadelab isa`: what each method costs on real AMD GPU generations, without the GPUs.
-//! Mesa's RADV, with `RADV_FORCE_FAMILY=<chip>`, creates a null device whose pipelines go
-//! through the production ACO compiler; VK_KHR_pipeline_executable_properties returns its
-//! statistics and disassembly (../shared/TOOLCHAIN.md "RADV null device").
+//! `shadelab isa`: what each method costs on real GPU generations of several vendors, without
+//! the GPUs. Each vendor is a compiler route of [`vendor`] (one file each): AMD through RADV's
+//! null device and the production ACO compiler, Intel through ANV on Mesa's noop drm-shim,
+//! NVIDIA and AMD TeraScale through nouveau's and r600's OpenGL compilers on drm-shims
+//! ([`gl_child`]); Vulkan routes read VK_KHR_pipeline_executable_properties' statistics and
+//! disassembly, OpenGL routes the compiler's shader-db line (../shared/TOOLCHAIN.md "RADV null
+//! device", "Other vendors' production-path compilers").
 //!
 //! Each family is compiled in a child process of its own ([`child`], started through
-//! [`crate::child`]'s protocol: `shadelab child REQUEST`), two at a time, with the driver selected in the child's
-//! environment before Vulkan loads: a family the driver refuses or crashes on (Mesa 22.3.6
-//! dies of SIGFPE on navi24) is reported as not supported, never fatal. [`table`] turns the
-//! children's reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv,
-//! the disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated cost and
-//! [`claims`] the op-count judgement on the compiled instructions. The figures are ACO's static model (issue and stall cycles, busy cycles per
-//! wave), not timings: they rank programs, they do not time them.
+//! [`crate::child`]'s protocol: `shadelab child REQUEST`), two at a time, with the vendor's
+//! environment (driver selection, preloaded shim, chip variable) set before the driver loads:
+//! a family the driver refuses or crashes on (Mesa 22.3.6 dies of SIGFPE on navi24; nouveau
+//! falls back to llvmpipe on Ampere) is reported as not supported, a vendor that is not set up
+//! as such with the command that sets it up, never fatal. [`table`] turns the children's
+//! reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv, the
+//! disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated cost and
+//! [`claims`] the op-count judgement on AMD's compiled instructions. The figures are each
+//! compiler's static model or counts (`FamilyStatus::ranking` says which), not timings: they
+//! rank programs, they do not time them.
 pub mod chart;
 pub mod child;
 pub mod claims;
