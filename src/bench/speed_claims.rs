@@ -350,7 +350,7 @@ pub fn op_count_checks(s: &StaticCost) -> Vec<super::ClaimCheck> {
             super::ClaimCheck {
                 evidence: crate::method::Evidence::MEASURED,
                 method: crate::method::PHONG_EXACT.into(),
-                claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
+                claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (docs/formulas.md#exact-phong)".into(),
                 measured: format!(
                     "isa:{}: phong_exact's fragment shader has {} vector ALU instructions more than phong_unnormalized's ({}), claimed {} operations; inverse throughput x{:.3}",
                     v.family,

@@ -129,7 +129,7 @@ pub struct Case {
     /// to the rounding of the inputs, so no float32 method can be judged there. Counted; a
     /// non-finite result still counts as non-finite.
     pub ill_conditioned: bool,
-    /// Exact Phong: the lighting of `phong_normal` (FORMULAS.md 1.4).
+    /// Exact Phong: the lighting of `phong_normal` (docs/formulas.md#the-two-references).
     pub phong: DVec3,
     /// Exact slerp along the span, lit (the second reference of angle-interpolating methods).
     pub slerp: DVec3,

@@ -9,7 +9,7 @@
 //!
 //! Each check's core takes the formula as a parameter, so a test can feed it a deliberately
 //! wrong formula and see the verdict flip (the tests at the end). The sweep helpers here are
-//! shared with the formulas tests, which pin the same figures against FORMULAS.md section 3.
+//! shared with the formulas tests, which pin the same figures against docs/formulas.md#methods.
 use glam::DVec3;
 
 use super::formulas as f;
@@ -44,7 +44,7 @@ pub(crate) fn angle_deg(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// Signed relative length error `k(z)|N| - 1` in percent at the worst point of an edge whose
-/// unit end normals are `theta` apart (FORMULAS.md 1.3). The edge covers z in
+/// unit end normals are `theta` apart (docs/formulas.md#error-measures). The edge covers z in
 /// [cos^2(theta/2), 1], so this is also the worst case over all angles up to `theta`.
 pub(crate) fn scalar_error_pct(k: Factor, theta_deg: f64) -> f64 {
     scalar_error(k, theta_deg).value()
@@ -71,12 +71,14 @@ pub(crate) fn interior_error(k: Factor, theta_deg: f64) -> Worst {
     }))
 }
 
-/// Mikami's normalised relative error `sqrt(z)/s1 - 1` in percent (FORMULAS.md 2.8).
+/// Mikami's normalised relative error `sqrt(z)/s1 - 1` in percent
+/// (docs/formulas.md#mikami-square-root).
 pub(crate) fn mikami_error_pct(z: f64, beta: Factor) -> f64 {
     100.0 * (z.sqrt() / f::mikami_sqrt(z, beta(z)) - 1.0)
 }
 
-/// Worst Mikami error on z in [lo, 1] (fine grid, FORMULAS.md 2.8 sweeps [0.25, 1]).
+/// Worst Mikami error on z in [lo, 1] (fine grid; docs/formulas.md#mikami-square-root sweeps
+/// [0.25, 1]).
 #[cfg(test)]
 pub(crate) fn mikami_worst_pct(lo: f64, beta: Factor) -> f64 {
     mikami_worst(lo, beta).value()
@@ -166,7 +168,8 @@ pub fn op_count_claim() -> Measurement {
 /// the same claim by the same 1/255 on the rendered colour.
 pub const COLOUR_LEVEL_PCT: f64 = 100.0 / 255.0;
 
-/// "usable for angles between vertex normals up to 40 degrees" (S000 l.35).
+/// "usable for angles between vertex normals up to 40 degrees"
+/// (docs/formulas.md#newton-raphson-step).
 pub fn newton_usable_to_40_deg() -> Measurement {
     usable_up_to(f::k_newton, "formulas::k_newton", 40.0)
 }
@@ -211,12 +214,13 @@ pub(crate) fn usable_up_to(k: Factor, name: &str, theta: f64) -> Measurement {
     }
 }
 
-/// The NVIDIA formula exactly as printed in S004 l.169: `N (3 - N.N) / 3`.
+/// The NVIDIA formula exactly as the shading survey prints it: `N (3 - N.N) / 3`
+/// (docs/formulas.md#newton-raphson-step).
 fn k_newton_as_printed_in_s004(z: f64) -> f64 {
     (3.0 - z) / 3.0
 }
 
-/// "S004 l.169 prints N (3 - N.N)/3": is the printed formula a normalisation?
+/// "the shading survey prints N (3 - N.N)/3": is the printed formula a normalisation?
 pub fn newton_as_printed_in_s004() -> Measurement {
     printed_vs_corrected(k_newton_as_printed_in_s004, f::k_newton)
 }
@@ -243,7 +247,7 @@ pub(crate) fn printed_vs_corrected(printed: Factor, corrected: Factor) -> Measur
 
 // ---- lyon_taylor ------------------------------------------------------------------------------
 
-/// "the approximation error is large" (S004 l.181-183).
+/// "the approximation error is large" (docs/formulas.md#lyon-taylor-form).
 pub fn lyon_error_is_large() -> Measurement {
     error_is_large(f::k_lyon2, "formulas::k_lyon2")
 }
@@ -281,7 +285,8 @@ pub(crate) fn error_is_large(k: Factor, name: &str) -> Measurement {
 /// Angles between the vertex normals swept by the unit-length checks.
 const UNIT_ANGLES: [f64; 4] = [40.0, 60.0, 90.0, 120.0];
 
-/// "normalization without a square root" (S000 l.55-63) for Hast-Barrera-Bengtsson.
+/// "normalization without a square root" (docs/formulas.md#hast-barrera-bengtsson-half-vector) for
+/// Hast-Barrera-Bengtsson.
 pub fn hbb_is_unit() -> Measurement {
     flat_based_is_unit(f::hbb)
 }
@@ -308,7 +313,8 @@ pub(crate) fn flat_based_is_unit(method: fn(DVec3, DVec3) -> DVec3) -> Measureme
     )
 }
 
-/// "no square root needed" (S000 l.187) for Hast's quaternion interpolation.
+/// "no square root needed" (docs/formulas.md#quaternion-interpolation) for Hast's quaternion
+/// interpolation.
 pub fn quaternion_is_unit() -> Measurement {
     quaternion_recovery_is_unit(f::normal_from_quat)
 }
@@ -401,10 +407,11 @@ fn unit_measurement(dev: Worst, extra: String, what: &str) -> Measurement {
 
 // ---- mikami -----------------------------------------------------------------------------------
 
-/// Mikami's claimed bound on the normalised relative error, percent (S000 l.74).
+/// Mikami's claimed bound on the normalised relative error, percent
+/// (docs/formulas.md#mikami-square-root).
 pub(crate) const MIKAMI_BOUND_PCT: f64 = 1.5;
 
-/// "maximum normalised relative error <= 1.5 %" (S000 l.74), beta = 0.64.
+/// "maximum normalised relative error <= 1.5 %" (docs/formulas.md#mikami-square-root), beta = 0.64.
 pub fn mikami_const_within_bound() -> Measurement {
     mikami_within_bound(f::beta_const, "formulas::beta_const")
 }
@@ -453,7 +460,8 @@ pub(crate) const ROMANYUK_FACTOR: f64 = 8.0;
 /// Angles between the normals at which the 8x claim is measured.
 pub(crate) const ROMANYUK_ANGLES: [f64; 3] = [90.0, 60.0, 40.0];
 
-/// "relative error 8x smaller than Lyon's approach" (S000 l.79-80).
+/// "relative error 8x smaller than Lyon's approach"
+/// (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial).
 pub fn romanyuk_8x_smaller() -> Measurement {
     times_smaller(
         f::k_romanyuk,
@@ -531,7 +539,8 @@ pub(crate) fn times_smaller(k: Factor, lyons: [(&str, Factor); 2]) -> Measuremen
 /// The PN tessellator's signature (`formulas::pn_tessellate`).
 pub(crate) type Tessellator = fn([DVec3; 3], [DVec3; 3], u32) -> Vec<([DVec3; 3], [DVec3; 3])>;
 
-/// "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre" (S004 l.54-59).
+/// "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre"
+/// (docs/formulas.md#pn-triangles-and-trueform).
 pub fn trueform_level_3_counts() -> Measurement {
     tessellation_counts(f::pn_tessellate)
 }
@@ -571,7 +580,7 @@ pub(crate) fn tessellation_counts(tessellate: Tessellator) -> Measurement {
 
 // ---- specular_lut -----------------------------------------------------------------------------
 
-/// "tables for n = 1..255 need more than 4 MB" (S004 l.201-203).
+/// "tables for n = 1..255 need more than 4 MB" (docs/formulas.md#specular-table).
 pub fn specular_lut_over_4_mb() -> Measurement {
     lut_bytes(f::specular_lut)
 }

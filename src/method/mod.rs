@@ -48,8 +48,8 @@ pub enum Input {
     QuaternionLocal,
     /// The cos^n lookup table (a storage buffer).
     SpecularLut,
-    /// The span through the fragment's row (FORMULAS.md 1.6): the triangle's window-space
-    /// corners and unit vertex normals (`flat` varyings), and `gl_FragCoord`.
+    /// The span through the fragment's row (docs/formulas.md#scanline-emulation): the triangle's
+    /// window-space corners and unit vertex normals (`flat` varyings), and `gl_FragCoord`.
     ScanlineSpan,
 }
 
@@ -81,7 +81,7 @@ pub enum Geometry {
     PnTessellated(u32),
 }
 
-/// Which exact reference a method is judged against (FORMULAS.md 1.4).
+/// Which exact reference a method is judged against (docs/formulas.md#the-two-references).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Reference {
@@ -149,8 +149,8 @@ impl Family {
 pub enum Property {
     /// The exact reference every method is measured against ([`PHONG_EXACT`]).
     ExactReference,
-    /// Avoids the square root and division of exact normalisation (S000, S004 l.159-172): each
-    /// is claimed faster than exact normalisation.
+    /// Avoids the square root and division of exact normalisation (both surveys,
+    /// docs/formulas.md#exact-phong): each is claimed faster than exact normalisation.
     SqrtFree,
     /// Interpolates the angle between the span's end normals, not the normal itself (judged
     /// against exact slerp as well as exact Phong, [`Reference::PhongAndSlerp`]).
@@ -372,7 +372,7 @@ pub struct Measurement {
 /// `measured`, `verdict`, `basis`, `proven_upper`, `found` and `how` as measured at that moment.
 #[derive(Debug, Clone, Copy)]
 pub struct Claim {
-    /// The claim, with its source (seed file and line).
+    /// The claim, with its source (`docs/formulas.md#<anchor>`).
     pub claim: &'static str,
     /// Measures the claim (an f64 sweep of the formula, see [`checks`]) and derives the verdict.
     pub check: fn() -> Measurement,
@@ -409,7 +409,7 @@ pub struct Method {
     pub name: &'static str,
     /// One line.
     pub description: &'static str,
-    /// Paper and seed file/line (FORMULAS.md section).
+    /// The publication, then its section of docs/formulas.md (`docs/formulas.md#<anchor>`).
     pub citation: &'static str,
     /// Pipeline inputs it needs; only these varyings and vertex streams are set up.
     pub inputs: &'static [Input],

@@ -1,7 +1,9 @@
-//! The checks behind the scanline family's claims (FORMULAS.md 2.11, 2.13, 2.16, section 3):
-//! f64 sweeps run when claims are written, each verdict derived from the measured figure by
-//! the rule in its `how` (as in [`super::checks`]). Each core takes the formula under test as a
-//! parameter, so the tests can feed a wrong one and see the verdict flip.
+//! The checks behind the scanline family's claims
+//! (docs/formulas.md#spherical-angular-interpolation, docs/formulas.md#dichotomy,
+//! docs/formulas.md#digital-segments-error-bounds): f64 sweeps run when claims are written, each
+//! verdict derived from the measured figure by the rule in its `how` (as in [`super::checks`]).
+//! Each core takes the formula under test as a parameter, so the tests can feed a wrong one and see
+//! the verdict flip.
 use glam::DVec3;
 
 use super::checks::{pair, Worst};
@@ -56,7 +58,8 @@ fn combine(a: Verdict, b: Verdict) -> Verdict {
 }
 
 /// Worst absolute and relative error of an approximation `f(z)` of `1/sqrt(2 + z)`,
-/// `z = 2 cos(phi)`, over phi in [0, 45] degrees (the range both S002 polynomials are for).
+/// `z = 2 cos(phi)`, over phi in [0, 45] degrees (the range both polynomials of the digital-segment
+/// paper are for).
 /// Non-finite points are counted ([`Worst`]).
 pub(crate) fn inv_root_errors(f: &dyn Fn(f64) -> f64) -> (Worst, Worst) {
     let (mut abs, mut rel) = (Worst::default(), Worst::default());
@@ -203,8 +206,8 @@ fn inv_root_claim(
     }
 }
 
-/// S002 l.625-643: the degree-1 inverse root 0.64 - 0.07 z has max abs error <= 0.0005 and
-/// relative error 0.12 %.
+/// docs/formulas.md#dichotomy: the degree-1 inverse root 0.64 - 0.07 z has max abs error <= 0.0005
+/// and relative error 0.12 %.
 pub fn dichotomy_poly1_error() -> Measurement {
     inv_root_claim(
         &s::inv_root_poly1,
@@ -221,7 +224,8 @@ pub fn dichotomy_poly1_error() -> Measurement {
     )
 }
 
-/// S002 l.646-658: the degree-2 inverse root has max abs error <= 2e-5 and relative 0.004 %.
+/// docs/formulas.md#dichotomy: the degree-2 inverse root has max abs error <= 2e-5 and relative
+/// 0.004 %.
 pub fn dichotomy_poly2_error() -> Measurement {
     let c = minimax_inv_root::<4>();
     inv_root_claim(
@@ -253,7 +257,8 @@ pub(crate) fn closed_form_gap(closed: fn(DVec3, DVec3, f64) -> DVec3) -> Worst {
     gap
 }
 
-/// S000 l.100-114 (refs [9, 10]): spherical-angular interpolation gives the slerp normals.
+/// docs/formulas.md#spherical-angular-interpolation: spherical-angular interpolation gives the
+/// slerp normals.
 pub fn spherical_angular_is_slerp() -> Measurement {
     let gap = closed_form_gap(s::spherical_angular);
     Measurement {
@@ -298,8 +303,9 @@ pub(crate) fn segment_diffuse_error(theta_deg: f64, interpolate: fn(f64, f64) ->
     worst
 }
 
-/// S002 l.431-467: the linear interpolation of diffuse intensity inside a segment whose end
-/// normals are theta apart has relative error at most 1 - cos(theta / 2).
+/// docs/formulas.md#digital-segments-error-bounds: the linear interpolation of diffuse intensity
+/// inside a segment whose end normals are theta apart has relative error at most
+/// 1 - cos(theta / 2).
 pub fn segments_diffuse_bound() -> Measurement {
     segments_diffuse_bound_with(|a, b| 0.5 * (a + b))
 }
@@ -330,13 +336,13 @@ pub(crate) fn segments_diffuse_bound_with(interpolate: fn(f64, f64) -> f64) -> M
     }
 }
 
-/// The specular bound of S002 l.472-592: `1 - cos^n(theta/2)`.
+/// The specular bound of docs/formulas.md#digital-segments-error-bounds: `1 - cos^n(theta/2)`.
 pub(crate) fn specular_bound(n: f64, theta_deg: f64) -> f64 {
     1.0 - (0.5 * theta_deg).to_radians().cos().powf(n)
 }
 
-/// S002 l.595-598: for the most common materials (n <= 100) the specular error stays within
-/// 4 % at 4 degrees between segment-end normals.
+/// docs/formulas.md#digital-segments-error-bounds: for the most common materials (n <= 100) the
+/// specular error stays within 4 % at 4 degrees between segment-end normals.
 pub fn segments_specular_4pct() -> Measurement {
     segments_specular_4pct_with(specular_bound)
 }
@@ -362,7 +368,8 @@ pub(crate) fn segments_specular_4pct_with(bound: fn(f64, f64) -> f64) -> Measure
         } else {
             Verdict::Disagrees
         },
-        how: "f64: the seed's own bound 1 - cos^n(theta/2) (S002 l.472-592) at theta = 4 deg for \
+        how: "f64: the paper's own bound 1 - cos^n(theta/2) \
+              (docs/formulas.md#digital-segments-error-bounds) at theta = 4 deg for \
               n = 1..1000 (src/method/scanline_checks.rs); agrees when it is <= 4 % at n = 100"
             .into(),
     }
@@ -374,9 +381,9 @@ pub(crate) fn mid_length_error_pct(theta_deg: f64, mid: fn(DVec3, DVec3) -> DVec
     100.0 * (mid(nl, np).length() - 1.0)
 }
 
-/// S000 l.136-146: the middle normal of a scanline is computed approximately as
-/// (0.103 c^2 - 0.306 c + 0.705)(N'_p + N'_l). Measured as its length error over the fit's
-/// design range, end normals up to 90 degrees apart.
+/// docs/formulas.md#quadratic-interpolation-along-the-span: the middle normal of a scanline is
+/// computed approximately as (0.103 c^2 - 0.306 c + 0.705)(N'_p + N'_l). Measured as its length
+/// error over the fit's design range, end normals up to 90 degrees apart.
 pub fn quadratic_mid_accuracy() -> Measurement {
     quadratic_mid_accuracy_with(s::mid_approx)
 }
@@ -406,9 +413,10 @@ pub(crate) fn quadratic_mid_accuracy_with(mid: fn(DVec3, DVec3) -> DVec3) -> Mea
     }
 }
 
-/// The worst error of Bishop-Weimer's Taylor cosine against the exact one over a triangle
-/// whose normal changes by `extent` (|A| r) from its centre to its edge, over light directions
-/// (FORMULAS.md 2.17's example: |A| = |B| = 0.3, C = +Z, measured 1.1e-5 at r |A| = 0.03).
+/// The worst error of Bishop-Weimer's Taylor cosine against the exact one over a triangle whose
+/// normal changes by `extent` (|A| r) from its centre to its edge, over light directions
+/// (docs/formulas.md#bishop-weimer-taylor-shading's example: |A| = |B| = 0.3, C = +Z, measured
+/// 1.1e-5 at r |A| = 0.03).
 pub(crate) fn taylor_error(
     extent: f64,
     approx: fn(DVec3, DVec3, DVec3, DVec3, glam::DVec2) -> f64,
@@ -438,9 +446,9 @@ pub(crate) fn taylor_error(
     worst
 }
 
-/// S004 l.110-120: the second-order Taylor expansion approximates the diffuse intensity over
-/// the polygon. Measured as the largest change of the normal across a triangle (from its
-/// centre) at which the error stays within one 8-bit step of the intensity.
+/// docs/formulas.md#bishop-weimer-taylor-shading: the second-order Taylor expansion approximates
+/// the diffuse intensity over the polygon. Measured as the largest change of the normal across a
+/// triangle (from its centre) at which the error stays within one 8-bit step of the intensity.
 pub fn bishop_weimer_extent() -> Measurement {
     bishop_weimer_extent_with(s::taylor_cosine)
 }
@@ -494,7 +502,7 @@ mod tests {
 
     #[test]
     fn inverse_root_claims_follow_the_measured_errors() {
-        // FORMULAS.md section 3: the rounded line has 0.0011 / 0.217 %; the shipped quadratic's
+        // docs/formulas.md#dichotomy: the rounded line has 0.0011 / 0.217 %; the shipped quadratic's
         // 6-digit coefficients 2.20e-5 / 0.00432 %.
         let (abs, rel) = inv_root_errors(&s::inv_root_poly1);
         assert!((abs.finite - 0.0011).abs() < 1e-4 && (rel.finite * 100.0 - 0.217).abs() < 0.005);
@@ -581,7 +589,8 @@ mod tests {
 
     #[test]
     fn quadratic_mid_and_taylor_checks_measure_their_formulas() {
-        // FORMULAS.md 2.12: within +-0.33 % up to 90 degrees, -11.6 % at 120.
+        // docs/formulas.md#quadratic-interpolation-along-the-span: within +-0.33 % up to 90
+        // degrees, -11.6 % at 120.
         let m = quadratic_mid_accuracy();
         assert_eq!(m.verdict, Verdict::Agrees, "{m:?}");
         assert!(m.measured.contains("-11.6"), "{m:?}");
@@ -589,7 +598,8 @@ mod tests {
             v(quadratic_mid_accuracy_with(|a, b| (a + b) * 0.5)),
             Verdict::Disagrees
         );
-        // FORMULAS.md 2.17: 1.1e-5 at |A| r = 0.03 (r = 0.1), 1.8e-2 at 0.3 (r = 1)
+        // docs/formulas.md#bishop-weimer-taylor-shading: 1.1e-5 at |A| r = 0.03 (r = 0.1), 1.8e-2
+        // at 0.3 (r = 1)
         let e = taylor_error(0.03, s::taylor_cosine).value();
         assert!(e > 5e-6 && e < 3e-5, "{e}");
         // teeth: NaN inputs fail each of these checks, with the count
@@ -613,8 +623,8 @@ mod tests {
 
     #[test]
     fn segment_bounds_are_measured_not_assumed() {
-        // FORMULAS.md 2.16: brute force 0.0609 % at 4 degrees, 5.91 % at n = 100, "n <= 67"
-        // (n = 67 gives 4.0005 %: strictly, n <= 66).
+        // docs/formulas.md#digital-segments-error-bounds: brute force 0.0609 % at 4 degrees, 5.91 % at n = 100,
+        // "n <= 67" (n = 67 gives 4.0005 %: strictly, n <= 66).
         assert_eq!(v(segments_diffuse_bound()), Verdict::Agrees);
         let m = segments_specular_4pct();
         assert!(

@@ -206,7 +206,8 @@ fn properties_agree_with_the_columns_they_summarise() {
     assert!(METHODS
         .iter()
         .all(|m| m.family != Family::Yours && m.twin().is_some()));
-    // The seeds' square-root-free methods (S000, S004 l.159-172) are all per-pixel forms.
+    // The papers' square-root-free methods (docs/formulas.md#exact-phong) are all per-pixel
+    // forms.
     for m in with_property(Property::SqrtFree) {
         assert!(
             m.inputs.iter().all(|i| !matches!(i, Input::ScanlineSpan)),

@@ -26,7 +26,7 @@ type Overlay = (&'static str, &'static str, fn() -> Measurement);
 const OVERLAYS: [Overlay; 5] = [
     (
         "newton_raphson",
-        "usable for angles between vertex normals up to 40 (degrees assumed) (S000 l.35)",
+        "usable for angles between vertex normals up to 40 (degrees assumed) (docs/formulas.md#newton-raphson-step)",
         newton_usable_to_40_deg,
     ),
     ("mikami_const", MIKAMI_CLAIM, mikami_const_within_bound),
@@ -38,12 +38,13 @@ const OVERLAYS: [Overlay; 5] = [
     ),
     (
         "romanyuk_poly",
-        "relative error 8x smaller than Lyon's approach (S000 l.79-80)",
+        "relative error 8x smaller than Lyon's approach (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial)",
         romanyuk_8x_smaller,
     ),
 ];
 
-const MIKAMI_CLAIM: &str = "maximum normalised relative error <= 1.5 % (S000 l.74)";
+const MIKAMI_CLAIM: &str =
+    "maximum normalised relative error <= 1.5 % (docs/formulas.md#mikami-square-root)";
 
 /// Claim `c` of method `method`, judged by proof where [`OVERLAYS`] covers it, else the method
 /// table's own (sampled) check.
@@ -70,7 +71,8 @@ impl Serialize for Judged<'_> {
     }
 }
 
-/// "usable for angles between vertex normals up to 40 degrees" (S000 l.35), by proof.
+/// "usable for angles between vertex normals up to 40 degrees"
+/// (docs/formulas.md#newton-raphson-step), by proof.
 pub fn newton_usable_to_40_deg() -> Measurement {
     usable_up_to(
         f::k_newton,
@@ -110,7 +112,8 @@ pub fn mikami_quadratic_within_bound() -> Measurement {
     )
 }
 
-/// "relative error 8x smaller than Lyon's approach" (S000 l.79-80), by proof.
+/// "relative error 8x smaller than Lyon's approach"
+/// (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial), by proof.
 pub fn romanyuk_8x_smaller() -> Measurement {
     times_smaller(
         (f::k_romanyuk, Some(factor!(f::k_romanyuk))),
@@ -365,7 +368,7 @@ mod tests {
             assert_eq!(sampled.evidence.basis, Basis::Found, "{method}");
             assert_eq!(proven.evidence.basis, Basis::Proven, "{method}: {proven:?}");
             assert!(proven.evidence.proven_upper.is_some(), "{method}");
-            // the proof decides the same way as the table's sampled verdict (FORMULAS.md 3)
+            // the proof decides the same way as the table's sampled verdict
             assert_eq!(proven.verdict, sampled.verdict, "{method}");
         }
         // a claim it does not cover keeps the table's own check; a wrong method name as well

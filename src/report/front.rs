@@ -284,7 +284,12 @@ pub fn claims_matrix(d: &ReportData) -> String {
     }
     h += "</tr></thead><tbody>";
     for ((m, c), cells) in &rows {
-        let _ = write!(h, "<tr><td>{}</td><td>{}</td>", esc(m), esc(c));
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td>{}</td>",
+            esc(m),
+            super::formulas::cite(c)
+        );
         for k in 0..sources.len() {
             match cells.get(&k) {
                 Some((v, basis, at)) => {

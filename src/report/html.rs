@@ -338,7 +338,7 @@ fn bench_claims(s: &SceneResult) -> String {
             "<tr id=\"{}\"><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
             esc(&super::front::claim_anchor(&s.id, k)),
             method_link(&c.method, anchor),
-            esc(&c.claim),
+            super::formulas::cite(&c.claim),
             verdict_td(c.verdict.as_str()),
             esc(&c.measured),
             esc(&c.how),
@@ -581,7 +581,7 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
             h,
             "<tr id=\"stress--claim-{k}\"><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td></tr>",
             method_link(&c.method, known.then(|| format!("stress--{}", c.method))),
-            esc(&c.claim),
+            super::formulas::cite(&c.claim),
             verdict_td(c.verdict.as_str()),
             esc(&c.measured),
             esc(&c.how)
@@ -676,7 +676,8 @@ pub fn page(d: &ReportData, dims: Dims) -> Result<String> {
         );
     }
     h += "<li><a href=\"#stress\">stress</a></li><li><a href=\"#plan\">plan</a></li><li><a href=\"#skips\">skips</a></li>\
-          <li><a href=\"#provenance\">provenance</a></li></ul></nav></header><main>";
+          <li><a href=\"#provenance\">provenance</a></li>\
+          <li><a href=\"formulas.html\">formulas and sources</a></li></ul></nav></header><main>";
     h += &super::front::answer_table(&d.answer);
     h += &super::svg::charts_section(d);
     h += &super::front::claims_matrix(d);

@@ -1,23 +1,25 @@
 //! `shadelab report`: the main job. For each scene it runs [`crate::compare`] (error maps and
 //! statistics) and [`crate::bench`] (timing, Pareto chart, the papers' claims), then
 //! [`crate::stress`] once (it is scene-independent), and writes DIR/index.html beside the files
-//! those jobs wrote: the page only points at them (no copies), plus its own `report.css` and
-//! `report.js`.
+//! those jobs wrote: the page only points at them (no copies), plus its own `report.css`,
+//! `report.js` and `formulas.html` (the page the claims' citations link to).
 //!
 //! Invariants of the page ([`html`]): every string from a scene, a method or a measurement is
-//! escaped; every `href`/`src` is a relative path to a file under DIR or an `#id` of the page
-//! ([`links::broken_links`] checks both, and the tests run it); nothing is fetched from the
+//! escaped; every `href`/`src` is a relative path to a file under DIR (with an `#id` that page
+//! has, when it names one of another HTML page) or an `#id` of the page ([`links::broken_links`]
+//! checks all three, and the tests run it); nothing is fetched from the
 //! network (no CDN, font or script from elsewhere); the tables and images are plain HTML, and the
 //! script only adds sorting and the method/reference viewer.
 //!
 //! Layout of DIR: `index.html`, `answer.json` and `answer.md` ([`answer`]), `report.css`,
-//! `report.js`, `scenes/<id>/compare/` (compare's outputs), `scenes/<id>/bench/` (bench's
+//! `report.js`, `formulas.html` (docs/formulas.md, which the claims cite: [`formulas`]), `scenes/<id>/compare/` (compare's outputs), `scenes/<id>/bench/` (bench's
 //! outputs), `scenes/<id>/software/` (the software engine's bench), `stress/` (stress's outputs).
 //!
 //! The page opens with the answer ([`front::answer_table`]), then the charts ([`svg`]: small
 //! multiples, one panel per method family), the claims matrix, and the scenes, the most telling
 //! (the most triangles) first.
 pub mod answer;
+pub mod formulas;
 pub mod front;
 pub mod html;
 pub mod isa;
@@ -413,6 +415,8 @@ fn write_page(out: &Path, data: &ReportData, methods: &[&'static Method]) -> Res
     output::write_bytes_atomic(&out.join("answer.md"), data.answer.markdown().as_bytes())?;
     output::write_bytes_atomic(&out.join("report.css"), CSS.as_bytes())?;
     output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
+    let sources = formulas::page(formulas::SOURCE);
+    output::write_bytes_atomic(&out.join(formulas::PAGE), sources.as_bytes())?;
     let page = html::page(data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
     let page = isa::splice(&page, &data.isa, methods);
     let index = out.join("index.html");

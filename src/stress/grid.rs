@@ -1,6 +1,6 @@
 //! What `stress` makes of the sweeps of [`crate::cases::grid`]: the per-case errors folded into
-//! curves and the validity map, the local search's neighbours, S002's specular bound and the
-//! claims.
+//! curves and the validity map, the local search's neighbours, the digital-segment paper's
+//! specular bound and the claims.
 use std::collections::HashMap;
 
 use serde::Serialize;
@@ -152,8 +152,8 @@ pub fn perturb(s: &CaseSpec, step: f64, rng: &mut fastrand::Rng) -> CaseSpec {
     out
 }
 
-/// S002's specular bound at 4 degrees: one digital segment of `2^k` pixels whose end normals
-/// are 4 degrees apart, H on their bisector (the segment's middle pixel, t = 1/2), specular
+/// The digital-segment paper's specular bound at 4 degrees: one digital segment of `2^k` pixels
+/// whose end normals are 4 degrees apart, H on their bisector (the segment's middle pixel, t = 1/2), specular
 /// term alone; the relative error there for n = 1..=100.
 #[derive(Debug, Clone, Serialize)]
 pub struct SpecularBound {
@@ -183,11 +183,11 @@ pub fn specular_bound_specs(k: u32) -> Vec<CaseSpec> {
 
 /// The validity claims checked by the sweeps: (method, claimed range in degrees, claim).
 const USABLE_UP_TO: [(&str, f64, &str); 5] = [
-    ("newton_raphson", 40.0, "usable for angles between vertex normals up to 40 degrees (S000 l.35)"),
-    ("romanyuk_poly", 90.0, "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (FORMULAS.md 2.8)"),
-    ("barycentric_quadratic", 90.0, "the M_ij polynomial is fitted for vertex normals up to 90 degrees apart (FORMULAS.md 2.15)"),
-    ("dichotomy_poly1", 45.0, "the degree-1 inverse root is fitted for phi <= 45 degrees per halving (S002 l.643)"),
-    ("dichotomy_poly2", 45.0, "the degree-2 inverse root is fitted for phi <= 45 degrees per halving (S002 l.646-658)"),
+    ("newton_raphson", 40.0, "usable for angles between vertex normals up to 40 degrees (docs/formulas.md#newton-raphson-step)"),
+    ("romanyuk_poly", 90.0, "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial)"),
+    ("barycentric_quadratic", 90.0, "the M_ij polynomial is fitted for vertex normals up to 90 degrees apart (docs/formulas.md#barycentric-quadratic-triangle)"),
+    ("dichotomy_poly1", 45.0, "the degree-1 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)"),
+    ("dichotomy_poly2", 45.0, "the degree-2 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)"),
 ];
 const COLLAPSES_BEYOND_90: [&str; 2] = ["quadratic_scanline", "quadratic_scanline_approx_mid"];
 
@@ -235,7 +235,7 @@ pub(crate) fn collapse_verdict(upto: &Worst, beyond: &Worst, threshold: f64) -> 
     }
 }
 
-/// Verdicts of the validity claims and S002's specular bound, from the sweeps.
+/// Verdicts of the validity claims and the digital-segment paper's specular bound, from the sweeps.
 pub fn claims(
     methods: &[MethodStress],
     specular: &[SpecularBound],
@@ -296,7 +296,7 @@ fn collapse_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<Stres
         out.push(StressClaim {
             method: name.into(),
             claim:
-                "accuracy collapses beyond 90 degrees between the end normals (FORMULAS.md 2.12)"
+                "accuracy collapses beyond 90 degrees between the end normals (docs/formulas.md#quadratic-interpolation-along-the-span)"
                     .into(),
             measured: format!(
                 "worst error at 60-90 degrees {} ({} non-finite), at 90-120 degrees {} ({} \
@@ -319,12 +319,13 @@ fn collapse_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<Stres
     }
 }
 
-/// Whether a relative error fails S002's 4 % (above it, or NaN).
+/// Whether a relative error fails the digital-segment paper's 4 % (above it, or NaN).
 fn above_4_percent(e: f64) -> bool {
     e.is_nan() || e > 0.04
 }
 
-/// S002's claim: within 4 % specular error for n <= 100 at 4 degrees between end normals.
+/// The digital-segment paper's claim: within 4 % specular error for n <= 100 at 4 degrees between
+/// end normals.
 fn specular_claims(specular: &[SpecularBound], out: &mut Vec<StressClaim>) {
     for s in specular {
         let failing: Vec<f64> = s
@@ -357,7 +358,7 @@ fn specular_claims(specular: &[SpecularBound], out: &mut Vec<StressClaim>) {
         out.push(StressClaim {
             method: s.method.clone(),
             claim: "for n <= 100 the specular error stays within 4 % at 4 degrees between \
-                    segment-end normals (S002 l.595-598)"
+                    segment-end normals (docs/formulas.md#digital-segments-error-bounds)"
                 .into(),
             measured: format!(
                 "relative specular error at the segment's middle above 4 % for {}{first}; {:.2} % at n = 100; \

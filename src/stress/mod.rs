@@ -652,8 +652,8 @@ pub fn write(out: &Path, report: &StressReport) -> Result<()> {
     Ok(())
 }
 
-/// S002's specular bound (see [`grid::SpecularBound`]) for the colour-interpolating digital
-/// segments among `methods`.
+/// The digital-segment paper's specular bound (see [`grid::SpecularBound`]) for the
+/// colour-interpolating digital segments among `methods`.
 fn specular_bounds(
     ctx: &Arc<Context>,
     methods: &[&'static Method],
