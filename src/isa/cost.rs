@@ -20,14 +20,31 @@ pub struct Compiled {
 
 /// The statistic that ranks programs on `family` (its key in a row's `statistics`) and what
 /// it is.
-pub fn ranking(_r: &IsaReport, _family: &str) -> (&'static str, Measure) {
-    (
-        "inverse_throughput",
-        Measure {
-            statistic: "ACO inverse throughput of the draw's fragment shader".into(),
-            unit: "busy cycles per wave".into(),
-        },
-    )
+pub fn ranking(r: &IsaReport, family: &str) -> (String, Measure) {
+    match r.family(family).and_then(|f| f.ranking()) {
+        // AMD, as before other vendors: the same words.
+        Some(k) if k.key == "inverse_throughput" => (
+            k.key,
+            Measure {
+                statistic: "ACO inverse throughput of the draw's fragment shader".into(),
+                unit: "busy cycles per wave".into(),
+            },
+        ),
+        Some(k) => (
+            k.key,
+            Measure {
+                statistic: k.meaning,
+                unit: k.unit,
+            },
+        ),
+        None => (
+            "inverse_throughput".into(),
+            Measure {
+                statistic: "ACO inverse throughput of the draw's fragment shader".into(),
+                unit: "busy cycles per wave".into(),
+            },
+        ),
+    }
 }
 
 /// The models of one report: one per family the driver compiled.
@@ -44,12 +61,12 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                 .map(|x| {
                     let ratio = x
                         .ratio_to_phong_exact
-                        .get(key)
+                        .get(&key)
                         .copied()
                         .filter(|v| v.is_finite());
                     CostFigure {
                         method: x.method.clone(),
-                        value: x.statistics.get(key).copied().filter(|v| v.is_finite()),
+                        value: x.statistics.get(&key).copied().filter(|v| v.is_finite()),
                         ratio,
                         ci95_low: None,
                         ci95_high: None,
