@@ -161,7 +161,7 @@ struct BudgetArgs {
     budget: ErrorBudget,
     /// What ranks auto's candidates: a cost model measured at start, `lavapipe_isolated`
     /// (lavapipe's isolated cost) or `isa:FAMILY` (the static cost on that GPU family, e.g.
-    /// isa:navi21; docs/isa.md).
+    /// isa:amd:navi21, isa:intel:tgl; a bare chip is AMD's; docs/isa.md).
     #[arg(long = "cost-model", value_name = "MODEL", default_value = crate::cost::LAVAPIPE_ISOLATED, value_parser = crate::cost::CostModelId::parse)]
     cost_model: crate::cost::CostModelId,
 }
