@@ -336,8 +336,9 @@ enum Command {
         #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
         error_budget: Option<ErrorBudget>,
     },
-    /// What each method compiles to on AMD GPU generations (RADV's null device, ACO's static
-    /// statistics and disassembly; no GPU needed).
+    /// What each method compiles to on the GPU families of every vendor set up (AMD through
+    /// RADV's null device, Intel, NVIDIA and TeraScale through Mesa's drm-shims): each
+    /// compiler's static statistics and disassembly; no GPU needed.
     Isa(self::isa::IsaArgs),
     /// List the methods (`--json` for machines).
     List {
