@@ -57,7 +57,7 @@ pub const EXIT_ERROR: u8 = 2;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
-    /// Your own method (issue 28): a GLSL file in glsl/methods/' vocabulary whose first lines
+    /// Your own method: a GLSL file in glsl/methods/' vocabulary whose first lines
     /// declare its inputs (`// shadelab-inputs: interpolated_normal`); its id is the file stem.
     /// Repeatable. It joins `all` and can be named in --methods / --method of render, compare,
     /// bench, stress, isa, report and corpus (docs/your-method.md). Child processes get it
