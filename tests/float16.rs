@@ -281,18 +281,18 @@ fn isa_compiles_float16_programs_where_the_family_has_float16() {
     };
     let r16 = isa::run(&opts(Precision::F16), &|_| {}).expect("isa f16");
     let r32 = isa::run(&opts(Precision::F32), &|_| {}).expect("isa f32");
-    assert_eq!(r16.supported(), vec!["vega10"], "{:#?}", r16.families);
+    assert_eq!(r16.supported(), vec!["amd:vega10"], "{:#?}", r16.families);
     let polaris = r16
         .families
         .iter()
-        .find(|f| f.family == "polaris10")
+        .find(|f| f.family == "amd:polaris10")
         .unwrap();
     assert!(polaris.status.contains("float16"), "{}", polaris.status);
     let row16 = r16
-        .row("vega10", "phong_exact", "fragment", "draw")
+        .row("amd:vega10", "phong_exact", "fragment", "draw")
         .unwrap();
     let row32 = r32
-        .row("vega10", "phong_exact", "fragment", "draw")
+        .row("amd:vega10", "phong_exact", "fragment", "draw")
         .unwrap();
     assert!(row16.program.contains(".f16."), "{}", row16.program);
     assert_ne!(

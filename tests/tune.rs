@@ -49,7 +49,7 @@ fn tune_on_a_scene_writes_files_whose_compare_error_is_within_their_proof() {
             "--budget",
             "1/255",
             "--cost-model",
-            "isa:navi21",
+            "isa:amd:navi21",
         ],
         &out,
     );
@@ -61,10 +61,10 @@ fn tune_on_a_scene_writes_files_whose_compare_error_is_within_their_proof() {
     );
     assert!(out.join("tune.txt").is_file());
     let answer = &r["cost_models"][0];
-    assert_eq!(answer["model"], "isa:navi21");
+    assert_eq!(answer["model"], "isa:amd:navi21");
     let statement = answer["statement"].as_str().unwrap();
     assert!(
-        stdout.contains(&format!("isa:navi21: {statement}")),
+        stdout.contains(&format!("isa:amd:navi21: {statement}")),
         "{stdout}"
     );
     assert!(
@@ -137,8 +137,8 @@ fn tune_on_a_scene_writes_files_whose_compare_error_is_within_their_proof() {
 fn the_same_form_with_other_coefficients_compiles_alike() {
     let dir = tempfile::tempdir().unwrap();
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    tune_ok(&["--max-angle", "40", "--cost-model", "isa:tahiti"], &a);
-    tune_ok(&["--max-angle", "90", "--cost-model", "isa:tahiti"], &b);
+    tune_ok(&["--max-angle", "40", "--cost-model", "isa:amd:tahiti"], &a);
+    tune_ok(&["--max-angle", "90", "--cost-model", "isa:amd:tahiti"], &b);
     let file = |d: &Path, id: &str| d.join(format!("methods/{id}.glsl")).display().to_string();
     let (q40, q90, c90) = (
         file(&a, "angle40_triangle_minimax4"),
@@ -157,7 +157,7 @@ fn the_same_form_with_other_coefficients_compiles_alike() {
         &c90,
         "isa",
         "--families",
-        "tahiti,navi21",
+        "amd:tahiti,amd:navi21",
         "--methods",
         "angle40_triangle_minimax4,angle90_triangle_minimax4,angle90_triangle_minimax3",
         "--out",
@@ -179,7 +179,7 @@ fn the_same_form_with_other_coefficients_compiles_alike() {
             .unwrap()["statistics"]
             .clone()
     };
-    for fam in ["tahiti", "navi21"] {
+    for fam in ["amd:tahiti", "amd:navi21"] {
         let (x, y) = (
             stats(fam, "angle40_triangle_minimax4"),
             stats(fam, "angle90_triangle_minimax4"),
@@ -199,7 +199,10 @@ fn the_same_form_with_other_coefficients_compiles_alike() {
 fn tune_over_an_angle_and_its_refusals() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("a");
-    let (r, stdout) = tune_ok(&["--max-angle", "40", "--cost-model", "isa:tahiti"], &out);
+    let (r, stdout) = tune_ok(
+        &["--max-angle", "40", "--cost-model", "isa:amd:tahiti"],
+        &out,
+    );
     assert_schema(&r, "docs/tune.schema.json", "/papers/0", "best_rel");
     assert_eq!(r["source"]["kind"], "max_angle");
     assert_eq!(r["source"]["domain"], "triangle");
@@ -215,7 +218,7 @@ fn tune_over_an_angle_and_its_refusals() {
             "--domain",
             "edge",
             "--cost-model",
-            "isa:tahiti",
+            "isa:amd:tahiti",
         ],
         &dir.path().join("e"),
     );

@@ -458,7 +458,7 @@ pub(crate) fn claims(
             .and_then(|e| e.max_normal_length_error)
         {
             out.push(ClaimCheck {
-                evidence: crate::method::Evidence::found(e),
+                evidence: crate::method::Evidence::found(e, crate::method::Quantity::RelativeError),
                 method: n.into(),
                 claim: "maximum normalised relative error <= 1.5 % (docs/formulas.md#mikami-square-root)".into(),
                 measured: format!(

@@ -28,7 +28,7 @@ pub enum StaticCostSource {
     Skip,
     /// An isa.json of `shadelab isa` (`--isa FILE`).
     File(PathBuf),
-    /// Compiled now on [`crate::isa::DEFAULT_FAMILIES`] by `exe`'s children, the timed draw of
+    /// Compiled now on every family of every vendor by `exe`'s children, the timed draw of
     /// `scene` (`None`: isa's default scene).
     Run {
         exe: PathBuf,
@@ -167,28 +167,13 @@ pub fn load(
             Err(e) => (None, format!("not read: {e}")),
         },
         StaticCostSource::Run { exe, scene } => {
-            if !std::path::Path::new(crate::isa::DEFAULT_DRIVER_FILES).is_file() {
-                return (
-                    None,
-                    format!(
-                        "not compiled: no RADV ICD at {}",
-                        crate::isa::DEFAULT_DRIVER_FILES
-                    ),
-                );
-            }
-            let mut ms: Vec<&'static crate::method::Method> = methods.to_vec();
-            let exact = crate::method::phong_exact();
-            if !ms.iter().any(|m| m.name == exact.name) {
-                ms.insert(0, exact);
-            }
             let opts = crate::isa::IsaOptions {
-                methods: ms,
-                families: crate::isa::DEFAULT_FAMILIES.map(String::from).to_vec(),
-                driver_files: PathBuf::from(crate::isa::DEFAULT_DRIVER_FILES),
                 scene: scene.clone(),
-                exe: exe.clone(),
-                precision: crate::method::Precision::F32,
-                probes: Vec::new(),
+                ..crate::isa::IsaOptions::every_family(
+                    methods,
+                    crate::method::Precision::F32,
+                    exe.clone(),
+                )
             };
             eprintln!(
                 "bench: static cost (shadelab isa, {} families)",
@@ -452,9 +437,9 @@ mod tests {
     #[test]
     fn every_compiled_family_is_a_column_judged_by_its_ratio() {
         let r = report(
-            &[("navi21", true), ("bogus", false)],
+            &[("amd:navi21", true), ("amd:bogus", false)],
             &[
-                ("phong_exact", 70.0),
+                (PHONG_EXACT, 70.0),
                 ("newton_raphson", 70.0),
                 // 1/70 of phong_exact: within even the "50 times faster" claim.
                 ("gouraud", 1.0),
@@ -467,10 +452,13 @@ mod tests {
         let models = crate::isa::cost::StaticCost.models(&ev);
         assert_eq!(models.len(), 1, "the refused family is no model");
         let t = table(&models);
-        let c = cell(&t, "newton_raphson", "isa:navi21");
+        let c = cell(&t, "newton_raphson", "isa:amd:navi21");
         assert_eq!((c.ratio, c.verdict), (Some(1.0), Verdict::Disagrees));
         assert_eq!(c.ci95_low, None);
-        assert_eq!(cell(&t, "gouraud", "isa:navi21").verdict, Verdict::Agrees);
+        assert_eq!(
+            cell(&t, "gouraud", "isa:amd:navi21").verdict,
+            Verdict::Agrees
+        );
         // No model measured slerp: its claims are not in the table at all.
         assert!(t.iter().all(|c| c.num != "slerp"), "{t:?}");
         // Teeth: without any model there is no claim.
@@ -483,7 +471,7 @@ mod tests {
     fn a_pair_timed_together_is_judged_by_its_own_interval() {
         let specs = claim_specs();
         let spec = specs.iter().find(|c| c.num == "newton_raphson").unwrap();
-        let names: Vec<String> = ["newton_raphson", "phong_exact"].map(String::from).to_vec();
+        let names: Vec<String> = ["newton_raphson", PHONG_EXACT].map(String::from).to_vec();
         let model = |values: Vec<Vec<f64>>| {
             let claims = super::super::software::judge_claims(&names, &values, None);
             let mut m = crate::isa::cost::StaticCost.models(&Evidence::new());
@@ -535,6 +523,6 @@ mod tests {
         let m = |n| crate::method::find(n).unwrap();
         let ms = claim_methods(&[m("newton_raphson"), m("flat"), m("gouraud")]);
         let names: Vec<&str> = ms.iter().map(|m| m.name).collect();
-        assert_eq!(names, ["newton_raphson", "gouraud", "phong_exact"]);
+        assert_eq!(names, ["newton_raphson", "gouraud", PHONG_EXACT]);
     }
 }

@@ -324,6 +324,22 @@ impl Errors {
     }
 }
 
+impl Errors {
+    /// The normal's length error ||N| - 1| to fold into a worst value, as [`Errors::counted`]
+    /// does the colour's: NaN when the result is non-finite, None for a finite result on an
+    /// ill-conditioned case and for a method without a normal.
+    pub fn counted_length(&self) -> Option<f64> {
+        let length = self.length?;
+        if self.non_finite {
+            Some(f64::NAN)
+        } else if self.ill_conditioned {
+            None
+        } else {
+            Some(length)
+        }
+    }
+}
+
 /// The errors of a result (`color`, `normal`) of `case`.
 pub fn errors(case: &Case, color: DVec3, normal: Option<DVec3>) -> Errors {
     let finite = color.is_finite() && normal.is_none_or(|n| n.is_finite());

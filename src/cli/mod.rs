@@ -58,7 +58,7 @@ pub const EXIT_ERROR: u8 = 2;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
-    /// Your own method (issue 28): a GLSL file in glsl/methods/' vocabulary whose first lines
+    /// Your own method: a GLSL file in glsl/methods/' vocabulary whose first lines
     /// declare its inputs (`// shadelab-inputs: interpolated_normal`); its id is the file stem.
     /// Repeatable. It joins `all` and can be named in --methods / --method of render, compare,
     /// bench, stress, isa, report and corpus (docs/your-method.md). Child processes get it
@@ -162,7 +162,7 @@ struct BudgetArgs {
     budget: ErrorBudget,
     /// What ranks auto's candidates: a cost model measured at start, `lavapipe_isolated`
     /// (lavapipe's isolated cost) or `isa:FAMILY` (the static cost on that GPU family, e.g.
-    /// isa:navi21; docs/isa.md).
+    /// isa:amd:navi21, isa:intel:tgl; a bare chip is AMD's; docs/isa.md).
     #[arg(long = "cost-model", value_name = "MODEL", default_value = crate::cost::LAVAPIPE_ISOLATED, value_parser = crate::cost::CostModelId::parse)]
     cost_model: crate::cost::CostModelId,
 }
@@ -343,8 +343,9 @@ enum Command {
         #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
         error_budget: Option<ErrorBudget>,
     },
-    /// What each method compiles to on AMD GPU generations (RADV's null device, ACO's static
-    /// statistics and disassembly; no GPU needed).
+    /// What each method compiles to on the GPU families of every vendor set up (AMD through
+    /// RADV's null device, Intel, NVIDIA and TeraScale through Mesa's drm-shims): each
+    /// compiler's static statistics and disassembly; no GPU needed.
     Isa(self::isa::IsaArgs),
     /// List the methods (`--json` for machines).
     List {
@@ -402,9 +403,9 @@ enum Command {
         models: Option<PathBuf>,
         /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
         /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
-        /// run in this process).
-        #[arg(long, value_name = "N", default_value_t = crate::bench::plan::DEFAULT_RUNS)]
-        runs: usize,
+        /// run in this process; default 5).
+        #[arg(long, value_name = "N")]
+        runs: Option<usize>,
         /// Output directory (index.html and everything it shows).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,

@@ -44,7 +44,8 @@ pub struct TuneArgs {
     #[arg(long, value_name = "E", default_value = "1/255", value_parser = ErrorBudget::parse)]
     budget: ErrorBudget,
     /// A cost model to measure (repeatable; default: every model measured on demand:
-    /// lavapipe_isolated, isa:FAMILY and isa:FAMILY:f16 for each default family).
+    /// lavapipe_isolated, isa:FAMILY and isa:FAMILY:f16 for each default family of every
+    /// vendor, e.g. isa:amd:navi21, isa:intel:tgl:f16).
     #[arg(long = "cost-model", value_name = "MODEL", value_parser = CostModelId::parse)]
     cost_model: Vec<CostModelId>,
     /// Case-insensitive substring of the Vulkan device of lavapipe_isolated (default:

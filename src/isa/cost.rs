@@ -2,9 +2,7 @@
 //! ranking statistic of the timed draw's fragment program over phong_exact's in the same
 //! precision (deterministic, no interval); on demand (`auto --cost-model isa:FAMILY`), the
 //! family compiled now by one child.
-use std::path::PathBuf;
-
-use super::{IsaOptions, IsaReport, DEFAULT_DRIVER_FILES, DEFAULT_FAMILIES};
+use super::{IsaOptions, IsaReport};
 use crate::cost::rule::static_cheaper;
 use crate::cost::{CostFigure, CostKind, CostModel, CostModelId, CostSource, Evidence, Measure};
 use crate::error::{Error, Result};
@@ -18,16 +16,15 @@ pub struct Compiled {
     pub evidence: String,
 }
 
-/// The statistic that ranks programs on `family` (its key in a row's `statistics`) and what
-/// it is.
-pub fn ranking(_r: &IsaReport, _family: &str) -> (&'static str, Measure) {
-    (
-        "inverse_throughput",
-        Measure {
-            statistic: "ACO inverse throughput of the draw's fragment shader".into(),
-            unit: "busy cycles per wave".into(),
-        },
-    )
+/// The statistic that ranks programs on `family` (its key in a row's `statistics`, its stage
+/// and kind) and what it is, as the family's vendor declares it.
+pub fn ranking(r: &IsaReport, family: &str) -> Option<(super::vendor::Ranking, Measure)> {
+    let k = r.family(family)?.ranking()?;
+    let measure = Measure {
+        statistic: k.meaning.clone(),
+        unit: k.unit.clone(),
+    };
+    Some((k, measure))
 }
 
 /// The models of one report: one per family the driver compiled.
@@ -35,12 +32,13 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
     let f16 = r.precision == Precision::F16;
     r.supported()
         .into_iter()
-        .map(|fam| {
-            let (key, measure) = ranking(r, fam);
+        .filter_map(|fam| {
+            let (k, measure) = ranking(r, fam)?;
+            let key = k.key.as_str();
             let figures = r
                 .results
                 .iter()
-                .filter(|x| x.family == fam && x.stage == "fragment" && x.kind == "draw")
+                .filter(|x| x.family == fam && x.stage == k.stage && x.kind == k.kind)
                 .map(|x| {
                     let ratio = x
                         .ratio_to_phong_exact
@@ -59,7 +57,22 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                     }
                 })
                 .collect();
-            CostModel {
+            let compiler = r.family(fam).and_then(|f| f.compiler()).map_or_else(
+                || "a Mesa compiler".to_string(),
+                |c| {
+                    format!(
+                        "{} ({}{})",
+                        c.driver,
+                        c.mesa_version.unwrap_or_else(|| "Mesa".into()),
+                        if c.production {
+                            ", the vendor's production Linux compiler"
+                        } else {
+                            ", Mesa's own compiler for this hardware"
+                        }
+                    )
+                },
+            );
+            Some(CostModel {
                 id: CostModelId::isa(fam, r.precision),
                 title: if f16 {
                     format!("{fam} float16 (static)")
@@ -68,9 +81,9 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                 },
                 kind: CostKind::Static,
                 description: format!(
-                    "ACO's static model on RADV's null device (shadelab isa{}): the {} on \
-                     {fam}, over phong_exact's in the same precision; deterministic, no \
-                     interval{}",
+                    "{compiler}, without the GPU (shadelab isa{}): the {} of the draw's \
+                     fragment program on {fam}, over phong_exact's in the same precision; \
+                     deterministic, no interval{}",
                     if f16 { " --precision f16" } else { "" },
                     measure.statistic,
                     if f16 {
@@ -84,7 +97,7 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                 precision: r.precision,
                 figures,
                 pairs: Vec::new(),
-            }
+            })
         })
         .collect()
 }
@@ -104,14 +117,21 @@ impl CostSource for StaticCost {
     }
 
     fn on_demand(&self) -> Option<&'static str> {
-        Some("isa:FAMILY or isa:FAMILY:f16 (a Mesa chip name, e.g. isa:navi21; see shadelab isa)")
+        Some("isa:FAMILY or isa:FAMILY:f16 (a family of `shadelab isa`: isa:amd:navi21, isa:intel:tgl, isa:nvidia:nv162; a bare chip is AMD's)")
     }
 
-    /// The default families, float32 then float16 programs.
+    /// Every vendor's default families, float32 then float16 programs (a family whose driver
+    /// does not compile float16 is left out when that is known without a child).
     fn on_demand_ids(&self) -> Vec<CostModelId> {
+        let families = super::families(&super::vendor::default_family_ids()).unwrap_or_default();
         Precision::ALL
             .iter()
-            .flat_map(|&p| DEFAULT_FAMILIES.iter().map(move |f| CostModelId::isa(f, p)))
+            .flat_map(|&p| {
+                families
+                    .iter()
+                    .filter(move |f| p == Precision::F32 || f.vendor.float16(f.chip) != Some(false))
+                    .map(move |f| CostModelId::isa(&f.id(), p))
+            })
             .collect()
     }
 
@@ -119,25 +139,22 @@ impl CostSource for StaticCost {
         family_of(id).is_some()
     }
 
-    /// Compiles `methods` for the family now (one child with the system's RADV); a family the
-    /// driver does not compile is a usage error: the user asked for that model.
+    /// Compiles `methods` for the family now (one child); a family the driver does not compile
+    /// is a usage error: the user asked for that model. The model comes back under the
+    /// family's id (`isa:navi21` asked, `isa:amd:navi21` answered).
     fn measure(
         &self,
         id: &CostModelId,
         methods: &[&'static Method],
         _ev: &Evidence,
     ) -> Result<CostModel> {
-        let (family, precision) = family_of(id).unwrap_or_default();
+        let (family, precision) = family_of(id)
+            .ok_or_else(|| Error::Usage(format!("--cost-model {id}: not a GPU family")))?;
         let exe = std::env::current_exe()
             .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
         let opts = IsaOptions {
-            methods: methods.to_vec(),
-            families: vec![family.to_string()],
-            driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
-            scene: None,
-            exe,
-            precision,
-            probes: Vec::new(),
+            families: vec![family.clone()],
+            ..IsaOptions::every_family(methods, precision, exe)
         };
         let report = super::run(&opts, &|_| {})?;
         match report.families.iter().find(|f| f.family == family) {
@@ -149,21 +166,24 @@ impl CostSource for StaticCost {
                 )))
             }
         }
+        let want = CostModelId::isa(&family, precision);
         models_of(&report, "")
             .into_iter()
-            .find(|m| &m.id == id)
-            .ok_or_else(|| Error::Internal(format!("isa: no model {id} in the child's report")))
+            .find(|m| m.id == want)
+            .ok_or_else(|| Error::Internal(format!("isa: no model {want} in the child's report")))
     }
 }
 
-/// The family and precision of an `isa:FAMILY` (float32) or `isa:FAMILY:f16` id.
-fn family_of(id: &CostModelId) -> Option<(&str, Precision)> {
+/// The family id (`vendor:chip`) and precision of an `isa:FAMILY` (float32) or
+/// `isa:FAMILY:f16` id, FAMILY a family id or a bare AMD chip; `None` for anything else.
+fn family_of(id: &CostModelId) -> Option<(String, Precision)> {
     let f = id.as_str().strip_prefix("isa:")?;
-    let (f, p) = match f.rsplit_once(':') {
-        Some((f, p)) => (f, p.parse::<Precision>().ok()?),
+    let (f, p) = match f.strip_suffix(":f16") {
+        Some(f) => (f, Precision::F16),
         None => (f, Precision::F32),
     };
-    (!f.is_empty() && !f.contains(':')).then_some((f, p))
+    let (vendor, chip) = super::vendor::resolve(f).ok()?;
+    Some((format!("{}:{chip}", vendor.prefix()), p))
 }
 
 #[cfg(test)]
@@ -173,19 +193,22 @@ mod tests {
     #[test]
     fn ids_name_a_family_and_a_precision() {
         let id = |s: &str| CostModelId::parse(s).unwrap();
+        let f = |s: &str| family_of(&id(s));
+        assert_eq!(f("isa:navi21"), Some(("amd:navi21".into(), Precision::F32)));
         assert_eq!(
-            family_of(&id("isa:navi21")),
-            Some(("navi21", Precision::F32))
+            f("isa:amd:navi21:f16"),
+            Some(("amd:navi21".into(), Precision::F16))
         );
         assert_eq!(
-            family_of(&id("isa:navi21:f16")),
-            Some(("navi21", Precision::F16))
+            f("isa:intel:tgl"),
+            Some(("intel:tgl".into(), Precision::F32))
         );
-        for bad in ["isa:navi21:f64", "lavapipe_isolated", "isa:a:b:f16"] {
-            assert_eq!(family_of(&id(bad)), None, "{bad}");
+        for bad in ["isa:navi21:f64", "lavapipe_isolated", "isa:nosuch:chip:f16"] {
+            assert_eq!(f(bad), None, "{bad}");
         }
         let ids = StaticCost.on_demand_ids();
-        assert_eq!(ids.len(), 2 * DEFAULT_FAMILIES.len());
-        assert!(ids.iter().all(|i| family_of(i).is_some()));
+        assert!(ids.len() > crate::isa::DEFAULT_FAMILIES.len(), "{ids:?}");
+        assert!(ids.iter().all(|i| family_of(i).is_some()), "{ids:?}");
+        assert!(ids.contains(&id("isa:amd:navi21:f16")), "{ids:?}");
     }
 }

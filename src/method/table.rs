@@ -276,7 +276,7 @@ pub static METHODS: &[Method] = &[
         geometry: Geometry::Mesh,
         has_normal: true,
         reference: Reference::Phong,
-        validity: "vertex normals away from -Z in view space (n_z > -1)",
+        validity: "finite for vertex normals with n_z > -1 in view space (the range its claim's angle figures sweep); an edge whose arc passes near -Z is interpolated the long way round, up to the opposite direction",
         claims: &[Claim {
             claim: "no square root needed (docs/formulas.md#quaternion-interpolation)",
             check: checks::quaternion_is_unit,

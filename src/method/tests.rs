@@ -147,13 +147,21 @@ fn serialised_claims_carry_the_measurement_their_check_makes_now() {
         for (c, jc) in m.claims.iter().zip(claims) {
             let now = (c.check)();
             let keys: Vec<&str> = jc.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-            assert_eq!(keys.len(), 7, "{jc}");
+            assert_eq!(keys.len(), 8, "{jc}");
             assert_eq!(jc["claim"], c.claim);
             assert_eq!(jc["measured"], now.measured.as_str());
             assert_eq!(jc["verdict"], now.verdict.as_str());
             assert_eq!(jc["basis"], now.evidence.basis.as_str());
             assert_eq!(jc["proven_upper"].as_f64(), now.evidence.proven_upper);
             assert_eq!(jc["found"].as_f64(), now.evidence.found);
+            // a bound's figures name their kind and unit; a measured claim has none
+            let quantity = now.evidence.quantity.map(|q| q.as_str());
+            assert_eq!(jc["quantity"].as_str(), quantity, "{jc}");
+            assert_eq!(
+                quantity.is_some(),
+                now.evidence.basis != crate::method::Basis::Measured,
+                "{jc}"
+            );
             assert_eq!(jc["how"], now.how.as_str());
             assert!(!now.how.is_empty(), "{}: {}", m.name, c.claim);
         }

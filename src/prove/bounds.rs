@@ -16,7 +16,7 @@ use crate::method::checks::{
     VISIBLE_LENGTH_ERROR_PCT,
 };
 use crate::method::formulas as f;
-use crate::method::{Basis, Claim, Evidence, Measurement, Verdict};
+use crate::method::{Basis, Claim, Evidence, Measurement, Quantity, Verdict};
 
 /// A bound claim the proof judges: (method name, the claim's text in the method table, the
 /// proven check).
@@ -58,7 +58,7 @@ pub fn with_proof(method: &str, c: &Claim) -> Measurement {
     }
 }
 
-/// A claim as `shadelab list --json` writes it: the 7 keys of `crate::method::Claim`'s own
+/// A claim as `shadelab list --json` writes it: the 8 keys of `crate::method::Claim`'s own
 /// serialisation, measured through [`with_proof`].
 pub struct Judged<'a> {
     pub method: &'a str,
@@ -146,6 +146,7 @@ pub(crate) fn length_evidence(sweep: f64, proof: Option<ProveFactor>, z: Interva
         },
         proven_upper: o.map(|o| o.proven_upper).filter(|p| p.is_finite()),
         found: found.is_finite().then_some(found),
+        quantity: Some(Quantity::RelativeError),
     }
 }
 
@@ -339,6 +340,7 @@ pub(crate) fn times_smaller(
             },
             proven_upper: Some(proven_ratio).filter(|r| r.is_finite()),
             found: Some(found_ratio).filter(|r| r.is_finite() && !non_finite),
+            quantity: Some(Quantity::ErrorRatio),
         },
         how: format!(
             "{}, and over the interior of a triangle of three normals theta apart (z from \
@@ -381,7 +383,7 @@ mod tests {
     }
 
     #[test]
-    fn judged_serialises_the_seven_keys_through_the_proof() {
+    fn judged_serialises_the_eight_keys_through_the_proof() {
         let m = METHODS.iter().find(|m| m.name == "romanyuk_poly").unwrap();
         let j = serde_json::to_value(Judged {
             method: m.name,
@@ -389,7 +391,7 @@ mod tests {
         })
         .unwrap();
         let now = romanyuk_8x_smaller();
-        assert_eq!(j.as_object().unwrap().len(), 7, "{j}");
+        assert_eq!(j.as_object().unwrap().len(), 8, "{j}");
         assert_eq!(j["claim"], m.claims[0].claim);
         assert_eq!(j["basis"], "proven");
         assert_eq!(j["verdict"], now.verdict.as_str());
@@ -397,6 +399,9 @@ mod tests {
         assert_eq!(j["proven_upper"].as_f64(), now.evidence.proven_upper);
         assert_eq!(j["found"].as_f64(), now.evidence.found);
         assert_eq!(j["how"], now.how.as_str());
+        // its figures are ratios of two errors, not errors, and say so (issue 39 item 7)
+        assert_eq!(j["quantity"], "error_ratio");
+        assert!(now.evidence.found.unwrap() > 1.0, "{j}");
     }
 
     #[test]

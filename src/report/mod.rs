@@ -24,6 +24,7 @@ pub mod front;
 pub mod html;
 pub mod isa;
 pub mod links;
+pub mod sections;
 pub mod svg;
 #[cfg(test)]
 mod tests;
@@ -64,9 +65,10 @@ pub struct ReportOptions {
     pub command_line: String,
     /// Show a progress bar on stderr (drawn only when stderr is a terminal).
     pub progress: bool,
-    /// Bench runs per scene, each a fresh process of `exe` (`bench --runs`); 1 or no `exe`:
-    /// one run in this process.
-    pub runs: usize,
+    /// The measurement plan (`report --runs`, `--full`: [`crate::bench::plan`], decided once
+    /// by the caller). Several runs need `exe`.
+    pub plan: crate::bench::plan::RunPlan,
+    /// The shadelab binary that starts a bench's fresh-process runs.
     pub exe: Option<PathBuf>,
     /// The device every bench run opens (the report's own).
     pub device: crate::gpu::DeviceSpec,
@@ -129,6 +131,8 @@ pub struct ReportData {
     pub answer: answer::Answer,
     /// `isa` on the report's methods, float32 and float16 (static cost models of the answer).
     pub isa: isa::IsaRun,
+    /// The report's methods (the references included), in its order.
+    pub methods: Vec<&'static Method>,
 }
 
 /// What a run wrote.
@@ -408,7 +412,7 @@ impl SceneRun<'_> {
 }
 
 /// Writes answer.json, answer.md, the style sheet, the script and index.html of `data`.
-fn write_page(out: &Path, data: &ReportData, methods: &[&'static Method]) -> Result<PathBuf> {
+fn write_page(out: &Path, data: &ReportData) -> Result<PathBuf> {
     let json =
         serde_json::to_string_pretty(&data.answer).map_err(|e| Error::output("answer.json", e))?;
     output::write_bytes_atomic(&out.join("answer.json"), (json + "\n").as_bytes())?;
@@ -417,8 +421,7 @@ fn write_page(out: &Path, data: &ReportData, methods: &[&'static Method]) -> Res
     output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
     let sources = formulas::page(formulas::SOURCE);
     output::write_bytes_atomic(&out.join(formulas::PAGE), sources.as_bytes())?;
-    let page = html::page(data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
-    let page = isa::splice(&page, &data.isa, methods);
+    let page = sections::page(data, &|rel| image::image_dimensions(out.join(rel)).ok());
     let index = out.join("index.html");
     output::write_bytes_atomic(&index, page.as_bytes())?;
     Ok(index)
@@ -438,15 +441,13 @@ pub fn run(
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let methods = with_references(methods);
-    // Decided once (src/bench/plan.rs): several runs only with a binary to start them.
-    let given = crate::bench::plan::Given {
-        runs: Some(if opts.exe.is_some() { opts.runs } else { 1 }),
-        ..Default::default()
-    };
-    let plan = crate::bench::plan::RunPlan::new(
-        crate::bench::plan::Job::Report { full: opts.full },
-        &given,
-    )?;
+    let plan = &opts.plan;
+    if plan.many() && opts.exe.is_none() {
+        return Err(Error::Usage(format!(
+            "a report of {} bench runs needs the shadelab binary to start them",
+            plan.runs
+        )));
+    }
     // Steps: compare, bench and skips per scene, stress, the page.
     let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
     let mut scenes = scenes.to_vec();
@@ -504,6 +505,7 @@ pub fn run(
     let mut data = ReportData {
         answer: answer::answer(&[], &[], &[], Vec::new()),
         isa,
+        methods: methods.clone(),
         scenes: results,
         stress,
         stress_dir: "stress".into(),
@@ -522,7 +524,7 @@ pub fn run(
         },
     };
     data.answer = front::answer_of(&data, &opts.costs);
-    let index = write_page(out, &data, &methods)?;
+    let index = write_page(out, &data)?;
     bar.inc(1);
     bar.finish_and_clear();
     let broken = links::broken_links(&index)?;
