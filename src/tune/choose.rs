@@ -292,4 +292,22 @@ mod tests {
         assert!(a.statement.contains("closest: m4"), "{}", a.statement);
         assert_eq!(m.figures[0].verdict, Verdict::Disagrees);
     }
+
+    /// phong_exact's own row (the reference, proven within the budget, ratio 1) is the
+    /// yardstick: never the answer, nor the closest, even when it is the least dear.
+    #[test]
+    fn the_reference_is_never_the_answer() {
+        let domain = Interval::new(0.5, 1.0);
+        let m4 = row(
+            Candidate::minimax("m4".into(), 4, 0.5, 1.0).unwrap(),
+            domain,
+            &[],
+        );
+        let exact = row(Candidate::reference(), domain, &[]);
+        assert!(exact.bounds[0].within(1.0 / 255.0), "{:?}", exact.bounds[0]);
+        let m = model(&[("m4", 1.1), ("phong_exact", 1.0)]);
+        let a = answer(&[exact, m4], &m, 1.0 / 255.0);
+        assert!(a.cheapest.is_none(), "{a:?}");
+        assert_eq!(a.closest.unwrap().candidate, "m4");
+    }
 }
