@@ -4,6 +4,7 @@
 //! file names, CLI arguments, CSV and JSON.
 pub mod checks;
 pub mod formulas;
+pub mod kernel;
 pub mod precision;
 pub mod real;
 pub mod scanline;
@@ -15,6 +16,7 @@ pub mod twins;
 pub mod user;
 mod worst;
 
+pub use kernel::{Form, InvRoot, Kernel, Scale, SpanKernel};
 pub use precision::Precision;
 pub use table::METHODS;
 pub use twins::*;
@@ -177,88 +179,6 @@ pub fn phong_exact() -> &'static Method {
 /// The methods with `property`, in table order.
 pub fn with_property(property: Property) -> impl Iterator<Item = &'static Method> {
     METHODS.iter().filter(move |m| m.has(property))
-}
-
-/// The kernel the software engine (src/software/) runs for a method: one variant per distinct
-/// incremental or per-pixel form. The engine matches it exhaustively, so a row without a kernel,
-/// or a kernel without code, does not compile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SoftwareKernel {
-    /// One colour per triangle.
-    Flat,
-    /// The colours lit at the vertices, stepped along the span.
-    VertexColour,
-    /// The interpolated normal stepped, scaled per pixel by a function of its squared length.
-    Scaled(Scale),
-    /// The interpolated normal stepped, divided by Mikami's square-root approximation.
-    Mikami(MikamiBeta),
-    /// The interpolated normal stepped, Hast's half-vector correction against the flat normal.
-    HastHalfVector,
-    /// A quaternion per vertex stepped, the normal recovered per pixel.
-    Quaternion,
-    /// [`SoftwareKernel::Quaternion`] in the triangle's frame (+Z the flat normal).
-    QuaternionLocal,
-    /// The weights stepped, the quadratic normal field evaluated per pixel (the mid-edge
-    /// normals by the paper's formula, or exactly).
-    BarycentricQuadratic { exact_mid: bool },
-    /// The weights stepped, the PN quadratic normal evaluated and normalised per pixel.
-    PnNormals,
-    /// The normal stepped and normalised, the specular term read from the cos^n table.
-    SpecularLut,
-    /// Along the span through the pixel's row.
-    Span(SpanKernel),
-    /// None: a user method (`--method-file`) exists only as GLSL; the engine refuses it.
-    None,
-}
-
-/// The scale of [`SoftwareKernel::Scaled`]: 1/|v| exactly, 1, or an approximation of 1/|v|.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Scale {
-    Exact,
-    Unnormalised,
-    NewtonRaphson,
-    LyonTaylor,
-    LyonShift,
-    RomanyukPoly,
-    /// Unity's SafeNormalize: 1/sqrt(max(z, HALF_MIN)).
-    SafeNormalize,
-    /// Filament's mediump clamp before normalising: 1/sqrt(min(z, 65504)).
-    FilamentClamp,
-}
-
-/// Mikami's beta (the square root's correction) of [`SoftwareKernel::Mikami`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MikamiBeta {
-    Const,
-    Linear,
-    Quadratic,
-}
-
-/// The span kernels of [`SoftwareKernel::Span`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SpanKernel {
-    /// slerp at each pixel's t (the closed form).
-    Slerp,
-    /// spherical_angular's Chebyshev recurrence.
-    Chebyshev,
-    /// G t^2 + P t + Q by second-order forward differences.
-    Quadratic { approx_mid: bool },
-    /// The span's grid filled by halving, with this inverse square root.
-    Dichotomy(InvRoot),
-    /// 2^k-pixel segments: ends shaded, the colour stepped (or dichotomy inside with a root).
-    Segments(u32, Option<InvRoot>),
-    /// Each cosine's Taylor polynomial by forward differences.
-    BishopWeimer,
-    /// Each cosine by Euler steps with the end-error correction.
-    HastEuler,
-}
-
-/// The inverse square root of the dichotomy and segment kernels.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum InvRoot {
-    Exact,
-    Poly1,
-    Poly2,
 }
 
 /// A verdict on a claim, computed from a measurement (never written by hand).
@@ -459,13 +379,10 @@ pub struct Method {
     pub claims: &'static [Claim],
     /// The GLSL file under glsl/ that defines `methodNormal()` or `methodColor()`.
     pub glsl: &'static str,
-    /// The same method in f64 at one pixel.
+    /// Its formula, typed ([`Kernel`]): what the f64 twin evaluates, the software engine runs
+    /// and `prove` bounds (its words and flags: `software_forms` of `shadelab list --json`).
     #[serde(skip)]
-    pub eval_f64: fn(&Fragment, &Lighting) -> Shaded,
-    /// The kernel the software engine runs for it (its words and flags: `software_forms` of
-    /// `shadelab list --json`).
-    #[serde(skip)]
-    pub software: SoftwareKernel,
+    pub kernel: Kernel,
 }
 impl Method {
     /// Whether the row lists `property`.
@@ -473,14 +390,21 @@ impl Method {
         self.properties.contains(&property)
     }
 
-    /// Its f64 twin; `None` for a user method (`--method-file`), which exists only as GLSL.
-    pub fn twin(&self) -> Option<fn(&Fragment, &Lighting) -> Shaded> {
-        (self.family != Family::Yours).then_some(self.eval_f64)
+    /// The method in f64 at one pixel ([`Kernel::eval_f64`]). Panics for a user method
+    /// (`--method-file`), which has no twin: ask [`Method::twin`] first.
+    pub fn eval_f64(&self, frag: &Fragment, lighting: &Lighting) -> Shaded {
+        self.kernel.eval_f64(frag, lighting)
+    }
+
+    /// Whether it has an f64 twin: `None` for a user method (`--method-file`), which exists only
+    /// as GLSL; else the method itself (call [`Method::eval_f64`]).
+    pub fn twin(&self) -> Option<&Method> {
+        (self.family != Family::Yours && self.kernel.exists()).then_some(self)
     }
 
     /// An error (exit 2) naming the method when it has no f64 twin, for `what` (a command or
     /// check that needs one).
-    pub fn require_twin(&self, what: &str) -> Result<fn(&Fragment, &Lighting) -> Shaded> {
+    pub fn require_twin(&self, what: &str) -> Result<&Method> {
         self.twin().ok_or_else(|| {
             Error::Usage(format!(
                 "{what} needs the method's f64 twin, and {} is a user method (--method-file) \
@@ -490,11 +414,6 @@ impl Method {
             ))
         })
     }
-}
-
-/// The `eval_f64` of a user method's row: never called (consumers ask [`Method::twin`]).
-pub(crate) fn no_twin(_: &Fragment, _: &Lighting) -> Shaded {
-    panic!("a user method has no f64 twin; the caller must ask Method::twin() first")
 }
 
 /// Looks a method up by identifier; the error lists the valid ones.

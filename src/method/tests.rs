@@ -102,17 +102,17 @@ fn methods_are_consistent_at_vertices() {
         flat_normal: DVec3::new(0.2, 0.3, 1.0).normalize(),
         pn_mids: [DVec3::Z; 3],
     };
-    let lit = Lighting {
-        ambient: DVec3::splat(0.1),
-        diffuse: DVec3::splat(0.6),
-        specular: DVec3::splat(0.3),
-        shininess: 20.0,
-        lights: vec![(
+    let lit = Lighting::new(
+        DVec3::splat(0.1),
+        DVec3::splat(0.6),
+        DVec3::splat(0.3),
+        20.0,
+        &[(
             DVec3::new(0.0, 0.6, 0.8),
             DVec3::ONE,
             DVec3::new(0.0, 0.316, 0.949).normalize(),
         )],
-    };
+    );
     let exact = lit.shade(n0);
     // Not exact at a vertex by construction: flat (one normal per triangle), the Mikami and
     // Romanyuk factors (k(1) != 1), Bishop-Weimer (a Taylor polynomial about the centroid).
@@ -127,7 +127,7 @@ fn methods_are_consistent_at_vertices() {
                 | "bishop_weimer"
         )
     }) {
-        let s = (m.eval_f64)(&frag, &lit);
+        let s = m.eval_f64(&frag, &lit);
         assert!(
             (s.color - exact).abs().max_element() < 1e-3,
             "{}: {} vs {exact}",

@@ -4,7 +4,7 @@
 //! table followed by them) and the refusals (a clashing id, an unknown or undeclared input).
 //!
 //! A user row has no f64 twin and no software kernel: [`Method::twin`] is `None` and its
-//! software kernel is [`SoftwareKernel::None`], which the software engine refuses. Its programs
+//! kernel is [`Kernel::None`], which the software engine refuses. Its programs
 //! are compiled before registration ([`crate::gpu::shaders::register_user`]) from
 //! the GLSL embedded in the binary, so it runs outside the repository too.
 //!
@@ -16,7 +16,7 @@ use std::sync::RwLock;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
-use super::{Family, Geometry, Input, Method, Reference, SoftwareKernel, METHODS};
+use super::{Family, Geometry, Input, Kernel, Method, Reference, METHODS};
 use crate::error::{Error, Result};
 
 /// The marker of the declaration line.
@@ -270,8 +270,7 @@ pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
         validity: "unknown (a user method: see stress's validity map)",
         claims: &[],
         glsl: path_str,
-        eval_f64: super::no_twin,
-        software: SoftwareKernel::None,
+        kernel: Kernel::None,
     }));
     let user: &'static UserMethod = Box::leak(Box::new(UserMethod {
         method,

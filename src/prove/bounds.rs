@@ -8,7 +8,6 @@
 use serde::Serialize;
 
 use super::claims::{at_most, length_error, verdict, Part};
-use super::covered::{factor, Factor as ProveFactor};
 use super::interval::Interval;
 use crate::method::checks::{
     interior_error, mikami_error_pct, mikami_worst, scalar_error, scalar_error_pct, sweep_how,
@@ -16,6 +15,8 @@ use crate::method::checks::{
     VISIBLE_LENGTH_ERROR_PCT,
 };
 use crate::method::formulas as f;
+use crate::method::kernel::formula;
+use crate::method::Scale as ProveFactor;
 use crate::method::{Basis, Claim, Evidence, Measurement, Quantity, Verdict};
 
 /// A bound claim the proof judges: (method name, the claim's text in the method table, the
@@ -76,7 +77,7 @@ impl Serialize for Judged<'_> {
 pub fn newton_usable_to_40_deg() -> Measurement {
     usable_up_to(
         f::k_newton,
-        Some(factor!(f::k_newton)),
+        Some(ProveFactor::times(&formula!(f::k_newton))),
         "formulas::k_newton",
         40.0,
     )
@@ -86,7 +87,7 @@ pub fn newton_usable_to_40_deg() -> Measurement {
 pub fn mikami_const_within_bound() -> Measurement {
     mikami_within_bound(
         f::beta_const,
-        Some(factor!(super::covered::k_mikami_const)),
+        Some(ProveFactor::over(&formula!(f::s_mikami_const))),
         "formulas::beta_const",
         MIKAMI_BOUND_PCT,
     )
@@ -96,7 +97,7 @@ pub fn mikami_const_within_bound() -> Measurement {
 pub fn mikami_linear_within_bound() -> Measurement {
     mikami_within_bound(
         f::beta_linear,
-        Some(factor!(super::covered::k_mikami_linear)),
+        Some(ProveFactor::over(&formula!(f::s_mikami_linear))),
         "formulas::beta_linear",
         MIKAMI_BOUND_PCT,
     )
@@ -106,7 +107,7 @@ pub fn mikami_linear_within_bound() -> Measurement {
 pub fn mikami_quadratic_within_bound() -> Measurement {
     mikami_within_bound(
         f::beta_quadratic,
-        Some(factor!(super::covered::k_mikami_quadratic)),
+        Some(ProveFactor::over(&formula!(f::s_mikami_quadratic))),
         "formulas::beta_quadratic",
         MIKAMI_BOUND_PCT,
     )
@@ -116,13 +117,20 @@ pub fn mikami_quadratic_within_bound() -> Measurement {
 /// (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial), by proof.
 pub fn romanyuk_8x_smaller() -> Measurement {
     times_smaller(
-        (f::k_romanyuk, Some(factor!(f::k_romanyuk))),
+        (
+            f::k_romanyuk,
+            Some(ProveFactor::times(&formula!(f::k_romanyuk))),
+        ),
         [
-            ("Lyon 2nd degree", f::k_lyon2, Some(factor!(f::k_lyon2))),
+            (
+                "Lyon 2nd degree",
+                f::k_lyon2,
+                Some(ProveFactor::times(&formula!(f::k_lyon2))),
+            ),
             (
                 "Lyon shift",
                 f::k_lyon_shift,
-                Some(factor!(f::k_lyon_shift)),
+                Some(ProveFactor::times(&formula!(f::k_lyon_shift))),
             ),
         ],
     )
@@ -132,7 +140,7 @@ pub fn romanyuk_8x_smaller() -> Measurement {
 /// NaN when a point was non-finite) and, with `proof`, the proven upper bound over `z` and
 /// the best real point the proof found. `found` is the larger of the two real values.
 pub(crate) fn length_evidence(sweep: f64, proof: Option<ProveFactor>, z: Interval) -> Evidence {
-    let o = proof.map(|k| length_error(k, z));
+    let o = proof.map(|k| length_error(&k, z));
     let found = match o {
         Some(o) if sweep.is_nan() || o.found.is_nan() => f64::NAN,
         Some(o) => sweep.max(o.found),
@@ -409,7 +417,7 @@ mod tests {
         // k = 1 leaves the interpolated normal as it is: cos(20 deg) - 1 = -6.0 % at 40 deg.
         let m = usable_up_to(
             |_| 1.0,
-            Some(factor!(super::super::covered::k_one)),
+            Some(ProveFactor::times(&formula!(f::k_one))),
             "k = 1",
             40.0,
         );
@@ -427,7 +435,7 @@ mod tests {
         // the exact factor holds both
         let exact = usable_up_to(
             |z| 1.0 / z.sqrt(),
-            Some(factor!(super::super::covered::k_exact)),
+            Some(ProveFactor::times(&formula!(f::k_exact))),
             "exact",
             40.0,
         );
@@ -445,7 +453,10 @@ mod tests {
                 [("a", f::k_lyon2, None), ("b", f::k_lyon_shift, None)],
             ),
             times_smaller(
-                (f::k_romanyuk, Some(factor!(f::k_romanyuk))),
+                (
+                    f::k_romanyuk,
+                    Some(ProveFactor::times(&formula!(f::k_romanyuk))),
+                ),
                 [("a", nan, None), ("b", f::k_lyon_shift, None)],
             ),
         ] {
@@ -461,9 +472,9 @@ mod tests {
         fn k79<T: crate::method::real::Real>(z: T) -> T {
             (T::c(1.0) + (f::k_lyon2(z) * z.sqrt() - T::c(1.0)) / T::c(7.9)) / z.sqrt()
         }
-        let lyon = Some(factor!(f::k_lyon2));
+        let lyon = Some(ProveFactor::times(&formula!(f::k_lyon2)));
         let m = times_smaller(
-            (k79::<f64>, Some(factor!(k79))),
+            (k79::<f64>, Some(ProveFactor::times(&formula!(k79)))),
             [("a", f::k_lyon2, lyon), ("b", f::k_lyon2, lyon)],
         );
         assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
@@ -481,7 +492,11 @@ mod tests {
             (f::k_lyon2, lyon),
             [
                 ("a", f::k_lyon2, lyon),
-                ("b", f::k_lyon_shift, Some(factor!(f::k_lyon_shift))),
+                (
+                    "b",
+                    f::k_lyon_shift,
+                    Some(ProveFactor::times(&formula!(f::k_lyon_shift))),
+                ),
             ],
         );
         assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
@@ -492,7 +507,7 @@ mod tests {
 
     #[test]
     fn a_proven_claim_flips_with_its_figure_between_found_and_proven() {
-        let k = Some(factor!(super::super::covered::k_mikami_const));
+        let k = Some(ProveFactor::over(&formula!(f::s_mikami_const)));
         let m = mikami_within_bound(f::beta_const, k, "beta_const", 1.5);
         assert_eq!(
             (m.verdict, m.evidence.basis),

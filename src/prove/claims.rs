@@ -8,9 +8,10 @@
 use serde::Serialize;
 
 use super::bnb::{self, Budget, Outcome};
-use super::covered::{self, Factor};
+use super::covered;
 use super::interval::Interval;
 use crate::method::real::Real;
+use crate::method::Scale;
 use crate::method::{Basis, Method, Quantity, Verdict};
 
 /// One claim as proof.json lists it: the method table's check, with its basis and figures.
@@ -40,10 +41,10 @@ const CLAIM_BUDGET: Budget = Budget {
 
 /// `| k(z) sqrt(z) - 1 |` at the real point `z`, as a lower bound of its true value (the
 /// interval's smallest magnitude at the point); NaN when the formula is not finite there.
-fn length_error_at(k: Factor, z: f64) -> f64 {
+fn length_error_at(k: &Scale, z: f64) -> f64 {
     let one = Interval::point(1.0);
     let zi = Interval::point(z);
-    let e = (k.interval)(zi) * zi.sqrt() - one;
+    let e = k.k(zi) * zi.sqrt() - one;
     if !(e.lo.is_finite() && e.hi.is_finite()) {
         f64::NAN
     } else if e.lo > 0.0 {
@@ -57,7 +58,7 @@ fn length_error_at(k: Factor, z: f64) -> f64 {
 
 /// Branch-and-bound of the length error `| k(z) sqrt(z) - 1 |` over `z`: `proven_upper` holds
 /// for every real z in it, `found` is reached at a real z (`found_at[0]`).
-pub fn length_error(k: Factor, z: Interval) -> Outcome {
+pub fn length_error(k: &Scale, z: Interval) -> Outcome {
     let point = Interval::point(0.0);
     bnb::maximise(
         [z, point, point],
@@ -130,7 +131,7 @@ pub fn judge(methods: &[&'static Method]) -> Vec<ProofClaim> {
                 Basis::Found => format!(
                     "{}; not proven: {}",
                     r.measured,
-                    if covered::factor_of(m.name).is_some() {
+                    if covered::factor_of(m).is_some() {
                         "the claim's quantity is not a scaling method's length error"
                     } else {
                         covered::out_of_reach(m)

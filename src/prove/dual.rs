@@ -81,6 +81,26 @@ impl Real for Dual {
             d: self.d / (Interval::point(2.0) * r),
         }
     }
+
+    /// The operand that is the larger on the whole box (its value and derivative); where the
+    /// two overlap, the pointwise max with an unknown derivative (the kink may lie inside).
+    fn max(self, o: Dual) -> Dual {
+        if self.v.lo >= o.v.hi {
+            self
+        } else if o.v.lo >= self.v.hi {
+            o
+        } else {
+            Dual {
+                v: Real::max(self.v, o.v),
+                d: Interval::ENTIRE,
+            }
+        }
+    }
+
+    /// As [`Dual::max`], the smaller.
+    fn min(self, o: Dual) -> Dual {
+        -((-self).max(-o))
+    }
 }
 
 /// The enclosure of `f` over `z`: the naive one intersected with the mean-value form about the

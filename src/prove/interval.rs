@@ -245,4 +245,17 @@ impl Real for Interval {
         let lo = self.lo.max(0.0);
         Interval::outward(lo.sqrt(), self.hi.sqrt()).clamp_lo(0.0)
     }
+
+    /// Pointwise ([`Interval::max`]).
+    fn max(self, o: Interval) -> Interval {
+        Interval::max(self, o)
+    }
+
+    /// Pointwise.
+    fn min(self, o: Interval) -> Interval {
+        Interval {
+            lo: self.lo.min(o.lo),
+            hi: self.hi.min(o.hi),
+        }
+    }
 }

@@ -48,7 +48,7 @@ fn device_vs_twin(ctx: &Arc<Context>, kernel_of: &Method, twin_of: &Method, case
         .iter()
         .zip(out)
         .map(|(c, o)| {
-            let f = (twin_of.eval_f64)(&c.fragment, &c.lighting);
+            let f = twin_of.eval_f64(&c.fragment, &c.lighting);
             let d = Output::from_device(&o).color() - f.color;
             assert!(
                 d.is_finite(),
