@@ -733,7 +733,8 @@ mod tests {
         // to 2/3. The /2 of the normalisation survey and of Cutler's original post gives 1
         // (docs/formulas.md#newton-raphson-step).
         // The claim's check evaluates both (src/method/checks.rs).
-        let m = crate::method::checks::newton_as_printed_in_s004();
+        let row = crate::method::find("newton_raphson").unwrap();
+        let m = row.judge(&row.claims[1]);
         assert_eq!(m.verdict, crate::method::Verdict::Disagrees, "{m:?}");
         assert!(
             m.measured.starts_with("k(1) = 0.666667 as printed"),
@@ -1209,7 +1210,8 @@ mod tests {
         assert_eq!(std::mem::size_of_val(table.as_slice()), 4_177_920);
         // The claim's check builds the same table and prints its size, without a verdict: the
         // size follows from the sample count and entry size, which the seed does not give.
-        let m = crate::method::checks::specular_lut_over_4_mb();
+        let row = crate::method::find("specular_lut").unwrap();
+        let m = row.judge(&row.claims[0]);
         assert_eq!(m.verdict, crate::method::Verdict::NotChecked, "{m:?}");
         assert!(m.measured.contains("= 4177920 bytes"), "{m:?}");
         // row-major layout, value cos^n rounded to f32

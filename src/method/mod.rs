@@ -165,6 +165,9 @@ pub enum Property {
     NeedsSpanCorners,
     /// The software engine runs it in its incremental span form (the others run per pixel there).
     SoftwareSpanForm,
+    /// `auto` may choose it (`crate::auto::candidates`): a cheap method, or the exact
+    /// reference as the fallback.
+    AutoCandidate,
 }
 
 /// The identifier of the exact reference, [`Property::ExactReference`]. Use this constant, never
@@ -314,27 +317,105 @@ pub struct Measurement {
     pub evidence: Evidence,
 }
 
-/// A numerical claim of the papers and the check that measures it.
+/// What a claim states, typed: its kind, its figure and its criterion. Every layer that judges
+/// claims (`list`, `prove`, `stress`, `bench` in both engines, the report through them) reads
+/// the rows' claims by their kind: none keeps a list of its own.
+#[derive(Debug, Clone, Copy)]
+pub enum Kind {
+    /// A bound on an error ([`Bound`]): judged by the claim's check (sampled, or proven where
+    /// the method's kernel is provable).
+    ErrorBound(Bound),
+    /// A validity range: the method is usable for vertex normals up to `up_to_deg` degrees
+    /// apart, by `criteria`. `shadelab stress` judges it on the device; the check judges it
+    /// in f64 where it can.
+    Validity { up_to_deg: f64, criteria: Criteria },
+    /// A speed factor: `factor` times faster than the method `than`. `shadelab bench` judges
+    /// it in both engines.
+    Speed { factor: f64, than: &'static str },
+    /// An operation count: with the counts, `shadelab bench` counts the SPIR-V of the method
+    /// minus the unnormalised baseline; without, a cost statement (bench's isolated cost).
+    OperationCount(Option<Ops>),
+    /// A property of a formula or of what the tool builds (unit length, a printed formula, an
+    /// equality, a count).
+    Property,
+}
+
+/// Operations an [`Kind::OperationCount`] claims (in floating-point instructions per pixel).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ops {
+    pub div: u32,
+    pub mul: u32,
+    pub add: u32,
+    pub sqrt: u32,
+}
+
+/// The figure of a [`Kind::ErrorBound`].
+#[derive(Debug, Clone, Copy)]
+pub enum Bound {
+    /// A scaled method's length error `|k(z) sqrt(z) - 1|` is at most `at_most` (a fraction)
+    /// for `z = N.N` in `[z.0, z.1]`.
+    Length { at_most: f64, z: (f64, f64) },
+    /// A scaled method's worst length error is at least `factor` times smaller than each of
+    /// the methods `than`'s, for vertex normals up to each of `angles_deg` apart (edges and
+    /// interior of a triangle).
+    TimesSmaller {
+        factor: f64,
+        than: &'static [&'static str],
+        angles_deg: &'static [f64],
+    },
+    /// Another bound: its figure and rule are the check's (stated in its `how`).
+    Other,
+}
+
+/// The criteria a [`Kind::Validity`] claim is judged by (docs/stress.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Criteria {
+    /// The colour criterion alone: every facing case up to the claimed angle finite and within
+    /// one 8-bit level (`max_valid_angle_deg`).
+    Colour,
+    /// The length criterion (the worst ||N| - 1| up to the claimed angle within
+    /// `checks::VISIBLE_LENGTH_ERROR_PCT`) beside the colour criterion: both hold agrees,
+    /// neither disagrees, one partly.
+    LengthAndColour,
+    /// Valid up to the angle and not beyond: within the colour threshold from 60 degrees up to
+    /// it, above it from it to 30 degrees beyond ("accuracy collapses beyond").
+    CollapsesBeyond,
+}
+
+/// A numerical claim of the papers, typed, and the check that measures it.
 ///
-/// Serialising a claim (`shadelab list --json`) runs its check, so the JSON holds `claim`,
-/// `measured`, `verdict`, `basis`, `proven_upper`, `found`, `quantity` and `how` as measured at
-/// that moment.
+/// Serialising a claim (`shadelab list --json`, through [`Method::json`]) runs its check, so
+/// the JSON holds `claim`, `measured`, `verdict`, `basis`, `proven_upper`, `found`, `quantity`
+/// and `how` as measured at that moment.
 #[derive(Debug, Clone, Copy)]
 pub struct Claim {
     /// The claim, with its source (`docs/formulas.md#<anchor>`).
     pub claim: &'static str,
-    /// Measures the claim (an f64 sweep of the formula, see [`checks`]) and derives the verdict.
-    pub check: fn() -> Measurement,
+    /// What it states, with its figure and criterion.
+    pub kind: Kind,
+    /// How it can be judged: proven (an interval bound of the row's kernel), found (sampled
+    /// in f64 or on the device) or measured (a timing, a count, a property). The check's
+    /// evidence has this basis (a test checks it).
+    pub basis: Basis,
+    /// Measures the claim of its row (an f64 sweep of the row's formula, a proof, see
+    /// [`checks`]) and derives the verdict; `not_checked`, saying which command judges it,
+    /// for a claim no formula measures.
+    pub check: fn(&Method, &Claim) -> Measurement,
 }
 
-impl Serialize for Claim {
+/// A claim of a row, judged now: what `shadelab list --json` writes for it.
+pub struct Judged<'a> {
+    pub method: &'a Method,
+    pub claim: &'a Claim,
+}
+
+impl Serialize for Judged<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        serialize_claim(self.claim, &(self.check)(), s)
+        serialize_claim(self.claim.claim, &self.method.judge(self.claim), s)
     }
 }
 
-/// A claim's 8 keys: its text and a measurement of it (the table's own check here, the proof
-/// overlay in `crate::prove::bounds::Judged`).
+/// A claim's 8 keys: its text and a measurement of it.
 pub fn serialize_claim<S: serde::Serializer>(
     claim: &str,
     m: &Measurement,
@@ -375,7 +456,9 @@ pub struct Method {
     pub reference: Reference,
     /// The range in which the paper says it is valid.
     pub validity: &'static str,
-    /// Numerical claims the papers make about it, each with the check that measures it.
+    /// Numerical claims the papers make about it, typed, each with the check that measures it
+    /// (in JSON through [`Method::json`], judged now).
+    #[serde(skip)]
     pub claims: &'static [Claim],
     /// The GLSL file under glsl/ that defines `methodNormal()` or `methodColor()`.
     pub glsl: &'static str,
@@ -388,6 +471,26 @@ impl Method {
     /// Whether the row lists `property`.
     pub fn has(&self, property: Property) -> bool {
         self.properties.contains(&property)
+    }
+
+    /// Claim `c` of this row, judged now by its check.
+    pub fn judge(&self, c: &Claim) -> Measurement {
+        (c.check)(self, c)
+    }
+
+    /// The row as `shadelab list --json` writes it: its columns, and its claims judged now.
+    pub fn json(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("a method row serialises");
+        let claims: Vec<_> = self
+            .claims
+            .iter()
+            .map(|claim| Judged {
+                method: self,
+                claim,
+            })
+            .collect();
+        v["claims"] = serde_json::to_value(claims).expect("a claim serialises");
+        v
     }
 
     /// The method in f64 at one pixel ([`Kernel::eval_f64`]). Panics for a user method

@@ -140,12 +140,14 @@ fn methods_are_consistent_at_vertices() {
 
 #[test]
 fn serialised_claims_carry_the_measurement_their_check_makes_now() {
-    let json = serde_json::to_value(METHODS).unwrap();
-    for (m, jm) in METHODS.iter().zip(json.as_array().unwrap()) {
+    for m in METHODS {
+        let jm = m.json();
         let claims = jm["claims"].as_array().unwrap();
         assert_eq!(claims.len(), m.claims.len(), "{}", m.name);
         for (c, jc) in m.claims.iter().zip(claims) {
-            let now = (c.check)();
+            let now = m.judge(c);
+            // the row says how the claim is judged, and its check judges it so
+            assert_eq!(now.evidence.basis, c.basis, "{}: {}", m.name, c.claim);
             let keys: Vec<&str> = jc.as_object().unwrap().keys().map(|k| k.as_str()).collect();
             assert_eq!(keys.len(), 8, "{jc}");
             assert_eq!(jc["claim"], c.claim);
@@ -223,4 +225,43 @@ fn properties_agree_with_the_columns_they_summarise() {
             m.name
         );
     }
+}
+
+/// The method names a row's claims refer to that are not rows (a speed factor's `than`, an
+/// error ratio's `than`).
+fn unknown_names(m: &Method) -> Vec<String> {
+    let mut out = Vec::new();
+    for c in m.claims {
+        let names: &[&str] = match &c.kind {
+            Kind::Speed { than, .. } => std::slice::from_ref(than),
+            Kind::ErrorBound(Bound::TimesSmaller { than, .. }) => than,
+            _ => &[],
+        };
+        for n in names {
+            if find(n).is_err() {
+                out.push(format!("{}: {} names {n}", m.name, c.claim));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn every_method_a_claim_compares_with_is_a_row() {
+    let bad: Vec<String> = METHODS.iter().flat_map(unknown_names).collect();
+    assert!(bad.is_empty(), "{bad:?}");
+    // teeth: a speed claim against a method that is not a row is found
+    let wrong = Method {
+        claims: &[Claim {
+            claim: "faster than nothing",
+            kind: Kind::Speed {
+                factor: 2.0,
+                than: "no_such_method",
+            },
+            basis: Basis::Measured,
+            check: checks::judged_elsewhere,
+        }],
+        ..*phong_exact()
+    };
+    assert_eq!(unknown_names(&wrong).len(), 1);
 }

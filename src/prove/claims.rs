@@ -2,8 +2,8 @@
 //! of a scaling method's length error over a range of N.N (and finds the best real point), and
 //! [`at_most`] / [`verdict`] turn a proven upper and a found value into a verdict: a part holds
 //! only when the proven upper bound is within the claim, fails when a found (real) point
-//! exceeds it, and is undecided otherwise. The proof overlay ([`super::bounds`]) uses them, so
-//! `shadelab list --json`, bench.json's claims and proof.json's `claims` carry one verdict
+//! exceeds it, and is undecided otherwise. The rows' bound checks ([`super::bounds`]) use them,
+//! so `shadelab list --json`, bench.json's claims and proof.json's `claims` carry one verdict
 //! each, with its basis (proven, found, measured).
 use serde::Serialize;
 
@@ -117,14 +117,14 @@ pub fn verdict(parts: &[Part]) -> Verdict {
     }
 }
 
-/// The claims of `methods` that are bounds over a domain (basis proven or found), as the
-/// method table's checks judge them with the proof overlay ([`super::bounds::with_proof`]); a
-/// found one says why it is not proven.
+/// The claims of `methods` that are bounds over a domain (basis proven or found), as their
+/// rows' checks judge them (by proof where the kernel is provable, [`super::bounds`]); a found
+/// one says why it is not proven.
 pub fn judge(methods: &[&'static Method]) -> Vec<ProofClaim> {
     let mut out = Vec::new();
     for m in methods {
         for c in m.claims {
-            let r = super::bounds::with_proof(m.name, c);
+            let r = m.judge(c);
             let measured = match r.evidence.basis {
                 Basis::Measured => continue,
                 Basis::Proven => r.measured,

@@ -702,11 +702,12 @@ fn specular_bounds(
     precision: Precision,
 ) -> Result<Vec<grid::SpecularBound>> {
     let mut out = Vec::new();
-    for k in 1..=3u32 {
-        let name = format!("segments_k{k}");
-        let Some(m) = methods.iter().find(|m| m.name == name) else {
+    for m in methods {
+        let crate::method::Kernel::Span(crate::method::SpanKernel::Segments(k, None)) = m.kernel
+        else {
             continue;
         };
+        let name = m.name.to_string();
         let cases: Vec<Case> = grid::specular_bound_specs(k)
             .into_iter()
             .map(Case::new)

@@ -367,7 +367,8 @@ fn the_newton_claim_names_both_criteria_as_list_does() {
         .iter()
         .find(|c| c.method == "newton_raphson")
         .unwrap();
-    let listed = crate::method::checks::newton_usable_to_40_deg();
+    let row = crate::method::find("newton_raphson").unwrap();
+    let listed = row.judge(&row.claims[0]);
     assert_eq!(c.verdict, listed.verdict, "{c:?}");
     assert_eq!(c.verdict, Verdict::Partly, "{c:?}");
     assert!(
