@@ -6,7 +6,7 @@ BIN := target/release/shadelab
 SHADELAB_MODELS ?= $(if $(wildcard ../shared/models/*.obj),$(abspath ../shared/models),)
 export SHADELAB_MODELS
 
-.PHONY: demo test build deps spirv scenes bench fuzz clean
+.PHONY: demo test build deps vendors spirv scenes bench fuzz clean
 
 deps:
 	scripts/install-deps.sh run build test
@@ -15,16 +15,23 @@ build:
 	scripts/install-deps.sh run build
 	$(CARGO) build --release --locked
 
+## The other vendors' compilers of `shadelab isa` (Intel, NVIDIA, AMD TeraScale: docs/isa.md),
+## in the user's cache. A route that fails names its step and leaves the others and the rest of
+## the job going: its tests then skip (and fail under SHADELAB_REQUIRE_VENDORS=1, as in CI).
+vendors:
+	-scripts/setup-vendors.sh
+
 ## The main job on the shipped scenes: compare, bench, stress, one HTML page; prints the path of
 ## out/report/index.html (last line of stdout). Progress (each step with its time) and the total
 ## time of the report go to stderr.
-demo: build
+demo: build vendors
 	@start=$$(date +%s); $(BIN) report --scenes scenes --out out/report && \
 	echo "make demo: the report took $$(( $$(date +%s) - start )) s" >&2
 
 ## The whole test suite (unit, GPU under the validation layer, CLI, real-world models).
 test:
 	scripts/install-deps.sh run build test
+	-scripts/setup-vendors.sh
 	$(CARGO) build --release --locked
 	$(CARGO) test --release --locked
 

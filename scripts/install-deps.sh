@@ -5,7 +5,12 @@
 #   tests    : vulkan-validationlayers (Khronos validation), spirv-tools (spirv-val),
 #              chromium (headless: the HTML report's browser test),
 #              slurm-wlm + munge (a single-node Slurm on localhost: the corpus job-array test)
-# Usage: scripts/install-deps.sh [run|build|test]...   (default: all three)
+#   intel    : what scripts/setup-vendors.sh needs to build Mesa's Intel noop drm-shim from
+#              Debian's Mesa source (meson, ninja, mako, bison, flex, libdrm/expat/zlib headers,
+#              dpkg-dev for `apt-get source`)
+#   gl       : the OpenGL route of `shadelab isa` (nouveau, r600): Mesa's EGL and DRI drivers,
+#              spirv-cross (SPIR-V to GLSL)
+# Usage: scripts/install-deps.sh [run|build|test|intel|gl]...   (default: run build test)
 set -euo pipefail
 
 want=()
@@ -15,7 +20,10 @@ for set in "${@:-run build test}"; do
       run) want+=(libvulkan1 mesa-vulkan-drivers) ;;
       build) want+=(libshaderc-dev glslang-dev spirv-tools pkg-config) ;;
       test) want+=(vulkan-validationlayers spirv-tools chromium slurm-wlm munge) ;;
-      *) echo "install-deps: unknown set '$s' (expected run, build or test)" >&2; exit 2 ;;
+      intel) want+=(meson ninja-build python3-mako bison flex libdrm-dev libexpat1-dev zlib1g-dev
+                    pkg-config dpkg-dev xz-utils ca-certificates) ;;
+      gl) want+=(libegl1 libegl-mesa0 libgl1-mesa-dri spirv-cross ca-certificates) ;;
+      *) echo "install-deps: unknown set '$s' (expected run, build, test, intel or gl)" >&2; exit 2 ;;
     esac
   done
 done

@@ -7,9 +7,9 @@
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
 //! | report | [`report`], [`corpus`] | the main job: compare, bench and stress per scene, one offline HTML page; a mesh corpus in shards, merged |
-//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`], [`isa`], [`prove`], [`costs`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain; the programs compiled for AMD GPU generations (RADV's null device); proven error bounds by interval branch-and-bound |
+//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`], [`isa`], [`prove`], [`costs`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain; the programs compiled for AMD, Intel and NVIDIA GPU generations without the GPUs (RADV's null device, Mesa's drm-shims; a vendor per file in [`isa::vendor`]); proven error bounds by interval branch-and-bound |
 //! | judgement | [`analysis`], [`truth`], [`cases`], [`cost`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; the cases of the sweeps, shared by the jobs that sweep; cost models (one type family, their sources' interface and registry, the verdict rules); `auto`'s budget, candidates and per-triangle choice |
-//! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
+//! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), [`gpu::gl`] (the only user of EGL and OpenGL), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
 //! | base | [`output`], [`error`], [`child`] | atomic files, PNG/NPY, figures, provenance; the error type; the protocol of shadelab's child processes (one typed request, one typed reply) |
@@ -27,8 +27,15 @@
 //!   [`method::checks`] / [`method::scanline_checks`] (README "How to add a method");
 //! - a metric: [`analysis`] computes it, [`compare::summary`] reports it;
 //! - a command: a file in src/cli/, calling a job of the layer below;
-//! - a section of the HTML report: [`report::html`] (links stay relative; [`report::links`]
-//!   checks them).
+//! - a cost model: a [`cost::CostSource`] beside the job that measures it, one line in
+//!   [`costs::builtin`]; a GPU vendor for `isa`: a file of [`isa::vendor`], one line in its
+//!   `VENDORS`;
+//! - a setting of bench's or the report's measurement: [`bench::plan::RunPlan`] (its table of
+//!   defaults is tested there);
+//! - a child process: a [`child::Job`] (one typed request, one typed reply), dispatched in
+//!   src/cli/child.rs;
+//! - a section of the HTML report: a function in [`report::sections::SECTIONS`] (links stay
+//!   relative; [`report::links`] checks them).
 //!
 //! # Lifetimes and synchronisation
 //! Vulkan objects own an `Arc` of their [`gpu::vk::Context`]; every submission waits on its fence,

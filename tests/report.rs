@@ -146,6 +146,7 @@ fn report_links_resolve_and_every_method_has_its_parts() {
         .iter()
         .map(|id| {
             body.find(&format!("<section id=\"{id}\""))
+                .or_else(|| body.find(&format!("<section class=\"scene\" id=\"{id}\"")))
                 .unwrap_or(usize::MAX)
         })
         .collect();

@@ -28,7 +28,7 @@ pub enum StaticCostSource {
     Skip,
     /// An isa.json of `shadelab isa` (`--isa FILE`).
     File(PathBuf),
-    /// Compiled now on [`crate::isa::DEFAULT_FAMILIES`] by `exe`'s children, the timed draw of
+    /// Compiled now on every family of every vendor by `exe`'s children, the timed draw of
     /// `scene` (`None`: isa's default scene).
     Run {
         exe: PathBuf,
@@ -167,28 +167,13 @@ pub fn load(
             Err(e) => (None, format!("not read: {e}")),
         },
         StaticCostSource::Run { exe, scene } => {
-            if !std::path::Path::new(crate::isa::DEFAULT_DRIVER_FILES).is_file() {
-                return (
-                    None,
-                    format!(
-                        "not compiled: no RADV ICD at {}",
-                        crate::isa::DEFAULT_DRIVER_FILES
-                    ),
-                );
-            }
-            let mut ms: Vec<&'static crate::method::Method> = methods.to_vec();
-            let exact = crate::method::phong_exact();
-            if !ms.iter().any(|m| m.name == exact.name) {
-                ms.insert(0, exact);
-            }
             let opts = crate::isa::IsaOptions {
-                methods: ms,
-                families: crate::isa::DEFAULT_FAMILIES.map(String::from).to_vec(),
-                driver_files: PathBuf::from(crate::isa::DEFAULT_DRIVER_FILES),
                 scene: scene.clone(),
-                exe: exe.clone(),
-                precision: crate::method::Precision::F32,
-                probes: Vec::new(),
+                ..crate::isa::IsaOptions::every_family(
+                    methods,
+                    crate::method::Precision::F32,
+                    exe.clone(),
+                )
             };
             eprintln!(
                 "bench: static cost (shadelab isa, {} families)",

@@ -1,5 +1,6 @@
-//! `shadelab isa`: the methods compiled for AMD GPU generations by RADV's null device (ACO's
-//! statistics and disassembly); see [`crate::isa`]. The hidden `--child REQUEST` runs one
+//! `shadelab isa`: the methods compiled for GPU generations of several vendors without their
+//! GPUs (AMD through RADV's null device, Intel, NVIDIA and AMD TeraScale through Mesa's
+//! drm-shims); see [`crate::isa`] and its vendor seam [`crate::isa::vendor`]. The hidden `--child REQUEST` runs one
 //! family inside the process the parent started with the driver selected in its environment.
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -16,8 +17,10 @@ pub(super) struct IsaArgs {
     /// base).
     #[arg(long, default_value = "all")]
     methods: String,
-    /// Comma-separated Mesa chip names (RADV_FORCE_FAMILY), e.g. polaris10,navi21,gfx1100.
-    #[arg(long, default_value_t = isa::DEFAULT_FAMILIES.join(","))]
+    /// Comma-separated family ids, `<vendor>:<chip>` (amd:navi21, intel:tgl, nvidia:nv162,
+    /// terascale:cayman; a bare chip name is AMD's), or `all`: every default family of every
+    /// vendor (docs/isa.md); a vendor whose route is not set up is reported as such.
+    #[arg(long, default_value = "all")]
     families: String,
     /// The RADV Vulkan ICD manifest to load (VK_DRIVER_FILES), e.g. a Mesa 25 build (docs/isa.md).
     #[arg(long, value_name = "JSON", default_value = isa::DEFAULT_DRIVER_FILES)]
@@ -51,19 +54,15 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
     if !methods.iter().any(|m| m.name == exact.name) {
         methods.insert(0, exact);
     }
-    let families: Vec<String> = args
-        .families
-        .split(',')
-        .map(|s| s.trim().to_lowercase())
-        .filter(|s| !s.is_empty())
-        .collect();
-    if !args.driver_files.is_file() {
-        return Err(Error::Usage(format!(
-            "--driver-files {}: no such file; install mesa-vulkan-drivers (RADV) or point at \
-             another RADV build's ICD manifest (docs/isa.md)",
-            args.driver_files.display()
-        )));
-    }
+    let families: Vec<String> = if args.families.trim() == "all" {
+        isa::vendor::default_family_ids()
+    } else {
+        args.families
+            .split(',')
+            .map(|s| s.trim().to_lowercase())
+            .filter(|s| !s.is_empty())
+            .collect()
+    };
     let exe = std::env::current_exe()
         .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
     let opts = IsaOptions {

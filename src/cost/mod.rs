@@ -8,7 +8,7 @@
 //! line registering it (`crate::cli::costs::builtin`).
 //!
 //! Identity: a model's [`CostModelId`] is spelled the same in JSON, CSV, the command line and
-//! HTML (`lavapipe_frame`, `lavapipe_isolated`, `software`, `isa:navi21`, `isa:navi21:f16`,
+//! HTML (`lavapipe_frame`, `lavapipe_isolated`, `software`, `isa:amd:navi21`, `isa:amd:navi21:f16`,
 //! `bench:<machine>`). The verdict of each figure is the typed [`Verdict`] of the claim "cheaper
 //! than phong_exact", by one rule per kind ([`rule`]).
 pub mod rule;

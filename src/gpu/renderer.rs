@@ -427,13 +427,7 @@ impl Renderer {
                 color_formats: colors,
                 depth_format: Some(Format::Depth32Float),
                 descriptors: Some(&gpu.set),
-                specialization: &[
-                    (0, gpu.inputs.light_count),
-                    (
-                        2,
-                        u32::from(gpu.inputs.params.specular[..3].iter().any(|&k| k != 0.0)),
-                    ),
-                ],
+                specialization: &draw_specialization(&gpu.inputs),
                 cull_front: gpu.inputs.cull_front.map(|w| match w {
                     Winding::CounterClockwise => FrontFace::CounterClockwise,
                     Winding::Clockwise => FrontFace::Clockwise,
@@ -738,4 +732,17 @@ impl SceneInputs {
             }),
         }
     }
+}
+
+/// The specialization constants of a draw of `inputs` (glsl/common.glsl: 0 the light count,
+/// 2 whether the specular term is on): the Vulkan pipelines' and the OpenGL route's
+/// (`shadelab isa`) alike.
+pub fn draw_specialization(inputs: &SceneInputs) -> [(u32, u32); 2] {
+    [
+        (0, inputs.light_count),
+        (
+            2,
+            u32::from(inputs.params.specular[..3].iter().any(|&k| k != 0.0)),
+        ),
+    ]
 }

@@ -1,5 +1,5 @@
-//! A chart per family of error against static cost: x the fragment shader's inverse
-//! throughput (ACO's model), y compare's p99 and max absolute error (the worst over the
+//! A chart per family of error against static cost: x the fragment shader's ranking statistic
+//! (AMD: ACO's inverse throughput; FamilyStatus::ranking), y compare's p99 and max absolute error (the worst over the
 //! compare folders given with `--compare`), with the Pareto front on p99 (no cheaper method
 //! has a lower p99). Deterministic: the figures have no intervals. Without compare results
 //! there is no error axis, and no chart (isa.json's `charts_note` says so).
@@ -61,10 +61,7 @@ pub fn points(report: &IsaReport, family: &str, err: &BTreeMap<String, (f64, f64
     let mut pts: Vec<Point> = err
         .iter()
         .filter_map(|(m, &(p99, max))| {
-            let it = *report
-                .row(family, m, "fragment", "draw")?
-                .statistics
-                .get("inverse_throughput")?;
+            let it = report.ranking_value(family, m)?;
             Some((m.clone(), it, p99, max, false))
         })
         .collect();
@@ -86,6 +83,7 @@ fn mark_front(pts: &mut [Point]) {
 fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     family: &str,
+    axis: &str,
     pts: &[Point],
 ) -> Result<()> {
     area.fill(&WHITE).map_err(plot_err)?;
@@ -98,7 +96,7 @@ fn draw<DB: DrawingBackend>(
         * 3.0;
     let mut chart = ChartBuilder::on(area)
         .caption(
-            format!("{family}: error vs static cost (ACO, not a timing); filled: Pareto front"),
+            format!("{family}: error vs static cost (not a timing); filled: Pareto front"),
             ("sans-serif", 16),
         )
         .margin(16)
@@ -108,7 +106,7 @@ fn draw<DB: DrawingBackend>(
         .map_err(plot_err)?;
     chart
         .configure_mesh()
-        .x_desc("inverse throughput of the fragment shader (busy cycles per wave)")
+        .x_desc(axis)
         .y_desc("abs error (p99 circle, max cross)")
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
@@ -158,9 +156,18 @@ pub fn write(
     let mut written = Vec::new();
     for f in report.supported() {
         let pts = points(report, f, err);
-        both(&dir, f, &|a| draw(a, f, &pts), &|a| draw(a, f, &pts))?;
-        written.push(format!("charts/{f}.svg"));
-        written.push(format!("charts/{f}.png"));
+        let file = super::table::asm_dir(f);
+        let axis = report
+            .family(f)
+            .and_then(|s| s.ranking())
+            .map_or(String::from("static cost"), |r| {
+                format!("{} of the fragment shader ({})", r.key, r.unit)
+            });
+        both(&dir, &file, &|a| draw(a, f, &axis, &pts), &|a| {
+            draw(a, f, &axis, &pts)
+        })?;
+        written.push(format!("charts/{}.svg", super::table::asm_dir(f)));
+        written.push(format!("charts/{}.png", super::table::asm_dir(f)));
     }
     Ok(written)
 }

@@ -16,6 +16,7 @@ use crate::gpu::vk::{
     Executable, ShaderModule,
 };
 use crate::gpu::{Renderer, Shading};
+use crate::isa::vendor::{Api, Vendor};
 use crate::method::{self, Method};
 use crate::scene::Scene;
 
@@ -71,6 +72,10 @@ pub struct ChildReport {
     pub api_version: String,
     pub compiled: Vec<Compiled>,
     pub elapsed_ms: f64,
+    /// Whether the device compiles float16 arithmetic (Vulkan's shaderFloat16); absent from
+    /// the OpenGL route, whose vendors say it themselves.
+    #[serde(default)]
+    pub float16: Option<bool>,
 }
 
 /// Keeps only the disassembly among the representations (ACO's "Assembly"; NIR and ACO IR are
@@ -87,7 +92,7 @@ fn keep_disassembly(mut exes: Vec<Executable>) -> Vec<Executable> {
 }
 
 /// Loads the request's scene.
-fn scene(req: &ChildRequest) -> Result<Scene> {
+pub(crate) fn scene(req: &ChildRequest) -> Result<Scene> {
     match &req.scene {
         Some(p) => crate::scene::load_scene(p),
         None => crate::scene::parse_scene(
@@ -99,14 +104,33 @@ fn scene(req: &ChildRequest) -> Result<Scene> {
 }
 
 /// Compiles everything `req` asks for on the device the environment selects (the parent sets
-/// RADV_FORCE_FAMILY and VK_DRIVER_FILES, see [`super::child_env`]).
+/// it: [`super::vendor::Vendor::child_env`]), through the vendor's API; a device that is not
+/// the family asked for (a software fallback) is refused, an error.
 pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
+    let (vendor, chip) = super::vendor::resolve(&req.family).map_err(Error::Usage)?;
+    match vendor.api() {
+        Api::Vulkan { device } => compile_vulkan(req, vendor, &chip, device),
+        Api::OpenGl => super::gl_child::compile(req, vendor, &chip),
+    }
+}
+
+/// [`compile`] on a Vulkan device whose name contains `device`.
+fn compile_vulkan(
+    req: &ChildRequest,
+    vendor: &dyn Vendor,
+    chip: &str,
+    device: &str,
+) -> Result<ChildReport> {
     let start = Instant::now();
     let ctx = Context::for_executables(&ContextDesc {
-        device: Some("radv".into()),
+        device: Some(device.into()),
         validate: false,
     })?;
     let info = ctx.info().clone();
+    vendor
+        .check_device(chip, &info.name)
+        .map_err(|why| Error::Device(format!("{}: {why}", req.family)))?;
+    let keep = |exes| keep_disassembly(vendor.merge_executables(exes));
     let methods: Vec<&'static Method> = req
         .methods
         .iter()
@@ -130,7 +154,7 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
                 ),
                 kind: "draw".into(),
                 repeat: None,
-                executables: keep_disassembly(exes),
+                executables: keep(exes),
             });
             if !has_evaluate_program(m) {
                 continue;
@@ -142,13 +166,15 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
                     program: crate::gpu::shaders::evaluate_program_in(m.name, req.precision),
                     kind: "kernel".into(),
                     repeat: Some(k),
-                    executables: keep_disassembly(kernel.executables()?),
+                    executables: keep(kernel.executables()?),
                 });
             }
         }
     }
     for p in &req.probes {
-        compiled.push(probe(&ctx, p)?);
+        let mut c = probe(&ctx, p)?;
+        c.executables = keep(c.executables);
+        compiled.push(c);
     }
     Ok(ChildReport {
         family: req.family.clone(),
@@ -158,6 +184,7 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
         api_version: info.api_version,
         compiled,
         elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
+        float16: Some(info.shader_float16),
     })
 }
 
@@ -183,6 +210,6 @@ fn probe(ctx: &std::sync::Arc<Context>, path: &Path) -> Result<Compiled> {
         program: name,
         kind: "probe".into(),
         repeat: None,
-        executables: keep_disassembly(pipeline.executables()?),
+        executables: pipeline.executables()?,
     })
 }

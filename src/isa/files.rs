@@ -1,6 +1,7 @@
 //! The files of `shadelab isa`: isa.json (docs/isa.schema.json), isa.csv (one line per row,
-//! the required statistics and their ratios to phong_exact), the disassembly under
-//! asm/<family>/<method>.<stage>.s (isolated kernels: `.compute.repeat<K>.s`) and, with
+//! AMD's statistics and their ratios to phong_exact, then every vendor's ranking statistic,
+//! its figure and ratio), the disassembly under asm/<family>/<method>.<stage>.s (`:` of a
+//! family id as `_`) (isolated kernels: `.compute.repeat<K>.s`) and, with
 //! compare results, a chart per family of error against inverse throughput with its Pareto
 //! front ([`super::rank`]).
 use std::io::Write;
@@ -42,6 +43,8 @@ fn csv(w: &mut dyn Write, r: &IsaReport) -> std::io::Result<()> {
     for k in REQUIRED {
         write!(w, ",ratio_{k}")?;
     }
+    // Every vendor: its ranking statistic, the row's figure and its ratio to phong_exact's.
+    write!(w, ",ranking,ranking_value,ratio_ranking")?;
     writeln!(w)?;
     let num = |v: Option<&f64>| v.map_or(String::new(), |v| format!("{v}"));
     for row in &r.results {
@@ -56,6 +59,16 @@ fn csv(w: &mut dyn Write, r: &IsaReport) -> std::io::Result<()> {
         for k in REQUIRED {
             write!(w, ",{}", num(row.ratio_to_phong_exact.get(k)))?;
         }
+        let key = r
+            .family(&row.family)
+            .and_then(|f| f.ranking())
+            .map_or(String::new(), |k| k.key);
+        write!(
+            w,
+            ",{key},{},{}",
+            num(row.statistics.get(&key)),
+            num(row.ratio_to_phong_exact.get(&key))
+        )?;
         writeln!(w)?;
     }
     Ok(())

@@ -1,23 +1,31 @@
-//! `shadelab isa`: what each method costs on real AMD GPU generations, without the GPUs.
-//! Mesa's RADV, with `RADV_FORCE_FAMILY=<chip>`, creates a null device whose pipelines go
-//! through the production ACO compiler; VK_KHR_pipeline_executable_properties returns its
-//! statistics and disassembly (../shared/TOOLCHAIN.md "RADV null device").
+//! `shadelab isa`: what each method costs on real GPU generations of several vendors, without
+//! the GPUs. Each vendor is a compiler route of [`vendor`] (one file each): AMD through RADV's
+//! null device and the production ACO compiler, Intel through ANV on Mesa's noop drm-shim,
+//! NVIDIA and AMD TeraScale through nouveau's and r600's OpenGL compilers on drm-shims
+//! ([`gl_child`]); Vulkan routes read VK_KHR_pipeline_executable_properties' statistics and
+//! disassembly, OpenGL routes the compiler's shader-db line (../shared/TOOLCHAIN.md "RADV null
+//! device", "Other vendors' production-path compilers").
 //!
 //! Each family is compiled in a child process of its own ([`child`], started through
-//! [`crate::child`]'s protocol: `shadelab child REQUEST`), two at a time, with the driver selected in the child's
-//! environment before Vulkan loads: a family the driver refuses or crashes on (Mesa 22.3.6
-//! dies of SIGFPE on navi24) is reported as not supported, never fatal. [`table`] turns the
-//! children's reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv,
-//! the disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated cost and
-//! [`claims`] the op-count judgement on the compiled instructions. The figures are ACO's static model (issue and stall cycles, busy cycles per
-//! wave), not timings: they rank programs, they do not time them.
+//! [`crate::child`]'s protocol: `shadelab child REQUEST`), two at a time, with the vendor's
+//! environment (driver selection, preloaded shim, chip variable) set before the driver loads:
+//! a family the driver refuses or crashes on (Mesa 22.3.6 dies of SIGFPE on navi24; nouveau
+//! falls back to llvmpipe on Ampere) is reported as not supported, a vendor that is not set up
+//! as such with the command that sets it up, never fatal. [`table`] turns the children's
+//! reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv, the
+//! disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated cost and
+//! [`claims`] the op-count judgement on AMD's compiled instructions. The figures are each
+//! compiler's static model or counts (`FamilyStatus::ranking` says which), not timings: they
+//! rank programs, they do not time them.
 pub mod chart;
 pub mod child;
 pub mod claims;
 pub mod cost;
 pub mod files;
+pub mod gl_child;
 pub mod rank;
 pub mod table;
+pub mod vendor;
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -27,6 +35,7 @@ use crate::error::{Error, Result};
 use crate::method::Method;
 pub use child::{ChildReport, ChildRequest, Compiled};
 pub use table::{FamilyStatus, IsaReport, Row};
+pub use vendor::{Family, Vendor};
 
 /// The families compiled by default: a spread Mesa 22.3.6 accepts, oldest first (GCN1, GCN4,
 /// GCN5, RDNA1, RDNA2, RDNA3).
@@ -67,12 +76,39 @@ pub struct IsaOptions {
     pub probes: Vec<PathBuf>,
 }
 
+impl IsaOptions {
+    /// `methods` (phong_exact added when missing) on every family of every vendor (a route
+    /// that is not set up is reported as such), with the system's RADV, isa's default scene and
+    /// `exe`'s children: what the report, bench's speed claims and a corpus compile.
+    pub fn every_family(
+        methods: &[&'static Method],
+        precision: Precision,
+        exe: PathBuf,
+    ) -> IsaOptions {
+        let mut ms = methods.to_vec();
+        if !ms.iter().any(|m| m.name == crate::method::PHONG_EXACT) {
+            ms.insert(0, crate::method::phong_exact());
+        }
+        IsaOptions {
+            methods: ms,
+            families: vendor::default_family_ids(),
+            driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
+            scene: None,
+            exe,
+            precision,
+            probes: Vec::new(),
+        }
+    }
+}
+
 /// How one child ended.
 #[derive(Debug)]
 pub enum ChildOutcome {
     Compiled(ChildReport),
     /// Not supported by this driver: what happened (signal, exit code, stderr tail).
     Failed(String),
+    /// The vendor's route is not set up (why); no child was started.
+    NotSetUp(String),
 }
 
 /// The environment of a child compiling for `family` with the ICD `driver_files`: set before
@@ -92,11 +128,19 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
     ]
 }
 
-/// Runs one child (the protocol of [`crate::child`], its request and reply under `dir`) and
-/// reads its report.
-pub fn run_child(opts: &IsaOptions, family: &str, dir: &std::path::Path) -> ChildOutcome {
+/// Runs one child for `family` (the protocol of [`crate::child`], its request and reply under
+/// `dir`) and reads its report; a route that is not set up starts none.
+pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> ChildOutcome {
+    let env = match family.vendor.setup(&opts.driver_files).and_then(|setup| {
+        family
+            .vendor
+            .child_env(family.chip, &setup, &opts.driver_files)
+    }) {
+        Ok(env) => env,
+        Err(why) => return ChildOutcome::NotSetUp(why),
+    };
     let req = ChildRequest {
-        family: family.to_string(),
+        family: family.id(),
         methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
         scene: opts.scene.clone(),
         kernel_counts: KERNEL_COUNTS,
@@ -105,14 +149,28 @@ pub fn run_child(opts: &IsaOptions, family: &str, dir: &std::path::Path) -> Chil
     };
     let spawn = crate::child::Spawn {
         exe: opts.exe.clone(),
-        driver_env: child_env(family, &opts.driver_files),
+        driver_env: env,
         method_files: crate::method::user::paths(),
         show_stderr: false,
     };
-    match crate::child::call(&spawn, &req, dir, family) {
+    match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
         Ok(r) => ChildOutcome::Compiled(r),
         Err(f) => ChildOutcome::Failed(f.why),
     }
+}
+
+/// The families of `ids` (family ids, or bare AMD chip names), in order; an unknown vendor
+/// is a usage error.
+pub fn families(ids: &[String]) -> Result<Vec<Family>> {
+    ids.iter()
+        .map(|id| {
+            let (vendor, chip) = vendor::resolve(id).map_err(Error::Usage)?;
+            // Chips live as long as the run: a family is a small, fixed set of names, leaked
+            // once per process (the CLI and tests make a handful).
+            let chip: &'static str = Box::leak(chip.into_boxed_str());
+            Ok(Family { vendor, chip })
+        })
+        .collect()
 }
 
 /// Compiles every family (children [`PARALLEL_CHILDREN`] at a time) and builds the report.
@@ -120,25 +178,31 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
     if opts.families.is_empty() {
         return Err(Error::Usage("--families: no family given".into()));
     }
+    let families = families(&opts.families)?;
     let start = Instant::now();
     let dir = tempfile::Builder::new()
         .prefix("shadelab-isa-")
         .tempdir()
         .map_err(|e| Error::io(std::path::Path::new("a temporary folder"), e))?;
-    let queue: Mutex<Vec<(usize, String)>> =
-        Mutex::new(opts.families.iter().cloned().enumerate().rev().collect());
+    let queue: Mutex<Vec<(usize, Family)>> =
+        Mutex::new(families.iter().copied().enumerate().rev().collect());
     let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());
     std::thread::scope(|s| {
-        for _ in 0..PARALLEL_CHILDREN.min(opts.families.len()) {
+        for _ in 0..PARALLEL_CHILDREN.min(families.len()) {
             s.spawn(|| loop {
                 let next = queue.lock().ok().and_then(|mut q| q.pop());
                 let Some((i, family)) = next else { break };
                 let outcome = run_child(opts, &family, dir.path());
+                let id = family.id();
                 progress(&match &outcome {
                     ChildOutcome::Compiled(r) => {
-                        format!("{family}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
+                        format!("{id}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
                     }
-                    ChildOutcome::Failed(why) => format!("{family}: not supported ({why})"),
+                    ChildOutcome::Failed(why) => format!("{id}: not supported ({why})"),
+                    ChildOutcome::NotSetUp(why) => format!(
+                        "{id}: not set up ({why}); run {}",
+                        family.vendor.setup_command()
+                    ),
                 });
                 if let Ok(mut d) = done.lock() {
                     d.push((i, outcome));
@@ -149,17 +213,17 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
     let mut outcomes = done
         .into_inner()
         .map_err(|_| Error::Internal("isa: a child thread panicked".into()))?;
-    if outcomes.len() != opts.families.len() {
+    if outcomes.len() != families.len() {
         return Err(Error::Internal(format!(
             "isa: {} of {} families came back",
             outcomes.len(),
-            opts.families.len()
+            families.len()
         )));
     }
     outcomes.sort_by_key(|(i, _)| *i);
-    let outcomes: Vec<(String, ChildOutcome)> = outcomes
+    let outcomes: Vec<(Family, ChildOutcome)> = outcomes
         .into_iter()
-        .map(|(i, o)| (opts.families[i].clone(), o))
+        .map(|(i, o)| (families[i], o))
         .collect();
     table::report(opts, outcomes, start.elapsed().as_secs_f64())
 }

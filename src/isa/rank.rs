@@ -1,13 +1,15 @@
 //! How the static cost agrees with other measures: Spearman's rank correlation between a
-//! family's inverse throughput and lavapipe's isolated cost (bench.json), per family.
+//! family's ranking statistic (AMD: inverse throughput) of one kernel evaluation and
+//! lavapipe's isolated cost (bench.json), per family.
 use serde::{Deserialize, Serialize};
 
 use super::table::IsaReport;
 use crate::error::{Error, Result};
 
-/// The measure compared with lavapipe's isolated cost.
-pub const MEASURE: &str =
-    "inverse_throughput of one kernel evaluation vs bench.json isolated_ns_per_eval";
+/// The measure compared with lavapipe's isolated cost, for a family ranked by `key`.
+pub fn measure(key: &str) -> String {
+    format!("{key} of one kernel evaluation vs bench.json isolated_ns_per_eval")
+}
 
 /// Per family, Spearman's rho between one kernel evaluation's inverse throughput and
 /// bench.json's `isolated_ns_per_eval`, over the methods both have.
@@ -23,16 +25,20 @@ pub fn against_bench(report: &IsaReport, bench: &serde_json::Value) -> Result<Ve
         .supported()
         .into_iter()
         .map(|f| {
+            let key = report
+                .family(f)
+                .and_then(|s| s.ranking())
+                .map_or(String::new(), |r| r.key);
             let (a, b): (Vec<f64>, Vec<f64>) = isolated
                 .iter()
                 .filter_map(|&(m, ns)| {
                     let row = report.row(f, m, "compute", "evaluation")?;
-                    Some((*row.statistics.get("inverse_throughput")?, ns))
+                    Some((*row.statistics.get(&key)?, ns))
                 })
                 .unzip();
             Correlation {
                 family: f.to_string(),
-                measure: MEASURE.into(),
+                measure: measure(&key),
                 methods: a.len(),
                 spearman: spearman(&a, &b),
             }

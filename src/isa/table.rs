@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use super::vendor::{self, Compiler, Family, Ranking};
 use super::{ChildOutcome, IsaOptions, Precision, KERNEL_COUNTS};
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Executable, StatValue};
@@ -32,13 +33,38 @@ pub struct StatName {
     pub description: String,
 }
 
-/// One family: compiled, or not supported by this driver (and what happened).
+/// One family: compiled, or not supported by this driver (and what happened), or its vendor's
+/// route not set up. What a cost model needs is read generically from here: the vendor, the
+/// family id, the ranking statistic and the compiler (fields absent from isa.json files
+/// written before other vendors: [`FamilyStatus::ranking`] and [`FamilyStatus::compiler`]
+/// then answer from the vendor registry).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct FamilyStatus {
+    /// The key of this family's rows: AMD's bare chip name (`navi21`), else the id.
     pub family: String,
+    /// `<vendor>:<chip>` (`amd:navi21`, `intel:tgl`, `nvidia:nv162`, `terascale:cayman`).
+    #[serde(default)]
+    pub id: String,
+    /// The vendor prefix ("amd", "intel", "nvidia", "terascale").
+    #[serde(default)]
+    pub vendor: String,
     pub supported: bool,
-    /// "compiled", or "not supported by this driver: <signal / exit code, stderr tail>".
+    /// "compiled", "not supported by this driver: <signal / exit code, stderr tail>", or
+    /// "not set up: <why>; run <command>".
     pub status: String,
+    /// The command that sets this family's route up, when it is not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub setup_command: Option<String>,
+    /// The statistic that ranks this family's programs, its unit and meaning.
+    #[serde(default)]
+    pub ranking: Option<Ranking>,
+    /// Who compiled (driver, API, Mesa version, production compiler or Mesa's own).
+    #[serde(default)]
+    pub compiler: Option<Compiler>,
+    /// Whether the driver compiles float16 arithmetic for this family (Vulkan: the device's
+    /// shaderFloat16; the OpenGL route: no); absent where unknown (not compiled).
+    #[serde(default)]
+    pub float16: Option<bool>,
     pub device_name: Option<String>,
     pub driver_name: Option<String>,
     /// The driver's version string, e.g. "Mesa 22.3.6".
@@ -141,18 +167,24 @@ fn stats(e: &Executable) -> (BTreeMap<String, f64>, Vec<String>) {
 /// A family's rows, the driver's statistic names, and (path, text) of each disassembly.
 type FamilyRows = (Vec<Row>, Vec<StatName>, Vec<(String, String)>);
 
-/// The rows and status of one compiled family.
-fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
+/// The folder of a family's disassembly under asm/: its row key, `:` as `_` (`intel_tgl`).
+pub fn asm_dir(family_key: &str) -> String {
+    family_key.replace(':', "_")
+}
+
+/// The rows and status of one compiled family, whose rows are keyed `key`.
+fn family_rows(r: &super::ChildReport, key: &str) -> Result<FamilyRows> {
     let mut rows = Vec::new();
     let mut names: Vec<StatName> = Vec::new();
     let mut asm = Vec::new();
     let mut kernels: BTreeMap<String, Vec<(u32, &Executable)>> = BTreeMap::new();
+    let dir = asm_dir(key);
     for c in &r.compiled {
         for e in &c.executables {
             for s in &e.statistics {
                 if !names.iter().any(|n| n.name == s.name) {
                     names.push(StatName {
-                        key: key(&s.name),
+                        key: self::key(&s.name),
                         name: s.name.clone(),
                         description: s.description.clone(),
                     });
@@ -161,7 +193,7 @@ fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
             let suffix = c.repeat.map(|k| format!(".repeat{k}")).unwrap_or_default();
             for rep in &e.representations {
                 asm.push((
-                    format!("asm/{}/{}.{}{suffix}.s", r.family, c.method, e.stage),
+                    format!("asm/{dir}/{}.{}{suffix}.s", c.method, e.stage),
                     rep.text.clone(),
                 ));
             }
@@ -171,7 +203,7 @@ fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
             }
             let (statistics, hash) = stats(e);
             rows.push(Row {
-                family: r.family.clone(),
+                family: key.to_string(),
                 method: c.method.clone(),
                 stage: e.stage.clone(),
                 kind: if c.kind == "probe" { "probe" } else { "draw" }.into(),
@@ -186,8 +218,7 @@ fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
         list.sort_by_key(|(k, _)| *k);
         let [(k0, lo), (k1, hi)] = list[..] else {
             return Err(Error::Internal(format!(
-                "isa: {method} on {}: {} kernel executables, expected 2",
-                r.family,
+                "isa: {method} on {key}: {} kernel executables, expected 2",
                 list.len()
             )));
         };
@@ -198,7 +229,7 @@ fn family_rows(r: &super::ChildReport) -> Result<FamilyRows> {
             .filter_map(|(k, v)| a.get(k).map(|w| (k.clone(), (v - w) / per)))
             .collect();
         rows.push(Row {
-            family: r.family.clone(),
+            family: key.to_string(),
             program: crate::gpu::shaders::evaluate_program_in(&method, r_precision(r)),
             method,
             stage: hi.stage.clone(),
@@ -254,10 +285,30 @@ pub fn fill_ratios(rows: &mut [Row]) {
     }
 }
 
+/// The status of `family` with everything but what its child said.
+fn status(family: &Family, supported: bool, status: String) -> FamilyStatus {
+    FamilyStatus {
+        family: family.id(),
+        id: family.id(),
+        vendor: family.vendor.prefix().into(),
+        supported,
+        status,
+        setup_command: None,
+        ranking: Some(family.vendor.ranking()),
+        compiler: Some(family.vendor.compiler()),
+        float16: family.vendor.float16(family.chip),
+        device_name: None,
+        driver_name: None,
+        driver_info: None,
+        elapsed_ms: None,
+        statistics: Vec::new(),
+    }
+}
+
 /// The report of every child's outcome.
 pub fn report(
     opts: &IsaOptions,
-    outcomes: Vec<(String, ChildOutcome)>,
+    outcomes: Vec<(Family, ChildOutcome)>,
     elapsed_s: f64,
 ) -> Result<IsaReport> {
     let mut families = Vec::new();
@@ -266,30 +317,33 @@ pub fn report(
     for (family, outcome) in outcomes {
         match outcome {
             ChildOutcome::Compiled(r) => {
-                let (rows, names, asm) = family_rows(&r)?;
+                let (rows, names, asm) = family_rows(&r, &family.id())?;
                 results.extend(rows);
                 disassembly.extend(asm);
-                families.push(FamilyStatus {
-                    family,
-                    supported: true,
-                    status: "compiled".into(),
-                    device_name: Some(r.device_name),
-                    driver_name: Some(r.driver_name),
-                    driver_info: Some(r.driver_info),
-                    elapsed_ms: Some(r.elapsed_ms),
-                    statistics: names,
-                });
+                let mut f = status(&family, true, "compiled".into());
+                if let Some(c) = f.compiler.as_mut() {
+                    c.mesa_version = mesa_version(&r.driver_info);
+                }
+                f.float16 = f.float16.or(r.float16);
+                f.device_name = Some(r.device_name);
+                f.driver_name = Some(r.driver_name);
+                f.driver_info = Some(r.driver_info);
+                f.elapsed_ms = Some(r.elapsed_ms);
+                f.statistics = names;
+                families.push(f);
             }
-            ChildOutcome::Failed(why) => families.push(FamilyStatus {
-                family,
-                supported: false,
-                status: format!("not supported by this driver: {why}"),
-                device_name: None,
-                driver_name: None,
-                driver_info: None,
-                elapsed_ms: None,
-                statistics: Vec::new(),
-            }),
+            ChildOutcome::Failed(why) => families.push(status(
+                &family,
+                false,
+                format!("not supported by this driver: {why}"),
+            )),
+            ChildOutcome::NotSetUp(why) => {
+                let command = family.vendor.setup_command();
+                let mut f = status(&family, false, format!("not set up: {why}; run {command}"));
+                f.setup_command = Some(command.into());
+                f.float16 = None;
+                families.push(f);
+            }
         }
     }
     fill_ratios(&mut results);
@@ -318,7 +372,67 @@ pub fn report(
     Ok(report)
 }
 
+/// "Mesa 22.3.6" out of a driver's version string ("Mesa 22.3.6", "4.3 (Core Profile) Mesa
+/// 22.3.6"), or the whole string when it names no Mesa version.
+pub fn mesa_version(driver_info: &str) -> Option<String> {
+    let words: Vec<&str> = driver_info.split_whitespace().collect();
+    match words.iter().position(|w| *w == "Mesa") {
+        Some(i) => words.get(i + 1).map(|v| format!("Mesa {v}")),
+        None => (!driver_info.trim().is_empty()).then(|| driver_info.trim().to_string()),
+    }
+}
+
+impl FamilyStatus {
+    /// The family's vendor and chip, from `id` (or `family` in an older isa.json).
+    pub fn resolve(&self) -> Option<(&'static dyn vendor::Vendor, String)> {
+        let id = if self.id.is_empty() {
+            &self.family
+        } else {
+            &self.id
+        };
+        vendor::resolve(id).ok()
+    }
+
+    /// The statistic that ranks this family's programs.
+    pub fn ranking(&self) -> Option<Ranking> {
+        self.ranking
+            .clone()
+            .or_else(|| Some(self.resolve()?.0.ranking()))
+    }
+
+    /// Who compiled this family's programs.
+    pub fn compiler(&self) -> Option<Compiler> {
+        self.compiler
+            .clone()
+            .or_else(|| Some(self.resolve()?.0.compiler()))
+    }
+}
+
 impl IsaReport {
+    /// The status of the family whose rows are keyed `family`.
+    pub fn family(&self, family: &str) -> Option<&FamilyStatus> {
+        self.families.iter().find(|f| f.family == family)
+    }
+
+    /// `method`'s figure on `family`'s ranking statistic (the fragment shader of the timed
+    /// draw: ACO's inverse throughput, Intel's cycles, nouveau's instructions, ...).
+    pub fn ranking_value(&self, family: &str, method: &str) -> Option<f64> {
+        let r = self.family(family)?.ranking()?;
+        self.row(family, method, &r.stage, &r.kind)?
+            .statistics
+            .get(&r.key)
+            .copied()
+    }
+
+    /// `method`'s ranking figure over phong_exact's, same family.
+    pub fn ranking_ratio(&self, family: &str, method: &str) -> Option<f64> {
+        let r = self.family(family)?.ranking()?;
+        self.row(family, method, &r.stage, &r.kind)?
+            .ratio_to_phong_exact
+            .get(&r.key)
+            .copied()
+    }
+
     /// The row of (family, method, stage, kind), if any.
     pub fn row(&self, family: &str, method: &str, stage: &str, kind: &str) -> Option<&Row> {
         self.results.iter().find(|r| {
@@ -336,7 +450,7 @@ impl IsaReport {
     }
 
     /// The text table: per method and family, the fragment shader's and one evaluation's
-    /// inverse throughput over phong_exact's.
+    /// ranking statistic over phong_exact's, then each family's statistic.
     pub fn text_table(&self) -> String {
         let fams = self.supported();
         let mut methods: Vec<&str> = Vec::new();
@@ -346,26 +460,49 @@ impl IsaReport {
             }
         }
         let mut s = String::from(
-            "inverse throughput / phong_exact's (ACO's static model, not a timing): \
-             fragment shader of the timed draw | one evaluation of the isolated kernel\n",
+            "ranking statistic / phong_exact's (each family's static model, not a timing; the \
+             statistics are listed below): fragment shader of the timed draw | one evaluation \
+             of the isolated kernel\n",
         );
         s += &format!("{:<30}", "method");
         for f in &fams {
-            s += &format!(" {f:>15}");
+            s += &format!(" {f:>17}");
         }
         s += "\n";
-        let cell = |r: Option<&Row>| {
-            r.and_then(|r| r.ratio_to_phong_exact.get("inverse_throughput"))
+        let cell = |r: Option<&Row>, key: &str| {
+            r.and_then(|r| r.ratio_to_phong_exact.get(key))
                 .map_or("  -  ".to_string(), |v| format!("{v:.3}"))
         };
         for m in methods {
             s += &format!("{m:<30}");
             for f in &fams {
-                let a = cell(self.row(f, m, "fragment", "draw"));
-                let b = cell(self.row(f, m, "compute", "evaluation"));
-                s += &format!(" {:>15}", format!("{a}|{b}"));
+                let key = self
+                    .family(f)
+                    .and_then(FamilyStatus::ranking)
+                    .map_or(String::new(), |r| r.key);
+                let a = cell(self.row(f, m, "fragment", "draw"), &key);
+                let b = cell(self.row(f, m, "compute", "evaluation"), &key);
+                s += &format!(" {:>17}", format!("{a}|{b}"));
             }
             s += "\n";
+        }
+        for f in self.families.iter().filter(|f| f.supported) {
+            if let (Some(r), Some(c)) = (f.ranking(), f.compiler()) {
+                s += &format!(
+                    "{}: {} ({}; {}, {}{}): {}\n",
+                    f.family,
+                    r.key,
+                    r.unit,
+                    c.driver,
+                    c.mesa_version.as_deref().unwrap_or("Mesa ?"),
+                    if c.production {
+                        ", the vendor's production compiler"
+                    } else {
+                        ", Mesa's own compiler, not the vendor's"
+                    },
+                    r.meaning
+                );
+            }
         }
         for v in &self.op_count {
             s += &format!(
@@ -396,6 +533,17 @@ impl IsaReport {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_mesa_version_is_read_from_either_api() {
+        assert_eq!(mesa_version("Mesa 22.3.6").as_deref(), Some("Mesa 22.3.6"));
+        assert_eq!(
+            mesa_version("4.3 (Core Profile) Mesa 22.3.6").as_deref(),
+            Some("Mesa 22.3.6")
+        );
+        assert_eq!(mesa_version("other 1.0").as_deref(), Some("other 1.0"));
+        assert_eq!(mesa_version(" "), None);
+    }
 
     #[test]
     fn keys_are_snake_case_driver_names() {

@@ -65,9 +65,10 @@ pub struct ReportOptions {
     pub command_line: String,
     /// Show a progress bar on stderr (drawn only when stderr is a terminal).
     pub progress: bool,
-    /// Bench runs per scene, each a fresh process of `exe` (`bench --runs`); 1 or no `exe`:
-    /// one run in this process.
-    pub runs: usize,
+    /// The measurement plan (`report --runs`, `--full`: [`crate::bench::plan`], decided once
+    /// by the caller). Several runs need `exe`.
+    pub plan: crate::bench::plan::RunPlan,
+    /// The shadelab binary that starts a bench's fresh-process runs.
     pub exe: Option<PathBuf>,
     /// The device every bench run opens (the report's own).
     pub device: crate::gpu::DeviceSpec,
@@ -440,15 +441,13 @@ pub fn run(
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let methods = with_references(methods);
-    // Decided once (src/bench/plan.rs): several runs only with a binary to start them.
-    let given = crate::bench::plan::Given {
-        runs: Some(if opts.exe.is_some() { opts.runs } else { 1 }),
-        ..Default::default()
-    };
-    let plan = crate::bench::plan::RunPlan::new(
-        crate::bench::plan::Job::Report { full: opts.full },
-        &given,
-    )?;
+    let plan = &opts.plan;
+    if plan.many() && opts.exe.is_none() {
+        return Err(Error::Usage(format!(
+            "a report of {} bench runs needs the shadelab binary to start them",
+            plan.runs
+        )));
+    }
     // Steps: compare, bench and skips per scene, stress, the page.
     let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
     let mut scenes = scenes.to_vec();

@@ -1,0 +1,186 @@
+#!/usr/bin/env bash
+# Sets up the compiler routes of `shadelab isa` beyond AMD (docs/isa.md "Vendors"), each on its
+# own, in the user's cache (nothing installed system-wide but Debian packages through
+# scripts/install-deps.sh):
+#   intel : Mesa's Intel noop drm-shim (libintel_noop_drm_shim.so), built from Debian 12's own
+#           Mesa source package (the version of the installed ANV when the archive still has it)
+#           with one ninja target; cached under $CACHE/intel/<sha256 of the .dsc>/, rebuilt only
+#           when missing. ANV itself is Debian's (mesa-vulkan-drivers).
+#   gl    : the nouveau and radeon noop drm-shims of bookworm-backports' mesa-drm-shim .deb,
+#           downloaded with a private apt configuration and unpacked under
+#           $CACHE/gl/<sha256 of the .deb>/ (the OpenGL route: Debian 12's nouveau and r600).
+# $CACHE is ${XDG_CACHE_HOME:-~/.cache}/shadelab/vendors. Each route ends by writing
+# $CACHE/<route>.env (KEY=VALUE lines that shadelab reads); a route whose .env and files are
+# there is left alone (no network). A route that fails names its step and its log, and the
+# others still run. Exit status: 0 when every route asked for is set up, 1 otherwise.
+# Usage: scripts/setup-vendors.sh [intel] [gl]   (default: both)
+set -uo pipefail
+
+here="$(cd "$(dirname "$0")" && pwd)"
+self="$here/$(basename "$0")"
+# Debian's python3 first (mesa's meson needs its python3-mako; a pyenv shim's python lacks it).
+export PATH="/usr/bin:$PATH"
+cache="${XDG_CACHE_HOME:-$HOME/.cache}/shadelab/vendors"
+mkdir -p "$cache/logs"
+
+say() { echo "setup-vendors: $*" >&2; }
+
+# A private apt configuration under $cache/apt/<name>: its own sources, lists and archives;
+# the system's apt state is only read (dpkg's status), never written.
+apt_private() {
+  local name=$1
+  shift
+  local dir="$cache/apt/$name"
+  mkdir -p "$dir/lists/partial" "$dir/archives/partial" "$dir/parts"
+  apt-get -q -o Dir::Etc::SourceList="$dir/sources.list" -o Dir::Etc::SourceParts="$dir/parts" \
+    -o Dir::State::Lists="$dir/lists" -o Dir::Cache="$dir" -o Dir::Cache::archives="$dir/archives" \
+    -o Dir::Cache::pkgcache= -o Dir::Cache::srcpkgcache= -o APT::Sandbox::User=root \
+    -o Debug::NoLocking=true "$@"
+}
+
+# The .env of a route holds KEY=VALUE lines; every value that is a path must exist.
+ready() {
+  local env="$cache/$1.env"
+  [ -f "$env" ] || return 1
+  local k v
+  while IFS='=' read -r k v; do
+    case "$v" in /*) [ -e "$v" ] || return 1 ;; esac
+  done <"$env"
+  return 0
+}
+
+# Runs step $2 of route $1 (the rest is the command), logging to $cache/logs/<route>.log.
+step() {
+  local route=$1 name=$2
+  shift 2
+  say "$route: $name"
+  # A fresh bash with -e (bash ignores -e in a function called under `if` or `||`): the step
+  # stops at its first failing command.
+  if ! bash "$self" --step "$@" >>"$cache/logs/$route.log" 2>&1; then
+    say "$route: FAILED at step '$name' (log: $cache/logs/$route.log)"
+    tail -n 15 "$cache/logs/$route.log" | sed "s/^/setup-vendors: $route:   /" >&2
+    return 1
+  fi
+}
+
+intel_source() {
+  local dir="$cache/apt/bookworm-src"
+  mkdir -p "$dir"
+  cat >"$dir/sources.list" <<'EOF'
+deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm main
+deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm-updates main
+deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian-security bookworm-security main
+EOF
+  apt_private bookworm-src update
+  # The installed ANV's version when the archive has its source, else bookworm's newest 22.3.
+  local installed want
+  installed=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)
+  want=mesa
+  if [ -n "$installed" ] && apt_private bookworm-src source --print-uris "mesa=$installed" \
+    >/dev/null 2>&1; then
+    want="mesa=$installed"
+  fi
+  echo "source: $want (installed ANV: ${installed:-none})"
+  mkdir -p "$cache/intel/download"
+  (cd "$cache/intel/download" && apt_private bookworm-src source --download-only "$want")
+}
+
+intel_build() {
+  local dsc sha key src build
+  dsc=$(ls -t "$cache"/intel/download/mesa_*.dsc | head -n 1)
+  sha=$(sha256sum "$dsc" | cut -d' ' -f1)
+  key="$cache/intel/$sha"
+  if [ -f "$key/libintel_noop_drm_shim.so" ]; then
+    echo "already built: $key"
+  else
+    src="$key/src"
+    build="$key/build"
+    rm -rf "$src" "$build"
+    mkdir -p "$key"
+    dpkg-source --no-check -x "$dsc" "$src"
+    # Only the shim: no drivers, no window systems, no LLVM (../shared TOOLCHAIN "Other
+    # vendors' production-path compilers"): one target, about 180 ninja steps.
+    meson setup "$build" "$src" --buildtype=release -Dvulkan-drivers= -Dgallium-drivers= \
+      -Ddri-drivers= -Dtools=drm-shim,intel -Dplatforms= -Dllvm=disabled -Dglx=disabled \
+      -Degl=disabled -Dgbm=disabled -Dopengl=false -Dgles1=disabled -Dgles2=disabled \
+      -Dvalgrind=disabled -Dlibunwind=disabled -Dlmsensors=disabled -Dzstd=disabled \
+      -Dbuild-tests=false
+    ninja -C "$build" src/intel/tools/libintel_noop_drm_shim.so
+    cp "$build/src/intel/tools/libintel_noop_drm_shim.so" "$key/"
+    # Keep the shim and the .dsc (its key); the sources and build are 500 MB.
+    rm -rf "$src" "$build"
+    find "$cache/intel/download" -type f ! -name '*.dsc' -delete
+  fi
+  {
+    echo "SHIM=$key/libintel_noop_drm_shim.so"
+    echo "SOURCE=$(basename "$dsc")"
+    echo "SOURCE_SHA256=$sha"
+  } >"$cache/intel.env"
+}
+
+gl_download() {
+  local dir="$cache/apt/backports"
+  mkdir -p "$dir"
+  cat >"$dir/sources.list" <<'EOF'
+deb [arch=amd64 signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm-backports main
+EOF
+  apt_private backports update
+  rm -rf "$cache/gl/download"
+  mkdir -p "$cache/gl/download"
+  (cd "$cache/gl/download" && apt_private backports download mesa-drm-shim)
+}
+
+gl_unpack() {
+  local deb sha key lib
+  deb=$(ls "$cache"/gl/download/mesa-drm-shim_*.deb | head -n 1)
+  sha=$(sha256sum "$deb" | cut -d' ' -f1)
+  key="$cache/gl/$sha"
+  rm -rf "$key"
+  mkdir -p "$key"
+  dpkg-deb -x "$deb" "$key/root"
+  lib=$(dirname "$(find "$key/root" -name libnouveau_noop_drm_shim.so | head -n 1)")
+  [ -f "$lib/libnouveau_noop_drm_shim.so" ] && [ -f "$lib/libradeon_noop_drm_shim.so" ]
+  {
+    echo "NOUVEAU_SHIM=$lib/libnouveau_noop_drm_shim.so"
+    echo "RADEON_SHIM=$lib/libradeon_noop_drm_shim.so"
+    echo "SOURCE=$(basename "$deb")"
+    echo "SOURCE_SHA256=$sha"
+  } >"$cache/gl.env"
+}
+
+setup_intel() {
+  ready intel && { say "intel: set up ($cache/intel.env)"; return 0; }
+  step intel "packages (scripts/install-deps.sh intel)" "$here/install-deps.sh" intel || return 1
+  step intel "Debian's Mesa source (apt-get source, private apt state)" intel_source || return 1
+  step intel "build the noop drm-shim (meson, ninja)" intel_build || return 1
+  say "intel: set up ($cache/intel.env)"
+}
+
+setup_gl() {
+  ready gl && { say "gl: set up ($cache/gl.env)"; return 0; }
+  step gl "packages (scripts/install-deps.sh gl)" "$here/install-deps.sh" gl || return 1
+  step gl "download bookworm-backports' mesa-drm-shim (private apt state)" gl_download || return 1
+  step gl "unpack the .deb into the cache" gl_unpack || return 1
+  say "gl: set up ($cache/gl.env)"
+}
+
+if [ "${1:-}" = "--step" ]; then
+  shift
+  set -e
+  "$@"
+  exit 0
+fi
+
+status=0
+for route in "${@:-intel gl}"; do
+  for r in $route; do
+    start=$(date +%s)
+    case "$r" in
+      intel) setup_intel || status=1 ;;
+      gl) setup_gl || status=1 ;;
+      *) say "unknown route '$r' (expected intel or gl)"; exit 2 ;;
+    esac
+    say "$r: $(($(date +%s) - start)) s"
+  done
+done
+exit $status

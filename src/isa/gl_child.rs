@@ -1,0 +1,140 @@
+//! The child side of `shadelab isa` on an OpenGL route (nouveau, r600): the timed draw's
+//! programs (the same SPIR-V as the Vulkan draw, turned into GLSL by spirv-cross with the
+//! draw's specialization constants) and the isolated kernels, compiled and linked in an EGL
+//! surfaceless context of the driver the environment selects; the vendor reads its
+//! compiler's statistics out of the KHR_debug messages. Only float32 programs: these drivers
+//! have no float16 arithmetic in OpenGL. No disassembly: the drivers send none.
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use super::child::{ChildReport, ChildRequest, Compiled};
+use super::vendor::Vendor;
+use crate::error::{Error, Result};
+use crate::gpu::gl::{glsl, GlContext, GlStage};
+use crate::gpu::shaders;
+use crate::gpu::vk::{Executable, StatValue, Statistic};
+use crate::method::{self, Precision};
+use crate::scene::SceneInputs;
+
+/// Compiles what `req` asks for on the OpenGL driver the environment selects, refusing a
+/// renderer that is not `chip`.
+pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<ChildReport> {
+    let start = Instant::now();
+    if req.precision != Precision::F32 {
+        return Err(Error::Device(format!(
+            "{}: the OpenGL route compiles float32 programs only (no float16 arithmetic in \
+             these drivers' OpenGL)",
+            req.family
+        )));
+    }
+    if !req.probes.is_empty() {
+        return Err(Error::Usage(format!(
+            "{}: probes are compiled on the Vulkan routes only",
+            req.family
+        )));
+    }
+    let ctx = GlContext::surfaceless()?;
+    let info = ctx.info().clone();
+    vendor
+        .check_device(chip, &info.renderer)
+        .map_err(|why| Error::Device(format!("{}: {why}", req.family)))?;
+    let scene = super::child::scene(req)?;
+    let mut inputs: BTreeMap<String, SceneInputs> = BTreeMap::new();
+    let mut compiled = Vec::new();
+    for name in &req.methods {
+        let m = method::find(name)?;
+        let key = format!("{:?}", m.geometry);
+        let inputs = inputs
+            .entry(key)
+            .or_insert_with(|| SceneInputs::new(&scene, m.geometry));
+        let program = shaders::program_name_in(m.name, inputs.interpolation, req.precision);
+        let spec = crate::gpu::draw_specialization(inputs);
+        let (vs, mut set) =
+            glsl::from_spirv(&program, shaders::embedded(&program, "vert")?, &spec)?;
+        let (fs, set_fs) = glsl::from_spirv(&program, shaders::embedded(&program, "frag")?, &spec)?;
+        set.extend(set_fs);
+        glsl::check_all_set(&program, &spec, &set)?;
+        let messages = ctx.compile(
+            &program,
+            &[(GlStage::Vertex, &vs), (GlStage::Fragment, &fs)],
+        )?;
+        compiled.push(Compiled {
+            method: m.name.to_string(),
+            executables: executables(vendor, &program, &messages, &["vertex", "fragment"])?,
+            program,
+            kind: "draw".into(),
+            repeat: None,
+        });
+        if !shaders::has_evaluate_program(m) {
+            continue;
+        }
+        let program = shaders::evaluate_program_in(m.name, req.precision);
+        for &k in &req.kernel_counts {
+            let spec = [(1, k)];
+            let (cs, set) =
+                glsl::from_spirv(&program, shaders::embedded(&program, "comp")?, &spec)?;
+            glsl::check_all_set(&program, &spec, &set)?;
+            let messages = ctx.compile(&program, &[(GlStage::Compute, &cs)])?;
+            compiled.push(Compiled {
+                method: m.name.to_string(),
+                executables: executables(vendor, &program, &messages, &["compute"])?,
+                program: program.clone(),
+                kind: "kernel".into(),
+                repeat: Some(k),
+            });
+        }
+    }
+    Ok(ChildReport {
+        family: req.family.clone(),
+        device_name: info.renderer,
+        driver_name: info.vendor,
+        driver_info: info.version,
+        api_version: "OpenGL 4.3 core".into(),
+        compiled,
+        elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
+        float16: Some(false),
+    })
+}
+
+/// One executable per stage of `stages` out of the driver's `messages` (the last message of a
+/// stage wins: a driver that compiles a stage twice reports the variant it keeps last); an
+/// error when a stage has none (the driver printed no statistics: nothing is measured).
+pub fn executables(
+    vendor: &dyn Vendor,
+    program: &str,
+    messages: &[String],
+    stages: &[&str],
+) -> Result<Vec<Executable>> {
+    let mut by_stage: BTreeMap<String, Vec<(String, f64)>> = BTreeMap::new();
+    for m in messages {
+        if let Some((stage, stats)) = vendor.parse_debug_message(m) {
+            by_stage.insert(stage, stats);
+        }
+    }
+    stages
+        .iter()
+        .map(|&stage| {
+            let stats = by_stage.remove(stage).ok_or_else(|| {
+                Error::Device(format!(
+                    "{program}: the driver sent no statistics for the {stage} shader \
+                     (messages: {messages:?})"
+                ))
+            })?;
+            Ok(Executable {
+                name: stage.into(),
+                description: format!("{stage} shader (the driver's shader-db line)"),
+                stage: stage.into(),
+                subgroup_size: 0,
+                statistics: stats
+                    .into_iter()
+                    .map(|(name, v)| Statistic {
+                        name,
+                        description: String::new(),
+                        value: StatValue::Float(v),
+                    })
+                    .collect(),
+                representations: Vec::new(),
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,287 @@
+//! Intel Gen9 to Xe-HPG: Debian's ANV (mesa-vulkan-drivers) on Mesa's Intel noop drm-shim
+//! (`LD_PRELOAD`, `INTEL_STUB_GPU_PLATFORM=<chip>`), the shim built from Debian's own Mesa
+//! source by `scripts/setup-vendors.sh intel` into the user's cache. ANV is Intel's
+//! production Linux Vulkan driver; its back-end (brw) compiles every fragment shader at SIMD8
+//! and, where it can, SIMD16 and SIMD32, each an executable with its own statistics.
+//!
+//! Which width runs: brw_compile_fs (src/intel/compiler/brw_fs.cpp, Mesa 22.3.6) always keeps
+//! SIMD8, keeps SIMD16 when it compiles without spilling, and keeps SIMD32 only when its
+//! estimated throughput beats the narrower ones' ("SIMD32 shader inefficient" otherwise); ANV
+//! enables every kept width in 3DSTATE_PS (genX_pipeline.c, `brw_fs_get_dispatch_enables` of
+//! brw_compiler.h), and the hardware dispatches the widest enabled width when it has pixels
+//! enough (the "Variable Pixel Dispatch" table of the PRM cited there). So a draw's pixels run
+//! at the widest kept width: its figures are the row's unprefixed statistics, with
+//! `dispatch_width`; every width's are kept as `simd<W>_<statistic>`.
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::{Api, Compiler, Ranking, Setup, Vendor};
+use crate::gpu::vk::{Executable, Representation, StatValue, Statistic};
+
+/// The route through ANV and brw.
+pub struct Intel;
+
+/// Debian's ANV ICD (mesa-vulkan-drivers).
+pub const ICD: &str = "/usr/share/vulkan/icd.d/intel_icd.x86_64.json";
+
+impl Vendor for Intel {
+    fn prefix(&self) -> &'static str {
+        "intel"
+    }
+
+    fn default_chips(&self) -> &'static [&'static str] {
+        // Gen9 Skylake, Gen11 Ice Lake, Gen12 Tiger Lake and Alder Lake, Xe-HPG DG2 (Arc).
+        &["skl", "icl", "tgl", "adl", "dg2"]
+    }
+
+    fn api(&self) -> Api {
+        Api::Vulkan { device: "intel" }
+    }
+
+    fn compiler(&self) -> Compiler {
+        Compiler {
+            driver: "ANV (brw)".into(),
+            api: "Vulkan".into(),
+            mesa_version: None,
+            production: true,
+            note: "Mesa's ANV is Intel's own production Vulkan driver on Linux; the Windows \
+                   driver has another compiler"
+                .into(),
+        }
+    }
+
+    fn ranking(&self) -> Ranking {
+        Ranking {
+            key: "cycle_count".into(),
+            stage: "fragment".into(),
+            kind: "draw".into(),
+            unit: "cycles per thread".into(),
+            meaning: "brw's cycle estimate of one thread at the SIMD width the driver dispatches \
+                      (the widest it kept: `dispatch_width`); a static model, not a timing"
+                .into(),
+        }
+    }
+
+    fn required_statistics(&self) -> &'static [&'static str] {
+        &[
+            "instruction_count",
+            "cycle_count",
+            "send_count",
+            "spill_count",
+            "fill_count",
+            "grf_registers",
+            "dispatch_width",
+        ]
+    }
+
+    fn float16(&self, _chip: &str) -> Option<bool> {
+        None
+    }
+
+    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+        super::need_file(ICD, "mesa-vulkan-drivers")?;
+        let setup = super::read_env("intel")?;
+        setup.get("SHIM")?;
+        Ok(setup)
+    }
+
+    fn setup_command(&self) -> &'static str {
+        "scripts/setup-vendors.sh intel"
+    }
+
+    fn child_env(
+        &self,
+        chip: &str,
+        setup: &Setup,
+        _driver_files: &Path,
+    ) -> Result<Vec<(String, String)>, String> {
+        Ok(vec![
+            ("LD_PRELOAD".into(), setup.get("SHIM")?.into()),
+            ("INTEL_STUB_GPU_PLATFORM".into(), chip.into()),
+            ("VK_DRIVER_FILES".into(), ICD.into()),
+            ("VK_ICD_FILENAMES".into(), ICD.into()),
+            ("NODEVICE_SELECT".into(), "1".into()),
+            ("MESA_SHADER_CACHE_DISABLE".into(), "true".into()),
+        ])
+    }
+
+    fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String> {
+        super::refuse_software(device_name)?;
+        if device_name.to_lowercase().contains("intel") {
+            Ok(())
+        } else {
+            Err(format!("ANV gave `{device_name}`, not an Intel {chip}"))
+        }
+    }
+
+    fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
+        merge_simd(exes)
+    }
+}
+
+/// The SIMD width of an executable: ANV names fragment executables "SIMD16 fragment" and
+/// describes every one as "SIMD8 vertex shader"; the subgroup size is the same width.
+fn width(e: &Executable) -> u32 {
+    let text = format!("{} {}", e.name, e.description);
+    text.split_whitespace()
+        .find_map(|w| w.strip_prefix("SIMD")?.parse().ok())
+        .unwrap_or(e.subgroup_size)
+}
+
+/// The distinct general registers (`g<N>`) an assembly names: a proxy of the registers the
+/// program holds (ANV 22.3.6 reports no register statistic; a SIMD16 operand spans two
+/// registers and is named once; the render-target write's payload sits in the top ones).
+pub fn grf_registers(asm: &str) -> Option<u32> {
+    let mut seen = std::collections::BTreeSet::new();
+    for token in asm.split(|c: char| !(c.is_ascii_alphanumeric())) {
+        if let Some(n) = token.strip_prefix('g').and_then(|d| d.parse::<u32>().ok()) {
+            seen.insert(n);
+        }
+    }
+    (!seen.is_empty()).then_some(seen.len() as u32)
+}
+
+fn stat(name: String, value: f64) -> Statistic {
+    Statistic {
+        description: String::new(),
+        name,
+        value: StatValue::Float(value),
+    }
+}
+
+/// One executable per stage: every width's statistics as "SIMD<W> <name>" (with
+/// "GRF registers" from its assembly), the dispatched (widest) width's also under their own
+/// names with "Dispatch Width", and the widths' assemblies one after the other.
+pub fn merge_simd(exes: Vec<Executable>) -> Vec<Executable> {
+    let mut by_stage: BTreeMap<String, Vec<Executable>> = BTreeMap::new();
+    let mut order = Vec::new();
+    for e in exes {
+        if !order.contains(&e.stage) {
+            order.push(e.stage.clone());
+        }
+        by_stage.entry(e.stage.clone()).or_default().push(e);
+    }
+    let mut out = Vec::new();
+    for stage in order {
+        let mut list = by_stage.remove(&stage).unwrap_or_default();
+        list.sort_by_key(width);
+        let Some(widest) = list.last() else { continue };
+        let w_max = width(widest);
+        let mut merged = Executable {
+            name: stage.clone(),
+            description: format!("{stage} shader, dispatched at SIMD{w_max}"),
+            stage: stage.clone(),
+            subgroup_size: w_max,
+            statistics: Vec::new(),
+            representations: Vec::new(),
+        };
+        let mut text = String::new();
+        for e in &list {
+            let w = width(e);
+            // "GEN Assembly" only (ANV also gives "Final NIR").
+            let asm: String = e
+                .representations
+                .iter()
+                .filter(|r| r.name.to_lowercase().contains("assembl"))
+                .map(|r| r.text.as_str())
+                .collect();
+            let mut stats = e.statistics.clone();
+            if let Some(g) = grf_registers(&asm) {
+                stats.push(Statistic {
+                    name: "GRF registers".into(),
+                    description: "distinct general registers the assembly names".into(),
+                    value: StatValue::Uint(u64::from(g)),
+                });
+            }
+            for s in &stats {
+                let mut p = s.clone();
+                p.name = format!("SIMD{w} {}", s.name);
+                merged.statistics.push(p);
+            }
+            if w == w_max {
+                merged.statistics.extend(stats);
+                merged
+                    .statistics
+                    .push(stat("Dispatch Width".into(), f64::from(w)));
+            }
+            if !asm.is_empty() {
+                text += &format!("// SIMD{w}\n{asm}\n");
+            }
+        }
+        if !text.is_empty() {
+            merged.representations.push(Representation {
+                name: "GEN Assembly".into(),
+                description: "every SIMD width, narrowest first".into(),
+                text,
+            });
+        }
+        out.push(merged);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn exe(name: &str, cycles: u64, asm: &str) -> Executable {
+        Executable {
+            name: name.into(),
+            description: format!("{name} shader"),
+            stage: "fragment".into(),
+            subgroup_size: 0,
+            statistics: vec![Statistic {
+                name: "Cycle Count".into(),
+                description: String::new(),
+                value: StatValue::Uint(cycles),
+            }],
+            representations: vec![Representation {
+                name: "GEN Assembly".into(),
+                description: String::new(),
+                text: asm.into(),
+            }],
+        }
+    }
+
+    #[test]
+    fn widths_merge_into_one_row_with_the_widest_unprefixed() {
+        let merged = merge_simd(vec![
+            exe(
+                "SIMD16 fragment",
+                300,
+                "mad(16) g12<1>F g4<8,8,1>F g2<0,1,0>F",
+            ),
+            exe("SIMD8 fragment", 200, "mov(8) g3<1>F g7<8,8,1>F"),
+        ]);
+        assert_eq!(merged.len(), 1);
+        let get = |n: &str| {
+            merged[0]
+                .statistics
+                .iter()
+                .find(|s| s.name == n)
+                .map(|s| s.value.as_f64())
+        };
+        assert_eq!(get("SIMD8 Cycle Count"), Some(200.0));
+        assert_eq!(get("SIMD16 Cycle Count"), Some(300.0));
+        assert_eq!(get("Cycle Count"), Some(300.0));
+        assert_eq!(get("Dispatch Width"), Some(16.0));
+        assert_eq!(get("SIMD8 GRF registers"), Some(2.0));
+        assert_eq!(get("GRF registers"), Some(3.0));
+        // Teeth: with SIMD8 alone, SIMD8 is what runs.
+        let merged = merge_simd(vec![exe("SIMD8 fragment", 200, "mov(8) g3<1>F g7")]);
+        let c = merged[0]
+            .statistics
+            .iter()
+            .find(|s| s.name == "Cycle Count");
+        assert_eq!(c.map(|s| s.value.as_f64()), Some(200.0));
+    }
+
+    #[test]
+    fn registers_are_the_distinct_ones_named() {
+        assert_eq!(
+            grf_registers("add(8) g10<1>F g2<8,8,1>F -g10<0,1,0>F"),
+            Some(2)
+        );
+        assert_eq!(grf_registers("nop"), None);
+    }
+}

@@ -1,0 +1,392 @@
+//! The vendor seam of `shadelab isa`: one [`Vendor`] per compiler route, each in a file of its
+//! own ([`amd`], [`intel`], [`nouveau`], [`terascale`]) and registered in [`VENDORS`]. A
+//! vendor says which families it compiles, how a child compiles them (Vulkan pipeline
+//! executable statistics, or OpenGL's shader-db statistics through KHR_debug: [`Api`]), the
+//! child's environment (driver selection, the preloaded drm-shim, the chip variable), which
+//! statistic ranks its programs and what it means ([`Ranking`]), who compiled them
+//! ([`Compiler`]), how to tell that the route is set up and the command that sets it up.
+//!
+//! Family ids are spelt `<vendor>:<chip>` everywhere (`amd:navi21`, `intel:tgl`,
+//! `nvidia:nv162`, `terascale:cayman`; lower case): in isa.json's rows, the cost models
+//! (`isa:amd:navi21`), CSV and HTML. A bare chip name given on the command line means AMD's
+//! (`navi21` is `amd:navi21`).
+//!
+//! Adding a vendor: a file implementing [`Vendor`] and one line in [`VENDORS`].
+pub mod amd;
+pub mod intel;
+pub mod nouveau;
+pub mod terascale;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use crate::gpu::vk::Executable;
+
+/// Every vendor `shadelab isa` knows, in the order of its reports.
+pub static VENDORS: [&dyn Vendor; 4] = [
+    &amd::Amd,
+    &intel::Intel,
+    &nouveau::Nouveau,
+    &terascale::TeraScale,
+];
+
+/// How a vendor's child compiles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Api {
+    /// Vulkan pipelines on the device whose name contains `device` (case-insensitive), read
+    /// back through VK_KHR_pipeline_executable_properties.
+    Vulkan { device: &'static str },
+    /// OpenGL programs (our SPIR-V translated to GLSL) in an EGL surfaceless context, the
+    /// compiler's statistics read from its KHR_debug messages.
+    OpenGl,
+}
+
+/// The statistic that ranks a family's programs: the key in a row's `statistics`, read from
+/// the rows of `stage` and `kind` (the timed draw's fragment shader for every vendor).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Ranking {
+    pub key: String,
+    pub stage: String,
+    pub kind: String,
+    /// "cycles per wave", "cycles per thread", "instructions", "ALU instruction groups".
+    pub unit: String,
+    /// What the figure is, e.g. "ACO inverse throughput, cycles per wave".
+    pub meaning: String,
+}
+
+/// Who compiled a family's programs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Compiler {
+    /// "RADV (ACO)", "ANV (brw)", "nouveau (nv50 IR codegen)", "r600 (sb)".
+    pub driver: String,
+    /// "Vulkan" or "OpenGL".
+    pub api: String,
+    /// The driver's version string as the child read it ("Mesa 22.3.6"); absent for a family
+    /// that did not compile.
+    pub mesa_version: Option<String>,
+    /// Whether it is the compiler the vendor's own Linux driver ships (AMD's RADV, Intel's
+    /// ANV), as opposed to Mesa's own compiler for hardware whose vendor ships another one
+    /// (NVIDIA's proprietary driver, AMD's Catalyst for TeraScale).
+    pub production: bool,
+    pub note: String,
+}
+
+/// What a set-up route gives its children (read from its `.env` file in the cache, see
+/// scripts/setup-vendors.sh), or nothing for a route that needs no set-up.
+#[derive(Debug, Clone, Default)]
+pub struct Setup {
+    pub values: BTreeMap<String, String>,
+}
+
+impl Setup {
+    /// The value of `key`, or an error naming the file it should be in.
+    pub fn get(&self, key: &str) -> Result<&str, String> {
+        self.values
+            .get(key)
+            .map(String::as_str)
+            .ok_or_else(|| format!("{key} is not in the set-up file"))
+    }
+}
+
+/// One compiler route. Implementations are unit structs registered in [`VENDORS`].
+pub trait Vendor: Sync {
+    /// The prefix of this vendor's family ids: "amd", "intel", "nvidia", "terascale".
+    fn prefix(&self) -> &'static str;
+    /// The families compiled by default (chips, without the prefix), oldest first.
+    fn default_chips(&self) -> &'static [&'static str];
+    fn api(&self) -> Api;
+    fn compiler(&self) -> Compiler;
+    fn ranking(&self) -> Ranking;
+    /// The statistics every draw row of this vendor carries (docs/isa.schema.json).
+    fn required_statistics(&self) -> &'static [&'static str];
+    /// Whether the driver compiles float16 arithmetic on `chip`, when known without a child
+    /// (the Vulkan routes read it from the device: `None`).
+    fn float16(&self, chip: &str) -> Option<bool>;
+    /// The route's set-up, or why it is not set up. `driver_files` is the Vulkan ICD
+    /// manifest the user asked for (AMD's `--driver-files`).
+    fn setup(&self, driver_files: &std::path::Path) -> Result<Setup, String>;
+    /// The command that sets the route up.
+    fn setup_command(&self) -> &'static str;
+    /// The child's environment for `chip` (driver selection, preloaded shim, chip variable),
+    /// set before the child loads any driver.
+    fn child_env(
+        &self,
+        chip: &str,
+        setup: &Setup,
+        driver_files: &std::path::Path,
+    ) -> Result<Vec<(String, String)>, String>;
+    /// Refuses a device that is not `chip` (a driver that does not know the chip may fall
+    /// back to a software renderer silently): `Err(why)`.
+    fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String>;
+    /// The executables of one compiled program as rows should see them (Intel: one per SIMD
+    /// width merged into one per stage); unchanged by default.
+    fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
+        exes
+    }
+    /// The statistics of one KHR_debug message of the OpenGL compiler: (stage, statistics)
+    /// with the driver's own names, or `None` for a message that holds none.
+    fn parse_debug_message(&self, _message: &str) -> Option<(String, Vec<(String, f64)>)> {
+        None
+    }
+}
+
+/// A family: its vendor and chip.
+#[derive(Clone, Copy)]
+pub struct Family {
+    pub vendor: &'static dyn Vendor,
+    pub chip: &'static str,
+}
+
+impl std::fmt::Debug for Family {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.id())
+    }
+}
+
+impl Family {
+    /// `<vendor>:<chip>`.
+    pub fn id(&self) -> String {
+        format!("{}:{}", self.vendor.prefix(), self.chip)
+    }
+}
+
+/// The vendor and chip of a family id (`intel:tgl`) or a bare AMD chip name (`navi21`); an
+/// error names the known prefixes.
+pub fn resolve(id: &str) -> Result<(&'static dyn Vendor, String), String> {
+    let id = id.trim().to_lowercase();
+    let (prefix, chip) = id.split_once(':').unwrap_or(("amd", &id));
+    let vendor = VENDORS
+        .iter()
+        .find(|v| v.prefix() == prefix)
+        .ok_or_else(|| {
+            let known: Vec<&str> = VENDORS.iter().map(|v| v.prefix()).collect();
+            format!(
+                "family `{id}`: unknown vendor `{prefix}` (known: {})",
+                known.join(", ")
+            )
+        })?;
+    if chip.is_empty() || !chip.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(format!(
+            "family `{id}`: a chip name is letters, digits and underscores"
+        ));
+    }
+    Ok((*vendor, chip.to_string()))
+}
+
+/// The family ids compiled by default: every default chip of every vendor.
+pub fn default_family_ids() -> Vec<String> {
+    VENDORS
+        .iter()
+        .flat_map(|v| {
+            v.default_chips()
+                .iter()
+                .map(|c| format!("{}:{c}", v.prefix()))
+        })
+        .collect()
+}
+
+/// The user's cache of set-up routes: `$XDG_CACHE_HOME/shadelab/vendors`, else
+/// `~/.cache/shadelab/vendors` (scripts/setup-vendors.sh writes there).
+pub fn cache_dir() -> Option<PathBuf> {
+    let base = std::env::var_os("XDG_CACHE_HOME")
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
+    Some(base.join("shadelab").join("vendors"))
+}
+
+/// Reads `<cache>/<route>.env` (KEY=VALUE lines); every value that is an absolute path must
+/// exist. An error says what is missing.
+pub fn read_env(route: &str) -> Result<Setup, String> {
+    let dir = cache_dir().ok_or("no cache directory (neither XDG_CACHE_HOME nor HOME is set)")?;
+    read_env_in(&dir, route)
+}
+
+/// [`read_env`] in the cache folder `dir`.
+pub fn read_env_in(dir: &std::path::Path, route: &str) -> Result<Setup, String> {
+    let path = dir.join(format!("{route}.env"));
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("{} cannot be read ({e})", path.display()))?;
+    let mut values = BTreeMap::new();
+    for line in text.lines().filter(|l| !l.trim().is_empty()) {
+        let (k, v) = line
+            .split_once('=')
+            .ok_or_else(|| format!("{}: `{line}` is not KEY=VALUE", path.display()))?;
+        if v.starts_with('/') && !std::path::Path::new(v).exists() {
+            return Err(format!("{}: {k}={v} does not exist", path.display()));
+        }
+        values.insert(k.to_string(), v.to_string());
+    }
+    Ok(Setup { values })
+}
+
+/// Whether `file` exists, else why not (the package that holds it).
+pub fn need_file(file: &str, package: &str) -> Result<(), String> {
+    if std::path::Path::new(file).exists() {
+        Ok(())
+    } else {
+        Err(format!("{file} is missing (Debian package {package})"))
+    }
+}
+
+/// Whether `program` is on PATH, else why not.
+pub fn need_program(program: &str, package: &str) -> Result<(), String> {
+    let found = std::env::var_os("PATH")
+        .map(|p| std::env::split_paths(&p).any(|d| d.join(program).is_file()))
+        .unwrap_or(false);
+    if found {
+        Ok(())
+    } else {
+        Err(format!(
+            "{program} is not on PATH (Debian package {package})"
+        ))
+    }
+}
+
+/// The set-up of an OpenGL route: Debian's EGL and `dri` driver, spirv-cross, and the shim
+/// `shim_key` of `gl.env` (scripts/setup-vendors.sh gl).
+pub fn gl_setup(dri: &str, shim_key: &str) -> Result<Setup, String> {
+    need_file(
+        &format!("/usr/lib/x86_64-linux-gnu/dri/{dri}_dri.so"),
+        "libgl1-mesa-dri",
+    )?;
+    need_file("/usr/lib/x86_64-linux-gnu/libEGL.so.1", "libegl1")?;
+    need_program("spirv-cross", "spirv-cross")?;
+    let setup = read_env("gl")?;
+    setup.get(shim_key)?;
+    Ok(setup)
+}
+
+/// The environment of an OpenGL child: the shim preloaded, Mesa's `dri` driver forced on an
+/// EGL surfaceless display, the chip variable, no shader cache (a cached shader reports no
+/// statistics).
+pub fn gl_env(
+    setup: &Setup,
+    shim_key: &str,
+    dri: &str,
+    chip_var: (&str, String),
+) -> Result<Vec<(String, String)>, String> {
+    Ok(vec![
+        ("LD_PRELOAD".into(), setup.get(shim_key)?.into()),
+        (chip_var.0.into(), chip_var.1),
+        ("MESA_LOADER_DRIVER_OVERRIDE".into(), dri.into()),
+        ("EGL_PLATFORM".into(), "surfaceless".into()),
+        ("MESA_SHADER_CACHE_DISABLE".into(), "true".into()),
+        ("MESA_GLSL_CACHE_DISABLE".into(), "true".into()),
+    ])
+}
+
+/// "key: value, key: value" pairs of a shader-db message, with the numbers parsed.
+pub fn shader_db_pairs(text: &str) -> Vec<(String, f64)> {
+    text.split(',')
+        .filter_map(|part| {
+            let part = part.trim();
+            let (k, v) = part.split_once(':').or_else(|| {
+                // "110 dw": value first, name after.
+                let (v, k) = part.split_once(' ')?;
+                Some((k, v))
+            })?;
+            Some((k.trim().to_string(), v.trim().parse().ok()?))
+        })
+        .collect()
+}
+
+/// Refuses Mesa's software renderers: a chip the hardware driver does not know may fall back
+/// to one of them without an error.
+pub fn refuse_software(device_name: &str) -> Result<(), String> {
+    let d = device_name.to_lowercase();
+    for soft in ["llvmpipe", "softpipe", "lavapipe", "swrast"] {
+        if d.contains(soft) {
+            return Err(format!(
+                "the driver fell back to a software renderer (`{device_name}`): it does not \
+                 know this chip, nothing was measured"
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_resolve_with_a_bare_name_meaning_amd() {
+        let (v, c) = resolve("navi21").unwrap();
+        assert_eq!((v.prefix(), c.as_str()), ("amd", "navi21"));
+        let (v, c) = resolve(" Intel:TGL ").unwrap();
+        assert_eq!((v.prefix(), c.as_str()), ("intel", "tgl"));
+        assert!(resolve("nvidia:nv162").is_ok());
+        // Teeth: an unknown vendor and an empty or odd chip are refused.
+        let why = resolve("qualcomm:a630").err().unwrap_or_default();
+        assert!(why.contains("unknown vendor"), "{why}");
+        assert!(resolve("intel:").is_err());
+        assert!(resolve("intel:t/gl").is_err());
+    }
+
+    #[test]
+    fn every_vendor_has_its_own_prefix_and_default_families() {
+        let ids = default_family_ids();
+        for v in VENDORS {
+            assert!(!v.default_chips().is_empty(), "{}", v.prefix());
+            assert_eq!(
+                VENDORS.iter().filter(|w| w.prefix() == v.prefix()).count(),
+                1
+            );
+            let r = v.ranking();
+            assert!(
+                v.required_statistics().contains(&r.key.as_str()),
+                "{}",
+                v.prefix()
+            );
+        }
+        for want in [
+            "amd:navi21",
+            "intel:skl",
+            "intel:icl",
+            "intel:tgl",
+            "intel:adl",
+            "intel:dg2",
+            "nvidia:nvc0",
+            "nvidia:nve4",
+            "nvidia:nv117",
+            "nvidia:nv134",
+            "nvidia:nv162",
+            "terascale:cypress",
+            "terascale:cayman",
+        ] {
+            assert!(ids.iter().any(|i| i == want), "{want} not among {ids:?}");
+        }
+    }
+
+    #[test]
+    fn a_route_is_set_up_when_its_env_file_and_files_are_there() {
+        let dir = tempfile::tempdir().unwrap();
+        let why = read_env_in(dir.path(), "gl").err().unwrap_or_default();
+        assert!(why.contains("gl.env cannot be read"), "{why}");
+        let shim = dir.path().join("shim.so");
+        let env = dir.path().join("gl.env");
+        std::fs::write(
+            &env,
+            format!("NOUVEAU_SHIM={}\nSOURCE=x.deb\n", shim.display()),
+        )
+        .unwrap();
+        // Teeth: a path that does not exist is not set up.
+        let why = read_env_in(dir.path(), "gl").err().unwrap_or_default();
+        assert!(why.contains("does not exist"), "{why}");
+        std::fs::write(&shim, b"").unwrap();
+        let setup = read_env_in(dir.path(), "gl").unwrap();
+        assert_eq!(setup.get("SOURCE"), Ok("x.deb"));
+        assert!(setup.get("RADEON_SHIM").is_err());
+        std::fs::write(&env, "no equals sign\n").unwrap();
+        assert!(read_env_in(dir.path(), "gl").is_err());
+    }
+
+    #[test]
+    fn software_renderers_are_refused() {
+        assert!(refuse_software("llvmpipe (LLVM 15.0.6, 256 bits)").is_err());
+        assert!(refuse_software("NV162").is_ok());
+    }
+}

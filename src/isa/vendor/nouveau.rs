@@ -1,0 +1,140 @@
+//! NVIDIA Fermi to Turing: Debian 12's nouveau OpenGL driver (libgl1-mesa-dri) on
+//! bookworm-backports' nouveau noop drm-shim (`NOUVEAU_CHIPSET=<hex>`), through EGL
+//! surfaceless; the statistics are nouveau's shader-db line, delivered as a KHR_debug message
+//! when a program is compiled ("type: 4, local: 0, shared: 0, gpr: 13, inst: 38, bytes: 304,
+//! cached: 0"). The compiler is Mesa's own codegen for NVIDIA hardware, not NVIDIA's.
+use std::path::Path;
+
+use super::{Api, Compiler, Ranking, Setup, Vendor};
+
+/// The route through nouveau's OpenGL driver.
+pub struct Nouveau;
+
+const SHIM: &str = "NOUVEAU_SHIM";
+
+impl Vendor for Nouveau {
+    fn prefix(&self) -> &'static str {
+        "nvidia"
+    }
+
+    fn default_chips(&self) -> &'static [&'static str] {
+        // Fermi GF100, Kepler GK104, Maxwell GM107, Pascal GP104, Turing TU102.
+        &["nvc0", "nve4", "nv117", "nv134", "nv162"]
+    }
+
+    fn api(&self) -> Api {
+        Api::OpenGl
+    }
+
+    fn compiler(&self) -> Compiler {
+        Compiler {
+            driver: "nouveau (codegen)".into(),
+            api: "OpenGL".into(),
+            mesa_version: None,
+            production: false,
+            note: "Mesa's open-source compiler for NVIDIA hardware; NVIDIA's own driver, which \
+                   players run, has another compiler"
+                .into(),
+        }
+    }
+
+    fn ranking(&self) -> Ranking {
+        Ranking {
+            key: "inst".into(),
+            stage: "fragment".into(),
+            kind: "draw".into(),
+            unit: "instructions".into(),
+            meaning: "nouveau's instruction count of the compiled program (no cycle model)".into(),
+        }
+    }
+
+    fn required_statistics(&self) -> &'static [&'static str] {
+        &["inst", "gpr", "bytes", "local", "shared"]
+    }
+
+    fn float16(&self, _chip: &str) -> Option<bool> {
+        Some(false)
+    }
+
+    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+        super::gl_setup("nouveau", SHIM)
+    }
+
+    fn setup_command(&self) -> &'static str {
+        "scripts/setup-vendors.sh gl"
+    }
+
+    fn child_env(
+        &self,
+        chip: &str,
+        setup: &Setup,
+        _driver_files: &Path,
+    ) -> Result<Vec<(String, String)>, String> {
+        let hex = chip
+            .strip_prefix("nv")
+            .filter(|h| !h.is_empty() && h.chars().all(|c| c.is_ascii_hexdigit()))
+            .ok_or_else(|| format!("`{chip}`: nouveau chips are nv<hex>, e.g. nv162, nvc0"))?;
+        super::gl_env(setup, SHIM, "nouveau", ("NOUVEAU_CHIPSET", hex.to_string()))
+    }
+
+    fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String> {
+        super::refuse_software(device_name)?;
+        // nouveau names its screen "NV%02X" after the chipset.
+        if device_name.trim().eq_ignore_ascii_case(chip) {
+            Ok(())
+        } else {
+            Err(format!(
+                "the renderer is `{device_name}`, not {}",
+                chip.to_uppercase()
+            ))
+        }
+    }
+
+    fn parse_debug_message(&self, message: &str) -> Option<(String, Vec<(String, f64)>)> {
+        let pairs = super::shader_db_pairs(message);
+        let ty = pairs.iter().find(|(k, _)| k == "type")?.1;
+        // gallium's shader types are Mesa's stages in 22.3: 0 vertex, 4 fragment, 5 compute.
+        let stage = match ty as i64 {
+            0 => "vertex",
+            4 => "fragment",
+            5 => "compute",
+            _ => return None,
+        };
+        let stats = pairs
+            .into_iter()
+            .filter(|(k, _)| k != "type" && k != "cached");
+        Some((stage.into(), stats.collect()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_shader_db_line_parses() {
+        let (stage, stats) = Nouveau
+            .parse_debug_message(
+                "type: 4, local: 0, shared: 0, gpr: 13, inst: 38, bytes: 304, cached: 0",
+            )
+            .unwrap();
+        assert_eq!(stage, "fragment");
+        assert!(stats.contains(&("inst".into(), 38.0)));
+        assert!(stats.contains(&("gpr".into(), 13.0)));
+        assert!(!stats.iter().any(|(k, _)| k == "cached"));
+        // Teeth: another message, and an unknown stage, give nothing.
+        assert!(Nouveau
+            .parse_debug_message("GLSL IR for shader 3")
+            .is_none());
+        assert!(Nouveau.parse_debug_message("type: 3, inst: 5").is_none());
+    }
+
+    #[test]
+    fn the_renderer_must_be_the_chip() {
+        assert!(Nouveau.check_device("nv162", "NV162").is_ok());
+        assert!(Nouveau
+            .check_device("nv172", "llvmpipe (LLVM 15.0.6, 256 bits)")
+            .is_err());
+        assert!(Nouveau.check_device("nv162", "NV134").is_err());
+    }
+}
