@@ -377,7 +377,7 @@ pub(crate) fn claims(rows: &[MethodTiming], len2_range: Option<(f64, f64)>) -> V
             }
             // the row's own check (f64 sweep, proof); those it leaves to the bench (timing,
             // op count) are the rows above
-            let j = m.judge(c);
+            let j = crate::prove::bounds::judge(m, c);
             if j.verdict != Verdict::NotChecked {
                 out.push(ClaimCheck {
                     evidence: j.evidence,

@@ -33,5 +33,5 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
 /// Method `m` as JSON, its claims judged now by their checks (a bound the proof covers says
 /// basis proven, with its proven upper bound beside the found value; see docs/proof.md).
 fn judged(m: &'static crate::method::Method) -> Result<serde_json::Value> {
-    Ok(m.json())
+    Ok(crate::prove::bounds::json(m))
 }

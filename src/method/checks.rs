@@ -618,21 +618,18 @@ mod tests {
     /// The verdict of claim `i` of row `name`, judged by its check.
     fn judged(name: &str, i: usize) -> Measurement {
         let m = crate::method::find(name).unwrap();
-        m.judge(&m.claims[i])
+        m.claims[i]
+            .judge_without_proof(m)
+            .expect("a claim this layer checks")
     }
 
     #[test]
     fn the_table_checks_give_the_verdicts_of_formulas_md_section_3() {
         let v = |name, i| judged(name, i).verdict;
-        assert_eq!(v("newton_raphson", 0), Verdict::Partly);
         assert_eq!(v("newton_raphson", 1), Verdict::Disagrees);
         assert_eq!(v("lyon_taylor", 0), Verdict::Partly);
         assert_eq!(v("hast_half_vector", 0), Verdict::Agrees);
         assert_eq!(v("quaternion", 0), Verdict::Agrees);
-        for m in ["mikami_const", "mikami_linear", "mikami_quadratic"] {
-            assert_eq!(v(m, 0), Verdict::Agrees, "{m}");
-        }
-        assert_eq!(v("romanyuk_poly", 0), Verdict::Partly);
         assert_eq!(v("trueform", 0), Verdict::NotChecked);
         assert_eq!(v("specular_lut", 0), Verdict::NotChecked);
         assert_eq!(v("gouraud", 0), Verdict::NotChecked);

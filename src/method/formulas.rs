@@ -20,7 +20,10 @@
 use glam::DVec3;
 
 use super::real::{Float, Real, Vector};
-use crate::scene::MAX_LIGHTS;
+
+/// The most lights a scene has: the uniform block's arrays (glsl/common.glsl) and
+/// [`Lighting`]'s (`crate::scene::MAX_LIGHTS` names it too).
+pub const MAX_LIGHTS: usize = 4;
 
 /// Exact normalization `N / |N|` (docs/formulas.md#exact-phong). Returns the input unchanged when
 /// it has zero length (the GPU's `normalize` gives NaN there; no sane mesh reaches it, see the
@@ -734,7 +737,7 @@ mod tests {
         // (docs/formulas.md#newton-raphson-step).
         // The claim's check evaluates both (src/method/checks.rs).
         let row = crate::method::find("newton_raphson").unwrap();
-        let m = row.judge(&row.claims[1]);
+        let m = row.claims[1].judge_without_proof(row).unwrap();
         assert_eq!(m.verdict, crate::method::Verdict::Disagrees, "{m:?}");
         assert!(
             m.measured.starts_with("k(1) = 0.666667 as printed"),
@@ -1211,7 +1214,7 @@ mod tests {
         // The claim's check builds the same table and prints its size, without a verdict: the
         // size follows from the sample count and entry size, which the seed does not give.
         let row = crate::method::find("specular_lut").unwrap();
-        let m = row.judge(&row.claims[0]);
+        let m = row.claims[0].judge_without_proof(row).unwrap();
         assert_eq!(m.verdict, crate::method::Verdict::NotChecked, "{m:?}");
         assert!(m.measured.contains("= 4177920 bytes"), "{m:?}");
         // row-major layout, value cos^n rounded to f32

@@ -13,10 +13,10 @@
 //! leaks one row the same way (src/method/user.rs leaks the rows of user methods).
 use half::f16;
 
+use super::dual::Dual;
+use super::interval::Interval;
 #[cfg(doc)]
 use super::real::Real;
-use crate::prove::dual::Dual;
-use crate::prove::interval::Interval;
 
 /// A scalar formula `f(z)` in every number type it is evaluated in: the f64 truth, the
 /// software engine's float32 and float16, and `prove`'s intervals and their derivatives.

@@ -3,7 +3,9 @@
 //! the f64 twins (src/method/) and every output. Identifiers are snake_case and appear unchanged in
 //! file names, CLI arguments, CSV and JSON.
 pub mod checks;
+pub mod dual;
 pub mod formulas;
+pub mod interval;
 pub mod kernel;
 pub mod precision;
 pub mod real;
@@ -384,8 +386,8 @@ pub enum Criteria {
 
 /// A numerical claim of the papers, typed, and the check that measures it.
 ///
-/// Serialising a claim (`shadelab list --json`, through [`Method::json`]) runs its check, so
-/// the JSON holds `claim`, `measured`, `verdict`, `basis`, `proven_upper`, `found`, `quantity`
+/// Serialising a claim (`shadelab list --json`, through `crate::prove::bounds::json`) runs its
+/// check, so the JSON holds `claim`, `measured`, `verdict`, `basis`, `proven_upper`, `found`, `quantity`
 /// and `how` as measured at that moment.
 #[derive(Debug, Clone, Copy)]
 pub struct Claim {
@@ -397,21 +399,34 @@ pub struct Claim {
     /// in f64 or on the device) or measured (a timing, a count, a property). The check's
     /// evidence has this basis (a test checks it).
     pub basis: Basis,
-    /// Measures the claim of its row (an f64 sweep of the row's formula, a proof, see
-    /// [`checks`]) and derives the verdict; `not_checked`, saying which command judges it,
-    /// for a claim no formula measures.
-    pub check: fn(&Method, &Claim) -> Measurement,
+    /// What measures it and derives the verdict.
+    pub check: Check,
 }
 
-/// A claim of a row, judged now: what `shadelab list --json` writes for it.
-pub struct Judged<'a> {
-    pub method: &'a Method,
-    pub claim: &'a Claim,
+/// What measures a claim (`crate::prove::bounds::judge` runs it).
+#[derive(Debug, Clone, Copy)]
+pub enum Check {
+    /// An f64 check of this layer ([`checks`], [`scanline_checks`]): a sweep of the row's
+    /// formula, a property of it.
+    Sampled(fn(&Method, &Claim) -> Measurement),
+    /// The proof's check of the claim's kind on the row's kernel (`crate::prove::bounds`: a
+    /// scaled method's length bound, validity by both criteria, error ratio): an interval
+    /// bound beside the f64 sweep where the kernel is provable, the sweep alone where not.
+    Proof,
+    /// No formula measures it: `not_checked`, naming the command that judges it from the row
+    /// ([`checks::judged_elsewhere`]).
+    Elsewhere,
 }
 
-impl Serialize for Judged<'_> {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        serialize_claim(self.claim.claim, &self.method.judge(self.claim), s)
+impl Claim {
+    /// The claim of `m` judged by a check of this layer; `None` for [`Check::Proof`] (the
+    /// proof is a layer above: `crate::prove::bounds::judge` judges every claim).
+    pub fn judge_without_proof(&self, m: &Method) -> Option<Measurement> {
+        match self.check {
+            Check::Sampled(f) => Some(f(m, self)),
+            Check::Elsewhere => Some(checks::judged_elsewhere(m, self)),
+            Check::Proof => None,
+        }
     }
 }
 
@@ -457,7 +472,7 @@ pub struct Method {
     /// The range in which the paper says it is valid.
     pub validity: &'static str,
     /// Numerical claims the papers make about it, typed, each with the check that measures it
-    /// (in JSON through [`Method::json`], judged now).
+    /// (in JSON through `crate::prove::bounds::json`, judged now).
     #[serde(skip)]
     pub claims: &'static [Claim],
     /// The GLSL file under glsl/ that defines `methodNormal()` or `methodColor()`.
@@ -471,26 +486,6 @@ impl Method {
     /// Whether the row lists `property`.
     pub fn has(&self, property: Property) -> bool {
         self.properties.contains(&property)
-    }
-
-    /// Claim `c` of this row, judged now by its check.
-    pub fn judge(&self, c: &Claim) -> Measurement {
-        (c.check)(self, c)
-    }
-
-    /// The row as `shadelab list --json` writes it: its columns, and its claims judged now.
-    pub fn json(&self) -> serde_json::Value {
-        let mut v = serde_json::to_value(self).expect("a method row serialises");
-        let claims: Vec<_> = self
-            .claims
-            .iter()
-            .map(|claim| Judged {
-                method: self,
-                claim,
-            })
-            .collect();
-        v["claims"] = serde_json::to_value(claims).expect("a claim serialises");
-        v
     }
 
     /// The method in f64 at one pixel ([`Kernel::eval_f64`]). Panics for a user method

@@ -4,8 +4,8 @@
 //! - [`Real`]: the arithmetic a formula may use (+, -, *, /, negation, constants, square root,
 //!   max and min). Implemented for `f64` (the f64 truth: the twins, stress, the claims' sweeps),
 //!   `f32` (the software engine, bit for bit the shipped engine), `half::f16` (the float16 twin
-//!   of the device's f16 programs) and the outward-rounded interval of `crate::prove` with its
-//!   derivative (`crate::prove::interval::Interval`, `crate::prove::dual::Dual`: the same formula
+//!   of the device's f16 programs) and the outward-rounded interval `prove` bounds with, and
+//!   its derivative ([`super::interval::Interval`], [`super::dual::Dual`]: the same formula
 //!   bounded over a box of inputs). A formula over [`Real`] alone runs in all five, which is
 //!   what makes a method provable.
 //! - [`Float`]: a [`Real`] that is one point, not a box: comparisons, the transcendental
@@ -485,7 +485,9 @@ mod tests {
     /// so the software engine computes with the constants it computed with as f32 literals.
     #[test]
     fn every_formula_constant_rounds_to_its_f32_literal() {
+        // the literals as the formulas write them (2^-14 spelled out in full)
         #[rustfmt::skip]
+        #[allow(clippy::excessive_precision)]
         let pairs: [(f64, f32); 29] = [
             (0.5, 0.5), (3.0, 3.0), (1.0, 1.0), (0.375, 0.375), (0.822, 0.822),
             (2.046, 2.046), (2.227, 2.227), (2.0 / 3.0, 2.0 / 3.0), (0.35, 0.35), (0.64, 0.64),

@@ -18,6 +18,46 @@ use crate::method::{
     Verdict,
 };
 
+/// Claim `c` of row `m`, judged now by its check: the one entry every layer that writes claims
+/// goes through (`shadelab list --json`, bench's claims, proof.json's `claims`, the report
+/// through bench.json). A [`crate::method::Check::Proof`] claim by the check of its kind; the others by the
+/// method layer's check.
+pub fn judge(m: &Method, c: &Claim) -> Measurement {
+    if let Some(r) = c.judge_without_proof(m) {
+        return r;
+    }
+    match c.kind {
+        Kind::Validity { .. } => usable_up_to(m, c),
+        Kind::ErrorBound(Bound::Length { .. }) => length_bound(m, c),
+        Kind::ErrorBound(Bound::TimesSmaller { .. }) => times_smaller(m, c),
+        _ => judged_elsewhere(m, c),
+    }
+}
+
+/// A claim of a row, judged now: what `shadelab list --json` writes for it.
+pub struct Judged<'a> {
+    pub method: &'a Method,
+    pub claim: &'a Claim,
+}
+
+impl serde::Serialize for Judged<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        crate::method::serialize_claim(self.claim.claim, &judge(self.method, self.claim), s)
+    }
+}
+
+/// The row as `shadelab list --json` writes it: its columns, and its claims judged now.
+pub fn json(m: &Method) -> serde_json::Value {
+    let mut v = serde_json::to_value(m).expect("a method row serialises");
+    let claims: Vec<_> = m
+        .claims
+        .iter()
+        .map(|claim| Judged { method: m, claim })
+        .collect();
+    v["claims"] = serde_json::to_value(claims).expect("a claim serialises");
+    v
+}
+
 /// The row's scale and its formula's words, or None for a method that does not scale the
 /// normal.
 fn scale_of(m: &Method) -> Option<(&Scale, String)> {
@@ -372,7 +412,7 @@ mod tests {
         let mut proven = 0;
         for m in METHODS {
             for c in m.claims {
-                let r = m.judge(c);
+                let r = judge(m, c);
                 assert_eq!(r.evidence.basis, c.basis, "{}: {}", m.name, c.claim);
                 if c.basis == Basis::Proven {
                     assert!(r.evidence.proven_upper.is_some(), "{}: {r:?}", m.name);
@@ -382,6 +422,13 @@ mod tests {
         }
         // Newton's 40 deg, Mikami's 1.5 % (3), Romanyuk's 8x
         assert_eq!(proven, 5);
+        // their verdicts, those of formulas.md section 3
+        let v = |name, i| judge(row(name), &row(name).claims[i]).verdict;
+        assert_eq!(v("newton_raphson", 0), Verdict::Partly);
+        for m in ["mikami_const", "mikami_linear", "mikami_quadratic"] {
+            assert_eq!(v(m, 0), Verdict::Agrees, "{m}");
+        }
+        assert_eq!(v("romanyuk_poly", 0), Verdict::Partly);
         // teeth: the same claim on a row whose kernel prove does not cover is found only, or
         // left to stress
         let newton = row("newton_raphson");
@@ -390,9 +437,9 @@ mod tests {
             ..*row("slerp")
         };
         let c = &newton.claims[0];
-        assert_eq!(slerp.judge(c).verdict, Verdict::NotChecked);
+        assert_eq!(judge(&slerp, c).verdict, Verdict::NotChecked);
         let exact = row(crate::method::PHONG_EXACT);
-        let by_sweep = exact.judge(c);
+        let by_sweep = judge(exact, c);
         assert_eq!(by_sweep.evidence.basis, Basis::Found, "{by_sweep:?}");
     }
 
@@ -405,7 +452,7 @@ mod tests {
         assert!(m.measured.contains("-6.031 %"), "{m:?}");
         // Newton at 40 deg: -0.535 % holds the 1 % length criterion, fails 1/255 = 0.392 %.
         let newton = row("newton_raphson");
-        let m = newton.judge(&newton.claims[0]);
+        let m = judge(newton, &newton.claims[0]);
         assert!(
             m.measured.contains("-0.535 %")
                 && m.measured.contains("length criterion (<= 1 %) holds")
@@ -423,7 +470,7 @@ mod tests {
         assert_eq!(m.verdict, Verdict::Agrees, "{m:?}");
         // a claim by the colour criterion alone is stress's, on the rendered colour
         let r = row("romanyuk_poly");
-        assert_eq!(r.judge(&r.claims[1]).verdict, Verdict::NotChecked);
+        assert_eq!(judge(r, &r.claims[1]).verdict, Verdict::NotChecked);
     }
 
     #[test]
@@ -500,7 +547,7 @@ mod tests {
         assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
         // the row's claim names the rows it compares with, at the row's angles
         let r = row("romanyuk_poly");
-        let m = r.judge(&r.claims[0]);
+        let m = judge(r, &r.claims[0]);
         assert!(m.measured.contains("theta <= 40 deg, edges"), "{m:?}");
         assert!(m.measured.contains("interior"), "{m:?}");
         assert!(m.measured.contains("vs lyon_shift"), "{m:?}");
@@ -540,10 +587,42 @@ mod tests {
         assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
         // the row's figure and range are the claim's
         let mk = row("mikami_const");
-        let m = mk.judge(&mk.claims[0]);
+        let m = judge(mk, &mk.claims[0]);
         assert!(
             m.measured.contains("on z in [0.25, 1]") && m.how.contains("(<= 1.5 %)"),
             "{m:?}"
         );
+    }
+
+    #[test]
+    fn serialised_claims_carry_the_measurement_their_check_makes_now() {
+        for m in METHODS {
+            let jm = json(m);
+            let claims = jm["claims"].as_array().unwrap();
+            assert_eq!(claims.len(), m.claims.len(), "{}", m.name);
+            for (c, jc) in m.claims.iter().zip(claims) {
+                let now = judge(m, c);
+                // the row says how the claim is judged, and its check judges it so
+                assert_eq!(now.evidence.basis, c.basis, "{}: {}", m.name, c.claim);
+                let keys: Vec<&str> = jc.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+                assert_eq!(keys.len(), 8, "{jc}");
+                assert_eq!(jc["claim"], c.claim);
+                assert_eq!(jc["measured"], now.measured.as_str());
+                assert_eq!(jc["verdict"], now.verdict.as_str());
+                assert_eq!(jc["basis"], now.evidence.basis.as_str());
+                assert_eq!(jc["proven_upper"].as_f64(), now.evidence.proven_upper);
+                assert_eq!(jc["found"].as_f64(), now.evidence.found);
+                // a bound's figures name their kind and unit; a measured claim has none
+                let quantity = now.evidence.quantity.map(|q| q.as_str());
+                assert_eq!(jc["quantity"].as_str(), quantity, "{jc}");
+                assert_eq!(
+                    quantity.is_some(),
+                    now.evidence.basis != crate::method::Basis::Measured,
+                    "{jc}"
+                );
+                assert_eq!(jc["how"], now.how.as_str());
+                assert!(!now.how.is_empty(), "{}: {}", m.name, c.claim);
+            }
+        }
     }
 }

@@ -12,8 +12,9 @@ pub mod bounds;
 pub mod claims;
 pub mod covered;
 pub mod domain;
-pub mod dual;
-pub mod interval;
+/// The interval types live with the number types of the formulas ([`crate::method::real`]);
+/// `prove` is where they are used.
+pub use crate::method::{dual, interval};
 mod output;
 #[cfg(test)]
 mod tests;

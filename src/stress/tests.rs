@@ -367,9 +367,9 @@ fn the_newton_claim_names_both_criteria_as_list_does() {
         .iter()
         .find(|c| c.method == "newton_raphson")
         .unwrap();
-    let row = crate::method::find("newton_raphson").unwrap();
-    let listed = row.judge(&row.claims[0]);
-    assert_eq!(c.verdict, listed.verdict, "{c:?}");
+    // the verdict `shadelab list` gives by proof (prove::bounds's test
+    // newton_by_proof_flips_for_a_factor_that_does_not_normalise: `partly`; stress sits below
+    // prove, so the layers are compared through that figure)
     assert_eq!(c.verdict, Verdict::Partly, "{c:?}");
     assert!(
         c.measured.starts_with("length criterion")

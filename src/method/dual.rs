@@ -6,7 +6,7 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use super::interval::Interval;
-use crate::method::real::Real;
+use super::real::Real;
 
 /// A value and its derivative, both enclosed.
 #[derive(Debug, Clone, Copy)]
