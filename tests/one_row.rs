@@ -288,13 +288,25 @@ fn a_method_of_one_row_takes_part_in_the_reports_answer() {
     assert_eq!(mine.len(), a.budgets.len());
     let loose = mine.iter().find(|c| c.budget == "max_4_255").unwrap();
     assert!(loose.worst.is_some_and(|w| w > 0.0), "{loose:?}");
-    // two steps are more accurate than one: wherever Newton meets a budget, so does it
+    // its figures are its own: the worst of its scenes' errors under each budget's metric
+    for c in &mine {
+        let b = a.budgets.iter().find(|b| b.id == c.budget).unwrap();
+        let worst = errors
+            .iter()
+            .filter(|e| e.method == NAME)
+            .map(|e| e.metrics[&b.metric].unwrap())
+            .fold(0.0, f64::max);
+        assert_eq!(c.worst, Some(worst), "{c:?}");
+    }
+    // two steps are more accurate than one: under every budget its worst error is below
+    // Newton's, and wherever Newton meets a budget, so does it
     for c in &mine {
         let newton = a
             .checks
             .iter()
             .find(|n| n.method == "newton_raphson" && n.budget == c.budget)
             .unwrap();
+        assert!(c.worst.unwrap() < newton.worst.unwrap(), "{c:?} {newton:?}");
         assert!(c.meets || !newton.meets, "{c:?} {newton:?}");
     }
     assert!(!a.cells.is_empty());
