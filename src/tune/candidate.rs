@@ -18,7 +18,6 @@ use serde::Serialize;
 use super::remez::{self, Certificate, Target};
 use crate::method::formulas as f;
 use crate::method::real::Real;
-use crate::prove::covered::{k_mikami_const, k_mikami_linear, k_mikami_quadratic};
 
 /// A candidate's family.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -62,9 +61,10 @@ fn paper_k<T: Real>(name: &str, z: T) -> T {
         "lyon_taylor" => f::k_lyon2(z),
         "lyon_shift" => f::k_lyon_shift(z),
         "romanyuk_poly" => f::k_romanyuk(z),
-        "mikami_const" => k_mikami_const(z),
-        "mikami_linear" => k_mikami_linear(z),
-        "mikami_quadratic" => k_mikami_quadratic(z),
+        // the rows' scale is Mikami's square root: k = 1 / s
+        "mikami_const" => T::c(1.0) / f::s_mikami_const(z),
+        "mikami_linear" => T::c(1.0) / f::s_mikami_linear(z),
+        "mikami_quadratic" => T::c(1.0) / f::s_mikami_quadratic(z),
         // phong_unnormalized, and nothing else (PAPERS lists the names)
         _ => T::c(1.0),
     }
@@ -352,7 +352,7 @@ mod tests {
     /// values: 1.154875), and newton_raphson's (3 - z)/2.
     #[test]
     fn paper_formulas_are_the_tables() {
-        assert!((Candidate::paper("romanyuk_poly").k(0.75) - 1.154875).abs() < 1e-12);
+        assert!((Candidate::paper("romanyuk_poly").k(0.75f64) - 1.154875).abs() < 1e-12);
         assert_eq!(Candidate::paper("newton_raphson").k(0.5), 1.25);
         assert_eq!(Candidate::paper("phong_unnormalized").k(0.3), 1.0);
         for p in PAPERS {

@@ -167,6 +167,19 @@ impl<F: Format> Real for Rounded<F> {
         let d = self.e / (r + rc);
         Self::with(r, d + Self::rounding(rc, F::SQRT_ULPS))
     }
+
+    /// Exact in every format (no rounding): the program's value is the larger computed one,
+    /// its difference from the larger exact one enclosed by the two enclosures' difference.
+    fn max(self, o: Self) -> Self {
+        let v = Real::max(self.v, o.v);
+        Self::with(v, Real::max(self.computed(), o.computed()) - v)
+    }
+
+    /// As [`Real::max`].
+    fn min(self, o: Self) -> Self {
+        let v = Real::min(self.v, o.v);
+        Self::with(v, Real::min(self.computed(), o.computed()) - v)
+    }
 }
 
 #[cfg(test)]
@@ -218,6 +231,19 @@ mod tests {
         assert!(r.computed().contains(held) && r.e.mag() > 1e-5, "{r:?}");
         let exact: Rounded<F32> = Rounded::c(0.5);
         assert_eq!(exact.e, Interval::point(0.0));
+    }
+
+    /// max and min carry both enclosures: the exact larger value and the computed one.
+    #[test]
+    fn max_and_min_enclose_float32() {
+        let (a, b) = (p(0.3) * p(0.1), p(0.03));
+        let (af, bf) = (0.3f32 * 0.1f32, 0.03f32);
+        let (hi, lo) = (Real::max(a, b), Real::min(a, b));
+        assert!(hi.v.contains(0.03) && lo.v.contains(0.03), "{hi:?} {lo:?}");
+        assert!(hi.computed().contains(f64::from(af.max(bf))), "{hi:?}");
+        assert!(lo.computed().contains(f64::from(af.min(bf))), "{lo:?}");
+        // teeth: the product's rounding is carried (float32's 0.3 * 0.1 is not 0.03)
+        assert!(hi.e.mag() > 0.0, "{hi:?}");
     }
 
     #[test]
