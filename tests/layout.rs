@@ -11,7 +11,7 @@ const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
     &["report", "corpus"],
     &[
-        "compare", "bench", "verify", "stress", "plan", "isa", "prove", "costs",
+        "compare", "bench", "verify", "stress", "plan", "isa", "prove", "costs", "tune",
     ],
     &["analysis", "truth", "cases", "cost", "auto"],
     &["gpu", "software", "engine"],

@@ -24,6 +24,8 @@
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
 //! - `prove`: proof.json against its schema, its two domains, bounds above found values, --replay
 //!   of a found input (a triangle's and an edge's), the help naming the angle's domain.
+//! - `tune`: tune.json against its schema, the answer per cost model, the tuned files through
+//!   compare within their proven bounds, a form's cost independent of its coefficients.
 //! - `yours`: `--method-file` (issue 28): the examples of docs/examples/methods/ through compare,
 //!   stress, isa and report; the bit trick's error against its known figure; the refusals.
 //! - `one_row`: a test-only method, its GLSL file and one row (issue 38), through verify on both
@@ -49,4 +51,5 @@ mod shaders;
 mod software;
 mod stress;
 mod support;
+mod tune;
 mod yours;

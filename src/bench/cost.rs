@@ -224,6 +224,10 @@ impl CostSource for LavapipeIsolated {
         Some(LAVAPIPE_ISOLATED)
     }
 
+    fn on_demand_ids(&self) -> Vec<CostModelId> {
+        vec![CostModelId::of(LAVAPIPE_ISOLATED)]
+    }
+
     fn measures(&self, id: &CostModelId) -> bool {
         id == LAVAPIPE_ISOLATED
     }
@@ -257,12 +261,17 @@ impl CostSource for LavapipeIsolated {
             .map(|m| {
                 let c = costs.iter().find(|c| c.name == m.name);
                 let value = c.map(|c| c.ns_per_eval.median).filter(|v| v.is_finite());
+                // The paired ratio per round (the verdict's), else the ratio of the medians.
+                let paired = c.and_then(|c| c.ratio_to_phong_exact.as_ref());
                 CostFigure {
                     method: m.name.to_string(),
                     value,
-                    ratio: value.zip(reference).map(|(v, r)| v / r),
-                    ci95_low: None,
-                    ci95_high: None,
+                    ratio: paired
+                        .map(|i| i.median)
+                        .or_else(|| value.zip(reference).map(|(v, r)| v / r))
+                        .filter(|v| v.is_finite()),
+                    ci95_low: paired.and_then(|i| finite(i.ci95_low)),
+                    ci95_high: paired.and_then(|i| finite(i.ci95_high)),
                     verdict: c
                         .and_then(|c| c.versus_phong_exact)
                         .map_or(Verdict::NotChecked, Comparison::verdict),

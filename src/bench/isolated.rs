@@ -81,7 +81,9 @@ impl Interval {
 }
 
 /// Cheaper, dearer or indistinguishable from phong_exact's evaluation: from whether the paired
-/// ratio's 95% interval lies below 1, above 1, or holds 1.
+/// ratio's 95% interval lies below 1, above 1, or holds 1. An interval that reaches 0 or below
+/// (or is not finite) has not resolved the method's cost (a cost is positive: a slope at or
+/// below zero is noise): indistinguishable, never "cheaper".
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Comparison {
@@ -95,7 +97,10 @@ pub enum Comparison {
 
 impl Comparison {
     pub fn of(ratio: &Interval) -> Self {
-        if ratio.ci95_high < 1.0 {
+        let resolved = ratio.ci95_low > 0.0 && ratio.ci95_high.is_finite();
+        if !resolved {
+            Comparison::Indistinguishable
+        } else if ratio.ci95_high < 1.0 {
             Comparison::Cheaper
         } else if ratio.ci95_low > 1.0 {
             Comparison::Dearer
@@ -425,6 +430,15 @@ mod tests {
         assert_eq!(Comparison::of(&iv(0.5, 0.9)), Comparison::Cheaper);
         assert_eq!(Comparison::of(&iv(1.1, 1.3)), Comparison::Dearer);
         assert_eq!(Comparison::of(&iv(0.9, 1.1)), Comparison::Indistinguishable);
+        // teeth: a ratio interval reaching 0 or below is noise, not a cost (tune on spot.obj
+        // printed "cheaper (ratio -0.62)" before)
+        for (lo, hi) in [(-0.8, 0.4), (0.0, 0.9), (-2.0, -0.5)] {
+            assert_eq!(Comparison::of(&iv(lo, hi)), Comparison::Indistinguishable);
+        }
+        assert_eq!(
+            Comparison::of(&iv(0.1, f64::INFINITY)),
+            Comparison::Indistinguishable
+        );
     }
 
     /// Over 2n consecutive rounds of `order`, from any start: every program in every position

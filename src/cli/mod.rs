@@ -16,6 +16,7 @@ mod report;
 mod shaders;
 mod skips;
 mod stress;
+mod tune;
 mod verify;
 
 use self::bench::cmd_bench;
@@ -316,6 +317,12 @@ enum Command {
     /// (three vertex normals pairwise within --max-angle) and stress's edge geometry (N2 the
     /// bisector), beside the worst values found at real points of each.
     Prove(self::prove::ProveArgs),
+    /// The best approximation of the inverse square root for a mesh's own angles: per
+    /// triangle the exact domain of N.N, minimax polynomials and Newton seeds fitted to it,
+    /// each proven (float32 and float16 rounding included) and costed on every cost model
+    /// measured on demand; per model the cheapest proven within --budget, or the statement
+    /// that none is cheaper than phong_exact (docs/tune.md).
+    Tune(self::tune::TuneArgs),
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
     /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
     /// front-to-back order, and `auto`; fragment invocations and paired frame-time ratios.
@@ -664,6 +671,7 @@ pub fn run() -> Result<ExitCode> {
         Command::Isa(args) => self::isa::cmd_isa(args),
         Command::Child { request } => self::child::cmd_child(&request),
         Command::Prove(a) => cmd_prove(&a),
+        Command::Tune(a) => self::tune::cmd_tune(&a),
         Command::List { json } => cmd_list(json),
         Command::Mesh {
             generator,

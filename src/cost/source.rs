@@ -63,6 +63,12 @@ pub trait CostSource: Send + Sync {
         None
     }
 
+    /// Every id this source can measure on demand here, for a caller that wants them all
+    /// (`tune`): concrete ids, unlike [`CostSource::on_demand`]'s help text. None by default.
+    fn on_demand_ids(&self) -> Vec<CostModelId> {
+        Vec::new()
+    }
+
     /// Whether [`CostSource::measure`] takes `id`.
     fn measures(&self, _id: &CostModelId) -> bool {
         false
@@ -130,6 +136,19 @@ impl Registry {
                 self.on_demand().join(", ")
             ))),
         }
+    }
+
+    /// Whether some source measures `id` on demand.
+    pub fn knows(&self, id: &CostModelId) -> bool {
+        self.sources.iter().any(|s| s.measures(id))
+    }
+
+    /// Every concrete id the sources can measure on demand, sources in registration order.
+    pub fn on_demand_ids(&self) -> Vec<CostModelId> {
+        self.sources
+            .iter()
+            .flat_map(|s| s.on_demand_ids())
+            .collect()
     }
 
     /// The on-demand ids of every source, as help text.

@@ -117,7 +117,22 @@ impl CostSource for StaticCost {
     }
 
     fn on_demand(&self) -> Option<&'static str> {
-        Some("isa:FAMILY (a family of `shadelab isa`: isa:amd:navi21, isa:intel:tgl, isa:nvidia:nv162; a bare chip is AMD's)")
+        Some("isa:FAMILY or isa:FAMILY:f16 (a family of `shadelab isa`: isa:amd:navi21, isa:intel:tgl, isa:nvidia:nv162; a bare chip is AMD's)")
+    }
+
+    /// Every vendor's default families, float32 then float16 programs (a family whose driver
+    /// does not compile float16 is left out when that is known without a child).
+    fn on_demand_ids(&self) -> Vec<CostModelId> {
+        let families = super::families(&super::vendor::default_family_ids()).unwrap_or_default();
+        Precision::ALL
+            .iter()
+            .flat_map(|&p| {
+                families
+                    .iter()
+                    .filter(move |f| p == Precision::F32 || f.vendor.float16(f.chip) != Some(false))
+                    .map(move |f| CostModelId::isa(&f.id(), p))
+            })
+            .collect()
     }
 
     fn measures(&self, id: &CostModelId) -> bool {
@@ -133,13 +148,13 @@ impl CostSource for StaticCost {
         methods: &[&'static Method],
         _ev: &Evidence,
     ) -> Result<CostModel> {
-        let family = family_of(id)
+        let (family, precision) = family_of(id)
             .ok_or_else(|| Error::Usage(format!("--cost-model {id}: not a GPU family")))?;
         let exe = std::env::current_exe()
             .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
         let opts = IsaOptions {
             families: vec![family.clone()],
-            ..IsaOptions::every_family(methods, Precision::F32, exe)
+            ..IsaOptions::every_family(methods, precision, exe)
         };
         let report = super::run(&opts, &|_| {})?;
         match report.families.iter().find(|f| f.family == family) {
@@ -151,7 +166,7 @@ impl CostSource for StaticCost {
                 )))
             }
         }
-        let want = CostModelId::isa(&family, Precision::F32);
+        let want = CostModelId::isa(&family, precision);
         models_of(&report, "")
             .into_iter()
             .find(|m| m.id == want)
@@ -159,13 +174,41 @@ impl CostSource for StaticCost {
     }
 }
 
-/// The family id (`vendor:chip`) of a float32 `isa:FAMILY` id, FAMILY a family id or a bare
-/// AMD chip; `None` for anything else (a float16 model's `isa:...:f16` included).
-fn family_of(id: &CostModelId) -> Option<String> {
+/// The family id (`vendor:chip`) and precision of an `isa:FAMILY` (float32) or
+/// `isa:FAMILY:f16` id, FAMILY a family id or a bare AMD chip; `None` for anything else.
+fn family_of(id: &CostModelId) -> Option<(String, Precision)> {
     let f = id.as_str().strip_prefix("isa:")?;
-    if f.rsplit(':').next() == Some(Precision::F16.as_str()) {
-        return None;
-    }
+    let (f, p) = match f.strip_suffix(":f16") {
+        Some(f) => (f, Precision::F16),
+        None => (f, Precision::F32),
+    };
     let (vendor, chip) = super::vendor::resolve(f).ok()?;
-    Some(format!("{}:{chip}", vendor.prefix()))
+    Some((format!("{}:{chip}", vendor.prefix()), p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_name_a_family_and_a_precision() {
+        let id = |s: &str| CostModelId::parse(s).unwrap();
+        let f = |s: &str| family_of(&id(s));
+        assert_eq!(f("isa:navi21"), Some(("amd:navi21".into(), Precision::F32)));
+        assert_eq!(
+            f("isa:amd:navi21:f16"),
+            Some(("amd:navi21".into(), Precision::F16))
+        );
+        assert_eq!(
+            f("isa:intel:tgl"),
+            Some(("intel:tgl".into(), Precision::F32))
+        );
+        for bad in ["isa:navi21:f64", "lavapipe_isolated", "isa:nosuch:chip:f16"] {
+            assert_eq!(f(bad), None, "{bad}");
+        }
+        let ids = StaticCost.on_demand_ids();
+        assert!(ids.len() > crate::isa::DEFAULT_FAMILIES.len(), "{ids:?}");
+        assert!(ids.iter().all(|i| family_of(i).is_some()), "{ids:?}");
+        assert!(ids.contains(&id("isa:amd:navi21:f16")), "{ids:?}");
+    }
 }

@@ -150,7 +150,7 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
     let spawn = crate::child::Spawn {
         exe: opts.exe.clone(),
         driver_env: env,
-        method_files: crate::method::user::paths(),
+        method_files: crate::method::user::paths_of(&opts.methods),
         show_stderr: false,
     };
     match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {

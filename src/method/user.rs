@@ -237,6 +237,17 @@ pub fn paths() -> Vec<PathBuf> {
         .collect()
 }
 
+/// The files of the user methods among `methods`, in registration order: what a child that
+/// compiles only `methods` needs (a process that registered many files, `tune` over a folder
+/// of meshes, hands each child only its own).
+pub fn paths_of(methods: &[&Method]) -> Vec<PathBuf> {
+    registered()
+        .iter()
+        .filter(|u| methods.iter().any(|m| m.name == u.name))
+        .map(|u| PathBuf::from(&u.path))
+        .collect()
+}
+
 /// Whether the file at the absolute path `abs` is registered already.
 pub fn is_registered(abs: &Path) -> bool {
     registered().iter().any(|u| Path::new(&u.path) == abs)

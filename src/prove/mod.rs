@@ -290,15 +290,22 @@ fn prove_metrics(
 /// [0, 1 + e+], and both terms lie in [0, (1 + e+)^n]. None for n < 1 (x^n has no bounded
 /// derivative at 0) or unbounded inputs.
 pub fn colour_bound(metrics: &[Outcome; 3], shininess: f64) -> Option<f64> {
+    let (kd, ks) = (f64::from(DIFFUSE as f32), f64::from(SPECULAR as f32));
     let (e, e_plus, a) = (
         metrics[0].proven_upper,
-        metrics[1].proven_upper.max(0.0),
+        metrics[1].proven_upper,
         metrics[2].proven_upper,
     );
+    colour_slope(e, e_plus, a, shininess, kd, ks)
+}
+
+/// [`colour_bound`] for one white light of a material (`kd`, `ks`, exponent `shininess`) from
+/// the normal-space bounds E (`e`), e+ (`e_plus`, taken as at least 0) and A (`a`).
+pub fn colour_slope(e: f64, e_plus: f64, a: f64, shininess: f64, kd: f64, ks: f64) -> Option<f64> {
+    let e_plus = e_plus.max(0.0);
     if shininess < 1.0 || !(e.is_finite() && e_plus.is_finite() && a.is_finite()) {
         return None;
     }
-    let (kd, ks) = (f64::from(DIFFUSE as f32), f64::from(SPECULAR as f32));
     let n = shininess;
     let top = (1.0 + e_plus).powf(n);
     let bound = if a == 0.0 {

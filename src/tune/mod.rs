@@ -1,0 +1,510 @@
+//! `shadelab tune`: the best approximation of the inverse square root for a mesh's own angles,
+//! proven and costed (docs/tune.md).
+//!
+//! 1. The domain ([`domain`]): per triangle the exact smallest z = N.N of its interpolated
+//!    vertex normals, the mesh's [z_min, 1], the distribution of z (and of the dichotomy's
+//!    factor) over the pixels it covers; or, for `--max-angle`, `prove`'s triangle (or edge)
+//!    domain.
+//! 2. The candidates ([`candidate`]): minimax polynomials of degree 0..4 for relative error on
+//!    the domain (Remez, certified by equioscillation: [`remez`]), seeds with one or two Newton
+//!    steps fitted for the error after the steps, and the papers' methods.
+//! 3. Proven ([`proof`]): each candidate's length and colour error over the domain in float32
+//!    and float16, rounding of coefficients and arithmetic included ([`rounded`]); within the
+//!    budget only by proof.
+//! 4. Costed through the registry of cost models ([`crate::costs`]): each candidate written
+//!    as a method file, registered as a user method, measured by every model measured on
+//!    demand; per model the cheapest proven within the budget and cheaper than phong_exact
+//!    ([`choose`]), per class of triangles by z_min too ([`classes`]).
+//! 5. The papers' published fits against the best of their degree ([`refit`]).
+//!
+//! Output: tune.json (docs/tune.schema.json), a table, the candidates' method files.
+pub mod candidate;
+pub mod choose;
+pub mod classes;
+pub mod domain;
+mod output;
+pub mod proof;
+pub mod refit;
+pub mod remez;
+pub mod rounded;
+
+use std::path::Path;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use self::candidate::{Candidate, Family, PAPERS};
+use self::choose::{Answer, Row, RowCost};
+use self::domain::MeshDomain;
+pub use self::output::{table, write};
+use self::proof::{Lights, ProofBudget};
+use crate::auto::ErrorBudget;
+use crate::cost::{verdict_words, CostModel, CostModelId, Evidence, Registry};
+use crate::engine::{Engine, Ready};
+use crate::error::{Error, Result};
+use crate::frame::IdFrame;
+use crate::method::{self, Geometry, Method, Precision};
+use crate::prove::interval::Interval;
+use crate::scene::{Interpolation, Material, Scene, SceneInputs};
+
+/// Version of tune.json (docs/tune.schema.json).
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// Options of a run.
+#[derive(Debug, Clone)]
+pub struct TuneOptions {
+    pub budget: ErrorBudget,
+    /// The cost models to measure; empty: every model the registry measures on demand.
+    pub cost_models: Vec<CostModelId>,
+    pub proof: ProofBudget,
+    /// Threads of the software engine's id pass.
+    pub threads: usize,
+    /// Progress lines on stderr.
+    pub progress: bool,
+}
+
+/// What is tuned for.
+pub enum Source<'a> {
+    /// A mesh or a scene: its triangles, drawn at its render size.
+    Scene {
+        scene: &'a Scene,
+        kind: &'static str,
+        path: String,
+    },
+    /// Every triangle (or edge) whose vertex normals are pairwise at most this far apart.
+    Angle {
+        max_angle_deg: f64,
+        domain: crate::prove::Domain,
+    },
+}
+
+/// Where the candidates come from, as tune.json states it.
+#[derive(Debug, Clone, Serialize)]
+pub struct SourceInfo {
+    /// mesh, scene or max_angle.
+    pub kind: &'static str,
+    pub path: Option<String>,
+    pub max_angle_deg: Option<f64>,
+    /// For max_angle: the domain of `prove` (triangle or edge).
+    pub domain: Option<crate::prove::Domain>,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    /// The renderer of the id pass (software or vulkan).
+    pub engine: Option<&'static str>,
+}
+
+/// The domain the candidates are fitted on and proven over.
+#[derive(Debug, Clone, Serialize)]
+pub struct DomainInfo {
+    pub z_range: [f64; 2],
+    pub how: String,
+    pub mesh: Option<MeshDomain>,
+}
+
+/// Seconds per step.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Timings {
+    pub domain_s: f64,
+    pub candidates_s: f64,
+    pub files_s: f64,
+    pub costs_s: f64,
+    pub classes_s: f64,
+    pub total_s: f64,
+}
+
+/// tune.json.
+#[derive(Debug, Clone, Serialize)]
+pub struct TuneReport {
+    pub schema_version: u32,
+    pub name: String,
+    pub source: SourceInfo,
+    /// The colour error budget (linear).
+    pub budget: f64,
+    pub domain: DomainInfo,
+    pub lights: Lights,
+    pub candidates: Vec<Row>,
+    /// Candidates that could not be fitted, and why.
+    pub skipped: Vec<String>,
+    pub cost_models: Vec<Answer>,
+    pub classes: Vec<classes::Class>,
+    /// What `auto` would need to draw a tuned candidate per class (docs/tune.md).
+    pub auto: &'static str,
+    pub papers: Vec<refit::Refit>,
+    pub timings: Timings,
+}
+
+/// The forms every run fits: (family, degree, Newton steps).
+pub const FORMS: [(Family, usize, u32); 10] = [
+    (Family::Minimax, 0, 0),
+    (Family::Minimax, 1, 0),
+    (Family::Minimax, 2, 0),
+    (Family::Minimax, 3, 0),
+    (Family::Minimax, 4, 0),
+    (Family::Newton, 0, 1),
+    (Family::Newton, 1, 1),
+    (Family::Newton, 2, 1),
+    (Family::Newton, 0, 2),
+    (Family::Newton, 1, 2),
+];
+
+/// The method id of a form for `prefix` (`spot_minimax3`, `spot_newton1_seed2`).
+pub fn form_id(prefix: &str, family: Family, d: usize, steps: u32) -> String {
+    match family {
+        Family::Newton => format!("{prefix}_newton{steps}_seed{d}"),
+        _ => format!("{prefix}_minimax{d}"),
+    }
+}
+
+/// Every form fitted on [lo, hi] (lo at least 1e-3: 1/sqrt(z) has no relative fit at 0), then
+/// the papers and phong_exact; the forms that cannot be fitted, with why.
+pub fn fit_all(prefix: &str, lo: f64, hi: f64) -> (Vec<Candidate>, Vec<String>) {
+    let lo = lo.max(1e-3).min(hi - 1e-9);
+    let (mut out, mut skipped) = (Vec::new(), Vec::new());
+    for (family, d, steps) in FORMS {
+        let id = form_id(prefix, family, d, steps);
+        let c = match family {
+            Family::Newton => Candidate::newton(id.clone(), d, steps, lo, hi),
+            _ => Candidate::minimax(id.clone(), d, lo, hi),
+        };
+        match c {
+            Ok(c) => out.push(c),
+            Err(why) => skipped.push(format!("{id}: {why}")),
+        }
+    }
+    out.extend(PAPERS.iter().map(|p| Candidate::paper(p)));
+    out.push(Candidate::reference());
+    (out, skipped)
+}
+
+/// An identifier made of `name`: lower case, runs of other characters one `_`, starting with
+/// a letter (`stanford-bunny` -> `stanford_bunny`, `90deg` -> `m_90deg`).
+pub fn prefix_of(name: &str) -> String {
+    let mut s = String::new();
+    for c in name.chars().map(|c| c.to_ascii_lowercase()) {
+        if c.is_ascii_alphanumeric() {
+            s.push(c);
+        } else if !s.is_empty() && !s.ends_with('_') {
+            s.push('_');
+        }
+    }
+    let s = s.trim_end_matches('_').to_string();
+    if s.starts_with(|c: char| c.is_ascii_lowercase()) {
+        s
+    } else {
+        format!("m_{s}")
+    }
+}
+
+/// The lighting of a scene as the device receives it (float32 values).
+fn lights_of(material: &Material, colours: Vec<[f64; 3]>) -> Lights {
+    let f = |v: glam::DVec3| [v.x, v.y, v.z].map(|x| f64::from(x as f32));
+    Lights {
+        colours: colours
+            .into_iter()
+            .map(|c| c.map(|x| f64::from(x as f32)))
+            .collect(),
+        diffuse: f(material.diffuse),
+        specular: f(material.specular),
+        shininess: material.shininess,
+    }
+}
+
+/// The id pass of `scene` at its render size: the software engine for screen-linear
+/// interpolation, else the Vulkan renderer of the context in `ev`.
+fn id_frame(scene: &Scene, ev: &Evidence, threads: usize) -> Result<(IdFrame, &'static str)> {
+    let exact = method::phong_exact();
+    let renderer;
+    let engine = if scene.interpolation == Interpolation::ScreenLinear {
+        Engine::Software { threads }
+    } else {
+        let ctx = ev
+            .one::<std::sync::Arc<crate::gpu::vk::Context>>()
+            .ok_or_else(|| {
+                Error::Device("perspective interpolation: the id pass needs a Vulkan device".into())
+            })?;
+        renderer = crate::gpu::Renderer::new(ctx.clone());
+        Engine::Vulkan(&renderer)
+    };
+    let ready = Ready::new(engine, scene, &[exact])?;
+    let (_, ids) = ready.render(exact, true)?;
+    let ids = ids.ok_or_else(|| Error::Internal("the id pass returned no id frame".into()))?;
+    Ok((ids, engine.name()))
+}
+
+/// The domain, the lighting and the pixels' z of `source`.
+fn domain_of(
+    source: &Source,
+    ev: &Evidence,
+    threads: usize,
+) -> Result<(String, SourceInfo, DomainInfo, Lights)> {
+    match source {
+        Source::Angle {
+            max_angle_deg,
+            domain,
+        } => {
+            let z = domain.z_range(*max_angle_deg);
+            let light = crate::scene::DirectionalLight::default().color;
+            Ok((
+                format!("angle{}_{}", max_angle_deg.round(), domain.as_str()),
+                SourceInfo {
+                    kind: "max_angle",
+                    path: None,
+                    max_angle_deg: Some(*max_angle_deg),
+                    domain: Some(*domain),
+                    width: None,
+                    height: None,
+                    engine: None,
+                },
+                DomainInfo {
+                    z_range: [z.lo, z.hi],
+                    how: format!(
+                        "prove's {} domain up to {max_angle_deg} deg: {}",
+                        domain.as_str(),
+                        domain.description()
+                    ),
+                    mesh: None,
+                },
+                lights_of(&Material::default(), vec![[light.x, light.y, light.z]]),
+            ))
+        }
+        Source::Scene { scene, kind, path } => {
+            let inputs = SceneInputs::new(scene, Geometry::Mesh);
+            let (ids, engine) = id_frame(scene, ev, threads)?;
+            let md = domain::of_mesh(&inputs, &ids);
+            let colours = scene
+                .lights
+                .iter()
+                .map(|l| [l.color.x, l.color.y, l.color.z])
+                .collect();
+            Ok((
+                scene.name.clone(),
+                SourceInfo {
+                    kind,
+                    path: Some(path.clone()),
+                    max_angle_deg: None,
+                    domain: None,
+                    width: Some(scene.width),
+                    height: Some(scene.height),
+                    engine: Some(engine),
+                },
+                DomainInfo {
+                    z_range: md.z_range,
+                    how: "every triangle's exact smallest N.N of its interpolated float32 vertex \
+                          normals (a quadratic over the triangle, minimised exactly), the \
+                          smallest over the mesh up to the largest |n|^2, |N| widened by the \
+                          inputs' float32 rounding as prove's (2.5e-7)"
+                        .into(),
+                    mesh: Some(md),
+                },
+                lights_of(&scene.material, colours),
+            ))
+        }
+    }
+}
+
+/// Proves every candidate in both precisions over `z`; the sampled error over `pixels`.
+pub fn prove_all(
+    cands: Vec<Candidate>,
+    z: Interval,
+    lights: &Lights,
+    pixels: Option<&[f64]>,
+    b: &ProofBudget,
+) -> Vec<Row> {
+    cands
+        .into_iter()
+        .map(|c| Row {
+            bounds: Precision::ALL
+                .iter()
+                .map(|&p| proof::prove(&c, p, z, lights, b))
+                .collect(),
+            sampled_length_error: pixels
+                .map(|zs| proof::sampled_length_error(&c, zs.iter().copied())),
+            file: None,
+            costs: Vec::new(),
+            candidate: c,
+        })
+        .collect()
+}
+
+/// The header lines of a candidate's method file: where it comes from and what is proven.
+fn file_header(r: &Row, name: &str, budget: f64) -> Vec<String> {
+    let mut h = vec![format!(
+        "fitted for {name} on z in [{:.9}, {:.9}]",
+        r.candidate.fitted_on.map_or(0.0, |f| f[0]),
+        r.candidate.fitted_on.map_or(0.0, |f| f[1])
+    )];
+    for b in &r.bounds {
+        h.push(format!(
+            "{}: proven length error {}, colour error {} ({} the budget {budget:.6})",
+            b.precision,
+            choose::num(b.length_error),
+            choose::num(b.colour),
+            if b.within(budget) {
+                "within"
+            } else {
+                "NOT within"
+            }
+        ));
+    }
+    h
+}
+
+/// Writes the tuned candidates' method files into `out`/methods/ and registers them as user
+/// methods (compiled now).
+fn write_and_register(rows: &mut [Row], name: &str, budget: f64, out: &Path) -> Result<()> {
+    let dir = out.join("methods");
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let mut paths = Vec::new();
+    for r in rows.iter_mut() {
+        if let Some(text) = r.candidate.glsl(&file_header(r, name, budget)) {
+            let p = dir.join(format!("{}.glsl", r.candidate.id));
+            crate::output::write_bytes_atomic(&p, text.as_bytes())?;
+            r.file = Some(format!("methods/{}.glsl", r.candidate.id));
+            paths.push(p);
+        }
+    }
+    crate::gpu::shaders::register_user(&paths)
+}
+
+/// Measures every model of `ids` on `methods`: the timed ones (lavapipe's) first and alone,
+/// the others (compilers started as children) two at a time.
+fn measure_all(
+    registry: &Registry,
+    ids: &[CostModelId],
+    methods: &[&'static Method],
+    ev: &Evidence,
+    progress: bool,
+) -> Vec<(CostModelId, std::result::Result<CostModel, String>)> {
+    let one = |id: &CostModelId| {
+        let t = Instant::now();
+        let r = registry.measure(id, methods, ev).map_err(|e| e.to_string());
+        if progress {
+            eprintln!("tune: {id} measured in {:.1} s", t.elapsed().as_secs_f64());
+        }
+        (id.clone(), r)
+    };
+    let timed = |id: &CostModelId| id.as_str().starts_with("lavapipe");
+    let mut out: Vec<_> = ids.iter().filter(|i| timed(i)).map(one).collect();
+    let rest: Vec<&CostModelId> = ids.iter().filter(|i| !timed(i)).collect();
+    let queue = std::sync::Mutex::new(rest.iter().rev().copied().collect::<Vec<_>>());
+    let done = std::sync::Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(|| {
+                while let Some(id) = queue.lock().ok().and_then(|mut q| q.pop()) {
+                    let r = one(id);
+                    if let Ok(mut d) = done.lock() {
+                        d.push(r);
+                    }
+                }
+            });
+        }
+    });
+    let mut rest_done = done.into_inner().unwrap_or_default();
+    rest_done.sort_by_key(|(id, _)| ids.iter().position(|i| i == id));
+    out.extend(rest_done);
+    out
+}
+
+/// Runs `tune` on one source, writing the method files into `out`.
+pub fn run(
+    source: &Source,
+    opts: &TuneOptions,
+    registry: &Registry,
+    ev: &Evidence,
+    out: &Path,
+) -> Result<TuneReport> {
+    if let Some(id) = opts.cost_models.iter().find(|id| !registry.knows(id)) {
+        return Err(Error::Usage(format!(
+            "--cost-model {id}: no cost model of that id is measured on demand; expected one \
+             of: {}",
+            registry.on_demand().join(", ")
+        )));
+    }
+    let start = Instant::now();
+    let mut timings = Timings::default();
+    let (name, info, dom, lights) = domain_of(source, ev, opts.threads)?;
+    let z = Interval::new(dom.z_range[0], dom.z_range[1]);
+    timings.domain_s = start.elapsed().as_secs_f64();
+    if opts.progress {
+        eprintln!(
+            "tune: {name}: z in [{:.6}, {:.7}] ({:.1} s)",
+            z.lo, z.hi, timings.domain_s
+        );
+    }
+    let t = Instant::now();
+    let prefix = prefix_of(&name);
+    let (cands, skipped) = fit_all(&prefix, z.lo, z.hi);
+    let pixels: Option<Vec<f64>> = dom
+        .mesh
+        .as_ref()
+        .map(|m| m.per_pixel.iter().map(|p| p.1).collect());
+    let mut rows = prove_all(cands, z, &lights, pixels.as_deref(), &opts.proof);
+    timings.candidates_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let budget = opts.budget.get();
+    write_and_register(&mut rows, &name, budget, out)?;
+    timings.files_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let mut methods = vec![method::phong_exact()];
+    for r in rows
+        .iter()
+        .filter(|r| r.candidate.family != Family::Reference)
+    {
+        methods.push(method::find(&r.candidate.id)?);
+    }
+    let ids = if opts.cost_models.is_empty() {
+        registry.on_demand_ids()
+    } else {
+        opts.cost_models.clone()
+    };
+    let measured = measure_all(registry, &ids, &methods, ev, opts.progress);
+    let models: Vec<CostModel> = measured
+        .iter()
+        .filter_map(|(_, m)| m.as_ref().ok().cloned())
+        .collect();
+    for r in &mut rows {
+        r.costs = models
+            .iter()
+            .map(|m| {
+                let f = m.figure(&r.candidate.id);
+                RowCost {
+                    model: m.id.to_string(),
+                    ratio: f.and_then(|f| f.ratio),
+                    verdict: f.map_or("unmeasured", |f| verdict_words(f.verdict)),
+                }
+            })
+            .collect();
+    }
+    let answers = measured
+        .iter()
+        .map(|(id, m)| match m {
+            Ok(m) => choose::answer(&rows, m, budget),
+            Err(e) => choose::unmeasured(id, e),
+        })
+        .collect();
+    timings.costs_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let classes = match &dom.mesh {
+        Some(md) => classes::of_mesh(md, &rows, &models, &lights, budget, &opts.proof),
+        None => Vec::new(),
+    };
+    timings.classes_s = t.elapsed().as_secs_f64();
+    let papers = refit::all().map_err(|e| Error::Internal(format!("tune: re-fit: {e}")))?;
+    timings.total_s = start.elapsed().as_secs_f64();
+    Ok(TuneReport {
+        schema_version: SCHEMA_VERSION,
+        name,
+        source: info,
+        budget,
+        domain: dom,
+        lights,
+        candidates: rows,
+        skipped,
+        cost_models: answers,
+        classes,
+        auto: classes::AUTO_NEEDS,
+        papers,
+        timings,
+    })
+}

@@ -1,0 +1,250 @@
+//! `shadelab tune`: tune.json against its schema (with teeth), the table's answer per cost
+//! model, the candidates' method files through `compare` within their proven colour bounds, the
+//! same form with other coefficients compiling to the same statistics (what the classes
+//! assume), `--max-angle`'s domain, and the refusals.
+use std::path::Path;
+
+use crate::support::*;
+
+fn tune_ok(args: &[&str], out: &Path) -> (serde_json::Value, String) {
+    let mut a = vec!["tune"];
+    a.extend(args);
+    let o = out.display().to_string();
+    a.extend(["--out", &o]);
+    let (code, stdout, stderr) = run(&a);
+    assert_eq!(code, 0, "{args:?}\n{stdout}\n{stderr}");
+    (read_json(out.join("tune.json")), stdout)
+}
+
+fn candidates(r: &serde_json::Value) -> &Vec<serde_json::Value> {
+    r["candidates"].as_array().unwrap()
+}
+
+/// The float32 bound of a candidate.
+fn f32_bound(c: &serde_json::Value) -> &serde_json::Value {
+    c["bounds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["precision"] == "f32")
+        .unwrap()
+}
+
+/// A scene through tune with one cost model: the report is valid, the table answers the model,
+/// every tuned candidate has its method file, and every candidate's compare error on the scene
+/// (its file through `--method-file`, the papers' by name) stays within its proven float32
+/// colour bound, up to the lighting's own float32 rounding (phong_exact's compare error). At
+/// the scene's own size: at other sizes lavapipe draws a few sliver pixels whose weights are
+/// off by far more than their rounding (the truth's ill-conditioned pixels), where a
+/// polynomial, the papers' too, leaves the domain (docs/tune.md, limits).
+#[test]
+fn tune_on_a_scene_writes_files_whose_compare_error_is_within_their_proof() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t");
+    let scene = "scenes/sphere_coarse.toml";
+    let (r, stdout) = tune_ok(
+        &[
+            "--scene",
+            scene,
+            "--budget",
+            "1/255",
+            "--cost-model",
+            "isa:amd:navi21",
+        ],
+        &out,
+    );
+    assert_schema(
+        &r,
+        "docs/tune.schema.json",
+        "/candidates/0/bounds/0",
+        "colour",
+    );
+    assert!(out.join("tune.txt").is_file());
+    let answer = &r["cost_models"][0];
+    assert_eq!(answer["model"], "isa:amd:navi21");
+    let statement = answer["statement"].as_str().unwrap();
+    assert!(
+        stdout.contains(&format!("isa:amd:navi21: {statement}")),
+        "{stdout}"
+    );
+    assert!(
+        statement.starts_with("none is cheaper than phong_exact")
+            || answer["cheapest"]["within_budget"] == true,
+        "{answer}"
+    );
+    // the domain holds every covered pixel's z; the minimax fits are certified optima
+    let (lo, hi) = (
+        r["domain"]["z_range"][0].as_f64().unwrap(),
+        r["domain"]["z_range"][1].as_f64().unwrap(),
+    );
+    let px = &r["domain"]["mesh"]["pixels_z"];
+    assert!(
+        px["min"].as_f64().unwrap() >= lo && px["max"].as_f64().unwrap() <= hi,
+        "{px}"
+    );
+    let mut files = Vec::new();
+    let mut names = Vec::new();
+    for c in candidates(&r) {
+        let id = c["id"].as_str().unwrap().to_string();
+        if c["family"] == "paper" || c["family"] == "reference" {
+            assert!(c["file"].is_null());
+        } else {
+            let f = out.join(c["file"].as_str().unwrap());
+            assert!(f.is_file(), "{f:?}");
+            files.extend(["--method-file".to_string(), f.display().to_string()]);
+            assert_eq!(c["remez"]["equioscillates"], true, "{c}");
+        }
+        names.push(id);
+    }
+    let cmp = dir.path().join("c");
+    let list = names.join(",");
+    let mut a: Vec<&str> = files.iter().map(String::as_str).collect();
+    let o = cmp.display().to_string();
+    a.extend(["compare", "--scene", scene, "--methods", &list, "--out", &o]);
+    let (code, so, se) = run(&a);
+    assert_eq!(code, 0, "{so}{se}");
+    let s = read_json(cmp.join("summary.json"));
+    let max = |n: &str| {
+        s["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == n)
+            .unwrap()["max_abs_error"]
+            .as_f64()
+            .unwrap()
+    };
+    let lighting = max("phong_exact");
+    let mut checked = 0;
+    for c in candidates(&r) {
+        let id = c["id"].as_str().unwrap();
+        if let Some(bound) = f32_bound(c)["colour"].as_f64() {
+            let got = max(id);
+            assert!(
+                got <= bound + lighting + 1e-6,
+                "{id}: compare {got:e} > proven {bound:e}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked}");
+}
+
+/// What the classes assume: a form's compiled code does not depend on its coefficients. Two
+/// quartics fitted on different ranges compile to the same statistics on two families; a cubic
+/// does not (the teeth).
+#[test]
+fn the_same_form_with_other_coefficients_compiles_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    tune_ok(&["--max-angle", "40", "--cost-model", "isa:amd:tahiti"], &a);
+    tune_ok(&["--max-angle", "90", "--cost-model", "isa:amd:tahiti"], &b);
+    let file = |d: &Path, id: &str| d.join(format!("methods/{id}.glsl")).display().to_string();
+    let (q40, q90, c90) = (
+        file(&a, "angle40_triangle_minimax4"),
+        file(&b, "angle90_triangle_minimax4"),
+        file(&b, "angle90_triangle_minimax3"),
+    );
+    assert_ne!(std::fs::read(&q40).unwrap(), std::fs::read(&q90).unwrap());
+    let isa = dir.path().join("isa");
+    let o = isa.display().to_string();
+    let (code, so, se) = run(&[
+        "--method-file",
+        &q40,
+        "--method-file",
+        &q90,
+        "--method-file",
+        &c90,
+        "isa",
+        "--families",
+        "amd:tahiti,amd:navi21",
+        "--methods",
+        "angle40_triangle_minimax4,angle90_triangle_minimax4,angle90_triangle_minimax3",
+        "--out",
+        &o,
+    ]);
+    assert_eq!(code, 0, "{so}{se}");
+    let rows = read_json(isa.join("isa.json"))["results"]
+        .as_array()
+        .unwrap()
+        .clone();
+    let stats = |fam: &str, m: &str| {
+        rows.iter()
+            .find(|x| {
+                x["family"] == fam
+                    && x["method"] == m
+                    && x["kind"] == "draw"
+                    && x["stage"] == "fragment"
+            })
+            .unwrap()["statistics"]
+            .clone()
+    };
+    for fam in ["amd:tahiti", "amd:navi21"] {
+        let (x, y) = (
+            stats(fam, "angle40_triangle_minimax4"),
+            stats(fam, "angle90_triangle_minimax4"),
+        );
+        assert_eq!(x["inverse_throughput"], y["inverse_throughput"], "{fam}");
+        assert_eq!(x["instructions"], y["instructions"], "{fam}: {x} vs {y}");
+        assert_ne!(
+            x["instructions"],
+            stats(fam, "angle90_triangle_minimax3")["instructions"]
+        );
+    }
+}
+
+/// `--max-angle`: prove's triangle domain ((1 + 2 cos theta)/3 up), the default material, no
+/// mesh; the papers re-fitted; the refusals.
+#[test]
+fn tune_over_an_angle_and_its_refusals() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a");
+    let (r, stdout) = tune_ok(
+        &["--max-angle", "40", "--cost-model", "isa:amd:tahiti"],
+        &out,
+    );
+    assert_schema(&r, "docs/tune.schema.json", "/papers/0", "best_rel");
+    assert_eq!(r["source"]["kind"], "max_angle");
+    assert_eq!(r["source"]["domain"], "triangle");
+    let lo = r["domain"]["z_range"][0].as_f64().unwrap();
+    let exact = (1.0 + 2.0 * 40f64.to_radians().cos()) / 3.0;
+    assert!(lo <= exact && exact - lo < 1e-6, "{lo} vs {exact}");
+    assert!(r["domain"]["mesh"].is_null() && r["classes"].as_array().unwrap().is_empty());
+    assert!(stdout.contains("the papers re-fitted"), "{stdout}");
+    let (e, _) = tune_ok(
+        &[
+            "--max-angle",
+            "40",
+            "--domain",
+            "edge",
+            "--cost-model",
+            "isa:amd:tahiti",
+        ],
+        &dir.path().join("e"),
+    );
+    let edge_lo = e["domain"]["z_range"][0].as_f64().unwrap();
+    assert!(
+        (edge_lo - 20f64.to_radians().cos().powi(2)).abs() < 1e-6,
+        "{edge_lo}"
+    );
+    let o = dir.path().join("x").display().to_string();
+    let (code, _, err) = run(&["tune", "--max-angle", "0", "--out", &o]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--max-angle 0: expected degrees in (0, 180]"),
+        "{err}"
+    );
+    let (code, _, err) = run(&["tune", "--out", &o]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = run(&[
+        "tune",
+        "--max-angle",
+        "40",
+        "--cost-model",
+        "gpu:x",
+        "--out",
+        &o,
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("isa:FAMILY"), "{err}");
+}
