@@ -435,12 +435,11 @@ const VENDOR_FAMILIES: [&str; 12] = [
 /// .ci/run sets, after `make test` set the routes up).
 fn vendors_ready(test: &str, families: &[&str]) -> bool {
     for f in families {
-        let (vendor, _) = isa::vendor::resolve(f).unwrap();
-        if let Err(why) = vendor.setup(std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
+        let (vendor, chip) = isa::vendor::resolve(f).unwrap();
+        if let Err(why) = vendor.setup_for(&chip, std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
             let msg = format!(
-                "{test}: {} is not set up ({why}); run {}",
-                vendor.prefix(),
-                vendor.setup_command()
+                "{test}: {f} is not set up ({why}); run {}",
+                vendor.setup_command_for(&chip)
             );
             if std::env::var("SHADELAB_REQUIRE_VENDORS").as_deref() == Ok("1") {
                 panic!("SHADELAB_REQUIRE_VENDORS=1 but {msg}");

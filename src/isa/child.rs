@@ -110,7 +110,7 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
     let (vendor, chip) = super::vendor::resolve(&req.family).map_err(Error::Usage)?;
     match vendor.api() {
         Api::Vulkan { device } => compile_vulkan(req, vendor, &chip, device),
-        Api::OpenGl => super::gl_child::compile(req, vendor, &chip),
+        Api::OpenGl | Api::OpenGlEs => super::gl_child::compile(req, vendor, &chip),
     }
 }
 

@@ -1,16 +1,19 @@
-//! The child side of `shadelab isa` on an OpenGL route (nouveau, r600): the timed draw's
-//! programs (the same SPIR-V as the Vulkan draw, turned into GLSL by spirv-cross with the
-//! draw's specialization constants) and the isolated kernels, compiled and linked in an EGL
-//! surfaceless context of the driver the environment selects; the vendor reads its
-//! compiler's statistics out of the KHR_debug messages. Only float32 programs: these drivers
-//! have no float16 arithmetic in OpenGL. No disassembly: the drivers send none.
+//! The child side of `shadelab isa` on an OpenGL route (nouveau, r600) or OpenGL ES route
+//! (panfrost, lima, v3d, vc4): the timed draw's programs (the same SPIR-V as the Vulkan draw,
+//! turned into GLSL or GLSL ES by spirv-cross with the draw's specialization constants) and
+//! the isolated kernels (where the context has compute shaders: OpenGL 4.3, OpenGL ES 3.1),
+//! compiled and linked in an EGL surfaceless context of the driver the environment selects;
+//! the vendor reads its compiler's statistics out of the KHR_debug messages. float16 programs
+//! only on OpenGL ES drivers whose `mediump` is 16-bit (GLSL ES spells float16 `mediump`:
+//! [`glsl::es_precision`]); the OpenGL drivers here have no float16 arithmetic. No
+//! disassembly: the drivers send none.
 use std::collections::BTreeMap;
 use std::time::Instant;
 
 use super::child::{ChildReport, ChildRequest, Compiled};
-use super::vendor::Vendor;
+use super::vendor::{Api, Vendor};
 use crate::error::{Error, Result};
-use crate::gpu::gl::{glsl, GlContext, GlStage};
+use crate::gpu::gl::{glsl, GlApi, GlContext, GlInfo, GlStage};
 use crate::gpu::shaders;
 use crate::gpu::vk::{Executable, StatValue, Statistic};
 use crate::method::{self, Precision};
@@ -20,7 +23,8 @@ use crate::scene::SceneInputs;
 /// renderer that is not `chip`.
 pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<ChildReport> {
     let start = Instant::now();
-    if req.precision != Precision::F32 {
+    let es = vendor.api() == Api::OpenGlEs;
+    if req.precision != Precision::F32 && !es {
         return Err(Error::Device(format!(
             "{}: the OpenGL route compiles float32 programs only (no float16 arithmetic in \
              these drivers' OpenGL)",
@@ -33,11 +37,25 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
             req.family
         )));
     }
-    let ctx = GlContext::surfaceless()?;
+    let ctx = GlContext::surfaceless_api(if es { GlApi::Es } else { GlApi::Core43 })?;
     let info = ctx.info().clone();
     vendor
         .check_device(chip, &info.renderer)
         .map_err(|why| Error::Device(format!("{}: {why}", req.family)))?;
+    let float16 = es && float16_mediump(&info);
+    if req.precision == Precision::F16 && !float16 {
+        return Err(Error::Device(format!(
+            "{}: {} computes mediump with {} bits of precision, not float16's 10: no float16 \
+             arithmetic",
+            req.family, info.renderer, info.mediump_bits
+        )));
+    }
+    let cross = |label: &str, spirv: &[u8], spec: &[(u32, u32)]| match info.es {
+        Some(v) => glsl::from_spirv_es(label, spirv, spec, glsl::es_version(v)),
+        None => glsl::from_spirv(label, spirv, spec),
+    };
+    // Compute shaders: OpenGL 4.3 and OpenGL ES 3.1.
+    let compute = info.es.is_none_or(|v| v >= (3, 1));
     let scene = super::child::scene(req)?;
     let mut inputs: BTreeMap<String, SceneInputs> = BTreeMap::new();
     let mut compiled = Vec::new();
@@ -49,9 +67,8 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
             .or_insert_with(|| SceneInputs::new(&scene, m.geometry));
         let program = shaders::program_name_in(m.name, inputs.interpolation, req.precision);
         let spec = crate::gpu::draw_specialization(inputs);
-        let (vs, mut set) =
-            glsl::from_spirv(&program, shaders::embedded(&program, "vert")?, &spec)?;
-        let (fs, set_fs) = glsl::from_spirv(&program, shaders::embedded(&program, "frag")?, &spec)?;
+        let (vs, mut set) = cross(&program, shaders::embedded(&program, "vert")?, &spec)?;
+        let (fs, set_fs) = cross(&program, shaders::embedded(&program, "frag")?, &spec)?;
         set.extend(set_fs);
         glsl::check_all_set(&program, &spec, &set)?;
         let messages = ctx.compile(
@@ -65,14 +82,13 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
             kind: "draw".into(),
             repeat: None,
         });
-        if !shaders::has_evaluate_program(m) {
+        if !shaders::has_evaluate_program(m) || !compute {
             continue;
         }
         let program = shaders::evaluate_program_in(m.name, req.precision);
         for &k in &req.kernel_counts {
             let spec = [(1, k)];
-            let (cs, set) =
-                glsl::from_spirv(&program, shaders::embedded(&program, "comp")?, &spec)?;
+            let (cs, set) = cross(&program, shaders::embedded(&program, "comp")?, &spec)?;
             glsl::check_all_set(&program, &spec, &set)?;
             let messages = ctx.compile(&program, &[(GlStage::Compute, &cs)])?;
             compiled.push(Compiled {
@@ -89,11 +105,20 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
         device_name: info.renderer,
         driver_name: info.vendor,
         driver_info: info.version,
-        api_version: "OpenGL 4.3 core".into(),
+        api_version: match info.es {
+            Some((major, minor)) => format!("OpenGL ES {major}.{minor}"),
+            None => "OpenGL 4.3 core".into(),
+        },
         compiled,
         elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
-        float16: Some(false),
+        float16: Some(float16),
     })
+}
+
+/// Whether the context computes `mediump float` in float16: GL's shader precision format
+/// gives 10 bits of precision there (float16's mantissa), 23 where mediump is float32.
+pub fn float16_mediump(info: &GlInfo) -> bool {
+    info.es.is_some() && (1..=10).contains(&info.mediump_bits)
 }
 
 /// One executable per stage of `stages` out of the driver's `messages` (the last message of a

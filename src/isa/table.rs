@@ -338,7 +338,7 @@ pub fn report(
                 format!("not supported by this driver: {why}"),
             )),
             ChildOutcome::NotSetUp(why) => {
-                let command = family.vendor.setup_command();
+                let command = family.vendor.setup_command_for(family.chip);
                 let mut f = status(&family, false, format!("not set up: {why}; run {command}"));
                 f.setup_command = Some(command.into());
                 f.float16 = None;
