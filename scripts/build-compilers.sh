@@ -5,9 +5,12 @@
 # scripts/install-deps.sh (set `compilers`); Debian's apt state is only read.
 #
 # What it builds (one meson configuration, then exactly these ninja targets):
-#   Vulkan : Turnip (Qualcomm Adreno, ir3) and panvk (Arm Mali Bifrost/Valhall)
-#   OpenGL ES (gallium, EGL surfaceless): freedreno, panfrost (Midgard, Bifrost, Valhall),
-#            lima (Utgard), vc4 and v3d (Broadcom VideoCore): where no Vulkan driver serves
+#   Vulkan : Turnip (Qualcomm Adreno, ir3)
+#   OpenGL ES (gallium, EGL surfaceless): panfrost (Mali Midgard, Bifrost, Valhall), lima
+#            (Utgard), vc4 and v3d (Broadcom VideoCore), freedreno (Adreno a2xx-a5xx, which
+#            Turnip does not take): where no Vulkan driver serves. Not panvk (Mali's Vulkan
+#            driver): it offers Vulkan 1.0/1.1 and a code size only, and Mali goes through
+#            panfrost's OpenGL ES compiler (docs/isa.md)
 #   drm-shims (noop): freedreno, panfrost, lima, vc4, v3d, intel
 # and downloads bookworm-backports' ANV 25.0.7 (mesa-vulkan-drivers .deb, unpacked, for Intel
 # Meteor Lake, Lunar Lake, Battlemage, Panther Lake under the 25.0.7 Intel shim).
@@ -22,6 +25,8 @@
 # checksum, the unpacked source by a stamp, meson's build.ninja, ninja itself), so an
 # interrupted run goes on where it stopped; a finished one returns in a second.
 # Usage: scripts/build-compilers.sh            (JOBS=n overrides ninja's job count, default 2)
+#        scripts/build-compilers.sh --check    (exit 0 when compilers.env and its files are
+#                                               there, else 1 with what is missing; builds nothing)
 set -euo pipefail
 
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -40,6 +45,17 @@ MESON_VERSION=1.5.2
 MESON_WHEEL_SHA256=77706e2368a00d789c097632ccf4fc39251fba56d03e1e1b262559a3c7a08f5b
 
 key="$cache/mesa-$MESA_VERSION-${MESA_DSC_SHA256:0:16}"
+
+if [ "${1:-}" = "--check" ]; then
+  env="$base/vendors/compilers.env"
+  [ -f "$env" ] || { echo "build-compilers: $env is missing (make compilers)" >&2; exit 1; }
+  grep -q "^MESA_SOURCE_SHA256=$MESA_DSC_SHA256\$" "$env" ||
+    { echo "build-compilers: $env is of another Mesa source (make compilers)" >&2; exit 1; }
+  while IFS='=' read -r k v; do
+    case "$v" in /*) [ -e "$v" ] || { echo "build-compilers: $k=$v is missing" >&2; exit 1; } ;; esac
+  done <"$env"
+  exit 0
+fi
 log="$key/build.log"
 mkdir -p "$key" "$base/vendors"
 t0=$(date +%s)
@@ -131,27 +147,33 @@ if [ ! -f "$anv/.done" ]; then
   touch "$anv/.done"
 fi
 
-# 5. meson setup (again only when build.ninja is missing: an interrupted setup starts over).
+# 5. meson setup, again only when build.ninja is missing (an interrupted setup starts over) or
+# the options changed (a reconfigure keeps what is built).
 build="$key/build"
+options=(--buildtype=release -Db_ndebug=true --wrap-mode=nodownload
+  -Dplatforms= -Degl=enabled -Dglx=disabled -Dgbm=disabled -Dglvnd=disabled
+  -Dopengl=true -Dgles1=disabled -Dgles2=enabled
+  -Dgallium-drivers=freedreno,panfrost,lima,vc4,v3d -Dvulkan-drivers=freedreno
+  -Dvulkan-layers= -Dtools=drm-shim,intel -Dexpat=enabled -Dllvm=disabled
+  -Dgallium-va=disabled -Dgallium-vdpau=disabled -Dgallium-xa=disabled
+  -Dgallium-nine=false -Dgallium-rusticl=false -Dvideo-codecs=
+  -Dvalgrind=disabled -Dlibunwind=disabled -Dlmsensors=disabled -Dzstd=disabled
+  -Dbuild-tests=false -Dperfetto=false -Dandroid-libbacktrace=disabled)
 if [ ! -f "$build/build.ninja" ]; then
   say "meson setup"
   rm -rf "$build"
-  meson setup "$build" "$src" --buildtype=release -Db_ndebug=true --wrap-mode=nodownload \
-    -Dplatforms= -Degl=enabled -Dglx=disabled -Dgbm=disabled -Dglvnd=disabled \
-    -Dopengl=true -Dgles1=disabled -Dgles2=enabled \
-    -Dgallium-drivers=freedreno,panfrost,lima,vc4,v3d -Dvulkan-drivers=freedreno,panfrost \
-    -Dvulkan-layers= -Dtools=drm-shim,intel -Dexpat=enabled -Dllvm=disabled \
-    -Dgallium-va=disabled -Dgallium-vdpau=disabled -Dgallium-xa=disabled \
-    -Dgallium-nine=false -Dgallium-rusticl=false -Dvideo-codecs= \
-    -Dvalgrind=disabled -Dlibunwind=disabled -Dlmsensors=disabled -Dzstd=disabled \
-    -Dbuild-tests=false -Dperfetto=false -Dandroid-libbacktrace=disabled \
-    >>"$log" 2>&1 || fail "meson setup"
+  meson setup "$build" "$src" "${options[@]}" >>"$log" 2>&1 || fail "meson setup"
+  echo "${options[*]}" >"$build/.shadelab-options"
+elif [ "$(cat "$build/.shadelab-options" 2>/dev/null)" != "${options[*]}" ]; then
+  say "meson setup --reconfigure (the options changed)"
+  meson setup --reconfigure "$build" "$src" "${options[@]}" >>"$log" 2>&1 ||
+    fail "meson setup --reconfigure"
+  echo "${options[*]}" >"$build/.shadelab-options"
 fi
 
 # 6. ninja, exactly the targets the routes use; a progress line every 10 %.
 targets=(
   src/freedreno/vulkan/libvulkan_freedreno.so
-  src/panfrost/vulkan/libvulkan_panfrost.so
   src/egl/libEGL.so.1.0.0
   src/mapi/es2api/libGLESv2.so.2.0.0
   src/freedreno/drm-shim/libfreedreno_noop_drm_shim.so
@@ -191,7 +213,6 @@ icd() {
 EOF
 }
 icd turnip "$build/src/freedreno/vulkan/libvulkan_freedreno.so"
-icd panvk "$build/src/panfrost/vulkan/libvulkan_panfrost.so"
 icd anv "$(find "$anv/root" -name libvulkan_intel.so | head -n 1)"
 shim() { echo "$1=$build/$2"; }
 {
@@ -199,7 +220,6 @@ shim() { echo "$1=$build/$2"; }
   echo "MESA_SOURCE_SHA256=$MESA_DSC_SHA256"
   echo "ANV_PACKAGE=mesa-vulkan-drivers_$ANV_VERSION"
   echo "TURNIP_ICD=$out/icd/turnip.json"
-  echo "PANVK_ICD=$out/icd/panvk.json"
   echo "ANV_ICD=$out/icd/anv.json"
   echo "GLES_LIB=$out/lib"
   shim FREEDRENO_SHIM src/freedreno/drm-shim/libfreedreno_noop_drm_shim.so

@@ -17,7 +17,7 @@ use crate::gpu::gl::{glsl, GlApi, GlContext, GlInfo, GlStage};
 use crate::gpu::shaders;
 use crate::gpu::vk::{Executable, StatValue, Statistic};
 use crate::method::{self, Precision};
-use crate::scene::SceneInputs;
+use crate::scene::{Interpolation, SceneInputs};
 
 /// Compiles what `req` asks for on the OpenGL driver the environment selects, refusing a
 /// renderer that is not `chip`.
@@ -59,29 +59,38 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
     let scene = super::child::scene(req)?;
     let mut inputs: BTreeMap<String, SceneInputs> = BTreeMap::new();
     let mut compiled = Vec::new();
+    let mut skipped = Vec::new();
     for name in &req.methods {
         let m = method::find(name)?;
         let key = format!("{:?}", m.geometry);
         let inputs = inputs
             .entry(key)
             .or_insert_with(|| SceneInputs::new(&scene, m.geometry));
-        let program = shaders::program_name_in(m.name, inputs.interpolation, req.precision);
+        // ESSL 1.00 (OpenGL ES 2.0: VC4, Mali-450) has no noperspective interpolation: there
+        // the perspective-correct program of the method compiles, with its colour output alone
+        // (no second output without EXT_draw_buffers), as `program` says.
+        let interpolation = match info.es {
+            Some((2, _)) => Interpolation::Perspective,
+            _ => inputs.interpolation,
+        };
+        let program = shaders::program_name_in(m.name, interpolation, req.precision);
         let spec = crate::gpu::draw_specialization(inputs);
-        let (vs, mut set) = cross(&program, shaders::embedded(&program, "vert")?, &spec)?;
-        let (fs, set_fs) = cross(&program, shaders::embedded(&program, "frag")?, &spec)?;
-        set.extend(set_fs);
-        glsl::check_all_set(&program, &spec, &set)?;
-        let messages = ctx.compile(
-            &program,
-            &[(GlStage::Vertex, &vs), (GlStage::Fragment, &fs)],
-        )?;
-        compiled.push(Compiled {
-            method: m.name.to_string(),
-            executables: executables(vendor, &program, &messages, &["vertex", "fragment"])?,
-            program,
-            kind: "draw".into(),
-            repeat: None,
-        });
+        match compile_draw(&ctx, vendor, &cross, &program, &spec) {
+            Ok(executables) => compiled.push(Compiled {
+                method: m.name.to_string(),
+                executables,
+                program,
+                kind: "draw".into(),
+                repeat: None,
+            }),
+            // ESSL 1.00 cannot express some programs (array constructors, gl_VertexID, storage
+            // buffers): on OpenGL ES 2.0 such a method is reported as skipped, with why.
+            Err(e) if matches!(info.es, Some((2, _))) => {
+                skipped.push(format!("{}: {e}", m.name));
+                continue;
+            }
+            Err(e) => return Err(e),
+        }
         if !shaders::has_evaluate_program(m) || !compute {
             continue;
         }
@@ -106,13 +115,34 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
         driver_name: info.vendor,
         driver_info: info.version,
         api_version: match info.es {
+            Some((2, minor)) => {
+                format!("OpenGL ES 2.{minor} (perspective-correct programs, colour output alone)")
+            }
             Some((major, minor)) => format!("OpenGL ES {major}.{minor}"),
             None => "OpenGL 4.3 core".into(),
         },
         compiled,
         elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
         float16: Some(float16),
+        skipped,
     })
+}
+
+/// The executables of the timed draw's `program` (vertex and fragment), translated by `cross`
+/// with the draw's specialization constants `spec`.
+fn compile_draw(
+    ctx: &GlContext,
+    vendor: &dyn Vendor,
+    cross: &dyn Fn(&str, &[u8], &[(u32, u32)]) -> Result<(String, Vec<u32>)>,
+    program: &str,
+    spec: &[(u32, u32)],
+) -> Result<Vec<Executable>> {
+    let (vs, mut set) = cross(program, shaders::embedded(program, "vert")?, spec)?;
+    let (fs, set_fs) = cross(program, shaders::embedded(program, "frag")?, spec)?;
+    set.extend(set_fs);
+    glsl::check_all_set(program, spec, &set)?;
+    let messages = ctx.compile(program, &[(GlStage::Vertex, &vs), (GlStage::Fragment, &fs)])?;
+    executables(vendor, program, &messages, &["vertex", "fragment"])
 }
 
 /// Whether the context computes `mediump float` in float16: GL's shader precision format

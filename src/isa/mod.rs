@@ -110,10 +110,10 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
         .vendor
         .setup_for(family.chip, &opts.driver_files)
         .and_then(|setup| {
-        family
-            .vendor
-            .child_env(family.chip, &setup, &opts.driver_files)
-    }) {
+            family
+                .vendor
+                .child_env(family.chip, &setup, &opts.driver_files)
+        }) {
         Ok(env) => env,
         Err(why) => return ChildOutcome::NotSetUp(why),
     };

@@ -320,7 +320,16 @@ pub fn report(
                 let (rows, names, asm) = family_rows(&r, &family.row_key())?;
                 results.extend(rows);
                 disassembly.extend(asm);
-                let mut f = status(&family, true, "compiled".into());
+                let text = if r.skipped.is_empty() {
+                    "compiled".to_string()
+                } else {
+                    format!(
+                        "compiled, {} method(s) skipped: {}",
+                        r.skipped.len(),
+                        r.skipped.join("; ")
+                    )
+                };
+                let mut f = status(&family, true, text);
                 if let Some(c) = f.compiler.as_mut() {
                     c.mesa_version = mesa_version(&r.driver_info);
                 }

@@ -29,9 +29,71 @@ pub fn from_spirv_es(
     spec: &[(u32, u32)],
     version: u32,
 ) -> Result<(String, Vec<u32>)> {
+    if version == 100 {
+        return Ok(specialize(&essl100(label, spirv)?, spec));
+    }
     let v = version.to_string();
-    let text = cross(label, spirv, &["--es", "--version", &v])?;
-    Ok(specialize(&es_precision(&text), spec))
+    let text = es_precision(&cross(label, spirv, &["--es", "--version", &v])?);
+    Ok(specialize(&text, spec))
+}
+
+/// ESSL 1.00 (OpenGL ES 2.0), which links varyings by name, not location, and has no flat
+/// interpolation nor a second colour output: the interface variables named after their
+/// location (`v_<n>` for varyings, `a_<n>` for vertex attributes, from the ESSL 3.10
+/// translation's `layout(location = n)`), `flat` varyings smooth, the colour output alone.
+fn essl100(label: &str, spirv: &[u8]) -> Result<String> {
+    let es310 = cross(label, spirv, &["--es", "--version", "310"])?;
+    let vertex = es310.contains("gl_Position");
+    let mut args: Vec<String> = ["--es", "--version", "100"].map(String::from).to_vec();
+    for line in es310.lines() {
+        let Some(rest) = line.trim().strip_prefix("layout(location = ") else {
+            continue;
+        };
+        let Some((loc, decl)) = rest.split_once(')') else {
+            continue;
+        };
+        let dir = if decl.contains(" in ") {
+            "in"
+        } else if decl.contains(" out ") {
+            "out"
+        } else {
+            continue;
+        };
+        let name = match (vertex, dir) {
+            (true, "in") => format!("a_{loc}"),
+            (false, "out") => continue,
+            _ => format!("v_{loc}"),
+        };
+        args.extend([
+            "--rename-interface-variable".into(),
+            dir.into(),
+            loc.into(),
+            name,
+        ]);
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let text = es_precision(&cross(label, spirv, &args)?);
+    let text = text
+        .lines()
+        .map(|l| match l.strip_prefix("flat varying ") {
+            Some(rest) => format!("varying {rest}\n"),
+            None => format!("{l}\n"),
+        })
+        .collect::<String>();
+    Ok(colour_output_alone(&text))
+}
+
+/// ESSL 1.00 without EXT_draw_buffers (VC4, Mali-450): the writes to outputs other than
+/// `gl_FragData[0]`, and the extension spirv-cross asks for them, dropped.
+pub fn colour_output_alone(glsl: &str) -> String {
+    glsl.lines()
+        .filter(|l| {
+            let t = l.trim();
+            t != "#extension GL_EXT_draw_buffers : require"
+                && !(t.starts_with("gl_FragData[") && !t.starts_with("gl_FragData[0]"))
+        })
+        .map(|l| format!("{l}\n"))
+        .collect()
 }
 
 /// The GLSL ES version of an OpenGL ES context's version (3.2: 320, 3.1: 310, 3.0: 300, 2.0:
@@ -109,15 +171,21 @@ pub fn es_precision(glsl: &str) -> String {
         }
         lines.push(line);
     }
+    let f16 = glsl.contains("f16") || glsl.contains("float16_t");
+    // The helpers go after the directives that must come first (#version, #extension).
+    let head = lines
+        .iter()
+        .rposition(|l| l.starts_with("#version") || l.starts_with("#extension"))
+        .map_or(0, |i| i + 1);
     let mut body = String::new();
-    for line in lines {
+    for (i, line) in lines.iter().enumerate() {
+        if i == head && f16 {
+            for (_, t) in &F16_TYPES[..] {
+                body += &format!("mediump {t} _mp_{t}(mediump {t} x) {{ return x; }}\n");
+            }
+        }
         if line.trim() == "precision mediump float;" {
             body += "precision highp float;\n";
-            if glsl.contains("f16") || glsl.contains("float16_t") {
-                for (_, t) in &F16_TYPES[..] {
-                    body += &format!("mediump {t} _mp_{t}(mediump {t} x) {{ return x; }}\n");
-                }
-            }
             continue;
         }
         body += &mediump_types(line);
@@ -139,7 +207,9 @@ fn mediump_types(line: &str) -> String {
             continue;
         }
         let start = i;
-        while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_' || chars[i] == '.') {
+        while i < chars.len()
+            && (chars[i].is_ascii_alphanumeric() || chars[i] == '_' || chars[i] == '.')
+        {
             i += 1;
         }
         let word: String = chars[start..i].iter().collect();
@@ -159,7 +229,10 @@ fn mediump_types(line: &str) -> String {
         while j < chars.len() && chars[j] == ' ' {
             j += 1;
         }
-        if j < chars.len() && chars[j] == '(' {
+        if j < chars.len() && chars[j] == '[' {
+            // An array constructor `float16_t[4](...)`: its elements carry their precision.
+            out += t;
+        } else if j < chars.len() && chars[j] == '(' {
             // A conversion: wrap the constructor and its arguments.
             let mut depth = 0;
             let mut k = j;
@@ -229,6 +302,21 @@ mod tests {
     use super::*;
 
     #[test]
+    fn essl100_keeps_the_colour_output_alone() {
+        let src = "#version 100\n#extension GL_EXT_draw_buffers : require\nvoid main()\n{\n    \
+            gl_FragData[1] = vec4(n, 1.0);\n    gl_FragData[0] = vec4(c, 1.0);\n}\n";
+        let out = colour_output_alone(src);
+        assert!(
+            !out.contains("draw_buffers") && !out.contains("gl_FragData[1]"),
+            "{out}"
+        );
+        assert!(
+            out.contains("    gl_FragData[0] = vec4(c, 1.0);\n"),
+            "{out}"
+        );
+    }
+
+    #[test]
     fn float16_becomes_mediump_and_float32_highp() {
         let src = "#version 310 es\n#if defined(GL_AMD_gpu_shader_half_float)\n\
             #extension GL_AMD_gpu_shader_half_float : require\n#else\n#error No FP16.\n#endif\n\
@@ -252,8 +340,15 @@ mod tests {
         // A float32 program: highp by default, nothing else changed, no helpers.
         let f32 = "#version 310 es\nprecision mediump float;\nvoid main()\n{\n    highp vec3 a = normalize(b);\n}\n";
         let out = es_precision(f32);
-        assert!(out.contains("precision highp float;") && !out.contains("_mp_"), "{out}");
+        assert!(
+            out.contains("precision highp float;") && !out.contains("_mp_"),
+            "{out}"
+        );
         assert!(out.contains("highp vec3 a = normalize(b);"));
+        assert_eq!(
+            mediump_types("x = float16_t[2](float16_t(0.5), a);"),
+            "x = float[2](_mp_float(float(0.5)), a);"
+        );
         // Teeth: `f16vec3x` is another identifier, not the type.
         assert_eq!(mediump_types("f16vec3x = y;"), "f16vec3x = y;");
     }

@@ -125,10 +125,15 @@ impl Vendor for Arm {
         // panfrost: "Mali-G52 (Panfrost)"; lima: "Mali450".
         let name = device_name.to_lowercase().replace('-', "");
         let want = format!("mali{}", chip.trim_start_matches("mali"));
-        if name.split(|c: char| !c.is_ascii_alphanumeric()).any(|w| w == want) {
+        if name
+            .split(|c: char| !c.is_ascii_alphanumeric())
+            .any(|w| w == want)
+        {
             Ok(())
         } else {
-            Err(format!("the renderer is `{device_name}`, not a Mali {chip}"))
+            Err(format!(
+                "the renderer is `{device_name}`, not a Mali {chip}"
+            ))
         }
     }
 
@@ -164,7 +169,13 @@ mod tests {
             .unwrap();
         assert_eq!(stage, "fragment");
         assert!(stats.contains(&("bound_ls".into(), 7.0)), "{stats:?}");
-        assert_eq!(stats.iter().filter(|(k, _)| k.starts_with("bound_")).count(), 1);
+        assert_eq!(
+            stats
+                .iter()
+                .filter(|(k, _)| k.starts_with("bound_"))
+                .count(),
+            1
+        );
         // Midgard and Utgard give no cycles: nothing is named bound.
         let (_, stats) = Arm
             .parse_debug_message(

@@ -40,7 +40,9 @@ impl Vendor for Intel {
     fn default_chips(&self) -> &'static [&'static str] {
         // Gen9 Skylake, Gen11 Ice Lake, Gen12 Tiger Lake and Alder Lake, Xe-HPG DG2 (Arc);
         // through ANV 25.0.7: Meteor Lake, Lunar Lake, Battlemage, Panther Lake.
-        &["skl", "icl", "tgl", "adl", "dg2", "mtl", "lnl", "bmg", "ptl"]
+        &[
+            "skl", "icl", "tgl", "adl", "dg2", "mtl", "lnl", "bmg", "ptl",
+        ]
     }
 
     fn api(&self) -> Api {
