@@ -171,11 +171,11 @@ elif [ "$(cat "$build/.shadelab-options" 2>/dev/null)" != "${options[*]}" ]; the
   echo "${options[*]}" >"$build/.shadelab-options"
 fi
 
-# 6. ninja, exactly the targets the routes use; a progress line every 10 %.
-targets=(
+# 6. ninja, exactly the targets the routes use, in two rounds (the Vulkan driver and the shims
+# are a few hundred steps; the OpenGL ES libraries, with every gallium driver, most of the
+# rest); a progress line every 10 % of each.
+vulkan_and_shims=(
   src/freedreno/vulkan/libvulkan_freedreno.so
-  src/egl/libEGL.so.1.0.0
-  src/mapi/es2api/libGLESv2.so.2.0.0
   src/freedreno/drm-shim/libfreedreno_noop_drm_shim.so
   src/panfrost/drm-shim/libpanfrost_noop_drm_shim.so
   src/gallium/drivers/lima/drm-shim/liblima_noop_drm_shim.so
@@ -183,18 +183,28 @@ targets=(
   src/broadcom/drm-shim/libvc4_noop_drm_shim.so
   src/intel/tools/libintel_noop_drm_shim.so
 )
-say "ninja -j$jobs (${#targets[@]} targets)"
-nice -n 19 ninja -C "$build" -j"$jobs" "${targets[@]}" 2>&1 | tee -a "$log" |
-  awk -v t0="$t0" '/^\[[0-9]+\/[0-9]+\]/ {
-      split(substr($1, 2), a, "/"); n = a[1] + 0; total = a[2] + 0
-      pct = int(100 * n / total)
-      if (pct >= last + 10 || n == total) {
-        last = pct - pct % 10
-        cmd = "date +%s"; cmd | getline now; close(cmd)
-        printf "build-compilers: [%d s] ninja %d/%d (%d %%)\n", now - t0, n, total, pct > "/dev/stderr"
-      }
-    }'
-[ "${PIPESTATUS[0]}" -eq 0 ] || fail "ninja"
+gles=(
+  src/egl/libEGL.so.1.0.0
+  src/mapi/es2api/libGLESv2.so.2.0.0
+)
+run_ninja() {
+  local what=$1
+  shift
+  say "ninja -j$jobs: $what ($# targets)"
+  nice -n 19 ninja -C "$build" -j"$jobs" "$@" 2>&1 | tee -a "$log" |
+    awk -v t0="$t0" -v what="$what" '/^\[[0-9]+\/[0-9]+\]/ {
+        split(substr($1, 2), a, "/"); n = a[1] + 0; total = a[2] + 0
+        pct = int(100 * n / total)
+        if (pct >= last + 10 || n == total) {
+          last = pct - pct % 10
+          cmd = "date +%s"; cmd | getline now; close(cmd)
+          printf "build-compilers: [%d s] %s: ninja %d/%d (%d %%)\n", now - t0, what, n, total, pct > "/dev/stderr"
+        }
+      }'
+  [ "${PIPESTATUS[0]}" -eq 0 ] || fail "ninja ($what)"
+}
+run_ninja "Turnip and the drm-shims" "${vulkan_and_shims[@]}"
+run_ninja "the OpenGL ES drivers" "${gles[@]}"
 
 # 7. What the routes read: ICD manifests with absolute paths, the EGL/GLES libraries in one
 # folder (LD_LIBRARY_PATH of the OpenGL ES children), the shims.

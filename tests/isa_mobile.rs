@@ -36,7 +36,7 @@ const FAMILIES: [&str; 18] = [
 ];
 
 /// The families whose driver computes float16 (the others refuse float16 programs).
-const FLOAT16: [&str; 13] = [
+const FLOAT16: [&str; 14] = [
     "qualcomm:a618",
     "qualcomm:a630",
     "qualcomm:a660",
@@ -50,6 +50,7 @@ const FLOAT16: [&str; 13] = [
     "intel:mtl",
     "intel:lnl",
     "intel:bmg",
+    "intel:ptl",
 ];
 
 /// The OpenGL ES 2.0 families: ESSL 1.00 cannot express every program (no array
