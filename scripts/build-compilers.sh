@@ -40,7 +40,7 @@ MESA_VERSION=25.0.7-2+deb13u1
 MESA_SUITE=trixie
 MESA_DSC_SHA256=c3605bc68cd140db19523c1b80ecd4aa1d77d5b528f15902995ef9ddbbc8f07e
 ANV_VERSION=25.0.7-2~bpo12+1
-ANV_DEB_SHA256=pending
+ANV_DEB_SHA256=3899f1800424c60a05df5d6913076a526ca8fdbabec43672cd397563d1ca3263
 MESON_VERSION=1.5.2
 MESON_WHEEL_SHA256=77706e2368a00d789c097632ccf4fc39251fba56d03e1e1b262559a3c7a08f5b
 
@@ -49,6 +49,8 @@ key="$cache/mesa-$MESA_VERSION-${MESA_DSC_SHA256:0:16}"
 if [ "${1:-}" = "--check" ]; then
   env="$base/vendors/compilers.env"
   [ -f "$env" ] || { echo "build-compilers: $env is missing (make compilers)" >&2; exit 1; }
+  grep -q "^GLES_LIB=" "$env" ||
+    { echo "build-compilers: $env lacks the OpenGL ES drivers (make compilers)" >&2; exit 1; }
   grep -q "^MESA_SOURCE_SHA256=$MESA_DSC_SHA256\$" "$env" ||
     { echo "build-compilers: $env is of another Mesa source (make compilers)" >&2; exit 1; }
   while IFS='=' read -r k v; do
@@ -139,9 +141,7 @@ if [ ! -f "$anv/.done" ]; then
   (cd "$anv/download" && apt_private backports download "mesa-vulkan-drivers=$ANV_VERSION") \
     >>"$log" 2>&1 || fail "apt-get download mesa-vulkan-drivers=$ANV_VERSION"
   deb=$(ls "$anv"/download/mesa-vulkan-drivers_*.deb)
-  if [ "$ANV_DEB_SHA256" != pending ]; then
-    sha_ok "$deb" "$ANV_DEB_SHA256" || fail "$deb's sha256 is not the pinned $ANV_DEB_SHA256"
-  fi
+  sha_ok "$deb" "$ANV_DEB_SHA256" || fail "$deb's sha256 is not the pinned $ANV_DEB_SHA256"
   dpkg-deb -x "$deb" "$anv/root" >>"$log" 2>&1 || fail "dpkg-deb -x"
   rm -f "$deb"
   touch "$anv/.done"
@@ -203,41 +203,50 @@ run_ninja() {
       }'
   [ "${PIPESTATUS[0]}" -eq 0 ] || fail "ninja ($what)"
 }
-run_ninja "Turnip and the drm-shims" "${vulkan_and_shims[@]}"
-run_ninja "the OpenGL ES drivers" "${gles[@]}"
-
-# 7. What the routes read: ICD manifests with absolute paths, the EGL/GLES libraries in one
-# folder (LD_LIBRARY_PATH of the OpenGL ES children), the shims.
+# 7. What the routes read, written after each round (so that a failure in the second leaves
+# the first's routes usable): ICD manifests with absolute paths, the shims, and after the
+# second the EGL/GLES libraries in one folder (LD_LIBRARY_PATH of the OpenGL ES children).
 out="$key/out"
-rm -rf "$out"
-mkdir -p "$out/lib" "$out/icd"
-for l in libEGL.so.1 libGLESv2.so.2; do
-  cp -L "$(find "$build/src" -name "$l" | head -n 1)" "$out/lib/$l"
-done
-for l in $(find "$build/src" -name 'libgallium-*.so' -o -name 'libglapi.so.0'); do
-  cp -L "$l" "$out/lib/"
-done
 icd() {
+  mkdir -p "$out/icd"
   cat >"$out/icd/$1.json" <<EOF
 { "ICD": { "api_version": "1.4.305", "library_path": "$2" }, "file_format_version": "1.0.1" }
 EOF
 }
-icd turnip "$build/src/freedreno/vulkan/libvulkan_freedreno.so"
-icd anv "$(find "$anv/root" -name libvulkan_intel.so | head -n 1)"
-shim() { echo "$1=$build/$2"; }
-{
-  echo "MESA_SOURCE=mesa_$MESA_VERSION.dsc"
-  echo "MESA_SOURCE_SHA256=$MESA_DSC_SHA256"
-  echo "ANV_PACKAGE=mesa-vulkan-drivers_$ANV_VERSION"
-  echo "TURNIP_ICD=$out/icd/turnip.json"
-  echo "ANV_ICD=$out/icd/anv.json"
-  echo "GLES_LIB=$out/lib"
-  shim FREEDRENO_SHIM src/freedreno/drm-shim/libfreedreno_noop_drm_shim.so
-  shim PANFROST_SHIM src/panfrost/drm-shim/libpanfrost_noop_drm_shim.so
-  shim LIMA_SHIM src/gallium/drivers/lima/drm-shim/liblima_noop_drm_shim.so
-  shim V3D_SHIM src/broadcom/drm-shim/libv3d_noop_drm_shim.so
-  shim VC4_SHIM src/broadcom/drm-shim/libvc4_noop_drm_shim.so
-  shim INTEL_SHIM src/intel/tools/libintel_noop_drm_shim.so
-} >"$base/vendors/compilers.env.partial"
-mv "$base/vendors/compilers.env.partial" "$base/vendors/compilers.env"
+write_env() {
+  local gles=$1
+  icd turnip "$build/src/freedreno/vulkan/libvulkan_freedreno.so"
+  icd anv "$(find "$anv/root" -name libvulkan_intel.so | head -n 1)"
+  if [ "$gles" = yes ]; then
+    rm -rf "$out/lib"
+    mkdir -p "$out/lib"
+    for l in libEGL.so.1 libGLESv2.so.2; do
+      cp -L "$(find "$build/src" -name "$l" | head -n 1)" "$out/lib/$l"
+    done
+    for l in $(find "$build/src" -name 'libgallium-*.so' -o -name 'libglapi.so.0'); do
+      cp -L "$l" "$out/lib/"
+    done
+  fi
+  {
+    echo "MESA_SOURCE=mesa_$MESA_VERSION.dsc"
+    echo "MESA_SOURCE_SHA256=$MESA_DSC_SHA256"
+    echo "ANV_PACKAGE=mesa-vulkan-drivers_$ANV_VERSION"
+    echo "TURNIP_ICD=$out/icd/turnip.json"
+    echo "ANV_ICD=$out/icd/anv.json"
+    if [ "$gles" = yes ]; then echo "GLES_LIB=$out/lib"; fi
+    echo "FREEDRENO_SHIM=$build/src/freedreno/drm-shim/libfreedreno_noop_drm_shim.so"
+    echo "PANFROST_SHIM=$build/src/panfrost/drm-shim/libpanfrost_noop_drm_shim.so"
+    echo "LIMA_SHIM=$build/src/gallium/drivers/lima/drm-shim/liblima_noop_drm_shim.so"
+    echo "V3D_SHIM=$build/src/broadcom/drm-shim/libv3d_noop_drm_shim.so"
+    echo "VC4_SHIM=$build/src/broadcom/drm-shim/libvc4_noop_drm_shim.so"
+    echo "INTEL_SHIM=$build/src/intel/tools/libintel_noop_drm_shim.so"
+  } >"$base/vendors/compilers.env.partial"
+  mv "$base/vendors/compilers.env.partial" "$base/vendors/compilers.env"
+}
+
+run_ninja "Turnip and the drm-shims" "${vulkan_and_shims[@]}"
+write_env no
+say "Turnip, ANV 25.0.7 and the shims are ready ($base/vendors/compilers.env)"
+run_ninja "the OpenGL ES drivers" "${gles[@]}"
+write_env yes
 say "done in $(($(date +%s) - t0)) s: $base/vendors/compilers.env"
