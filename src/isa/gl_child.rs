@@ -128,12 +128,15 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
     })
 }
 
+/// Our SPIR-V to the context's GLSL: (label, SPIR-V, specialization) -> (source, ids set).
+type Cross<'a> = dyn Fn(&str, &[u8], &[(u32, u32)]) -> Result<(String, Vec<u32>)> + 'a;
+
 /// The executables of the timed draw's `program` (vertex and fragment), translated by `cross`
 /// with the draw's specialization constants `spec`.
 fn compile_draw(
     ctx: &GlContext,
     vendor: &dyn Vendor,
-    cross: &dyn Fn(&str, &[u8], &[(u32, u32)]) -> Result<(String, Vec<u32>)>,
+    cross: &Cross<'_>,
     program: &str,
     spec: &[(u32, u32)],
 ) -> Result<Vec<Executable>> {

@@ -89,8 +89,8 @@ pub fn colour_output_alone(glsl: &str) -> String {
     glsl.lines()
         .filter(|l| {
             let t = l.trim();
-            t != "#extension GL_EXT_draw_buffers : require"
-                && !(t.starts_with("gl_FragData[") && !t.starts_with("gl_FragData[0]"))
+            let other_output = t.starts_with("gl_FragData[") && !t.starts_with("gl_FragData[0]");
+            t != "#extension GL_EXT_draw_buffers : require" && !other_output
         })
         .map(|l| format!("{l}\n"))
         .collect()
