@@ -101,7 +101,8 @@ ParamsData params;
 #endif
 
 #ifdef USE_LUT
-// cos^n table (FORMULAS.md 2.20): LUT_ROWS rows (n = 1..LUT_ROWS) of LUT_SAMPLES cosines on [0, 1].
+// cos^n table (docs/formulas.md#specular-table): LUT_ROWS rows (n = 1..LUT_ROWS) of LUT_SAMPLES
+// cosines on [0, 1].
 layout(set = 0, binding = 1, std430) readonly buffer SpecularLut { float lut[]; };
 const int LUT_ROWS = 255;
 const int LUT_SAMPLES = 4096;
@@ -138,5 +139,5 @@ VARYING(11, INTERP) vec3 vQuat;    // quaternion (x, y, z) of the vertex normal
 #ifdef IN_WINDOW
 VARYING(12, flat) vec2 vW0;        // the triangle's window-space corners (pixels),
 VARYING(13, flat) vec2 vW1;        // set up on the CPU in f64: the scanline
-VARYING(14, flat) vec2 vW2;        // methods' span ends (FORMULAS.md 1.6)
+VARYING(14, flat) vec2 vW2;        // methods' span ends (docs/formulas.md#scanline-emulation)
 #endif

@@ -1,13 +1,14 @@
 #ifndef QUATERNION_GLSL
 #define QUATERNION_GLSL
-// Quaternion helpers (FORMULAS.md 2.14), shared by the vertex and fragment stages.
-// The unit quaternion turning +Z onto unit n without twist, stored as (x, y, z):
-//   z = sqrt((n.z + 1)/2), x = n.x/(2z), y = n.y/(2z)
+// Quaternion helpers (docs/formulas.md#quaternion-interpolation), shared by the vertex and fragment
+// stages. The unit quaternion turning +Z onto unit n without twist, stored as (x, y, z):
+// z = sqrt((n.z + 1)/2), x = n.x/(2z), y = n.y/(2z)
 real3 quatFromNormal(real3 n) {
     real z = sqrt(R(0.5) * (n.z + R(1.0)));
     return real3(n.x / (R(2.0) * z), n.y / (R(2.0) * z), z);
 }
-// The normal of an interpolated (non-unit) quaternion: the square root cancels (S000 l.183-203).
+// The normal of an interpolated (non-unit) quaternion: the square root cancels
+// (docs/formulas.md#quaternion-interpolation).
 real3 normalFromQuat(real3 q) {
     return real3(R(2.0) * q.x * q.z, R(2.0) * q.y * q.z, q.z * q.z - q.x * q.x - q.y * q.y) / dot(q, q);
 }

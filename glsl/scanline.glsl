@@ -1,6 +1,6 @@
-// Scanline emulation in a fragment shader (FORMULAS.md 1.6): the span through the fragment's
-// row, from the triangle's window-space corners (vW0..vW2) and unit vertex normals (vN0..vN2),
-// both flat varyings set up on the CPU. Twin: src/method/scanline.rs (same branches).
+// Scanline emulation in a fragment shader (docs/formulas.md#scanline-emulation): the span through
+// the fragment's row, from the triangle's window-space corners (vW0..vW2) and unit vertex normals
+// (vN0..vN2), both flat varyings set up on the CPU. Twin: src/method/scanline.rs (same branches).
 // These methods depend on the scanline direction: they are not rotation-invariant on screen.
 // Positions are `pix` (float32 in both precisions), normals `real` (glsl/common.glsl).
 struct Span {
@@ -107,10 +107,10 @@ int levels(pix width) {
 }
 
 #ifdef INV_ROOT
-// Dichotomy (FORMULAS.md 2.13): the slerp sample nearest t on the grid m / 2^K, by K bisections
-// with mid = (lo + hi) INV_ROOT(2 lo.hi); m = floor(t 2^K + 0.5). The grid index is an integer
-// decision on the pixel's position: t is a `pix` (spanFraction), as a mobile shader takes it
-// from highp gl_FragCoord; a float16 t (2^-11 relative) would move m by a grid step once 2^K
+// Dichotomy (docs/formulas.md#dichotomy): the slerp sample nearest t on the grid m / 2^K, by K
+// bisections with mid = (lo + hi) INV_ROOT(2 lo.hi); m = floor(t 2^K + 0.5). The grid index is an
+// integer decision on the pixel's position: t is a `pix` (spanFraction), as a mobile shader takes
+// it from highp gl_FragCoord; a float16 t (2^-11 relative) would move m by a grid step once 2^K
 // nears 2^10. The halving itself is `real`.
 real3 dichotomy(real3 A, real3 B, pix t, int K) {
     int n = 1 << K;
@@ -135,9 +135,9 @@ real3 dichotomy(real3 A, real3 B, pix t, int K) {
 }
 #endif
 
-// The digital segment of 2^k pixels holding the pixel (FORMULAS.md 2.16): its end positions
-// xl, xp (pixel centres; the first starts at the first covered pixel centre) and the pixel's
-// index v in it.
+// The digital segment of 2^k pixels holding the pixel (docs/formulas.md#digital-segments): its end
+// positions xl, xp (pixel centres; the first starts at the first covered pixel centre) and the
+// pixel's index v in it.
 void segmentAt(Span sp, pix px, int k, out pix xl, out pix xp, out int v) {
     pix p0 = ceil(sp.xA - 0.5) + 0.5;
     int j = max(int(floor(px - p0)), 0);

@@ -1,8 +1,8 @@
-// Digital segments of 2^SEGMENT_K pixels (FORMULAS.md 2.16, S002 l.171-703): exact Phong at the
-// segment ends (normalised span normals, the last segment's far end extrapolated past the span
-// as the seed says); inside, the colour interpolated linearly (no INV_ROOT), or, with INV_ROOT,
-// the normal by dichotomy between the unit end normals (S002 l.600-660). Twin:
-// src/method/twins.rs segments().
+// Digital segments of 2^SEGMENT_K pixels (docs/formulas.md#digital-segments): exact Phong at the
+// segment ends (normalised span normals, the last segment's far end extrapolated past the span as
+// the paper says); inside, the colour interpolated linearly (no INV_ROOT), or, with INV_ROOT, the
+// normal by dichotomy between the unit end normals (docs/formulas.md#dichotomy-inside-segments).
+// Twin: src/method/twins.rs segments().
 #include "scanline.glsl"
 
 real3 segmentEnd(Span sp, pix x) {

@@ -69,7 +69,8 @@ void main() {
     vPn20 = inPn20;
 #endif
 #ifdef IN_COLOR
-    vColor = F3(shade(R3(inNormal)));                  // Gouraud: light the vertex (FORMULAS.md 2.2)
+    // Gouraud: light the vertex (docs/formulas.md#gouraud-shading)
+    vColor = F3(shade(R3(inNormal)));
 #endif
 #ifdef IN_QUAT
 #ifdef QUAT_LOCAL

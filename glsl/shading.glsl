@@ -1,6 +1,6 @@
 #ifndef SHADING_GLSL
 #define SHADING_GLSL
-// The lighting model of the seeds (FORMULAS.md 1.2), identical for every method:
+// The lighting model of the papers (docs/formulas.md#lighting-model), identical for every method:
 //   I = k_a I_a + sum_lights I_L (k_d max(0, N.L) + k_s max(0, N.H)^n)
 // Directional lights, viewer at infinity: L and H are per-frame constants in view space.
 // max(0, x)^n is taken as 0 at x == 0 so that n == 0 gives no NaN (pow(0, 0) is undefined in GLSL).

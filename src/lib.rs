@@ -27,8 +27,15 @@
 //!   [`method::checks`] / [`method::scanline_checks`] (README "How to add a method");
 //! - a metric: [`analysis`] computes it, [`compare::summary`] reports it;
 //! - a command: a file in src/cli/, calling a job of the layer below;
-//! - a section of the HTML report: [`report::html`] (links stay relative; [`report::links`]
-//!   checks them).
+//! - a cost model: a [`cost::CostSource`] beside the job that measures it, one line in
+//!   [`costs::builtin`]; a GPU vendor for `isa`: a file of [`isa::vendor`], one line in its
+//!   `VENDORS`;
+//! - a setting of bench's or the report's measurement: [`bench::plan::RunPlan`] (its table of
+//!   defaults is tested there);
+//! - a child process: a [`child::Job`] (one typed request, one typed reply), dispatched in
+//!   src/cli/child.rs;
+//! - a section of the HTML report: a function in [`report::sections::SECTIONS`] (links stay
+//!   relative; [`report::links`] checks them).
 //!
 //! # Lifetimes and synchronisation
 //! Vulkan objects own an `Arc` of their [`gpu::vk::Context`]; every submission waits on its fence,

@@ -30,7 +30,7 @@ fn list_prints_methods_and_json() {
             .find(|m| m["name"] == name)
             .unwrap();
         let c = &m["claims"][0];
-        assert_eq!(c.as_object().unwrap().len(), 7, "{c}");
+        assert_eq!(c.as_object().unwrap().len(), 8, "{c}");
         c["basis"].as_str().unwrap().to_string()
     };
     for name in ["newton_raphson", "mikami_const", "romanyuk_poly"] {

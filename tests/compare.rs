@@ -271,9 +271,9 @@ fn a_method_that_is_nan_everywhere_fails_every_limit() {
     );
 }
 
-/// Angle-interpolating methods are judged against two references (FORMULAS.md 1.4): slerp is
-/// far from exact Phong (it interpolates by angle) and at float rounding from exact slerp;
-/// methods judged against Phong only carry null there.
+/// Angle-interpolating methods are judged against two references
+/// (docs/formulas.md#the-two-references): slerp is far from exact Phong (it interpolates by angle)
+/// and at float rounding from exact slerp; methods judged against Phong only carry null there.
 #[test]
 fn angle_interpolating_methods_report_a_second_reference() {
     let dir = tempfile::tempdir().unwrap();

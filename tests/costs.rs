@@ -113,7 +113,14 @@ fn a_registered_cost_model_reaches_the_report_and_the_speed_claims() {
         full: false,
         command_line: "test".into(),
         progress: false,
-        runs: 1,
+        plan: shadelab::bench::plan::RunPlan::new(
+            shadelab::bench::plan::Job::Report { full: false },
+            &shadelab::bench::plan::Given {
+                runs: Some(1),
+                ..Default::default()
+            },
+        )
+        .unwrap(),
         exe: None,
         device: Default::default(),
         costs: registry(),

@@ -285,14 +285,14 @@ fn isa_compiles_float16_programs_where_the_family_has_float16() {
     let polaris = r16
         .families
         .iter()
-        .find(|f| f.family == "polaris10")
+        .find(|f| f.family == "amd:polaris10")
         .unwrap();
     assert!(polaris.status.contains("float16"), "{}", polaris.status);
     let row16 = r16
-        .row("vega10", "phong_exact", "fragment", "draw")
+        .row("amd:vega10", "phong_exact", "fragment", "draw")
         .unwrap();
     let row32 = r32
-        .row("vega10", "phong_exact", "fragment", "draw")
+        .row("amd:vega10", "phong_exact", "fragment", "draw")
         .unwrap();
     assert!(row16.program.contains(".f16."), "{}", row16.program);
     assert_ne!(

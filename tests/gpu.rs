@@ -283,9 +283,10 @@ fn scanline_methods_refuse_a_scene_cut_by_the_near_plane() {
     assert_validation_clean(r.context());
 }
 
-/// The scanline methods depend on the scanline direction (FORMULAS.md 1.6): rolling the camera
-/// 90 degrees about the view axis rotates the image, and a rotation-invariant method gives the
-/// same pixels rotated back, while a scanline method changes. Reports both differences.
+/// The scanline methods depend on the scanline direction (docs/formulas.md#scanline-emulation):
+/// rolling the camera 90 degrees about the view axis rotates the image, and a rotation-invariant
+/// method gives the same pixels rotated back, while a scanline method changes. Reports both
+/// differences.
 #[test]
 fn scanline_methods_are_not_rotation_invariant() {
     let r = validated_renderer();

@@ -160,7 +160,7 @@ fn sixteen_dependent_multiplications_cost_more() {
         compile_probe(dir.path(), "plus16", 16),
     ];
     let r = isa_run(&opts);
-    for f in ["polaris10", "navi21"] {
+    for f in ["amd:polaris10", "amd:navi21"] {
         let stat = |m: &str, k: &str| r.row(f, m, "compute", "probe").unwrap().statistics[k];
         for k in ["instructions", "inverse_throughput", "latency"] {
             // The same program compiles to the same cost: the comparison below is not vacuous.
@@ -199,8 +199,8 @@ fn a_refused_family_is_reported_not_fatal() {
     let r: IsaReport =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("isa.json")).unwrap())
             .unwrap();
-    assert_eq!(r.supported(), vec!["navi21"]);
-    assert!(r.results.iter().all(|row| row.family == "navi21"));
+    assert_eq!(r.supported(), vec!["amd:navi21"]);
+    assert!(r.results.iter().all(|row| row.family == "amd:navi21"));
     let opts = options(&["phong_exact"], &["navi24"]);
     let r = isa_run(&opts);
     assert!(!r.families[0].supported);
@@ -289,13 +289,13 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
         .iter()
         .map(|c| c.as_str().unwrap())
         .collect();
-    assert_eq!(charts, ["charts/navi21.svg", "charts/navi21.png"]);
+    assert_eq!(charts, ["charts/amd_navi21.svg", "charts/amd_navi21.png"]);
     for c in &charts {
         assert!(dir.path().join("isa").join(c).is_file(), "{c}");
     }
     let rho = &isa_json["spearman"];
     assert_eq!(rho.as_array().unwrap().len(), 1, "{rho}");
-    assert_eq!(rho[0]["family"], "navi21");
+    assert_eq!(rho[0]["family"], "amd:navi21");
     assert_eq!(rho[0]["methods"], 4);
     let r = rho[0]["spearman"]
         .as_f64()
@@ -338,9 +338,15 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
         );
         // A family the driver refused is no column; bench.json's static_cost names it.
         assert!(cells.iter().all(|x| x["cost_model"] != "isa:bogus"), "{c}");
-        let navi = cell("isa:navi21");
+        let navi = cell("isa:amd:navi21");
         let it = |m: &serde_json::Value| {
-            inverse_throughput(&report, "navi21", m.as_str().unwrap(), "fragment", "draw")
+            inverse_throughput(
+                &report,
+                "amd:navi21",
+                m.as_str().unwrap(),
+                "fragment",
+                "draw",
+            )
         };
         let ratio = it(&c["num"]) / it(&c["den"]);
         assert_eq!(navi["ratio"].as_f64().unwrap(), ratio);
@@ -368,7 +374,7 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
     assert!(claims_list.iter().any(|c| c["measured"]
         .as_str()
         .unwrap()
-        .starts_with("isa:navi21: phong_exact")));
+        .starts_with("isa:amd:navi21: phong_exact")));
     // Teeth: a missing --isa file is a usage error.
     let args = bench_args(&p("b3"), &["--isa", "/nonexistent/isa.json"]);
     let (code, _, err) = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
@@ -395,7 +401,11 @@ fn auto_ranks_by_a_gpu_family_and_refuses_an_unknown_one() {
     ];
     let (code, _, err) = run(&[&base[..], &["isa:polaris10"]].concat());
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("auto: candidates by isa:polaris10"), "{err}");
+    // A bare chip is AMD's; the model is named by its one spelling.
+    assert!(
+        err.contains("auto: candidates by isa:amd:polaris10"),
+        "{err}"
+    );
     // gouraud is the cheapest on every family, phong_exact last (the fallback).
     let line = err
         .lines()
@@ -404,7 +414,7 @@ fn auto_ranks_by_a_gpu_family_and_refuses_an_unknown_one() {
     let order = line.split("): ").nth(1).unwrap();
     assert!(order.starts_with("gouraud "), "{line}");
     assert!(
-        err.contains(" by isa:polaris10: "),
+        err.contains(" by isa:amd:polaris10: "),
         "the grouping line: {err}"
     );
     let (code, _, err) = run(&[&base[..], &["isa:bogus"]].concat());
@@ -613,7 +623,7 @@ fn the_schema_requires_each_vendors_statistics() {
         .as_array()
         .unwrap();
     for v in isa::vendor::VENDORS {
-        let f = v.row_key(v.default_chips()[0]);
+        let f = format!("{}:{}", v.prefix(), v.default_chips()[0]);
         let rule = rules
             .iter()
             .find(|r| {

@@ -328,6 +328,22 @@ fn is_test_file(tests: &[PathBuf], p: &Path) -> bool {
     tests.iter().any(|t| p.starts_with(t))
 }
 
+/// Production files (tests' files and test items left out) that spell `needle` in their code.
+fn production_files_naming(files: &[(PathBuf, String)], needle: &str) -> Vec<String> {
+    let tests = test_files(files);
+    files
+        .iter()
+        .filter(|(p, _)| !is_test_file(&tests, p))
+        .filter(|(_, text)| {
+            let mask = test_lines(text);
+            text.lines()
+                .zip(mask)
+                .any(|(l, test)| !test && l.split("//").next().unwrap_or("").contains(needle))
+        })
+        .map(|(p, _)| p.display().to_string())
+        .collect()
+}
+
 /// Production files (tests' files left out) longer than [`MAX_PRODUCTION_LINES`], counting every
 /// line but those of items under `#[cfg(test)]`: a `mod tests;` at the top hides nothing.
 fn long_files(files: &[(PathBuf, String)]) -> Vec<String> {
@@ -434,6 +450,27 @@ fn ash_only_in_gpu_vk_and_clap_only_in_cli() {
     bad.extend(named_outside(&files, "clap::", "cli"));
     bad.extend(named_outside(&files, "use clap", "cli"));
     assert!(bad.is_empty(), "outside their folder:\n{}", bad.join("\n"));
+}
+
+/// The reference's identity lives in the method table: its name is spelled as a string only
+/// there (its row) and in the constant every other file uses (`method::PHONG_EXACT`).
+#[test]
+fn the_reference_is_named_in_two_production_files() {
+    let mut named = production_files_naming(&source_tree(), "\"phong_exact\"");
+    named.sort();
+    assert_eq!(named, ["method/mod.rs", "method/table.rs"]);
+    // Teeth: a third file spelling it is found; a test item spelling it is not.
+    let t = tree(&[
+        ("bench/x.rs", "let r = \"phong_exact\";\n"),
+        (
+            "bench/y.rs",
+            "#[cfg(test)]\nmod tests {\n    const R: &str = \"phong_exact\";\n}\n",
+        ),
+    ]);
+    assert_eq!(
+        production_files_naming(&t, "\"phong_exact\""),
+        ["bench/x.rs"]
+    );
 }
 
 #[test]

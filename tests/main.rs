@@ -21,6 +21,8 @@
 //! - `isa_mobile`: the families of `make compilers` (Qualcomm, Arm, Broadcom, Intel Meteor Lake
 //!   to Panther Lake): every method in float32 and float16, the Phong order, refusals.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
+//! - `citations`: every `docs/formulas.md#<anchor>` the sources, docs and the method table cite
+//!   is a heading of docs/formulas.md; nothing cites a file a clone lacks.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
 //! - `prove`: proof.json against its schema, its two domains, bounds above found values, --replay
 //!   of a found input (a triangle's and an edge's), the help naming the angle's domain.
@@ -28,6 +30,7 @@
 //!   stress, isa and report; the bit trick's error against its known figure; the refusals.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
+mod citations;
 mod cli;
 mod compare;
 mod corpus;

@@ -59,18 +59,19 @@ fn every_method_agrees_with_its_f64_formula() {
     assert_validation_clean(r.context());
 }
 
-/// Pairs that check 2 cannot tell apart on the symmetric shipped icosphere (large triangles,
-/// vertex normals 63 degrees apart: long spans, so the scanline methods' quantisation shows),
-/// each for a reason:
+/// Pairs that check 2 cannot tell apart on the symmetric shipped icosphere (large triangles, vertex
+/// normals 63 degrees apart: long spans, so the scanline methods' quantisation shows), each for a
+/// reason:
 /// - gouraud / trueform: the same Gouraud formula (trueform only changes the geometry);
-/// - phong_exact / specular_lut: the 4096-sample table's interpolation error (<= 1.8e-5 at
-///   n = 50, formulas tests) lies below the float32 bound;
+/// - phong_exact / specular_lut: the 4096-sample table's interpolation error (<= 1.8e-5 at n = 50,
+///   formulas tests) lies below the float32 bound;
 /// - hast_half_vector / quaternion_local: quaternion_local's q is normalize(n + N_i), so it is
-///   Hast's reflection with per-vertex normalised half vectors; the two coincide when a
-///   triangle's corners sit at equal angles from its flat normal (true on these spheres;
+///   Hast's reflection with per-vertex normalised half vectors; the two coincide when a triangle's
+///   corners sit at equal angles from its flat normal (true on these spheres;
 ///   `hast_and_local_quaternion_differ_on_irregular_meshes` shows they differ elsewhere);
-/// - slerp / spherical_angular: the same function (FORMULAS.md 2.11: the closed form equals
-///   slerp to 4e-16 in f64), two float computations of it;
+/// - slerp / spherical_angular: the same function
+///   (docs/formulas.md#spherical-angular-interpolation: the closed form equals slerp to 4e-16 in
+///   f64), two float computations of it;
 const EQUIVALENT_HERE: [(&str, &str); 9] = [
     ("gouraud", "trueform"),
     ("phong_exact", "specular_lut"),
@@ -197,8 +198,9 @@ fn papers_error_bounds_hold_on_the_gpu() {
                 .map(|(_, s)| s.clone())
                 .unwrap()
         };
-        // Mikami: normalised relative error <= 1.5 % for z in [0.25, 1] (S000 l.74); every
-        // pixel of these meshes has z >= (1 + 2 cos 63.4 deg)/3 = 0.63.
+        // Mikami: normalised relative error <= 1.5 % for z in [0.25, 1]
+        // (docs/formulas.md#mikami-square-root); every pixel of these meshes has
+        // z >= (1 + 2 cos 63.4 deg)/3 = 0.63.
         for m in ["mikami_const", "mikami_linear", "mikami_quadratic"] {
             let e = get(m).max_normal_length_error.unwrap();
             eprintln!("{name} {m}: max ||N'| - 1| = {e:.5}");
@@ -213,7 +215,8 @@ fn papers_error_bounds_hold_on_the_gpu() {
             let e = get(m).max_normal_length_error.unwrap();
             assert!(e < 1e-5, "{name}: {m} is not unit length: {e}");
         }
-        // Scalar methods only scale the normal: zero angular error (FORMULAS.md 1.3).
+        // Scalar methods only scale the normal: zero angular error
+        // (docs/formulas.md#error-measures).
         for m in [
             "newton_raphson",
             "lyon_taylor",
@@ -227,9 +230,11 @@ fn papers_error_bounds_hold_on_the_gpu() {
         // phong_exact against its own truth: the float32 level.
         assert!(get("phong_exact").max_abs_error < 1e-4);
         if name == "sphere_coarse" {
-            // Romanyuk's "8x smaller than Lyon" (S000 l.79) does not hold where neighbouring
-            // normals are less than 60 deg apart (formulas tests): on the coarse sphere (36 deg)
-            // Romanyuk's length error exceeds both Lyon forms'. Pinned here on the GPU.
+            // Romanyuk's "8x smaller than Lyon"
+            // (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial) does not hold where
+            // neighbouring normals are less than 60 deg apart (formulas tests): on the coarse
+            // sphere (36 deg) Romanyuk's length error exceeds both Lyon forms'. Pinned here on the
+            // GPU.
             let len = |n: &str| get(n).max_normal_length_error.unwrap();
             assert!(
                 len("romanyuk_poly") > len("lyon_taylor")

@@ -62,6 +62,31 @@ fn toml_string(s: &str) -> String {
     format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
 }
 
+/// `<section id=` elements inside other sections (a scene's parts): not in the navigation.
+fn nested_sections(body: &str) -> usize {
+    let mut depth = 0usize;
+    let mut nested = 0;
+    let mut rest = body;
+    while let Some(i) = rest
+        .find("<section")
+        .into_iter()
+        .chain(rest.find("</section>"))
+        .min()
+    {
+        if rest[i..].starts_with("</section>") {
+            depth = depth.saturating_sub(1);
+            rest = &rest[i + 10..];
+        } else {
+            if depth > 0 && rest[i..].starts_with("<section id=") {
+                nested += 1;
+            }
+            depth += 1;
+            rest = &rest[i + 8..];
+        }
+    }
+    nested
+}
+
 fn index_html() -> String {
     std::fs::read_to_string(report_dir().join("index.html")).unwrap()
 }
@@ -107,6 +132,35 @@ fn report_links_resolve_and_every_method_has_its_parts() {
     assert_eq!(
         missing_parts(&html, "scene-tiny", &SHOWN),
         Vec::<String>::new()
+    );
+    // One list of sections: every section of the page is in the navigation, in page order
+    // (the static cost's section included), and the navigation names nothing else on the page.
+    let (nav, body) = html.split_once("<main>").unwrap();
+    let ids: Vec<&str> = nav
+        .split("href=\"#")
+        .skip(1)
+        .map(|x| x.split('"').next().unwrap())
+        .collect();
+    assert!(ids.contains(&"isa") && ids.contains(&"answer"), "{ids:?}");
+    let at: Vec<usize> = ids
+        .iter()
+        .map(|id| {
+            body.find(&format!("<section id=\"{id}\""))
+                .or_else(|| body.find(&format!("<section class=\"scene\" id=\"{id}\"")))
+                .unwrap_or(usize::MAX)
+        })
+        .collect();
+    assert!(
+        at.iter().all(|&a| a < usize::MAX),
+        "a nav entry without its section: {ids:?}"
+    );
+    assert!(
+        at.windows(2).all(|w| w[0] < w[1]),
+        "not in page order: {ids:?}"
+    );
+    assert_eq!(
+        ids.len(),
+        body.matches("<section id=").count() - nested_sections(body)
     );
     // Escaped everywhere: the raw name never appears, the escaped one does.
     assert!(!html.contains(EVIL_NAME));

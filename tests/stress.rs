@@ -72,7 +72,8 @@ fn stress_writes_its_files_counts_nan_and_replays_its_worst_case() {
         nan_methods.iter().any(|n| first.starts_with(n.as_str())),
         "{stdout}"
     );
-    // S002's specular bound: fails from n = 67 on (the bound is 4.0004 % there)
+    // The digital-segment paper's specular bound: fails from n = 67 on (the bound is 4.0004 %
+    // there)
     let claim = report["claims"]
         .as_array()
         .unwrap()

@@ -184,7 +184,7 @@ fn examples_through_isa_per_family() {
     assert_schema(&r, "docs/isa.schema.json", "", "results");
     assert_names_the_files(&r["method_files"]);
     let rows = r["results"].as_array().unwrap();
-    for family in ["navi21", "gfx1100"] {
+    for family in ["amd:navi21", "amd:gfx1100"] {
         for n in EXAMPLES {
             let cost = |kind: &str| {
                 rows.iter()

@@ -1,5 +1,5 @@
-// barycentric_quadratic (FORMULAS.md 2.15, S000 l.205-213): the 6-node quadratic triangle whose
-// mid-edge nodes are the approximately normalised edge midpoints,
+// barycentric_quadratic (docs/formulas.md#barycentric-quadratic-triangle): the 6-node quadratic
+// triangle whose mid-edge nodes are the approximately normalised edge midpoints, 
 // M_ij = 4 (N_i + N_j)(0.103 c^2 - 0.306 c + 0.705), c = N_i.N_j. Not renormalised.
 real3 mij(real3 a, real3 b) {
     real c = dot(a, b);

@@ -1,5 +1,6 @@
-// barycentric_quadratic_exact_mid (FORMULAS.md 2.15): as barycentric_quadratic, with exact
-// mid-edge normals M_ij = 4 normalize(N_i + N_j). Not renormalised.
+// barycentric_quadratic_exact_mid (docs/formulas.md#barycentric-quadratic-triangle): as
+// barycentric_quadratic, with exact mid-edge normals M_ij = 4 normalize(N_i + N_j). Not
+// renormalised.
 real3 mij(real3 a, real3 b) {
     return R(4.0) * normalize(a + b);
 }

@@ -1,6 +1,6 @@
-// bishop_weimer (FORMULAS.md 2.17, S004 l.106-128; Bishop and Weimer, SIGGRAPH 1986): the Phong
-// normal is linear in screen position, N(x, y) = A x + B y + C, fitted to the triangle's window
-// corners and unit vertex normals with the origin at the corners' centroid; each cosine
+// bishop_weimer (docs/formulas.md#bishop-weimer-taylor-shading; Bishop and Weimer, SIGGRAPH 1986):
+// the Phong normal is linear in screen position, N(x, y) = A x + B y + C, fitted to the triangle's
+// window corners and unit vertex normals with the origin at the corners' centroid; each cosine
 // (v.N)/|N| (v = L, and H "by the same construction") is replaced by its second-order Taylor
 // polynomial T5 x^2 + T4 xy + T3 y^2 + T2 x + T1 y + T0 about the origin. Twin:
 // src/method/scanline.rs plane_normal() and taylor_cosine().

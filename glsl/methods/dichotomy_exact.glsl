@@ -1,7 +1,7 @@
-// dichotomy_exact (FORMULAS.md 2.13, S000 l.155-181, S002 l.604-660): dichotomy (angle halving) between
-// the span's unit end normals, K = ceil(log2(span pixels)) levels (1..12), toward the grid point
-// m / 2^K nearest the pixel's t, with the exact inverse root 1/sqrt(2 + z).
-// Twin: src/method/scanline.rs dichotomy().
+// dichotomy_exact (docs/formulas.md#dichotomy, docs/formulas.md#dichotomy-inside-segments):
+// dichotomy (angle halving) between the span's unit end normals, K = ceil(log2(span pixels)) levels
+// (1..12), toward the grid point m / 2^K nearest the pixel's t, with the exact inverse root
+// 1/sqrt(2 + z). Twin: src/method/scanline.rs dichotomy().
 #define INV_ROOT(z) inversesqrt(R(2.0) + (z))
 #include "scanline.glsl"
 real3 methodNormal() {

@@ -1,7 +1,7 @@
-// dichotomy_poly2 (FORMULAS.md 2.13, S000 l.155-181, S002 l.604-660): dichotomy (angle halving) between
-// the span's unit end normals, K = ceil(log2(span pixels)) levels (1..12), toward the grid point
-// m / 2^K nearest the pixel's t, with the degree-2 minimax inverse root 0.014253 z^2 - 0.118922 z + 0.680850 (FORMULAS.md 2.13).
-// Twin: src/method/scanline.rs dichotomy().
+// dichotomy_poly2 (docs/formulas.md#dichotomy, docs/formulas.md#dichotomy-inside-segments):
+// dichotomy (angle halving) between the span's unit end normals, K = ceil(log2(span pixels)) levels
+// (1..12), toward the grid point m / 2^K nearest the pixel's t, with the degree-2 minimax inverse
+// root 0.014253 z^2 - 0.118922 z + 0.680850. Twin: src/method/scanline.rs dichotomy().
 #define INV_ROOT(z) ((R(0.014253) * (z) - R(0.118922)) * (z) + R(0.680850))
 #include "scanline.glsl"
 real3 methodNormal() {

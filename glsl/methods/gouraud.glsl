@@ -1,4 +1,4 @@
-// gouraud (FORMULAS.md 2.2, S002 l.57-102): lit at the vertices (glsl/shade.vert), the colour
+// gouraud (docs/formulas.md#gouraud-shading): lit at the vertices (glsl/shade.vert), the colour
 // interpolated linearly. No per-pixel normal.
 #define METHOD_COLOR
 real3 methodColor() {

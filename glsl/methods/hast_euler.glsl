@@ -1,7 +1,7 @@
-// hast_euler (FORMULAS.md 2.18, S004 l.130-140; A. Hast, a reconstruction: the seed has prose
-// only): each cosine I(t) = v.N(t)/|N(t)| along the span (N(t) = N_A + t (N_B - N_A), the Phong
-// edge normals; v = L, and H likewise) integrated by Euler's method in pixel steps h = 1/W with
-// the derivative interpolated linearly between its values at the span ends, in closed form
+// hast_euler (docs/formulas.md#hast-euler-integration; A. Hast, a reconstruction: the survey has
+// prose only): each cosine I(t) = v.N(t)/|N(t)| along the span (N(t) = N_A + t (N_B - N_A), the
+// Phong edge normals; v = L, and H likewise) integrated by Euler's method in pixel steps h = 1/W
+// with the derivative interpolated linearly between its values at the span ends, in closed form
 // I_j = I(0) + h (j d0 + (d1 - d0) j (j - 1) / (2W)), then the end error E = I(1) - I_W spread
 // over the span: I_j + E j / W. Twin: src/method/scanline.rs euler_cosine().
 #define METHOD_COLOR

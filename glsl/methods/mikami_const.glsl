@@ -1,5 +1,6 @@
-// mikami_const (FORMULAS.md 2.8, S000 l.65-75): first iteration of Mikami's nonlinear IIR square
-// root, constant beta = 0.64: s0 = 2/3 z + 0.35, s1 = beta (z - s0^2) + s0 ~ sqrt(z), N' = N / s1.
+// mikami_const (docs/formulas.md#mikami-square-root): first iteration of Mikami's nonlinear IIR
+// square root, constant beta = 0.64: s0 = 2/3 z + 0.35, s1 = beta (z - s0^2) + s0 ~ sqrt(z),
+// N' = N / s1.
 real3 methodNormal() {
     real z = dot(R3(vNormal), R3(vNormal));
     real s0 = R(2.0 / 3.0) * z + R(0.35);

@@ -1,6 +1,6 @@
-// quaternion_local (FORMULAS.md 2.14, recommended variant): quaternions in a per-triangle frame
-// whose +Z is the flat normal, so the interpolated normals stay near +Z where the construction is
-// accurate; the local normal is turned back to view space with the same frame.
+// quaternion_local (docs/formulas.md#quaternion-interpolation, recommended variant): quaternions in
+// a per-triangle frame whose +Z is the flat normal, so the interpolated normals stay near +Z where
+// the construction is accurate; the local normal is turned back to view space with the same frame.
 #include "quaternion.glsl"
 real3 methodNormal() {
     real3 t, b;

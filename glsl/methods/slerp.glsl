@@ -1,4 +1,4 @@
-// slerp (FORMULAS.md 2.10, S000 l.85-98, S004 l.184-195): spherical linear interpolation between
+// slerp (docs/formulas.md#slerp): spherical linear interpolation between
 // the span's unit end normals N'_A, N'_B (Phong edge normals, normalised exactly) at the pixel's
 // fraction t of the span, as the seeds print it: (A sin((1-t) theta) + B sin(t theta)) / sin theta.
 // Twin: src/method/scanline.rs slerp().

@@ -1,4 +1,4 @@
-// specular_lut (FORMULAS.md 2.20, S004 l.197-204): exact normal; the specular cos^n from a 2-D
+// specular_lut (docs/formulas.md#specular-table): exact normal; the specular cos^n from a 2-D
 // table indexed by (N.H, n): row floor(n + 0.5) (halves round up; GLSL round() leaves halves to
 // the implementation, and the f64 twin in src/method/formulas.rs uses this same rule), clamped
 // to 1..255, then linear interpolation between the 4096 cosine samples on [0, 1].

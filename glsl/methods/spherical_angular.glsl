@@ -1,6 +1,6 @@
-// spherical_angular (FORMULAS.md 2.11, S000 l.100-114): spherical-angular interpolation in closed
-// form (Gram-Schmidt of N'_B against N'_A, Appendix C saClosed), equal to slerp in exact
-// arithmetic. The seeds' recurrence N(k+1) = 2 cos(phi) N(k) - N(k-1) is sequential along the
+// spherical_angular (docs/formulas.md#spherical-angular-interpolation): spherical-angular
+// interpolation in closed form (Gram-Schmidt of N'_B against N'_A), equal to slerp in exact
+// arithmetic. The survey's recurrence N(k+1) = 2 cos(phi) N(k) - N(k-1) is sequential along the
 // span; a fragment shader evaluates the closed form. Twin: src/method/scanline.rs.
 #include "scanline.glsl"
 real3 methodNormal() {

@@ -22,7 +22,7 @@ pub const SWITCH_COST: f64 = 0.05;
 /// What the grouping decided, for the outputs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Grouping {
-    /// The cost model whose costs were compared (`lavapipe`, `isa:navi21`).
+    /// The cost model whose costs were compared (`lavapipe_isolated`, `isa:amd:navi21`).
     pub cost_model: String,
     /// Programs (groups with triangles) of the per-triangle choice, and drawn after merging.
     pub programs_chosen: usize,

@@ -64,7 +64,7 @@ pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> Claim
     ClaimCheck {
         evidence: crate::method::Evidence::MEASURED,
         method: r.name.clone(),
-        claim: "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)".into(),
+        claim: "normalization without a square root is faster than exact normalization (docs/formulas.md#exact-phong)".into(),
         measured: ratio_text(r, phong),
         verdict,
         how: format!(
@@ -75,7 +75,7 @@ pub(crate) fn faster_than_exact(r: &MethodTiming, phong: &MethodTiming) -> Claim
     }
 }
 
-/// The claimed factor of S002 l.151-153.
+/// The claimed factor (docs/formulas.md#gouraud-shading).
 pub(crate) const GOURAUD_FACTOR: f64 = 50.0;
 
 /// "Phong ... takes more than 50x longer than Gouraud": phong_exact / gouraud per round is the
@@ -110,7 +110,7 @@ pub(crate) fn phong_50x_gouraud(
     ClaimCheck {
         evidence: crate::method::Evidence::MEASURED,
         method: g.name.clone(),
-        claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
+        claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (docs/formulas.md#gouraud-shading)".into(),
         measured: format!(
             "phong_exact / gouraud per round: median {ratio:.3}x, 95% interval {low:.3}x to {high:.3}x over {} rounds; {above}",
             g.ratio_rounds
@@ -124,8 +124,8 @@ pub(crate) fn phong_50x_gouraud(
     }
 }
 
-/// S004 l.159-163: normalising costs 3 divisions, 3 multiplications, 2 additions and 1 square
-/// root (and nothing else).
+/// docs/formulas.md#exact-phong: normalising costs 3 divisions, 3 multiplications, 2 additions and
+/// 1 square root (and nothing else).
 pub(crate) const NORMALIZATION_CLAIM: OpCountsDelta = OpCountsDelta {
     div: 3,
     sqrt: 1,
@@ -178,7 +178,7 @@ pub(crate) fn normalization_ops(d: &OpCountsDelta) -> ClaimCheck {
     ClaimCheck {
         evidence: crate::method::Evidence::MEASURED,
         method: crate::method::PHONG_EXACT.into(),
-        claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
+        claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (docs/formulas.md#exact-phong)".into(),
         measured: format!(
             "SPIR-V of phong_exact minus phong_unnormalized: {} div, {} sqrt, {} inverse sqrt, {} mul, {} add; {}",
             d.div,
@@ -310,7 +310,7 @@ pub(crate) fn cheaper_isolated(r: &MethodTiming) -> ClaimCheck {
     ClaimCheck {
         evidence: crate::method::Evidence::MEASURED,
         method: r.name.clone(),
-        claim: "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)".into(),
+        claim: "normalization without a square root is faster than exact normalization (docs/formulas.md#exact-phong)".into(),
         measured,
         verdict,
         how: "measure: isolated cost per evaluation; agrees when the paired ratio's 95% interval lies below 1, disagrees above, inconclusive when it holds 1".into(),
@@ -353,7 +353,7 @@ pub(crate) fn dichotomy_isolated(fast: &MethodTiming, exact: &MethodTiming) -> C
     ClaimCheck {
         evidence: crate::method::Evidence::MEASURED,
         method: exact.name.clone(),
-        claim: "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)".into(),
+        claim: "2.5x faster normal interpolation with the approximated inverse root (docs/formulas.md#dichotomy)".into(),
         measured,
         verdict,
         how: format!("measure: isolated cost per evaluation; the speed-up of dichotomy_poly1 over dichotomy_exact bounded from their ratios to phong_exact; {FACTOR_RULE} (2.5x)"),
@@ -365,32 +365,32 @@ pub(crate) fn dichotomy_isolated(fast: &MethodTiming, exact: &MethodTiming) -> C
 pub(crate) const FACTOR_CLAIMS: [(&str, &str, f64); 6] = [
     (
         "spherical_angular",
-        "doubles the speed of polygon shading (S000 l.102-104)",
+        "doubles the speed of polygon shading (docs/formulas.md#spherical-angular-interpolation)",
         2.0,
     ),
     (
         "quadratic_scanline",
-        "reduces the normal computation time about 2-3x (S000 l.151-152): at least 2x",
+        "reduces the normal computation time about 2-3x (docs/formulas.md#quadratic-interpolation-along-the-span): at least 2x",
         2.0,
     ),
     (
         "segments_k2",
-        "diffuse shading 1.3x faster at k = 2 (S002 l.674-682)",
+        "diffuse shading 1.3x faster at k = 2 (docs/formulas.md#digital-segments)",
         1.3,
     ),
     (
         "segments_k2_poly1",
-        "diffuse shading 1.8x faster at k = 2 with the degree-1 polynomial (S002 l.674-682)",
+        "diffuse shading 1.8x faster at k = 2 with the degree-1 polynomial (docs/formulas.md#digital-segments)",
         1.8,
     ),
     (
         "segments_k3",
-        "diffuse shading 1.48x faster at k = 3 (S002 l.674-682)",
+        "diffuse shading 1.48x faster at k = 3 (docs/formulas.md#digital-segments)",
         1.48,
     ),
     (
         "segments_k3_poly1",
-        "diffuse shading 2.09x faster at k = 3 with the degree-1 polynomial (S002 l.674-682)",
+        "diffuse shading 2.09x faster at k = 3 with the degree-1 polynomial (docs/formulas.md#digital-segments)",
         2.09,
     ),
 ];
@@ -435,7 +435,7 @@ pub(crate) fn claims(
             out.push(ClaimCheck {
                 evidence: crate::method::Evidence::MEASURED,
                 method: g.name.clone(),
-                claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)".into(),
+                claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (docs/formulas.md#gouraud-shading)".into(),
                 measured: format!(
                     "phong_exact / gouraud isolated cost per round: median {:.2}x, 95% interval [{lo:.2}x, {hi:.2}x] (phong_exact {exact:.2} ns per evaluation)",
                     1.0 / i.median
@@ -458,9 +458,9 @@ pub(crate) fn claims(
             .and_then(|e| e.max_normal_length_error)
         {
             out.push(ClaimCheck {
-                evidence: crate::method::Evidence::found(e),
+                evidence: crate::method::Evidence::found(e, crate::method::Quantity::RelativeError),
                 method: n.into(),
-                claim: "maximum normalised relative error <= 1.5 % (S000 l.74)".into(),
+                claim: "maximum normalised relative error <= 1.5 % (docs/formulas.md#mikami-square-root)".into(),
                 measured: format!(
                     "max ||N'| - 1| on this scene's pixels: {:.3} %; {}",
                     e * 100.0,

@@ -710,7 +710,8 @@ fn check_options(opts: &BenchOptions) -> Result<()> {
         )));
     }
     opts.plan.rounds.check()?;
-    if matches!(opts.runs, Runs::Many(_)) != opts.plan.many() {
+    let parent = matches!(opts.runs, Runs::Many(_));
+    if !matches!(opts.runs, Runs::Child(_)) && parent != opts.plan.many() {
         return Err(Error::Internal(format!(
             "bench: a plan of {} runs in a process that is {:?}",
             opts.plan.runs, opts.runs

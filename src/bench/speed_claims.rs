@@ -28,7 +28,7 @@ pub enum StaticCostSource {
     Skip,
     /// An isa.json of `shadelab isa` (`--isa FILE`).
     File(PathBuf),
-    /// Compiled now on [`crate::isa::DEFAULT_FAMILIES`] by `exe`'s children, the timed draw of
+    /// Compiled now on every family of every vendor by `exe`'s children, the timed draw of
     /// `scene` (`None`: isa's default scene).
     Run {
         exe: PathBuf,
@@ -167,28 +167,13 @@ pub fn load(
             Err(e) => (None, format!("not read: {e}")),
         },
         StaticCostSource::Run { exe, scene } => {
-            if !std::path::Path::new(crate::isa::DEFAULT_DRIVER_FILES).is_file() {
-                return (
-                    None,
-                    format!(
-                        "not compiled: no RADV ICD at {}",
-                        crate::isa::DEFAULT_DRIVER_FILES
-                    ),
-                );
-            }
-            let mut ms: Vec<&'static crate::method::Method> = methods.to_vec();
-            let exact = crate::method::phong_exact();
-            if !ms.iter().any(|m| m.name == exact.name) {
-                ms.insert(0, exact);
-            }
             let opts = crate::isa::IsaOptions {
-                methods: ms,
-                families: crate::isa::DEFAULT_FAMILIES.map(String::from).to_vec(),
-                driver_files: PathBuf::from(crate::isa::DEFAULT_DRIVER_FILES),
                 scene: scene.clone(),
-                exe: exe.clone(),
-                precision: crate::method::Precision::F32,
-                probes: Vec::new(),
+                ..crate::isa::IsaOptions::every_family(
+                    methods,
+                    crate::method::Precision::F32,
+                    exe.clone(),
+                )
             };
             eprintln!(
                 "bench: static cost (shadelab isa, {} families)",
@@ -350,7 +335,7 @@ pub fn op_count_checks(s: &StaticCost) -> Vec<super::ClaimCheck> {
             super::ClaimCheck {
                 evidence: crate::method::Evidence::MEASURED,
                 method: crate::method::PHONG_EXACT.into(),
-                claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)".into(),
+                claim: "normalisation costs 3 divisions + 3 multiplications + 2 additions + 1 square root (docs/formulas.md#exact-phong)".into(),
                 measured: format!(
                     "isa:{}: phong_exact's fragment shader has {} vector ALU instructions more than phong_unnormalized's ({}), claimed {} operations; inverse throughput x{:.3}",
                     v.family,
@@ -454,7 +439,7 @@ mod tests {
         let r = report(
             &[("navi21", true), ("bogus", false)],
             &[
-                ("phong_exact", 70.0),
+                (PHONG_EXACT, 70.0),
                 ("newton_raphson", 70.0),
                 // 1/70 of phong_exact: within even the "50 times faster" claim.
                 ("gouraud", 1.0),
@@ -483,7 +468,7 @@ mod tests {
     fn a_pair_timed_together_is_judged_by_its_own_interval() {
         let specs = claim_specs();
         let spec = specs.iter().find(|c| c.num == "newton_raphson").unwrap();
-        let names: Vec<String> = ["newton_raphson", "phong_exact"].map(String::from).to_vec();
+        let names: Vec<String> = ["newton_raphson", PHONG_EXACT].map(String::from).to_vec();
         let model = |values: Vec<Vec<f64>>| {
             let claims = super::super::software::judge_claims(&names, &values, None);
             let mut m = crate::isa::cost::StaticCost.models(&Evidence::new());
@@ -535,6 +520,6 @@ mod tests {
         let m = |n| crate::method::find(n).unwrap();
         let ms = claim_methods(&[m("newton_raphson"), m("flat"), m("gouraud")]);
         let names: Vec<&str> = ms.iter().map(|m| m.name).collect();
-        assert_eq!(names, ["newton_raphson", "gouraud", "phong_exact"]);
+        assert_eq!(names, ["newton_raphson", "gouraud", PHONG_EXACT]);
     }
 }

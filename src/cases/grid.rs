@@ -131,7 +131,8 @@ impl Grid {
             }
         }
         for &theta in &SHININESS_ANGLES {
-            // At 4 degrees every integer n up to 100 (S002's claim), then the coarse list.
+            // At 4 degrees every integer n up to 100 (the digital-segment paper's claim), then the
+            // coarse list.
             let dense: Vec<f64> = if theta == 4.0 {
                 (1..=100)
                     .map(f64::from)

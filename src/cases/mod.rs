@@ -129,7 +129,7 @@ pub struct Case {
     /// to the rounding of the inputs, so no float32 method can be judged there. Counted; a
     /// non-finite result still counts as non-finite.
     pub ill_conditioned: bool,
-    /// Exact Phong: the lighting of `phong_normal` (FORMULAS.md 1.4).
+    /// Exact Phong: the lighting of `phong_normal` (docs/formulas.md#the-two-references).
     pub phong: DVec3,
     /// Exact slerp along the span, lit (the second reference of angle-interpolating methods).
     pub slerp: DVec3,
@@ -320,6 +320,22 @@ impl Errors {
             None
         } else {
             Some(self.abs)
+        }
+    }
+}
+
+impl Errors {
+    /// The normal's length error ||N| - 1| to fold into a worst value, as [`Errors::counted`]
+    /// does the colour's: NaN when the result is non-finite, None for a finite result on an
+    /// ill-conditioned case and for a method without a normal.
+    pub fn counted_length(&self) -> Option<f64> {
+        let length = self.length?;
+        if self.non_finite {
+            Some(f64::NAN)
+        } else if self.ill_conditioned {
+            None
+        } else {
+            Some(length)
         }
     }
 }

@@ -161,7 +161,7 @@ struct BudgetArgs {
     budget: ErrorBudget,
     /// What ranks auto's candidates: a cost model measured at start, `lavapipe_isolated`
     /// (lavapipe's isolated cost) or `isa:FAMILY` (the static cost on that GPU family, e.g.
-    /// isa:navi21; docs/isa.md).
+    /// isa:amd:navi21, isa:intel:tgl; a bare chip is AMD's; docs/isa.md).
     #[arg(long = "cost-model", value_name = "MODEL", default_value = crate::cost::LAVAPIPE_ISOLATED, value_parser = crate::cost::CostModelId::parse)]
     cost_model: crate::cost::CostModelId,
 }
@@ -395,9 +395,9 @@ enum Command {
         models: Option<PathBuf>,
         /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
         /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
-        /// run in this process).
-        #[arg(long, value_name = "N", default_value_t = crate::bench::plan::DEFAULT_RUNS)]
-        runs: usize,
+        /// run in this process; default 5).
+        #[arg(long, value_name = "N")]
+        runs: Option<usize>,
         /// Output directory (index.html and everything it shows).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,

@@ -56,7 +56,7 @@ pub(super) struct How {
     pub size: (u32, u32),
     pub interpolation: Option<InterpArg>,
     pub full: bool,
-    pub runs: usize,
+    pub runs: Option<usize>,
 }
 
 /// The OBJ files (*.obj) of a folder, sorted (an error when there is none).
@@ -155,9 +155,14 @@ pub(super) fn cmd_report(
     out: &Path,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
-    if how.runs == 0 {
-        return Err(Error::Usage("--runs must be at least 1".into()));
-    }
+    // The measurement, decided once (src/bench/plan.rs).
+    let plan = crate::bench::plan::RunPlan::new(
+        crate::bench::plan::Job::Report { full: how.full },
+        &crate::bench::plan::Given {
+            runs: how.runs,
+            ..Default::default()
+        },
+    )?;
     let scenes = inputs(src)?
         .into_iter()
         .map(|(source, is_mesh)| {
@@ -180,7 +185,7 @@ pub(super) fn cmd_report(
         full: how.full,
         command_line: command_line(),
         progress: true,
-        runs: how.runs,
+        plan,
         exe: Some(std::env::current_exe().map_err(|e| Error::io(Path::new("shadelab"), e))?),
         device: crate::gpu::DeviceSpec {
             device: dev.device.clone(),

@@ -260,26 +260,15 @@ fn static_cost(opts: &ShardOptions) -> String {
     if !opts.isa {
         return "not run (--no-isa)".into();
     }
-    let driver = PathBuf::from(crate::isa::DEFAULT_DRIVER_FILES);
-    if !driver.is_file() {
-        return format!("unavailable: no RADV ICD at {}", driver.display());
-    }
     let out = opts.out.join("isa");
     if out.join("isa.json").is_file() {
         return "isa/isa.json".into();
     }
-    let iopts = crate::isa::IsaOptions {
-        methods: opts.methods.clone(),
-        families: crate::isa::DEFAULT_FAMILIES
-            .iter()
-            .map(|s| s.to_string())
-            .collect(),
-        driver_files: driver,
-        scene: None,
-        exe: opts.exe.clone(),
-        precision: opts.config.precision,
-        probes: Vec::new(),
-    };
+    let iopts = crate::isa::IsaOptions::every_family(
+        &opts.methods,
+        opts.config.precision,
+        opts.exe.clone(),
+    );
     eprintln!("corpus: static GPU cost (isa) ...");
     match crate::isa::run(&iopts, &|line| eprintln!("isa: {line}"))
         .and_then(|rep| crate::isa::files::write(&out, &rep))

@@ -8,7 +8,7 @@
 //! line registering it (`crate::cli::costs::builtin`).
 //!
 //! Identity: a model's [`CostModelId`] is spelled the same in JSON, CSV, the command line and
-//! HTML (`lavapipe_frame`, `lavapipe_isolated`, `software`, `isa:navi21`, `isa:navi21:f16`,
+//! HTML (`lavapipe_frame`, `lavapipe_isolated`, `software`, `isa:amd:navi21`, `isa:amd:navi21:f16`,
 //! `bench:<machine>`). The verdict of each figure is the typed [`Verdict`] of the claim "cheaper
 //! than phong_exact", by one rule per kind ([`rule`]).
 pub mod rule;
@@ -159,7 +159,7 @@ impl CostFigure {
 /// inconclusive, unmeasured.
 pub fn verdict_words(v: Verdict) -> &'static str {
     match v {
-        Verdict::Agrees | Verdict::AgreesRounded => "cheaper",
+        Verdict::Agrees => "cheaper",
         Verdict::Disagrees => "not cheaper",
         Verdict::Inconclusive | Verdict::Partly => "inconclusive",
         Verdict::NotChecked => "unmeasured",

@@ -592,7 +592,8 @@ mod tests {
         assert_eq!(compiled("v").0, OpCounts::default());
         assert_eq!(compiled("v * v").0, only(|c| c.mul = 3));
         assert_eq!(compiled("v + v.x").0, only(|c| c.add = 3));
-        // S004 l.159-163's normalisation: dot (3 mul, 2 add), 1 sqrt, 3 divisions.
+        // The shading survey's normalisation (docs/formulas.md#exact-phong): dot (3 mul, 2 add),
+        // 1 sqrt, 3 divisions.
         let s004 = compiled("v / sqrt(dot(v, v))").0;
         assert_eq!(s004, only(|c| (c.div, c.mul, c.add, c.sqrt) = (3, 3, 2, 1)));
         // The inverse-square-root form: dot, 1 inversesqrt, 3 multiplications.

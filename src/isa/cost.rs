@@ -2,9 +2,7 @@
 //! ranking statistic of the timed draw's fragment program over phong_exact's in the same
 //! precision (deterministic, no interval); on demand (`auto --cost-model isa:FAMILY`), the
 //! family compiled now by one child.
-use std::path::PathBuf;
-
-use super::{IsaOptions, IsaReport, DEFAULT_DRIVER_FILES};
+use super::{IsaOptions, IsaReport};
 use crate::cost::rule::static_cheaper;
 use crate::cost::{CostFigure, CostKind, CostModel, CostModelId, CostSource, Evidence, Measure};
 use crate::error::{Error, Result};
@@ -18,33 +16,15 @@ pub struct Compiled {
     pub evidence: String,
 }
 
-/// The statistic that ranks programs on `family` (its key in a row's `statistics`) and what
-/// it is.
-pub fn ranking(r: &IsaReport, family: &str) -> (String, Measure) {
-    match r.family(family).and_then(|f| f.ranking()) {
-        // AMD, as before other vendors: the same words.
-        Some(k) if k.key == "inverse_throughput" => (
-            k.key,
-            Measure {
-                statistic: "ACO inverse throughput of the draw's fragment shader".into(),
-                unit: "busy cycles per wave".into(),
-            },
-        ),
-        Some(k) => (
-            k.key,
-            Measure {
-                statistic: k.meaning,
-                unit: k.unit,
-            },
-        ),
-        None => (
-            "inverse_throughput".into(),
-            Measure {
-                statistic: "ACO inverse throughput of the draw's fragment shader".into(),
-                unit: "busy cycles per wave".into(),
-            },
-        ),
-    }
+/// The statistic that ranks programs on `family` (its key in a row's `statistics`, its stage
+/// and kind) and what it is, as the family's vendor declares it.
+pub fn ranking(r: &IsaReport, family: &str) -> Option<(super::vendor::Ranking, Measure)> {
+    let k = r.family(family)?.ranking()?;
+    let measure = Measure {
+        statistic: k.meaning.clone(),
+        unit: k.unit.clone(),
+    };
+    Some((k, measure))
 }
 
 /// The models of one report: one per family the driver compiled.
@@ -52,21 +32,22 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
     let f16 = r.precision == Precision::F16;
     r.supported()
         .into_iter()
-        .map(|fam| {
-            let (key, measure) = ranking(r, fam);
+        .filter_map(|fam| {
+            let (k, measure) = ranking(r, fam)?;
+            let key = k.key.as_str();
             let figures = r
                 .results
                 .iter()
-                .filter(|x| x.family == fam && x.stage == "fragment" && x.kind == "draw")
+                .filter(|x| x.family == fam && x.stage == k.stage && x.kind == k.kind)
                 .map(|x| {
                     let ratio = x
                         .ratio_to_phong_exact
-                        .get(&key)
+                        .get(key)
                         .copied()
                         .filter(|v| v.is_finite());
                     CostFigure {
                         method: x.method.clone(),
-                        value: x.statistics.get(&key).copied().filter(|v| v.is_finite()),
+                        value: x.statistics.get(key).copied().filter(|v| v.is_finite()),
                         ratio,
                         ci95_low: None,
                         ci95_high: None,
@@ -76,7 +57,22 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                     }
                 })
                 .collect();
-            CostModel {
+            let compiler = r.family(fam).and_then(|f| f.compiler()).map_or_else(
+                || "a Mesa compiler".to_string(),
+                |c| {
+                    format!(
+                        "{} ({}{})",
+                        c.driver,
+                        c.mesa_version.unwrap_or_else(|| "Mesa".into()),
+                        if c.production {
+                            ", the vendor's production Linux compiler"
+                        } else {
+                            ", Mesa's own compiler for this hardware"
+                        }
+                    )
+                },
+            );
+            Some(CostModel {
                 id: CostModelId::isa(fam, r.precision),
                 title: if f16 {
                     format!("{fam} float16 (static)")
@@ -85,9 +81,9 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                 },
                 kind: CostKind::Static,
                 description: format!(
-                    "ACO's static model on RADV's null device (shadelab isa{}): the {} on \
-                     {fam}, over phong_exact's in the same precision; deterministic, no \
-                     interval{}",
+                    "{compiler}, without the GPU (shadelab isa{}): the {} of the draw's \
+                     fragment program on {fam}, over phong_exact's in the same precision; \
+                     deterministic, no interval{}",
                     if f16 { " --precision f16" } else { "" },
                     measure.statistic,
                     if f16 {
@@ -101,7 +97,7 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                 precision: r.precision,
                 figures,
                 pairs: Vec::new(),
-            }
+            })
         })
         .collect()
 }
@@ -121,32 +117,29 @@ impl CostSource for StaticCost {
     }
 
     fn on_demand(&self) -> Option<&'static str> {
-        Some("isa:FAMILY (a Mesa chip name, e.g. isa:navi21; see shadelab isa)")
+        Some("isa:FAMILY (a family of `shadelab isa`: isa:amd:navi21, isa:intel:tgl, isa:nvidia:nv162; a bare chip is AMD's)")
     }
 
     fn measures(&self, id: &CostModelId) -> bool {
         family_of(id).is_some()
     }
 
-    /// Compiles `methods` for the family now (one child with the system's RADV); a family the
-    /// driver does not compile is a usage error: the user asked for that model.
+    /// Compiles `methods` for the family now (one child); a family the driver does not compile
+    /// is a usage error: the user asked for that model. The model comes back under the
+    /// family's id (`isa:navi21` asked, `isa:amd:navi21` answered).
     fn measure(
         &self,
         id: &CostModelId,
         methods: &[&'static Method],
         _ev: &Evidence,
     ) -> Result<CostModel> {
-        let family = family_of(id).unwrap_or_default();
+        let family = family_of(id)
+            .ok_or_else(|| Error::Usage(format!("--cost-model {id}: not a GPU family")))?;
         let exe = std::env::current_exe()
             .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
         let opts = IsaOptions {
-            methods: methods.to_vec(),
-            families: vec![family.to_string()],
-            driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
-            scene: None,
-            exe,
-            precision: Precision::F32,
-            probes: Vec::new(),
+            families: vec![family.clone()],
+            ..IsaOptions::every_family(methods, Precision::F32, exe)
         };
         let report = super::run(&opts, &|_| {})?;
         match report.families.iter().find(|f| f.family == family) {
@@ -158,15 +151,21 @@ impl CostSource for StaticCost {
                 )))
             }
         }
+        let want = CostModelId::isa(&family, Precision::F32);
         models_of(&report, "")
             .into_iter()
-            .find(|m| &m.id == id)
-            .ok_or_else(|| Error::Internal(format!("isa: no model {id} in the child's report")))
+            .find(|m| m.id == want)
+            .ok_or_else(|| Error::Internal(format!("isa: no model {want} in the child's report")))
     }
 }
 
-/// The family of a float32 `isa:FAMILY` id.
-fn family_of(id: &CostModelId) -> Option<&str> {
+/// The family id (`vendor:chip`) of a float32 `isa:FAMILY` id, FAMILY a family id or a bare
+/// AMD chip; `None` for anything else (a float16 model's `isa:...:f16` included).
+fn family_of(id: &CostModelId) -> Option<String> {
     let f = id.as_str().strip_prefix("isa:")?;
-    (!f.is_empty() && !f.contains(':')).then_some(f)
+    if f.rsplit(':').next() == Some(Precision::F16.as_str()) {
+        return None;
+    }
+    let (vendor, chip) = super::vendor::resolve(f).ok()?;
+    Some(format!("{}:{chip}", vendor.prefix()))
 }

@@ -76,6 +76,31 @@ pub struct IsaOptions {
     pub probes: Vec<PathBuf>,
 }
 
+impl IsaOptions {
+    /// `methods` (phong_exact added when missing) on every family of every vendor (a route
+    /// that is not set up is reported as such), with the system's RADV, isa's default scene and
+    /// `exe`'s children: what the report, bench's speed claims and a corpus compile.
+    pub fn every_family(
+        methods: &[&'static Method],
+        precision: Precision,
+        exe: PathBuf,
+    ) -> IsaOptions {
+        let mut ms = methods.to_vec();
+        if !ms.iter().any(|m| m.name == crate::method::PHONG_EXACT) {
+            ms.insert(0, crate::method::phong_exact());
+        }
+        IsaOptions {
+            methods: ms,
+            families: vendor::default_family_ids(),
+            driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
+            scene: None,
+            exe,
+            precision,
+            probes: Vec::new(),
+        }
+    }
+}
+
 /// How one child ended.
 #[derive(Debug)]
 pub enum ChildOutcome {

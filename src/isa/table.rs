@@ -288,7 +288,7 @@ pub fn fill_ratios(rows: &mut [Row]) {
 /// The status of `family` with everything but what its child said.
 fn status(family: &Family, supported: bool, status: String) -> FamilyStatus {
     FamilyStatus {
-        family: family.row_key(),
+        family: family.id(),
         id: family.id(),
         vendor: family.vendor.prefix().into(),
         supported,
@@ -317,7 +317,7 @@ pub fn report(
     for (family, outcome) in outcomes {
         match outcome {
             ChildOutcome::Compiled(r) => {
-                let (rows, names, asm) = family_rows(&r, &family.row_key())?;
+                let (rows, names, asm) = family_rows(&r, &family.id())?;
                 results.extend(rows);
                 disassembly.extend(asm);
                 let text = if r.skipped.is_empty() {

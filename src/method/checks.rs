@@ -9,14 +9,14 @@
 //!
 //! Each check's core takes the formula as a parameter, so a test can feed it a deliberately
 //! wrong formula and see the verdict flip (the tests at the end). The sweep helpers here are
-//! shared with the formulas tests, which pin the same figures against FORMULAS.md section 3.
+//! shared with the formulas tests, which pin the same figures against docs/formulas.md#methods.
 use glam::DVec3;
 
 use super::formulas as f;
 #[cfg(test)]
 pub(crate) use super::worst::worst;
 pub(crate) use super::worst::Worst;
-use super::{Evidence, Measurement, Verdict};
+use super::{Evidence, Measurement, Quantity, Verdict};
 
 /// A scalar factor `k(z) ~ 1/sqrt(z)`, `z = N.N`.
 pub(crate) type Factor = fn(f64) -> f64;
@@ -44,7 +44,7 @@ pub(crate) fn angle_deg(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// Signed relative length error `k(z)|N| - 1` in percent at the worst point of an edge whose
-/// unit end normals are `theta` apart (FORMULAS.md 1.3). The edge covers z in
+/// unit end normals are `theta` apart (docs/formulas.md#error-measures). The edge covers z in
 /// [cos^2(theta/2), 1], so this is also the worst case over all angles up to `theta`.
 pub(crate) fn scalar_error_pct(k: Factor, theta_deg: f64) -> f64 {
     scalar_error(k, theta_deg).value()
@@ -71,12 +71,14 @@ pub(crate) fn interior_error(k: Factor, theta_deg: f64) -> Worst {
     }))
 }
 
-/// Mikami's normalised relative error `sqrt(z)/s1 - 1` in percent (FORMULAS.md 2.8).
+/// Mikami's normalised relative error `sqrt(z)/s1 - 1` in percent
+/// (docs/formulas.md#mikami-square-root).
 pub(crate) fn mikami_error_pct(z: f64, beta: Factor) -> f64 {
     100.0 * (z.sqrt() / f::mikami_sqrt(z, beta(z)) - 1.0)
 }
 
-/// Worst Mikami error on z in [lo, 1] (fine grid, FORMULAS.md 2.8 sweeps [0.25, 1]).
+/// Worst Mikami error on z in [lo, 1] (fine grid; docs/formulas.md#mikami-square-root sweeps
+/// [0.25, 1]).
 #[cfg(test)]
 pub(crate) fn mikami_worst_pct(lo: f64, beta: Factor) -> f64 {
     mikami_worst(lo, beta).value()
@@ -89,11 +91,13 @@ pub(crate) fn mikami_worst(lo: f64, beta: Factor) -> Worst {
 
 /// Worst angle (degrees) between `method(N)` and normalize(N) along the edge of a pair (NaN
 /// when any point is not finite).
+#[cfg(test)]
 pub(crate) fn worst_edge_angle(theta_deg: f64, method: impl Fn(DVec3) -> DVec3) -> f64 {
     edge_angle(theta_deg, method).value()
 }
 
 /// [`worst_edge_angle`]'s sweep, reduced by [`Worst`].
+#[cfg(test)]
 pub(crate) fn edge_angle(theta_deg: f64, method: impl Fn(DVec3) -> DVec3) -> Worst {
     let (a, b) = pair(theta_deg);
     Worst::of(ts().map(|t| {
@@ -166,7 +170,8 @@ pub fn op_count_claim() -> Measurement {
 /// the same claim by the same 1/255 on the rendered colour.
 pub const COLOUR_LEVEL_PCT: f64 = 100.0 / 255.0;
 
-/// "usable for angles between vertex normals up to 40 degrees" (S000 l.35).
+/// "usable for angles between vertex normals up to 40 degrees"
+/// (docs/formulas.md#newton-raphson-step).
 pub fn newton_usable_to_40_deg() -> Measurement {
     usable_up_to(f::k_newton, "formulas::k_newton", 40.0)
 }
@@ -185,7 +190,7 @@ pub(crate) fn usable_up_to(k: Factor, name: &str, theta: f64) -> Measurement {
     );
     let word = |ok: bool| if ok { "holds" } else { "fails" };
     Measurement {
-        evidence: Evidence::found(at.value().abs() / 100.0),
+        evidence: Evidence::found(at.value().abs() / 100.0, Quantity::RelativeError),
         measured: format!(
             "worst length error {:+.3} % at {theta} deg{} ({beyond:+.2} % at {} deg); length \
              criterion (<= {VISIBLE_LENGTH_ERROR_PCT} %) {}, colour criterion (<= 1/255 = \
@@ -211,12 +216,13 @@ pub(crate) fn usable_up_to(k: Factor, name: &str, theta: f64) -> Measurement {
     }
 }
 
-/// The NVIDIA formula exactly as printed in S004 l.169: `N (3 - N.N) / 3`.
+/// The NVIDIA formula exactly as the shading survey prints it: `N (3 - N.N) / 3`
+/// (docs/formulas.md#newton-raphson-step).
 fn k_newton_as_printed_in_s004(z: f64) -> f64 {
     (3.0 - z) / 3.0
 }
 
-/// "S004 l.169 prints N (3 - N.N)/3": is the printed formula a normalisation?
+/// "the shading survey prints N (3 - N.N)/3": is the printed formula a normalisation?
 pub fn newton_as_printed_in_s004() -> Measurement {
     printed_vs_corrected(k_newton_as_printed_in_s004, f::k_newton)
 }
@@ -243,7 +249,7 @@ pub(crate) fn printed_vs_corrected(printed: Factor, corrected: Factor) -> Measur
 
 // ---- lyon_taylor ------------------------------------------------------------------------------
 
-/// "the approximation error is large" (S004 l.181-183).
+/// "the approximation error is large" (docs/formulas.md#lyon-taylor-form).
 pub fn lyon_error_is_large() -> Measurement {
     error_is_large(f::k_lyon2, "formulas::k_lyon2")
 }
@@ -254,7 +260,7 @@ pub(crate) fn error_is_large(k: Factor, name: &str) -> Measurement {
     let (e40, e90) = (scalar_error(k, 40.0), scalar_error(k, 90.0));
     let large = |e: &Worst| e.finite.abs() > VISIBLE_LENGTH_ERROR_PCT;
     Measurement {
-        evidence: Evidence::found(e90.value().abs() / 100.0),
+        evidence: Evidence::found(e90.value().abs() / 100.0, Quantity::RelativeError),
         measured: format!(
             "worst length error {:+.4} % at 40 deg{}, {:+.2} % at 90 deg{}",
             e40.finite,
@@ -281,41 +287,129 @@ pub(crate) fn error_is_large(k: Factor, name: &str) -> Measurement {
 /// Angles between the vertex normals swept by the unit-length checks.
 const UNIT_ANGLES: [f64; 4] = [40.0, 60.0, 90.0, 120.0];
 
-/// "normalization without a square root" (S000 l.55-63) for Hast-Barrera-Bengtsson.
+/// "normalization without a square root" (docs/formulas.md#hast-barrera-bengtsson-half-vector) for
+/// Hast-Barrera-Bengtsson.
 pub fn hbb_is_unit() -> Measurement {
     flat_based_is_unit(f::hbb)
 }
 
+/// Where the flat normal is put for [`flat_based_is_unit`]: the point at `s` along the arc
+/// from the first vertex normal (0) to the second (1), turned `off_deg` degrees towards the
+/// direction `dir_deg` (0: the pair plane's normal, 90: along the arc, onward). A real
+/// triangle's flat normal need not lie on the arc between two of its vertex normals, so the
+/// sweep leaves it: over every `s` and direction these are the flat normals within `off_deg`
+/// of the arc (beyond its ends too).
+pub(crate) fn flat_off_arc((a, b): (DVec3, DVec3), s: f64, off_deg: f64, dir_deg: f64) -> DVec3 {
+    let on = super::scanline::slerp(a, b, s);
+    let across = a.cross(b).normalize();
+    let along = across.cross(on);
+    let (sd, cd) = dir_deg.to_radians().sin_cos();
+    let (so, co) = off_deg.to_radians().sin_cos();
+    on * co + (across * cd + along * sd) * so
+}
+
+/// Distances of the flat normal from the arc between the vertex normals, degrees.
+pub(crate) const FLAT_OFFSETS: [f64; 3] = [0.0, 10.0, 20.0];
+
+/// Positions of the flat normal along the arc: `s = i / FLAT_STEPS`.
+const FLAT_STEPS: u32 = 10;
+
+/// The flat normals of [`flat_based_is_unit`] `off` degrees from the arc of the pair `p`: 11
+/// positions along it, each turned towards 12 directions (30-degree steps; one, on the arc,
+/// for `off` = 0).
+fn flats(p: (DVec3, DVec3), off: f64) -> impl Iterator<Item = DVec3> {
+    let dirs = if off == 0.0 { 1 } else { 12 };
+    (0..=FLAT_STEPS).flat_map(move |i| {
+        (0..dirs).map(move |d| {
+            flat_off_arc(
+                p,
+                f64::from(i) / f64::from(FLAT_STEPS),
+                off,
+                30.0 * f64::from(d),
+            )
+        })
+    })
+}
+
 /// The length of `method(lerp, flat)` along edges 40..120 degrees wide, the flat normal on the
-/// bisector and on a vertex normal: agrees when it is 1 to 1e-12 everywhere (the result needs
-/// no normalisation, so no square root).
+/// arc between the vertex normals (11 positions, vertex normals and bisector included) and up
+/// to [`FLAT_OFFSETS`] off it ([`flats`]): agrees when it is 1 to 1e-12 everywhere (the result
+/// needs no normalisation, so no square root). Also prints the angle error against
+/// normalize(lerp) at 90 degrees, for each distance the least and the largest over the flat
+/// normals at that distance, each with the domain it was measured on.
 pub(crate) fn flat_based_is_unit(method: fn(DVec3, DVec3) -> DVec3) -> Measurement {
     let mut dev = Worst::default();
     for theta in UNIT_ANGLES {
         let (a, b) = pair(theta);
-        for flat in [DVec3::Z, a] {
-            for t in ts() {
-                dev.push((method(a.lerp(b, t), flat).length() - 1.0).abs());
+        for off in FLAT_OFFSETS {
+            for flat in flats((a, b), off) {
+                for t in ts().step_by(100) {
+                    dev.push((method(a.lerp(b, t), flat).length() - 1.0).abs());
+                }
             }
         }
     }
-    let bisector = worst_edge_angle(90.0, |n| method(n, DVec3::Z));
-    let vertex = worst_edge_angle(90.0, |n| method(n, pair(90.0).0));
+    let (a, b) = pair(90.0);
+    let angles: Vec<String> = FLAT_OFFSETS
+        .iter()
+        .map(|&off| {
+            // on the arc every point of the edge (the 3.17 of docs/formulas.md#hast-barrera-bengtsson-half-vector sits at 3.165004),
+            // off it every hundredth
+            let step = if off == 0.0 { 1 } else { 100 };
+            let (least, most) = flats((a, b), off)
+                .map(|flat| {
+                    Worst::of(ts().step_by(step).map(|t| {
+                        let n = a.lerp(b, t);
+                        angle_deg(method(n, flat), n)
+                    }))
+                    .value()
+                })
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+                    if e.is_nan() || lo.is_nan() {
+                        (f64::NAN, f64::NAN)
+                    } else {
+                        (lo.min(e), hi.max(e))
+                    }
+                });
+            let domain = if off == 0.0 {
+                "the flat normal on the arc between the vertex normals".to_string()
+            } else {
+                format!(
+                    "the flat normal {off} deg off that arc (any direction, beyond its ends too)"
+                )
+            };
+            format!("{least:.2} to {most:.1} deg with {domain}")
+        })
+        .collect();
     unit_measurement(
         dev,
-        format!(", angle error at 90 deg {bisector:.2} deg (flat normal on the bisector) to {vertex:.1} deg (flat = vertex normal)"),
-        "formulas::hbb, flat normal on the bisector and on a vertex normal",
+        format!(
+            ", angle error vs normalize(lerp) at 90 deg (least to largest over where the flat \
+             normal is): {}",
+            angles.join("; ")
+        ),
+        &format!(
+            "formulas::hbb, flat normal at {} positions along the arc between the vertex \
+             normals and {FLAT_OFFSETS:?} deg off it in 12 directions; the angle error along the \
+             edge at {} points with the flat normal on the arc, {} off it",
+            FLAT_STEPS + 1,
+            STEPS + 1,
+            STEPS / 100 + 1
+        ),
+        STEPS / 100 + 1,
     )
 }
 
-/// "no square root needed" (S000 l.187) for Hast's quaternion interpolation.
+/// "no square root needed" (docs/formulas.md#quaternion-interpolation) for Hast's quaternion
+/// interpolation.
 pub fn quaternion_is_unit() -> Measurement {
     quaternion_recovery_is_unit(f::normal_from_quat)
 }
 
 /// The length of `recover(lerp(q_a, q_b))` along edges 40..120 degrees wide: agrees when it is
 /// 1 to 1e-12 everywhere. Also prints the angle error against normalize(lerp) at 90 degrees,
-/// worst over frames ([`quaternion_angle_over_frames`]).
+/// worst over the frames of the method's whole validity ([`quaternion_angle_over_frames`]),
+/// and over those whose vertex normals both face the viewer.
 pub(crate) fn quaternion_recovery_is_unit(recover: fn(DVec3) -> DVec3) -> Measurement {
     let mut dev = Worst::default();
     for theta in UNIT_ANGLES {
@@ -325,66 +419,135 @@ pub(crate) fn quaternion_recovery_is_unit(recover: fn(DVec3) -> DVec3) -> Measur
             dev.push((recover(qa.lerp(qb, t)).length() - 1.0).abs());
         }
     }
-    let symmetric = quaternion_angle(recover, pair(90.0));
-    let (worst, tilt, across) = quaternion_angle_over_frames(recover, 90.0);
+    let symmetric = quaternion_angle(recover, pair(90.0), 10);
+    let frames = quaternion_angle_over_frames(recover, 90.0);
+    let at = |f: &QuatFrame| {
+        format!(
+            "{:.2} deg{} (bisector tilted {} deg from +Z, pair spread {} deg from the tilt \
+             plane, lowest n_z {:.3})",
+            f.worst.finite,
+            f.worst.note(),
+            f.tilt_deg,
+            f.spread_deg,
+            f.lowest_nz
+        )
+    };
     unit_measurement(
         dev,
         format!(
             ", angle error vs normalize(lerp) at 90 deg: {:.2} deg with the pair symmetric \
-             about +Z, worst over frames {:.2} deg{} (bisector tilted {tilt} deg from +Z, pair \
-             spread {})",
+             about +Z; worst over frames with both vertex normals facing the viewer (n_z >= 0) \
+             {}; over the whole validity (n_z > -1) {}: an edge passing near -Z is \
+             interpolated the long way round",
             symmetric.value(),
-            worst.finite,
-            worst.note(),
-            if across {
-                "across the tilt"
-            } else {
-                "in the tilt plane"
-            }
+            at(&frames.facing),
+            at(&frames.all),
         ),
-        "formulas::normal_from_quat of the lerped formulas::quat_from_normal",
+        &format!(
+            "formulas::normal_from_quat of the lerped formulas::quat_from_normal; the angle \
+             error over frames: the pair's bisector tilted 0..180 deg from +Z in 1-degree steps, \
+             its spread 0..150 deg from the tilt plane in 30-degree steps, frames with a vertex \
+             normal within {QUAT_NZ_MARGIN:e} of n_z = -1 left out, {} points per edge",
+            STEPS / 100 + 1
+        ),
+        STEPS + 1,
     )
 }
 
-/// The angle between `recover(lerp(q_a, q_b))` and `lerp(a, b)` along the edge `a`-`b`.
-fn quaternion_angle(recover: fn(DVec3) -> DVec3, (a, b): (DVec3, DVec3)) -> Worst {
+/// The angle between `recover(lerp(q_a, q_b))` and `lerp(a, b)` along the edge `a`-`b`, at
+/// every `step`-th point of [`ts`].
+fn quaternion_angle(recover: fn(DVec3) -> DVec3, (a, b): (DVec3, DVec3), step: usize) -> Worst {
     let (qa, qb) = (f::quat_from_normal(a), f::quat_from_normal(b));
     Worst::of(
-        ts().step_by(10)
+        ts().step_by(step)
             .map(|t| angle_deg(recover(qa.lerp(qb, t)), a.lerp(b, t))),
     )
 }
 
-/// The quaternion of a normal is taken in a fixed frame (+Z), so its angle error depends on
-/// where the pair sits: the pair `theta` apart with its bisector tilted 0..=90 degrees from +Z
-/// (1-degree steps; beyond, a normal nears -Z where the quaternion is singular), spread in the
-/// tilt plane or across it. Returns the worst, its tilt and whether it was across.
-pub(crate) fn quaternion_angle_over_frames(
-    recover: fn(DVec3) -> DVec3,
-    theta: f64,
-) -> (Worst, u32, bool) {
-    let mut all = Worst::default();
-    let mut at = (0, false);
-    for tilt in 0..=90u32 {
-        let r = glam::DQuat::from_rotation_y(f64::from(tilt).to_radians());
-        for across in [false, true] {
-            let spin = glam::DQuat::from_rotation_z(if across { 90f64.to_radians() } else { 0.0 });
-            let (a, b) = pair(theta);
-            let w = quaternion_angle(recover, (r * (spin * a), r * (spin * b)));
-            if w.non_finite > 0 || w.finite > all.finite {
-                at = (tilt, across);
-            }
-            all.non_finite += w.non_finite;
-            all.points += w.points;
-            all.finite = all.finite.max(w.finite);
-        }
-    }
-    (all, at.0, at.1)
+/// The worst angle error over a set of frames and the frame that gave it.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct QuatFrame {
+    pub worst: Worst,
+    pub tilt_deg: u32,
+    pub spread_deg: u32,
+    /// The smaller n_z of the frame's two vertex normals.
+    pub lowest_nz: f64,
 }
 
-fn unit_measurement(dev: Worst, extra: String, what: &str) -> Measurement {
+impl QuatFrame {
+    /// Folds in one frame: the counts add up, the worst finite value is the larger, and the
+    /// frame named is the worst one (the first with a non-finite point, once there is one).
+    fn add(&mut self, f: QuatFrame) {
+        let (non_finite, points) = (
+            self.worst.non_finite + f.worst.non_finite,
+            self.worst.points + f.worst.points,
+        );
+        let finite = self.worst.finite.max(f.worst.finite);
+        if self.worst.non_finite == 0
+            && (f.worst.non_finite > 0 || f.worst.finite > self.worst.finite)
+        {
+            *self = f;
+        }
+        self.worst = Worst {
+            finite,
+            non_finite,
+            points,
+        };
+    }
+}
+
+/// [`quaternion_angle_over_frames`]: the whole validity, and the frames facing the viewer.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct QuatFrames {
+    pub all: QuatFrame,
+    pub facing: QuatFrame,
+}
+
+/// How close to -Z a vertex normal of a swept frame may come: the quaternion's 1/sqrt(1 + n_z)
+/// is singular at n_z = -1, which the validity (n_z > -1) leaves out; 1e-6 is 0.08 degrees.
+const QUAT_NZ_MARGIN: f64 = 1e-6;
+
+/// The quaternion of a normal is taken in a fixed frame (+Z), so its angle error depends on
+/// where the pair sits. Turning the pair about +Z turns the quaternions with it, so every pair
+/// `theta` apart is, up to that turn, a pair whose bisector is tilted 0..=180 degrees from +Z
+/// (1-degree steps) and whose spread makes 0..180 degrees with the tilt plane (30-degree
+/// steps): that is the method's whole validity (both n_z > -1; frames with a normal within
+/// [`QUAT_NZ_MARGIN`] of -Z are left out), swept at 1,001 points per edge. Returns the worst
+/// over all of them and over those whose vertex normals both face the viewer (n_z >= 0).
+pub(crate) fn quaternion_angle_over_frames(recover: fn(DVec3) -> DVec3, theta: f64) -> QuatFrames {
+    let mut all = QuatFrame::default();
+    let mut facing = QuatFrame::default();
+    for tilt in 0..=180u32 {
+        let r = glam::DQuat::from_rotation_y(f64::from(tilt).to_radians());
+        for spread in (0..180u32).step_by(30) {
+            let spin = glam::DQuat::from_rotation_z(f64::from(spread).to_radians());
+            let (a, b) = pair(theta);
+            let (a, b) = (r * (spin * a), r * (spin * b));
+            let lowest_nz = a.z.min(b.z);
+            if lowest_nz <= -1.0 + QUAT_NZ_MARGIN {
+                continue;
+            }
+            let w = quaternion_angle(recover, (a, b), 100);
+            let frame = QuatFrame {
+                worst: w,
+                tilt_deg: tilt,
+                spread_deg: spread,
+                lowest_nz,
+            };
+            all.add(frame);
+            if lowest_nz >= 0.0 {
+                facing.add(frame);
+            }
+        }
+    }
+    QuatFrames { all, facing }
+}
+
+/// The unit-length verdict of a sweep of `points` points per edge (`what`: the formula and
+/// where the sweep goes).
+fn unit_measurement(dev: Worst, extra: String, what: &str, points: usize) -> Measurement {
     Measurement {
-        evidence: Evidence::found(dev.value()),
+        evidence: Evidence::found(dev.value(), Quantity::RelativeError),
         measured: format!("max ||N'| - 1| = {:.1e}{}{extra}", dev.finite, dev.note()),
         verdict: if dev.within(UNIT_TOLERANCE) {
             Verdict::Agrees
@@ -392,19 +555,21 @@ fn unit_measurement(dev: Worst, extra: String, what: &str) -> Measurement {
             Verdict::Disagrees
         },
         how: format!(
-            "{} ({what}; edges {UNIT_ANGLES:?} deg); agrees when |N'| = 1 to {UNIT_TOLERANCE:e} \
-             everywhere, i.e. the result needs no square root to be unit",
-            sweep_how("|N'|")
+            "f64 sweep of |N'| (src/method/formulas.rs) at {points} points along an edge between \
+             two unit vertex normals, run when this was written (src/method/checks.rs) ({what}; \
+             edges {UNIT_ANGLES:?} deg); agrees when |N'| = 1 to {UNIT_TOLERANCE:e} everywhere, \
+             i.e. the result needs no square root to be unit"
         ),
     }
 }
 
 // ---- mikami -----------------------------------------------------------------------------------
 
-/// Mikami's claimed bound on the normalised relative error, percent (S000 l.74).
+/// Mikami's claimed bound on the normalised relative error, percent
+/// (docs/formulas.md#mikami-square-root).
 pub(crate) const MIKAMI_BOUND_PCT: f64 = 1.5;
 
-/// "maximum normalised relative error <= 1.5 %" (S000 l.74), beta = 0.64.
+/// "maximum normalised relative error <= 1.5 %" (docs/formulas.md#mikami-square-root), beta = 0.64.
 pub fn mikami_const_within_bound() -> Measurement {
     mikami_within_bound(f::beta_const, "formulas::beta_const")
 }
@@ -424,7 +589,7 @@ pub(crate) fn mikami_within_bound(beta: Factor, name: &str) -> Measurement {
     let e = mikami_worst(0.25, beta);
     let at1 = mikami_error_pct(1.0, beta);
     Measurement {
-        evidence: Evidence::found(e.value().abs() / 100.0),
+        evidence: Evidence::found(e.value().abs() / 100.0, Quantity::RelativeError),
         measured: format!(
             "max |error| {:.3} % on z in [0.25, 1]{}; {at1:+.3} % at z = 1",
             e.finite.abs(),
@@ -453,7 +618,8 @@ pub(crate) const ROMANYUK_FACTOR: f64 = 8.0;
 /// Angles between the normals at which the 8x claim is measured.
 pub(crate) const ROMANYUK_ANGLES: [f64; 3] = [90.0, 60.0, 40.0];
 
-/// "relative error 8x smaller than Lyon's approach" (S000 l.79-80).
+/// "relative error 8x smaller than Lyon's approach"
+/// (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial).
 pub fn romanyuk_8x_smaller() -> Measurement {
     times_smaller(
         f::k_romanyuk,
@@ -503,11 +669,14 @@ pub(crate) fn times_smaller(k: Factor, lyons: [(&str, Factor); 2]) -> Measuremen
         }
     }
     Measurement {
-        evidence: Evidence::found(if non_finite > 0 {
-            f64::NAN
-        } else {
-            ratio_found
-        }),
+        evidence: Evidence::found(
+            if non_finite > 0 {
+                f64::NAN
+            } else {
+                ratio_found
+            },
+            Quantity::ErrorRatio,
+        ),
         measured: format!("{} of {total} parts hold; {}", held, parts.join("; ")),
         verdict: match held {
             _ if non_finite > 0 => Verdict::Disagrees,
@@ -531,7 +700,8 @@ pub(crate) fn times_smaller(k: Factor, lyons: [(&str, Factor); 2]) -> Measuremen
 /// The PN tessellator's signature (`formulas::pn_tessellate`).
 pub(crate) type Tessellator = fn([DVec3; 3], [DVec3; 3], u32) -> Vec<([DVec3; 3], [DVec3; 3])>;
 
-/// "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre" (S004 l.54-59).
+/// "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre"
+/// (docs/formulas.md#pn-triangles-and-trueform).
 pub fn trueform_level_3_counts() -> Measurement {
     tessellation_counts(f::pn_tessellate)
 }
@@ -571,7 +741,7 @@ pub(crate) fn tessellation_counts(tessellate: Tessellator) -> Measurement {
 
 // ---- specular_lut -----------------------------------------------------------------------------
 
-/// "tables for n = 1..255 need more than 4 MB" (S004 l.201-203).
+/// "tables for n = 1..255 need more than 4 MB" (docs/formulas.md#specular-table).
 pub fn specular_lut_over_4_mb() -> Measurement {
     lut_bytes(f::specular_lut)
 }
@@ -706,12 +876,73 @@ mod tests {
 
     #[test]
     fn the_quaternion_angle_error_is_the_worst_over_frames() {
-        let (w, tilt, _) = quaternion_angle_over_frames(f::normal_from_quat, 90.0);
-        let symmetric = quaternion_angle(f::normal_from_quat, pair(90.0)).value();
+        let frames = quaternion_angle_over_frames(f::normal_from_quat, 90.0);
+        let symmetric = quaternion_angle(f::normal_from_quat, pair(90.0), 10).value();
         assert!((symmetric - 3.17).abs() < 0.01, "{symmetric}");
-        assert!(w.finite > 10.0 && w.non_finite == 0, "{w:?} at {tilt}");
+        // facing the viewer: 19.47 deg, the pair across a 90-degree tilt
+        let facing = frames.facing;
+        assert!(
+            (facing.worst.finite - 19.47).abs() < 0.01 && facing.worst.non_finite == 0,
+            "{facing:?}"
+        );
+        assert!(
+            facing.lowest_nz >= 0.0 && facing.tilt_deg == 90,
+            "{facing:?}"
+        );
+        // the whole validity (n_z > -1) reaches past a 90-degree tilt, where an edge whose arc
+        // passes through -Z turns the normal the long way round, to the opposite direction
+        // (the old sweep stopped at 90 degrees)
+        let all = frames.all;
+        assert!(all.tilt_deg > 90 && all.lowest_nz < 0.0, "{all:?}");
+        assert!(
+            all.worst.finite > 179.99 && all.worst.non_finite == 0,
+            "{all:?}"
+        );
+        assert!(all.worst.points > 180 * 6 * 1000, "{all:?}");
         let m = quaternion_is_unit();
-        assert!(m.measured.contains("worst over frames"), "{m:?}");
+        assert!(
+            m.measured
+                .contains("over the whole validity (n_z > -1) 180.00 deg")
+                && m.measured
+                    .contains("facing the viewer (n_z >= 0) 19.47 deg"),
+            "{m:?}"
+        );
+    }
+
+    /// Hast-Barrera-Bengtsson's "3.17 to 10.3 deg" holds for flat normals on the arc between
+    /// the vertex normals; each figure names its domain, and the sweep leaves the arc (12.4
+    /// and 14.8 deg at 10 and 20 deg off it, beyond a vertex normal; the old figure named the
+    /// bisector and a vertex normal only).
+    #[test]
+    fn the_hbb_angle_figures_name_where_the_flat_normal_is() {
+        let m = hbb_is_unit();
+        assert_eq!(m.verdict, Verdict::Agrees, "{m:?}");
+        for part in [
+            "3.17 to 10.3 deg with the flat normal on the arc between the vertex normals",
+            "to 12.4 deg with the flat normal 10 deg off that arc",
+            "to 14.8 deg with the flat normal 20 deg off that arc",
+        ] {
+            assert!(m.measured.contains(part), "{part}: {m:?}");
+        }
+        // the flat normals lie `off` degrees from their point on the arc, unit, in the pair's
+        // plane beyond the second vertex normal for the direction 90 at s = 1
+        let p = pair(90.0);
+        for (s, off, dir) in [(0.5, 10.0, 0.0), (0.3, 20.0, 210.0), (1.0, 10.0, 90.0)] {
+            let f = flat_off_arc(p, s, off, dir);
+            let on = crate::method::scanline::slerp(p.0, p.1, s);
+            assert!((f.length() - 1.0).abs() < 1e-12);
+            assert!((angle_deg(f, on) - off).abs() < 1e-9, "{s} {off} {dir}");
+        }
+        let beyond = flat_off_arc(p, 1.0, 10.0, 90.0);
+        assert!(beyond.y.abs() < 1e-12 && (angle_deg(beyond, p.0) - 100.0).abs() < 1e-9);
+        // teeth: the figures follow the method: exact normalisation has no angle error
+        let exact = flat_based_is_unit(|n, _| n.normalize());
+        assert!(
+            exact
+                .measured
+                .contains("0.00 to 0.0 deg with the flat normal 20"),
+            "{exact:?}"
+        );
     }
 
     #[test]

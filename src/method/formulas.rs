@@ -1,12 +1,14 @@
 //! Every formula in f64: the CPU reference used by the truth evaluator, the tests and (later)
-//! the stress sweeps. Each function is a literal port of its GLSL twin in glsl/ (FORMULAS.md
-//! appendix C), so the GPU-vs-f64 comparison proves the GLSL implements the formula.
+//! the stress sweeps. Each function is a literal port of its GLSL twin in glsl/ (one section of
+//! docs/formulas.md#methods each), so the GPU-vs-f64 comparison proves the GLSL implements the
+//! formula.
 //!
-//! Invariants: the constants are exactly those of FORMULAS.md appendix C (no "improved"
-//! coefficients; where a section lists a second set, e.g. Mikami's original 0.354167, it lives
-//! only in the tests as a private helper). Scalar methods return the factor `k(z)` with
-//! `z = N.N` and `N' = k(z) N`; nothing here renormalises a result unless its doc says so.
-//! The tests pin appendix A's golden values and reproduce every section-3 measurement by
+//! Invariants: the constants are exactly those the papers print, corrected only where
+//! docs/formulas.md#corrections-to-the-printed-formulas says (no "improved" coefficients; where a
+//! section lists a second set, e.g. Mikami's original 0.354167, it lives only in the tests as a
+//! private helper). Scalar methods return the factor `k(z)` with `z = N.N` and `N' = k(z) N`;
+//! nothing here renormalises a result unless its doc says so. The tests pin the golden values of
+//! docs/formulas.md#golden-values and reproduce the figures the page attributes to them by
 //! sweeping these functions.
 //!
 //! The scalar factors (`k_*`, `mikami_sqrt`, `beta_*`) are generic over [`Real`]: the f64
@@ -16,8 +18,9 @@ use glam::DVec3;
 
 use super::real::Real;
 
-/// Exact normalization `N / |N|` (FORMULAS.md 2.3). Returns the input unchanged when it has zero
-/// length (the GPU's `normalize` gives NaN there; no sane mesh reaches it, see the hazard in 2.3).
+/// Exact normalization `N / |N|` (docs/formulas.md#exact-phong). Returns the input unchanged when
+/// it has zero length (the GPU's `normalize` gives NaN there; no sane mesh reaches it, see the
+/// hazard there).
 pub fn normalize_exact(n: DVec3) -> DVec3 {
     let len = n.length();
     if len > 0.0 {
@@ -39,7 +42,8 @@ pub struct Lighting {
 }
 
 impl Lighting {
-    /// The seeds' lighting model (FORMULAS.md 1.2), twin of `shade()` in glsl/shading.glsl:
+    /// The papers' lighting model (docs/formulas.md#lighting-model), twin of `shade()` in
+    /// glsl/shading.glsl:
     /// `I = k_a I_a + sum I_L (k_d max(0, N.L) + k_s max(0, N.H)^n)`, with `0^n = 0`.
     pub fn shade(&self, n: DVec3) -> DVec3 {
         self.shade_cosines(|v| n.dot(v))
@@ -61,31 +65,33 @@ impl Lighting {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Scalar factors k(z) ~ 1/sqrt(z), z = N.N (FORMULAS.md 2.4-2.6, 2.8, 2.9; appendix C)
+// Scalar factors k(z) ~ 1/sqrt(z), z = N.N (docs/formulas.md#error-measures)
 // ---------------------------------------------------------------------------------------------
 
-/// Newton-Raphson one step for `1/sqrt(z)` from the start value 1 (Cutler/NVIDIA, FORMULAS.md 2.4,
-/// S000 l.33-38): `k(z) = (3 - z)/2`. Exact at `z = 1`; always too short for `z < 1`.
-/// (S004 l.169 prints `/3`, a seed typo: see the test `nvidia_formula_as_printed_in_s004_...`.)
+/// Newton-Raphson one step for `1/sqrt(z)` from the start value 1 (Cutler/NVIDIA,
+/// docs/formulas.md#newton-raphson-step): `k(z) = (3 - z)/2`. Exact at `z = 1`; always too short
+/// for `z < 1`. (The shading survey prints `/3`, a typo: see the test
+/// `nvidia_formula_as_printed_in_s004_...`.)
 pub fn k_newton<T: Real>(z: T) -> T {
     T::c(0.5) * (T::c(3.0) - z)
 }
 
-/// Lyon's second-degree Taylor form (FORMULAS.md 2.5, S000 l.45-50):
+/// Lyon's second-degree Taylor form (docs/formulas.md#lyon-taylor-form):
 /// `k(z) = 1 - d/2 + 3/8 d^2`, `d = z - 1`.
 pub fn k_lyon2<T: Real>(z: T) -> T {
     let d = z - T::c(1.0);
     T::c(1.0) - T::c(0.5) * d + T::c(0.375) * d * d
 }
 
-/// Lyon's shift form (FORMULAS.md 2.6, S000 l.52-53): `k(z) = 1 + (e + e^2)/2`, `e = 1 - z`
+/// Lyon's shift form (docs/formulas.md#lyon-shift-form): `k(z) = 1 + (e + e^2)/2`, `e = 1 - z`
 /// (3/8 replaced by 1/2 so that only shifts remain). Too long for every `z > 0.704`.
 pub fn k_lyon_shift<T: Real>(z: T) -> T {
     let e = T::c(1.0) - z;
     T::c(1.0) + T::c(0.5) * (e + e * e)
 }
 
-/// Romanyuk-Romanyuk-Pavlyk polynomial (FORMULAS.md 2.9, S000 l.78-82, signs reconstructed):
+/// Romanyuk-Romanyuk-Pavlyk polynomial (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial,
+/// signs reconstructed):
 /// `k(z) = (0.822 z - 2.046) z + 2.227`. Not exact at `z = 1` (`k(1) = 1.003`); designed for
 /// `z` in [0.5, 1], i.e. vertex normals up to 90 degrees apart.
 pub fn k_romanyuk<T: Real>(z: T) -> T {
@@ -116,7 +122,7 @@ pub fn k_clamp(z: f64) -> f64 {
     1.0 / z.min(MEDIUMP_FLT_MAX).sqrt()
 }
 
-/// Mikami's NIIRF square root, first iteration (FORMULAS.md 2.8, S000 l.65-75):
+/// Mikami's NIIRF square root, first iteration (docs/formulas.md#mikami-square-root):
 /// `s0 = 2/3 z + 0.35`, `s1 = beta (z - s0^2) + s0 ~ sqrt(z)`. The normalised normal is
 /// `N' = N / s1`, so the scalar factor is `1 / mikami_sqrt(z, beta)`. Design range
 /// `z` in [0.25, 1]; outside it the error grows fast (150 degrees: -23 %). The constant 0.35 is
@@ -126,28 +132,31 @@ pub fn mikami_sqrt<T: Real>(z: T, beta: T) -> T {
     beta * (z - s0 * s0) + s0
 }
 
-/// Mikami's constant `beta = 0.64` (one-iteration NIIRF constant; FORMULAS.md 2.8). Takes `z`
-/// only so that the three beta choices share one signature.
+/// Mikami's constant `beta = 0.64` (one-iteration NIIRF constant;
+/// docs/formulas.md#mikami-square-root). Takes `z` only so that the three beta choices share one
+/// signature.
 pub fn beta_const<T: Real>(_z: T) -> T {
     T::c(0.64)
 }
 
-/// Mikami's linear `beta = 1.07 - 0.62 z` (FORMULAS.md 2.8, seed's rounding of 1.0688 - 0.61951 z).
+/// Mikami's linear `beta = 1.07 - 0.62 z` (docs/formulas.md#mikami-square-root, the survey's
+/// rounding of 1.0688 - 0.61951 z).
 pub fn beta_linear<T: Real>(z: T) -> T {
     T::c(1.07) - T::c(0.62) * z
 }
 
-/// Mikami's quadratic `beta = (0.763 z - 1.57) z + 1.31` (FORMULAS.md 2.8, seed's rounding of
-/// 0.763 z^2 - 1.5688 z + 1.314).
+/// Mikami's quadratic `beta = (0.763 z - 1.57) z + 1.31` (docs/formulas.md#mikami-square-root, the
+/// survey's rounding of 0.763 z^2 - 1.5688 z + 1.314).
 pub fn beta_quadratic<T: Real>(z: T) -> T {
     (T::c(0.763) * z - T::c(1.57)) * z + T::c(1.31)
 }
 
 // ---------------------------------------------------------------------------------------------
-// Vector methods (FORMULAS.md 2.7, 2.14, 2.15; appendix C)
+// Vector methods: half vector, quaternion, barycentric quadratic (docs/formulas.md#methods)
 // ---------------------------------------------------------------------------------------------
 
-/// Hast-Barrera-Bengtsson normalisation without a square root (FORMULAS.md 2.7, S000 l.55-63):
+/// Hast-Barrera-Bengtsson normalisation without a square root
+/// (docs/formulas.md#hast-barrera-bengtsson-half-vector):
 /// `H = n + N`, `N' = 2 H (H.n / H.H) - n`, the reflection of the unit flat normal `n` about `H`.
 /// `|N'| = |n| = 1` exactly; the error is purely angular. `H.H = 0` (N = -n, back-facing vertex
 /// normals) divides by zero and gives NaN, as on the GPU.
@@ -156,15 +165,16 @@ pub fn hbb(n_interp: DVec3, n_flat: DVec3) -> DVec3 {
     2.0 * h * (h.dot(n_flat) / h.dot(h)) - n_flat
 }
 
-/// Hast's quaternion of a unit normal (FORMULAS.md 2.14, S000 l.183-203): `z = sqrt((n.z + 1)/2)`,
-/// `(x, y) = (n.x, n.y) / (2 z)`; the three non-zero components of the twist-free rotation of +Z
-/// onto `n` (vector part relabelled). Blows up as `n.z -> -1` (`n = -Z` gives inf/NaN).
+/// Hast's quaternion of a unit normal (docs/formulas.md#quaternion-interpolation): `z = sqrt((n.z +
+/// 1)/2)`, `(x, y) = (n.x, n.y) / (2 z)`; the three non-zero components of the twist-free rotation
+/// of +Z onto `n` (vector part relabelled). Blows up as `n.z -> -1` (`n = -Z` gives inf/NaN).
 pub fn quat_from_normal(n: DVec3) -> DVec3 {
     let z = (0.5 * (n.z + 1.0)).sqrt();
     DVec3::new(n.x / (2.0 * z), n.y / (2.0 * z), z)
 }
 
-/// Normal from a (linearly interpolated, non-unit) quaternion (FORMULAS.md 2.14):
+/// Normal from a (linearly interpolated, non-unit) quaternion
+/// (docs/formulas.md#quaternion-interpolation):
 /// `N' = (2xz, 2yz, z^2 - x^2 - y^2) / (q.q)`, unit length for any `q != 0` (the square root of
 /// the normalisation cancels). `q = 0` gives NaN.
 pub fn normal_from_quat(q: DVec3) -> DVec3 {
@@ -181,7 +191,8 @@ pub fn normal_from_quat(q: DVec3) -> DVec3 {
 ///   t = (1 + s n.x^2 a, s b0, -s n.x);  b = (b0, s + n.y^2 a, -n.y)
 /// (The GLSL twin uses exactly this; `f64::copysign` semantics, so n.z = +0.0 gives s = +1 and
 /// n.z = -0.0 gives s = -1; both are well defined.) Used for the per-triangle quaternion frame
-/// recommended in FORMULAS.md 2.14. `n` must be unit; the result is then orthonormal to ~1e-16.
+/// of docs/formulas.md#quaternion-interpolation. `n` must be unit; the result is then
+/// orthonormal to ~1e-16.
 pub fn onb(n: DVec3) -> (DVec3, DVec3) {
     let s = 1.0f64.copysign(n.z);
     let a = -1.0 / (s + n.z);
@@ -191,25 +202,28 @@ pub fn onb(n: DVec3) -> (DVec3, DVec3) {
     (t, b)
 }
 
-/// Approximate `1/|a + b| = 1/sqrt(2 + 2c)` for unit `a`, `b` with `c = a.b` (FORMULAS.md 2.12,
-/// S000 l.116-152): `(0.103 c - 0.306) c + 0.705`, fitted for `c` in [0, 1] (angles <= 90 deg).
+/// Approximate `1/|a + b| = 1/sqrt(2 + 2c)` for unit `a`, `b` with `c = a.b`
+/// (docs/formulas.md#quadratic-interpolation-along-the-span): `(0.103 c - 0.306) c + 0.705`,
+/// fitted for `c` in [0, 1] (angles <= 90 deg).
 pub fn mid_poly(c: f64) -> f64 {
     (0.103 * c - 0.306) * c + 0.705
 }
 
 /// Mid-edge node of the barycentric quadratic triangle with the polynomial approximation
-/// (FORMULAS.md 2.15, S000 l.205-213): `M_ij = 4 (a + b) mid_poly(a.b)`; the 4 is the Lagrange
-/// weight of a mid-edge node.
+/// (docs/formulas.md#barycentric-quadratic-triangle): `M_ij = 4 (a + b) mid_poly(a.b)`; the 4 is
+/// the Lagrange weight of a mid-edge node.
 pub fn m_ij(a: DVec3, b: DVec3) -> DVec3 {
     4.0 * (a + b) * mid_poly(a.dot(b))
 }
 
-/// Exact mid-edge node `4 normalize(a + b)` (FORMULAS.md 2.15, reference variant of [`m_ij`]).
+/// Exact mid-edge node `4 normalize(a + b)` (docs/formulas.md#barycentric-quadratic-triangle,
+/// reference variant of [`m_ij`]).
 pub fn m_ij_exact(a: DVec3, b: DVec3) -> DVec3 {
     4.0 * normalize_exact(a + b)
 }
 
-/// Barycentric quadratic triangle (FORMULAS.md 2.15): the 6-node quadratic Lagrange triangle
+/// Barycentric quadratic triangle (docs/formulas.md#barycentric-quadratic-triangle): the 6-node
+/// quadratic Lagrange triangle
 /// `sum N_i c_i (2 c_i - 1) + mid(N1,N2) c1 c2 + mid(N2,N3) c2 c3 + mid(N3,N1) c3 c1`, with
 /// `c` the barycentrics of corners 0, 1, 2 and `mid` either [`m_ij`] or [`m_ij_exact`].
 /// Returns N_i exactly at corner i; not renormalised.
@@ -223,11 +237,13 @@ pub fn bary_quad(n: [DVec3; 3], c: DVec3, mid: fn(DVec3, DVec3) -> DVec3) -> DVe
 }
 
 // ---------------------------------------------------------------------------------------------
-// Curved PN triangles / ATI TrueForm (FORMULAS.md 2.19, S004 l.50-64; Vlachos et al., I3D 2001)
+// Curved PN triangles / ATI TrueForm (docs/formulas.md#pn-triangles-and-trueform; Vlachos et al.,
+// I3D 2001)
 // Corners 1, 2, 3 of the text are indices 0, 1, 2; barycentrics w = (w, u, v) of the text.
 // ---------------------------------------------------------------------------------------------
 
-/// Quadratic-normal mid-edge coefficients `[n110, n011, n101]` (FORMULAS.md 2.19):
+/// Quadratic-normal mid-edge coefficients `[n110, n011, n101]`
+/// (docs/formulas.md#pn-triangles-and-trueform):
 /// `v_ij = 2 (P_j - P_i).(N_i + N_j) / ((P_j - P_i).(P_j - P_i))`,
 /// `n110 = normalize(N1 + N2 - v12 (P2 - P1))`, `n011 = ... (2, 3)`, `n101 = ... (3, 1)`.
 /// Degenerate (zero-length) edges divide by zero, as in the GLSL.
@@ -240,7 +256,7 @@ pub fn pn_mid_normals(p: [DVec3; 3], n: [DVec3; 3]) -> [DVec3; 3] {
     [mid(0, 1), mid(1, 2), mid(2, 0)]
 }
 
-/// PN-triangle quadratic normal (FORMULAS.md 2.19), unnormalised:
+/// PN-triangle quadratic normal (docs/formulas.md#pn-triangles-and-trueform), unnormalised:
 /// `N1 w0^2 + N2 w1^2 + N3 w2^2 + n110 w0 w1 + n011 w1 w2 + n101 w2 w0`, with `mids` from
 /// [`pn_mid_normals`]. Equals N_i at corner i.
 pub fn pn_normal(n: [DVec3; 3], mids: [DVec3; 3], w: DVec3) -> DVec3 {
@@ -252,7 +268,7 @@ pub fn pn_normal(n: [DVec3; 3], mids: [DVec3; 3], w: DVec3) -> DVec3 {
         + mids[2] * (w.z * w.x)
 }
 
-/// PN-triangle position (FORMULAS.md 2.19): the cubic Bezier patch
+/// PN-triangle position (docs/formulas.md#pn-triangles-and-trueform): the cubic Bezier patch
 /// `sum b_ijk 3!/(i! j! k!) w0^i w1^j w2^k` with `w_ij = (P_j - P_i).N_i`,
 /// `b210 = (2P1 + P2 - w12 N1)/3` (and the five rotations), `E` = mean of the six edge points,
 /// `V` = mean of the corners, `b111 = E + (E - V)/2`. Equals P_i at corner i.
@@ -282,13 +298,15 @@ pub fn pn_position(p: [DVec3; 3], n: [DVec3; 3], w: DVec3) -> DVec3 {
         + b111 * (6.0 * a * b * c)
 }
 
-/// Level-`level` tessellation of one PN triangle: (level+1)(level+2)/2 vertices, level^2 sub-triangles,
-/// each returned as (3 positions, 3 unit normals = normalize(pn_normal)), wound like the input triangle.
+/// Level-`level` tessellation of one PN triangle: (level+1)(level+2)/2 vertices, level^2
+/// sub-triangles, each returned as (3 positions, 3 unit normals = normalize(pn_normal)), wound like
+/// the input triangle.
 ///
 /// Vertex (i, j) of the grid sits at barycentrics `((level - i - j), i, j) / level` (i steps
 /// towards corner 1, j towards corner 2), and each grid vertex is evaluated once, so shared
-/// vertices are bit-identical across sub-triangles. Level 3 is the seed's "9 sub-triangles,
-/// 2 extra vertices per edge + 1 centre" (S004 l.54-59). Level 0 returns no triangles.
+/// vertices are bit-identical across sub-triangles. Level 3 is the shading survey's "9
+/// sub-triangles, 2 extra vertices per edge + 1 centre"
+/// (docs/formulas.md#pn-triangles-and-trueform). Level 0 returns no triangles.
 pub fn pn_tessellate(p: [DVec3; 3], n: [DVec3; 3], level: u32) -> Vec<([DVec3; 3], [DVec3; 3])> {
     if level == 0 {
         return Vec::new();
@@ -324,10 +342,10 @@ pub fn pn_tessellate(p: [DVec3; 3], n: [DVec3; 3], level: u32) -> Vec<([DVec3; 3
 }
 
 // ---------------------------------------------------------------------------------------------
-// Table-based cos^n (FORMULAS.md 2.20, S004 l.197-204; sizes are our choice, [16] not seen)
+// Table-based cos^n (docs/formulas.md#specular-table; sizes are our choice, [16] not seen)
 // ---------------------------------------------------------------------------------------------
 
-/// Exponent rows of the default table, n = 1..=255 (S004 l.201).
+/// Exponent rows of the default table, n = 1..=255 (docs/formulas.md#specular-table).
 pub const LUT_ROWS: usize = 255;
 /// Cosine samples per row of the default table (4096 x 255 x f32 = 4.18 MB: chosen to match the
 /// seed's "> 4 MB", which is why that claim is `not_checked`).
@@ -422,15 +440,15 @@ mod tests {
         );
     }
 
-    /// A figure quoted by FORMULAS.md to a given number of decimals: the measurement must round
-    /// to it, i.e. lie within half a unit of its last digit (plus 1e-12 for the f64 sweep).
+    /// A figure quoted by docs/formulas.md to a given number of decimals: the measurement must
+    /// round to it, i.e. lie within half a unit of its last digit (plus 1e-12 for the f64 sweep).
     #[track_caller]
     fn assert_quoted(what: &str, measured: f64, quoted: f64, decimals: i32) {
         assert_close(what, measured, quoted, 0.5 * 10f64.powi(-decimals) + 1e-12);
     }
 
-    /// Mikami with the original NIIRF start constant 0.354167 (FORMULAS.md 2.8, Allie & Lyons);
-    /// test-only on purpose: the library keeps appendix C's 0.35.
+    /// Mikami with the original NIIRF start constant 0.354167 (docs/formulas.md#mikami-square-root,
+    /// Allie & Lyons); test-only on purpose: the library keeps the survey's 0.35.
     fn mikami_sqrt_niirf(z: f64, beta: f64) -> f64 {
         let s0 = (2.0 / 3.0) * z + 0.354167;
         beta * (z - s0 * s0) + s0
@@ -461,7 +479,7 @@ mod tests {
 
     #[test]
     fn scalar_factors_match_appendix_a_golden_values() {
-        // FORMULAS.md appendix A, columns Newton, Lyon2, Lyon shift, Mikami const/lin/quad
+        // docs/formulas.md#golden-values, columns Newton, Lyon2, Lyon shift, Mikami const/lin/quad
         // (1/s1), Romanyuk; printed to 9 decimals, hence 1e-9.
         #[rustfmt::skip]
         let rows: [(f64, [f64; 7]); 4] = [
@@ -497,7 +515,7 @@ mod tests {
 
     #[test]
     fn vector_methods_match_appendix_a_golden_values() {
-        // FORMULAS.md appendix A: A, B = (-+0.5, 0, 0.8660254), theta = 60 deg.
+        // docs/formulas.md#golden-values: A, B = (-+0.5, 0, 0.8660254), theta = 60 deg.
         let (a, b) = pair(60.0);
         let qa = quat_from_normal(a);
         assert_vec_close(
@@ -528,7 +546,7 @@ mod tests {
 
     #[test]
     fn newton_length_error_matches_section_3() {
-        // FORMULAS.md 2.4 / section 3: always too short, worst at the edge midpoint.
+        // docs/formulas.md#newton-raphson-step: always too short, worst at the edge midpoint.
         for (theta, quoted, decimals) in [
             (20.0, -0.0344, 4),
             (30.0, -0.172, 3),
@@ -556,7 +574,7 @@ mod tests {
 
     #[test]
     fn lyon_length_errors_match_section_3() {
-        // FORMULAS.md 2.5 (second-degree Taylor) and 2.6 (shift form).
+        // docs/formulas.md#lyon-taylor-form and docs/formulas.md#lyon-shift-form.
         for (theta, quoted, decimals) in [
             (40.0, -0.0524, 4),
             (45.0, -0.104, 3),
@@ -589,8 +607,9 @@ mod tests {
 
     #[test]
     fn nvidia_formula_as_printed_in_s004_is_a_typo_k1_is_two_thirds() {
-        // S004 l.169 prints N (3 - N.N)/3: at a vertex (z = 1) that shortens the normal to 2/3.
-        // The /2 of S000 l.33-38 and of Cutler's original post gives 1 (FORMULAS.md 2.4).
+        // The shading survey prints N (3 - N.N)/3: at a vertex (z = 1) that shortens the normal
+        // to 2/3. The /2 of the normalisation survey and of Cutler's original post gives 1
+        // (docs/formulas.md#newton-raphson-step).
         // The claim's check evaluates both (src/method/checks.rs).
         let m = crate::method::checks::newton_as_printed_in_s004();
         assert_eq!(m.verdict, crate::method::Verdict::Disagrees, "{m:?}");
@@ -603,7 +622,8 @@ mod tests {
 
     #[test]
     fn mikami_errors_match_section_3_and_the_1_5_percent_claim() {
-        // FORMULAS.md 2.8: max normalised relative error on the NIIRF range z in [0.25, 1].
+        // docs/formulas.md#mikami-square-root: max normalised relative error on the NIIRF range
+        // z in [0.25, 1].
         type Beta = fn(f64) -> f64;
         let betas: [(&str, Beta, f64, i32); 3] = [
             ("const", beta_const, 1.15, 2),
@@ -620,7 +640,8 @@ mod tests {
             );
             assert!(
                 e.abs() < 1.5,
-                "mikami {name}: {e} % exceeds the paper's 1.5 % (S000 l.74)"
+                "mikami {name}: {e} % exceeds the paper's 1.5 % \
+                 (docs/formulas.md#mikami-square-root)"
             );
         }
         // On z in [0.5, 1] (theta <= 90 deg): 0.49 %, 0.21 %, 0.080 %.
@@ -671,7 +692,7 @@ mod tests {
 
     #[test]
     fn romanyuk_is_8x_better_than_lyon_only_up_to_90_deg_and_vs_the_shift_form() {
-        // FORMULAS.md 2.9 / section 3, theta <= 90 deg (z in [0.5, 1]).
+        // docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial, theta <= 90 deg (z in [0.5, 1]).
         let rom = scalar_error_pct(k_romanyuk, 90.0).abs();
         let shift = scalar_error_pct(k_lyon_shift, 90.0).abs();
         let lyon2 = scalar_error_pct(k_lyon2, 90.0).abs();
@@ -684,7 +705,9 @@ mod tests {
 
     #[test]
     fn romanyuk_disagrees_with_8x_claim_for_angles_up_to_60_deg_worse_than_lyon_shift() {
-        // S000 l.79-80 claims 8x smaller error than Lyon. For theta <= 60 deg the Romanyuk error
+        // The normalisation survey claims 8x smaller error than Lyon
+        // (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial). For theta <= 60 deg the
+        // Romanyuk error
         // floor is the +0.3 % at z = 1 (k(1) = 1.003), so it is WORSE than the shift form and
         // only 1.8x better than the Taylor form; for theta <= 40 deg worse than both.
         let rom60 = scalar_error_pct(k_romanyuk, 60.0).abs();
@@ -715,7 +738,8 @@ mod tests {
 
     #[test]
     fn hbb_is_unit_length_and_its_angle_error_matches_section_3() {
-        // FORMULAS.md 2.7: |N'| = |n| = 1 exactly (reflection), for any flat normal.
+        // docs/formulas.md#hast-barrera-bengtsson-half-vector: |N'| = |n| = 1 exactly (reflection),
+        // for any flat normal.
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
         for theta in [10.0, 40.0, 60.0, 90.0, 120.0] {
             let (a, b) = pair(theta);
@@ -751,7 +775,8 @@ mod tests {
 
     #[test]
     fn quaternion_round_trips_is_unit_and_its_angle_error_matches_section_3() {
-        // FORMULAS.md 2.14: round trip (measured 1.5e-15 there) away from the n.z -> -1 pole.
+        // docs/formulas.md#quaternion-interpolation: round trip (measured 1.5e-15 there) away from
+        // the n.z -> -1 pole.
         let mut rng = Rng(12345);
         for _ in 0..10_000 {
             let n = rng.unit();
@@ -827,8 +852,8 @@ mod tests {
 
     #[test]
     fn bary_quad_hits_its_nodes_and_its_error_matches_section_3() {
-        // FORMULAS.md 2.15: corners give N_i exactly; exact mid-edge nodes give
-        // normalize(N_i + N_j) at edge midpoints.
+        // docs/formulas.md#barycentric-quadratic-triangle: corners give N_i exactly; exact
+        // mid-edge nodes give normalize(N_i + N_j) at edge midpoints.
         let n = triple(60.0);
         for (i, c) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
             assert_eq!(bary_quad(n, c, m_ij), n[i], "corner {i}");
@@ -918,7 +943,8 @@ mod tests {
 
     #[test]
     fn pn_level_3_gives_9_triangles_10_vertices_and_keeps_the_winding() {
-        // FORMULAS.md 2.19 / S004 l.54-59: 9 sub-triangles, 2 extra vertices per edge + 1 centre.
+        // docs/formulas.md#pn-triangles-and-trueform: 9 sub-triangles, 2 extra vertices per edge
+        // + 1 centre.
         let (p, n) = curved_triangle();
         let tris = pn_tessellate(p, n, 3);
         assert_eq!(tris.len(), 9);
@@ -1010,7 +1036,8 @@ mod tests {
 
     #[test]
     fn pn_patch_matches_golden_values_of_an_independent_transcription() {
-        // Golden values from a separate Python transcription of FORMULAS.md 2.19 (control points
+        // Golden values from a separate Python transcription of
+        // docs/formulas.md#pn-triangles-and-trueform (control points
         // b_ijk, b111 = E + (E - V)/2, quadratic normals), written from the text, not from this
         // file; they pin the interior control point b111, which the corner checks cannot see.
         let (p, _) = curved_triangle();
@@ -1054,8 +1081,9 @@ mod tests {
     fn specular_lut_size_and_the_seeds_4_mb_figure() {
         let table = specular_lut(LUT_ROWS, LUT_SAMPLES);
         assert_eq!(table.len(), 255 * 4096);
-        // S004 l.201-203: "> 4 MB" for n = 1..255. Our f32 table with 4096 samples has the
-        // byte count of FORMULAS.md 2.20's illustration (255 x 8192 x 16 bit = 4 177 920 B).
+        // docs/formulas.md#specular-table: "> 4 MB" for n = 1..255. Our f32 table with 4096
+        // samples has the byte count of the page's illustration (255 x 8192 x 16 bit =
+        // 4 177 920 B).
         assert_eq!(std::mem::size_of_val(table.as_slice()), 4_177_920);
         // The claim's check builds the same table and prints its size, without a verdict: the
         // size follows from the sample count and entry size, which the seed does not give.
@@ -1089,7 +1117,7 @@ mod tests {
         }
         // Between samples: linear-interpolation error <= h^2/8 max|f''| = 50*49/(8*4095^2)
         // = 1.826e-5, plus f32 rounding. Measured max on a grid 64x finer than the table
-        // (our measurement; FORMULAS.md 2.20 quotes no figure): 1.816e-5.
+        // (our measurement, quoted in docs/formulas.md#specular-table): 1.816e-5.
         let fine = 64 * (samples - 1);
         let err = (0..=fine)
             .map(|i| {

@@ -48,8 +48,8 @@ pub enum Input {
     QuaternionLocal,
     /// The cos^n lookup table (a storage buffer).
     SpecularLut,
-    /// The span through the fragment's row (FORMULAS.md 1.6): the triangle's window-space
-    /// corners and unit vertex normals (`flat` varyings), and `gl_FragCoord`.
+    /// The span through the fragment's row (docs/formulas.md#scanline-emulation): the triangle's
+    /// window-space corners and unit vertex normals (`flat` varyings), and `gl_FragCoord`.
     ScanlineSpan,
 }
 
@@ -81,7 +81,7 @@ pub enum Geometry {
     PnTessellated(u32),
 }
 
-/// Which exact reference a method is judged against (FORMULAS.md 1.4).
+/// Which exact reference a method is judged against (docs/formulas.md#the-two-references).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Reference {
@@ -149,8 +149,8 @@ impl Family {
 pub enum Property {
     /// The exact reference every method is measured against ([`PHONG_EXACT`]).
     ExactReference,
-    /// Avoids the square root and division of exact normalisation (S000, S004 l.159-172): each
-    /// is claimed faster than exact normalisation.
+    /// Avoids the square root and division of exact normalisation (both surveys,
+    /// docs/formulas.md#exact-phong): each is claimed faster than exact normalisation.
     SqrtFree,
     /// Interpolates the angle between the span's end normals, not the normal itself (judged
     /// against exact slerp as well as exact Phong, [`Reference::PhongAndSlerp`]).
@@ -267,9 +267,6 @@ pub enum InvRoot {
 pub enum Verdict {
     /// The measurement supports the claim.
     Agrees,
-    /// The measurement exceeds the claimed figure but rounds to it at the figure's printed
-    /// significant digits (the claim is a rounded value): not `agrees`, named apart.
-    AgreesRounded,
     /// Some of the claim holds and some does not (each part is named in `measured`).
     Partly,
     /// The measurement contradicts the claim.
@@ -285,7 +282,6 @@ impl Verdict {
     pub fn as_str(self) -> &'static str {
         match self {
             Verdict::Agrees => "agrees",
-            Verdict::AgreesRounded => "agrees_rounded",
             Verdict::Partly => "partly",
             Verdict::Disagrees => "disagrees",
             Verdict::Inconclusive => "inconclusive",
@@ -325,13 +321,42 @@ impl Basis {
     }
 }
 
+/// What a claim's `proven_upper` and `found` are figures of: their kind and unit, so that a
+/// reader compares them with the claim in the claim's own terms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// A relative error as a fraction (0.01 is 1 %): a length error |k(z)|N| - 1| or
+    /// ||N'| - 1|, a normalised relative error, a relative intensity error.
+    RelativeError,
+    /// An absolute error, in the unit of the approximated value (an inverse root, a cosine,
+    /// the components of a unit vector).
+    AbsoluteError,
+    /// The ratio of one method's worst relative error to another's (Romanyuk's / Lyon's): no
+    /// unit; the claim "8x smaller" is a ratio <= 1/8.
+    ErrorRatio,
+}
+
+impl Quantity {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Quantity::RelativeError => "relative_error",
+            Quantity::AbsoluteError => "absolute_error",
+            Quantity::ErrorRatio => "error_ratio",
+        }
+    }
+}
+
 /// The evidence beside a verdict: its basis, and for a bound the proven upper bound of the
-/// bounded quantity next to the largest value found at a real point (None where not given).
+/// bounded quantity next to the largest value found at a real point (None where not given),
+/// with what they are figures of.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Evidence {
     pub basis: Basis,
     pub proven_upper: Option<f64>,
     pub found: Option<f64>,
+    /// The kind and unit of `proven_upper` and `found` (None: not a bound, no figures).
+    pub quantity: Option<Quantity>,
 }
 
 impl Evidence {
@@ -340,14 +365,17 @@ impl Evidence {
         basis: Basis::Measured,
         proven_upper: None,
         found: None,
+        quantity: None,
     };
 
-    /// A bound judged by the worst sampled value `found` (None when non-finite).
-    pub fn found(found: f64) -> Evidence {
+    /// A bound judged by the worst sampled value `found` (None when non-finite), a figure of
+    /// `quantity`.
+    pub fn found(found: f64, quantity: Quantity) -> Evidence {
         Evidence {
             basis: Basis::Found,
             proven_upper: None,
             found: found.is_finite().then_some(found),
+            quantity: Some(quantity),
         }
     }
 }
@@ -369,10 +397,11 @@ pub struct Measurement {
 /// A numerical claim of the papers and the check that measures it.
 ///
 /// Serialising a claim (`shadelab list --json`) runs its check, so the JSON holds `claim`,
-/// `measured`, `verdict`, `basis`, `proven_upper`, `found` and `how` as measured at that moment.
+/// `measured`, `verdict`, `basis`, `proven_upper`, `found`, `quantity` and `how` as measured at
+/// that moment.
 #[derive(Debug, Clone, Copy)]
 pub struct Claim {
-    /// The claim, with its source (seed file and line).
+    /// The claim, with its source (`docs/formulas.md#<anchor>`).
     pub claim: &'static str,
     /// Measures the claim (an f64 sweep of the formula, see [`checks`]) and derives the verdict.
     pub check: fn() -> Measurement,
@@ -384,7 +413,7 @@ impl Serialize for Claim {
     }
 }
 
-/// A claim's 7 keys: its text and a measurement of it (the table's own check here, the proof
+/// A claim's 8 keys: its text and a measurement of it (the table's own check here, the proof
 /// overlay in `crate::prove::bounds::Judged`).
 pub fn serialize_claim<S: serde::Serializer>(
     claim: &str,
@@ -392,13 +421,14 @@ pub fn serialize_claim<S: serde::Serializer>(
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
     use serde::ser::SerializeStruct;
-    let mut st = s.serialize_struct("Claim", 7)?;
+    let mut st = s.serialize_struct("Claim", 8)?;
     st.serialize_field("claim", claim)?;
     st.serialize_field("measured", &m.measured)?;
     st.serialize_field("verdict", &m.verdict)?;
     st.serialize_field("basis", &m.evidence.basis)?;
     st.serialize_field("proven_upper", &m.evidence.proven_upper)?;
     st.serialize_field("found", &m.evidence.found)?;
+    st.serialize_field("quantity", &m.evidence.quantity)?;
     st.serialize_field("how", &m.how)?;
     st.end()
 }
@@ -409,7 +439,7 @@ pub struct Method {
     pub name: &'static str,
     /// One line.
     pub description: &'static str,
-    /// Paper and seed file/line (FORMULAS.md section).
+    /// The publication, then its section of docs/formulas.md (`docs/formulas.md#<anchor>`).
     pub citation: &'static str,
     /// Pipeline inputs it needs; only these varyings and vertex streams are set up.
     pub inputs: &'static [Input],

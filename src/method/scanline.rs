@@ -1,7 +1,8 @@
-//! The scanline family in f64 (FORMULAS.md 1.6, 2.10-2.13): the span through a pixel's row and
-//! the interpolations along it. Each function is the literal f64 port of its GLSL twin in
-//! glsl/scanline.glsl or glsl/methods/, with the same branches and thresholds, so that the
-//! float32 image and this f64 evaluation differ only by rounding.
+//! The scanline family in f64 (docs/formulas.md#scanline-emulation, then slerp, spherical-angular,
+//! quadratic and dichotomy of docs/formulas.md#methods): the span through a pixel's row and the
+//! interpolations along it. Each function is the literal f64 port of its GLSL twin in
+//! glsl/scanline.glsl or glsl/methods/, with the same branches and thresholds, so that the float32
+//! image and this f64 evaluation differ only by rounding.
 use glam::{DVec2, DVec3};
 
 use super::formulas::normalize_exact;
@@ -16,11 +17,10 @@ pub struct Span {
     pub nb: DVec3,
 }
 
-/// The span through the row `py` of the triangle with window-space corners `s` and vertex
-/// normals `nv` (FORMULAS.md 1.6). `py` is first clamped to the triangle's rows, so a pixel
-/// the rasterizer covers on the triangle's top or bottom row still finds its edges. A
-/// triangle with no non-horizontal edge (all corners on one row) gives the empty span at
-/// corner 0.
+/// The span through the row `py` of the triangle with window-space corners `s` and vertex normals
+/// `nv` (docs/formulas.md#scanline-emulation). `py` is first clamped to the triangle's rows, so a
+/// pixel the rasterizer covers on the triangle's top or bottom row still finds its edges. A
+/// triangle with no non-horizontal edge (all corners on one row) gives the empty span at corner 0.
 pub fn span_at(py: f64, s: [DVec2; 3], nv: [DVec3; 3]) -> Span {
     let lo = s[0].y.min(s[1].y.min(s[2].y));
     let hi = s[0].y.max(s[1].y.max(s[2].y));
@@ -88,8 +88,8 @@ pub fn span_ends(pixel: DVec2, window: [DVec2; 3], normals: [DVec3; 3]) -> (DVec
 /// take the same fallback, whose result is the zero vector at t = 1/2 (their documented hazard).
 pub const PARALLEL: f64 = 1e-8;
 
-/// Spherical linear interpolation between unit `a` and `b` as the seeds print it (FORMULAS.md
-/// 2.10): `(a sin((1 - t) theta) + b sin(t theta)) / sin(theta)`, `theta = acos(a.b)`, the dot
+/// Spherical linear interpolation between unit `a` and `b` as the papers print it
+/// (docs/formulas.md#slerp): `(a sin((1 - t) theta) + b sin(t theta)) / sin(theta)`, `theta = acos(a.b)`, the dot
 /// product clamped to [-1, 1].
 pub fn slerp(a: DVec3, b: DVec3, t: f64) -> DVec3 {
     match angle(a, b) {
@@ -107,9 +107,10 @@ fn angle(a: DVec3, b: DVec3) -> Option<(f64, f64, f64)> {
     (s2 >= PARALLEL).then(|| (c, s2.sqrt(), c.acos()))
 }
 
-/// Spherical-angular interpolation in closed form (FORMULAS.md 2.11, Appendix C `saClosed`):
-/// the Gram-Schmidt form `a cos(t theta) + (b - a c) sin(t theta) / sin(theta)`, `c = a.b`.
-/// Equal to [`slerp`] in exact arithmetic; a different float computation.
+/// Spherical-angular interpolation in closed form
+/// (docs/formulas.md#spherical-angular-interpolation): the Gram-Schmidt form
+/// `a cos(t theta) + (b - a c) sin(t theta) / sin(theta)`, `c = a.b`. Equal to [`slerp`] in exact
+/// arithmetic; a different float computation.
 pub fn spherical_angular(a: DVec3, b: DVec3, t: f64) -> DVec3 {
     match angle(a, b) {
         Some((c, s, th)) => a * (t * th).cos() + (b - a * c) * ((t * th).sin() / s),
@@ -117,7 +118,8 @@ pub fn spherical_angular(a: DVec3, b: DVec3, t: f64) -> DVec3 {
     }
 }
 
-/// The approximate middle normal of a span (FORMULAS.md 2.12):
+/// The approximate middle normal of a span
+/// (docs/formulas.md#quadratic-interpolation-along-the-span):
 /// `(0.103 c^2 - 0.306 c + 0.705) (nl + np)`, `c = nl.np`, a fit of `1/|nl + np|` on c in [0, 1].
 pub fn mid_approx(nl: DVec3, np: DVec3) -> DVec3 {
     let c = nl.dot(np);
@@ -130,26 +132,28 @@ pub fn mid_exact(nl: DVec3, np: DVec3) -> DVec3 {
 }
 
 /// Quadratic interpolation along the span through `nl` (t = 0), `nc` (t = 1/2) and `np` (t = 1)
-/// (FORMULAS.md 2.12, the seed's P corrected): `(G t + P) t + nl`, `G = 2np - 4nc + 2nl`,
-/// `P = 4nc - 3nl - np`. Not renormalised.
+/// (docs/formulas.md#quadratic-interpolation-along-the-span, the survey's P corrected):
+/// `(G t + P) t + nl`, `G = 2np - 4nc + 2nl`, `P = 4nc - 3nl - np`. Not renormalised.
 pub fn quadratic(nl: DVec3, np: DVec3, nc: DVec3, t: f64) -> DVec3 {
     let g = np * 2.0 - nc * 4.0 + nl * 2.0;
     let p = nc * 4.0 - nl * 3.0 - np;
     (g * t + p) * t + nl
 }
 
-/// `1/sqrt(2 + z)`, `z = 2 cos(phi)`: the factor that makes `lo + hi` unit (FORMULAS.md 2.13).
+/// `1/sqrt(2 + z)`, `z = 2 cos(phi)`: the factor that makes `lo + hi` unit
+/// (docs/formulas.md#dichotomy).
 pub fn inv_root_exact(z: f64) -> f64 {
     1.0 / (2.0 + z).sqrt()
 }
 
-/// The degree-1 approximation `0.64 - 0.07 z` of S002 l.625-639 (FORMULAS.md 2.16).
+/// The degree-1 approximation `0.64 - 0.07 z` of the digital-segment paper
+/// (docs/formulas.md#dichotomy).
 pub fn inv_root_poly1(z: f64) -> f64 {
     0.64 - 0.07 * z
 }
 
-/// The degree-2 minimax approximation `0.014253 z^2 - 0.118922 z + 0.680850` on phi in
-/// [0, 45] degrees (FORMULAS.md 2.13, 2.16; S000 l.179 prints it rounded).
+/// The degree-2 minimax approximation `0.014253 z^2 - 0.118922 z + 0.680850` on phi in [0, 45]
+/// degrees (docs/formulas.md#dichotomy; the normalisation survey prints it rounded).
 pub fn inv_root_poly2(z: f64) -> f64 {
     (0.014253 * z - 0.118922) * z + 0.680850
 }
@@ -158,7 +162,7 @@ pub fn inv_root_poly2(z: f64) -> f64 {
 pub const MAX_LEVELS: u32 = 12;
 
 /// Halving levels for a span of `width` pixels: the least k >= 1 with 2^k >= width, at most
-/// [`MAX_LEVELS`] (FORMULAS.md 2.13: K = ceil(log2(span pixels)), by comparison, no log).
+/// [`MAX_LEVELS`] (docs/formulas.md#dichotomy: K = ceil(log2(span pixels)), by comparison, no log).
 pub fn levels(width: f64) -> u32 {
     let mut k = 1;
     while k < MAX_LEVELS && f64::from(1u32 << k) < width {
@@ -167,7 +171,7 @@ pub fn levels(width: f64) -> u32 {
     k
 }
 
-/// Dichotomy (angle halving, FORMULAS.md 2.13): the slerp sample nearest `t` on the grid
+/// Dichotomy (angle halving, docs/formulas.md#dichotomy): the slerp sample nearest `t` on the grid
 /// m / 2^k, reached by `k` bisections of the bracket (a, b) with `mid = (lo + hi) f(2 lo.hi)`;
 /// `m = floor(t 2^k + 0.5)` (halves up, one rule on GPU and CPU).
 pub fn dichotomy(a: DVec3, b: DVec3, t: f64, k: u32, f: fn(f64) -> f64) -> DVec3 {
@@ -191,9 +195,10 @@ pub fn dichotomy(a: DVec3, b: DVec3, t: f64, k: u32, f: fn(f64) -> f64) -> DVec3
     lo
 }
 
-/// Where a pixel sits in the digital segments of 2^k pixels of a span (FORMULAS.md 2.16): the
-/// segment's end positions `xl`, `xp` (pixel centres; the first segment starts at the first
-/// covered pixel centre `ceil(xA - 0.5) + 0.5`) and the pixel's index `v` in it, 0..2^k.
+/// Where a pixel sits in the digital segments of 2^k pixels of a span
+/// (docs/formulas.md#digital-segments): the segment's end positions `xl`, `xp` (pixel centres; the
+/// first segment starts at the first covered pixel centre `ceil(xA - 0.5) + 0.5`) and the pixel's
+/// index `v` in it, 0..2^k.
 pub fn segment(sp: &Span, px: f64, k: u32) -> (f64, f64, u32) {
     let p0 = (sp.xa - 0.5).ceil() + 0.5;
     let j = (px - p0).floor().max(0.0) as u32;
@@ -212,10 +217,10 @@ pub fn span_normal(sp: &Span, x: f64) -> DVec3 {
     }
 }
 
-/// Bishop-Weimer's screen-linear normal `N(x, y) = A x + B y + C` (FORMULAS.md 2.17), fitted
-/// to the window corners `s` and normals `n` with the origin at the corners' centroid `o`:
-/// returns (A, B, C, o). A triangle with no area on screen (|det| <= 1e-12) gets the constant
-/// normal n0.
+/// Bishop-Weimer's screen-linear normal `N(x, y) = A x + B y + C`
+/// (docs/formulas.md#bishop-weimer-taylor-shading), fitted to the window corners `s` and normals
+/// `n` with the origin at the corners' centroid `o`: returns (A, B, C, o). A triangle with no area
+/// on screen (|det| <= 1e-12) gets the constant normal n0.
 pub fn plane_normal(s: [DVec2; 3], n: [DVec3; 3]) -> (DVec3, DVec3, DVec3, DVec2) {
     let o = (s[0] + s[1] + s[2]) / 3.0;
     let q0 = s[0] - o;
@@ -233,7 +238,7 @@ pub fn plane_normal(s: [DVec2; 3], n: [DVec3; 3]) -> (DVec3, DVec3, DVec3, DVec2
 }
 
 /// The second-order Taylor polynomial about (0, 0) of `(v.N)/|N|`, `N = A x + B y + C`, at
-/// `p = (x, y)` (FORMULAS.md 2.17: T0..T5, derived symbolically there).
+/// `p = (x, y)` (docs/formulas.md#bishop-weimer-taylor-shading: T0..T5, derived symbolically).
 pub fn taylor_cosine(v: DVec3, a3: DVec3, b3: DVec3, c3: DVec3, p: DVec2) -> f64 {
     let (a, b, c) = (v.dot(a3), v.dot(b3), v.dot(c3));
     let (d, e, f) = (a3.dot(a3), 2.0 * a3.dot(b3), b3.dot(b3));
@@ -257,9 +262,10 @@ fn cosine_slope(v: DVec3, n: DVec3, d: DVec3) -> f64 {
     v.dot(d) / len - v.dot(n) * n.dot(d) / (n2 * len)
 }
 
-/// Hast's Euler integration of `v.N(t)/|N(t)|` along the span (FORMULAS.md 2.18, the
-/// reconstruction): pixel steps `h = 1/W`, the derivative interpolated between the ends, the
-/// end error spread linearly over the span, at the pixel's fraction `t`.
+/// Hast's Euler integration of `v.N(t)/|N(t)|` along the span
+/// (docs/formulas.md#hast-euler-integration, the reconstruction): pixel steps `h = 1/W`, the
+/// derivative interpolated between the ends, the end error spread linearly over the span, at the
+/// pixel's fraction `t`.
 pub fn euler_cosine(v: DVec3, sp: &Span, t: f64) -> f64 {
     let (na, nb) = (sp.na, sp.nb);
     let w = sp.xb - sp.xa;
@@ -328,7 +334,8 @@ mod tests {
 
     #[test]
     fn slerp_and_its_closed_form_are_unit_and_angle_proportional() {
-        // 100 degrees apart: at t the angle from a is t * 100 degrees (FORMULAS.md 2.10, 2.11).
+        // 100 degrees apart: at t the angle from a is t * 100 degrees (docs/formulas.md#slerp,
+        // docs/formulas.md#spherical-angular-interpolation).
         let a = DVec3::X;
         let b = DVec3::new(100f64.to_radians().cos(), 100f64.to_radians().sin(), 0.0);
         for f in [slerp, spherical_angular] {
@@ -354,7 +361,8 @@ mod tests {
             );
         }
         // The polynomial middle normal is within 0.5 % of unit length at 60 degrees
-        // (FORMULAS.md 2.12: -0.20 % at 40 degrees, -0.30 % at 90).
+        // (docs/formulas.md#quadratic-interpolation-along-the-span: -0.20 % at 40 degrees, -0.30 %
+        // at 90).
         assert!((mid_approx(nl, np).length() - 1.0).abs() < 5e-3);
     }
 
@@ -367,8 +375,8 @@ mod tests {
             let want = slerp(a, b, t);
             let exact = dichotomy(a, b, t, 4, inv_root_exact);
             assert!((exact - want).length() < 1e-14, "m = {m}");
-            // FORMULAS.md 2.13 at 45 degrees (K = 8 there): length errors 0.007 % (degree 2)
-            // and 0.16 % (degree 1)
+            // docs/formulas.md#dichotomy at 45 degrees (K = 8 there): length errors 0.006 %
+            // (degree 2) and 0.16 % (degree 1)
             assert!((dichotomy(a, b, t, 4, inv_root_poly2) - want).length() < 1e-4);
             assert!((dichotomy(a, b, t, 4, inv_root_poly1) - want).length() < 2e-3);
         }

@@ -11,7 +11,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "flat",
         description: "flat (one-tone) shading: one unit polygon normal per triangle",
-        citation: "S002 l.43-55, S004 l.18-24 (FORMULAS.md 2.1)",
+        citation: "docs/formulas.md#flat-shading",
         inputs: &[Input::FlatNormal],
         family: Family::Reference,
         properties: &[],
@@ -27,7 +27,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "gouraud",
         description: "Gouraud: lighting at the vertices, colour interpolated",
-        citation: "Gouraud 1971; S002 l.57-102, S004 l.26-48 (FORMULAS.md 2.2)",
+        citation: "Gouraud 1971; docs/formulas.md#gouraud-shading",
         inputs: &[Input::VertexColor],
         family: Family::Reference,
         properties: &[Property::SoftwareSpanForm],
@@ -37,7 +37,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "any mesh; misses highlights inside triangles",
         claims: &[Claim {
-            claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)",
+            claim: "Phong shading of an average triangle takes more than 50x longer than Gouraud (docs/formulas.md#gouraud-shading)",
             check: checks::timing_claim,
         }],
         glsl: "methods/gouraud.glsl",
@@ -46,7 +46,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "phong_exact",
         description: "Phong with exact normalization N/|N|: the reference",
-        citation: "Phong 1975; S002 l.104-150, S004 l.83-94 (FORMULAS.md 2.3)",
+        citation: "Phong 1975; docs/formulas.md#exact-phong",
         inputs: N,
         family: Family::Reference,
         properties: &[Property::ExactReference],
@@ -56,7 +56,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "any non-zero interpolated normal",
         claims: &[Claim {
-            claim: "normalization costs 3 divisions + 3 multiplications + 2 additions + 1 square root (S004 l.159-163)",
+            claim: "normalization costs 3 divisions + 3 multiplications + 2 additions + 1 square root (docs/formulas.md#exact-phong)",
             check: checks::op_count_claim,
         }],
         glsl: "methods/phong_exact.glsl",
@@ -65,7 +65,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "phong_unnormalized",
         description: "Phong without normalization: the cost floor and an error ceiling",
-        citation: "baseline (FORMULAS.md 1.3)",
+        citation: "the unnormalised baseline; docs/formulas.md#error-measures",
         inputs: N,
         family: Family::Reference,
         properties: &[],
@@ -81,7 +81,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "safe_normalize",
         description: "Unity's SafeNormalize: N rsqrt(max(N.N, HALF_MIN)), exact normalisation that never divides by zero",
-        citation: "Unity Graphics, com.unity.render-pipelines.core ShaderLibrary/Common.hlsl SafeNormalize, HALF_MIN of Macros.hlsl (issue 23)",
+        citation: "Unity Graphics, com.unity.render-pipelines.core ShaderLibrary/Common.hlsl SafeNormalize, HALF_MIN of Macros.hlsl; docs/formulas.md#float16-guards",
         inputs: N,
         family: Family::Reference,
         properties: &[],
@@ -97,7 +97,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "filament_clamp",
         description: "Filament's mediump clamp: N rsqrt(min(N.N, 65504)), exact normalisation that cannot overflow float16",
-        citation: "google/filament shaders/src/common_math.glsl MEDIUMP_FLT_MAX, saturateMediump as applied in shaders/src/brdf.fs (issue 23)",
+        citation: "google/filament shaders/src/common_math.glsl MEDIUMP_FLT_MAX, saturateMediump as applied in shaders/src/brdf.fs; docs/formulas.md#float16-guards",
         inputs: N,
         family: Family::Reference,
         properties: &[],
@@ -113,7 +113,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "newton_raphson",
         description: "one Newton-Raphson step for 1/sqrt(z) from 1: N (3 - z)/2",
-        citation: "S. Cutler (NVIDIA) via C. Everitt; S000 l.33-38, S004 l.167-172 (FORMULAS.md 2.4)",
+        citation: "S. Cutler (NVIDIA) via C. Everitt; docs/formulas.md#newton-raphson-step",
         inputs: N,
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -121,14 +121,14 @@ pub static METHODS: &[Method] = &[
         geometry: Geometry::Mesh,
         has_normal: true,
         reference: Reference::Phong,
-        validity: "angle between vertex normals <= 40 degrees (S000 l.35)",
+        validity: "angle between vertex normals <= 40 degrees (docs/formulas.md#newton-raphson-step)",
         claims: &[
             Claim {
-                claim: "usable for angles between vertex normals up to 40 (degrees assumed) (S000 l.35)",
+                claim: "usable for angles between vertex normals up to 40 (degrees assumed) (docs/formulas.md#newton-raphson-step)",
                 check: checks::newton_usable_to_40_deg,
             },
             Claim {
-                claim: "S004 l.169 prints N (3 - N.N)/3",
+                claim: "the shading survey prints N (3 - N.N)/3 (docs/formulas.md#newton-raphson-step)",
                 check: checks::newton_as_printed_in_s004,
             },
         ],
@@ -138,7 +138,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "lyon_taylor",
         description: "Lyon: 2nd-degree Taylor series of 1/sqrt(z) about 1",
-        citation: "R. Lyon, Apple TR #43 (1993); S000 l.45-50, S004 l.174-183 (FORMULAS.md 2.5)",
+        citation: "R. Lyon, Apple TR #43 (1993); docs/formulas.md#lyon-taylor-form",
         inputs: N,
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -148,7 +148,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "z = N.N near 1 (small angles between vertex normals)",
         claims: &[Claim {
-            claim: "the approximation error is large (S004 l.181-183)",
+            claim: "the approximation error is large (docs/formulas.md#lyon-taylor-form)",
             check: checks::lyon_error_is_large,
         }],
         glsl: "methods/lyon_taylor.glsl",
@@ -157,7 +157,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "lyon_shift",
         description: "Lyon, shift-friendly form: 1 + ((1 - z) + (1 - z)^2)/2",
-        citation: "S000 l.52-53 (FORMULAS.md 2.6)",
+        citation: "R. Lyon, Apple TR #43 (1993), shift form; docs/formulas.md#lyon-shift-form",
         inputs: N,
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -173,7 +173,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "hast_half_vector",
         description: "Hast-Barrera-Bengtsson: reflect the flat normal about H = n + N, no square root",
-        citation: "Hast, Barrera, Bengtsson, WSCG 2001; S000 l.55-63 (FORMULAS.md 2.7)",
+        citation: "Hast, Barrera, Bengtsson, WSCG 2001; docs/formulas.md#hast-barrera-bengtsson-half-vector",
         inputs: &[Input::InterpolatedNormal, Input::FlatNormal],
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -183,7 +183,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "vertex normals not opposite to the flat normal (H.H > 0)",
         claims: &[Claim {
-            claim: "normalization without a square root (S000 l.55-63)",
+            claim: "normalization without a square root (docs/formulas.md#hast-barrera-bengtsson-half-vector)",
             check: checks::hbb_is_unit,
         }],
         glsl: "methods/hast_half_vector.glsl",
@@ -192,7 +192,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "mikami_const",
         description: "Mikami nonlinear-IIR square root, first iteration, beta = 0.64",
-        citation: "Mikami, Kobayashi, Yokoyama, IEEE TSP 1992; S000 l.65-75 (FORMULAS.md 2.8)",
+        citation: "Mikami, Kobayashi, Yokoyama, IEEE TSP 1992; docs/formulas.md#mikami-square-root",
         inputs: N,
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -202,7 +202,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "z = N.N in [0.25, 1]",
         claims: &[Claim {
-            claim: "maximum normalised relative error <= 1.5 % (S000 l.74)",
+            claim: "maximum normalised relative error <= 1.5 % (docs/formulas.md#mikami-square-root)",
             check: checks::mikami_const_within_bound,
         }],
         glsl: "methods/mikami_const.glsl",
@@ -211,7 +211,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "mikami_linear",
         description: "Mikami first iteration, beta = 1.07 - 0.62 z",
-        citation: "S000 l.65-75 (FORMULAS.md 2.8)",
+        citation: "Mikami, Kobayashi, Yokoyama, IEEE TSP 1992; docs/formulas.md#mikami-square-root",
         inputs: N,
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -221,7 +221,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "z = N.N in [0.25, 1]",
         claims: &[Claim {
-            claim: "maximum normalised relative error <= 1.5 % (S000 l.74)",
+            claim: "maximum normalised relative error <= 1.5 % (docs/formulas.md#mikami-square-root)",
             check: checks::mikami_linear_within_bound,
         }],
         glsl: "methods/mikami_linear.glsl",
@@ -230,7 +230,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "mikami_quadratic",
         description: "Mikami first iteration, beta = 0.763 z^2 - 1.57 z + 1.31",
-        citation: "S000 l.65-75 (FORMULAS.md 2.8)",
+        citation: "Mikami, Kobayashi, Yokoyama, IEEE TSP 1992; docs/formulas.md#mikami-square-root",
         inputs: N,
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -240,7 +240,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "z = N.N in [0.25, 1]",
         claims: &[Claim {
-            claim: "maximum normalised relative error <= 1.5 % (S000 l.74)",
+            claim: "maximum normalised relative error <= 1.5 % (docs/formulas.md#mikami-square-root)",
             check: checks::mikami_quadratic_within_bound,
         }],
         glsl: "methods/mikami_quadratic.glsl",
@@ -249,7 +249,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "romanyuk_poly",
         description: "Romanyuk-Romanyuk-Pavlyk polynomial k(z) = 0.822 z^2 - 2.046 z + 2.227",
-        citation: "O. V. Romanyuk, O. N. Romanyuk, T. M. Pavlyk; S000 l.78-82 (FORMULAS.md 2.9)",
+        citation: "O. V. Romanyuk, O. N. Romanyuk, T. M. Pavlyk; docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial",
         inputs: N,
         family: Family::PerPixelNormalisation,
         properties: &[Property::SqrtFree],
@@ -259,7 +259,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "angle between vertex normals <= 90 degrees (z in [0.5, 1], the fit range)",
         claims: &[Claim {
-            claim: "relative error 8x smaller than Lyon's approach (S000 l.79-80)",
+            claim: "relative error 8x smaller than Lyon's approach (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial)",
             check: checks::romanyuk_8x_smaller,
         }],
         glsl: "methods/romanyuk_poly.glsl",
@@ -268,7 +268,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "quaternion",
         description: "quaternion interpolation in view space, normal recovered without a square root",
-        citation: "A. Hast, WSCG 2005; S000 l.183-203 (FORMULAS.md 2.14)",
+        citation: "A. Hast, WSCG 2005; docs/formulas.md#quaternion-interpolation",
         inputs: &[Input::Quaternion],
         family: Family::VertexAttribute,
         properties: &[Property::SqrtFree],
@@ -276,9 +276,9 @@ pub static METHODS: &[Method] = &[
         geometry: Geometry::Mesh,
         has_normal: true,
         reference: Reference::Phong,
-        validity: "vertex normals away from -Z in view space (n_z > -1)",
+        validity: "finite for vertex normals with n_z > -1 in view space (the range its claim's angle figures sweep); an edge whose arc passes near -Z is interpolated the long way round, up to the opposite direction",
         claims: &[Claim {
-            claim: "no square root needed (S000 l.187)",
+            claim: "no square root needed (docs/formulas.md#quaternion-interpolation)",
             check: checks::quaternion_is_unit,
         }],
         glsl: "methods/quaternion.glsl",
@@ -290,7 +290,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "quaternion_local",
         description: "quaternion interpolation in a per-triangle frame whose +Z is the flat normal (= hast_half_vector with per-vertex normalised half vectors)",
-        citation: "FORMULAS.md 2.14 (recommended variant of Hast's method)",
+        citation: "A. Hast, WSCG 2005, in a per-triangle frame (recommended variant); docs/formulas.md#quaternion-interpolation",
         inputs: &[Input::QuaternionLocal, Input::FlatNormal],
         family: Family::VertexAttribute,
         properties: &[Property::SqrtFree],
@@ -306,7 +306,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "barycentric_quadratic",
         description: "quadratic triangle with polynomial mid-edge normals M_ij",
-        citation: "Barrera, Hast, Bengtsson, WSCG 2006; S000 l.205-213 (FORMULAS.md 2.15)",
+        citation: "Barrera, Hast, Bengtsson, WSCG 2006; docs/formulas.md#barycentric-quadratic-triangle",
         inputs: &[Input::CornerNormals, Input::Barycentrics],
         family: Family::VertexAttribute,
         properties: &[],
@@ -322,7 +322,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "barycentric_quadratic_exact_mid",
         description: "quadratic triangle with exact mid-edge normals normalize(N_i + N_j)",
-        citation: "S000 l.205-213 (FORMULAS.md 2.15)",
+        citation: "Barrera, Hast, Bengtsson, WSCG 2006, exact mid-edge nodes; docs/formulas.md#barycentric-quadratic-triangle",
         inputs: &[Input::CornerNormals, Input::Barycentrics],
         family: Family::VertexAttribute,
         properties: &[],
@@ -338,7 +338,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "pn_normals",
         description: "quadratic normal field of curved PN triangles, per fragment on the flat geometry",
-        citation: "Vlachos, Peters, Boyd, Mitchell, I3D 2001; S004 l.50-64 (FORMULAS.md 2.19)",
+        citation: "Vlachos, Peters, Boyd, Mitchell, I3D 2001; docs/formulas.md#pn-triangles-and-trueform",
         inputs: &[Input::CornerNormals, Input::PnMidNormals, Input::Barycentrics],
         family: Family::VertexAttribute,
         properties: &[],
@@ -354,7 +354,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "trueform",
         description: "ATI TrueForm: 9 PN sub-triangles per triangle (level 3), Gouraud on the result",
-        citation: "S004 l.50-64 (FORMULAS.md 2.19)",
+        citation: "ATI TrueForm: Vlachos, Peters, Boyd, Mitchell, I3D 2001; docs/formulas.md#pn-triangles-and-trueform",
         inputs: &[Input::VertexColor],
         family: Family::VertexAttribute,
         properties: &[Property::SoftwareSpanForm],
@@ -364,7 +364,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "any mesh with smooth vertex normals",
         claims: &[Claim {
-            claim: "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre (S004 l.54-59)",
+            claim: "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre (docs/formulas.md#pn-triangles-and-trueform)",
             check: checks::trueform_level_3_counts,
         }],
         glsl: "methods/trueform.glsl",
@@ -373,7 +373,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "specular_lut",
         description: "exact normal; specular cos^n from a 2-D table indexed by (N.H, n)",
-        citation: "S004 l.197-204, ref [16] (FORMULAS.md 2.20)",
+        citation: "table-based cos^n (shading survey ref. [16]); docs/formulas.md#specular-table",
         inputs: &[Input::InterpolatedNormal, Input::SpecularLut],
         family: Family::PerPixelNormalisation,
         properties: &[],
@@ -383,7 +383,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "integer shininess 1..255 (others take row floor(n + 0.5), clamped to 1..255)",
         claims: &[Claim {
-            claim: "tables for n = 1..255 need more than 4 MB (S004 l.201-203)",
+            claim: "tables for n = 1..255 need more than 4 MB (docs/formulas.md#specular-table)",
             check: checks::specular_lut_over_4_mb,
         }],
         glsl: "methods/specular_lut.glsl",
@@ -392,7 +392,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "slerp",
         description: "spherical linear interpolation between the span's unit end normals (the Phong edge normals, normalised), as the seeds print it",
-        citation: "S000 l.85-98 (ref [8]), S004 l.184-195 (FORMULAS.md 2.10)",
+        citation: "Shoemake, SIGGRAPH 1985; docs/formulas.md#slerp",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::InterpolatesAngles, Property::NeedsSpanCorners],
@@ -402,7 +402,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::PhongAndSlerp,
         validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "its drawbacks are the arccos, the sines and the division per pixel (S000 l.97-98, S004 l.192-195)",
+            claim: "its drawbacks are the arccos, the sines and the division per pixel (docs/formulas.md#slerp)",
             check: checks::cost_claim,
         }],
         glsl: "methods/slerp.glsl",
@@ -411,7 +411,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "spherical_angular",
         description: "spherical-angular interpolation in closed form (Gram-Schmidt), equal to slerp in exact arithmetic",
-        citation: "S000 l.100-114, refs [9, 10] (FORMULAS.md 2.11)",
+        citation: "Barrera, Hast, Bengtsson, IEEE TVCG 2004; docs/formulas.md#spherical-angular-interpolation",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::InterpolatesAngles, Property::DriftsWithSpanLength, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -421,10 +421,10 @@ pub static METHODS: &[Method] = &[
         reference: Reference::PhongAndSlerp,
         validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "spherical-angular interpolation gives the slerp normals (S000 l.100-114, refs [9, 10])",
+            claim: "spherical-angular interpolation gives the slerp normals (docs/formulas.md#spherical-angular-interpolation)",
             check: scanline_checks::spherical_angular_is_slerp,
         }, Claim {
-            claim: "doubles the speed of polygon shading (S000 l.102-104): a claim about the sequential recurrence of a software renderer",
+            claim: "doubles the speed of polygon shading (docs/formulas.md#spherical-angular-interpolation): a claim about the sequential recurrence of a software renderer",
             check: checks::cost_claim,
         }],
         glsl: "methods/spherical_angular.glsl",
@@ -433,7 +433,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "quadratic_scanline",
         description: "quadratic G t^2 + P t + Q along the span through the unit end normals and the exact middle normal (seed typo in P corrected)",
-        citation: "S000 l.116-152, refs [9, 11] (FORMULAS.md 2.12)",
+        citation: "normalisation survey refs. [9, 11]; docs/formulas.md#quadratic-interpolation-along-the-span",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::InterpolatesAngles, Property::DriftsWithSpanLength, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -443,7 +443,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::PhongAndSlerp,
         validity: "end normals up to about 90 degrees apart; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "reduces the normal computation time about 2-3x (S000 l.151-152)",
+            claim: "reduces the normal computation time about 2-3x (docs/formulas.md#quadratic-interpolation-along-the-span)",
             check: checks::cost_claim,
         }],
         glsl: "methods/quadratic_scanline.glsl",
@@ -452,7 +452,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "quadratic_scanline_approx_mid",
         description: "the same with the polynomial middle normal (0.103 c^2 - 0.306 c + 0.705)(N'_l + N'_p)",
-        citation: "S000 l.116-152 (FORMULAS.md 2.12)",
+        citation: "normalisation survey refs. [9, 11]; docs/formulas.md#quadratic-interpolation-along-the-span",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::InterpolatesAngles, Property::DriftsWithSpanLength, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -462,7 +462,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::PhongAndSlerp,
         validity: "end normals up to 90 degrees apart (the fit's range c in [0, 1]); depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "the middle normal of a scanline is computed approximately as (0.103 c^2 - 0.306 c + 0.705)(N'_p + N'_l) (S000 l.136-146)",
+            claim: "the middle normal of a scanline is computed approximately as (0.103 c^2 - 0.306 c + 0.705)(N'_p + N'_l) (docs/formulas.md#quadratic-interpolation-along-the-span)",
             check: scanline_checks::quadratic_mid_accuracy,
         }],
         glsl: "methods/quadratic_scanline_approx_mid.glsl",
@@ -471,7 +471,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "dichotomy_exact",
         description: "angle halving between the unit span-end normals with the exact inverse root, ceil(log2(span pixels)) levels",
-        citation: "S000 l.155-181, S002 l.604-660 (FORMULAS.md 2.13)",
+        citation: "normalisation survey refs. [9, 12]; docs/formulas.md#dichotomy",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::InterpolatesAngles, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -481,7 +481,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::PhongAndSlerp,
         validity: "span-end normals not antipodal; depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)",
+            claim: "2.5x faster normal interpolation with the approximated inverse root (docs/formulas.md#dichotomy)",
             check: checks::cost_claim,
         }],
         glsl: "methods/dichotomy_exact.glsl",
@@ -490,7 +490,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "dichotomy_poly1",
         description: "angle halving with the degree-1 inverse root 0.64 - 0.07 z",
-        citation: "S002 l.625-643 (FORMULAS.md 2.13, 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#dichotomy",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::InterpolatesAngles, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -500,7 +500,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::PhongAndSlerp,
         validity: "each halving's angle up to 45 degrees (the fit's range); depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "the degree-1 inverse root has max absolute error <= 0.0005 and relative error 0.12 % (S002 l.643)",
+            claim: "the degree-1 inverse root has max absolute error <= 0.0005 and relative error 0.12 % (docs/formulas.md#dichotomy)",
             check: scanline_checks::dichotomy_poly1_error,
         }],
         glsl: "methods/dichotomy_poly1.glsl",
@@ -509,7 +509,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "dichotomy_poly2",
         description: "angle halving with the degree-2 inverse root 0.014253 z^2 - 0.118922 z + 0.680850",
-        citation: "S000 l.179, S002 l.646-658 (FORMULAS.md 2.13, 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#dichotomy",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::InterpolatesAngles, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -519,7 +519,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::PhongAndSlerp,
         validity: "each halving's angle up to 45 degrees (the fit's range); depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "the degree-2 inverse root has max absolute error <= 2e-5 and relative error 0.004 % (S002 l.646-658)",
+            claim: "the degree-2 inverse root has max absolute error <= 2e-5 and relative error 0.004 % (docs/formulas.md#dichotomy)",
             check: scanline_checks::dichotomy_poly2_error,
         }],
         glsl: "methods/dichotomy_poly2.glsl",
@@ -528,7 +528,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "segments_k1",
         description: "digital segments of 2 pixels: exact Phong colour at the segment ends, colour interpolated inside, the last segment extrapolated",
-        citation: "S002 l.171-330 (FORMULAS.md 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#digital-segments",
         inputs: &[Input::ScanlineSpan],
         family: Family::DigitalSegments,
         properties: &[Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -538,10 +538,10 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "for the most common materials (n <= 100) the specular error stays within 4 % at 4 degrees between segment-end normals (S002 l.595-598)",
+            claim: "for the most common materials (n <= 100) the specular error stays within 4 % at 4 degrees between segment-end normals (docs/formulas.md#digital-segments-error-bounds)",
             check: scanline_checks::segments_specular_4pct,
         }, Claim {
-            claim: "inside a segment the diffuse intensity's relative error is at most 1 - cos(theta/2), theta the angle between its end normals (S002 l.431-467)",
+            claim: "inside a segment the diffuse intensity's relative error is at most 1 - cos(theta/2), theta the angle between its end normals (docs/formulas.md#digital-segments-error-bounds)",
             check: scanline_checks::segments_diffuse_bound,
         }],
         glsl: "methods/segments_k1.glsl",
@@ -550,7 +550,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "segments_k2",
         description: "digital segments of 4 pixels: exact Phong colour at the segment ends, colour interpolated inside, the last segment extrapolated",
-        citation: "S002 l.171-330 (FORMULAS.md 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#digital-segments",
         inputs: &[Input::ScanlineSpan],
         family: Family::DigitalSegments,
         properties: &[Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -560,7 +560,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "diffuse shading 1.3x faster at k = 2, 1.8x with the degree-1 polynomial (S002 l.674-682)",
+            claim: "diffuse shading 1.3x faster at k = 2, 1.8x with the degree-1 polynomial (docs/formulas.md#digital-segments)",
             check: checks::cost_claim,
         }],
         glsl: "methods/segments_k2.glsl",
@@ -569,7 +569,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "segments_k3",
         description: "digital segments of 8 pixels: exact Phong colour at the segment ends, colour interpolated inside, the last segment extrapolated",
-        citation: "S002 l.171-330 (FORMULAS.md 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#digital-segments",
         inputs: &[Input::ScanlineSpan],
         family: Family::DigitalSegments,
         properties: &[Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -579,7 +579,7 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[Claim {
-            claim: "diffuse shading 1.48x faster at k = 3, 2.09x with the degree-1 polynomial (S002 l.674-682)",
+            claim: "diffuse shading 1.48x faster at k = 3, 2.09x with the degree-1 polynomial (docs/formulas.md#digital-segments)",
             check: checks::cost_claim,
         }],
         glsl: "methods/segments_k3.glsl",
@@ -588,7 +588,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "segments_k2_poly1",
         description: "digital segments of 4 pixels whose inner normals come by dichotomy with the degree-1 inverse root",
-        citation: "S002 l.600-643 (FORMULAS.md 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#dichotomy-inside-segments",
         inputs: &[Input::ScanlineSpan],
         family: Family::DigitalSegments,
         properties: &[Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -604,7 +604,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "segments_k2_poly2",
         description: "digital segments of 4 pixels whose inner normals come by dichotomy with the degree-2 inverse root",
-        citation: "S002 l.600-660 (FORMULAS.md 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#dichotomy-inside-segments",
         inputs: &[Input::ScanlineSpan],
         family: Family::DigitalSegments,
         properties: &[Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -620,7 +620,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "segments_k3_poly1",
         description: "digital segments of 8 pixels whose inner normals come by dichotomy with the degree-1 inverse root",
-        citation: "S002 l.600-643 (FORMULAS.md 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#dichotomy-inside-segments",
         inputs: &[Input::ScanlineSpan],
         family: Family::DigitalSegments,
         properties: &[Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -636,7 +636,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "segments_k3_poly2",
         description: "digital segments of 8 pixels whose inner normals come by dichotomy with the degree-2 inverse root",
-        citation: "S002 l.600-660 (FORMULAS.md 2.16)",
+        citation: "O. N. Romanyuk, O. V. Romanyuk (digital-segment paper); docs/formulas.md#dichotomy-inside-segments",
         inputs: &[Input::ScanlineSpan],
         family: Family::DigitalSegments,
         properties: &[Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -652,7 +652,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "bishop_weimer",
         description: "Bishop-Weimer: second-order Taylor polynomial in screen x, y (about the corners' centroid) of each cosine N.L/|N| and N.H/|N| of the screen-linear normal",
-        citation: "G. Bishop, D. M. Weimer, SIGGRAPH 1986; S004 l.106-128 (FORMULAS.md 2.17)",
+        citation: "G. Bishop, D. M. Weimer, SIGGRAPH 1986; docs/formulas.md#bishop-weimer-taylor-shading",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::DriftsWithSpanLength, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -662,10 +662,10 @@ pub static METHODS: &[Method] = &[
         reference: Reference::Phong,
         validity: "triangles small on screen against the change of their normal (the Taylor error grows with the distance from the centroid)",
         claims: &[Claim {
-            claim: "the second-order Taylor expansion approximates the diffuse intensity over the polygon (S004 l.110-120)",
+            claim: "the second-order Taylor expansion approximates the diffuse intensity over the polygon (docs/formulas.md#bishop-weimer-taylor-shading)",
             check: scanline_checks::bishop_weimer_extent,
         }, Claim {
-            claim: "per pixel 5 additions and 1 memory access; the Taylor set-up needs about 500 floating-point operations per vertex (S004 l.124-128)",
+            claim: "per pixel 5 additions and 1 memory access; the Taylor set-up needs about 500 floating-point operations per vertex (docs/formulas.md#bishop-weimer-taylor-shading)",
             check: checks::cost_claim,
         }],
         glsl: "methods/bishop_weimer.glsl",
@@ -674,7 +674,7 @@ pub static METHODS: &[Method] = &[
     Method {
         name: "hast_euler",
         description: "Hast: each cosine integrated along the span by Euler's method with interpolated derivatives, the end error spread over the span (a reconstruction: the seed has prose only)",
-        citation: "A. Hast; S004 l.130-140 (FORMULAS.md 2.18, reconstruction)",
+        citation: "A. Hast (a reconstruction); docs/formulas.md#hast-euler-integration",
         inputs: &[Input::ScanlineSpan],
         family: Family::Scanline,
         properties: &[Property::DriftsWithSpanLength, Property::NeedsSpanCorners, Property::SoftwareSpanForm],
@@ -682,7 +682,7 @@ pub static METHODS: &[Method] = &[
         geometry: Geometry::Mesh,
         has_normal: false,
         reference: Reference::Phong,
-        validity: "moderate angles between the span-end normals (0.115 max error at 90 degrees, FORMULAS.md 2.18); depends on the scanline direction (not rotation-invariant on screen)",
+        validity: "moderate angles between the span-end normals (0.115 max error at 90 degrees, docs/formulas.md#hast-euler-integration); depends on the scanline direction (not rotation-invariant on screen)",
         claims: &[],
         glsl: "methods/hast_euler.glsl",
         eval_f64: hast_euler,

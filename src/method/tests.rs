@@ -147,13 +147,21 @@ fn serialised_claims_carry_the_measurement_their_check_makes_now() {
         for (c, jc) in m.claims.iter().zip(claims) {
             let now = (c.check)();
             let keys: Vec<&str> = jc.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-            assert_eq!(keys.len(), 7, "{jc}");
+            assert_eq!(keys.len(), 8, "{jc}");
             assert_eq!(jc["claim"], c.claim);
             assert_eq!(jc["measured"], now.measured.as_str());
             assert_eq!(jc["verdict"], now.verdict.as_str());
             assert_eq!(jc["basis"], now.evidence.basis.as_str());
             assert_eq!(jc["proven_upper"].as_f64(), now.evidence.proven_upper);
             assert_eq!(jc["found"].as_f64(), now.evidence.found);
+            // a bound's figures name their kind and unit; a measured claim has none
+            let quantity = now.evidence.quantity.map(|q| q.as_str());
+            assert_eq!(jc["quantity"].as_str(), quantity, "{jc}");
+            assert_eq!(
+                quantity.is_some(),
+                now.evidence.basis != crate::method::Basis::Measured,
+                "{jc}"
+            );
             assert_eq!(jc["how"], now.how.as_str());
             assert!(!now.how.is_empty(), "{}: {}", m.name, c.claim);
         }
@@ -206,7 +214,8 @@ fn properties_agree_with_the_columns_they_summarise() {
     assert!(METHODS
         .iter()
         .all(|m| m.family != Family::Yours && m.twin().is_some()));
-    // The seeds' square-root-free methods (S000, S004 l.159-172) are all per-pixel forms.
+    // The papers' square-root-free methods (docs/formulas.md#exact-phong) are all per-pixel
+    // forms.
     for m in with_property(Property::SqrtFree) {
         assert!(
             m.inputs.iter().all(|i| !matches!(i, Input::ScanlineSpan)),

@@ -25,7 +25,7 @@ pub struct Fragment {
 }
 
 impl Fragment {
-    /// The interpolated normal `N = sum w_i N_i` (FORMULAS.md 1.1).
+    /// The interpolated normal `N = sum w_i N_i` (docs/formulas.md#notation).
     pub fn interpolated_normal(&self) -> DVec3 {
         self.interpolate(self.corner_normals)
     }
@@ -64,7 +64,8 @@ pub(crate) fn mikami(frag: &Fragment, lit: &Lighting, beta: fn(f64) -> f64) -> S
 }
 
 /// A scanline method that interpolates between the unit span-end normals at the pixel's span
-/// fraction t (slerp, spherical-angular, quadratic: FORMULAS.md 2.10-2.12).
+/// fraction t (docs/formulas.md#slerp, docs/formulas.md#spherical-angular-interpolation,
+/// docs/formulas.md#quadratic-interpolation-along-the-span).
 pub(crate) fn along_span(
     frag: &Fragment,
     lit: &Lighting,
@@ -74,8 +75,8 @@ pub(crate) fn along_span(
     Shaded::lit(interpolate(a, b, t), lit)
 }
 
-/// Dichotomy (FORMULAS.md 2.13) between the unit span-end normals with the inverse root `f`,
-/// as many levels as the span has pixels to the next power of two.
+/// Dichotomy (docs/formulas.md#dichotomy) between the unit span-end normals with the inverse root
+/// `f`, as many levels as the span has pixels to the next power of two.
 pub(crate) fn dichotomy(frag: &Fragment, lit: &Lighting, f: fn(f64) -> f64) -> Shaded {
     let sp = scanline::span_at(frag.pixel.y, frag.window, frag.corner_normals);
     let t = scanline::span_t(&sp, frag.pixel.x);
@@ -84,8 +85,8 @@ pub(crate) fn dichotomy(frag: &Fragment, lit: &Lighting, f: fn(f64) -> f64) -> S
     Shaded::lit(scanline::dichotomy(a, b, t, k, f), lit)
 }
 
-/// Bishop-Weimer (FORMULAS.md 2.17): each cosine from the Taylor polynomial of the
-/// screen-linear normal about the corners' centroid.
+/// Bishop-Weimer (docs/formulas.md#bishop-weimer-taylor-shading): each cosine from the Taylor
+/// polynomial of the screen-linear normal about the corners' centroid.
 pub(crate) fn bishop_weimer(frag: &Fragment, lit: &Lighting) -> Shaded {
     let (a, b, c, o) = scanline::plane_normal(frag.window, frag.corner_normals);
     let p = frag.pixel - o;
@@ -95,7 +96,8 @@ pub(crate) fn bishop_weimer(frag: &Fragment, lit: &Lighting) -> Shaded {
     }
 }
 
-/// Hast's Euler integration along the span (FORMULAS.md 2.18, reconstruction).
+/// Hast's Euler integration along the span (docs/formulas.md#hast-euler-integration,
+/// reconstruction).
 pub(crate) fn hast_euler(frag: &Fragment, lit: &Lighting) -> Shaded {
     let sp = scanline::span_at(frag.pixel.y, frag.window, frag.corner_normals);
     let t = scanline::span_t(&sp, frag.pixel.x);
@@ -112,9 +114,9 @@ fn segment_end(sp: &scanline::Span, x: f64) -> DVec3 {
     f::normalize_exact(if n.length_squared() > 1e-12 { n } else { sp.na })
 }
 
-/// Digital segments of 2^k pixels (FORMULAS.md 2.16): exact Phong at the segment's ends; inside,
-/// the colour interpolated linearly (`inv_root` None), or the normal by dichotomy with
-/// `inv_root`.
+/// Digital segments of 2^k pixels (docs/formulas.md#digital-segments): exact Phong at the segment's
+/// ends; inside, the colour interpolated linearly (`inv_root` None), or the normal by dichotomy
+/// with `inv_root`.
 pub(crate) fn segments(
     frag: &Fragment,
     lit: &Lighting,

@@ -16,7 +16,7 @@ use crate::method::checks::{
     VISIBLE_LENGTH_ERROR_PCT,
 };
 use crate::method::formulas as f;
-use crate::method::{Basis, Claim, Evidence, Measurement, Verdict};
+use crate::method::{Basis, Claim, Evidence, Measurement, Quantity, Verdict};
 
 /// A bound claim the proof judges: (method name, the claim's text in the method table, the
 /// proven check).
@@ -26,7 +26,7 @@ type Overlay = (&'static str, &'static str, fn() -> Measurement);
 const OVERLAYS: [Overlay; 5] = [
     (
         "newton_raphson",
-        "usable for angles between vertex normals up to 40 (degrees assumed) (S000 l.35)",
+        "usable for angles between vertex normals up to 40 (degrees assumed) (docs/formulas.md#newton-raphson-step)",
         newton_usable_to_40_deg,
     ),
     ("mikami_const", MIKAMI_CLAIM, mikami_const_within_bound),
@@ -38,12 +38,13 @@ const OVERLAYS: [Overlay; 5] = [
     ),
     (
         "romanyuk_poly",
-        "relative error 8x smaller than Lyon's approach (S000 l.79-80)",
+        "relative error 8x smaller than Lyon's approach (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial)",
         romanyuk_8x_smaller,
     ),
 ];
 
-const MIKAMI_CLAIM: &str = "maximum normalised relative error <= 1.5 % (S000 l.74)";
+const MIKAMI_CLAIM: &str =
+    "maximum normalised relative error <= 1.5 % (docs/formulas.md#mikami-square-root)";
 
 /// Claim `c` of method `method`, judged by proof where [`OVERLAYS`] covers it, else the method
 /// table's own (sampled) check.
@@ -57,7 +58,7 @@ pub fn with_proof(method: &str, c: &Claim) -> Measurement {
     }
 }
 
-/// A claim as `shadelab list --json` writes it: the 7 keys of `crate::method::Claim`'s own
+/// A claim as `shadelab list --json` writes it: the 8 keys of `crate::method::Claim`'s own
 /// serialisation, measured through [`with_proof`].
 pub struct Judged<'a> {
     pub method: &'a str,
@@ -70,7 +71,8 @@ impl Serialize for Judged<'_> {
     }
 }
 
-/// "usable for angles between vertex normals up to 40 degrees" (S000 l.35), by proof.
+/// "usable for angles between vertex normals up to 40 degrees"
+/// (docs/formulas.md#newton-raphson-step), by proof.
 pub fn newton_usable_to_40_deg() -> Measurement {
     usable_up_to(
         f::k_newton,
@@ -110,7 +112,8 @@ pub fn mikami_quadratic_within_bound() -> Measurement {
     )
 }
 
-/// "relative error 8x smaller than Lyon's approach" (S000 l.79-80), by proof.
+/// "relative error 8x smaller than Lyon's approach"
+/// (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial), by proof.
 pub fn romanyuk_8x_smaller() -> Measurement {
     times_smaller(
         (f::k_romanyuk, Some(factor!(f::k_romanyuk))),
@@ -143,6 +146,7 @@ pub(crate) fn length_evidence(sweep: f64, proof: Option<ProveFactor>, z: Interva
         },
         proven_upper: o.map(|o| o.proven_upper).filter(|p| p.is_finite()),
         found: found.is_finite().then_some(found),
+        quantity: Some(Quantity::RelativeError),
     }
 }
 
@@ -336,6 +340,7 @@ pub(crate) fn times_smaller(
             },
             proven_upper: Some(proven_ratio).filter(|r| r.is_finite()),
             found: Some(found_ratio).filter(|r| r.is_finite() && !non_finite),
+            quantity: Some(Quantity::ErrorRatio),
         },
         how: format!(
             "{}, and over the interior of a triangle of three normals theta apart (z from \
@@ -365,7 +370,7 @@ mod tests {
             assert_eq!(sampled.evidence.basis, Basis::Found, "{method}");
             assert_eq!(proven.evidence.basis, Basis::Proven, "{method}: {proven:?}");
             assert!(proven.evidence.proven_upper.is_some(), "{method}");
-            // the proof decides the same way as the table's sampled verdict (FORMULAS.md 3)
+            // the proof decides the same way as the table's sampled verdict
             assert_eq!(proven.verdict, sampled.verdict, "{method}");
         }
         // a claim it does not cover keeps the table's own check; a wrong method name as well
@@ -378,7 +383,7 @@ mod tests {
     }
 
     #[test]
-    fn judged_serialises_the_seven_keys_through_the_proof() {
+    fn judged_serialises_the_eight_keys_through_the_proof() {
         let m = METHODS.iter().find(|m| m.name == "romanyuk_poly").unwrap();
         let j = serde_json::to_value(Judged {
             method: m.name,
@@ -386,7 +391,7 @@ mod tests {
         })
         .unwrap();
         let now = romanyuk_8x_smaller();
-        assert_eq!(j.as_object().unwrap().len(), 7, "{j}");
+        assert_eq!(j.as_object().unwrap().len(), 8, "{j}");
         assert_eq!(j["claim"], m.claims[0].claim);
         assert_eq!(j["basis"], "proven");
         assert_eq!(j["verdict"], now.verdict.as_str());
@@ -394,6 +399,9 @@ mod tests {
         assert_eq!(j["proven_upper"].as_f64(), now.evidence.proven_upper);
         assert_eq!(j["found"].as_f64(), now.evidence.found);
         assert_eq!(j["how"], now.how.as_str());
+        // its figures are ratios of two errors, not errors, and say so (issue 39 item 7)
+        assert_eq!(j["quantity"], "error_ratio");
+        assert!(now.evidence.found.unwrap() > 1.0, "{j}");
     }
 
     #[test]

@@ -11,7 +11,7 @@ use super::bnb::{self, Budget, Outcome};
 use super::covered::{self, Factor};
 use super::interval::Interval;
 use crate::method::real::Real;
-use crate::method::{Basis, Method, Verdict};
+use crate::method::{Basis, Method, Quantity, Verdict};
 
 /// One claim as proof.json lists it: the method table's check, with its basis and figures.
 #[derive(Debug, Clone, Serialize)]
@@ -24,6 +24,8 @@ pub struct ProofClaim {
     pub proven_upper: Option<f64>,
     /// The largest value of it found at a real point (null: non-finite, or not given).
     pub found: Option<f64>,
+    /// The kind and unit of `proven_upper` and `found` (see [`Quantity`]).
+    pub quantity: Option<Quantity>,
     pub measured: String,
     pub how: String,
 }
@@ -142,6 +144,7 @@ pub fn judge(methods: &[&'static Method]) -> Vec<ProofClaim> {
                 basis: r.evidence.basis,
                 proven_upper: r.evidence.proven_upper,
                 found: r.evidence.found,
+                quantity: r.evidence.quantity,
                 measured,
                 how: r.how,
             });

@@ -133,7 +133,7 @@ pub fn factor_of(name: &str) -> Option<Factor> {
 
 /// Why a method is not covered.
 pub fn out_of_reach(m: &Method) -> &'static str {
-    if m.name == "phong_exact" {
+    if m.name == crate::method::PHONG_EXACT {
         return "the exact reference itself (its error is 0 by definition)";
     }
     if m.inputs.contains(&Input::SpecularLut) {

@@ -438,7 +438,7 @@ pub fn prove_method(m: &Method, k: Factor, grid: &Grid, opts: &ProveOptions) -> 
         .collect();
     MethodProof {
         name: m.name.to_string(),
-        reference: "phong_exact",
+        reference: crate::method::PHONG_EXACT,
         domains,
         stress_grid: stress_grid_of(m, grid, opts.threshold),
         seconds: start.elapsed().as_secs_f64(),

@@ -284,7 +284,12 @@ pub fn claims_matrix(d: &ReportData) -> String {
     }
     h += "</tr></thead><tbody>";
     for ((m, c), cells) in &rows {
-        let _ = write!(h, "<tr><td>{}</td><td>{}</td>", esc(m), esc(c));
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td>{}</td>",
+            esc(m),
+            super::formulas::cite(c)
+        );
         for k in 0..sources.len() {
             match cells.get(&k) {
                 Some((v, basis, at)) => {
@@ -306,14 +311,21 @@ pub fn claims_matrix(d: &ReportData) -> String {
 }
 
 /// A claim's basis for the matrix: "proven <= x, found y" for a proven bound, "found y" for a
-/// found one, "measured" otherwise.
+/// found one, each with what the figures are of (`quantity`), "measured" otherwise.
 fn basis_text(e: &crate::method::Evidence) -> String {
     let num = |x: Option<f64>| x.map_or("null".into(), |v| format!("{v:.3e}"));
+    let of = e
+        .quantity
+        .map_or(String::new(), |q| format!(" ({})", q.as_str()));
     match e.basis {
         crate::method::Basis::Proven => {
-            format!("proven <= {}, found {}", num(e.proven_upper), num(e.found))
+            format!(
+                "proven <= {}, found {}{of}",
+                num(e.proven_upper),
+                num(e.found)
+            )
         }
-        crate::method::Basis::Found => format!("found {}", num(e.found)),
+        crate::method::Basis::Found => format!("found {}{of}", num(e.found)),
         crate::method::Basis::Measured => "measured".into(),
     }
 }

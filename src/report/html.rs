@@ -7,7 +7,7 @@ use super::*;
 use crate::compare::{MethodReport, METRICS};
 
 /// `shadelab plan` per scene: the figures that decide what is skipped, and the whole text.
-fn plan_section(d: &ReportData) -> String {
+pub(super) fn plan_section(d: &ReportData) -> String {
     let mut h = String::from(
         "<section id=\"plan\"><h2>Plan</h2><p>What each scene needs, measured before \
          drawing (<code>shadelab plan</code>): topology (back faces are culled only on closed, \
@@ -52,7 +52,7 @@ fn plan_section(d: &ReportData) -> String {
 }
 
 /// `shadelab skips` per scene: phong_exact before and after each skip, paired per round.
-fn skips_section(d: &ReportData) -> String {
+pub(super) fn skips_section(d: &ReportData) -> String {
     let mut h = String::from(
         "<section id=\"skips\"><h2>Skips</h2><p>What each skip saves (<code>shadelab \
          skips</code>): phong_exact drawn as milestone 1 drew it (<em>none</em>: no culling, a \
@@ -338,7 +338,7 @@ fn bench_claims(s: &SceneResult) -> String {
             "<tr id=\"{}\"><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
             esc(&super::front::claim_anchor(&s.id, k)),
             method_link(&c.method, anchor),
-            esc(&c.claim),
+            super::formulas::cite(&c.claim),
             verdict_td(c.verdict.as_str()),
             esc(&c.measured),
             esc(&c.how),
@@ -385,7 +385,7 @@ fn method_section(s: &SceneResult, m: &MethodReport, reference: &str, dims: Dims
     h + "</div></div></article>"
 }
 
-fn scene_section(s: &SceneResult, dims: Dims) -> String {
+pub(super) fn scene_section(s: &SceneResult, dims: Dims) -> String {
     let sum = &s.summary;
     let reference = format!("{}/reference.png", s.compare_dir);
     let mut h = format!(
@@ -469,11 +469,10 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
     };
     let _ = write!(
         h,
-        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} agree to the claim's \
-         printed digits, {} partly, {} disagree, {} inconclusive, {} not checked</summary>",
+        "<details open><summary><h3>Claims</h3> {} claims: {} agree, {} partly, {} disagree, {} \
+         inconclusive, {} not checked</summary>",
         s.bench.claims.len(),
         count("agrees"),
-        count("agrees_rounded"),
         count("partly"),
         count("disagrees"),
         count("inconclusive"),
@@ -484,7 +483,7 @@ fn scene_section(s: &SceneResult, dims: Dims) -> String {
     h + "</section>"
 }
 
-fn stress_section(d: &ReportData, dims: Dims) -> String {
+pub(super) fn stress_section(d: &ReportData, dims: Dims) -> String {
     let r = &d.stress;
     let dir = &d.stress_dir;
     let mut h = format!(
@@ -581,7 +580,7 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
             h,
             "<tr id=\"stress--claim-{k}\"><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td></tr>",
             method_link(&c.method, known.then(|| format!("stress--{}", c.method))),
-            esc(&c.claim),
+            super::formulas::cite(&c.claim),
             verdict_td(c.verdict.as_str()),
             esc(&c.measured),
             esc(&c.how)
@@ -605,7 +604,7 @@ fn stress_section(d: &ReportData, dims: Dims) -> String {
     h + "</div></section>"
 }
 
-fn provenance_section(d: &ReportData) -> String {
+pub(super) fn provenance_section(d: &ReportData) -> String {
     let run = &d.run;
     let mut rows: Vec<(&str, String)> = Vec::new();
     if let Some(s) = d.scenes.first() {
@@ -654,39 +653,4 @@ fn provenance_section(d: &ReportData) -> String {
         );
     }
     h + "</tbody></table></section>"
-}
-
-/// The whole page. `dims` gives an image's size (for width/height attributes; `None` leaves
-/// them out).
-pub fn page(d: &ReportData, dims: Dims) -> Result<String> {
-    let mut h = String::from(
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
-         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
-         <title>shadelab report</title><link rel=\"stylesheet\" href=\"report.css\">\
-         <script src=\"report.js\" defer></script></head><body>",
-    );
-    h += "<header><h1>shadelab report</h1><nav><ul><li><a href=\"#answer\">answer</a></li>\
-          <li><a href=\"#charts\">charts</a></li><li><a href=\"#claims\">claims</a></li>";
-    for s in &d.scenes {
-        let _ = write!(
-            h,
-            "<li><a href=\"#scene-{}\">{}</a></li>",
-            esc(&s.id),
-            esc(&s.summary.scene)
-        );
-    }
-    h += "<li><a href=\"#stress\">stress</a></li><li><a href=\"#plan\">plan</a></li><li><a href=\"#skips\">skips</a></li>\
-          <li><a href=\"#provenance\">provenance</a></li></ul></nav></header><main>";
-    h += &super::front::answer_table(&d.answer);
-    h += &super::svg::charts_section(d);
-    h += &super::front::claims_matrix(d);
-    for s in &d.scenes {
-        h += &scene_section(s, dims);
-    }
-    h += &stress_section(d, dims);
-    h += &plan_section(d);
-    h += &skips_section(d);
-    h += &provenance_section(d);
-    h += "</main></body></html>\n";
-    Ok(h)
 }

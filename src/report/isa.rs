@@ -109,40 +109,17 @@ pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
     h + "</section>"
 }
 
-/// `page` with the [`section`] before its `</main>` (the report's hook).
-pub fn splice(page: &str, run: &IsaRun, methods: &[&'static Method]) -> String {
-    page.replacen("</main>", &(section(run, methods) + "</main>"), 1)
-}
-
 /// The options of `isa` on the report's methods (phong_exact included) in `precision`.
 fn options(
     methods: &[&'static Method],
     precision: Precision,
 ) -> std::result::Result<IsaOptions, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot find shadelab: {e}"))?;
-    // The children re-run this binary as `isa --child`: only shadelab itself understands that.
+    // The children re-run this binary as `shadelab child`: only shadelab understands that.
     if exe.file_stem().and_then(|s| s.to_str()) != Some("shadelab") {
         return Err(format!("{} is not the shadelab binary", exe.display()));
     }
-    if !Path::new(crate::isa::DEFAULT_DRIVER_FILES).is_file() {
-        return Err(format!(
-            "no RADV ICD at {}",
-            crate::isa::DEFAULT_DRIVER_FILES
-        ));
-    }
-    let mut ms = methods.to_vec();
-    if !ms.iter().any(|m| m.name == crate::method::PHONG_EXACT) {
-        ms.insert(0, crate::method::phong_exact());
-    }
-    Ok(IsaOptions {
-        methods: ms,
-        families: crate::isa::DEFAULT_FAMILIES.map(String::from).to_vec(),
-        driver_files: PathBuf::from(crate::isa::DEFAULT_DRIVER_FILES),
-        scene: None,
-        exe,
-        precision,
-        probes: Vec::new(),
-    })
+    Ok(IsaOptions::every_family(methods, precision, exe))
 }
 
 /// Runs isa on the float16 programs and writes DIR/isa-f16/ (no charts).

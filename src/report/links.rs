@@ -1,6 +1,6 @@
 //! A link checker for the report (no browser needed): every `href` and `src` of a page must be
-//! a relative path to an existing file (resolved from the page's folder) or an `#id` of the page
-//! itself. Anything that would reach the network (`http:`, `https:`, `//host`, any other scheme)
+//! a relative path to an existing file (resolved from the page's folder; with a `#fragment` into
+//! another HTML page, an `id` that page has) or an `#id` of the page itself. Anything that would reach the network (`http:`, `https:`, `//host`, any other scheme)
 //! is reported too: the report must work from file:// with no network.
 use std::path::Path;
 
@@ -89,7 +89,8 @@ pub fn attribute_values(html: &str, name: &str) -> Vec<String> {
 }
 
 /// Every `href`/`src` of `html` that does not resolve: a missing file under `dir`, an `#id`
-/// the page lacks, or anything pointing outside (a scheme, `//host`, an absolute path, `..`).
+/// the page lacks (this page, or another HTML page under `dir` it links into), or anything
+/// pointing outside (a scheme, `//host`, an absolute path, `..`).
 /// Each entry says which attribute value failed and why.
 pub fn broken_in(html: &str, dir: &Path) -> Vec<String> {
     let ids = attribute_values(html, "id");
@@ -123,15 +124,27 @@ pub fn broken_in(html: &str, dir: &Path) -> Vec<String> {
                 bad.push(format!("{attr}=\"{v}\": leaves the report's folder"));
                 continue;
             }
-            if !dir.join(&decoded).is_file() {
-                bad.push(format!(
-                    "{attr}=\"{v}\": no file {}",
-                    dir.join(&decoded).display()
-                ));
+            let target = dir.join(&decoded);
+            if !target.is_file() {
+                bad.push(format!("{attr}=\"{v}\": no file {}", target.display()));
+            } else if let Some(f) = frag.filter(|_| is_html(&target)) {
+                let text = std::fs::read_to_string(&target).unwrap_or_default();
+                if !attribute_values(&text, "id").iter().any(|i| i == f) {
+                    bad.push(format!(
+                        "{attr}=\"{v}\": {} has no element with id \"{f}\"",
+                        target.display()
+                    ));
+                }
             }
         }
     }
     bad
+}
+
+/// Whether `path` names an HTML page (whose ids a `#fragment` can name).
+fn is_html(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"))
 }
 
 /// [`broken_in`] for the page at `path` (links resolved from its folder).

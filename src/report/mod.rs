@@ -1,27 +1,30 @@
 //! `shadelab report`: the main job. For each scene it runs [`crate::compare`] (error maps and
 //! statistics) and [`crate::bench`] (timing, Pareto chart, the papers' claims), then
 //! [`crate::stress`] once (it is scene-independent), and writes DIR/index.html beside the files
-//! those jobs wrote: the page only points at them (no copies), plus its own `report.css` and
-//! `report.js`.
+//! those jobs wrote: the page only points at them (no copies), plus its own `report.css`,
+//! `report.js` and `formulas.html` (the page the claims' citations link to).
 //!
 //! Invariants of the page ([`html`]): every string from a scene, a method or a measurement is
-//! escaped; every `href`/`src` is a relative path to a file under DIR or an `#id` of the page
-//! ([`links::broken_links`] checks both, and the tests run it); nothing is fetched from the
+//! escaped; every `href`/`src` is a relative path to a file under DIR (with an `#id` that page
+//! has, when it names one of another HTML page) or an `#id` of the page ([`links::broken_links`]
+//! checks all three, and the tests run it); nothing is fetched from the
 //! network (no CDN, font or script from elsewhere); the tables and images are plain HTML, and the
 //! script only adds sorting and the method/reference viewer.
 //!
 //! Layout of DIR: `index.html`, `answer.json` and `answer.md` ([`answer`]), `report.css`,
-//! `report.js`, `scenes/<id>/compare/` (compare's outputs), `scenes/<id>/bench/` (bench's
+//! `report.js`, `formulas.html` (docs/formulas.md, which the claims cite: [`formulas`]), `scenes/<id>/compare/` (compare's outputs), `scenes/<id>/bench/` (bench's
 //! outputs), `scenes/<id>/software/` (the software engine's bench), `stress/` (stress's outputs).
 //!
 //! The page opens with the answer ([`front::answer_table`]), then the charts ([`svg`]: small
 //! multiples, one panel per method family), the claims matrix, and the scenes, the most telling
 //! (the most triangles) first.
 pub mod answer;
+pub mod formulas;
 pub mod front;
 pub mod html;
 pub mod isa;
 pub mod links;
+pub mod sections;
 pub mod svg;
 #[cfg(test)]
 mod tests;
@@ -62,9 +65,10 @@ pub struct ReportOptions {
     pub command_line: String,
     /// Show a progress bar on stderr (drawn only when stderr is a terminal).
     pub progress: bool,
-    /// Bench runs per scene, each a fresh process of `exe` (`bench --runs`); 1 or no `exe`:
-    /// one run in this process.
-    pub runs: usize,
+    /// The measurement plan (`report --runs`, `--full`: [`crate::bench::plan`], decided once
+    /// by the caller). Several runs need `exe`.
+    pub plan: crate::bench::plan::RunPlan,
+    /// The shadelab binary that starts a bench's fresh-process runs.
     pub exe: Option<PathBuf>,
     /// The device every bench run opens (the report's own).
     pub device: crate::gpu::DeviceSpec,
@@ -127,6 +131,8 @@ pub struct ReportData {
     pub answer: answer::Answer,
     /// `isa` on the report's methods, float32 and float16 (static cost models of the answer).
     pub isa: isa::IsaRun,
+    /// The report's methods (the references included), in its order.
+    pub methods: Vec<&'static Method>,
 }
 
 /// What a run wrote.
@@ -406,15 +412,16 @@ impl SceneRun<'_> {
 }
 
 /// Writes answer.json, answer.md, the style sheet, the script and index.html of `data`.
-fn write_page(out: &Path, data: &ReportData, methods: &[&'static Method]) -> Result<PathBuf> {
+fn write_page(out: &Path, data: &ReportData) -> Result<PathBuf> {
     let json =
         serde_json::to_string_pretty(&data.answer).map_err(|e| Error::output("answer.json", e))?;
     output::write_bytes_atomic(&out.join("answer.json"), (json + "\n").as_bytes())?;
     output::write_bytes_atomic(&out.join("answer.md"), data.answer.markdown().as_bytes())?;
     output::write_bytes_atomic(&out.join("report.css"), CSS.as_bytes())?;
     output::write_bytes_atomic(&out.join("report.js"), JS.as_bytes())?;
-    let page = html::page(data, &|rel| image::image_dimensions(out.join(rel)).ok())?;
-    let page = isa::splice(&page, &data.isa, methods);
+    let sources = formulas::page(formulas::SOURCE);
+    output::write_bytes_atomic(&out.join(formulas::PAGE), sources.as_bytes())?;
+    let page = sections::page(data, &|rel| image::image_dimensions(out.join(rel)).ok());
     let index = out.join("index.html");
     output::write_bytes_atomic(&index, page.as_bytes())?;
     Ok(index)
@@ -434,15 +441,13 @@ pub fn run(
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let methods = with_references(methods);
-    // Decided once (src/bench/plan.rs): several runs only with a binary to start them.
-    let given = crate::bench::plan::Given {
-        runs: Some(if opts.exe.is_some() { opts.runs } else { 1 }),
-        ..Default::default()
-    };
-    let plan = crate::bench::plan::RunPlan::new(
-        crate::bench::plan::Job::Report { full: opts.full },
-        &given,
-    )?;
+    let plan = &opts.plan;
+    if plan.many() && opts.exe.is_none() {
+        return Err(Error::Usage(format!(
+            "a report of {} bench runs needs the shadelab binary to start them",
+            plan.runs
+        )));
+    }
     // Steps: compare, bench and skips per scene, stress, the page.
     let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
     let mut scenes = scenes.to_vec();
@@ -500,6 +505,7 @@ pub fn run(
     let mut data = ReportData {
         answer: answer::answer(&[], &[], &[], Vec::new()),
         isa,
+        methods: methods.clone(),
         scenes: results,
         stress,
         stress_dir: "stress".into(),
@@ -518,7 +524,7 @@ pub fn run(
         },
     };
     data.answer = front::answer_of(&data, &opts.costs);
-    let index = write_page(out, &data, &methods)?;
+    let index = write_page(out, &data)?;
     bar.inc(1);
     bar.finish_and_clear();
     let broken = links::broken_links(&index)?;

@@ -66,12 +66,17 @@ fn link_checker_flags_every_kind_of_broken_link() {
     std::fs::create_dir_all(dir.path().join("sub dir")).unwrap();
     std::fs::write(dir.path().join("sub dir/a.png"), b"x").unwrap();
     std::fs::write(dir.path().join("b.css"), b"x").unwrap();
+    std::fs::write(dir.path().join("c.html"), r#"<h2 id="there">x</h2>"#).unwrap();
     let good = r##"<link href="b.css"><img src="sub%20dir/a.png"><a href="#top">t</a>
-        <a href="b.css#frag">f</a><div id="top"></div>"##;
+        <a href="b.css#frag">f</a><a href="c.html#there">c</a><div id="top"></div>"##;
     assert_eq!(broken_in(good, dir.path()), Vec::<String>::new());
     for (bad, why) in [
         (r#"<img src="sub dir/missing.png">"#, "no file"),
         (r##"<a href="#nowhere">x</a>"##, "no element with id"),
+        (
+            r##"<a href="c.html#nowhere">x</a>"##,
+            "c.html has no element with id",
+        ),
         (
             r#"<script src="https://cdn.example/x.js"></script>"#,
             "not a relative path",
@@ -459,4 +464,34 @@ mod answer_rule {
         assert!(sizes.iter().all(|&n| n <= MAX_SERIES));
         assert_eq!(p[1].0, "scanline (1 of 2)");
     }
+}
+
+/// Every citation the method table prints (each method's citation and claims) is a link of the
+/// report that resolves in its copy of docs/formulas.md; a citation of a missing section does
+/// not (teeth).
+#[test]
+fn the_reports_citations_resolve_in_its_copy_of_formulas_md() {
+    use super::formulas::{cite, page, PAGE, SOURCE};
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join(PAGE), page(SOURCE)).unwrap();
+    let mut html = String::new();
+    for m in crate::method::METHODS {
+        html += &cite(m.citation);
+        for c in m.claims {
+            html += &cite(c.claim);
+        }
+    }
+    let links = attribute_values(&html, "href");
+    assert!(links.len() > 60, "{} links", links.len());
+    assert!(
+        links.iter().all(|l| l.starts_with("formulas.html#")),
+        "{links:?}"
+    );
+    assert_eq!(broken_in(&html, dir.path()), Vec::<String>::new());
+    let wrong = cite(&["x (docs/formulas.md", "#no-such-section)"].concat());
+    let found = broken_in(&wrong, dir.path());
+    assert!(
+        found.len() == 1 && found[0].contains("has no element with id \"no-such-section\""),
+        "{found:?}"
+    );
 }

@@ -35,10 +35,10 @@ pub struct SceneInputs {
     pub flat_normals: Vec<[f32; 3]>,
     /// PN mid-edge normals (n110, n011, n101) per triangle, view space.
     pub pn_mids: Vec<[[f32; 3]; 3]>,
-    /// Window-space position (x, y in pixels; Vulkan origin top-left, pixel centres at +0.5)
-    /// per corner, computed in f64 from the f32 MVP and positions and rounded to f32: the span
-    /// ends of the scanline methods (FORMULAS.md 1.6). Meaningless for a corner in front of the
-    /// near plane ([`SceneInputs::near_clipped`]).
+    /// Window-space position (x, y in pixels; Vulkan origin top-left, pixel centres at +0.5) per
+    /// corner, computed in f64 from the f32 MVP and positions and rounded to f32: the span ends of
+    /// the scanline methods (docs/formulas.md#scanline-emulation). Meaningless for a corner in
+    /// front of the near plane ([`SceneInputs::near_clipped`]).
     pub window: Vec<[f32; 2]>,
     pub params: Params,
     pub light_count: u32,
@@ -109,10 +109,10 @@ fn tessellate(mesh: &Mesh, level: u32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
 }
 
 impl SceneInputs {
-    /// Transforms the scene in f64: MVP, view-space normals (normal matrix = inverse transpose
-    /// of the view's upper 3x3; the mesh is already in its fitted model space), flat and PN
-    /// mid-edge normals from view-space positions, light directions and half vectors with the
-    /// viewer at infinity (V = +Z in view space, FORMULAS.md 1.2). `geometry` selects the
+    /// Transforms the scene in f64: MVP, view-space normals (normal matrix = inverse transpose of
+    /// the view's upper 3x3; the mesh is already in its fitted model space), flat and PN mid-edge
+    /// normals from view-space positions, light directions and half vectors with the viewer at
+    /// infinity (V = +Z in view space, docs/formulas.md#lighting-model). `geometry` selects the
     /// scene's triangles or their PN tessellation.
     pub fn new(scene: &Scene, geometry: Geometry) -> Self {
         let view = scene.camera.view();
@@ -244,9 +244,9 @@ impl SceneInputs {
         DVec2::new((c.x / c.w * 0.5 + 0.5) * w, (c.y / c.w * 0.5 + 0.5) * h)
     }
 
-    /// The first triangle with a corner in front of the near plane (Vulkan clip z < 0, or
-    /// w <= 0), if any. The rasterizer clips such a triangle, so its window corners are not the
-    /// ends of its spans: the scanline methods refuse the scene (FORMULAS.md 1.6, hazard).
+    /// The first triangle with a corner in front of the near plane (Vulkan clip z < 0, or w <= 0),
+    /// if any. The rasterizer clips such a triangle, so its window corners are not the ends of its
+    /// spans: the scanline methods refuse the scene (docs/formulas.md#scanline-emulation, hazard).
     pub fn near_clipped(&self) -> Option<usize> {
         self.clip_corners()
             .position(|c| c.z < 0.0 || c.w <= 0.0)

@@ -94,7 +94,9 @@ impl<S: Real> Lighting<S> {
     }
 }
 
-// Scalar factors k(z) ~ 1/sqrt(z) (FORMULAS.md 2.4-2.6, 2.8, 2.9).
+// Scalar factors k(z) ~ 1/sqrt(z) (docs/formulas.md#newton-raphson-step,
+// docs/formulas.md#lyon-taylor-form, docs/formulas.md#lyon-shift-form,
+// docs/formulas.md#mikami-square-root, docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial).
 
 pub fn k_newton<S: Real>(z: S) -> S {
     c::<S>(0.5) * (c::<S>(3.0) - z)

@@ -415,10 +415,10 @@ impl<S: Real> SpanShader<S> {
         }
     }
 
-    /// Digital segments (FORMULAS.md 2.16): segments of 2^k pixels from the span's first pixel
-    /// centre; each end's normal by accumulating 2^k dN (the first from the span's formula),
-    /// normalised and shaded once (the right end of one segment is the left of the next, the
-    /// last one extrapolated past the span); inside, the colour stepped by (I_p - I_l) / 2^k,
+    /// Digital segments (docs/formulas.md#digital-segments): segments of 2^k pixels from the span's
+    /// first pixel centre; each end's normal by accumulating 2^k dN (the first from the span's
+    /// formula), normalised and shaded once (the right end of one segment is the left of the next,
+    /// the last one extrapolated past the span); inside, the colour stepped by (I_p - I_l) / 2^k,
     /// or with `inv_root` the normals by halving between the unit ends.
     fn segments(
         &self,

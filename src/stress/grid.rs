@@ -1,6 +1,6 @@
 //! What `stress` makes of the sweeps of [`crate::cases::grid`]: the per-case errors folded into
-//! curves and the validity map, the local search's neighbours, S002's specular bound and the
-//! claims.
+//! curves and the validity map, the local search's neighbours, the digital-segment paper's
+//! specular bound and the claims.
 use std::collections::HashMap;
 
 use serde::Serialize;
@@ -8,15 +8,19 @@ use serde::Serialize;
 use super::{CurvePoint, MethodStress, StressClaim, ValidityMap};
 use crate::cases::grid::{Grid, Sweep, Worst, ANGLES, ELEVATIONS};
 use crate::cases::{CaseSpec, Errors, Shape};
+use crate::method::checks::VISIBLE_LENGTH_ERROR_PCT;
 use crate::method::Verdict;
 
-/// Folds cases into points keyed by `key` (insertion order kept).
+/// Folds cases into points keyed by `key` (insertion order kept), each case's error chosen by
+/// `select` (None: left out).
+#[allow(clippy::too_many_arguments)]
 fn fold(
     grid: &Grid,
     sweep: Sweep,
     applies: &[bool],
     primary: &[Errors],
     twin: &[Errors],
+    select: fn(&Errors) -> Option<f64>,
     key: impl Fn(&CaseSpec) -> Option<Vec<f64>>,
     label: impl Fn(&CaseSpec) -> Option<String>,
 ) -> Vec<CurvePoint> {
@@ -27,6 +31,7 @@ fn fold(
             continue;
         }
         let Some(k) = key(&c.spec) else { continue };
+        let (dev, f64) = (select(&primary[i]), select(&twin[i]));
         let bits: Vec<u64> = k.iter().map(|x| x.to_bits()).collect();
         let j = *index.entry(bits).or_insert_with(|| {
             points.push(CurvePoint {
@@ -37,10 +42,10 @@ fn fold(
             });
             points.len() - 1
         });
-        if let Some(e) = primary[i].counted() {
+        if let Some(e) = dev {
             points[j].device.add(e);
         }
-        if let Some(e) = twin[i].counted() {
+        if let Some(e) = f64 {
             points[j].f64.add(e);
         }
     }
@@ -50,6 +55,9 @@ fn fold(
 /// The curves of one method.
 pub struct Curves {
     pub angle: Vec<CurvePoint>,
+    /// The normal's length error ||N| - 1| per angle (facing the viewer); empty for a method
+    /// without a normal.
+    pub length_vs_angle: Vec<CurvePoint>,
     pub shininess: Vec<CurvePoint>,
     pub span: Vec<CurvePoint>,
     pub length: Vec<CurvePoint>,
@@ -60,49 +68,32 @@ pub struct Curves {
 /// length, per (shape, angle).
 pub fn curves(grid: &Grid, applies: &[bool], primary: &[Errors], twin: &[Errors]) -> Curves {
     let none = |_: &CaseSpec| None;
+    let colour: fn(&Errors) -> Option<f64> = Errors::counted;
+    let facing = |s: &CaseSpec| (s.elevation_deg < 90.0).then(|| vec![s.theta_deg]);
+    let curve = |sweep, select, key: &dyn Fn(&CaseSpec) -> Option<Vec<f64>>| {
+        fold(grid, sweep, applies, primary, twin, select, key, none)
+    };
     Curves {
-        angle: fold(
-            grid,
-            Sweep::Angle,
-            applies,
-            primary,
-            twin,
-            |s| (s.elevation_deg < 90.0).then(|| vec![s.theta_deg]),
-            none,
-        ),
-        shininess: fold(
-            grid,
-            Sweep::Shininess,
-            applies,
-            primary,
-            twin,
-            |s| Some(vec![s.theta_deg, s.shininess]),
-            none,
-        ),
-        span: fold(
-            grid,
-            Sweep::Span,
-            applies,
-            primary,
-            twin,
-            |s| Some(vec![s.theta_deg, f64::from(s.span_px)]),
-            none,
-        ),
-        length: fold(
-            grid,
-            Sweep::Length,
-            applies,
-            primary,
-            twin,
-            |s| Some(vec![s.length]),
-            none,
-        ),
+        angle: curve(Sweep::Angle, colour, &facing),
+        // a method without a normal has no point on it
+        length_vs_angle: curve(Sweep::Angle, Errors::counted_length, &facing)
+            .into_iter()
+            .filter(|p| p.device.count + p.f64.count > 0)
+            .collect(),
+        shininess: curve(Sweep::Shininess, colour, &|s| {
+            Some(vec![s.theta_deg, s.shininess])
+        }),
+        span: curve(Sweep::Span, colour, &|s| {
+            Some(vec![s.theta_deg, f64::from(s.span_px)])
+        }),
+        length: curve(Sweep::Length, colour, &|s| Some(vec![s.length])),
         shape: fold(
             grid,
             Sweep::Shape,
             applies,
             primary,
             twin,
+            colour,
             |s| Some(vec![s.theta_deg]),
             |s| Some(format!("{:?}", s.shape).to_lowercase()),
         ),
@@ -152,8 +143,8 @@ pub fn perturb(s: &CaseSpec, step: f64, rng: &mut fastrand::Rng) -> CaseSpec {
     out
 }
 
-/// S002's specular bound at 4 degrees: one digital segment of `2^k` pixels whose end normals
-/// are 4 degrees apart, H on their bisector (the segment's middle pixel, t = 1/2), specular
+/// The digital-segment paper's specular bound at 4 degrees: one digital segment of `2^k` pixels
+/// whose end normals are 4 degrees apart, H on their bisector (the segment's middle pixel, t = 1/2), specular
 /// term alone; the relative error there for n = 1..=100.
 #[derive(Debug, Clone, Serialize)]
 pub struct SpecularBound {
@@ -181,13 +172,59 @@ pub fn specular_bound_specs(k: u32) -> Vec<CaseSpec> {
         .collect()
 }
 
-/// The validity claims checked by the sweeps: (method, claimed range in degrees, claim).
-const USABLE_UP_TO: [(&str, f64, &str); 5] = [
-    ("newton_raphson", 40.0, "usable for angles between vertex normals up to 40 degrees (S000 l.35)"),
-    ("romanyuk_poly", 90.0, "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (FORMULAS.md 2.8)"),
-    ("barycentric_quadratic", 90.0, "the M_ij polynomial is fitted for vertex normals up to 90 degrees apart (FORMULAS.md 2.15)"),
-    ("dichotomy_poly1", 45.0, "the degree-1 inverse root is fitted for phi <= 45 degrees per halving (S002 l.643)"),
-    ("dichotomy_poly2", 45.0, "the degree-2 inverse root is fitted for phi <= 45 degrees per halving (S002 l.646-658)"),
+/// The criteria a validity claim is judged by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Criteria {
+    /// The colour criterion alone: every facing case up to the claimed angle finite and within
+    /// the threshold on the device (`max_valid_angle_deg`).
+    Colour,
+    /// The length criterion (the facing cases' worst ||N| - 1| up to the claimed angle on the
+    /// device within [`VISIBLE_LENGTH_ERROR_PCT`]) beside the colour criterion: the two
+    /// criteria `shadelab list` judges the same claim by (src/method/checks.rs
+    /// `usable_up_to`), with the same rule: both hold agrees, neither disagrees, one partly.
+    LengthAndColour,
+}
+
+/// A validity claim checked by the sweeps.
+struct UsableUpTo {
+    method: &'static str,
+    /// The claimed range, degrees between the vertex normals.
+    range: f64,
+    claim: &'static str,
+    criteria: Criteria,
+}
+
+const USABLE_UP_TO: [UsableUpTo; 5] = [
+    UsableUpTo {
+        method: "newton_raphson",
+        range: 40.0,
+        claim: "usable for angles between vertex normals up to 40 degrees (docs/formulas.md#newton-raphson-step)",
+        criteria: Criteria::LengthAndColour,
+    },
+    UsableUpTo {
+        method: "romanyuk_poly",
+        range: 90.0,
+        claim: "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial)",
+        criteria: Criteria::Colour,
+    },
+    UsableUpTo {
+        method: "barycentric_quadratic",
+        range: 90.0,
+        claim: "the M_ij polynomial is fitted for vertex normals up to 90 degrees apart (docs/formulas.md#barycentric-quadratic-triangle)",
+        criteria: Criteria::Colour,
+    },
+    UsableUpTo {
+        method: "dichotomy_poly1",
+        range: 45.0,
+        claim: "the degree-1 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)",
+        criteria: Criteria::Colour,
+    },
+    UsableUpTo {
+        method: "dichotomy_poly2",
+        range: 45.0,
+        claim: "the degree-2 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)",
+        criteria: Criteria::Colour,
+    },
 ];
 const COLLAPSES_BEYOND_90: [&str; 2] = ["quadratic_scanline", "quadratic_scanline_approx_mid"];
 
@@ -197,12 +234,13 @@ fn fmt(x: Option<f64>) -> String {
 
 /// The worst device error at angles in `(lo, hi]` of a method's angle curve.
 fn worst_between(m: &MethodStress, lo: f64, hi: f64) -> Worst {
+    worst_of(&m.error_vs_angle, lo, hi)
+}
+
+/// The worst device value at angles in `(lo, hi]` of an angle curve.
+fn worst_of(curve: &[CurvePoint], lo: f64, hi: f64) -> Worst {
     let mut w = Worst::default();
-    for p in m
-        .error_vs_angle
-        .iter()
-        .filter(|p| p.key[0] > lo && p.key[0] <= hi)
-    {
+    for p in curve.iter().filter(|p| p.key[0] > lo && p.key[0] <= hi) {
         w.count += p.device.count;
         w.non_finite += p.device.non_finite;
         if let Some(v) = p.device.max {
@@ -235,7 +273,7 @@ pub(crate) fn collapse_verdict(upto: &Worst, beyond: &Worst, threshold: f64) -> 
     }
 }
 
-/// Verdicts of the validity claims and S002's specular bound, from the sweeps.
+/// Verdicts of the validity claims and the digital-segment paper's specular bound, from the sweeps.
 pub fn claims(
     methods: &[MethodStress],
     specular: &[SpecularBound],
@@ -248,38 +286,78 @@ pub fn claims(
     out
 }
 
-/// The claims of [`USABLE_UP_TO`]: valid up to the claimed angle on the device.
+/// The claims of [`USABLE_UP_TO`]: valid up to the claimed angle on the device, by each
+/// claim's [`Criteria`], every criterion named in `measured` and `how`.
 fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<StressClaim>) {
-    let how_valid = format!(
-        "max_valid_angle_deg: the largest angle of the sweep up to which every case facing the \
-         viewer (elevation < 90, 4 frames, 5 lights, shininess 20, 17 pixels) is finite and within \
-         {threshold:.6} on the device; agrees when it reaches the claimed angle"
-    );
-    for (name, range, claim) in USABLE_UP_TO {
-        let Some(m) = methods.iter().find(|m| m.name == name) else {
+    let word = |ok: bool| if ok { "holds" } else { "fails" };
+    for c in USABLE_UP_TO {
+        let Some(m) = methods.iter().find(|m| m.name == c.method) else {
             continue;
         };
+        let range = c.range;
         let v = m.max_valid_angle_deg;
-        let verdict = if v.is_some_and(|v| v >= range) {
-            Verdict::Agrees
-        } else {
-            Verdict::Disagrees
-        };
+        let colour = v.is_some_and(|v| v >= range);
         let at = worst_between(m, 0.0, range);
-        out.push(StressClaim {
-            method: name.into(),
-            claim: claim.into(),
-            measured: format!(
-                "colour criterion (within {threshold:.6} = 1/255 on the device): valid up to {} \
-                 degrees on the device ({} in f64); worst error up to {range} degrees {} ({} \
-                 non-finite)",
-                fmt(v),
-                fmt(m.max_valid_angle_deg_f64),
-                fmt(at.max),
-                at.non_finite
+        let colour_text = format!(
+            "colour criterion (within {threshold:.6} = 1/255 on the device): valid up to {} \
+             degrees on the device ({} in f64); worst error up to {range} degrees {} ({} \
+             non-finite)",
+            fmt(v),
+            fmt(m.max_valid_angle_deg_f64),
+            fmt(at.max),
+            at.non_finite
+        );
+        let how_colour = format!(
+            "max_valid_angle_deg: the largest angle of the sweep up to which every case facing \
+             the viewer (elevation < 90, 4 frames, 5 lights, shininess 20, 17 pixels) is finite \
+             and within {threshold:.6} on the device"
+        );
+        let (measured, verdict, how) = match c.criteria {
+            Criteria::Colour => (
+                colour_text,
+                if colour {
+                    Verdict::Agrees
+                } else {
+                    Verdict::Disagrees
+                },
+                format!("{how_colour}; agrees when it reaches the claimed angle"),
             ),
+            Criteria::LengthAndColour => {
+                let len = worst_of(&m.length_error_vs_angle, f64::NEG_INFINITY, range);
+                let length = len.valid(VISIBLE_LENGTH_ERROR_PCT / 100.0);
+                (
+                    format!(
+                        "length criterion (worst ||N| - 1| up to {range} degrees on the device \
+                         within {VISIBLE_LENGTH_ERROR_PCT} %): {} % ({} non-finite): {}; \
+                         {colour_text}: {}",
+                        fmt(len.max.map(|x| 100.0 * x)),
+                        len.non_finite,
+                        word(length),
+                        word(colour)
+                    ),
+                    match (length, colour) {
+                        (true, true) => Verdict::Agrees,
+                        (false, false) => Verdict::Disagrees,
+                        _ => Verdict::Partly,
+                    },
+                    format!(
+                        "two criteria, as `shadelab list` judges this claim: the length \
+                         criterion, the worst ||N| - 1| of the device's normal over the same \
+                         facing cases up to the claimed angle, holds when within \
+                         {VISIBLE_LENGTH_ERROR_PCT} % (the project's visible-length threshold); \
+                         the colour criterion, {how_colour}, holds when it reaches the claimed \
+                         angle; agrees when both hold, partly when one does, disagrees when \
+                         neither"
+                    ),
+                )
+            }
+        };
+        out.push(StressClaim {
+            method: c.method.into(),
+            claim: c.claim.into(),
+            measured,
             verdict,
-            how: how_valid.clone(),
+            how,
         });
     }
 }
@@ -296,7 +374,7 @@ fn collapse_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<Stres
         out.push(StressClaim {
             method: name.into(),
             claim:
-                "accuracy collapses beyond 90 degrees between the end normals (FORMULAS.md 2.12)"
+                "accuracy collapses beyond 90 degrees between the end normals (docs/formulas.md#quadratic-interpolation-along-the-span)"
                     .into(),
             measured: format!(
                 "worst error at 60-90 degrees {} ({} non-finite), at 90-120 degrees {} ({} \
@@ -319,12 +397,14 @@ fn collapse_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<Stres
     }
 }
 
-/// Whether a relative error fails S002's 4 % (above it, or NaN).
+/// Whether a relative error fails the digital-segment paper's 4 % (its magnitude above it, or
+/// NaN): the claim is a bound on the error's size, whichever its sign.
 fn above_4_percent(e: f64) -> bool {
-    e.is_nan() || e > 0.04
+    e.is_nan() || e.abs() > 0.04
 }
 
-/// S002's claim: within 4 % specular error for n <= 100 at 4 degrees between end normals.
+/// The digital-segment paper's claim: within 4 % specular error for n <= 100 at 4 degrees between
+/// end normals.
 fn specular_claims(specular: &[SpecularBound], out: &mut Vec<StressClaim>) {
     for s in specular {
         let failing: Vec<f64> = s
@@ -357,7 +437,7 @@ fn specular_claims(specular: &[SpecularBound], out: &mut Vec<StressClaim>) {
         out.push(StressClaim {
             method: s.method.clone(),
             claim: "for n <= 100 the specular error stays within 4 % at 4 degrees between \
-                    segment-end normals (S002 l.595-598)"
+                    segment-end normals (docs/formulas.md#digital-segments-error-bounds)"
                 .into(),
             measured: format!(
                 "relative specular error at the segment's middle above 4 % for {}{first}; {:.2} % at n = 100; \

@@ -258,6 +258,9 @@ pub struct MethodStress {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_valid_angle_deg_f32: Option<Option<f64>>,
     pub error_vs_angle: Vec<CurvePoint>,
+    /// The normal's length error ||N| - 1| per angle, facing the viewer (the length criterion
+    /// of a validity claim); empty for a method without a normal.
+    pub length_error_vs_angle: Vec<CurvePoint>,
     pub error_vs_shininess: Vec<CurvePoint>,
     pub error_vs_span: Vec<CurvePoint>,
     pub error_vs_length: Vec<CurvePoint>,
@@ -339,6 +342,61 @@ fn valid_angle_f32(
     Ok(Some(sweeps::max_valid_angle(grid, &errs, opts.threshold)))
 }
 
+/// A method's errors on the grid folded into its worst figures (the cases a sweep applies to).
+struct GridWorst {
+    /// The counted colour errors (device, or f64 without a device program), and the f64 twin's.
+    all: Worst,
+    all_f64: Worst,
+    vs_slerp: Worst,
+    angle: Worst,
+    length: Worst,
+    /// The worst finite counted case, and the first non-finite one.
+    worst_i: Option<usize>,
+    non_finite_i: Option<usize>,
+    /// Finite results on ill-conditioned cases, left out.
+    ill: usize,
+}
+
+/// Folds `primary` (and the twin's `f64_err`) over the cases `applies` selects.
+fn fold_grid(m: &Method, applies: &[bool], primary: &[Errors], f64_err: &[Errors]) -> GridWorst {
+    let mut g = GridWorst {
+        all: Worst::default(),
+        all_f64: Worst::default(),
+        vs_slerp: Worst::default(),
+        angle: Worst::default(),
+        length: Worst::default(),
+        worst_i: None,
+        non_finite_i: None,
+        ill: 0,
+    };
+    for i in (0..primary.len()).filter(|&i| applies[i]) {
+        let e = &primary[i];
+        if let Some(v) = f64_err[i].counted() {
+            g.all_f64.add(v);
+        }
+        let Some(v) = e.counted() else {
+            g.ill += 1;
+            continue;
+        };
+        g.all.add(v);
+        if m.reference == Reference::PhongAndSlerp {
+            g.vs_slerp.add(e.abs_slerp);
+        }
+        if let Some(a) = e.angle_deg {
+            g.angle.add(a);
+        }
+        if let Some(l) = e.length {
+            g.length.add(l);
+        }
+        if e.non_finite {
+            g.non_finite_i.get_or_insert(i);
+        } else if g.worst_i.is_none_or(|w| e.abs > primary[w].abs) {
+            g.worst_i = Some(i);
+        }
+    }
+    g
+}
+
 /// Runs the sweeps for one method.
 pub fn stress_method(
     ctx: &Arc<Context>,
@@ -369,38 +427,16 @@ pub fn stress_method(
     // The measure of a case: the device's error, or the twin's without a device program.
     let primary = dev_err.as_ref().unwrap_or(&f64_err);
 
-    let mut all = Worst::default();
-    let mut all_f64 = Worst::default();
-    let mut vs_slerp = Worst::default();
-    let (mut angle, mut length) = (Worst::default(), Worst::default());
-    let mut worst_i: Option<usize> = None;
-    let mut non_finite_i: Option<usize> = None;
-    let mut ill = 0;
-    for i in (0..grid.cases.len()).filter(|&i| applies[i]) {
-        let e = &primary[i];
-        if let Some(v) = f64_err[i].counted() {
-            all_f64.add(v);
-        }
-        let Some(v) = e.counted() else {
-            ill += 1;
-            continue;
-        };
-        all.add(v);
-        if m.reference == Reference::PhongAndSlerp {
-            vs_slerp.add(e.abs_slerp);
-        }
-        if let Some(a) = e.angle_deg {
-            angle.add(a);
-        }
-        if let Some(l) = e.length {
-            length.add(l);
-        }
-        if e.non_finite {
-            non_finite_i.get_or_insert(i);
-        } else if worst_i.is_none_or(|w| e.abs > primary[w].abs) {
-            worst_i = Some(i);
-        }
-    }
+    let GridWorst {
+        all,
+        all_f64,
+        vs_slerp,
+        angle,
+        length,
+        worst_i,
+        non_finite_i,
+        ill,
+    } = fold_grid(m, &applies, primary, &f64_err);
     let report =
         |i: usize, out: Option<&Output>| case_report(m, &grid.cases[i], out, opts.precision);
     let dev_out = |i: usize| dev.as_ref().map(|d| &d[i]);
@@ -450,6 +486,7 @@ pub fn stress_method(
         // a method without a device program is its f64 twin in both precisions
         max_valid_angle_deg_f32: valid_f32.map(|v| if dev.is_some() { v } else { max_valid_f64 }),
         error_vs_angle: curves.angle,
+        length_error_vs_angle: curves.length_vs_angle,
         error_vs_shininess: curves.shininess,
         error_vs_span: curves.span,
         error_vs_length: curves.length,
@@ -473,6 +510,7 @@ fn without_twin(m: &Method, mut s: MethodStress) -> MethodStress {
     s.max_valid_angle_deg_f64 = None;
     for curve in [
         &mut s.error_vs_angle,
+        &mut s.length_error_vs_angle,
         &mut s.error_vs_shininess,
         &mut s.error_vs_span,
         &mut s.error_vs_length,
@@ -485,12 +523,12 @@ fn without_twin(m: &Method, mut s: MethodStress) -> MethodStress {
     s
 }
 
-/// The error of `spec` (device, or f64 without a device program); NaN when non-finite.
+/// The errors of `cases` (device, or f64 without a device program), with the device outputs.
 fn measure(
     kernel: &mut Option<&mut Kernel>,
     m: &Method,
     cases: &[Case],
-) -> Result<Vec<(f64, Option<Output>)>> {
+) -> Result<Vec<(Errors, Option<Output>)>> {
     match kernel {
         Some(k) => {
             let gpu = cases
@@ -503,7 +541,7 @@ fn measure(
                 .zip(out)
                 .map(|(c, e)| {
                     let o = Output::from_device(&e);
-                    (errors(c, o.color(), o.normal()).abs, Some(o))
+                    (errors(c, o.color(), o.normal()), Some(o))
                 })
                 .collect())
         }
@@ -511,7 +549,7 @@ fn measure(
             .iter()
             .map(|c| {
                 let r = f64_formula(m)(&c.fragment, &c.lighting);
-                (errors(c, r.color, r.normal).abs, None)
+                (errors(c, r.color, r.normal), None)
             })
             .collect()),
     }
@@ -519,7 +557,9 @@ fn measure(
 
 /// Local search around `start` (error `start_err`): each round perturbs the continuous
 /// parameters of the best case so far (angles, light, pixel) by steps that shrink by half per
-/// round, evaluates a batch and keeps the worst finite one. Returns it when it beats the grid.
+/// round, evaluates a batch and keeps the worst one the grid would count ([`Errors::counted`]:
+/// finite, and not ill-conditioned, so a neighbour whose interpolated normal is shorter than
+/// [`crate::cases::ILL_CONDITIONED`] never wins). Returns it when it beats the grid.
 fn refine(
     mut kernel: Option<&mut Kernel>,
     m: &Method,
@@ -538,8 +578,11 @@ fn refine(
             .collect();
         let cases: Vec<Case> = specs.into_iter().map(Case::new).collect();
         let measured = measure(&mut kernel, m, &cases)?;
-        for (case, (err, out)) in cases.into_iter().zip(measured) {
-            if err.is_finite() && err > best_err {
+        for (case, (e, out)) in cases.into_iter().zip(measured) {
+            let Some(err) = e.counted().filter(|v| v.is_finite()) else {
+                continue;
+            };
+            if err > best_err {
                 best_err = err;
                 best = case.spec;
                 found = Some((case, out, err));
@@ -652,8 +695,8 @@ pub fn write(out: &Path, report: &StressReport) -> Result<()> {
     Ok(())
 }
 
-/// S002's specular bound (see [`grid::SpecularBound`]) for the colour-interpolating digital
-/// segments among `methods`.
+/// The digital-segment paper's specular bound (see [`grid::SpecularBound`]) for the
+/// colour-interpolating digital segments among `methods`.
 fn specular_bounds(
     ctx: &Arc<Context>,
     methods: &[&'static Method],

@@ -197,13 +197,15 @@ fn the_worst_case_replays_bit_for_bit() {
     let grid_max = measure(&mut k.as_mut(), m, &g.cases)
         .unwrap()
         .iter()
-        .map(|(e, _)| *e)
+        .map(|(e, _)| e.abs)
         .fold(f64::NEG_INFINITY, f64::max);
     assert_eq!(r.worst_grid_abs_error, Some(grid_max));
     let worst = r.worst_case.clone().unwrap();
-    let (again, _) = measure(&mut k.as_mut(), m, &[Case::new(worst.spec)])
+    let again = measure(&mut k.as_mut(), m, &[Case::new(worst.spec)])
         .unwrap()
-        .remove(0);
+        .remove(0)
+        .0
+        .abs;
     assert_eq!(r.worst_finite_abs_error, Some(again), "{worst:?}");
     assert!(again >= grid_max, "the local search lost the grid's worst");
     let again = replay::replay(&ctx, &worst).unwrap();
@@ -230,7 +232,7 @@ fn the_worst_case_replays_bit_for_bit() {
     let (err, out) = measure(&mut k.as_mut(), bq, std::slice::from_ref(&antipodal))
         .unwrap()
         .remove(0);
-    assert!(err.is_nan(), "antipodal normals make it NaN: {err}");
+    assert!(err.abs.is_nan(), "antipodal normals make it NaN: {err:?}");
     let nan = case_report(bq, &antipodal, out.as_ref(), crate::method::Precision::F32).unwrap();
     let json = serde_json::to_vec(&nan).unwrap();
     let parsed = replay::parse(std::path::Path::new("case.json"), &json).unwrap();
@@ -274,6 +276,123 @@ fn bad_case_files_are_refused_with_the_reason() {
         e.contains("case.json") && e.contains("not a stress case"),
         "{e}"
     );
+}
+
+/// The local search reports only what the grid would count: near antipodal vertex normals its
+/// neighbours reach interpolated normals shorter than `ILL_CONDITIONED` (the grid leaves them
+/// out; the old search crowned one: newton_raphson's worst 0.95 at |N| = 6e-17), and the
+/// reported worst case is a counted one whose error is the reported figure.
+#[test]
+fn the_local_search_reports_only_counted_cases() {
+    let ctx = context();
+    let m = method::find("newton_raphson").unwrap();
+    // 170 and 179 degrees at the middle pixel: counted (|N| = cos(89.5 deg) = 8.7e-3 > 1e-3);
+    // steps of 8 degrees reach 180, where the middle is ill-conditioned
+    let cases: Vec<Case> = [170.0, 179.0]
+        .into_iter()
+        .map(|theta| {
+            Case::new(CaseSpec {
+                theta_deg: theta,
+                elevation_deg: 0.0,
+                light_deg: 0.0,
+                pixel: 32,
+                ..CaseSpec::default()
+            })
+        })
+        .collect();
+    assert!(cases.iter().all(|c| !c.ill_conditioned));
+    let gpu = cases
+        .iter()
+        .map(|c| GpuCase::new(&c.fragment, &c.lighting).unwrap())
+        .collect();
+    let g = Grid {
+        kinds: vec![Sweep::Angle; cases.len()],
+        cases,
+        gpu,
+    };
+    let r = stress_method(&ctx, m, &g, &StressOptions::default()).unwrap();
+    let worst = r.worst_case.clone().unwrap();
+    let case = Case::new(worst.spec);
+    assert!(!case.ill_conditioned, "an excluded case won: {worst:?}");
+    let mut k = Some(Kernel::new(&ctx, m).unwrap());
+    let e = measure(&mut k.as_mut(), m, &[case]).unwrap().remove(0).0;
+    assert_eq!(r.worst_finite_abs_error, e.counted(), "{worst:?}");
+    assert!(e.abs >= r.worst_grid_abs_error.unwrap());
+    // teeth: the neighbourhood does hold ill-conditioned cases worse than any counted one
+    let mut rng = fastrand::Rng::with_seed(1);
+    let excluded = (0..4096)
+        .map(|_| Case::new(grid::perturb(&g.cases[1].spec, 8.0, &mut rng)))
+        .filter(|c| c.ill_conditioned)
+        .collect::<Vec<_>>();
+    let worst_excluded = measure(&mut k.as_mut(), m, &excluded)
+        .unwrap()
+        .iter()
+        .map(|(e, _)| e.abs)
+        .fold(0.0, f64::max);
+    assert!(worst_excluded > e.abs, "{worst_excluded} vs {}", e.abs);
+}
+
+/// Newton-Raphson's "usable up to 40 degrees" is judged in stress by the two criteria
+/// `shadelab list` names (length within 1 %, colour within 1/255), so both give one verdict,
+/// `partly`, with both criteria named (the old stress judged the colour alone: disagrees).
+#[test]
+fn the_newton_claim_names_both_criteria_as_list_does() {
+    let ctx = context();
+    let m = method::find("newton_raphson").unwrap();
+    let mut cases = Vec::new();
+    for &theta in ANGLES.iter().filter(|&&a| a <= 45.0) {
+        for (light, pixel) in [(0.0, 32), (45.0, 32), (45.0, 20)] {
+            cases.push(Case::new(CaseSpec {
+                theta_deg: theta,
+                elevation_deg: 0.0,
+                light_deg: light,
+                pixel,
+                ..CaseSpec::default()
+            }));
+        }
+    }
+    let gpu = cases
+        .iter()
+        .map(|c| GpuCase::new(&c.fragment, &c.lighting).unwrap())
+        .collect();
+    let g = Grid {
+        kinds: vec![Sweep::Angle; cases.len()],
+        cases,
+        gpu,
+    };
+    let r = stress_method(&ctx, m, &g, &StressOptions::default()).unwrap();
+    assert!(r.max_valid_angle_deg.is_some_and(|a| a < 40.0), "{r:?}");
+    let claims = grid::claims(std::slice::from_ref(&r), &[], 1.0 / 255.0);
+    let c = claims
+        .iter()
+        .find(|c| c.method == "newton_raphson")
+        .unwrap();
+    let listed = crate::method::checks::newton_usable_to_40_deg();
+    assert_eq!(c.verdict, listed.verdict, "{c:?}");
+    assert_eq!(c.verdict, Verdict::Partly, "{c:?}");
+    assert!(
+        c.measured.starts_with("length criterion")
+            && c.measured.contains("): holds; colour criterion"),
+        "{c:?}"
+    );
+    assert!(c.measured.ends_with(": fails"), "{c:?}");
+    // the length curve holds the device's ||N| - 1|: Newton's -0.535 % at 40 degrees
+    let at40 = r
+        .length_error_vs_angle
+        .iter()
+        .find(|p| p.key[0] == 40.0)
+        .unwrap();
+    let len = at40.device.max.unwrap();
+    assert!((len - 0.00535).abs() < 0.0001, "{at40:?}");
+    // a colour-only method has no length curve
+    let g_colour = stress_method(
+        &ctx,
+        method::find("gouraud").unwrap(),
+        &g,
+        &StressOptions::default(),
+    )
+    .unwrap();
+    assert!(g_colour.length_error_vs_angle.is_empty());
 }
 
 /// The worst angle, length and slerp errors keep the count of non-finite cases beside the

@@ -22,11 +22,11 @@
 //!    by the diffuse factor times that, the specular factor `n s^(n-1)` times it, the relative
 //!    error `POW_REL` of lavapipe's `pow` (= exp2(n log2 s), polynomial approximations), and 8u
 //!    for the sums.
-//! 3. Span (scanline methods only, FORMULAS.md 1.6). The span's set-up in f32 (edge parameter,
-//!    end points, the pixel's fraction of the span) rounds on window coordinates of size up to
-//!    `S`, as if the pixel and each corner were off by `K_SPAN * u * S` in x and y; the twin
-//!    evaluated with each moved that far bounds the effect (jumps at segment boundaries
-//!    included).
+//! 3. Span (scanline methods only, docs/formulas.md#scanline-emulation). The span's set-up in
+//!    f32 (edge parameter, end points, the pixel's fraction of the span) rounds on window
+//!    coordinates of size up to `S`, as if the pixel and each corner were off by `K_SPAN * u * S`
+//!    in x and y; the twin evaluated with each moved that far bounds the effect (jumps at segment
+//!    boundaries included).
 //! 4. Corner normals (methods that read them: the scanline methods). Their f32 formulas do
 //!    arithmetic on the unit corner normals themselves (the span ends' normals, Bishop-Weimer's
 //!    plane fit `N = A x + B y + C` and its Taylor coefficients), rounding as if each corner
@@ -93,10 +93,10 @@ pub const K_FORMULA: f64 = 32.0;
 pub const POW_REL: f64 = 2e-6;
 /// Central-difference step in the weights (f64: truncation ~h^2, cancellation ~1e-16/h).
 const FD_STEP: f64 = 1e-7;
-/// Roundings in a scanline method's span set-up (FORMULAS.md 1.6: the edge parameter u 2, the
-/// span end x 3, the pixel's fraction t 2, one spare), each on window coordinates of size up
-/// to `S` (the largest |coordinate| of the pixel and the corners): the span behaves as if the
-/// pixel were off by up to `K_SPAN * U * S` in x and in y.
+/// Roundings in a scanline method's span set-up (docs/formulas.md#scanline-emulation: the edge
+/// parameter u 2, the span end x 3, the pixel's fraction t 2, one spare), each on window
+/// coordinates of size up to `S` (the largest |coordinate| of the pixel and the corners): the span
+/// behaves as if the pixel were off by up to `K_SPAN * U * S` in x and in y.
 pub const K_SPAN: f64 = 8.0;
 /// Half the spacing of binary16's subnormals (2^-25): the absolute error one f16 rounding can
 /// make below the smallest normal 2^-14, where the relative bound u does not hold.

@@ -186,9 +186,10 @@ fn the_products_drift_allowance_covers_the_derived_bounds() {
 
 #[test]
 fn drift_allowance_is_not_vacuous() {
-    // Teeth: a drift as large as the 4096-step one FORMULAS.md 2.11 reports for the float32
-    // recurrence (-30 %) exceeds the allowance at 256 steps; the first-order stepping of the
-    // per-pixel methods drifts linearly (n steps of a few roundings), far below it.
+    // Teeth: a drift as large as the 4096-step one docs/formulas.md#spherical-angular-interpolation
+    // reports for the float32 recurrence (-30 %) exceeds the allowance at 256 steps; the
+    // first-order stepping of the per-pixel methods drifts linearly (n steps of a few roundings),
+    // far below it.
     assert!(0.3 > drift_allowance(256.0));
     let d = drift("phong_exact", 1024, 90.0);
     let u = 1.0 / 16_777_216.0;

@@ -62,7 +62,7 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
         target,
     };
     let mut out = vec![spec(
-        "Phong shading of an average triangle takes more than 50x longer than Gouraud (S002 l.151-153)",
+        "Phong shading of an average triangle takes more than 50x longer than Gouraud (docs/formulas.md#gouraud-shading)",
         "gouraud",
         crate::method::PHONG_EXACT,
         1.0 / GOURAUD_FACTOR,
@@ -71,13 +71,13 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
         out.push(spec(claim, name, crate::method::PHONG_EXACT, 1.0 / factor));
     }
     out.push(spec(
-        "2.5x faster normal interpolation with the approximated inverse root (S000 l.181)",
+        "2.5x faster normal interpolation with the approximated inverse root (docs/formulas.md#dichotomy)",
         "dichotomy_poly1",
         "dichotomy_exact",
         1.0 / 2.5,
     ));
     out.push(spec(
-        "Bishop-Weimer is cheap: per pixel 5 additions and 1 memory access (S004 l.124-128): faster than exact Phong",
+        "Bishop-Weimer is cheap: per pixel 5 additions and 1 memory access (docs/formulas.md#bishop-weimer-taylor-shading): faster than exact Phong",
         "bishop_weimer",
         crate::method::PHONG_EXACT,
         1.0,
@@ -85,7 +85,7 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
     let sqrt_free = crate::method::with_property(crate::method::Property::SqrtFree);
     for name in sqrt_free.map(|m| m.name) {
         out.push(spec(
-            "normalization without a square root is faster than exact normalization (S000, S004 l.159-172)",
+            "normalization without a square root is faster than exact normalization (docs/formulas.md#exact-phong)",
             name,
             crate::method::PHONG_EXACT,
             1.0,

@@ -88,8 +88,4 @@ impl Vendor for Amd {
             Err(format!("RADV gave `{device_name}`, not {chip}"))
         }
     }
-
-    fn row_key(&self, chip: &str) -> String {
-        chip.to_string()
-    }
 }

@@ -8,9 +8,9 @@
 //! ([`Compiler`]), how to tell that the route is set up and the command that sets it up.
 //!
 //! Family ids are spelt `<vendor>:<chip>` everywhere (`amd:navi21`, `intel:tgl`,
-//! `nvidia:nv162`, `terascale:cayman`; lower case). A bare chip name means AMD's (`navi21`),
-//! and AMD's rows keep the bare name as their `family` key (isa.json as it was before other
-//! vendors); every other vendor's rows use the id.
+//! `nvidia:nv162`, `terascale:cayman`; lower case): in isa.json's rows, the cost models
+//! (`isa:amd:navi21`), CSV and HTML. A bare chip name given on the command line means AMD's
+//! (`navi21` is `amd:navi21`).
 //!
 //! Adding a vendor: a file implementing [`Vendor`] and one line in [`VENDORS`].
 pub mod amd;
@@ -140,10 +140,6 @@ pub trait Vendor: Sync {
     /// Refuses a device that is not `chip` (a driver that does not know the chip may fall
     /// back to a software renderer silently): `Err(why)`.
     fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String>;
-    /// The key of `chip`'s rows in isa.json: the family id, except AMD's bare chip names.
-    fn row_key(&self, chip: &str) -> String {
-        format!("{}:{chip}", self.prefix())
-    }
     /// The executables of one compiled program as rows should see them (Intel: one per SIMD
     /// width merged into one per stage); unchanged by default.
     fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
@@ -173,9 +169,6 @@ impl Family {
     /// `<vendor>:<chip>`.
     pub fn id(&self) -> String {
         format!("{}:{}", self.vendor.prefix(), self.chip)
-    }
-    pub fn row_key(&self) -> String {
-        self.vendor.row_key(self.chip)
     }
 }
 
