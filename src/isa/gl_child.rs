@@ -84,9 +84,12 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
                 repeat: None,
             }),
             // ESSL 1.00 cannot express some programs (array constructors, gl_VertexID, storage
-            // buffers): on OpenGL ES 2.0 such a method is reported as skipped, with why.
-            Err(e) if matches!(info.es, Some((2, _))) => {
-                skipped.push(format!("{}: {e}", m.name));
+            // buffers): on OpenGL ES 2.0 a method whose program does not translate or compile
+            // is reported as skipped, with the first line of why. Any other failure (a driver
+            // that sends no statistics) fails the family, as everywhere.
+            Err(Error::Shader(why)) if matches!(info.es, Some((2, _))) => {
+                let first = why.lines().next().unwrap_or_default();
+                skipped.push(format!("{}: {first}", m.name));
                 continue;
             }
             Err(e) => return Err(e),

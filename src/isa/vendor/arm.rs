@@ -110,7 +110,14 @@ impl Vendor for Arm {
         _driver_files: &Path,
     ) -> Result<Vec<(String, String)>, String> {
         if chip == LIMA {
-            return mesa_build::gles_env(setup, "LIMA_SHIM", "lima", &[]);
+            // lima compiles at the first draw unless told to precompile (at link time, with
+            // the default key), and we never draw; its shader-db lines go out regardless.
+            return mesa_build::gles_env(
+                setup,
+                "LIMA_SHIM",
+                "lima",
+                &[("LIMA_DEBUG", "precompile".into())],
+            );
         }
         mesa_build::gles_env(
             setup,

@@ -4,7 +4,8 @@
 //! rather than v3dv: v3dv uploads buffers through the kernel at pipeline creation, which the
 //! shim does not execute (it crashes), and offers Vulkan 1.2 without dynamic rendering. The
 //! statistics are the shader-db line, a KHR_debug message (`V3D_DEBUG=shaderdb`,
-//! `VC4_DEBUG=shaderdb`): instructions, threads, uniforms, temporaries, and on V3D stalls and
+//! `VC4_DEBUG=shaderdb`; v3d also needs `precompile`, or it compiles nothing before a
+//! draw): instructions, threads, uniforms, temporaries, and on V3D stalls and
 //! NOPs, on VC4 estimated cycles. Neither chip computes float16: their `mediump` is float32.
 //! These are Broadcom's production Linux drivers (Raspberry Pi OS ships them).
 use std::path::Path;
@@ -84,7 +85,9 @@ impl Vendor for Broadcom {
                 setup,
                 "V3D_SHIM",
                 "v3d",
-                &[("V3D_DEBUG", "shaderdb".into())],
+                // v3d compiles at the first draw unless told to precompile (at link time, with
+                // the draw's default key), and we never draw.
+                &[("V3D_DEBUG", "shaderdb,precompile".into())],
             )
         }
     }
