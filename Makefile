@@ -6,7 +6,7 @@ BIN := target/release/shadelab
 SHADELAB_MODELS ?= $(if $(wildcard ../shared/models/*.obj),$(abspath ../shared/models),)
 export SHADELAB_MODELS
 
-.PHONY: demo test build deps vendors spirv scenes bench fuzz clean
+.PHONY: demo test build deps vendors compilers spirv scenes bench fuzz clean
 
 deps:
 	scripts/install-deps.sh run build test
@@ -21,6 +21,14 @@ build:
 vendors:
 	-scripts/setup-vendors.sh
 
+## The compilers of `shadelab isa`'s phone, board and newest Intel families (Qualcomm Adreno,
+## Arm Mali, Broadcom VideoCore; Intel Meteor Lake to Panther Lake: docs/isa.md), built from
+## Debian's Mesa 25.0.7 source into the user's cache: long the first time (docs/isa.md gives
+## the minutes), a second afterwards. `make test` without it skips those families' tests and
+## says so.
+compilers:
+	scripts/build-compilers.sh
+
 ## The main job on the shipped scenes: compare, bench, stress, one HTML page; prints the path of
 ## out/report/index.html (last line of stdout). Progress (each step with its time) and the total
 ## time of the report go to stderr.
@@ -34,6 +42,7 @@ test:
 	-scripts/setup-vendors.sh
 	$(CARGO) build --release --locked
 	$(CARGO) test --release --locked
+	@scripts/build-compilers.sh --check >/dev/null 2>&1 || echo "make test: not covered: shadelab isa on the Qualcomm, Arm, Broadcom and Intel Meteor Lake to Panther Lake families (their tests skipped); run make compilers, then make test" >&2
 
 ## Regenerate spirv/ from glsl/ with shaderc (a test fails when spirv/ is stale).
 spirv: build

@@ -8,9 +8,12 @@
 #   intel    : what scripts/setup-vendors.sh needs to build Mesa's Intel noop drm-shim from
 #              Debian's Mesa source (meson, ninja, mako, bison, flex, libdrm/expat/zlib headers,
 #              dpkg-dev for `apt-get source`)
+#   compilers: what scripts/build-compilers.sh needs to build Mesa 25.0.7's Turnip, panvk,
+#              OpenGL ES drivers and drm-shims (meson itself is pip-installed into the cache:
+#              Debian 12's is too old), glslang-tools (Turnip's internal shaders)
 #   gl       : the OpenGL route of `shadelab isa` (nouveau, r600): Mesa's EGL and DRI drivers,
 #              spirv-cross (SPIR-V to GLSL)
-# Usage: scripts/install-deps.sh [run|build|test|intel|gl]...   (default: run build test)
+# Usage: scripts/install-deps.sh [run|build|test|intel|compilers|gl]...   (default: run build test)
 set -euo pipefail
 
 want=()
@@ -22,8 +25,11 @@ for set in "${@:-run build test}"; do
       test) want+=(vulkan-validationlayers spirv-tools chromium slurm-wlm munge) ;;
       intel) want+=(meson ninja-build python3-mako bison flex libdrm-dev libexpat1-dev zlib1g-dev
                     pkg-config dpkg-dev xz-utils ca-certificates) ;;
+      compilers) want+=(ninja-build python3-mako python3-yaml python3-pip bison flex gcc g++
+                        libdrm-dev libexpat1-dev zlib1g-dev pkg-config dpkg-dev xz-utils
+                        glslang-tools ca-certificates) ;;
       gl) want+=(libegl1 libegl-mesa0 libgl1-mesa-dri spirv-cross ca-certificates) ;;
-      *) echo "install-deps: unknown set '$s' (expected run, build, test, intel or gl)" >&2; exit 2 ;;
+      *) echo "install-deps: unknown set '$s' (expected run, build, test, intel, compilers or gl)" >&2; exit 2 ;;
     esac
   done
 done

@@ -444,21 +444,22 @@ const VENDOR_FAMILIES: [&str; 12] = [
 ];
 
 /// Whether every vendor of `families` is set up (scripts/setup-vendors.sh); when one is not,
-/// the test is skipped with a visible line, or fails under `SHADELAB_REQUIRE_VENDORS=1` (which
-/// .ci/run sets, after `make test` set the routes up).
+/// the test is skipped with a visible `SKIPPED` line, or fails under
+/// `SHADELAB_REQUIRE_VENDORS=1` (which .ci/run sets, after `make test` set the routes up).
 fn vendors_ready(test: &str, families: &[&str]) -> bool {
     for f in families {
-        let (vendor, _) = isa::vendor::resolve(f).unwrap();
-        if let Err(why) = vendor.setup(std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
+        let (vendor, chip) = isa::vendor::resolve(f).unwrap();
+        if let Err(why) = vendor.setup_for(&chip, std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
             let msg = format!(
-                "{test}: {} is not set up ({why}); run {}",
-                vendor.prefix(),
-                vendor.setup_command()
+                "{test}: {f} is not set up ({why}); run {}",
+                vendor.setup_command_for(&chip)
             );
             if std::env::var("SHADELAB_REQUIRE_VENDORS").as_deref() == Ok("1") {
                 panic!("SHADELAB_REQUIRE_VENDORS=1 but {msg}");
             }
-            eprintln!("skipped: {msg}");
+            // Straight to the terminal: `eprintln!` is captured and hidden for a passing test.
+            use std::io::Write as _;
+            let _ = writeln!(std::io::stderr(), "SKIPPED: {msg}");
             return false;
         }
     }

@@ -18,6 +18,8 @@
 //!   error, no failed resource, the script runs, a screenshot that is not blank), with teeth.
 //! - `isa`: RADV null-device statistics: identical runs, the Phong order per family, 16 extra
 //!   multiplications cost more, a refused family is reported, isa.json against its schema.
+//! - `isa_mobile`: the families of `make compilers` (Qualcomm, Arm, Broadcom, Intel Meteor Lake
+//!   to Panther Lake): every method in float32 and float16, the Phong order, refusals.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `citations`: every `docs/formulas.md#<anchor>` the sources, docs and the method table cite
 //!   is a heading of docs/formulas.md; nothing cites a file a clone lacks.
@@ -41,6 +43,7 @@ mod float16;
 mod fuzz;
 mod gpu;
 mod isa;
+mod isa_mobile;
 mod layout;
 mod methods;
 mod models;

@@ -76,6 +76,10 @@ pub struct ChildReport {
     /// the OpenGL route, whose vendors say it themselves.
     #[serde(default)]
     pub float16: Option<bool>,
+    /// Methods the driver's shading language cannot express, each with why (OpenGL ES 2.0's
+    /// ESSL 1.00 has no array constructors, gl_VertexID or storage buffers); empty elsewhere.
+    #[serde(default)]
+    pub skipped: Vec<String>,
 }
 
 /// Keeps only the disassembly among the representations (ACO's "Assembly"; NIR and ACO IR are
@@ -110,7 +114,7 @@ pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
     let (vendor, chip) = super::vendor::resolve(&req.family).map_err(Error::Usage)?;
     match vendor.api() {
         Api::Vulkan { device } => compile_vulkan(req, vendor, &chip, device),
-        Api::OpenGl => super::gl_child::compile(req, vendor, &chip),
+        Api::OpenGl | Api::OpenGlEs => super::gl_child::compile(req, vendor, &chip),
     }
 }
 
@@ -185,6 +189,7 @@ fn compile_vulkan(
         compiled,
         elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
         float16: Some(info.shader_float16),
+        skipped: Vec::new(),
     })
 }
 

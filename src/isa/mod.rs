@@ -131,11 +131,14 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
 /// Runs one child for `family` (the protocol of [`crate::child`], its request and reply under
 /// `dir`) and reads its report; a route that is not set up starts none.
 pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> ChildOutcome {
-    let env = match family.vendor.setup(&opts.driver_files).and_then(|setup| {
-        family
-            .vendor
-            .child_env(family.chip, &setup, &opts.driver_files)
-    }) {
+    let env = match family
+        .vendor
+        .setup_for(family.chip, &opts.driver_files)
+        .and_then(|setup| {
+            family
+                .vendor
+                .child_env(family.chip, &setup, &opts.driver_files)
+        }) {
         Ok(env) => env,
         Err(why) => return ChildOutcome::NotSetUp(why),
     };
@@ -201,7 +204,7 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
                     ChildOutcome::Failed(why) => format!("{id}: not supported ({why})"),
                     ChildOutcome::NotSetUp(why) => format!(
                         "{id}: not set up ({why}); run {}",
-                        family.vendor.setup_command()
+                        family.vendor.setup_command_for(family.chip)
                     ),
                 });
                 if let Ok(mut d) = done.lock() {

@@ -320,7 +320,16 @@ pub fn report(
                 let (rows, names, asm) = family_rows(&r, &family.id())?;
                 results.extend(rows);
                 disassembly.extend(asm);
-                let mut f = status(&family, true, "compiled".into());
+                let text = if r.skipped.is_empty() {
+                    "compiled".to_string()
+                } else {
+                    format!(
+                        "compiled, {} method(s) skipped: {}",
+                        r.skipped.len(),
+                        r.skipped.join("; ")
+                    )
+                };
+                let mut f = status(&family, true, text);
                 if let Some(c) = f.compiler.as_mut() {
                     c.mesa_version = mesa_version(&r.driver_info);
                 }
@@ -338,7 +347,7 @@ pub fn report(
                 format!("not supported by this driver: {why}"),
             )),
             ChildOutcome::NotSetUp(why) => {
-                let command = family.vendor.setup_command();
+                let command = family.vendor.setup_command_for(family.chip);
                 let mut f = status(&family, false, format!("not set up: {why}; run {command}"));
                 f.setup_command = Some(command.into());
                 f.float16 = None;

@@ -1,10 +1,12 @@
 //! OpenGL, for the compilers of Mesa's OpenGL-only drivers (`shadelab isa`'s nouveau and r600
-//! routes): the only code that touches EGL (khronos-egl, loading libEGL.so.1 at run time) and
-//! OpenGL (glow). A [`GlContext`] is a debug OpenGL 4.3 core context on an EGL surfaceless
-//! display; [`GlContext::compile`] compiles and links one program and returns the KHR_debug
-//! messages the driver sent meanwhile, where Mesa's drivers put their compiler statistics
-//! (shader-db lines). Nothing is drawn: programs are compiled and linked, never used.
-//! [`glsl`] turns our SPIR-V into the GLSL these contexts compile.
+//! routes, and the OpenGL ES routes of the phone and board GPUs: panfrost, lima, v3d, vc4):
+//! the only code that touches EGL (khronos-egl, loading libEGL.so.1 at run time) and OpenGL
+//! (glow). A [`GlContext`] is a debug OpenGL 4.3 core context, or the newest OpenGL ES context
+//! the driver offers ([`GlApi`]), on an EGL surfaceless display; [`GlContext::compile`]
+//! compiles and links one program and returns the KHR_debug messages the driver sent
+//! meanwhile, where Mesa's drivers put their compiler statistics (shader-db lines). Nothing is
+//! drawn: programs are compiled and linked, never used. [`glsl`] turns our SPIR-V into the
+//! GLSL (or GLSL ES) these contexts compile.
 pub mod glsl;
 
 use std::sync::{Arc, Mutex};
@@ -35,6 +37,18 @@ impl GlStage {
     }
 }
 
+/// Which OpenGL a [`GlContext`] speaks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GlApi {
+    /// OpenGL 4.3 core (GLSL 4.30).
+    Core43,
+    /// The newest of OpenGL ES 3.2, 3.1, 3.0 and 2.0 the driver creates.
+    Es,
+}
+
+/// The OpenGL ES versions [`GlApi::Es`] tries, newest first.
+const ES_VERSIONS: [(i32, i32); 4] = [(3, 2), (3, 1), (3, 0), (2, 0)];
+
 /// What the context says it is.
 #[derive(Debug, Clone)]
 pub struct GlInfo {
@@ -42,8 +56,13 @@ pub struct GlInfo {
     /// driver fell back to software).
     pub renderer: String,
     pub vendor: String,
-    /// GL_VERSION ("4.3 (Core Profile) Mesa 22.3.6").
+    /// GL_VERSION ("4.3 (Core Profile) Mesa 22.3.6", "OpenGL ES 3.1 Mesa 25.0.7").
     pub version: String,
+    /// The OpenGL ES version of an ES context (`None` for OpenGL 4.3 core).
+    pub es: Option<(u32, u32)>,
+    /// The bits of precision of a fragment shader's `mediump float` (GL's shader precision
+    /// format): 10 where the driver computes mediump in float16, 23 where in float32.
+    pub mediump_bits: i32,
 }
 
 /// A current OpenGL context on an EGL surfaceless display, with KHR_debug messages collected.
@@ -70,6 +89,12 @@ impl GlContext {
     /// through MESA_LOADER_DRIVER_OVERRIDE), and makes a debug OpenGL 4.3 core context
     /// current without a surface.
     pub fn surfaceless() -> Result<Self> {
+        Self::surfaceless_api(GlApi::Core43)
+    }
+
+    /// [`GlContext::surfaceless`] for `api`: OpenGL 4.3 core, or the newest OpenGL ES version
+    /// the driver creates.
+    pub fn surfaceless_api(api: GlApi) -> Result<Self> {
         // SAFETY: libEGL.so.1 is the system's EGL (libglvnd), which implements the EGL API
         // khronos-egl binds.
         let egl = unsafe { egl::DynamicInstance::<egl::EGL1_5>::load_required() }
@@ -85,24 +110,10 @@ impl GlContext {
         .map_err(|e| egl_err("eglGetPlatformDisplay(surfaceless)", e))?;
         egl.initialize(display)
             .map_err(|e| egl_err("eglInitialize", e))?;
-        egl.bind_api(egl::OPENGL_API)
-            .map_err(|e| egl_err("eglBindAPI(OpenGL)", e))?;
-        // SAFETY: EGL_NO_CONFIG_KHR (null): Mesa's displays have EGL_KHR_no_config_context.
-        let no_config = unsafe { egl::Config::from_ptr(std::ptr::null_mut()) };
-        let attrs = [
-            egl::CONTEXT_MAJOR_VERSION,
-            4,
-            egl::CONTEXT_MINOR_VERSION,
-            3,
-            egl::CONTEXT_OPENGL_PROFILE_MASK,
-            egl::CONTEXT_OPENGL_CORE_PROFILE_BIT,
-            egl::CONTEXT_OPENGL_DEBUG,
-            egl::TRUE as egl::Int,
-            egl::NONE,
-        ];
-        let context = egl
-            .create_context(display, no_config, None, &attrs)
-            .map_err(|e| egl_err("eglCreateContext(OpenGL 4.3 core, debug)", e))?;
+        let (context, es) = match api {
+            GlApi::Core43 => (core_context(&egl, display)?, None),
+            GlApi::Es => es_context(&egl, display)?,
+        };
         egl.make_current(display, None, None, Some(context))
             .map_err(|e| egl_err("eglMakeCurrent(surfaceless)", e))?;
         // SAFETY: the context is current on this thread; the loader returns entry points of
@@ -129,6 +140,10 @@ impl GlContext {
                 renderer: gl.get_parameter_string(glow::RENDERER),
                 vendor: gl.get_parameter_string(glow::VENDOR),
                 version: gl.get_parameter_string(glow::VERSION),
+                es,
+                mediump_bits: gl
+                    .get_shader_precision_format(glow::FRAGMENT_SHADER, glow::MEDIUM_FLOAT)
+                    .map_or(0, |f| f.precision),
             }
         };
         Ok(GlContext {
@@ -202,6 +217,61 @@ impl GlContext {
             .map_err(|_| Error::Internal("GL message lock poisoned".into()))?;
         Ok(messages.clone())
     }
+}
+
+/// A debug OpenGL 4.3 core context.
+fn core_context(
+    egl: &egl::DynamicInstance<egl::EGL1_5>,
+    display: egl::Display,
+) -> Result<egl::Context> {
+    egl.bind_api(egl::OPENGL_API)
+        .map_err(|e| egl_err("eglBindAPI(OpenGL)", e))?;
+    // SAFETY: EGL_NO_CONFIG_KHR (null): Mesa's displays have EGL_KHR_no_config_context.
+    let no_config = unsafe { egl::Config::from_ptr(std::ptr::null_mut()) };
+    let attrs = [
+        egl::CONTEXT_MAJOR_VERSION,
+        4,
+        egl::CONTEXT_MINOR_VERSION,
+        3,
+        egl::CONTEXT_OPENGL_PROFILE_MASK,
+        egl::CONTEXT_OPENGL_CORE_PROFILE_BIT,
+        egl::CONTEXT_OPENGL_DEBUG,
+        egl::TRUE as egl::Int,
+        egl::NONE,
+    ];
+    egl.create_context(display, no_config, None, &attrs)
+        .map_err(|e| egl_err("eglCreateContext(OpenGL 4.3 core, debug)", e))
+}
+
+/// A debug OpenGL ES context of the newest version of [`ES_VERSIONS`] the driver creates.
+fn es_context(
+    egl: &egl::DynamicInstance<egl::EGL1_5>,
+    display: egl::Display,
+) -> Result<(egl::Context, Option<(u32, u32)>)> {
+    egl.bind_api(egl::OPENGL_ES_API)
+        .map_err(|e| egl_err("eglBindAPI(OpenGL ES)", e))?;
+    // SAFETY: as in `core_context`.
+    let no_config = unsafe { egl::Config::from_ptr(std::ptr::null_mut()) };
+    let mut last = None;
+    for (major, minor) in ES_VERSIONS {
+        let attrs = [
+            egl::CONTEXT_MAJOR_VERSION,
+            major,
+            egl::CONTEXT_MINOR_VERSION,
+            minor,
+            egl::CONTEXT_OPENGL_DEBUG,
+            egl::TRUE as egl::Int,
+            egl::NONE,
+        ];
+        match egl.create_context(display, no_config, None, &attrs) {
+            Ok(c) => return Ok((c, Some((major as u32, minor as u32)))),
+            Err(e) => last = Some(e),
+        }
+    }
+    Err(egl_err(
+        "eglCreateContext(OpenGL ES 3.2, 3.1, 3.0 or 2.0, debug)",
+        last.map_or_else(|| "no version tried".to_string(), |e| e.to_string()),
+    ))
 }
 
 impl Drop for GlContext {

@@ -1,8 +1,12 @@
 //! Intel Gen9 to Xe-HPG: Debian's ANV (mesa-vulkan-drivers) on Mesa's Intel noop drm-shim
 //! (`LD_PRELOAD`, `INTEL_STUB_GPU_PLATFORM=<chip>`), the shim built from Debian's own Mesa
-//! source by `scripts/setup-vendors.sh intel` into the user's cache. ANV is Intel's
-//! production Linux Vulkan driver; its back-end (brw) compiles every fragment shader at SIMD8
-//! and, where it can, SIMD16 and SIMD32, each an executable with its own statistics.
+//! source by `scripts/setup-vendors.sh intel` into the user's cache. Meteor Lake, Lunar Lake,
+//! Battlemage and Panther Lake ([`XE_CHIPS`]), which Debian 12's ANV 22.3.6 does not know, go
+//! through bookworm-backports' ANV 25.0.7 on the shim built from Mesa 25.0.7 by `make
+//! compilers` (`INTEL_FORCE_PROBE='*'`: 25.0 still marks Xe3 experimental); their rows carry
+//! that Mesa version. ANV is Intel's production Linux Vulkan driver; its back-end (brw)
+//! compiles every fragment shader at SIMD8 (before Xe2) and, where it can, SIMD16 and SIMD32,
+//! each an executable with its own statistics.
 //!
 //! Which width runs: brw_compile_fs (src/intel/compiler/brw_fs.cpp, Mesa 22.3.6) always keeps
 //! SIMD8, keeps SIMD16 when it compiles without spilling, and keeps SIMD32 only when its
@@ -24,14 +28,21 @@ pub struct Intel;
 /// Debian's ANV ICD (mesa-vulkan-drivers).
 pub const ICD: &str = "/usr/share/vulkan/icd.d/intel_icd.x86_64.json";
 
+/// The chips compiled by ANV 25.0.7 of `make compilers`: Meteor Lake (Xe-LPG), Lunar Lake
+/// and Battlemage (Xe2), Panther Lake (Xe3).
+pub const XE_CHIPS: [&str; 4] = ["mtl", "lnl", "bmg", "ptl"];
+
 impl Vendor for Intel {
     fn prefix(&self) -> &'static str {
         "intel"
     }
 
     fn default_chips(&self) -> &'static [&'static str] {
-        // Gen9 Skylake, Gen11 Ice Lake, Gen12 Tiger Lake and Alder Lake, Xe-HPG DG2 (Arc).
-        &["skl", "icl", "tgl", "adl", "dg2"]
+        // Gen9 Skylake, Gen11 Ice Lake, Gen12 Tiger Lake and Alder Lake, Xe-HPG DG2 (Arc);
+        // through ANV 25.0.7: Meteor Lake, Lunar Lake, Battlemage, Panther Lake.
+        &[
+            "skl", "icl", "tgl", "adl", "dg2", "mtl", "lnl", "bmg", "ptl",
+        ]
     }
 
     fn api(&self) -> Api {
@@ -89,12 +100,39 @@ impl Vendor for Intel {
         "scripts/setup-vendors.sh intel"
     }
 
+    fn setup_for(&self, chip: &str, driver_files: &Path) -> Result<Setup, String> {
+        if XE_CHIPS.contains(&chip) {
+            super::mesa_build::setup(&["ANV_ICD", "INTEL_SHIM"])
+        } else {
+            self.setup(driver_files)
+        }
+    }
+
+    fn setup_command_for(&self, chip: &str) -> &'static str {
+        if XE_CHIPS.contains(&chip) {
+            super::mesa_build::SETUP_COMMAND
+        } else {
+            self.setup_command()
+        }
+    }
+
     fn child_env(
         &self,
         chip: &str,
         setup: &Setup,
         _driver_files: &Path,
     ) -> Result<Vec<(String, String)>, String> {
+        if XE_CHIPS.contains(&chip) {
+            return super::mesa_build::vulkan_env(
+                setup,
+                "ANV_ICD",
+                "INTEL_SHIM",
+                &[
+                    ("INTEL_STUB_GPU_PLATFORM", chip.into()),
+                    ("INTEL_FORCE_PROBE", "*".into()),
+                ],
+            );
+        }
         Ok(vec![
             ("LD_PRELOAD".into(), setup.get("SHIM")?.into()),
             ("INTEL_STUB_GPU_PLATFORM".into(), chip.into()),

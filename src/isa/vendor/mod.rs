@@ -1,5 +1,6 @@
 //! The vendor seam of `shadelab isa`: one [`Vendor`] per compiler route, each in a file of its
-//! own ([`amd`], [`intel`], [`nouveau`], [`terascale`]) and registered in [`VENDORS`]. A
+//! own ([`amd`], [`intel`], [`nouveau`], [`terascale`], [`qualcomm`], [`arm`], [`broadcom`];
+//! the routes built by `make compilers` share [`mesa_build`]) and registered in [`VENDORS`]. A
 //! vendor says which families it compiles, how a child compiles them (Vulkan pipeline
 //! executable statistics, or OpenGL's shader-db statistics through KHR_debug: [`Api`]), the
 //! child's environment (driver selection, the preloaded drm-shim, the chip variable), which
@@ -13,8 +14,12 @@
 //!
 //! Adding a vendor: a file implementing [`Vendor`] and one line in [`VENDORS`].
 pub mod amd;
+pub mod arm;
+pub mod broadcom;
 pub mod intel;
+pub mod mesa_build;
 pub mod nouveau;
+pub mod qualcomm;
 pub mod terascale;
 
 use std::collections::BTreeMap;
@@ -25,11 +30,14 @@ use serde::{Deserialize, Serialize};
 use crate::gpu::vk::Executable;
 
 /// Every vendor `shadelab isa` knows, in the order of its reports.
-pub static VENDORS: [&dyn Vendor; 4] = [
+pub static VENDORS: [&dyn Vendor; 7] = [
     &amd::Amd,
     &intel::Intel,
     &nouveau::Nouveau,
     &terascale::TeraScale,
+    &qualcomm::Qualcomm,
+    &arm::Arm,
+    &broadcom::Broadcom,
 ];
 
 /// How a vendor's child compiles.
@@ -41,6 +49,9 @@ pub enum Api {
     /// OpenGL programs (our SPIR-V translated to GLSL) in an EGL surfaceless context, the
     /// compiler's statistics read from its KHR_debug messages.
     OpenGl,
+    /// As [`Api::OpenGl`] in the newest OpenGL ES context the driver offers (GLSL ES; float16
+    /// as `mediump` where the driver computes mediump in 16 bits).
+    OpenGlEs,
 }
 
 /// The statistic that ranks a family's programs: the key in a row's `statistics`, read from
@@ -109,6 +120,15 @@ pub trait Vendor: Sync {
     fn setup(&self, driver_files: &std::path::Path) -> Result<Setup, String>;
     /// The command that sets the route up.
     fn setup_command(&self) -> &'static str;
+    /// The set-up of `chip` (a vendor whose newer chips need another build: Intel's Meteor
+    /// Lake and later need ANV 25.0.7 of `make compilers`); the route's by default.
+    fn setup_for(&self, _chip: &str, driver_files: &std::path::Path) -> Result<Setup, String> {
+        self.setup(driver_files)
+    }
+    /// The command that sets `chip` up; the route's by default.
+    fn setup_command_for(&self, _chip: &str) -> &'static str {
+        self.setup_command()
+    }
     /// The child's environment for `chip` (driver selection, preloaded shim, chip variable),
     /// set before the child loads any driver.
     fn child_env(
@@ -320,7 +340,7 @@ mod tests {
         assert_eq!((v.prefix(), c.as_str()), ("intel", "tgl"));
         assert!(resolve("nvidia:nv162").is_ok());
         // Teeth: an unknown vendor and an empty or odd chip are refused.
-        let why = resolve("qualcomm:a630").err().unwrap_or_default();
+        let why = resolve("vivante:gc7000").err().unwrap_or_default();
         assert!(why.contains("unknown vendor"), "{why}");
         assert!(resolve("intel:").is_err());
         assert!(resolve("intel:t/gl").is_err());
@@ -356,6 +376,24 @@ mod tests {
             "nvidia:nv162",
             "terascale:cypress",
             "terascale:cayman",
+            "intel:mtl",
+            "intel:lnl",
+            "intel:bmg",
+            "intel:ptl",
+            "qualcomm:a618",
+            "qualcomm:a630",
+            "qualcomm:a660",
+            "qualcomm:a730",
+            "qualcomm:a740",
+            "qualcomm:a750",
+            "arm:g52",
+            "arm:g72",
+            "arm:g57",
+            "arm:g610",
+            "arm:t860",
+            "arm:mali450",
+            "broadcom:v3d42",
+            "broadcom:vc4",
         ] {
             assert!(ids.iter().any(|i| i == want), "{want} not among {ids:?}");
         }

@@ -1,0 +1,130 @@
+//! Qualcomm Adreno a6xx and a7xx: Mesa's Turnip Vulkan driver (ir3 compiler) built by `make
+//! compilers`, on Mesa's freedreno noop drm-shim (`FD_GPU_ID=<number>`). Turnip exposes
+//! Vulkan 1.4 on these chips, so the timed draw's pipelines compile as on every Vulkan route,
+//! with VK_KHR_pipeline_executable_properties' statistics (instruction count with ir3's
+//! scheduling NOPs, registers, waves per core, sync stalls, per-category counts) and ir3's
+//! disassembly. The compiler is Mesa's own for Adreno hardware; the phones ship Qualcomm's.
+use std::path::Path;
+
+use super::{mesa_build, Api, Compiler, Ranking, Setup, Vendor};
+
+/// The route through Turnip and ir3.
+pub struct Qualcomm;
+
+const KEYS: [&str; 2] = ["TURNIP_ICD", "FREEDRENO_SHIM"];
+
+/// The GPU id the freedreno shim takes for `chip` (`a630` -> 630).
+fn gpu_id(chip: &str) -> Result<String, String> {
+    chip.strip_prefix('a')
+        .filter(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit()))
+        .map(str::to_string)
+        .ok_or_else(|| format!("`{chip}`: Adreno chips are a<number>, e.g. a630, a740"))
+}
+
+impl Vendor for Qualcomm {
+    fn prefix(&self) -> &'static str {
+        "qualcomm"
+    }
+
+    fn default_chips(&self) -> &'static [&'static str] {
+        // a6xx: Snapdragon 710 (618), 845 (630), 888 (660); a7xx: 7 Gen 1 (730), 8 Gen 2
+        // (740), 8 Gen 3 (750).
+        &["a618", "a630", "a660", "a730", "a740", "a750"]
+    }
+
+    fn api(&self) -> Api {
+        Api::Vulkan { device: "adreno" }
+    }
+
+    fn compiler(&self) -> Compiler {
+        Compiler {
+            driver: "Turnip (ir3)".into(),
+            api: "Vulkan".into(),
+            mesa_version: None,
+            production: false,
+            note: "Mesa's open-source compiler for Adreno; Android phones ship Qualcomm's own \
+                   driver and compiler"
+                .into(),
+        }
+    }
+
+    fn ranking(&self) -> Ranking {
+        Ranking {
+            key: "instruction_count".into(),
+            stage: "fragment".into(),
+            kind: "draw".into(),
+            unit: "instructions".into(),
+            meaning: "ir3's instruction count, the NOPs its scheduler inserts to cover latency \
+                      included (no cycle model)"
+                .into(),
+        }
+    }
+
+    fn required_statistics(&self) -> &'static [&'static str] {
+        &[
+            "instruction_count",
+            "nops_count",
+            "registers_used",
+            "half_registers_used",
+            "max_waves_per_core",
+        ]
+    }
+
+    fn float16(&self, _chip: &str) -> Option<bool> {
+        None
+    }
+
+    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+        mesa_build::setup(&KEYS)
+    }
+
+    fn setup_command(&self) -> &'static str {
+        mesa_build::SETUP_COMMAND
+    }
+
+    fn child_env(
+        &self,
+        chip: &str,
+        setup: &Setup,
+        _driver_files: &Path,
+    ) -> Result<Vec<(String, String)>, String> {
+        mesa_build::vulkan_env(
+            setup,
+            "TURNIP_ICD",
+            "FREEDRENO_SHIM",
+            &[("FD_GPU_ID", gpu_id(chip)?)],
+        )
+    }
+
+    fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String> {
+        super::refuse_software(device_name)?;
+        // Turnip names its device "Turnip Adreno (TM) 630".
+        let id = gpu_id(chip)?;
+        let name = device_name.to_lowercase();
+        if name.contains("adreno") && name.split_whitespace().any(|w| w == id) {
+            Ok(())
+        } else {
+            Err(format!("Turnip gave `{device_name}`, not an Adreno {id}"))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chips_are_adreno_numbers_and_the_device_must_match() {
+        assert_eq!(gpu_id("a630").as_deref(), Ok("630"));
+        assert!(gpu_id("630").is_err());
+        assert!(gpu_id("a6x0").is_err());
+        assert!(Qualcomm
+            .check_device("a630", "Turnip Adreno (TM) 630")
+            .is_ok());
+        // Teeth: another Adreno, or a software fallback, is refused.
+        assert!(Qualcomm
+            .check_device("a630", "Turnip Adreno (TM) 640")
+            .is_err());
+        assert!(Qualcomm.check_device("a630", "llvmpipe (LLVM 15)").is_err());
+    }
+}
