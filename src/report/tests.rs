@@ -4,6 +4,9 @@ use super::html::{esc, number};
 use super::links::{attribute_values, broken_in};
 use super::*;
 
+/// The charts' error axes and their off-scale markers (tests/svg_axes.rs).
+mod svg_axes;
+
 #[test]
 fn escaping_covers_every_special_character() {
     assert_eq!(
