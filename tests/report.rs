@@ -581,6 +581,32 @@ fn chart_problems(page: &serde_json::Value) -> Vec<String> {
     out
 }
 
+/// The disassembly folders under a report's `dir` (isa/asm, isa-f16/asm) that exist.
+fn disassembly_dirs(dir: &Path) -> Vec<PathBuf> {
+    ["isa/asm", "isa-f16/asm"]
+        .iter()
+        .map(|d| dir.join(d))
+        .filter(|d| d.exists())
+        .collect()
+}
+
+/// The default report leaves the static cost's disassembly to `--full` (tens of MB over every
+/// family): no asm/ folder, isa.json lists none, yet every family's figures are there.
+#[test]
+fn report_leaves_the_disassembly_to_full() {
+    let dir = report_dir();
+    assert_eq!(disassembly_dirs(dir), Vec::<PathBuf>::new());
+    for f in ["isa/isa.json", "isa-f16/isa.json"] {
+        let isa = read_json(dir.join(f));
+        assert_eq!(isa["asm"], serde_json::json!([]), "{f}");
+        assert!(!isa["results"].as_array().unwrap().is_empty(), "{f}");
+    }
+    // Teeth: a folder holding isa/asm is found.
+    let t = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(t.path().join("isa/asm/amd_navi21")).unwrap();
+    assert_eq!(disassembly_dirs(t.path()), vec![t.path().join("isa/asm")]);
+}
+
 #[test]
 fn report_writes_an_answer_that_matches_its_schema() {
     let dir = report_dir();

@@ -500,7 +500,7 @@ pub fn run(
         opts.progress,
         "isa (static cost, float32 and float16)".to_string(),
     );
-    let isa = isa::compile_all(out, &methods, &results);
+    let isa = isa::compile_all(out, &methods, &results, opts.full);
     step(&bar, opts.progress, "index.html".to_string());
     let mut data = ReportData {
         answer: answer::answer(&[], &[], &[], Vec::new()),
