@@ -444,6 +444,9 @@ mod answer_rule {
         assert!(c.nothing_cheaper && c.qualifying == 0, "{c:?}");
     }
 
+    /// The answer in words and tune's findings (tests/answer_rule/words.rs).
+    mod words;
+
     #[test]
     fn panels_never_hold_more_than_eight_series() {
         use super::super::svg::{panels, Series, MAX_SERIES};
