@@ -281,7 +281,7 @@ fn isa_compiles_float16_programs_where_the_family_has_float16() {
     };
     let r16 = isa::run(&opts(Precision::F16), &|_| {}).expect("isa f16");
     let r32 = isa::run(&opts(Precision::F32), &|_| {}).expect("isa f32");
-    assert_eq!(r16.supported(), vec!["vega10"], "{:#?}", r16.families);
+    assert_eq!(r16.supported(), vec!["amd:vega10"], "{:#?}", r16.families);
     let polaris = r16
         .families
         .iter()

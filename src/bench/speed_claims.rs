@@ -437,7 +437,7 @@ mod tests {
     #[test]
     fn every_compiled_family_is_a_column_judged_by_its_ratio() {
         let r = report(
-            &[("navi21", true), ("bogus", false)],
+            &[("amd:navi21", true), ("amd:bogus", false)],
             &[
                 (PHONG_EXACT, 70.0),
                 ("newton_raphson", 70.0),
@@ -452,10 +452,13 @@ mod tests {
         let models = crate::isa::cost::StaticCost.models(&ev);
         assert_eq!(models.len(), 1, "the refused family is no model");
         let t = table(&models);
-        let c = cell(&t, "newton_raphson", "isa:navi21");
+        let c = cell(&t, "newton_raphson", "isa:amd:navi21");
         assert_eq!((c.ratio, c.verdict), (Some(1.0), Verdict::Disagrees));
         assert_eq!(c.ci95_low, None);
-        assert_eq!(cell(&t, "gouraud", "isa:navi21").verdict, Verdict::Agrees);
+        assert_eq!(
+            cell(&t, "gouraud", "isa:amd:navi21").verdict,
+            Verdict::Agrees
+        );
         // No model measured slerp: its claims are not in the table at all.
         assert!(t.iter().all(|c| c.num != "slerp"), "{t:?}");
         // Teeth: without any model there is no claim.

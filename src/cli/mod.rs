@@ -57,7 +57,7 @@ pub const EXIT_ERROR: u8 = 2;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
-    /// Your own method (issue 28): a GLSL file in glsl/methods/' vocabulary whose first lines
+    /// Your own method: a GLSL file in glsl/methods/' vocabulary whose first lines
     /// declare its inputs (`// shadelab-inputs: interpolated_normal`); its id is the file stem.
     /// Repeatable. It joins `all` and can be named in --methods / --method of render, compare,
     /// bench, stress, isa, report and corpus (docs/your-method.md). Child processes get it
@@ -336,8 +336,9 @@ enum Command {
         #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
         error_budget: Option<ErrorBudget>,
     },
-    /// What each method compiles to on AMD GPU generations (RADV's null device, ACO's static
-    /// statistics and disassembly; no GPU needed).
+    /// What each method compiles to on the GPU families of every vendor set up (AMD through
+    /// RADV's null device, Intel, NVIDIA and TeraScale through Mesa's drm-shims): each
+    /// compiler's static statistics and disassembly; no GPU needed.
     Isa(self::isa::IsaArgs),
     /// List the methods (`--json` for machines).
     List {

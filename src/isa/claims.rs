@@ -77,7 +77,7 @@ pub struct OpCountVerdict {
 /// left out.
 pub fn op_count(report: &IsaReport) -> Vec<OpCountVerdict> {
     let asm = |f: &str, m: &str| {
-        let path = format!("asm/{f}/{m}.fragment.s");
+        let path = format!("asm/{}/{m}.fragment.s", super::table::asm_dir(f));
         report
             .disassembly
             .iter()

@@ -11,7 +11,7 @@
 //! (multiplication by a positive constant, addition, truncation) is monotone, so only `powf`
 //! could break it; `srgb8_table_equals_formula_on_every_f32` (ignored: about 10^9 inputs)
 //! checks every f32 in [0, 1], and the suite checks the neighbourhood of every step and a
-//! stride over the range (docs/performance-compare.md gives the run).
+//! stride over the range (docs/history/performance-compare.md gives the run).
 //!
 //! The lookup reads the clamp off the bit pattern and, inside [0, 1], the steps without a scan
 //! (`Direct`: exact because no bucket of 2^16 patterns holds two step starts, checked when
