@@ -292,7 +292,7 @@ pub fn scene_budget(scene: &str, budget: &str, cells: &[Cell]) -> SceneBudget {
             a.ratio_range = Some(a.ratio_range.map_or((r, r), |(l, h)| (l.min(r), h.max(r))));
         }
     }
-    answers.sort_by(|a, b| b.cost_models.len().cmp(&a.cost_models.len()));
+    answers.sort_by_key(|a| std::cmp::Reverse(a.cost_models.len()));
     SceneBudget {
         scene: scene.into(),
         budget: budget.into(),
@@ -424,15 +424,26 @@ fn last_sentence(
     let mut parts = Vec::new();
     if !unresolved.is_empty() {
         let mut ids: Vec<String> = unresolved.iter().map(|u| u.cost_model.clone()).collect();
+        ids.sort();
         ids.dedup();
         let total: usize = cells.iter().filter(|c| ids.contains(&c.cost_model)).count();
+        let named: Vec<String> = describe(&ids, models)
+            .split("; ")
+            .map(String::from)
+            .collect();
+        let named: Vec<&str> = named.iter().map(String::as_str).collect();
         parts.push(format!(
-            "{} {} unresolved at this size in {} of {} cells: a method within the budget \
-             there is measured neither cheaper nor dearer than {PHONG_EXACT} (its interval \
-             holds 1), and the cell says what would resolve it",
-            describe(&ids, models),
-            if ids.len() == 1 { "is" } else { "are" },
+            "the {} {} unresolved at this size in {} of {} {} cells: in each, a method within \
+             the budget is measured neither cheaper nor dearer than {PHONG_EXACT}, and the \
+             cell says what would resolve it",
+            and_list(&named),
+            if ids.len() == 1 {
+                "model is"
+            } else {
+                "models are"
+            },
             unresolved.len(),
+            if ids.len() == 1 { "its" } else { "their" },
             total
         ));
     }

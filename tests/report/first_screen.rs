@@ -110,7 +110,7 @@ fn answers_key(cells: &[&Json]) -> String {
             None => groups.push((key(c), 1)),
         }
     }
-    groups.sort_by(|a, b| b.1.cmp(&a.1));
+    groups.sort_by_key(|g| std::cmp::Reverse(g.1));
     let keys: Vec<String> = groups
         .iter()
         .map(|((m, n), k)| format!("{m}{}:{k}", if *n { "*" } else { "" }))
@@ -275,7 +275,9 @@ fn grid_mismatches(page: &Json, answer: &Json) -> Vec<String> {
         let text = td["text"].as_str().unwrap_or("");
         let nothing = c["nothing_cheaper"].as_bool().unwrap_or(false);
         let runner = c["runner_up"]["method"].as_str().unwrap_or("");
-        if td["method"] != c["answer"]["method"] || td["nothing"] != nothing.to_string() {
+        if td["method"] != c["answer"]["method"]
+            || td["nothing"].as_str() != Some(if nothing { "true" } else { "false" })
+        {
             out.push(format!("{b} x {m}: page {td}, answer.json {}", c["answer"]));
         }
         if td["runner_up"] != runner || !text.contains(runner) {

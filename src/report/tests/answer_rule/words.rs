@@ -101,7 +101,7 @@ fn an_interval_that_cannot_tell_leaves_the_cell_unresolved() {
     assert!(c.text.contains("--runs"), "{}", c.text);
     let n = a.cells.iter().filter(|c| !c.unresolved.is_empty()).count();
     assert!(n > 0 && a.summary.unresolved.len() == n);
-    let said = format!("unresolved at this size in {n} of 6 cells");
+    let said = format!("unresolved at this size in {n} of its 6 cells");
     assert!(
         a.summary.sentences.last().unwrap().contains(&said),
         "{said}: {:?}",
