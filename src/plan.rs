@@ -160,7 +160,7 @@ pub fn validity_ranges() -> &'static Vec<(&'static str, Option<f64>)> {
                                     .cases
                                     .iter()
                                     .map(|c| {
-                                        let r = (m.eval_f64)(&c.fragment, &c.lighting);
+                                        let r = m.eval_f64(&c.fragment, &c.lighting);
                                         crate::cases::errors(c, r.color, r.normal)
                                     })
                                     .collect();

@@ -340,7 +340,7 @@ fn widen_for_drift(truth: &mut Truth, inputs: &SceneInputs, ids: &IdFrame, preci
     let lit = inputs.lighting();
     let n_spec = lit.shininess.max(1.0);
     let slope = |reach: f64| -> f64 {
-        lit.lights
+        lit.lights()
             .iter()
             .map(|&(_, c, _)| {
                 (c * (lit.diffuse + lit.specular * n_spec * reach.powf(n_spec - 1.0))).max_element()
@@ -355,7 +355,7 @@ fn widen_for_drift(truth: &mut Truth, inputs: &SceneInputs, ids: &IdFrame, preci
             (i as u32 / ids.width) as f64 + 0.5,
         );
         let f = inputs.fragment(t, glam::DVec3::ZERO, glam::DVec2::new(x, y));
-        let sp = scanline::span_at(y, f.window, f.corner_normals);
+        let sp = scanline::span_at(y, scanline::corners(f.window), f.corner_normals);
         let n = (x - ((sp.xa - 0.5).ceil() + 0.5)).max(0.0) + 1.0;
         let d = software::drift_allowance_at(n, precision);
         let len = p.normal.map_or(1.0, |v| v.length().max(1.0));

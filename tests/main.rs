@@ -26,6 +26,8 @@
 //!   of a found input (a triangle's and an edge's), the help naming the angle's domain.
 //! - `yours`: `--method-file` (issue 28): the examples of docs/examples/methods/ through compare,
 //!   stress, isa and report; the bit trick's error against its known figure; the refusals.
+//! - `one_row`: a test-only method, its GLSL file and one row (issue 38), through verify on both
+//!   engines, stress, prove, list and the report's answer.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod citations;
@@ -40,6 +42,7 @@ mod isa;
 mod layout;
 mod methods;
 mod models;
+mod one_row;
 mod prove;
 mod report;
 mod shaders;

@@ -301,13 +301,13 @@ fn the_bit_trick_error_is_its_known_figure_within_the_bound() {
         pn_mids: [glam::DVec3::Z; 3],
     };
     let h = glam::DVec3::new(0.0, 0.6, 0.8);
-    let lit = shadelab::method::formulas::Lighting {
-        ambient: glam::DVec3::splat(0.1),
-        diffuse: glam::DVec3::splat(0.6),
-        specular: glam::DVec3::splat(0.3),
-        shininess: 20.0,
-        lights: vec![(h, glam::DVec3::ONE, h)],
-    };
+    let lit = shadelab::method::formulas::Lighting::new(
+        glam::DVec3::splat(0.1),
+        glam::DVec3::splat(0.6),
+        glam::DVec3::splat(0.3),
+        20.0,
+        &[(h, glam::DVec3::ONE, h)],
+    );
     let cases: Vec<GpuCase> = lengths
         .iter()
         .map(|&s| GpuCase::new(&frag(s), &lit).unwrap())

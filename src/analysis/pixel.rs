@@ -351,7 +351,7 @@ fn twin_at(
         DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64),
         DVec2::new(x as f64 + 0.5, y as f64 + 0.5),
     );
-    (other.eval_f64)(&frag, lighting)
+    other.eval_f64(&frag, lighting)
 }
 
 /// Another method's f64 twin (`compare`: exact slerp along the span) at every pixel an id pass

@@ -54,7 +54,7 @@ fn passes(
     budget: f64,
 ) -> bool {
     frags.iter().zip(exact).all(|(f, e)| {
-        let c = (m.eval_f64)(f, lighting).color;
+        let c = m.eval_f64(f, lighting).color;
         let err = super::colour_error((c - *e).abs().to_array());
         err.is_finite() && err * (1.0 + AUTO_MARGIN) <= budget
     })

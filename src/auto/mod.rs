@@ -105,19 +105,11 @@ pub fn colour_error(abs_error_per_channel: [f64; 3]) -> f64 {
     abs_error_per_channel.into_iter().fold(0.0, f64::max)
 }
 
-/// The methods `auto` chooses from (gouraud and flat included), ordered at run time by their
-/// measured cost ([`order_by_cost`]); phong_exact is the fallback.
-pub const CANDIDATES: [&str; 5] = [
-    "gouraud",
-    "flat",
-    "phong_unnormalized",
-    "newton_raphson",
-    method::PHONG_EXACT,
-];
-
-/// The rows of [`CANDIDATES`].
+/// The methods `auto` chooses from: the rows with [`method::Property::AutoCandidate`] (gouraud
+/// and flat included), ordered at run time by their measured cost ([`order_by_cost`]);
+/// phong_exact is the fallback.
 pub fn candidates() -> Result<Vec<&'static Method>> {
-    CANDIDATES.iter().map(|n| method::find(n)).collect()
+    Ok(method::with_property(method::Property::AutoCandidate).collect())
 }
 
 /// The candidates with their cost (`cost` returns one per candidate, in order; a non-finite

@@ -206,7 +206,7 @@ fn auto_chooses_the_cheapest_method_within_the_budget() {
             let e = lighting.shade(crate::method::formulas::normalize_exact(
                 f.interpolated_normal(),
             ));
-            let err = ((ms[k].eval_f64)(&f, &lighting).color - e)
+            let err = (ms[k].eval_f64(&f, &lighting).color - e)
                 .abs()
                 .max_element();
             assert!(

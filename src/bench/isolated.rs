@@ -252,8 +252,8 @@ fn compile(
                     .zip(&out)
                     .map(|(c, o)| {
                         // A user method has no twin: its difference from exact Phong.
-                        let twin = m.twin().unwrap_or(crate::method::phong_exact().eval_f64);
-                        let f = twin(&c.fragment, &c.lighting);
+                        let twin = m.twin().unwrap_or(crate::method::phong_exact());
+                        let f = twin.eval_f64(&c.fragment, &c.lighting);
                         (0..3)
                             .map(|i| (f64::from(o.color[i]) - f.color[i]).abs())
                             .fold(0.0, f64::max)

@@ -408,7 +408,7 @@ pub fn bench(
     }
     let front_isolated = isolated::pareto_front(&rows, &errors);
     let len2 = claims::interpolated_len2_range(&s.prepared.base().inputs.view_normals);
-    let mut claims = claims::claims(&rows, &floor, len2);
+    let mut claims = claims::claims(&rows, len2);
     let (speed_claims, static_cost) =
         speed_claims::judge(opts, (scene, out), methods_, &rows, &mut claims);
     let sweeps = opts

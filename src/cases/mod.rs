@@ -246,13 +246,13 @@ impl Case {
         } else {
             (AMBIENT, DIFFUSE, SPECULAR)
         };
-        let lighting = Lighting {
-            ambient: DVec3::splat(f32r(ka)),
-            diffuse: DVec3::splat(f32r(kd)),
-            specular: DVec3::splat(f32r(ks)),
-            shininess: f32r(spec.shininess),
-            lights: vec![(l, DVec3::ONE, h)],
-        };
+        let lighting = Lighting::new(
+            DVec3::splat(f32r(ka)),
+            DVec3::splat(f32r(kd)),
+            DVec3::splat(f32r(ks)),
+            f32r(spec.shininess),
+            &[(l, DVec3::ONE, h)],
+        );
         let (window, pixel) = screen(&spec);
         let window = window.map(r2);
         let w = r3(weights(pixel, window));

@@ -30,18 +30,8 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Method `m` as JSON, its claims judged with the proof overlay (a bound the proof covers says
+/// Method `m` as JSON, its claims judged now by their checks (a bound the proof covers says
 /// basis proven, with its proven upper bound beside the found value; see docs/proof.md).
 fn judged(m: &'static crate::method::Method) -> Result<serde_json::Value> {
-    let mut v = serde_json::to_value(m).map_err(|e| Error::output("the method list", e))?;
-    let claims: Vec<_> = m
-        .claims
-        .iter()
-        .map(|claim| crate::prove::bounds::Judged {
-            method: m.name,
-            claim,
-        })
-        .collect();
-    v["claims"] = serde_json::to_value(claims).map_err(|e| Error::output("the method list", e))?;
-    Ok(v)
+    Ok(crate::prove::bounds::json(m))
 }

@@ -42,7 +42,7 @@ fn v4(v: DVec3) -> [f32; 4] {
 impl GpuCase {
     /// The case of a fragment lit by the first light of `lit` (values rounded to f32).
     pub fn new(frag: &Fragment, lit: &Lighting) -> Result<Self> {
-        let &(l, color, h) = lit.lights.first().ok_or_else(|| {
+        let &(l, color, h) = lit.lights().first().ok_or_else(|| {
             Error::Internal("a stress case needs one light; the lighting has none".into())
         })?;
         let mut specular = v4(lit.specular);

@@ -301,6 +301,20 @@ pub fn register_user(paths: &[std::path::PathBuf]) -> Result<()> {
     Ok(())
 }
 
+/// Registers `row`, a method made in code, with its GLSL file `path`: its programs compiled
+/// like a user method's ([`compile_user`]), then [`crate::method::find`] and every command see
+/// it, its kernel and claims as the row states them ([`crate::method::user::prepare_row`]).
+pub fn register_row(path: &std::path::Path, row: &'static crate::method::Method) -> Result<()> {
+    use crate::method::user;
+    let abs = std::path::absolute(path).map_err(|e| Error::io(path, e))?;
+    let (u, parsed) = user::prepare_row(&abs, row)?;
+    compile_user(u).map_err(|e| match e {
+        Error::Shader(msg) => user::explain_compile_error(&parsed, &abs, &msg),
+        other => other,
+    })?;
+    user::add(u)
+}
+
 /// User methods whose float16 programs do not compile (their file is not written in the
 /// precision vocabulary of glsl/common.glsl): (method, shaderc's first message line).
 static RUNTIME_NO_F16: std::sync::RwLock<Vec<(String, String)>> =

@@ -3,9 +3,10 @@
 //! `shadelab bench`'s claims.json/md) and derives its verdict from the number it measured, by
 //! a rule stated in its `how`. No verdict is written by hand.
 //!
-//! The evidence here is sampled only (basis found or measured): a bound's worst case found at
-//! the sweep's points. The proof overlay (src/prove/bounds.rs, a higher layer) re-judges the
-//! bounds it covers by branch-and-bound, where `list --json`, bench and the report write them.
+//! Each check reads its row: the kernel's formula and the claim's kind (figure, criterion).
+//! The checks here are sampled (basis found or measured); the bounds on a scaled method's
+//! length error, which the proof judges, are in src/prove/bounds.rs; a claim no f64 formula
+//! measures says which command judges it ([`judged_elsewhere`]).
 //!
 //! Each check's core takes the formula as a parameter, so a test can feed it a deliberately
 //! wrong formula and see the verdict flip (the tests at the end). The sweep helpers here are
@@ -16,7 +17,7 @@ use super::formulas as f;
 #[cfg(test)]
 pub(crate) use super::worst::worst;
 pub(crate) use super::worst::Worst;
-use super::{Evidence, Measurement, Quantity, Verdict};
+use super::{Claim, Evidence, Form, Kind, Measurement, Method, Quantity, Scale, Verdict};
 
 /// A scalar factor `k(z) ~ 1/sqrt(z)`, `z = N.N`.
 pub(crate) type Factor = fn(f64) -> f64;
@@ -46,33 +47,53 @@ pub(crate) fn angle_deg(a: DVec3, b: DVec3) -> f64 {
 /// Signed relative length error `k(z)|N| - 1` in percent at the worst point of an edge whose
 /// unit end normals are `theta` apart (docs/formulas.md#error-measures). The edge covers z in
 /// [cos^2(theta/2), 1], so this is also the worst case over all angles up to `theta`.
+#[cfg(test)]
 pub(crate) fn scalar_error_pct(k: Factor, theta_deg: f64) -> f64 {
     scalar_error(k, theta_deg).value()
 }
 
 /// [`scalar_error_pct`]'s sweep, reduced by [`Worst`].
+#[cfg(test)]
 pub(crate) fn scalar_error(k: Factor, theta_deg: f64) -> Worst {
+    edge_error(&|z| k(z) * z.sqrt() - 1.0, theta_deg)
+}
+
+/// A relative length error `err(z)` (a fraction) in percent at the worst point of an edge whose
+/// unit end normals are `theta` apart, reduced by [`Worst`].
+pub(crate) fn edge_error(err: &dyn Fn(f64) -> f64, theta_deg: f64) -> Worst {
     let (a, b) = pair(theta_deg);
     Worst::of(ts().map(|t| {
         let n = a.lerp(b, t);
-        let z = n.dot(n);
-        100.0 * (k(z) * z.sqrt() - 1.0)
+        100.0 * err(n.dot(n))
     }))
 }
 
 /// The same length error over a triangle's interior: z from `z_lo` to 1. Three unit normals
 /// `theta` apart pairwise have their centroid at |n|^2 = (1 + 2 cos theta)/3, below any point
 /// of the edges (cos^2(theta/2)), so the interior reaches smaller z than an edge.
-pub(crate) fn interior_error(k: Factor, theta_deg: f64) -> Worst {
+pub(crate) fn interior_error_of(err: &dyn Fn(f64) -> f64, theta_deg: f64) -> Worst {
     let z_lo = (1.0 + 2.0 * theta_deg.to_radians().cos()) / 3.0;
-    Worst::of(ts().map(|t| {
-        let z = z_lo + (1.0 - z_lo) * t;
-        100.0 * (k(z) * z.sqrt() - 1.0)
-    }))
+    Worst::of(ts().map(|t| 100.0 * err(z_lo + (1.0 - z_lo) * t)))
+}
+
+/// [`interior_error_of`] for the factor `k`.
+#[cfg(test)]
+pub(crate) fn interior_error(k: Factor, theta_deg: f64) -> Worst {
+    interior_error_of(&|z| k(z) * z.sqrt() - 1.0, theta_deg)
+}
+
+/// The relative length error of a scaled kernel's normal at `z = N.N` (a fraction), with the
+/// twin's operations: `k(z) sqrt(z) - 1`, or `sqrt(z)/s(z) - 1` for a divided one.
+pub fn length_error_at(s: &Scale, z: f64) -> f64 {
+    match s.form {
+        Form::Over => z.sqrt() / s.factor.f64(z) - 1.0,
+        Form::Times | Form::Exact => s.factor.f64(z) * z.sqrt() - 1.0,
+    }
 }
 
 /// Mikami's normalised relative error `sqrt(z)/s1 - 1` in percent
 /// (docs/formulas.md#mikami-square-root).
+#[cfg(test)]
 pub(crate) fn mikami_error_pct(z: f64, beta: Factor) -> f64 {
     100.0 * (z.sqrt() / f::mikami_sqrt(z, beta(z)) - 1.0)
 }
@@ -81,12 +102,7 @@ pub(crate) fn mikami_error_pct(z: f64, beta: Factor) -> f64 {
 /// [0.25, 1]).
 #[cfg(test)]
 pub(crate) fn mikami_worst_pct(lo: f64, beta: Factor) -> f64 {
-    mikami_worst(lo, beta).value()
-}
-
-/// [`mikami_worst_pct`]'s sweep, reduced by [`Worst`].
-pub(crate) fn mikami_worst(lo: f64, beta: Factor) -> Worst {
-    Worst::of(ts().map(|t| mikami_error_pct(lo + (1.0 - lo) * t, beta)))
+    Worst::of(ts().map(|t| mikami_error_pct(lo + (1.0 - lo) * t, beta))).value()
 }
 
 /// Worst angle (degrees) between `method(N)` and normalize(N) along the edge of a pair (NaN
@@ -124,42 +140,41 @@ pub(crate) fn sweep_how(formula: &str) -> String {
 
 // ---- claims that are not measured in f64 -----------------------------------------------------
 
-/// Gouraud's "50x": a timing claim, measured by `shadelab bench` (claims.json), not here.
-pub fn timing_claim() -> Measurement {
+/// A claim no f64 formula measures, by its kind: `not_checked` here, with the command that
+/// judges it (a speed factor: `shadelab bench` in both engines; an operation count: bench's
+/// SPIR-V count or isolated cost; a validity range of a method without a scale: `shadelab
+/// stress` on the device).
+pub fn judged_elsewhere(_: &Method, c: &Claim) -> Measurement {
+    let how = match c.kind {
+        Kind::Speed { factor, than } => format!(
+            "a speed claim ({factor}x against {than}): no f64 formula measures it; `shadelab \
+             bench` times it on this machine (paired rounds, both engines) and writes the \
+             verdict to claims.json"
+        ),
+        Kind::OperationCount(Some(_)) => "an operation count: no f64 formula measures it; \
+             `shadelab bench` counts the SPIR-V of phong_exact minus phong_unnormalized and \
+             writes the verdict to claims.json (GLSL.std.450 Normalize at the counter's price, \
+             its definition: 1 inverse square root + 6 mul + 2 add for a vec3; not a driver's \
+             compiled count)"
+            .into(),
+        Kind::OperationCount(None) => "a cost statement: no f64 formula measures it; \
+             `shadelab bench` measures each formula's isolated cost per fragment (bench.json \
+             `isolated`) on this machine"
+            .into(),
+        Kind::Validity { up_to_deg, .. } => format!(
+            "a validity range (up to {up_to_deg} degrees between the vertex normals) judged by \
+             the rendered colour: `shadelab stress` judges it on the device (stress.json \
+             `claims`)"
+        ),
+        Kind::ErrorBound(_) | Kind::Property => {
+            "not measurable by an f64 formula of this row".into()
+        }
+    };
     Measurement {
         evidence: Evidence::MEASURED,
         measured: "-".into(),
         verdict: Verdict::NotChecked,
-        how: "a timing claim: no f64 formula measures it; `shadelab bench` times it on this \
-              machine and writes the verdict to claims.json"
-            .into(),
-    }
-}
-
-/// A statement about a method's cost per pixel (operations it needs): not an f64 figure. The
-/// isolated per-formula cost is measured by `shadelab bench` (src/bench/isolated.rs).
-pub fn cost_claim() -> Measurement {
-    Measurement {
-        evidence: Evidence::MEASURED,
-        measured: "-".into(),
-        verdict: Verdict::NotChecked,
-        how: "a cost statement: no f64 formula measures it; `shadelab bench` measures each \
-              formula's isolated cost per fragment (bench.json `isolated`) on this machine"
-            .into(),
-    }
-}
-
-/// The operation count of normalisation: counted in the compiled SPIR-V by `shadelab bench`.
-pub fn op_count_claim() -> Measurement {
-    Measurement {
-        evidence: Evidence::MEASURED,
-        measured: "-".into(),
-        verdict: Verdict::NotChecked,
-        how: "an operation count: no f64 formula measures it; `shadelab bench` counts the \
-              SPIR-V of phong_exact minus phong_unnormalized and writes the verdict to claims.json \
-              (GLSL.std.450 Normalize at the counter's price, its definition: 1 inverse square \
-              root + 6 mul + 2 add for a vec3; not a driver's compiled count)"
-            .into(),
+        how,
     }
 }
 
@@ -170,52 +185,6 @@ pub fn op_count_claim() -> Measurement {
 /// the same claim by the same 1/255 on the rendered colour.
 pub const COLOUR_LEVEL_PCT: f64 = 100.0 / 255.0;
 
-/// "usable for angles between vertex normals up to 40 degrees"
-/// (docs/formulas.md#newton-raphson-step).
-pub fn newton_usable_to_40_deg() -> Measurement {
-    usable_up_to(f::k_newton, "formulas::k_newton", 40.0)
-}
-
-/// Length error at `theta` by two named criteria side by side: the length criterion
-/// (|error| <= [`VISIBLE_LENGTH_ERROR_PCT`]) and the colour criterion (|error| <=
-/// [`COLOUR_LEVEL_PCT`], one 8-bit level, the criterion of `shadelab stress`). Both hold:
-/// agrees; neither: disagrees; one: partly, naming which. Also at 1.5 theta, to show how fast
-/// it grows beyond.
-pub(crate) fn usable_up_to(k: Factor, name: &str, theta: f64) -> Measurement {
-    let at = scalar_error(k, theta);
-    let beyond = scalar_error_pct(k, 1.5 * theta);
-    let (length, colour) = (
-        at.within(VISIBLE_LENGTH_ERROR_PCT),
-        at.within(COLOUR_LEVEL_PCT),
-    );
-    let word = |ok: bool| if ok { "holds" } else { "fails" };
-    Measurement {
-        evidence: Evidence::found(at.value().abs() / 100.0, Quantity::RelativeError),
-        measured: format!(
-            "worst length error {:+.3} % at {theta} deg{} ({beyond:+.2} % at {} deg); length \
-             criterion (<= {VISIBLE_LENGTH_ERROR_PCT} %) {}, colour criterion (<= 1/255 = \
-             {COLOUR_LEVEL_PCT:.3} %) {}",
-            at.finite,
-            at.note(),
-            1.5 * theta,
-            word(length),
-            word(colour)
-        ),
-        verdict: match (length, colour) {
-            (true, true) => Verdict::Agrees,
-            (false, false) => Verdict::Disagrees,
-            _ => Verdict::Partly,
-        },
-        how: format!(
-            "{}; two criteria on |length error| at {theta} deg: length <= \
-             {VISIBLE_LENGTH_ERROR_PCT} % (our visible-length threshold) and colour <= 1/255 (one \
-             8-bit level of a full diffuse term, the criterion of `shadelab stress`); agrees when \
-             both hold, partly when one does, disagrees when neither (or any point is non-finite)",
-            sweep_how(&format!("k(z)|N| - 1 with {name}"))
-        ),
-    }
-}
-
 /// The NVIDIA formula exactly as the shading survey prints it: `N (3 - N.N) / 3`
 /// (docs/formulas.md#newton-raphson-step).
 fn k_newton_as_printed_in_s004(z: f64) -> f64 {
@@ -223,7 +192,7 @@ fn k_newton_as_printed_in_s004(z: f64) -> f64 {
 }
 
 /// "the shading survey prints N (3 - N.N)/3": is the printed formula a normalisation?
-pub fn newton_as_printed_in_s004() -> Measurement {
+pub fn newton_as_printed_in_s004(_: &Method, _: &Claim) -> Measurement {
     printed_vs_corrected(k_newton_as_printed_in_s004, f::k_newton)
 }
 
@@ -249,15 +218,19 @@ pub(crate) fn printed_vs_corrected(printed: Factor, corrected: Factor) -> Measur
 
 // ---- lyon_taylor ------------------------------------------------------------------------------
 
-/// "the approximation error is large" (docs/formulas.md#lyon-taylor-form).
-pub fn lyon_error_is_large() -> Measurement {
-    error_is_large(f::k_lyon2, "formulas::k_lyon2")
+/// "the approximation error is large" (docs/formulas.md#lyon-taylor-form) of a scaled
+/// method: its row's formula swept.
+pub fn error_is_large(m: &Method, c: &Claim) -> Measurement {
+    match m.kernel {
+        super::Kernel::Scaled(s) => error_is_large_of(&|z| length_error_at(&s, z), s.factor.name()),
+        _ => judged_elsewhere(m, c),
+    }
 }
 
 /// "Large" means above [`VISIBLE_LENGTH_ERROR_PCT`]; measured at 40 and 90 degrees: large at
 /// both agrees, at neither disagrees, at one of them partly.
-pub(crate) fn error_is_large(k: Factor, name: &str) -> Measurement {
-    let (e40, e90) = (scalar_error(k, 40.0), scalar_error(k, 90.0));
+pub(crate) fn error_is_large_of(err: &dyn Fn(f64) -> f64, name: &str) -> Measurement {
+    let (e40, e90) = (edge_error(err, 40.0), edge_error(err, 90.0));
     let large = |e: &Worst| e.finite.abs() > VISIBLE_LENGTH_ERROR_PCT;
     Measurement {
         evidence: Evidence::found(e90.value().abs() / 100.0, Quantity::RelativeError),
@@ -289,7 +262,7 @@ const UNIT_ANGLES: [f64; 4] = [40.0, 60.0, 90.0, 120.0];
 
 /// "normalization without a square root" (docs/formulas.md#hast-barrera-bengtsson-half-vector) for
 /// Hast-Barrera-Bengtsson.
-pub fn hbb_is_unit() -> Measurement {
+pub fn hbb_is_unit(_: &Method, _: &Claim) -> Measurement {
     flat_based_is_unit(f::hbb)
 }
 
@@ -402,7 +375,7 @@ pub(crate) fn flat_based_is_unit(method: fn(DVec3, DVec3) -> DVec3) -> Measureme
 
 /// "no square root needed" (docs/formulas.md#quaternion-interpolation) for Hast's quaternion
 /// interpolation.
-pub fn quaternion_is_unit() -> Measurement {
+pub fn quaternion_is_unit(_: &Method, _: &Claim) -> Measurement {
     quaternion_recovery_is_unit(f::normal_from_quat)
 }
 
@@ -563,138 +536,6 @@ fn unit_measurement(dev: Worst, extra: String, what: &str, points: usize) -> Mea
     }
 }
 
-// ---- mikami -----------------------------------------------------------------------------------
-
-/// Mikami's claimed bound on the normalised relative error, percent
-/// (docs/formulas.md#mikami-square-root).
-pub(crate) const MIKAMI_BOUND_PCT: f64 = 1.5;
-
-/// "maximum normalised relative error <= 1.5 %" (docs/formulas.md#mikami-square-root), beta = 0.64.
-pub fn mikami_const_within_bound() -> Measurement {
-    mikami_within_bound(f::beta_const, "formulas::beta_const")
-}
-
-/// The same claim with beta = 1.07 - 0.62 z.
-pub fn mikami_linear_within_bound() -> Measurement {
-    mikami_within_bound(f::beta_linear, "formulas::beta_linear")
-}
-
-/// The same claim with beta = 0.763 z^2 - 1.57 z + 1.31.
-pub fn mikami_quadratic_within_bound() -> Measurement {
-    mikami_within_bound(f::beta_quadratic, "formulas::beta_quadratic")
-}
-
-/// Worst `sqrt(z)/s1 - 1` on z in [0.25, 1] against the claimed 1.5 %.
-pub(crate) fn mikami_within_bound(beta: Factor, name: &str) -> Measurement {
-    let e = mikami_worst(0.25, beta);
-    let at1 = mikami_error_pct(1.0, beta);
-    Measurement {
-        evidence: Evidence::found(e.value().abs() / 100.0, Quantity::RelativeError),
-        measured: format!(
-            "max |error| {:.3} % on z in [0.25, 1]{}; {at1:+.3} % at z = 1",
-            e.finite.abs(),
-            e.note()
-        ),
-        verdict: if e.within(MIKAMI_BOUND_PCT) {
-            Verdict::Agrees
-        } else {
-            Verdict::Disagrees
-        },
-        how: format!(
-            "f64 sweep of sqrt(z)/s1 - 1 (formulas::mikami_sqrt with {name}) at {} points of \
-             z in [0.25, 1], run when this was written; agrees when the worst |error| <= \
-             {MIKAMI_BOUND_PCT} %",
-            STEPS + 1
-        ),
-    }
-}
-
-// ---- romanyuk_poly ----------------------------------------------------------------------------
-
-/// The claimed factor: Romanyuk's error is 8 times smaller (no rounding allowance: 7.9x is
-/// short of it).
-pub(crate) const ROMANYUK_FACTOR: f64 = 8.0;
-
-/// Angles between the normals at which the 8x claim is measured.
-pub(crate) const ROMANYUK_ANGLES: [f64; 3] = [90.0, 60.0, 40.0];
-
-/// "relative error 8x smaller than Lyon's approach"
-/// (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial).
-pub fn romanyuk_8x_smaller() -> Measurement {
-    times_smaller(
-        f::k_romanyuk,
-        [
-            ("Lyon 2nd degree", f::k_lyon2),
-            ("Lyon shift", f::k_lyon_shift),
-        ],
-    )
-}
-
-/// Worst |length error| of `k` and of each Lyon form for normals up to 90, 60 and 40 degrees
-/// apart, on a triangle's edges (z from cos^2(theta/2)) and over its interior (z from the
-/// centroid's (1 + 2 cos theta)/3, [`interior_error`]); each (angle, region, Lyon form) part
-/// holds when Lyon's error / k's >= 8. All hold: agrees; none (or any point non-finite):
-/// disagrees; otherwise partly. The evidence (found) is the largest ratio k's worst / Lyon's
-/// worst over the parts (claimed <= 1/8); the proof's overlay is src/prove/bounds.rs.
-pub(crate) fn times_smaller(k: Factor, lyons: [(&str, Factor); 2]) -> Measurement {
-    let mut parts = Vec::new();
-    let (mut held, mut total, mut non_finite) = (0, 0, 0);
-    let mut ratio_found = 0.0f64;
-    for theta in ROMANYUK_ANGLES {
-        for (region, sweep) in [
-            ("edges", scalar_error as fn(Factor, f64) -> Worst),
-            ("interior", interior_error),
-        ] {
-            let own = sweep(k, theta);
-            non_finite += own.non_finite;
-            let mut part = format!(
-                "theta <= {theta} deg, {region}: {:.3} %{}",
-                own.finite.abs(),
-                own.note()
-            );
-            for (name, lyon) in lyons {
-                let other = sweep(lyon, theta);
-                non_finite += other.non_finite;
-                let ratio = other.finite.abs() / own.finite.abs();
-                ratio_found = ratio_found.max(own.finite.abs() / other.finite.abs());
-                total += 1;
-                held += usize::from(ratio >= ROMANYUK_FACTOR);
-                part += &format!(
-                    " vs {name} {:.3} %{} ({ratio:.1}x)",
-                    other.finite.abs(),
-                    other.note()
-                );
-            }
-            parts.push(part);
-        }
-    }
-    Measurement {
-        evidence: Evidence::found(
-            if non_finite > 0 {
-                f64::NAN
-            } else {
-                ratio_found
-            },
-            Quantity::ErrorRatio,
-        ),
-        measured: format!("{} of {total} parts hold; {}", held, parts.join("; ")),
-        verdict: match held {
-            _ if non_finite > 0 => Verdict::Disagrees,
-            h if h == total => Verdict::Agrees,
-            0 => Verdict::Disagrees,
-            _ => Verdict::Partly,
-        },
-        how: format!(
-            "{}, and over the interior of a triangle of three normals theta apart (z from \
-             (1 + 2 cos theta)/3 to 1); each of (theta <= {ROMANYUK_ANGLES:?} deg) x (edges, \
-             interior) x (Lyon 2nd degree, Lyon shift) holds when Lyon's error / Romanyuk's >= \
-             {ROMANYUK_FACTOR} (the claimed factor, no rounding): all agree, none disagrees, \
-             else partly; any non-finite point disagrees",
-            sweep_how("k(z)|N| - 1 with formulas::k_romanyuk, k_lyon2, k_lyon_shift")
-        ),
-    }
-}
-
 // ---- trueform ---------------------------------------------------------------------------------
 
 /// The PN tessellator's signature (`formulas::pn_tessellate`).
@@ -702,7 +543,7 @@ pub(crate) type Tessellator = fn([DVec3; 3], [DVec3; 3], u32) -> Vec<([DVec3; 3]
 
 /// "9 sub-triangles per triangle: 2 extra vertices per edge + 1 centre"
 /// (docs/formulas.md#pn-triangles-and-trueform).
-pub fn trueform_level_3_counts() -> Measurement {
+pub fn trueform_level_3_counts(_: &Method, _: &Claim) -> Measurement {
     tessellation_counts(f::pn_tessellate)
 }
 
@@ -742,7 +583,7 @@ pub(crate) fn tessellation_counts(tessellate: Tessellator) -> Measurement {
 // ---- specular_lut -----------------------------------------------------------------------------
 
 /// "tables for n = 1..255 need more than 4 MB" (docs/formulas.md#specular-table).
-pub fn specular_lut_over_4_mb() -> Measurement {
+pub fn specular_lut_over_4_mb(_: &Method, _: &Claim) -> Measurement {
     lut_bytes(f::specular_lut)
 }
 
@@ -774,41 +615,34 @@ mod tests {
     //! Teeth: every check's core fed a deliberately wrong formula must change its verdict.
     use super::*;
 
-    #[test]
-    fn the_table_checks_give_the_verdicts_of_formulas_md_section_3() {
-        let v = |m: Measurement| m.verdict;
-        assert_eq!(v(newton_usable_to_40_deg()), Verdict::Partly);
-        assert_eq!(v(newton_as_printed_in_s004()), Verdict::Disagrees);
-        assert_eq!(v(lyon_error_is_large()), Verdict::Partly);
-        assert_eq!(v(hbb_is_unit()), Verdict::Agrees);
-        assert_eq!(v(quaternion_is_unit()), Verdict::Agrees);
-        assert_eq!(v(mikami_const_within_bound()), Verdict::Agrees);
-        assert_eq!(v(mikami_linear_within_bound()), Verdict::Agrees);
-        assert_eq!(v(mikami_quadratic_within_bound()), Verdict::Agrees);
-        assert_eq!(v(romanyuk_8x_smaller()), Verdict::Partly);
-        assert_eq!(v(trueform_level_3_counts()), Verdict::NotChecked);
-        assert_eq!(v(specular_lut_over_4_mb()), Verdict::NotChecked);
-        assert_eq!(v(timing_claim()), Verdict::NotChecked);
+    /// The verdict of claim `i` of row `name`, judged by its check.
+    fn judged(name: &str, i: usize) -> Measurement {
+        let m = crate::method::find(name).unwrap();
+        m.claims[i]
+            .judge_without_proof(m)
+            .expect("a claim this layer checks")
     }
 
     #[test]
-    fn newton_usable_flips_for_a_factor_that_does_not_normalise() {
-        // k = 1 leaves the interpolated normal as it is: cos(20 deg) - 1 = -6.0 % at 40 deg.
-        let m = usable_up_to(|_| 1.0, "k = 1", 40.0);
-        assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
-        assert!(m.measured.contains("-6.031 %"), "{m:?}");
-        // Newton at 40 deg: -0.535 % holds the 1 % length criterion, fails 1/255 = 0.392 %.
-        let m = newton_usable_to_40_deg();
-        assert!(
-            m.measured.contains("-0.535 %")
-                && m.measured.contains("length criterion (<= 1 %) holds")
-                && m.measured
-                    .contains("colour criterion (<= 1/255 = 0.392 %) fails"),
-            "{m:?}"
-        );
-        // the exact factor holds both
-        let exact = usable_up_to(|z| 1.0 / z.sqrt(), "exact", 40.0);
-        assert_eq!(exact.verdict, Verdict::Agrees, "{exact:?}");
+    fn the_table_checks_give_the_verdicts_of_formulas_md_section_3() {
+        let v = |name, i| judged(name, i).verdict;
+        assert_eq!(v("newton_raphson", 1), Verdict::Disagrees);
+        assert_eq!(v("lyon_taylor", 0), Verdict::Partly);
+        assert_eq!(v("hast_half_vector", 0), Verdict::Agrees);
+        assert_eq!(v("quaternion", 0), Verdict::Agrees);
+        assert_eq!(v("trueform", 0), Verdict::NotChecked);
+        assert_eq!(v("specular_lut", 0), Verdict::NotChecked);
+        assert_eq!(v("gouraud", 0), Verdict::NotChecked);
+    }
+
+    #[test]
+    fn a_claim_judged_elsewhere_says_where_by_its_kind() {
+        let how = |name, i| judged(name, i).how;
+        assert!(how("gouraud", 0).contains("`shadelab bench` times it"));
+        assert!(how("phong_exact", 0).contains("counts the SPIR-V"));
+        assert!(how("slerp", 0).contains("isolated cost"));
+        assert!(how("dichotomy_poly1", 1).contains("`shadelab stress` judges it"));
+        assert!(how("dichotomy_poly1", 2).contains("2.5x against dichotomy_exact"));
     }
 
     #[test]
@@ -831,22 +665,17 @@ mod tests {
     fn every_f64_check_fails_on_a_nan_with_its_count() {
         let nan = |_: f64| f64::NAN;
         // NaN at z = 1 only (the two ends of an edge sweep), finite elsewhere
-        let nan_at_1 = |z: f64| if z == 1.0 { f64::NAN } else { 1.0 / z.sqrt() };
+        let nan_at_1 = |z: f64| if z == 1.0 { f64::NAN } else { 0.0 };
         for m in [
-            usable_up_to(nan, "NaN", 40.0),
-            usable_up_to(nan_at_1, "NaN at 1", 40.0),
-            error_is_large(nan, "NaN"),
-            error_is_large(nan_at_1, "NaN at 1"),
+            error_is_large_of(&nan, "NaN"),
+            error_is_large_of(&nan_at_1, "NaN at 1"),
             flat_based_is_unit(|_, _| DVec3::NAN),
             quaternion_recovery_is_unit(|_| DVec3::NAN),
-            mikami_within_bound(nan, "NaN"),
-            times_smaller(nan, [("a", f::k_lyon2), ("b", f::k_lyon_shift)]),
-            times_smaller(f::k_romanyuk, [("a", nan), ("b", f::k_lyon_shift)]),
         ] {
             assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
             assert!(m.measured.contains("points non-finite)"), "{m:?}");
         }
-        let m = usable_up_to(nan_at_1, "NaN at 1", 40.0);
+        let m = error_is_large_of(&nan_at_1, "NaN at 1");
         assert!(
             m.measured.contains("(2 of 100001 points non-finite)"),
             "{m:?}"
@@ -854,16 +683,8 @@ mod tests {
     }
 
     #[test]
-    fn the_8x_claim_needs_the_full_factor_and_is_measured_at_40_deg_and_inside() {
-        // A factor exactly 7.9x better than Lyon's 2nd degree everywhere: short of 8 (the old
-        // 7.5 threshold let it pass).
-        let k79 = |z: f64| (1.0 + (f::k_lyon2(z) * z.sqrt() - 1.0) / 7.9) / z.sqrt();
-        let m = times_smaller(k79, [("a", f::k_lyon2), ("b", f::k_lyon2)]);
-        assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
-        let m = romanyuk_8x_smaller();
-        assert!(m.measured.contains("theta <= 40 deg, edges"), "{m:?}");
-        assert!(m.measured.contains("interior"), "{m:?}");
-        // the interior reaches below the edge: (1 + 2 cos 90)/3 = 1/3 < cos^2(45) = 1/2
+    fn the_interior_reaches_below_the_edge() {
+        // (1 + 2 cos 90)/3 = 1/3 < cos^2(45) = 1/2
         let (edge, inside) = (
             scalar_error(f::k_lyon2, 90.0),
             interior_error(f::k_lyon2, 90.0),
@@ -899,7 +720,7 @@ mod tests {
             "{all:?}"
         );
         assert!(all.worst.points > 180 * 6 * 1000, "{all:?}");
-        let m = quaternion_is_unit();
+        let m = judged("quaternion", 0);
         assert!(
             m.measured
                 .contains("over the whole validity (n_z > -1) 180.00 deg")
@@ -915,7 +736,7 @@ mod tests {
     /// bisector and a vertex normal only).
     #[test]
     fn the_hbb_angle_figures_name_where_the_flat_normal_is() {
-        let m = hbb_is_unit();
+        let m = judged("hast_half_vector", 0);
         assert_eq!(m.verdict, Verdict::Agrees, "{m:?}");
         for part in [
             "3.17 to 10.3 deg with the flat normal on the arc between the vertex normals",
@@ -964,22 +785,13 @@ mod tests {
     }
 
     #[test]
-    fn mikami_check_flips_for_a_wrong_beta() {
-        // beta = 0 keeps the start value s0 = 2/3 z + 0.35: -3.2 % at z = 0.25.
-        let m = mikami_within_bound(|_| 0.0, "beta = 0");
-        assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
-    }
-
-    #[test]
-    fn error_is_large_and_8x_checks_flip_for_other_factors() {
+    fn error_is_large_flips_for_other_factors() {
         // k = 1 (no normalisation) is large at both angles (-6.0 %, -29 %).
-        assert_eq!(error_is_large(|_| 1.0, "k = 1").verdict, Verdict::Agrees);
+        let one = error_is_large_of(&|z: f64| z.sqrt() - 1.0, "k = 1");
+        assert_eq!(one.verdict, Verdict::Agrees);
         // Exact 1/sqrt(z) has no error: never large.
-        let exact = error_is_large(|z| 1.0 / z.sqrt(), "exact");
+        let exact = error_is_large_of(&|z: f64| 1.0 / z.sqrt() * z.sqrt() - 1.0, "exact");
         assert_eq!(exact.verdict, Verdict::Disagrees, "{exact:?}");
-        // Lyon against itself is 1x, never 8x.
-        let m = times_smaller(f::k_lyon2, [("a", f::k_lyon2), ("b", f::k_lyon_shift)]);
-        assert_eq!(m.verdict, Verdict::Disagrees, "{m:?}");
     }
 
     #[test]

@@ -1,7 +1,9 @@
-//! Every formula in f64: the CPU reference used by the truth evaluator, the tests and (later)
-//! the stress sweeps. Each function is a literal port of its GLSL twin in glsl/ (one section of
-//! docs/formulas.md#methods each), so the GPU-vs-f64 comparison proves the GLSL implements the
-//! formula.
+//! Every per-pixel formula, once, generic over the number type ([`super::real`]): the f64
+//! truth (the twins, stress, the claims' sweeps), the software engine's float32 and float16
+//! kernels and `prove`'s intervals all evaluate these functions. Each is a literal port of its
+//! GLSL twin in glsl/ (one section of docs/formulas.md#methods each), the same operations in
+//! the same order, so the GPU-vs-f64 comparison proves the GLSL implements the formula and the
+//! software engine differs from the f64 truth by rounding only.
 //!
 //! Invariants: the constants are exactly those the papers print, corrected only where
 //! docs/formulas.md#corrections-to-the-printed-formulas says (no "improved" coefficients; where a
@@ -11,53 +13,124 @@
 //! docs/formulas.md#golden-values and reproduce the figures the page attributes to them by
 //! sweeping these functions.
 //!
-//! The scalar factors (`k_*`, `mikami_sqrt`, `beta_*`) are generic over [`Real`]: the f64
-//! twins instantiate them with f64 (the same operations in the same order as before), `shadelab
-//! prove` with an outward-rounded interval, so the proof bounds this very formula.
+//! Formulas over [`Real`] alone (the scalar factors, the vector formulas without branches) run
+//! in every type, intervals included; those with branches (zero-length guards, the table's
+//! lookup) need a [`Float`]. Vectors are [`Vector`]s: `DVec3` in f64, [`super::real::V3`] in
+//! the engines.
 use glam::DVec3;
 
-use super::real::Real;
+use super::real::{Float, Real, Vector};
+
+/// The most lights a scene has: the uniform block's arrays (glsl/common.glsl) and
+/// [`Lighting`]'s (`crate::scene::MAX_LIGHTS` names it too).
+pub const MAX_LIGHTS: usize = 4;
 
 /// Exact normalization `N / |N|` (docs/formulas.md#exact-phong). Returns the input unchanged when
 /// it has zero length (the GPU's `normalize` gives NaN there; no sane mesh reaches it, see the
 /// hazard there).
-pub fn normalize_exact(n: DVec3) -> DVec3 {
+#[inline(always)]
+pub fn normalize_exact<T: Float, V: Vector<S = T>>(n: V) -> V {
     let len = n.length();
-    if len > 0.0 {
+    if len > T::ZERO {
         n / len
     } else {
         n
     }
 }
 
-/// Lighting parameters as the GPU received them (f32 values widened to f64).
-#[derive(Debug, Clone)]
-pub struct Lighting {
-    pub ambient: DVec3,
-    pub diffuse: DVec3,
-    pub specular: DVec3,
-    pub shininess: f64,
+/// Lighting parameters as the GPU received them: f32 values widened to f64 for the truth
+/// (`Lighting`, vectors `DVec3`), or rounded to the engine's scalar (`Lighting<V3<S>>`).
+/// At most [`MAX_LIGHTS`] lights; light i gives cosine `2i` (N.L_i) and `2i + 1` (N.H_i).
+#[derive(Debug, Clone, Copy)]
+pub struct Lighting<V: Vector = DVec3> {
+    pub ambient: V,
+    pub diffuse: V,
+    pub specular: V,
+    pub shininess: V::S,
+    count: usize,
     /// (direction towards the light L, colour I_L, half vector H), view space.
-    pub lights: Vec<(DVec3, DVec3, DVec3)>,
+    lights: [(V, V, V); MAX_LIGHTS],
 }
 
-impl Lighting {
+impl<T: Float, V: Vector<S = T>> Lighting<V> {
+    /// The lighting with `lights` (at most [`MAX_LIGHTS`]: the uniform block's size; a scene
+    /// file with more is refused when read).
+    pub fn new(ambient: V, diffuse: V, specular: V, shininess: T, lights: &[(V, V, V)]) -> Self {
+        assert!(
+            lights.len() <= MAX_LIGHTS,
+            "{} lights, at most {MAX_LIGHTS}",
+            lights.len()
+        );
+        let zero = V::splat(T::ZERO);
+        let mut all = [(zero, zero, zero); MAX_LIGHTS];
+        all[..lights.len()].copy_from_slice(lights);
+        Lighting {
+            ambient,
+            diffuse,
+            specular,
+            shininess,
+            count: lights.len(),
+            lights: all,
+        }
+    }
+
+    /// The lights: (L, colour, H) each.
+    pub fn lights(&self) -> &[(V, V, V)] {
+        &self.lights[..self.count]
+    }
+
+    /// Number of cosines a pixel needs (L and H per light).
+    pub fn cosines(&self) -> usize {
+        2 * self.count
+    }
+
+    /// The direction of cosine `k`: L_i for k = 2i, H_i for k = 2i + 1.
+    #[inline(always)]
+    pub fn dir(&self, k: usize) -> V {
+        let (l, _, h) = self.lights[k / 2];
+        if k % 2 == 0 {
+            l
+        } else {
+            h
+        }
+    }
+
     /// The papers' lighting model (docs/formulas.md#lighting-model), twin of `shade()` in
     /// glsl/shading.glsl:
     /// `I = k_a I_a + sum I_L (k_d max(0, N.L) + k_s max(0, N.H)^n)`, with `0^n = 0`.
-    pub fn shade(&self, n: DVec3) -> DVec3 {
-        self.shade_cosines(|v| n.dot(v))
+    #[inline(always)]
+    pub fn shade(&self, n: V) -> V {
+        self.shade_cosines(|_, v| n.dot(v))
     }
 
-    /// The same model from the cosines alone: `cosine(v)` gives N.v for v = L and v = H of
-    /// each light (methods that approximate the cosines rather than the normal: Bishop-Weimer,
-    /// Hast-Euler). Twin of `shadeCosines` in glsl/shading.glsl.
-    pub fn shade_cosines(&self, cosine: impl Fn(DVec3) -> f64) -> DVec3 {
+    /// The same model from the cosines alone: `cosine(k, v)` gives N.v for cosine `k`, whose
+    /// direction is `v` ([`Lighting::dir`]): methods that approximate the cosines rather than
+    /// the normal (Bishop-Weimer, Hast-Euler). Twin of `shadeCosines` in glsl/shading.glsl.
+    #[inline(always)]
+    pub fn shade_cosines(&self, cosine: impl Fn(usize, V) -> T) -> V {
         let mut c = self.ambient;
-        for &(l, color, h) in &self.lights {
-            let d = cosine(l).max(0.0);
-            let s = cosine(h).max(0.0);
-            let sp = if s > 0.0 { s.powf(self.shininess) } else { 0.0 };
+        for (i, &(l, color, h)) in self.lights().iter().enumerate() {
+            let d = cosine(2 * i, l).max(T::ZERO);
+            let s = cosine(2 * i + 1, h).max(T::ZERO);
+            let sp = if s > T::ZERO {
+                s.powf(self.shininess)
+            } else {
+                T::ZERO
+            };
+            c += color * (self.diffuse * d + self.specular * sp);
+        }
+        c
+    }
+
+    /// The lighting with the specular term read from the cos^n table (`specular_lut`,
+    /// glsl/methods/specular_lut.glsl): [`lut_lookup`] in place of `pow`.
+    #[inline(always)]
+    pub fn shade_lut(&self, n: V, table: &[f32]) -> V {
+        let mut c = self.ambient;
+        for &(l, color, h) in self.lights() {
+            let d = n.dot(l).max(T::ZERO);
+            let s = n.dot(h).max(T::ZERO);
+            let sp = lut_lookup(table, LUT_ROWS, LUT_SAMPLES, self.shininess, s);
             c += color * (self.diffuse * d + self.specular * sp);
         }
         c
@@ -98,6 +171,16 @@ pub fn k_romanyuk<T: Real>(z: T) -> T {
     (T::c(0.822) * z - T::c(2.046)) * z + T::c(2.227)
 }
 
+/// The unnormalised reference: `k = 1`.
+pub fn k_one<T: Real>(_z: T) -> T {
+    T::c(1.0)
+}
+
+/// Exact normalisation: `k = 1 / sqrt(z)`.
+pub fn k_exact<T: Real>(z: T) -> T {
+    T::c(1.0) / z.sqrt()
+}
+
 /// Unity's `HALF_MIN` (Core RP Library, ShaderLibrary/Macros.hlsl): the smallest normal
 /// binary16, 2^-14 = 6.103515625e-05.
 pub const HALF_MIN: f64 = 6.103515625e-05;
@@ -109,8 +192,8 @@ pub const MEDIUMP_FLT_MAX: f64 = 65504.0;
 /// `inVec * rsqrt(max(REAL_MIN, dot(inVec, inVec)))`, REAL_MIN = HALF_MIN in half): the scale
 /// `1/sqrt(max(z, HALF_MIN))`. Exact normalisation wherever `z >= 2^-14` (|N| >= 2^-7); a
 /// shorter vector comes out shorter than unit instead of 0/0.
-pub fn k_safe(z: f64) -> f64 {
-    1.0 / z.max(HALF_MIN).sqrt()
+pub fn k_safe<T: Real>(z: T) -> T {
+    T::c(1.0) / z.max(T::c(HALF_MIN)).sqrt()
 }
 
 /// Filament's mediump clamp (`saturateMediump(x) = min(x, MEDIUMP_FLT_MAX)`, common_math.glsl,
@@ -118,8 +201,8 @@ pub fn k_safe(z: f64) -> f64 {
 /// before normalising: `1/sqrt(min(z, 65504))`. Exact below z = 65504; above it (|N| > 256,
 /// where an f16 z overflows to inf and N/|N| gives 0 or NaN) the vector comes out longer than
 /// unit but finite.
-pub fn k_clamp(z: f64) -> f64 {
-    1.0 / z.min(MEDIUMP_FLT_MAX).sqrt()
+pub fn k_clamp<T: Real>(z: T) -> T {
+    T::c(1.0) / z.min(T::c(MEDIUMP_FLT_MAX)).sqrt()
 }
 
 /// Mikami's NIIRF square root, first iteration (docs/formulas.md#mikami-square-root):
@@ -151,6 +234,21 @@ pub fn beta_quadratic<T: Real>(z: T) -> T {
     (T::c(0.763) * z - T::c(1.57)) * z + T::c(1.31)
 }
 
+/// Mikami's square root with beta = 0.64: `s1(z)`, `N' = N / s1`.
+pub fn s_mikami_const<T: Real>(z: T) -> T {
+    mikami_sqrt(z, beta_const(z))
+}
+
+/// Mikami's square root with the linear beta.
+pub fn s_mikami_linear<T: Real>(z: T) -> T {
+    mikami_sqrt(z, beta_linear(z))
+}
+
+/// Mikami's square root with the quadratic beta.
+pub fn s_mikami_quadratic<T: Real>(z: T) -> T {
+    mikami_sqrt(z, beta_quadratic(z))
+}
+
 // ---------------------------------------------------------------------------------------------
 // Vector methods: half vector, quaternion, barycentric quadratic (docs/formulas.md#methods)
 // ---------------------------------------------------------------------------------------------
@@ -160,29 +258,30 @@ pub fn beta_quadratic<T: Real>(z: T) -> T {
 /// `H = n + N`, `N' = 2 H (H.n / H.H) - n`, the reflection of the unit flat normal `n` about `H`.
 /// `|N'| = |n| = 1` exactly; the error is purely angular. `H.H = 0` (N = -n, back-facing vertex
 /// normals) divides by zero and gives NaN, as on the GPU.
-pub fn hbb(n_interp: DVec3, n_flat: DVec3) -> DVec3 {
+#[inline(always)]
+pub fn hbb<V: Vector>(n_interp: V, n_flat: V) -> V {
     let h = n_flat + n_interp;
-    2.0 * h * (h.dot(n_flat) / h.dot(h)) - n_flat
+    h * V::S::c(2.0) * (h.dot(n_flat) / h.dot(h)) - n_flat
 }
 
 /// Hast's quaternion of a unit normal (docs/formulas.md#quaternion-interpolation): `z = sqrt((n.z +
 /// 1)/2)`, `(x, y) = (n.x, n.y) / (2 z)`; the three non-zero components of the twist-free rotation
 /// of +Z onto `n` (vector part relabelled). Blows up as `n.z -> -1` (`n = -Z` gives inf/NaN).
-pub fn quat_from_normal(n: DVec3) -> DVec3 {
-    let z = (0.5 * (n.z + 1.0)).sqrt();
-    DVec3::new(n.x / (2.0 * z), n.y / (2.0 * z), z)
+pub fn quat_from_normal<V: Vector>(n: V) -> V {
+    let z = (V::S::c(0.5) * (n.z() + V::S::c(1.0))).sqrt();
+    let two = V::S::c(2.0);
+    V::new(n.x() / (two * z), n.y() / (two * z), z)
 }
 
 /// Normal from a (linearly interpolated, non-unit) quaternion
 /// (docs/formulas.md#quaternion-interpolation):
 /// `N' = (2xz, 2yz, z^2 - x^2 - y^2) / (q.q)`, unit length for any `q != 0` (the square root of
 /// the normalisation cancels). `q = 0` gives NaN.
-pub fn normal_from_quat(q: DVec3) -> DVec3 {
-    DVec3::new(
-        2.0 * q.x * q.z,
-        2.0 * q.y * q.z,
-        q.z * q.z - q.x * q.x - q.y * q.y,
-    ) / q.dot(q)
+#[inline(always)]
+pub fn normal_from_quat<V: Vector>(q: V) -> V {
+    let two = V::S::c(2.0);
+    let (x, y, z) = (q.x(), q.y(), q.z());
+    V::new(two * x * z, two * y * z, z * z - x * x - y * y) / q.dot(q)
 }
 
 /// Orthonormal basis (t, b) completing unit n to a right-handed frame (t, b, n): the branchless
@@ -193,47 +292,56 @@ pub fn normal_from_quat(q: DVec3) -> DVec3 {
 /// n.z = -0.0 gives s = -1; both are well defined.) Used for the per-triangle quaternion frame
 /// of docs/formulas.md#quaternion-interpolation. `n` must be unit; the result is then
 /// orthonormal to ~1e-16.
-pub fn onb(n: DVec3) -> (DVec3, DVec3) {
-    let s = 1.0f64.copysign(n.z);
-    let a = -1.0 / (s + n.z);
-    let b0 = n.x * n.y * a;
-    let t = DVec3::new(1.0 + s * n.x * n.x * a, s * b0, -s * n.x);
-    let b = DVec3::new(b0, s + n.y * n.y * a, -n.y);
+pub fn onb<T: Float, V: Vector<S = T>>(n: V) -> (V, V) {
+    let (x, y, z) = (n.x(), n.y(), n.z());
+    let s = T::ONE.copysign(z);
+    let a = -T::ONE / (s + z);
+    let b0 = x * y * a;
+    let t = V::new(T::ONE + s * x * x * a, s * b0, -s * x);
+    let b = V::new(b0, s + y * y * a, -y);
     (t, b)
 }
 
 /// Approximate `1/|a + b| = 1/sqrt(2 + 2c)` for unit `a`, `b` with `c = a.b`
 /// (docs/formulas.md#quadratic-interpolation-along-the-span): `(0.103 c - 0.306) c + 0.705`,
 /// fitted for `c` in [0, 1] (angles <= 90 deg).
-pub fn mid_poly(c: f64) -> f64 {
-    (0.103 * c - 0.306) * c + 0.705
+pub fn mid_poly<T: Real>(c: T) -> T {
+    (T::c(0.103) * c - T::c(0.306)) * c + T::c(0.705)
 }
 
 /// Mid-edge node of the barycentric quadratic triangle with the polynomial approximation
 /// (docs/formulas.md#barycentric-quadratic-triangle): `M_ij = 4 (a + b) mid_poly(a.b)`; the 4 is
 /// the Lagrange weight of a mid-edge node.
-pub fn m_ij(a: DVec3, b: DVec3) -> DVec3 {
-    4.0 * (a + b) * mid_poly(a.dot(b))
+pub fn m_ij<V: Vector>(a: V, b: V) -> V {
+    (a + b) * V::S::c(4.0) * mid_poly(a.dot(b))
 }
 
 /// Exact mid-edge node `4 normalize(a + b)` (docs/formulas.md#barycentric-quadratic-triangle,
 /// reference variant of [`m_ij`]).
-pub fn m_ij_exact(a: DVec3, b: DVec3) -> DVec3 {
-    4.0 * normalize_exact(a + b)
+pub fn m_ij_exact<T: Float, V: Vector<S = T>>(a: V, b: V) -> V {
+    normalize_exact(a + b) * T::c(4.0)
+}
+
+/// The three mid-edge nodes `[mid(n0, n1), mid(n1, n2), mid(n2, n0)]` of [`bary_quad`].
+pub fn bary_mids<V: Vector>(n: &[V; 3], mid: impl Fn(V, V) -> V) -> [V; 3] {
+    [mid(n[0], n[1]), mid(n[1], n[2]), mid(n[2], n[0])]
 }
 
 /// Barycentric quadratic triangle (docs/formulas.md#barycentric-quadratic-triangle): the 6-node
 /// quadratic Lagrange triangle
 /// `sum N_i c_i (2 c_i - 1) + mid(N1,N2) c1 c2 + mid(N2,N3) c2 c3 + mid(N3,N1) c3 c1`, with
-/// `c` the barycentrics of corners 0, 1, 2 and `mid` either [`m_ij`] or [`m_ij_exact`].
-/// Returns N_i exactly at corner i; not renormalised.
-pub fn bary_quad(n: [DVec3; 3], c: DVec3, mid: fn(DVec3, DVec3) -> DVec3) -> DVec3 {
-    n[0] * (c.x * (2.0 * c.x - 1.0))
-        + n[1] * (c.y * (2.0 * c.y - 1.0))
-        + n[2] * (c.z * (2.0 * c.z - 1.0))
-        + mid(n[0], n[1]) * (c.x * c.y)
-        + mid(n[1], n[2]) * (c.y * c.z)
-        + mid(n[2], n[0]) * (c.z * c.x)
+/// `c` the barycentrics of corners 0, 1, 2 and `mids` from [`bary_mids`] with [`m_ij`] or
+/// [`m_ij_exact`]. Returns N_i exactly at corner i; not renormalised.
+#[inline(always)]
+pub fn bary_quad<V: Vector>(n: &[V; 3], mids: &[V; 3], c: V) -> V {
+    let (two, one) = (V::S::c(2.0), V::S::c(1.0));
+    let (x, y, z) = (c.x(), c.y(), c.z());
+    n[0] * (x * (two * x - one))
+        + n[1] * (y * (two * y - one))
+        + n[2] * (z * (two * z - one))
+        + mids[0] * (x * y)
+        + mids[1] * (y * z)
+        + mids[2] * (z * x)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -259,13 +367,15 @@ pub fn pn_mid_normals(p: [DVec3; 3], n: [DVec3; 3]) -> [DVec3; 3] {
 /// PN-triangle quadratic normal (docs/formulas.md#pn-triangles-and-trueform), unnormalised:
 /// `N1 w0^2 + N2 w1^2 + N3 w2^2 + n110 w0 w1 + n011 w1 w2 + n101 w2 w0`, with `mids` from
 /// [`pn_mid_normals`]. Equals N_i at corner i.
-pub fn pn_normal(n: [DVec3; 3], mids: [DVec3; 3], w: DVec3) -> DVec3 {
-    n[0] * (w.x * w.x)
-        + n[1] * (w.y * w.y)
-        + n[2] * (w.z * w.z)
-        + mids[0] * (w.x * w.y)
-        + mids[1] * (w.y * w.z)
-        + mids[2] * (w.z * w.x)
+#[inline(always)]
+pub fn pn_normal<V: Vector>(n: &[V; 3], mids: &[V; 3], w: V) -> V {
+    let (x, y, z) = (w.x(), w.y(), w.z());
+    n[0] * (x * x)
+        + n[1] * (y * y)
+        + n[2] * (z * z)
+        + mids[0] * (x * y)
+        + mids[1] * (y * z)
+        + mids[2] * (z * x)
 }
 
 /// PN-triangle position (docs/formulas.md#pn-triangles-and-trueform): the cubic Bezier patch
@@ -319,7 +429,10 @@ pub fn pn_tessellate(p: [DVec3; 3], n: [DVec3; 3], level: u32) -> Vec<([DVec3; 3
     for j in 0..=l {
         for i in 0..=(l - j) {
             let w = DVec3::new((l - i - j) as f64, i as f64, j as f64) / l as f64;
-            verts.push((pn_position(p, n, w), normalize_exact(pn_normal(n, mids, w))));
+            verts.push((
+                pn_position(p, n, w),
+                normalize_exact(pn_normal(&n, &mids, w)),
+            ));
         }
     }
     debug_assert_eq!(verts.len(), (l + 1) * (l + 2) / 2);
@@ -374,21 +487,33 @@ pub fn specular_lut(rows: usize, samples: usize) -> Vec<f32> {
 ///   f = s (samples - 1); i0 = floor(f) (clamped to samples-2); t = f - i0; mix(row[i0], row[i0+1], t).  s <= 0 -> 0.
 ///
 /// `table` is [`specular_lut`]`(rows, samples)`. Non-integer `n` uses the nearest row (no
-/// interpolation across exponents); NaN `s` is treated like `s <= 0`.
-pub fn lut_lookup(table: &[f32], rows: usize, samples: usize, n: f64, s: f64) -> f64 {
-    if s.is_nan() || s <= 0.0 {
-        return 0.0;
+/// interpolation across exponents); NaN `s` is treated like `s <= 0`. The table is read like a
+/// texture: the coordinates and the interpolation in the position type ([`Float::Pos`]: f64 in
+/// the truth, f32 in the engines), the result rounded to `T`.
+#[inline(always)]
+pub fn lut_lookup<T: Float>(table: &[f32], rows: usize, samples: usize, n: T, s: T) -> T {
+    let (n, s) = (n.to_pos(), s.to_pos());
+    let zero = <T::Pos as Float>::ZERO;
+    if s.is_nan() || s <= zero {
+        return T::ZERO;
     }
-    let s = s.min(1.0);
+    let one = <T::Pos as Float>::ONE;
+    let s = s.min(one);
     // Row floor(n + 0.5): halves round up, the rule glsl/methods/specular_lut.glsl spells out
     // (f64::round would take halves away from zero, GLSL round() leaves them to the driver).
-    let row = ((n + 0.5).floor().clamp(1.0, rows as f64) as usize) - 1;
-    let r = &table[row * samples..(row + 1) * samples];
-    let f = s * (samples - 1) as f64;
-    let i0 = (f.floor() as usize).min(samples - 2);
-    let t = f - i0 as f64;
+    let half = <T::Pos as Real>::c(0.5);
+    let row = (n + half)
+        .floor()
+        .clamp(one, Float::of_usize(rows))
+        .to_usize()
+        - 1;
+    let f = s * Float::of_usize(samples - 1);
+    let i0 = f.floor().to_usize().min(samples - 2);
+    let t = f - Float::of_usize(i0);
+    let base = row * samples + i0;
+    let at = |i: usize| <T::Pos as Float>::of(table[i]);
     // GLSL mix(x, y, a) = x (1 - a) + y a
-    r[i0] as f64 * (1.0 - t) + r[i0 + 1] as f64 * t
+    T::of_pos(at(base) * (one - t) + at(base + 1) * t)
 }
 
 #[cfg(test)]
@@ -409,13 +534,13 @@ mod tests {
 
     #[test]
     fn shade_follows_the_blinn_model() {
-        let lit = Lighting {
-            ambient: DVec3::splat(0.1),
-            diffuse: DVec3::splat(0.5),
-            specular: DVec3::splat(0.25),
-            shininess: 2.0,
-            lights: vec![(DVec3::Z, DVec3::ONE, DVec3::Z)],
-        };
+        let lit = Lighting::new(
+            DVec3::splat(0.1),
+            DVec3::splat(0.5),
+            DVec3::splat(0.25),
+            2.0,
+            &[(DVec3::Z, DVec3::ONE, DVec3::Z)],
+        );
         // N = Z: 0.1 + 0.5 * 1 + 0.25 * 1
         assert!((lit.shade(DVec3::Z).x - 0.85).abs() < 1e-15);
         // N at 60 degrees: 0.1 + 0.5 * 0.5 + 0.25 * 0.25
@@ -611,7 +736,8 @@ mod tests {
         // to 2/3. The /2 of the normalisation survey and of Cutler's original post gives 1
         // (docs/formulas.md#newton-raphson-step).
         // The claim's check evaluates both (src/method/checks.rs).
-        let m = crate::method::checks::newton_as_printed_in_s004();
+        let row = crate::method::find("newton_raphson").unwrap();
+        let m = row.claims[1].judge_without_proof(row).unwrap();
         assert_eq!(m.verdict, crate::method::Verdict::Disagrees, "{m:?}");
         assert!(
             m.measured.starts_with("k(1) = 0.666667 as printed"),
@@ -841,7 +967,7 @@ mod tests {
         for i in 0..=G {
             for j in 0..=(G - i) {
                 let c = DVec3::new(i as f64, j as f64, (G - i - j) as f64) / G as f64;
-                let q = bary_quad(n, c, mid);
+                let q = bary_quad(&n, &bary_mids(&n, mid), c);
                 let phong = n[0] * c.x + n[1] * c.y + n[2] * c.z;
                 len = len.max(100.0 * (q.length() - 1.0).abs());
                 ang = ang.max(angle_deg(q, phong));
@@ -856,7 +982,7 @@ mod tests {
         // mid-edge nodes give normalize(N_i + N_j) at edge midpoints.
         let n = triple(60.0);
         for (i, c) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
-            assert_eq!(bary_quad(n, c, m_ij), n[i], "corner {i}");
+            assert_eq!(bary_quad(&n, &bary_mids(&n, m_ij), c), n[i], "corner {i}");
         }
         for (i, j, c) in [
             (0, 1, DVec3::new(0.5, 0.5, 0.0)),
@@ -866,7 +992,7 @@ mod tests {
             let want = (n[i] + n[j]).normalize();
             assert_vec_close(
                 &format!("mid-edge {i}{j}"),
-                bary_quad(n, c, m_ij_exact),
+                bary_quad(&n, &bary_mids(&n, m_ij_exact), c),
                 want,
                 1e-15,
             );
@@ -1017,7 +1143,7 @@ mod tests {
                 );
                 assert_vec_close(
                     &format!("case {case} pn_normal corner {i}"),
-                    pn_normal(n, mids, w),
+                    pn_normal(&n, &mids, w),
                     n[i],
                     1e-15,
                 );
@@ -1068,7 +1194,7 @@ mod tests {
             );
             assert_vec_close(
                 &format!("pn_normal({w})"),
-                pn_normal(n, mids, w),
+                pn_normal(&n, &mids, w),
                 nrm,
                 1e-12,
             );
@@ -1087,7 +1213,8 @@ mod tests {
         assert_eq!(std::mem::size_of_val(table.as_slice()), 4_177_920);
         // The claim's check builds the same table and prints its size, without a verdict: the
         // size follows from the sample count and entry size, which the seed does not give.
-        let m = crate::method::checks::specular_lut_over_4_mb();
+        let row = crate::method::find("specular_lut").unwrap();
+        let m = row.claims[0].judge_without_proof(row).unwrap();
         assert_eq!(m.verdict, crate::method::Verdict::NotChecked, "{m:?}");
         assert!(m.measured.contains("= 4177920 bytes"), "{m:?}");
         // row-major layout, value cos^n rounded to f32

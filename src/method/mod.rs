@@ -3,7 +3,10 @@
 //! the f64 twins (src/method/) and every output. Identifiers are snake_case and appear unchanged in
 //! file names, CLI arguments, CSV and JSON.
 pub mod checks;
+pub mod dual;
 pub mod formulas;
+pub mod interval;
+pub mod kernel;
 pub mod precision;
 pub mod real;
 pub mod scanline;
@@ -15,6 +18,7 @@ pub mod twins;
 pub mod user;
 mod worst;
 
+pub use kernel::{Form, InvRoot, Kernel, Scale, SpanKernel};
 pub use precision::Precision;
 pub use table::METHODS;
 pub use twins::*;
@@ -163,6 +167,9 @@ pub enum Property {
     NeedsSpanCorners,
     /// The software engine runs it in its incremental span form (the others run per pixel there).
     SoftwareSpanForm,
+    /// `auto` may choose it (`crate::auto::candidates`): a cheap method, or the exact
+    /// reference as the fallback.
+    AutoCandidate,
 }
 
 /// The identifier of the exact reference, [`Property::ExactReference`]. Use this constant, never
@@ -177,88 +184,6 @@ pub fn phong_exact() -> &'static Method {
 /// The methods with `property`, in table order.
 pub fn with_property(property: Property) -> impl Iterator<Item = &'static Method> {
     METHODS.iter().filter(move |m| m.has(property))
-}
-
-/// The kernel the software engine (src/software/) runs for a method: one variant per distinct
-/// incremental or per-pixel form. The engine matches it exhaustively, so a row without a kernel,
-/// or a kernel without code, does not compile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SoftwareKernel {
-    /// One colour per triangle.
-    Flat,
-    /// The colours lit at the vertices, stepped along the span.
-    VertexColour,
-    /// The interpolated normal stepped, scaled per pixel by a function of its squared length.
-    Scaled(Scale),
-    /// The interpolated normal stepped, divided by Mikami's square-root approximation.
-    Mikami(MikamiBeta),
-    /// The interpolated normal stepped, Hast's half-vector correction against the flat normal.
-    HastHalfVector,
-    /// A quaternion per vertex stepped, the normal recovered per pixel.
-    Quaternion,
-    /// [`SoftwareKernel::Quaternion`] in the triangle's frame (+Z the flat normal).
-    QuaternionLocal,
-    /// The weights stepped, the quadratic normal field evaluated per pixel (the mid-edge
-    /// normals by the paper's formula, or exactly).
-    BarycentricQuadratic { exact_mid: bool },
-    /// The weights stepped, the PN quadratic normal evaluated and normalised per pixel.
-    PnNormals,
-    /// The normal stepped and normalised, the specular term read from the cos^n table.
-    SpecularLut,
-    /// Along the span through the pixel's row.
-    Span(SpanKernel),
-    /// None: a user method (`--method-file`) exists only as GLSL; the engine refuses it.
-    None,
-}
-
-/// The scale of [`SoftwareKernel::Scaled`]: 1/|v| exactly, 1, or an approximation of 1/|v|.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Scale {
-    Exact,
-    Unnormalised,
-    NewtonRaphson,
-    LyonTaylor,
-    LyonShift,
-    RomanyukPoly,
-    /// Unity's SafeNormalize: 1/sqrt(max(z, HALF_MIN)).
-    SafeNormalize,
-    /// Filament's mediump clamp before normalising: 1/sqrt(min(z, 65504)).
-    FilamentClamp,
-}
-
-/// Mikami's beta (the square root's correction) of [`SoftwareKernel::Mikami`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MikamiBeta {
-    Const,
-    Linear,
-    Quadratic,
-}
-
-/// The span kernels of [`SoftwareKernel::Span`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SpanKernel {
-    /// slerp at each pixel's t (the closed form).
-    Slerp,
-    /// spherical_angular's Chebyshev recurrence.
-    Chebyshev,
-    /// G t^2 + P t + Q by second-order forward differences.
-    Quadratic { approx_mid: bool },
-    /// The span's grid filled by halving, with this inverse square root.
-    Dichotomy(InvRoot),
-    /// 2^k-pixel segments: ends shaded, the colour stepped (or dichotomy inside with a root).
-    Segments(u32, Option<InvRoot>),
-    /// Each cosine's Taylor polynomial by forward differences.
-    BishopWeimer,
-    /// Each cosine by Euler steps with the end-error correction.
-    HastEuler,
-}
-
-/// The inverse square root of the dichotomy and segment kernels.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum InvRoot {
-    Exact,
-    Poly1,
-    Poly2,
 }
 
 /// A verdict on a claim, computed from a measurement (never written by hand).
@@ -394,27 +319,118 @@ pub struct Measurement {
     pub evidence: Evidence,
 }
 
-/// A numerical claim of the papers and the check that measures it.
+/// What a claim states, typed: its kind, its figure and its criterion. Every layer that judges
+/// claims (`list`, `prove`, `stress`, `bench` in both engines, the report through them) reads
+/// the rows' claims by their kind: none keeps a list of its own.
+#[derive(Debug, Clone, Copy)]
+pub enum Kind {
+    /// A bound on an error ([`Bound`]): judged by the claim's check (sampled, or proven where
+    /// the method's kernel is provable).
+    ErrorBound(Bound),
+    /// A validity range: the method is usable for vertex normals up to `up_to_deg` degrees
+    /// apart, by `criteria`. `shadelab stress` judges it on the device; the check judges it
+    /// in f64 where it can.
+    Validity { up_to_deg: f64, criteria: Criteria },
+    /// A speed factor: `factor` times faster than the method `than`. `shadelab bench` judges
+    /// it in both engines.
+    Speed { factor: f64, than: &'static str },
+    /// An operation count: with the counts, `shadelab bench` counts the SPIR-V of the method
+    /// minus the unnormalised baseline; without, a cost statement (bench's isolated cost).
+    OperationCount(Option<Ops>),
+    /// A property of a formula or of what the tool builds (unit length, a printed formula, an
+    /// equality, a count).
+    Property,
+}
+
+/// Operations an [`Kind::OperationCount`] claims (in floating-point instructions per pixel).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ops {
+    pub div: u32,
+    pub mul: u32,
+    pub add: u32,
+    pub sqrt: u32,
+}
+
+/// The figure of a [`Kind::ErrorBound`].
+#[derive(Debug, Clone, Copy)]
+pub enum Bound {
+    /// A scaled method's length error `|k(z) sqrt(z) - 1|` is at most `at_most` (a fraction)
+    /// for `z = N.N` in `[z.0, z.1]`.
+    Length { at_most: f64, z: (f64, f64) },
+    /// A scaled method's worst length error is at least `factor` times smaller than each of
+    /// the methods `than`'s, for vertex normals up to each of `angles_deg` apart (edges and
+    /// interior of a triangle).
+    TimesSmaller {
+        factor: f64,
+        than: &'static [&'static str],
+        angles_deg: &'static [f64],
+    },
+    /// Another bound: its figure and rule are the check's (stated in its `how`).
+    Other,
+}
+
+/// The criteria a [`Kind::Validity`] claim is judged by (docs/stress.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Criteria {
+    /// The colour criterion alone: every facing case up to the claimed angle finite and within
+    /// one 8-bit level (`max_valid_angle_deg`).
+    Colour,
+    /// The length criterion (the worst ||N| - 1| up to the claimed angle within
+    /// `checks::VISIBLE_LENGTH_ERROR_PCT`) beside the colour criterion: both hold agrees,
+    /// neither disagrees, one partly.
+    LengthAndColour,
+    /// Valid up to the angle and not beyond: within the colour threshold from 60 degrees up to
+    /// it, above it from it to 30 degrees beyond ("accuracy collapses beyond").
+    CollapsesBeyond,
+}
+
+/// A numerical claim of the papers, typed, and the check that measures it.
 ///
-/// Serialising a claim (`shadelab list --json`) runs its check, so the JSON holds `claim`,
-/// `measured`, `verdict`, `basis`, `proven_upper`, `found`, `quantity` and `how` as measured at
-/// that moment.
+/// Serialising a claim (`shadelab list --json`, through `crate::prove::bounds::json`) runs its
+/// check, so the JSON holds `claim`, `measured`, `verdict`, `basis`, `proven_upper`, `found`, `quantity`
+/// and `how` as measured at that moment.
 #[derive(Debug, Clone, Copy)]
 pub struct Claim {
     /// The claim, with its source (`docs/formulas.md#<anchor>`).
     pub claim: &'static str,
-    /// Measures the claim (an f64 sweep of the formula, see [`checks`]) and derives the verdict.
-    pub check: fn() -> Measurement,
+    /// What it states, with its figure and criterion.
+    pub kind: Kind,
+    /// How it can be judged: proven (an interval bound of the row's kernel), found (sampled
+    /// in f64 or on the device) or measured (a timing, a count, a property). The check's
+    /// evidence has this basis (a test checks it).
+    pub basis: Basis,
+    /// What measures it and derives the verdict.
+    pub check: Check,
 }
 
-impl Serialize for Claim {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        serialize_claim(self.claim, &(self.check)(), s)
+/// What measures a claim (`crate::prove::bounds::judge` runs it).
+#[derive(Debug, Clone, Copy)]
+pub enum Check {
+    /// An f64 check of this layer ([`checks`], [`scanline_checks`]): a sweep of the row's
+    /// formula, a property of it.
+    Sampled(fn(&Method, &Claim) -> Measurement),
+    /// The proof's check of the claim's kind on the row's kernel (`crate::prove::bounds`: a
+    /// scaled method's length bound, validity by both criteria, error ratio): an interval
+    /// bound beside the f64 sweep where the kernel is provable, the sweep alone where not.
+    Proof,
+    /// No formula measures it: `not_checked`, naming the command that judges it from the row
+    /// ([`checks::judged_elsewhere`]).
+    Elsewhere,
+}
+
+impl Claim {
+    /// The claim of `m` judged by a check of this layer; `None` for [`Check::Proof`] (the
+    /// proof is a layer above: `crate::prove::bounds::judge` judges every claim).
+    pub fn judge_without_proof(&self, m: &Method) -> Option<Measurement> {
+        match self.check {
+            Check::Sampled(f) => Some(f(m, self)),
+            Check::Elsewhere => Some(checks::judged_elsewhere(m, self)),
+            Check::Proof => None,
+        }
     }
 }
 
-/// A claim's 8 keys: its text and a measurement of it (the table's own check here, the proof
-/// overlay in `crate::prove::bounds::Judged`).
+/// A claim's 8 keys: its text and a measurement of it.
 pub fn serialize_claim<S: serde::Serializer>(
     claim: &str,
     m: &Measurement,
@@ -455,17 +471,16 @@ pub struct Method {
     pub reference: Reference,
     /// The range in which the paper says it is valid.
     pub validity: &'static str,
-    /// Numerical claims the papers make about it, each with the check that measures it.
+    /// Numerical claims the papers make about it, typed, each with the check that measures it
+    /// (in JSON through `crate::prove::bounds::json`, judged now).
+    #[serde(skip)]
     pub claims: &'static [Claim],
     /// The GLSL file under glsl/ that defines `methodNormal()` or `methodColor()`.
     pub glsl: &'static str,
-    /// The same method in f64 at one pixel.
+    /// Its formula, typed ([`Kernel`]): what the f64 twin evaluates, the software engine runs
+    /// and `prove` bounds (its words and flags: `software_forms` of `shadelab list --json`).
     #[serde(skip)]
-    pub eval_f64: fn(&Fragment, &Lighting) -> Shaded,
-    /// The kernel the software engine runs for it (its words and flags: `software_forms` of
-    /// `shadelab list --json`).
-    #[serde(skip)]
-    pub software: SoftwareKernel,
+    pub kernel: Kernel,
 }
 impl Method {
     /// Whether the row lists `property`.
@@ -473,14 +488,21 @@ impl Method {
         self.properties.contains(&property)
     }
 
-    /// Its f64 twin; `None` for a user method (`--method-file`), which exists only as GLSL.
-    pub fn twin(&self) -> Option<fn(&Fragment, &Lighting) -> Shaded> {
-        (self.family != Family::Yours).then_some(self.eval_f64)
+    /// The method in f64 at one pixel ([`Kernel::eval_f64`]). Panics for a user method
+    /// (`--method-file`), which has no twin: ask [`Method::twin`] first.
+    pub fn eval_f64(&self, frag: &Fragment, lighting: &Lighting) -> Shaded {
+        self.kernel.eval_f64(frag, lighting)
+    }
+
+    /// Whether it has an f64 twin: `None` for a user method (`--method-file`), which exists only
+    /// as GLSL; else the method itself (call [`Method::eval_f64`]).
+    pub fn twin(&self) -> Option<&Method> {
+        (self.family != Family::Yours && self.kernel.exists()).then_some(self)
     }
 
     /// An error (exit 2) naming the method when it has no f64 twin, for `what` (a command or
     /// check that needs one).
-    pub fn require_twin(&self, what: &str) -> Result<fn(&Fragment, &Lighting) -> Shaded> {
+    pub fn require_twin(&self, what: &str) -> Result<&Method> {
         self.twin().ok_or_else(|| {
             Error::Usage(format!(
                 "{what} needs the method's f64 twin, and {} is a user method (--method-file) \
@@ -490,11 +512,6 @@ impl Method {
             ))
         })
     }
-}
-
-/// The `eval_f64` of a user method's row: never called (consumers ask [`Method::twin`]).
-pub(crate) fn no_twin(_: &Fragment, _: &Lighting) -> Shaded {
-    panic!("a user method has no f64 twin; the caller must ask Method::twin() first")
 }
 
 /// Looks a method up by identifier; the error lists the valid ones.

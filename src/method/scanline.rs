@@ -1,47 +1,67 @@
-//! The scanline family in f64 (docs/formulas.md#scanline-emulation, then slerp, spherical-angular,
+//! The scanline family (docs/formulas.md#scanline-emulation, then slerp, spherical-angular,
 //! quadratic and dichotomy of docs/formulas.md#methods): the span through a pixel's row and the
-//! interpolations along it. Each function is the literal f64 port of its GLSL twin in
-//! glsl/scanline.glsl or glsl/methods/, with the same branches and thresholds, so that the float32
-//! image and this f64 evaluation differ only by rounding.
+//! interpolations along it, once, generic over the number type ([`super::real`]) like
+//! [`super::formulas`]. Each function is the literal port of its GLSL twin in
+//! glsl/scanline.glsl or glsl/methods/, with the same branches and thresholds, so that the
+//! float32 image and the f64 evaluation differ only by rounding. Window positions are in the
+//! position type ([`Float::Pos`]: f64 in the truth, f32 in the engines, as the rasterizer's),
+//! the normals and cosines in the scalar.
 use glam::{DVec2, DVec3};
 
-use super::formulas::normalize_exact;
+use super::formulas::{mid_poly, normalize_exact};
+use super::real::{Float, Real, Vector};
 
 /// The span through one row of a triangle: its two ends on the triangle's edges, with the
-/// Phong edge normals there (linear along the edge, not unit).
+/// Phong edge normals there (linear along the edge, not unit). `P` is the position type.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Span {
-    pub xa: f64,
-    pub na: DVec3,
-    pub xb: f64,
-    pub nb: DVec3,
+pub struct Span<V = DVec3, P = f64> {
+    pub xa: P,
+    pub na: V,
+    pub xb: P,
+    pub nb: V,
+}
+
+/// A triangle's window-space corners, (x, y) each.
+pub type Corners<P> = [[P; 2]; 3];
+
+/// The f64 corners of window positions.
+pub fn corners(w: [DVec2; 3]) -> Corners<f64> {
+    w.map(|p| p.to_array())
 }
 
 /// The span through the row `py` of the triangle with window-space corners `s` and vertex normals
 /// `nv` (docs/formulas.md#scanline-emulation). `py` is first clamped to the triangle's rows, so a
 /// pixel the rasterizer covers on the triangle's top or bottom row still finds its edges. A
 /// triangle with no non-horizontal edge (all corners on one row) gives the empty span at corner 0.
-pub fn span_at(py: f64, s: [DVec2; 3], nv: [DVec3; 3]) -> Span {
-    let lo = s[0].y.min(s[1].y.min(s[2].y));
-    let hi = s[0].y.max(s[1].y.max(s[2].y));
+/// The edge parameter and the ends' x are positions; the ends' normals are interpolated in `T`.
+pub fn span_at<T: Float, V: Vector<S = T>>(
+    py: T::Pos,
+    s: Corners<T::Pos>,
+    nv: [V; 3],
+) -> Span<V, T::Pos> {
+    let lo = s[0][1].min(s[1][1].min(s[2][1]));
+    let hi = s[0][1].max(s[1][1].max(s[2][1]));
     let py = py.clamp(lo, hi);
+    let (zero, one) = (<T::Pos as Float>::ZERO, <T::Pos as Float>::ONE);
     let mut sp = Span {
-        xa: 1e30,
+        xa: Real::c(1e30),
         na: nv[0],
-        xb: -1e30,
+        xb: Real::c(-1e30),
         nb: nv[0],
     };
     for e in 0..3 {
         let (p, q) = (s[e], s[(e + 1) % 3]);
-        if p.y == q.y {
+        if p[1] == q[1] {
             continue;
         }
-        let u = (py - p.y) / (q.y - p.y);
-        if !(0.0..=1.0).contains(&u) {
+        let u = (py - p[1]) / (q[1] - p[1]);
+        if !(zero <= u && u <= one) {
             continue;
         }
-        let x = mix(p.x, q.x, u);
-        let n = nv[e] * (1.0 - u) + nv[(e + 1) % 3] * u;
+        // GLSL mix(x, y, a) = x (1 - a) + y a
+        let x = p[0] * (one - u) + q[0] * u;
+        let us = T::of_pos(u);
+        let n = nv[e] * (T::ONE - us) + nv[(e + 1) % 3] * us;
         if x < sp.xa {
             sp.xa = x;
             sp.na = n;
@@ -52,30 +72,26 @@ pub fn span_at(py: f64, s: [DVec2; 3], nv: [DVec3; 3]) -> Span {
         }
     }
     if sp.xa > sp.xb {
-        sp.xa = s[0].x;
-        sp.xb = s[0].x;
+        sp.xa = s[0][0];
+        sp.xb = s[0][0];
     }
     sp
 }
 
-/// GLSL `mix` on scalars: `x (1 - a) + y a`.
-fn mix(x: f64, y: f64, a: f64) -> f64 {
-    x * (1.0 - a) + y * a
-}
-
 /// Where pixel `px` lies on the span: `clamp((px - xA) / (xB - xA), 0, 1)`, 0 on an empty span.
-pub fn span_t(sp: &Span, px: f64) -> f64 {
+#[inline(always)]
+pub fn span_t<V, P: Float>(sp: &Span<V, P>, px: P) -> P {
     if sp.xb > sp.xa {
-        ((px - sp.xa) / (sp.xb - sp.xa)).clamp(0.0, 1.0)
+        ((px - sp.xa) / (sp.xb - sp.xa)).clamp(P::ZERO, P::ONE)
     } else {
-        0.0
+        P::ZERO
     }
 }
 
 /// The unit span-end normals N'_A, N'_B (exact normalisation, as the seeds assume) and `t` of
-/// the pixel at `pixel` in the triangle (`window`, `normals`).
+/// the pixel at `pixel` in the triangle (`window`, `normals`), in f64.
 pub fn span_ends(pixel: DVec2, window: [DVec2; 3], normals: [DVec3; 3]) -> (DVec3, DVec3, f64) {
-    let sp = span_at(pixel.y, window, normals);
+    let sp = span_at(pixel.y, corners(window), normals);
     (
         normalize_exact(sp.na),
         normalize_exact(sp.nb),
@@ -87,53 +103,70 @@ pub fn span_ends(pixel: DVec2, window: [DVec2; 3], normals: [DVec3; 3]) -> (DVec
 /// `normalize(mix(a, b, t))`, which agrees with them there to ~1e-9. Antipodal ends (no plane)
 /// take the same fallback, whose result is the zero vector at t = 1/2 (their documented hazard).
 pub const PARALLEL: f64 = 1e-8;
+/// [`PARALLEL`] in float16 (glsl/scanline.glsl `BY_PRECISION(1e-8, 0.001953125)`: 1e-8 is below
+/// float16's range and would round to 0, making parallel span ends divide 0 by 0): 2^-9.
+pub const PARALLEL_F16: f64 = 0.001953125;
+
+/// `(c, sin(theta), theta)` of unit `a`, `b` (`c = a.b` clamped to [-1, 1]), or `None` within
+/// [`PARALLEL`] of parallel or antipodal, where the angle-based forms fall back to
+/// `normalize(mix)`. glsl/scanline.glsl `angleBetween`: the float programs refine `acos` by one
+/// Newton step on sin ([`Float::REFINED_ACOS`]).
+#[inline(always)]
+pub fn angle<T: Float, V: Vector<S = T>>(a: V, b: V) -> Option<(T, T, T)> {
+    let c = a.dot(b).clamp(-T::ONE, T::ONE);
+    let s2 = T::ONE - c * c;
+    if s2 < T::by_precision(PARALLEL, PARALLEL_F16) {
+        return None;
+    }
+    let s = s2.sqrt();
+    let t0 = c.acos();
+    let th = if T::REFINED_ACOS {
+        t0 + (s * t0.cos() - c * t0.sin())
+    } else {
+        t0
+    };
+    Some((c, s, th))
+}
 
 /// Spherical linear interpolation between unit `a` and `b` as the papers print it
 /// (docs/formulas.md#slerp): `(a sin((1 - t) theta) + b sin(t theta)) / sin(theta)`, `theta = acos(a.b)`, the dot
 /// product clamped to [-1, 1].
-pub fn slerp(a: DVec3, b: DVec3, t: f64) -> DVec3 {
+#[inline(always)]
+pub fn slerp<T: Float, V: Vector<S = T>>(a: V, b: V, t: T) -> V {
     match angle(a, b) {
-        Some((_, s, th)) => (a * ((1.0 - t) * th).sin() + b * (t * th).sin()) / s,
-        None => normalize_exact(a * (1.0 - t) + b * t),
+        Some((_, s, th)) => (a * ((T::ONE - t) * th).sin() + b * (t * th).sin()) / s,
+        None => normalize_exact(a * (T::ONE - t) + b * t),
     }
-}
-
-/// `(c, sin(theta), theta)` of unit `a`, `b` (`c = a.b` clamped to [-1, 1]), or `None` within
-/// [`PARALLEL`] of parallel or antipodal, where the angle-based forms fall back to
-/// `normalize(mix)`.
-fn angle(a: DVec3, b: DVec3) -> Option<(f64, f64, f64)> {
-    let c = a.dot(b).clamp(-1.0, 1.0);
-    let s2 = 1.0 - c * c;
-    (s2 >= PARALLEL).then(|| (c, s2.sqrt(), c.acos()))
 }
 
 /// Spherical-angular interpolation in closed form
 /// (docs/formulas.md#spherical-angular-interpolation): the Gram-Schmidt form
 /// `a cos(t theta) + (b - a c) sin(t theta) / sin(theta)`, `c = a.b`. Equal to [`slerp`] in exact
 /// arithmetic; a different float computation.
-pub fn spherical_angular(a: DVec3, b: DVec3, t: f64) -> DVec3 {
+pub fn spherical_angular<T: Float, V: Vector<S = T>>(a: V, b: V, t: T) -> V {
     match angle(a, b) {
         Some((c, s, th)) => a * (t * th).cos() + (b - a * c) * ((t * th).sin() / s),
-        None => normalize_exact(a * (1.0 - t) + b * t),
+        None => normalize_exact(a * (T::ONE - t) + b * t),
     }
 }
 
 /// The approximate middle normal of a span
 /// (docs/formulas.md#quadratic-interpolation-along-the-span):
-/// `(0.103 c^2 - 0.306 c + 0.705) (nl + np)`, `c = nl.np`, a fit of `1/|nl + np|` on c in [0, 1].
-pub fn mid_approx(nl: DVec3, np: DVec3) -> DVec3 {
-    let c = nl.dot(np);
-    (nl + np) * ((0.103 * c - 0.306) * c + 0.705)
+/// `(0.103 c^2 - 0.306 c + 0.705) (nl + np)`, `c = nl.np`, a fit of `1/|nl + np|` on c in [0, 1]
+/// ([`mid_poly`]).
+pub fn mid_approx<V: Vector>(nl: V, np: V) -> V {
+    (nl + np) * mid_poly(nl.dot(np))
 }
 
 /// The exact middle normal: `normalize(nl + np)`, the angular midpoint of the unit ends.
-pub fn mid_exact(nl: DVec3, np: DVec3) -> DVec3 {
+pub fn mid_exact<T: Float, V: Vector<S = T>>(nl: V, np: V) -> V {
     normalize_exact(nl + np)
 }
 
 /// Quadratic interpolation along the span through `nl` (t = 0), `nc` (t = 1/2) and `np` (t = 1)
 /// (docs/formulas.md#quadratic-interpolation-along-the-span, the survey's P corrected):
-/// `(G t + P) t + nl`, `G = 2np - 4nc + 2nl`, `P = 4nc - 3nl - np`. Not renormalised.
+/// `(G t + P) t + nl`, `G = 2np - 4nc + 2nl`, `P = 4nc - 3nl - np`. Not renormalised. (The
+/// software engine steps the same polynomial by forward differences.)
 pub fn quadratic(nl: DVec3, np: DVec3, nc: DVec3, t: f64) -> DVec3 {
     let g = np * 2.0 - nc * 4.0 + nl * 2.0;
     let p = nc * 4.0 - nl * 3.0 - np;
@@ -142,20 +175,20 @@ pub fn quadratic(nl: DVec3, np: DVec3, nc: DVec3, t: f64) -> DVec3 {
 
 /// `1/sqrt(2 + z)`, `z = 2 cos(phi)`: the factor that makes `lo + hi` unit
 /// (docs/formulas.md#dichotomy).
-pub fn inv_root_exact(z: f64) -> f64 {
-    1.0 / (2.0 + z).sqrt()
+pub fn inv_root_exact<T: Real>(z: T) -> T {
+    T::c(1.0) / (T::c(2.0) + z).sqrt()
 }
 
 /// The degree-1 approximation `0.64 - 0.07 z` of the digital-segment paper
 /// (docs/formulas.md#dichotomy).
-pub fn inv_root_poly1(z: f64) -> f64 {
-    0.64 - 0.07 * z
+pub fn inv_root_poly1<T: Real>(z: T) -> T {
+    T::c(0.64) - T::c(0.07) * z
 }
 
 /// The degree-2 minimax approximation `0.014253 z^2 - 0.118922 z + 0.680850` on phi in [0, 45]
 /// degrees (docs/formulas.md#dichotomy; the normalisation survey prints it rounded).
-pub fn inv_root_poly2(z: f64) -> f64 {
-    (0.014253 * z - 0.118922) * z + 0.680850
+pub fn inv_root_poly2<T: Real>(z: T) -> T {
+    (T::c(0.014253) * z - T::c(0.118922)) * z + T::c(0.680850)
 }
 
 /// Largest number of halving levels of the dichotomy methods (a span of 4096 pixels).
@@ -163,9 +196,9 @@ pub const MAX_LEVELS: u32 = 12;
 
 /// Halving levels for a span of `width` pixels: the least k >= 1 with 2^k >= width, at most
 /// [`MAX_LEVELS`] (docs/formulas.md#dichotomy: K = ceil(log2(span pixels)), by comparison, no log).
-pub fn levels(width: f64) -> u32 {
+pub fn levels<P: Float>(width: P) -> u32 {
     let mut k = 1;
-    while k < MAX_LEVELS && f64::from(1u32 << k) < width {
+    while k < MAX_LEVELS && P::of_usize(1usize << k) < width {
         k += 1;
     }
     k
@@ -173,7 +206,8 @@ pub fn levels(width: f64) -> u32 {
 
 /// Dichotomy (angle halving, docs/formulas.md#dichotomy): the slerp sample nearest `t` on the grid
 /// m / 2^k, reached by `k` bisections of the bracket (a, b) with `mid = (lo + hi) f(2 lo.hi)`;
-/// `m = floor(t 2^k + 0.5)` (halves up, one rule on GPU and CPU).
+/// `m = floor(t 2^k + 0.5)` (halves up, one rule on GPU and CPU). (The software engine fills the
+/// whole grid by the same midpoints.)
 pub fn dichotomy(a: DVec3, b: DVec3, t: f64, k: u32, f: fn(f64) -> f64) -> DVec3 {
     let n = 1u32 << k;
     let m = ((t * f64::from(n) + 0.5).floor() as u32).min(n);
@@ -209,9 +243,10 @@ pub fn segment(sp: &Span, px: f64, k: u32) -> (f64, f64, u32) {
 
 /// The Phong normal of the span at `x` (linear in x, extrapolated past the ends; the start
 /// normal on an empty span).
-pub fn span_normal(sp: &Span, x: f64) -> DVec3 {
+#[inline(always)]
+pub fn span_normal<T: Float, V: Vector<S = T>>(sp: &Span<V, T::Pos>, x: T::Pos) -> V {
     if sp.xb > sp.xa {
-        sp.na + (sp.nb - sp.na) * ((x - sp.xa) / (sp.xb - sp.xa))
+        sp.na + (sp.nb - sp.na) * T::of_pos((x - sp.xa) / (sp.xb - sp.xa))
     } else {
         sp.na
     }
@@ -221,42 +256,60 @@ pub fn span_normal(sp: &Span, x: f64) -> DVec3 {
 /// (docs/formulas.md#bishop-weimer-taylor-shading), fitted to the window corners `s` and normals
 /// `n` with the origin at the corners' centroid `o`: returns (A, B, C, o). A triangle with no area
 /// on screen (|det| <= 1e-12) gets the constant normal n0.
-pub fn plane_normal(s: [DVec2; 3], n: [DVec3; 3]) -> (DVec3, DVec3, DVec3, DVec2) {
-    let o = (s[0] + s[1] + s[2]) / 3.0;
-    let q0 = s[0] - o;
-    let (e1, e2) = (s[1] - s[0], s[2] - s[0]);
-    let det = e1.x * e2.y - e1.y * e2.x;
-    let (a, b) = if det.abs() > 1e-12 {
+#[allow(clippy::type_complexity)]
+pub fn plane_normal<T: Float, V: Vector<S = T>>(
+    s: Corners<T::Pos>,
+    n: [V; 3],
+) -> (V, V, V, [T::Pos; 2]) {
+    let three = <T::Pos as Real>::c(3.0);
+    let o = [0, 1].map(|k| (s[0][k] + s[1][k] + s[2][k]) / three);
+    let q0 = [s[0][0] - o[0], s[0][1] - o[1]];
+    let e1 = [s[1][0] - s[0][0], s[1][1] - s[0][1]];
+    let e2 = [s[2][0] - s[0][0], s[2][1] - s[0][1]];
+    let det = e1[0] * e2[1] - e1[1] * e2[0];
+    let (a, b) = if det.abs() > Real::c(1e-12) {
+        let d = T::of_pos(det);
+        let (e1, e2) = (e1.map(T::of_pos), e2.map(T::of_pos));
         (
-            ((n[1] - n[0]) * e2.y - (n[2] - n[0]) * e1.y) / det,
-            ((n[2] - n[0]) * e1.x - (n[1] - n[0]) * e2.x) / det,
+            ((n[1] - n[0]) * e2[1] - (n[2] - n[0]) * e1[1]) / d,
+            ((n[2] - n[0]) * e1[0] - (n[1] - n[0]) * e2[0]) / d,
         )
     } else {
-        (DVec3::ZERO, DVec3::ZERO)
+        (V::splat(T::ZERO), V::splat(T::ZERO))
     };
-    (a, b, n[0] - a * q0.x - b * q0.y, o)
+    (a, b, n[0] - a * T::of_pos(q0[0]) - b * T::of_pos(q0[1]), o)
+}
+
+/// The Taylor coefficients T0..T5 about (0, 0) of `(v.N)/|N|`, `N = A x + B y + C`
+/// (docs/formulas.md#bishop-weimer-taylor-shading: T0..T5, derived symbolically).
+pub fn taylor_terms<V: Vector>(v: V, a3: V, b3: V, c3: V) -> [V::S; 6] {
+    let c = |x: f64| V::S::c(x);
+    let (two, three, four, eight) = (c(2.0), c(3.0), c(4.0), c(8.0));
+    let (a, b, c) = (v.dot(a3), v.dot(b3), v.dot(c3));
+    let (d, e, f) = (a3.dot(a3), two * a3.dot(b3), b3.dot(b3));
+    let (g, h, i) = (two * a3.dot(c3), two * b3.dot(c3), c3.dot(c3));
+    let si = i.sqrt();
+    [
+        c / si,
+        (two * b * i - c * h) / (two * i * si),
+        (two * a * i - c * g) / (two * i * si),
+        (three * c * h * h - four * c * f * i - four * b * h * i) / (eight * i * i * si),
+        (three * c * g * h - two * c * e * i - two * b * g * i - two * a * h * i)
+            / (four * i * i * si),
+        (three * c * g * g - four * c * d * i - four * a * g * i) / (eight * i * i * si),
+    ]
 }
 
 /// The second-order Taylor polynomial about (0, 0) of `(v.N)/|N|`, `N = A x + B y + C`, at
-/// `p = (x, y)` (docs/formulas.md#bishop-weimer-taylor-shading: T0..T5, derived symbolically).
+/// `p = (x, y)` ([`taylor_terms`]; the software engine steps it by forward differences).
 pub fn taylor_cosine(v: DVec3, a3: DVec3, b3: DVec3, c3: DVec3, p: DVec2) -> f64 {
-    let (a, b, c) = (v.dot(a3), v.dot(b3), v.dot(c3));
-    let (d, e, f) = (a3.dot(a3), 2.0 * a3.dot(b3), b3.dot(b3));
-    let (g, h, i) = (2.0 * a3.dot(c3), 2.0 * b3.dot(c3), c3.dot(c3));
-    let si = i.sqrt();
-    let t0 = c / si;
-    let t1 = (2.0 * b * i - c * h) / (2.0 * i * si);
-    let t2 = (2.0 * a * i - c * g) / (2.0 * i * si);
-    let t3 = (3.0 * c * h * h - 4.0 * c * f * i - 4.0 * b * h * i) / (8.0 * i * i * si);
-    let t4 = (3.0 * c * g * h - 2.0 * c * e * i - 2.0 * b * g * i - 2.0 * a * h * i)
-        / (4.0 * i * i * si);
-    let t5 = (3.0 * c * g * g - 4.0 * c * d * i - 4.0 * a * g * i) / (8.0 * i * i * si);
+    let [t0, t1, t2, t3, t4, t5] = taylor_terms(v, a3, b3, c3);
     let (x, y) = (p.x, p.y);
     t5 * x * x + t4 * x * y + t3 * y * y + t2 * x + t1 * y + t0
 }
 
 /// dI/dt of `v.N/|N|` at N with `dN/dt = D`.
-fn cosine_slope(v: DVec3, n: DVec3, d: DVec3) -> f64 {
+pub fn cosine_slope<V: Vector>(v: V, n: V, d: V) -> V::S {
     let n2 = n.dot(n);
     let len = n2.sqrt();
     v.dot(d) / len - v.dot(n) * n.dot(d) / (n2 * len)
@@ -265,7 +318,7 @@ fn cosine_slope(v: DVec3, n: DVec3, d: DVec3) -> f64 {
 /// Hast's Euler integration of `v.N(t)/|N(t)|` along the span
 /// (docs/formulas.md#hast-euler-integration, the reconstruction): pixel steps `h = 1/W`, the
 /// derivative interpolated between the ends, the end error spread linearly over the span, at the
-/// pixel's fraction `t`.
+/// pixel's fraction `t`. (The software engine steps the same sum.)
 pub fn euler_cosine(v: DVec3, sp: &Span, t: f64) -> f64 {
     let (na, nb) = (sp.na, sp.nb);
     let w = sp.xb - sp.xa;
@@ -288,13 +341,13 @@ mod tests {
     use super::*;
     use crate::testutil::assert_close;
 
-    fn tri() -> ([DVec2; 3], [DVec3; 3]) {
+    fn tri() -> (Corners<f64>, [DVec3; 3]) {
         (
-            [
+            corners([
                 DVec2::new(10.0, 10.0),
                 DVec2::new(30.0, 12.0),
                 DVec2::new(15.0, 40.0),
-            ],
+            ]),
             [DVec3::X, DVec3::Y, DVec3::Z],
         )
     }

@@ -4,7 +4,9 @@
 //! table followed by them) and the refusals (a clashing id, an unknown or undeclared input).
 //!
 //! A user row has no f64 twin and no software kernel: [`Method::twin`] is `None` and its
-//! software kernel is [`SoftwareKernel::None`], which the software engine refuses. Its programs
+//! kernel is [`Kernel::None`], which the software engine refuses. A row made in code with its
+//! file ([`prepare_row`]: a method generated at run time, a test's) has the kernel and claims
+//! of its row, like a row of the table. Their programs
 //! are compiled before registration ([`crate::gpu::shaders::register_user`]) from
 //! the GLSL embedded in the binary, so it runs outside the repository too.
 //!
@@ -16,7 +18,7 @@ use std::sync::RwLock;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
-use super::{Family, Geometry, Input, Method, Reference, SoftwareKernel, METHODS};
+use super::{Family, Geometry, Input, Kernel, Method, Reference, METHODS};
 use crate::error::{Error, Result};
 
 /// The marker of the declaration line.
@@ -243,19 +245,7 @@ pub fn is_registered(abs: &Path) -> bool {
 /// Reads and checks the file at the absolute path `path` and makes its row (not registered
 /// yet: its programs are compiled first, by [`crate::gpu::shaders::register_user`]).
 pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text =
-        String::from_utf8(bytes.clone()).map_err(|_| usage(path, "is not UTF-8 text".into()))?;
-    let parsed = parse(path, &text)?;
-    if let Some(other) = registered().iter().find(|u| u.name == parsed.name) {
-        return Err(usage(
-            path,
-            format!(
-                "its id {:?} (the file stem) is also the id of {}: rename one",
-                parsed.name, other.path
-            ),
-        ));
-    }
+    let (bytes, text, parsed) = read(path)?;
     let path_str = leak(path.display().to_string());
     let method: &'static Method = Box::leak(Box::new(Method {
         name: leak(parsed.name.clone()),
@@ -270,21 +260,69 @@ pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
         validity: "unknown (a user method: see stress's validity map)",
         claims: &[],
         glsl: path_str,
-        eval_f64: super::no_twin,
-        software: SoftwareKernel::None,
+        kernel: Kernel::None,
     }));
-    let user: &'static UserMethod = Box::leak(Box::new(UserMethod {
+    Ok((user_method(method, path_str, &bytes, text, &parsed), parsed))
+}
+
+/// A method row made in code with its GLSL file at the absolute path `path` (not registered
+/// yet: [`crate::gpu::shaders::register_row`] compiles and registers it). The row is the
+/// method, kernel and claims included, as a row of the table is: a method generated at run
+/// time, or a test's, is its file and this one row. The file must declare the row's id (its
+/// stem), its inputs and its entry point (a normal exactly when the row has one).
+pub fn prepare_row(path: &Path, row: &'static Method) -> Result<(&'static UserMethod, Parsed)> {
+    let (bytes, text, parsed) = read(path)?;
+    if parsed.name != row.name || parsed.inputs != row.inputs || parsed.has_normal != row.has_normal
+    {
+        return Err(usage(
+            path,
+            format!(
+                "declares {} with inputs {:?} (normal: {}), its row {} with {:?} (normal: {}): \
+                 make them agree",
+                parsed.name, parsed.inputs, parsed.has_normal, row.name, row.inputs, row.has_normal
+            ),
+        ));
+    }
+    let path_str = leak(path.display().to_string());
+    Ok((user_method(row, path_str, &bytes, text, &parsed), parsed))
+}
+
+/// The file's bytes, text and declaration, refused when its id is registered already.
+fn read(path: &Path) -> Result<(Vec<u8>, String, Parsed)> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let text =
+        String::from_utf8(bytes.clone()).map_err(|_| usage(path, "is not UTF-8 text".into()))?;
+    let parsed = parse(path, &text)?;
+    if let Some(other) = registered().iter().find(|u| u.name == parsed.name) {
+        return Err(usage(
+            path,
+            format!(
+                "its id {:?} (the file stem) is also the id of {}: rename one",
+                parsed.name, other.path
+            ),
+        ));
+    }
+    Ok((bytes, text, parsed))
+}
+
+fn user_method(
+    method: &'static Method,
+    path: &'static str,
+    bytes: &[u8],
+    source: String,
+    parsed: &Parsed,
+) -> &'static UserMethod {
+    Box::leak(Box::new(UserMethod {
         method,
         name: method.name,
-        path: path_str.to_string(),
-        sha256: Sha256::digest(&bytes)
+        path: path.to_string(),
+        sha256: Sha256::digest(bytes)
             .iter()
             .map(|b| format!("{b:02x}"))
             .collect(),
-        source: text,
+        source,
         declaration_line: parsed.declaration_line,
-    }));
-    Ok((user, parsed))
+    }))
 }
 
 /// Registers a prepared method whose programs compiled: [`all`] and [`super::find`] see it from

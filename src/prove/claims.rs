@@ -2,15 +2,16 @@
 //! of a scaling method's length error over a range of N.N (and finds the best real point), and
 //! [`at_most`] / [`verdict`] turn a proven upper and a found value into a verdict: a part holds
 //! only when the proven upper bound is within the claim, fails when a found (real) point
-//! exceeds it, and is undecided otherwise. The proof overlay ([`super::bounds`]) uses them, so
-//! `shadelab list --json`, bench.json's claims and proof.json's `claims` carry one verdict
+//! exceeds it, and is undecided otherwise. The rows' bound checks ([`super::bounds`]) use them,
+//! so `shadelab list --json`, bench.json's claims and proof.json's `claims` carry one verdict
 //! each, with its basis (proven, found, measured).
 use serde::Serialize;
 
 use super::bnb::{self, Budget, Outcome};
-use super::covered::{self, Factor};
+use super::covered;
 use super::interval::Interval;
 use crate::method::real::Real;
+use crate::method::Scale;
 use crate::method::{Basis, Method, Quantity, Verdict};
 
 /// One claim as proof.json lists it: the method table's check, with its basis and figures.
@@ -40,10 +41,10 @@ const CLAIM_BUDGET: Budget = Budget {
 
 /// `| k(z) sqrt(z) - 1 |` at the real point `z`, as a lower bound of its true value (the
 /// interval's smallest magnitude at the point); NaN when the formula is not finite there.
-fn length_error_at(k: Factor, z: f64) -> f64 {
+fn length_error_at(k: &Scale, z: f64) -> f64 {
     let one = Interval::point(1.0);
     let zi = Interval::point(z);
-    let e = (k.interval)(zi) * zi.sqrt() - one;
+    let e = k.k(zi) * zi.sqrt() - one;
     if !(e.lo.is_finite() && e.hi.is_finite()) {
         f64::NAN
     } else if e.lo > 0.0 {
@@ -57,7 +58,7 @@ fn length_error_at(k: Factor, z: f64) -> f64 {
 
 /// Branch-and-bound of the length error `| k(z) sqrt(z) - 1 |` over `z`: `proven_upper` holds
 /// for every real z in it, `found` is reached at a real z (`found_at[0]`).
-pub fn length_error(k: Factor, z: Interval) -> Outcome {
+pub fn length_error(k: &Scale, z: Interval) -> Outcome {
     let point = Interval::point(0.0);
     bnb::maximise(
         [z, point, point],
@@ -116,21 +117,21 @@ pub fn verdict(parts: &[Part]) -> Verdict {
     }
 }
 
-/// The claims of `methods` that are bounds over a domain (basis proven or found), as the
-/// method table's checks judge them with the proof overlay ([`super::bounds::with_proof`]); a
-/// found one says why it is not proven.
+/// The claims of `methods` that are bounds over a domain (basis proven or found), as their
+/// rows' checks judge them (by proof where the kernel is provable, [`super::bounds`]); a found
+/// one says why it is not proven.
 pub fn judge(methods: &[&'static Method]) -> Vec<ProofClaim> {
     let mut out = Vec::new();
     for m in methods {
         for c in m.claims {
-            let r = super::bounds::with_proof(m.name, c);
+            let r = super::bounds::judge(m, c);
             let measured = match r.evidence.basis {
                 Basis::Measured => continue,
                 Basis::Proven => r.measured,
                 Basis::Found => format!(
                     "{}; not proven: {}",
                     r.measured,
-                    if covered::factor_of(m.name).is_some() {
+                    if covered::factor_of(m).is_some() {
                         "the claim's quantity is not a scaling method's length error"
                     } else {
                         covered::out_of_reach(m)

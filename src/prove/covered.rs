@@ -1,8 +1,8 @@
 //! The methods `prove` covers and the domain it proves them over. A covered method scales the
-//! interpolated normal by a factor of its squared length (`N' = k(z) N`, z = N.N): its factor
-//! is the formula of [`crate::method::formulas`] instantiated with [`Interval`] (the same
-//! generic function the f64 twin instantiates with f64). Every other method is listed with the
-//! reason it is out of reach.
+//! interpolated normal by a factor of its squared length (`N' = k(z) N`, z = N.N): its row's
+//! kernel carries the factor ([`Scale`]), whose generic formula `prove` instantiates with
+//! [`Interval`] and [`Dual`] (the same function the f64 twin and the software engine
+//! instantiate). Every other method is listed with the reason it is out of reach.
 //!
 //! The domains ([`super::domain`]) enter as ranges of z: [`triangle_z_range`] for any triangle
 //! (three free unit normals pairwise at most theta apart, any weights), [`z_range`] for the
@@ -17,118 +17,13 @@ use super::bnb::{maximise, Budget, Cell, Point};
 use super::dual::{mean_value, Dual};
 use super::interval::Interval;
 use crate::cases::{errors, Case, CaseSpec, Shape};
-use crate::method::formulas as f;
 use crate::method::real::Real;
-use crate::method::{Family, Input, Method};
+use crate::method::{Family, Input, Method, Scale};
 
-/// A scale factor `k(z)`: the generic formula instantiated with intervals and with
-/// interval derivatives.
-#[derive(Debug, Clone, Copy)]
-pub struct Factor {
-    pub interval: fn(Interval) -> Interval,
-    pub dual: fn(Dual) -> Dual,
-    /// A range of z on which the formula is exactly `1 / sqrt(z)` (algebraically: e.g. a
-    /// clamp that does not act there), so that |N'| = 1 and the length error is exactly 0 on
-    /// a box inside it (intervals would leave ~1e-11 of dependency there).
-    pub exact_on: Option<(f64, f64)>,
-}
-
-/// The factor of a generic formula (both instantiations of the same function).
-macro_rules! factor {
-    ($f:path) => {
-        $crate::prove::covered::Factor {
-            interval: $f,
-            dual: $f,
-            exact_on: None,
-        }
-    };
-}
-pub(crate) use factor;
-
-/// The unnormalised reference: `k = 1`.
-pub fn k_one<T: Real>(_z: T) -> T {
-    T::c(1.0)
-}
-
-/// Mikami's `1 / s1` (the twin divides `N` by [`f::mikami_sqrt`]; the same real number).
-pub fn k_mikami<T: Real>(z: T, beta: fn(T) -> T) -> T {
-    T::c(1.0) / f::mikami_sqrt(z, beta(z))
-}
-
-pub fn k_mikami_const<T: Real>(z: T) -> T {
-    k_mikami(z, f::beta_const)
-}
-
-pub fn k_mikami_linear<T: Real>(z: T) -> T {
-    k_mikami(z, f::beta_linear)
-}
-
-pub fn k_mikami_quadratic<T: Real>(z: T) -> T {
-    k_mikami(z, f::beta_quadratic)
-}
-
-/// Exact normalisation: `k = 1 / sqrt(z)`.
-pub fn k_exact<T: Real>(z: T) -> T {
-    T::c(1.0) / z.sqrt()
-}
-
-/// Unity's SafeNormalize, [`f::k_safe`]: `1 / sqrt(max(z, HALF_MIN))`.
-fn k_safe_interval(z: Interval) -> Interval {
-    k_exact(z.max(Interval::point(f::HALF_MIN)))
-}
-
-/// Its derivative: exact normalisation's where z >= HALF_MIN on the whole box, else unknown
-/// (the mean-value form then falls back to the naive enclosure).
-fn k_safe_dual(z: Dual) -> Dual {
-    if z.v.lo >= f::HALF_MIN {
-        k_exact(z)
-    } else {
-        Dual {
-            v: k_safe_interval(z.v),
-            d: Interval::ENTIRE,
-        }
-    }
-}
-
-/// Filament's mediump clamp, [`f::k_clamp`]: `1 / sqrt(min(z, 65504))`.
-fn k_clamp_interval(z: Interval) -> Interval {
-    k_exact(-((-z).max(Interval::point(-f::MEDIUMP_FLT_MAX))))
-}
-
-fn k_clamp_dual(z: Dual) -> Dual {
-    if z.v.hi <= f::MEDIUMP_FLT_MAX {
-        k_exact(z)
-    } else {
-        Dual {
-            v: k_clamp_interval(z.v),
-            d: Interval::ENTIRE,
-        }
-    }
-}
-
-/// The interval factor of a covered method (None: not covered).
-pub fn factor_of(name: &str) -> Option<Factor> {
-    Some(match name {
-        "phong_unnormalized" => factor!(k_one),
-        "safe_normalize" => Factor {
-            interval: k_safe_interval,
-            dual: k_safe_dual,
-            exact_on: Some((f::HALF_MIN, f64::INFINITY)),
-        },
-        "filament_clamp" => Factor {
-            interval: k_clamp_interval,
-            dual: k_clamp_dual,
-            exact_on: Some((0.0, f::MEDIUMP_FLT_MAX)),
-        },
-        "newton_raphson" => factor!(f::k_newton),
-        "lyon_taylor" => factor!(f::k_lyon2),
-        "lyon_shift" => factor!(f::k_lyon_shift),
-        "romanyuk_poly" => factor!(f::k_romanyuk),
-        "mikami_const" => factor!(k_mikami_const),
-        "mikami_linear" => factor!(k_mikami_linear),
-        "mikami_quadratic" => factor!(k_mikami_quadratic),
-        _ => return None,
-    })
+/// The scale `prove` covers for `m` (None: not covered): its row's kernel
+/// ([`crate::method::Kernel::provable`]).
+pub fn factor_of(m: &Method) -> Option<&Scale> {
+    m.kernel.provable()
 }
 
 /// Why a method is not covered.
@@ -214,8 +109,8 @@ impl Metric {
 
 /// The upper bound of `metric` over the squared lengths `z` for the factor `k` (a covered
 /// method's metrics depend on its inputs only through z).
-pub fn upper(k: Factor, metric: Metric, z: Interval) -> f64 {
-    let kz = (k.interval)(z);
+pub fn upper(k: &Scale, metric: Metric, z: Interval) -> f64 {
+    let kz = k.k(z);
     if metric == Metric::Angle {
         // k > 0 keeps the direction exactly; a sign change may turn it by pi.
         return if kz.lo > 0.0 {
@@ -233,8 +128,8 @@ pub fn upper(k: Factor, metric: Metric, z: Interval) -> f64 {
         // |N'| - 1 = k(z) sqrt(z) - 1, in the mean-value form (it cancels near z = 1).
         mean_value(
             z,
-            |z| (k.interval)(z) * z.sqrt() - one,
-            |z| (k.dual)(z) * z.sqrt() - Dual::c(1.0),
+            |z| k.k(z) * z.sqrt() - one,
+            |z| k.k(z) * z.sqrt() - Dual::c(1.0),
         )
     } else {
         let abs_k = if kz.hi <= 0.0 {
@@ -349,7 +244,7 @@ pub fn measure(m: &Method, case: &Case, metric: Metric) -> Option<(f64, f64)> {
     if case.ill_conditioned {
         return None;
     }
-    let s = (m.eval_f64)(&case.fragment, &case.lighting);
+    let s = m.eval_f64(&case.fragment, &case.lighting);
     let e = errors(case, s.color, s.normal);
     let n = s.normal.unwrap_or(DVec3::splat(f64::NAN));
     let v = match metric {

@@ -12,8 +12,9 @@ pub mod bounds;
 pub mod claims;
 pub mod covered;
 pub mod domain;
-pub mod dual;
-pub mod interval;
+/// The interval types live with the number types of the formulas ([`crate::method::real`]);
+/// `prove` is where they are used.
+pub use crate::method::{dual, interval};
 mod output;
 #[cfg(test)]
 mod tests;
@@ -25,7 +26,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use self::bnb::{Budget, Outcome};
-use self::covered::{Factor, Metric};
+use self::covered::Metric;
 pub use self::domain::Domain;
 use self::interval::Interval;
 pub use self::output::{table, write};
@@ -33,6 +34,7 @@ use crate::cases::grid::{self as sweeps, Grid, Sweep};
 use crate::cases::{errors, Case, CaseSpec, DIFFUSE, SPECULAR};
 use crate::error::{Error, Result};
 use crate::method::Method;
+use crate::method::Scale;
 
 /// Version of proof.json (docs/proof.schema.json).
 pub const SCHEMA_VERSION: u32 = 3;
@@ -208,7 +210,7 @@ pub struct ProofReport {
 /// `max_angle_deg`.
 pub fn prove_metric(
     m: &Method,
-    k: Factor,
+    k: &Scale,
     metric: Metric,
     domain: Domain,
     max_angle_deg: f64,
@@ -230,7 +232,7 @@ pub fn prove_metric(
 /// the domain ([`Domain::point_for_z`]).
 fn prove_metric_in(
     m: &Method,
-    k: Factor,
+    k: &Scale,
     metric: Metric,
     domain: Domain,
     max_angle_deg: f64,
@@ -269,7 +271,7 @@ fn prove_metric_in(
 /// angle.
 fn prove_metrics(
     m: &Method,
-    k: Factor,
+    k: &Scale,
     domain: Domain,
     max: f64,
     opts: &ProveOptions,
@@ -319,7 +321,7 @@ pub const COLOUR_HOW: &str = "k_d E + k_s max((1 + e+)^n - 1, 1 - (1 - E)^n) whe
 /// The proven largest valid angle over `domain`: the whole range if the bound holds there,
 /// else bisection (every angle returned had its colour bound proven within the threshold, and
 /// the domain at a smaller angle is a part of it).
-fn proven_valid_angle(m: &Method, k: Factor, domain: Domain, opts: &ProveOptions) -> Option<f64> {
+fn proven_valid_angle(m: &Method, k: &Scale, domain: Domain, opts: &ProveOptions) -> Option<f64> {
     let quick = ProveOptions {
         max_boxes: opts.max_boxes / 8,
         max_seconds: opts.max_seconds / 8.0,
@@ -365,7 +367,7 @@ pub fn stress_grid(max_angle_deg: f64, shininess: f64) -> Grid {
 }
 
 /// Proves everything about one covered method over one domain.
-pub fn prove_domain(m: &Method, k: Factor, domain: Domain, opts: &ProveOptions) -> DomainProof {
+pub fn prove_domain(m: &Method, k: &Scale, domain: Domain, opts: &ProveOptions) -> DomainProof {
     let outcomes = prove_metrics(m, k, domain, opts.max_angle_deg, opts);
     let metrics: Vec<MetricProof> = [Metric::Length, Metric::LengthSigned, Metric::Angle]
         .iter()
@@ -410,7 +412,7 @@ fn stress_grid_of(m: &Method, grid: &Grid, threshold: f64) -> StressGrid {
         .cases
         .iter()
         .map(|c| {
-            let s = (m.eval_f64)(&c.fragment, &c.lighting);
+            let s = m.eval_f64(&c.fragment, &c.lighting);
             errors(c, s.color, s.normal)
         })
         .collect();
@@ -430,7 +432,7 @@ fn stress_grid_of(m: &Method, grid: &Grid, threshold: f64) -> StressGrid {
 }
 
 /// Proves everything about one covered method: over each domain, beside stress's grid.
-pub fn prove_method(m: &Method, k: Factor, grid: &Grid, opts: &ProveOptions) -> MethodProof {
+pub fn prove_method(m: &Method, k: &Scale, grid: &Grid, opts: &ProveOptions) -> MethodProof {
     let start = Instant::now();
     let domains = Domain::ALL
         .iter()
@@ -470,7 +472,7 @@ pub fn run(methods: &[&'static Method], opts: &ProveOptions) -> Result<ProofRepo
     let mut proofs = Vec::new();
     let mut out_of_reach = Vec::new();
     for m in methods {
-        match covered::factor_of(m.name) {
+        match covered::factor_of(m) {
             Some(k) => {
                 if opts.progress {
                     eprintln!("prove: {} ...", m.name);

@@ -6,8 +6,9 @@ use super::covered::{self, Metric};
 use super::interval::Interval;
 use super::*;
 use crate::method::formulas as f;
+use crate::method::kernel::formula;
 use crate::method::real::Real;
-use crate::method::{self, Geometry, Reference, Scale, SoftwareKernel};
+use crate::method::{self, Geometry, Kernel, Reference, Scale};
 
 /// Whether the exact product x*y lies in `i` (x*y = p + e exactly, e from an FMA).
 fn holds_product(i: Interval, x: f64, y: f64) -> bool {
@@ -120,7 +121,7 @@ fn the_generic_formulas_give_the_f64_value_inside_the_interval_one() {
         assert!(si.contains(s));
     }
     // f64 instantiation: the same operations as the literal formula.
-    let z = 0.7;
+    let z = 0.7f64;
     assert_eq!(f::k_newton(z).to_bits(), (0.5 * (3.0 - z)).to_bits());
 }
 
@@ -135,7 +136,7 @@ fn quick() -> ProveOptions {
 #[test]
 fn newton_is_proven_within_one_percent_of_its_midpoint_error() {
     let m = method::find("newton_raphson").unwrap();
-    let k = covered::factor_of(m.name).unwrap();
+    let k = covered::factor_of(m).unwrap();
     let o = prove_metric(m, k, Metric::Length, Domain::Edge, 90.0, &quick());
     // The worst is the edge's midpoint at 90 degrees: z = cos^2(45 deg).
     let z = 45f64.to_radians().cos().powi(2);
@@ -156,7 +157,7 @@ fn every_covered_method_converges_and_its_colour_bound_holds_the_found_colour() 
     };
     let grid = stress_grid(40.0, opts.shininess);
     for m in method::METHODS.iter() {
-        let Some(k) = covered::factor_of(m.name) else {
+        let Some(k) = covered::factor_of(m) else {
             continue;
         };
         let p = prove_method(m, k, &grid, &opts);
@@ -198,11 +199,11 @@ fn every_covered_method_converges_and_its_colour_bound_holds_the_found_colour() 
 #[test]
 fn methods_out_of_reach_say_why() {
     for m in method::METHODS.iter() {
-        if covered::factor_of(m.name).is_none() {
+        if covered::factor_of(m).is_none() {
             assert!(covered::out_of_reach(m).len() > 20, "{}", m.name);
         }
     }
-    assert!(covered::factor_of("slerp").is_none());
+    assert!(covered::factor_of(method::find("slerp").unwrap()).is_none());
 }
 
 // ---- the planted spike ----------------------------------------------------------------------
@@ -236,8 +237,7 @@ static SPIKED: Method = Method {
     validity: "",
     claims: &[],
     glsl: "",
-    eval_f64: |fr, l| crate::method::twins::scalar(fr, l, k_spike::<f64>),
-    software: SoftwareKernel::Scaled(Scale::Exact),
+    kernel: Kernel::Scaled(Scale::times(&formula!(k_spike))),
 };
 
 #[test]
@@ -248,7 +248,7 @@ fn a_spike_the_grid_misses_is_caught_by_the_proof() {
         .iter()
         .filter(|c| !c.ill_conditioned)
         .map(|c| {
-            let s = (SPIKED.eval_f64)(&c.fragment, &c.lighting);
+            let s = SPIKED.eval_f64(&c.fragment, &c.lighting);
             (s.normal.unwrap().length() - 1.0).abs()
         })
         .fold(0.0, f64::max);
@@ -257,7 +257,7 @@ fn a_spike_the_grid_misses_is_caught_by_the_proof() {
         max_boxes: 20_000,
         ..quick()
     };
-    let k = covered::factor!(k_spike);
+    let k = covered::factor_of(&SPIKED).unwrap();
     let o = prove_metric(&SPIKED, k, Metric::Length, Domain::Edge, 90.0, &opts);
     let peak = SPIKE * z_at(37.0, 0.3).sqrt();
     assert!(o.proven_upper >= peak * 0.999, "{o:?}");
@@ -269,21 +269,15 @@ fn a_spike_the_grid_misses_is_caught_by_the_proof() {
 #[test]
 fn the_guarded_normalisations_hold_their_f64_values_and_are_proven_exact_only_above_the_guard() {
     let (safe, clamp) = (
-        covered::factor_of("safe_normalize").unwrap(),
-        covered::factor_of("filament_clamp").unwrap(),
+        covered::factor_of(method::find("safe_normalize").unwrap()).unwrap(),
+        covered::factor_of(method::find("filament_clamp").unwrap()).unwrap(),
     );
     let mut rng = fastrand::Rng::with_seed(3);
     for _ in 0..2000 {
         // below HALF_MIN, around 1, above 65504
         let z = 10f64.powf(rng.f64() * 12.0 - 7.0);
-        assert!(
-            (safe.interval)(Interval::point(z)).contains(f::k_safe(z)),
-            "{z}"
-        );
-        assert!(
-            (clamp.interval)(Interval::point(z)).contains(f::k_clamp(z)),
-            "{z}"
-        );
+        assert!(safe.k(Interval::point(z)).contains(f::k_safe(z)), "{z}");
+        assert!(clamp.k(Interval::point(z)).contains(f::k_clamp(z)), "{z}");
     }
     // exact on the domain: proven 0; a box reaching below the guard is not exact (teeth)
     let unit = Interval::new(0.25, 1.0);

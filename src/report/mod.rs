@@ -413,7 +413,7 @@ impl SceneRun<'_> {
         };
         // A user method (--method-file) has no software kernel: not in this cost model.
         let methods: Vec<&'static Method> = (self.methods.iter().copied())
-            .filter(|m| m.software != crate::method::SoftwareKernel::None)
+            .filter(|m| m.kernel.exists())
             .collect();
         crate::bench::software::bench(&s.scene, &methods, dir, &sw, None)
     }

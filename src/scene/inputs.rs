@@ -256,21 +256,22 @@ impl SceneInputs {
     /// The lighting exactly as uploaded, widened to f64, for the truth evaluator.
     pub fn lighting(&self) -> Lighting {
         let p = &self.params;
-        Lighting {
-            ambient: widen(p.ambient),
-            diffuse: widen(p.diffuse),
-            specular: widen(p.specular),
-            shininess: p.specular[3] as f64,
-            lights: (0..self.light_count as usize)
-                .map(|i| {
-                    (
-                        widen(p.light_dir[i]),
-                        widen(p.light_color[i]),
-                        widen(p.half_vec[i]),
-                    )
-                })
-                .collect(),
-        }
+        let lights: Vec<_> = (0..self.light_count as usize)
+            .map(|i| {
+                (
+                    widen(p.light_dir[i]),
+                    widen(p.light_color[i]),
+                    widen(p.half_vec[i]),
+                )
+            })
+            .collect();
+        Lighting::new(
+            widen(p.ambient),
+            widen(p.diffuse),
+            widen(p.specular),
+            p.specular[3] as f64,
+            &lights,
+        )
     }
 
     /// What the f64 twin of a method sees in triangle `t` at `weights`, at the pixel whose

@@ -67,8 +67,9 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::{LoadReport, Mesh};
-/// Most lights a scene may have (the shaders' uniform arrays have this size).
-pub const MAX_LIGHTS: usize = 4;
+/// Most lights a scene may have (the shaders' uniform arrays have this size; the lighting
+/// formula's, [`crate::method::formulas::Lighting`], own it).
+pub use crate::method::formulas::MAX_LIGHTS;
 /// Largest width or height a scene file may ask for. The device's real limit (often 16384
 /// too, but lower on some) is checked by the renderer when it creates the images.
 pub const MAX_IMAGE_SIZE: u32 = 16384;

@@ -1,17 +1,16 @@
 //! The software engine (`--engine software`, issue 13): a scanline rasterizer in Rust, float32
-//! (or float16, the twin of the device's f16 programs: [`render_at`], [`real`]),
+//! (or float16, the twin of the device's f16 programs: [`render_at`]),
 //! multi-threaded over bands of rows, with the Vulkan pipeline's conventions ([`raster`]), in
-//! which every method runs in the incremental form the seeds describe ([`spans`], with the f32
-//! twins of the f64 formulas in [`formulas`]). It returns the same [`Frame`] and [`IdFrame`]
+//! which every method runs in the incremental form the seeds describe ([`spans`]), evaluating the
+//! generic formulas of [`crate::method::formulas`] and [`crate::method::scanline`] in f32 (or
+//! f16: [`crate::method::real`]). It returns the same [`Frame`] and [`IdFrame`]
 //! as [`crate::gpu::Renderer::render`], so the f64 truth, `verify` and `compare` judge it the
 //! same way.
 //!
 //! Limits: screen-linear interpolation only (a perspective scene is refused); no clipping (a
 //! triangle crossing the near plane is refused); `trueform` draws its PN tessellation on the
 //! CPU like any mesh.
-pub mod formulas;
 pub mod raster;
-pub mod real;
 pub mod spans;
 #[cfg(test)]
 mod tests;
@@ -21,16 +20,19 @@ use half::f16;
 
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
-use crate::method::{
-    specular_table, InvRoot, Method, MikamiBeta, Precision, Property, Scale, SoftwareKernel,
-    SpanKernel,
-};
-use crate::scene::{Interpolation, SceneInputs};
-use formulas::{self as f, Lighting};
+use crate::method::formulas::{self as f, Lighting};
+use crate::method::kernel::{Evaluate, Form as ScaleForm, Kernel, Scale, SpanKernel};
+use crate::method::real::{Float, V3};
+use crate::method::{specular_table, Method, Precision, Property};
+use crate::scene::{Interpolation, Params, SceneInputs, MAX_LIGHTS};
 pub use raster::Targets;
 use raster::{draw_into, Shader, Tri};
-use real::{Real, V3};
 use spans::{n4, stepped, Along, SpanShader};
+
+/// The engine's scalar: a [`Float`] whose window positions are f32, as the rasterizer's (f32,
+/// and f16 for the float16 twin).
+pub trait Scalar: Float<Pos = f32> + Evaluate {}
+impl<T: Float<Pos = f32> + Evaluate> Scalar for T {}
 
 /// How a method runs in the software engine: `scanline` when it has an incremental form along
 /// the span, otherwise its per-pixel form (the interpolated vector stepped, the formula applied).
@@ -68,7 +70,7 @@ pub fn form_of(method: &Method) -> Form {
     Form {
         scanline: method.has(Property::SoftwareSpanForm),
         drifts: method.has(Property::DriftsWithSpanLength),
-        form: kernel_words(method.software),
+        form: kernel_words(method.kernel),
     }
 }
 
@@ -86,8 +88,8 @@ pub fn form(name: &str) -> Form {
 }
 
 /// What a kernel does, in words (`software_forms` of `shadelab list --json`).
-pub fn kernel_words(k: SoftwareKernel) -> &'static str {
-    use SoftwareKernel as K;
+pub fn kernel_words(k: Kernel) -> &'static str {
+    use Kernel as K;
     match k {
         K::Flat => "one colour per triangle",
         K::VertexColour => "vertex colours, the colour stepped by forward differences",
@@ -101,7 +103,7 @@ pub fn kernel_words(k: SoftwareKernel) -> &'static str {
         K::Span(SpanKernel::HastEuler) => "Euler integration per cosine with the end-error correction (2 additions per cosine per pixel)",
         K::Quaternion | K::QuaternionLocal => "per-pixel form: quaternion stepped by forward differences, normal recovered per pixel",
         K::BarycentricQuadratic { .. } | K::PnNormals => "per-pixel form: weights stepped by forward differences, quadratic evaluated per pixel",
-        K::Scaled(_) | K::Mikami(_) | K::HastHalfVector | K::SpecularLut => "per-pixel form: normal stepped by forward differences, then the method's normalisation",
+        K::Scaled(_) | K::HastHalfVector | K::SpecularLut => "per-pixel form: normal stepped by forward differences, then the method's normalisation",
         K::None => "none: a user method (--method-file) exists only as GLSL",
     }
 }
@@ -176,7 +178,7 @@ pub fn render_into_at(
             targets.width, targets.height, inputs.width, inputs.height
         )));
     }
-    if method.software == SoftwareKernel::None {
+    if !method.kernel.exists() {
         return Err(Error::Usage(format!(
             "{} is a user method (--method-file): the software engine has no kernel for it; \
              use --engine vulkan",
@@ -191,8 +193,24 @@ pub fn render_into_at(
     Ok(())
 }
 
+/// The lighting as uploaded, each value rounded to `S` where read (`count` lights).
+pub fn lighting<S: Scalar>(p: &Params, count: u32) -> Lighting<V3<S>> {
+    let v = |v: [f32; 4]| V3::<S>::of(Vec3::new(v[0], v[1], v[2]));
+    let count = (count as usize).min(MAX_LIGHTS);
+    let lights: Vec<_> = (0..count)
+        .map(|i| (v(p.light_dir[i]), v(p.light_color[i]), v(p.half_vec[i])))
+        .collect();
+    Lighting::new(
+        v(p.ambient),
+        v(p.diffuse),
+        v(p.specular),
+        S::of(p.specular[3]),
+        &lights,
+    )
+}
+
 /// The method's kernel in scalar `S`.
-fn dispatch<S: Real>(
+fn dispatch<S: Scalar>(
     inputs: &SceneInputs,
     method: &Method,
     threads: usize,
@@ -202,11 +220,11 @@ fn dispatch<S: Real>(
     let d = Draw {
         targets,
         tris,
-        lit: Lighting::<S>::new(&inputs.params, inputs.light_count),
+        lit: lighting::<S>(&inputs.params, inputs.light_count),
         threads,
     };
-    use SoftwareKernel as K;
-    match method.software {
+    use Kernel as K;
+    match method.kernel {
         K::Span(k) => {
             let lit = d.lit;
             d.run(SpanShader {
@@ -216,8 +234,7 @@ fn dispatch<S: Real>(
         }
         K::Flat => flat(d),
         K::VertexColour => vertex_colour(d),
-        K::Scaled(k) => scaled_by(d, k),
-        K::Mikami(b) => mikami_by(d, b),
+        K::Scaled(s) => scaled_by(d, s),
         K::HastHalfVector => hast_half_vector(d),
         K::Quaternion => quaternion(d),
         K::QuaternionLocal => quaternion_local(d),
@@ -230,60 +247,38 @@ fn dispatch<S: Real>(
 }
 
 /// One draw: the targets, the set-up triangles, the lighting and the threads.
-struct Draw<'a, S> {
+struct Draw<'a, S: Scalar> {
     targets: &'a mut Targets,
     tris: &'a [Tri],
-    lit: Lighting<S>,
+    lit: Lighting<V3<S>>,
     threads: usize,
 }
 
-impl<S> Draw<'_, S> {
+impl<S: Scalar> Draw<'_, S> {
     fn run<H: Shader>(self, s: H) {
         draw_into(self.targets, self.tris, &s, self.threads);
     }
 }
 
 /// The span kernel's shader state.
-fn along<S: Real>(k: SpanKernel) -> Along<S> {
-    let root = |r: InvRoot| -> fn(S) -> S {
-        match r {
-            InvRoot::Exact => f::inv_root_exact,
-            InvRoot::Poly1 => f::inv_root_poly1,
-            InvRoot::Poly2 => f::inv_root_poly2,
-        }
-    };
+fn along<S: Scalar>(k: SpanKernel) -> Along<S> {
     match k {
         SpanKernel::Slerp => Along::Slerp,
         SpanKernel::Chebyshev => Along::Chebyshev,
         SpanKernel::Quadratic { approx_mid } => Along::Quadratic { approx_mid },
-        SpanKernel::Dichotomy(r) => Along::Dichotomy(root(r)),
-        SpanKernel::Segments(k, r) => Along::Segments(k, r.map(root)),
+        SpanKernel::Dichotomy(r) => Along::Dichotomy(r.of()),
+        SpanKernel::Segments(k, r) => Along::Segments(k, r.map(|r| r.of())),
         SpanKernel::BishopWeimer => Along::BishopWeimer,
         SpanKernel::HastEuler => Along::HastEuler,
     }
 }
 
-/// [`SoftwareKernel::Scaled`]: each factor a function of the squared length, passed as its own
-/// type so that the draw is compiled for it (no call through a pointer per pixel).
-fn scaled_by<S: Real>(d: Draw<S>, k: Scale) {
-    match k {
-        Scale::Exact => scaled(d, |z: S| S::ONE / z.sqrt()),
-        Scale::Unnormalised => scaled(d, |_: S| S::ONE),
-        Scale::NewtonRaphson => scaled(d, f::k_newton),
-        Scale::LyonTaylor => scaled(d, f::k_lyon2),
-        Scale::LyonShift => scaled(d, f::k_lyon_shift),
-        Scale::RomanyukPoly => scaled(d, f::k_romanyuk),
-        Scale::SafeNormalize => scaled(d, f::k_safe),
-        Scale::FilamentClamp => scaled(d, f::k_clamp),
-    }
-}
-
-/// [`SoftwareKernel::Mikami`], each beta compiled in like [`scaled_by`]'s factors.
-fn mikami_by<S: Real>(d: Draw<S>, b: MikamiBeta) {
-    match b {
-        MikamiBeta::Const => mikami(d, f::beta_const),
-        MikamiBeta::Linear => mikami(d, f::beta_linear),
-        MikamiBeta::Quadratic => mikami(d, f::beta_quadratic),
+/// [`Kernel::Scaled`]: the row's factor of the squared length, `N k(z)` (or `N / s(z)`).
+fn scaled_by<S: Scalar>(d: Draw<S>, s: Scale) {
+    let k = move |z: S| S::of_factor(s.factor, z);
+    match s.form {
+        ScaleForm::Times | ScaleForm::Exact => scaled(d, k),
+        ScaleForm::Over => divided(d, k),
     }
 }
 
@@ -293,11 +288,11 @@ fn normal(t: &Tri) -> ([Vec3; 3], ()) {
 
 /// The f32 colour of an `S` colour (exact).
 #[inline(always)]
-fn out<S: Real>(c: V3<S>) -> Vec3 {
+fn out<S: Scalar>(c: V3<S>) -> Vec3 {
     c.f32()
 }
 
-fn flat<S: Real>(d: Draw<S>) {
+fn flat<S: Scalar>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
         |t: &Tri| {
@@ -308,7 +303,7 @@ fn flat<S: Real>(d: Draw<S>) {
     ))
 }
 
-fn vertex_colour<S: Real>(d: Draw<S>) {
+fn vertex_colour<S: Scalar>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
         |t: &Tri| (t.n.map(|n| out(lit.shade(V3::of(n)))), ()),
@@ -316,7 +311,7 @@ fn vertex_colour<S: Real>(d: Draw<S>) {
     ))
 }
 
-fn scaled<S: Real>(d: Draw<S>, k: impl Fn(S) -> S + Copy + Sync) {
+fn scaled<S: Scalar>(d: Draw<S>, k: impl Fn(S) -> S + Copy + Sync) {
     let lit = d.lit;
     d.run(stepped(normal, move |v: Vec3, _: &()| {
         let v = V3::<S>::of(v);
@@ -325,17 +320,16 @@ fn scaled<S: Real>(d: Draw<S>, k: impl Fn(S) -> S + Copy + Sync) {
     }))
 }
 
-fn mikami<S: Real>(d: Draw<S>, beta: impl Fn(S) -> S + Copy + Sync) {
+fn divided<S: Scalar>(d: Draw<S>, s: impl Fn(S) -> S + Copy + Sync) {
     let lit = d.lit;
     d.run(stepped(normal, move |v: Vec3, _: &()| {
         let v = V3::<S>::of(v);
-        let z = v.dot(v);
-        let m = v / f::mikami_sqrt(z, beta(z));
+        let m = v / s(v.dot(v));
         (out(lit.shade(m)), n4(m))
     }))
 }
 
-fn hast_half_vector<S: Real>(d: Draw<S>) {
+fn hast_half_vector<S: Scalar>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
         |t: &Tri| (t.n, V3::<S>::of(t.flat)),
@@ -346,7 +340,7 @@ fn hast_half_vector<S: Real>(d: Draw<S>) {
     ))
 }
 
-fn quaternion<S: Real>(d: Draw<S>) {
+fn quaternion<S: Scalar>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
         |t: &Tri| (t.n.map(|n| f::quat_from_normal(V3::<S>::of(n)).f32()), ()),
@@ -357,7 +351,7 @@ fn quaternion<S: Real>(d: Draw<S>) {
     ))
 }
 
-fn quaternion_local<S: Real>(d: Draw<S>) {
+fn quaternion_local<S: Scalar>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
         |t: &Tri| {
@@ -377,16 +371,17 @@ fn quaternion_local<S: Real>(d: Draw<S>) {
     ))
 }
 
-fn barycentric_quadratic<S: Real>(d: Draw<S>, exact_mid: bool) {
+fn barycentric_quadratic<S: Scalar>(d: Draw<S>, exact_mid: bool) {
     let lit = d.lit;
-    let mid = if exact_mid { f::m_ij_exact } else { f::m_ij };
     d.run(stepped(
         move |t: &Tri| {
             let n = t.n.map(V3::<S>::of);
-            (
-                [Vec3::X, Vec3::Y, Vec3::Z],
-                (n, [mid(n[0], n[1]), mid(n[1], n[2]), mid(n[2], n[0])]),
-            )
+            let mids = if exact_mid {
+                f::bary_mids(&n, f::m_ij_exact)
+            } else {
+                f::bary_mids(&n, f::m_ij)
+            };
+            ([Vec3::X, Vec3::Y, Vec3::Z], (n, mids))
         },
         move |c, q: &([V3<S>; 3], [V3<S>; 3])| {
             let m = f::bary_quad(&q.0, &q.1, V3::of(c));
@@ -395,7 +390,7 @@ fn barycentric_quadratic<S: Real>(d: Draw<S>, exact_mid: bool) {
     ))
 }
 
-fn pn_normals<S: Real>(d: Draw<S>) {
+fn pn_normals<S: Scalar>(d: Draw<S>) {
     let lit = d.lit;
     d.run(stepped(
         |t: &Tri| {
@@ -411,22 +406,11 @@ fn pn_normals<S: Real>(d: Draw<S>) {
     ))
 }
 
-fn specular_lut<S: Real>(d: Draw<S>) {
+fn specular_lut<S: Scalar>(d: Draw<S>) {
     let lit = d.lit;
     let table = specular_table();
-    let (rows, samples) = (
-        crate::method::formulas::LUT_ROWS,
-        crate::method::formulas::LUT_SAMPLES,
-    );
     d.run(stepped(normal, move |v, _: &()| {
         let m = f::normalize_exact(V3::<S>::of(v));
-        let mut c = lit.ambient;
-        for i in 0..lit.count {
-            let dif = m.dot(lit.dirs[2 * i]).max(S::ZERO);
-            let s = m.dot(lit.dirs[2 * i + 1]).max(S::ZERO);
-            let sp = f::lut_lookup(table, rows, samples, lit.shininess, s);
-            c += lit.colors[i] * (lit.diffuse * dif + lit.specular * sp);
-        }
-        (out(c), n4(m))
+        (out(lit.shade_lut(m, table)), n4(m))
     }))
 }

@@ -2,20 +2,22 @@
 //! pixel. Per-pixel methods step their interpolated vector (normal, quaternion, weights or
 //! colour) by a forward difference and apply their formula; the scanline family walks the span
 //! with its own recurrence. Every per-pixel loop is allocation-free: state lives in locals, the
-//! dichotomy grids in the per-thread scratch. Generic over the scalar `S` ([`Real`]): the
+//! dichotomy grids in the per-thread scratch. Generic over the scalar `S` ([`Float`]): the
 //! positions (t, its step, z) stay f32, the normals, cosines and colours are `S`.
 use std::marker::PhantomData;
 
 use glam::{Vec2, Vec3};
 
-use super::formulas::{self as f, Lighting, Span};
 use super::raster::{RowOut, RowSpan, Shader, Tri};
-use super::real::{Real, V3};
+use super::Scalar;
+use crate::method::formulas::{self as f, Lighting};
+use crate::method::real::V3;
+use crate::method::scanline::{self as sc, Span};
 use crate::scene::MAX_LIGHTS;
 
 /// The normal output of a method with a per-pixel normal (w = 1).
 #[inline(always)]
-pub fn n4<S: Real>(n: V3<S>) -> [f32; 4] {
+pub fn n4<S: Scalar>(n: V3<S>) -> [f32; 4] {
     [n.x.f32(), n.y.f32(), n.z.f32(), 1.0]
 }
 
@@ -68,15 +70,21 @@ where
 
 /// The span through a row, its unit ends, and `t` with its step at the first pixel.
 struct Walk<S> {
-    sp: Span<S>,
+    sp: Span<V3<S>, f32>,
     a: V3<S>,
     b: V3<S>,
     t: f32,
     dt: f32,
 }
 
-fn walk<S: Real>(tri: &Tri, span: &RowSpan) -> Walk<S> {
-    let sp = f::span_at(span.y as f32 + 0.5, &tri.s, &tri.n);
+/// The triangle's window corners and vertex normals as the span functions read them.
+fn corners<S: Scalar>(tri: &Tri) -> (sc::Corners<f32>, [V3<S>; 3]) {
+    (tri.s.map(|p| p.to_array()), tri.n.map(V3::<S>::of))
+}
+
+fn walk<S: Scalar>(tri: &Tri, span: &RowSpan) -> Walk<S> {
+    let (s, n) = corners::<S>(tri);
+    let sp = sc::span_at(span.y as f32 + 0.5, s, n);
     let px = span.i0 as f32 + 0.5;
     let (t, dt) = if sp.xb > sp.xa {
         let dt = 1.0 / (sp.xb - sp.xa);
@@ -96,7 +104,7 @@ fn walk<S: Real>(tri: &Tri, span: &RowSpan) -> Walk<S> {
 /// A recurrence's value `v` at span fraction `t`, or the value at the nearer end when `t` lies
 /// outside [0, 1] (the twins clamp t there).
 #[inline(always)]
-fn clamped<S: Real>(t: f32, v: V3<S>, ends: (V3<S>, V3<S>)) -> V3<S> {
+fn clamped<S: Scalar>(t: f32, v: V3<S>, ends: (V3<S>, V3<S>)) -> V3<S> {
     if t < 0.0 {
         ends.0
     } else if t > 1.0 {
@@ -126,9 +134,9 @@ pub enum Along<S> {
 }
 
 /// The scanline family's shader.
-pub struct SpanShader<S> {
+pub struct SpanShader<S: Scalar> {
     pub along: Along<S>,
-    pub lit: Lighting<S>,
+    pub lit: Lighting<V3<S>>,
 }
 
 /// Per-triangle set-up of the scanline family (only Bishop-Weimer has any).
@@ -140,7 +148,7 @@ pub struct SpanSetup<S> {
 /// Fills `grid[0..=n]` (n = 2^k) with the dichotomy samples between unit `a` and `b`: each
 /// midpoint `(lo + hi) f(2 lo.hi)` once, the same operations as `scanline::dichotomy` takes on
 /// its way to any one sample. The grid holds the `S` values as f32 (exact).
-fn halve<S: Real>(grid: &mut Vec<Vec3>, a: V3<S>, b: V3<S>, k: u32, inv_root: fn(S) -> S) {
+fn halve<S: Scalar>(grid: &mut Vec<Vec3>, a: V3<S>, b: V3<S>, k: u32, inv_root: fn(S) -> S) {
     let n = 1usize << k;
     grid.clear();
     grid.resize(n + 1, Vec3::ZERO);
@@ -159,16 +167,17 @@ fn halve<S: Real>(grid: &mut Vec<Vec3>, a: V3<S>, b: V3<S>, k: u32, inv_root: fn
     }
 }
 
-impl<S: Real> Shader for SpanShader<S> {
+impl<S: Scalar> Shader for SpanShader<S> {
     type Setup = SpanSetup<S>;
     fn setup(&self, tri: &Tri) -> SpanSetup<S> {
         let mut taylor = [[S::ZERO; 6]; 2 * MAX_LIGHTS];
         let mut o = Vec2::ZERO;
         if let Along::BishopWeimer = self.along {
-            let (a, b, c, origin) = f::plane_normal::<S>(&tri.s, &tri.n);
-            o = origin;
+            let (s, n) = corners::<S>(tri);
+            let (a, b, c, origin) = sc::plane_normal(s, n);
+            o = Vec2::from(origin);
             for (k, t) in taylor.iter_mut().enumerate().take(self.lit.cosines()) {
-                *t = f::taylor_terms(self.lit.dirs[k], a, b, c);
+                *t = sc::taylor_terms(self.lit.dir(k), a, b, c);
             }
         }
         SpanSetup { o, taylor }
@@ -194,14 +203,14 @@ impl<S: Real> Shader for SpanShader<S> {
     }
 }
 
-impl<S: Real> SpanShader<S> {
+impl<S: Scalar> SpanShader<S> {
     /// Interpolation by slerp at each pixel's t (the closed form).
     #[inline]
     fn slerp(&self, tri: &Tri, span: RowSpan, out: &mut RowOut) {
         let lit = &self.lit;
         let mut z = span.z;
         let w = walk::<S>(tri, &span);
-        let ang = f::angle(w.a, w.b);
+        let ang = sc::angle(w.a, w.b);
         let mut t = w.t;
         for i in span.i0..=span.i1 {
             if out.test(tri, i, z, span.centre(i)) {
@@ -228,14 +237,14 @@ impl<S: Real> SpanShader<S> {
         // Seeded at the first pixel's own t, not clamped: a covered centre a rounding
         // left of xA then stays on the same grid as the rest of the span.
         let t0 = w.t;
-        match f::angle(w.a, w.b) {
+        match sc::angle(w.a, w.b) {
             Some((_, _, th)) => {
                 let k2 = S::of(2.0) * (th * S::of(w.dt)).cos();
-                let mut cur = f::spherical_angular(w.a, w.b, S::of(t0));
-                let mut next = f::spherical_angular(w.a, w.b, S::of(t0 + w.dt));
+                let mut cur = sc::spherical_angular(w.a, w.b, S::of(t0));
+                let mut next = sc::spherical_angular(w.a, w.b, S::of(t0 + w.dt));
                 // Outside [0, 1] (rounding at the span's ends, or the clamped top and
                 // bottom rows) the twin clamps t: the end values there.
-                let ends = (w.a, f::spherical_angular(w.a, w.b, S::ONE));
+                let ends = (w.a, sc::spherical_angular(w.a, w.b, S::ONE));
                 let mut t = t0;
                 for i in span.i0..=span.i1 {
                     if out.test(tri, i, z, span.centre(i)) {
@@ -272,9 +281,9 @@ impl<S: Real> SpanShader<S> {
         let w = walk::<S>(tri, &span);
         let (nl, np) = (w.a, w.b);
         let nc = if approx_mid {
-            f::mid_approx(nl, np)
+            sc::mid_approx(nl, np)
         } else {
-            f::mid_exact(nl, np)
+            sc::mid_exact(nl, np)
         };
         let (two, three, four) = (S::of(2.0), S::of(3.0), S::of(4.0));
         let g = np * two - nc * four + nl * two;
@@ -310,7 +319,7 @@ impl<S: Real> SpanShader<S> {
         let lit = &self.lit;
         let mut z = span.z;
         let w = walk::<S>(tri, &span);
-        let k = f::levels(w.sp.xb - w.sp.xa);
+        let k = sc::levels(w.sp.xb - w.sp.xa);
         let n = 1u32 << k;
         halve(scratch, w.a, w.b, k, inv_root);
         let mut t = w.t;
@@ -348,7 +357,7 @@ impl<S: Real> SpanShader<S> {
         }
         for i in span.i0..=span.i1 {
             if out.test(tri, i, z, span.centre(i)) {
-                out.put(i, lit.shade_cosines(|k| v[k]).f32(), [0.0; 4]);
+                out.put(i, lit.shade_cosines(|k, _| v[k]).f32(), [0.0; 4]);
             }
             for k in 0..c {
                 v[k] += d1[k];
@@ -378,7 +387,7 @@ impl<S: Real> SpanShader<S> {
         let (t, dt) = (w.t, w.dt);
         let (ts, dts, two) = (S::of(t), S::of(dt), S::of(2.0));
         for k in 0..c {
-            let dir = lit.dirs[k];
+            let dir = lit.dir(k);
             let i0 = dir.dot(na) / na.length();
             // An empty span (or a NaN length): the value at xA throughout.
             let len = w.sp.xb - w.sp.xa;
@@ -389,7 +398,7 @@ impl<S: Real> SpanShader<S> {
             }
             let i1 = dir.dot(nb) / nb.length();
             let dn = nb - na;
-            let half = S::of(0.5) * (f::cosine_slope(dir, nb, dn) - f::cosine_slope(dir, na, dn));
+            let half = S::of(0.5) * (sc::cosine_slope(dir, nb, dn) - sc::cosine_slope(dir, na, dn));
             let di = i1 - i0;
             v[k] = i0 + ts * di + half * ts * (ts - S::ONE);
             d1[k] = dts * di + half * dts * (two * ts + dts - S::ONE);
@@ -404,7 +413,7 @@ impl<S: Real> SpanShader<S> {
                     t if t > 1.0 => ends[k].1,
                     _ => v[k],
                 };
-                out.put(i, lit.shade_cosines(at).f32(), [0.0; 4]);
+                out.put(i, lit.shade_cosines(|k, _| at(k)).f32(), [0.0; 4]);
             }
             for k in 0..c {
                 v[k] += d1[k];
@@ -430,7 +439,8 @@ impl<S: Real> SpanShader<S> {
         inv_root: Option<fn(S) -> S>,
     ) {
         let lit = &self.lit;
-        let sp = f::span_at::<S>(span.y as f32 + 0.5, &tri.s, &tri.n);
+        let (s, n) = corners::<S>(tri);
+        let sp = sc::span_at(span.y as f32 + 0.5, s, n);
         let len = 1i64 << k;
         let p0 = (sp.xa - 0.5).ceil() + 0.5;
         let start = (p0 - 0.5) as i64;
@@ -453,7 +463,7 @@ impl<S: Real> SpanShader<S> {
                 let (nl, il) = if s == seg + 1 {
                     (np, ip)
                 } else {
-                    nr = f::span_normal(&sp, p0 + (s << k) as f32);
+                    nr = sc::span_normal(&sp, p0 + (s << k) as f32);
                     let nl = end(nr);
                     (nl, lit.shade(nl))
                 };

@@ -7,14 +7,13 @@ use crate::method::{self, Geometry, METHODS};
 /// (and Gouraud's stepped colours) are its span form, slerp's closed form per pixel is not; the
 /// recurrences whose rounding grows along the span drift. `None` when they agree.
 fn form_mismatch(m: &Method) -> Option<String> {
-    use SoftwareKernel as K;
-    let span_form = match m.software {
+    use Kernel as K;
+    let span_form = match m.kernel {
         K::VertexColour => true,
         K::Span(SpanKernel::Slerp) => false,
         K::Span(_) => true,
         K::Flat
         | K::Scaled(_)
-        | K::Mikami(_)
         | K::HastHalfVector
         | K::Quaternion
         | K::QuaternionLocal
@@ -24,7 +23,7 @@ fn form_mismatch(m: &Method) -> Option<String> {
         | K::None => false,
     };
     let drifts = matches!(
-        m.software,
+        m.kernel,
         K::Span(
             SpanKernel::Chebyshev
                 | SpanKernel::Quadratic { .. }
@@ -36,7 +35,7 @@ fn form_mismatch(m: &Method) -> Option<String> {
     (f.scanline != span_form || f.drifts != drifts).then(|| {
         format!(
             "{}: kernel {:?} is span form {span_form}, drifts {drifts}; the row says {} and {}",
-            m.name, m.software, f.scanline, f.drifts
+            m.name, m.kernel, f.scanline, f.drifts
         )
     })
 }
@@ -66,7 +65,7 @@ fn forms_follow_each_rows_kernel_and_properties() {
     };
     assert!(form_mismatch(&claims_span).is_some());
     let wrong_kernel = Method {
-        software: SoftwareKernel::Span(SpanKernel::HastEuler),
+        kernel: Kernel::Span(SpanKernel::HastEuler),
         ..*exact
     };
     assert!(form_mismatch(&wrong_kernel).is_some());
@@ -104,7 +103,7 @@ fn every_kernel_draws_and_the_kernel_decides_the_pixels() {
     }
     let exact = method::phong_exact();
     let as_newton = Method {
-        software: method::find("newton_raphson").unwrap().software,
+        kernel: method::find("newton_raphson").unwrap().kernel,
         ..*exact
     };
     assert_ne!(draw(exact).color, draw(&as_newton).color);

@@ -9,7 +9,7 @@ use super::{CurvePoint, MethodStress, StressClaim, ValidityMap};
 use crate::cases::grid::{Grid, Sweep, Worst, ANGLES, ELEVATIONS};
 use crate::cases::{CaseSpec, Errors, Shape};
 use crate::method::checks::VISIBLE_LENGTH_ERROR_PCT;
-use crate::method::Verdict;
+use crate::method::{Criteria, Kind, Verdict};
 
 /// Folds cases into points keyed by `key` (insertion order kept), each case's error chosen by
 /// `select` (None: left out).
@@ -172,61 +172,36 @@ pub fn specular_bound_specs(k: u32) -> Vec<CaseSpec> {
         .collect()
 }
 
-/// The criteria a validity claim is judged by.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Criteria {
-    /// The colour criterion alone: every facing case up to the claimed angle finite and within
-    /// the threshold on the device (`max_valid_angle_deg`).
-    Colour,
-    /// The length criterion (the facing cases' worst ||N| - 1| up to the claimed angle on the
-    /// device within [`VISIBLE_LENGTH_ERROR_PCT`]) beside the colour criterion: the two
-    /// criteria `shadelab list` judges the same claim by (src/method/checks.rs
-    /// `usable_up_to`), with the same rule: both hold agrees, neither disagrees, one partly.
-    LengthAndColour,
+/// The validity claims of the stressed methods' rows ([`Kind::Validity`]), each with its row's
+/// name: those judged by a criterion of the sweep up to the claimed angle first, then those
+/// that claim a collapse beyond it ([`Criteria::CollapsesBeyond`]), in the run's order.
+fn validity_claims(
+    methods: &[MethodStress],
+    collapse: bool,
+) -> Vec<(&MethodStress, &'static str, f64, Criteria)> {
+    let mut out = Vec::new();
+    for m in methods {
+        let Ok(row) = crate::method::find(&m.name) else {
+            continue;
+        };
+        for c in row.claims {
+            if let Kind::Validity {
+                up_to_deg,
+                criteria,
+            } = c.kind
+            {
+                if (criteria == Criteria::CollapsesBeyond) == collapse {
+                    out.push((m, c.claim, up_to_deg, criteria));
+                }
+            }
+        }
+    }
+    out
 }
 
-/// A validity claim checked by the sweeps.
-struct UsableUpTo {
-    method: &'static str,
-    /// The claimed range, degrees between the vertex normals.
-    range: f64,
-    claim: &'static str,
-    criteria: Criteria,
-}
-
-const USABLE_UP_TO: [UsableUpTo; 5] = [
-    UsableUpTo {
-        method: "newton_raphson",
-        range: 40.0,
-        claim: "usable for angles between vertex normals up to 40 degrees (docs/formulas.md#newton-raphson-step)",
-        criteria: Criteria::LengthAndColour,
-    },
-    UsableUpTo {
-        method: "romanyuk_poly",
-        range: 90.0,
-        claim: "the polynomial normalisation is designed for angles up to 90 degrees: z in [0.5, 1] (docs/formulas.md#romanyuk-romanyuk-pavlyk-polynomial)",
-        criteria: Criteria::Colour,
-    },
-    UsableUpTo {
-        method: "barycentric_quadratic",
-        range: 90.0,
-        claim: "the M_ij polynomial is fitted for vertex normals up to 90 degrees apart (docs/formulas.md#barycentric-quadratic-triangle)",
-        criteria: Criteria::Colour,
-    },
-    UsableUpTo {
-        method: "dichotomy_poly1",
-        range: 45.0,
-        claim: "the degree-1 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)",
-        criteria: Criteria::Colour,
-    },
-    UsableUpTo {
-        method: "dichotomy_poly2",
-        range: 45.0,
-        claim: "the degree-2 inverse root is fitted for phi <= 45 degrees per halving (docs/formulas.md#dichotomy)",
-        criteria: Criteria::Colour,
-    },
-];
-const COLLAPSES_BEYOND_90: [&str; 2] = ["quadratic_scanline", "quadratic_scanline_approx_mid"];
+/// Where a collapse claim's "before" starts, and how far its "beyond" reaches, degrees.
+const COLLAPSE_FROM_DEG: f64 = 60.0;
+const COLLAPSE_SPAN_DEG: f64 = 30.0;
 
 fn fmt(x: Option<f64>) -> String {
     x.map_or("none".into(), |v| format!("{v}"))
@@ -286,15 +261,11 @@ pub fn claims(
     out
 }
 
-/// The claims of [`USABLE_UP_TO`]: valid up to the claimed angle on the device, by each
-/// claim's [`Criteria`], every criterion named in `measured` and `how`.
+/// The rows' validity claims: valid up to the claimed angle on the device, by each claim's
+/// [`Criteria`], every criterion named in `measured` and `how`.
 fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<StressClaim>) {
     let word = |ok: bool| if ok { "holds" } else { "fails" };
-    for c in USABLE_UP_TO {
-        let Some(m) = methods.iter().find(|m| m.name == c.method) else {
-            continue;
-        };
-        let range = c.range;
+    for (m, claim, range, criteria) in validity_claims(methods, false) {
         let v = m.max_valid_angle_deg;
         let colour = v.is_some_and(|v| v >= range);
         let at = worst_between(m, 0.0, range);
@@ -312,8 +283,8 @@ fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<S
              the viewer (elevation < 90, 4 frames, 5 lights, shininess 20, 17 pixels) is finite \
              and within {threshold:.6} on the device"
         );
-        let (measured, verdict, how) = match c.criteria {
-            Criteria::Colour => (
+        let (measured, verdict, how) = match criteria {
+            Criteria::Colour | Criteria::CollapsesBeyond => (
                 colour_text,
                 if colour {
                     Verdict::Agrees
@@ -353,8 +324,8 @@ fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<S
             }
         };
         out.push(StressClaim {
-            method: c.method.into(),
-            claim: c.claim.into(),
+            method: m.name.clone(),
+            claim: claim.into(),
             measured,
             verdict,
             how,
@@ -362,22 +333,19 @@ fn usable_up_to_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<S
     }
 }
 
-/// The claims of [`COLLAPSES_BEYOND_90`]: within the threshold at 60-90 degrees, above it beyond.
+/// The rows' collapse claims ([`Criteria::CollapsesBeyond`] at angle a): within the threshold
+/// from 60 degrees to a, above it from a to a + 30.
 fn collapse_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<StressClaim>) {
-    for name in COLLAPSES_BEYOND_90 {
-        let Some(m) = methods.iter().find(|m| m.name == name) else {
-            continue;
-        };
-        let upto = worst_between(m, 60.0, 90.0);
-        let beyond = worst_between(m, 90.0, 120.0);
+    for (m, claim, a, _) in validity_claims(methods, true) {
+        let upto = worst_between(m, COLLAPSE_FROM_DEG, a);
+        let beyond = worst_between(m, a, a + COLLAPSE_SPAN_DEG);
         let verdict = collapse_verdict(&upto, &beyond, threshold);
+        let (lo, hi) = (COLLAPSE_FROM_DEG, a + COLLAPSE_SPAN_DEG);
         out.push(StressClaim {
-            method: name.into(),
-            claim:
-                "accuracy collapses beyond 90 degrees between the end normals (docs/formulas.md#quadratic-interpolation-along-the-span)"
-                    .into(),
+            method: m.name.clone(),
+            claim: claim.into(),
             measured: format!(
-                "worst error at 60-90 degrees {} ({} non-finite), at 90-120 degrees {} ({} \
+                "worst error at {lo}-{a} degrees {} ({} non-finite), at {a}-{hi} degrees {} ({} \
                  non-finite); threshold {threshold:.6}",
                 fmt(upto.max),
                 upto.non_finite,
@@ -388,10 +356,10 @@ fn collapse_claims(methods: &[MethodStress], threshold: f64, out: &mut Vec<Stres
             how: format!(
                 "worst device error over the facing cases of the angle sweep, against the \
                  stress threshold {threshold:.6} (1/255, the criterion of every validity claim \
-                 here): collapses = within it at 60-90 degrees and above it at 90-120; agrees \
-                 when so, disagrees when still within it at 90-120, partly when above it at \
-                 both (the loss starts before 90), inconclusive when any case is non-finite \
-                 (no error to judge) or nothing was measured"
+                 here): collapses = within it at {lo}-{a} degrees and above it at {a}-{hi}; \
+                 agrees when so, disagrees when still within it at {a}-{hi}, partly when above \
+                 it at both (the loss starts before {a}), inconclusive when any case is \
+                 non-finite (no error to judge) or nothing was measured"
             ),
         });
     }

@@ -28,8 +28,7 @@ use crate::error::{Error, Result};
 use crate::gpu::evaluate::{Evaluated, GpuCase, Kernel};
 use crate::gpu::shaders::has_evaluate_program;
 use crate::gpu::vk::Context;
-use crate::method::formulas::Lighting;
-use crate::method::{Fragment, Method, Precision, Reference, Shaded};
+use crate::method::{Method, Precision, Reference};
 
 use crate::cases::grid::Worst;
 
@@ -157,8 +156,8 @@ fn finite_or_none(x: f64) -> Option<f64> {
 /// The f64 formula stress evaluates for `m`: its twin, or for a user method without one
 /// (`--method-file`) exact Phong, whose figures are then reported as absent
 /// ([`MethodStress::own_formula`] `no twin`): the device is judged against exact Phong either way.
-fn f64_formula(m: &Method) -> fn(&Fragment, &Lighting) -> Shaded {
-    m.twin().unwrap_or(crate::method::phong_exact().eval_f64)
+fn f64_formula(m: &Method) -> &Method {
+    m.twin().unwrap_or(crate::method::phong_exact())
 }
 
 /// What the "own formula" column says of a method without an f64 twin.
@@ -171,7 +170,7 @@ pub fn case_report(
     dev: Option<&Output>,
     precision: Precision,
 ) -> Result<CaseReport> {
-    let f = f64_formula(m)(&case.fragment, &case.lighting);
+    let f = f64_formula(m).eval_f64(&case.fragment, &case.lighting);
     let twin = m.twin().is_some();
     let ef = errors(case, f.color, f.normal);
     let ed = dev.map(|d| errors(case, d.color(), d.normal()));
@@ -295,7 +294,7 @@ fn evaluate(
                 s.spawn(move || {
                     part.iter()
                         .map(|c| {
-                            let r = f64_formula(m)(&c.fragment, &c.lighting);
+                            let r = f64_formula(m).eval_f64(&c.fragment, &c.lighting);
                             Output {
                                 color: r.color.to_array(),
                                 normal: r.normal.map(|n| n.to_array()),
@@ -548,7 +547,7 @@ fn measure(
         None => Ok(cases
             .iter()
             .map(|c| {
-                let r = f64_formula(m)(&c.fragment, &c.lighting);
+                let r = f64_formula(m).eval_f64(&c.fragment, &c.lighting);
                 (errors(c, r.color, r.normal), None)
             })
             .collect()),
@@ -703,11 +702,12 @@ fn specular_bounds(
     precision: Precision,
 ) -> Result<Vec<grid::SpecularBound>> {
     let mut out = Vec::new();
-    for k in 1..=3u32 {
-        let name = format!("segments_k{k}");
-        let Some(m) = methods.iter().find(|m| m.name == name) else {
+    for m in methods {
+        let crate::method::Kernel::Span(crate::method::SpanKernel::Segments(k, None)) = m.kernel
+        else {
             continue;
         };
+        let name = m.name.to_string();
         let cases: Vec<Case> = grid::specular_bound_specs(k)
             .into_iter()
             .map(Case::new)

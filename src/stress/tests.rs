@@ -48,7 +48,7 @@ fn device_vs_twin(ctx: &Arc<Context>, kernel_of: &Method, twin_of: &Method, case
         .iter()
         .zip(out)
         .map(|(c, o)| {
-            let f = (twin_of.eval_f64)(&c.fragment, &c.lighting);
+            let f = twin_of.eval_f64(&c.fragment, &c.lighting);
             let d = Output::from_device(&o).color() - f.color;
             assert!(
                 d.is_finite(),
@@ -367,8 +367,9 @@ fn the_newton_claim_names_both_criteria_as_list_does() {
         .iter()
         .find(|c| c.method == "newton_raphson")
         .unwrap();
-    let listed = crate::method::checks::newton_usable_to_40_deg();
-    assert_eq!(c.verdict, listed.verdict, "{c:?}");
+    // the verdict `shadelab list` gives by proof (prove::bounds's test
+    // newton_by_proof_flips_for_a_factor_that_does_not_normalise: `partly`; stress sits below
+    // prove, so the layers are compared through that figure)
     assert_eq!(c.verdict, Verdict::Partly, "{c:?}");
     assert!(
         c.measured.starts_with("length criterion")

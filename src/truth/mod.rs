@@ -249,7 +249,7 @@ fn evaluator<'a>(
     let perspective = inputs.interpolation == Interpolation::Perspective;
     let scanline = method.inputs.contains(&Input::ScanlineSpan);
     move |i| {
-        let eval = |frag: &Fragment| (method.eval_f64)(frag, &lighting);
+        let eval = |frag: &Fragment| method.eval_f64(frag, &lighting);
         let prim = ids.prim[i];
         if prim == 0 {
             return None;
@@ -395,7 +395,7 @@ fn bound(
         None => (K_FORMULA * U, None),
     };
     let mut dc = 8.0 * U;
-    for &(_, color, h) in &lighting.lights {
+    for &(_, color, h) in lighting.lights() {
         // colour-only methods light unit vertex normals somewhere: take the worst s = 1
         let s = s_of.map(|n| n.dot(h).clamp(0.0, 1.0)).unwrap_or(1.0);
         let spec =
@@ -416,7 +416,7 @@ fn arithmetic_f16(shaded: &Shaded, lighting: &Lighting) -> (f64, f64) {
     let n = lighting.shininess;
     let mut magnitude = lighting.ambient.max_element();
     let mut dc = 0.0;
-    for &(_, color, h) in &lighting.lights {
+    for &(_, color, h) in lighting.lights() {
         let s = shaded
             .normal
             .map(|v| v.dot(h).clamp(0.0, 1.0))

@@ -2,9 +2,9 @@
 //! the float16 output agrees with the f64 twins within the float16 bound on every shipped
 //! scene and shared model, and the checks fail on a wrong image.
 use half::f16;
+use shadelab::method::real::{Float, V3};
 use shadelab::method::{find, Precision, METHODS};
 use shadelab::scene::SceneInputs;
-use shadelab::software::real::{Real, V3};
 use shadelab::software::{self, render_at};
 use shadelab::truth::{agreement_at, evaluate_at};
 use shadelab::verify::{twin_agreement, verify_software_at};
@@ -19,8 +19,8 @@ const SCENES: &[&str] = SHIPPED_SCENES;
 fn f16_arithmetic_rounds_every_operation() {
     let x64 = 1.0 + 3.0 * 2f64.powi(-10);
     let want = f16::from_f64(x64 * x64).to_f64() - 1.0;
-    let x = <f16 as Real>::of(x64 as f32);
-    let got = (x * x - <f16 as Real>::ONE).f32() as f64;
+    let x = <f16 as Float>::of(x64 as f32);
+    let got = (x * x - <f16 as Float>::ONE).f32() as f64;
     assert_eq!(got, want);
     let x32 = x64 as f32;
     let f32_result = (x32 * x32 - 1.0) as f64;
@@ -46,7 +46,7 @@ fn f16_frames_hold_binary16_values_and_differ_from_f32() {
         let (h, _) = render_at(&inputs, m, 2, false, Precision::F16).unwrap();
         let (s, _) = render_at(&inputs, m, 2, false, Precision::F32).unwrap();
         let is_half = |v: f32| !v.is_finite() || f16::from_f32(v).to_f32() == v;
-        let colours = if m.software == shadelab::method::SoftwareKernel::VertexColour {
+        let colours = if matches!(m.kernel, shadelab::method::Kernel::VertexColour) {
             &[][..]
         } else {
             &h.color[..]

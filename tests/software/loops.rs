@@ -50,12 +50,13 @@ impl<S: software::raster::Shader> software::raster::Shader for CountRows<S> {
 
 #[test]
 fn the_span_and_pixel_loops_allocate_nothing() {
-    use software::formulas::{self as f, Lighting32};
+    use shadelab::method::formulas as f;
+    use shadelab::method::real::V3;
     use software::spans::{n4, stepped, Along, SpanShader};
     let scene = shipped_scene("sphere_fine", 256);
     let inputs = SceneInputs::new(&scene, Geometry::Mesh);
     let tris = software::raster::setup(&inputs).unwrap();
-    let lit = Lighting32::new(&inputs.params, inputs.light_count);
+    let lit = software::lighting::<f32>(&inputs.params, inputs.light_count);
     fn counted<S: software::raster::Shader>(
         tris: &[software::raster::Tri],
         s: S,
@@ -75,9 +76,9 @@ fn the_span_and_pixel_loops_allocate_nothing() {
         Along::Slerp,
         Along::Chebyshev,
         Along::Quadratic { approx_mid: false },
-        Along::Dichotomy(f::inv_root_exact),
+        Along::Dichotomy(shadelab::method::scanline::inv_root_exact),
         Along::Segments(3, None),
-        Along::Segments(3, Some(f::inv_root_poly1)),
+        Along::Segments(3, Some(shadelab::method::scanline::inv_root_poly1)),
         Along::BishopWeimer,
         Along::HastEuler,
     ];
@@ -89,7 +90,7 @@ fn the_span_and_pixel_loops_allocate_nothing() {
     let per_pixel = stepped(
         |t: &software::raster::Tri| (t.n, ()),
         move |v: glam::Vec3, _: &()| {
-            let m = f::normalize_exact(software::real::V3::<f32>::of(v));
+            let m = f::normalize_exact(V3::<f32>::of(v));
             (lit.shade(m).f32(), n4(m))
         },
     );

@@ -7,10 +7,9 @@ use serde::Serialize;
 
 use super::SoftwareBench;
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
-use crate::bench::claims::{FACTOR_CLAIMS, GOURAUD_FACTOR};
 use crate::cost::factor_verdict;
 use crate::error::{Error, Result};
-use crate::method::Verdict;
+use crate::method::{Kind, Property, Verdict};
 use crate::scene::Scene;
 
 /// A ratio interval and the verdict it gives on one claim.
@@ -53,7 +52,9 @@ pub(crate) struct ClaimSpec {
     pub target: f64,
 }
 
-/// The seeds' speed claims (the same texts and factors as the Vulkan bench's claims.md).
+/// The speed claims of the rows ([`Kind::Speed`]: `factor` times faster than `than`, the same
+/// claims the Vulkan bench judges), then the claim of [`Property::SqrtFree`] for each row with
+/// it.
 pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
     let spec = |claim: &str, num, den, target| ClaimSpec {
         claim: claim.into(),
@@ -61,32 +62,18 @@ pub(crate) fn claim_specs() -> Vec<ClaimSpec> {
         den,
         target,
     };
-    let mut out = vec![spec(
-        "Phong shading of an average triangle takes more than 50x longer than Gouraud (docs/formulas.md#gouraud-shading)",
-        "gouraud",
-        crate::method::PHONG_EXACT,
-        1.0 / GOURAUD_FACTOR,
-    )];
-    for (name, claim, factor) in FACTOR_CLAIMS {
-        out.push(spec(claim, name, crate::method::PHONG_EXACT, 1.0 / factor));
+    let mut out = Vec::new();
+    for m in crate::method::METHODS {
+        for c in m.claims {
+            if let Kind::Speed { factor, than } = c.kind {
+                out.push(spec(c.claim, m.name, than, 1.0 / factor));
+            }
+        }
     }
-    out.push(spec(
-        "2.5x faster normal interpolation with the approximated inverse root (docs/formulas.md#dichotomy)",
-        "dichotomy_poly1",
-        "dichotomy_exact",
-        1.0 / 2.5,
-    ));
-    out.push(spec(
-        "Bishop-Weimer is cheap: per pixel 5 additions and 1 memory access (docs/formulas.md#bishop-weimer-taylor-shading): faster than exact Phong",
-        "bishop_weimer",
-        crate::method::PHONG_EXACT,
-        1.0,
-    ));
-    let sqrt_free = crate::method::with_property(crate::method::Property::SqrtFree);
-    for name in sqrt_free.map(|m| m.name) {
+    for m in crate::method::with_property(Property::SqrtFree) {
         out.push(spec(
             "normalization without a square root is faster than exact normalization (docs/formulas.md#exact-phong)",
-            name,
+            m.name,
             crate::method::PHONG_EXACT,
             1.0,
         ));

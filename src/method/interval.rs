@@ -4,10 +4,12 @@
 //! rounded, so one ulp suffices; sin and cos come from the platform's libm, within one ulp on
 //! glibc, widened by four). An operation that could produce NaN (0 * inf, a divisor holding 0)
 //! gives the whole line, never a NaN bound. Implements [`Real`] so the method formulas run on
-//! it unchanged.
+//! it unchanged: `prove` bounds a row's formula with it, and a row's kernel carries the
+//! formula's interval instantiation ([`super::kernel::Factor`]), which is why it lives here
+//! with the other number types (`crate::prove::interval` names it too).
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::method::real::Real;
+use super::real::Real;
 
 /// `[lo, hi]`, lo <= hi (either may be infinite).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -244,5 +246,18 @@ impl Real for Interval {
         }
         let lo = self.lo.max(0.0);
         Interval::outward(lo.sqrt(), self.hi.sqrt()).clamp_lo(0.0)
+    }
+
+    /// Pointwise ([`Interval::max`]).
+    fn max(self, o: Interval) -> Interval {
+        Interval::max(self, o)
+    }
+
+    /// Pointwise.
+    fn min(self, o: Interval) -> Interval {
+        Interval {
+            lo: self.lo.min(o.lo),
+            hi: self.hi.min(o.hi),
+        }
     }
 }

@@ -6,7 +6,7 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use super::interval::Interval;
-use crate::method::real::Real;
+use super::real::Real;
 
 /// A value and its derivative, both enclosed.
 #[derive(Debug, Clone, Copy)]
@@ -80,6 +80,26 @@ impl Real for Dual {
             v: r,
             d: self.d / (Interval::point(2.0) * r),
         }
+    }
+
+    /// The operand that is the larger on the whole box (its value and derivative); where the
+    /// two overlap, the pointwise max with an unknown derivative (the kink may lie inside).
+    fn max(self, o: Dual) -> Dual {
+        if self.v.lo >= o.v.hi {
+            self
+        } else if o.v.lo >= self.v.hi {
+            o
+        } else {
+            Dual {
+                v: Real::max(self.v, o.v),
+                d: Interval::ENTIRE,
+            }
+        }
+    }
+
+    /// As [`Dual::max`], the smaller.
+    fn min(self, o: Dual) -> Dual {
+        -((-self).max(-o))
     }
 }
 
