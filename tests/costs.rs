@@ -124,6 +124,7 @@ fn a_registered_cost_model_reaches_the_report_and_the_speed_claims() {
         exe: None,
         device: Default::default(),
         costs: registry(),
+        tuned: None,
     };
     let out = dir.path().join("r");
     shadelab::report::run(&r, &scenes, &methods(), &out, &opts).unwrap();

@@ -13,6 +13,8 @@ use shadelab::report::links::broken_links;
 
 use crate::support::*;
 
+mod first_screen;
+
 /// The methods asked for; the report adds phong_exact and phong_unnormalized (bench's refs).
 const ASKED: &str = "gouraud,slerp";
 const SHOWN: [&str; 4] = ["gouraud", "phong_exact", "phong_unnormalized", "slerp"];
@@ -482,106 +484,30 @@ fn report_needs_exactly_one_source() {
     assert!(stderr.contains("cannot be used with"), "{stderr}");
 }
 
-/// Injected into a copy of the page shown in a 1400x900 window: every cell of the answer table
-/// (its data attributes, its text, whether it lies wholly inside the first screen), and for
-/// every SVG chart panel the texts whose box leaves the view box and the number of series.
-const FIRST_SCREEN: &str = r##"<script>
-window.addEventListener("load", function () {
-  var p = {width: window.innerWidth, height: window.innerHeight, cells: [], panels: []};
-  document.querySelectorAll("#answer-table tbody td").forEach(function (td) {
-    var r = td.getBoundingClientRect();
-    p.cells.push({budget: td.getAttribute("data-budget"), model: td.getAttribute("data-model"),
-      method: td.getAttribute("data-method"), nothing: td.getAttribute("data-nothing"),
-      runner_up: td.getAttribute("data-runner-up"), binding: td.getAttribute("data-binding"),
-      text: td.textContent,
-      visible: r.top >= 0 && r.left >= 0 && r.bottom <= window.innerHeight && r.right <= window.innerWidth});
-  });
-  document.querySelectorAll("svg").forEach(function (svg) {
-    var vb = svg.viewBox.baseVal, out = [];
-    svg.querySelectorAll("text").forEach(function (t) {
-      var b = t.getBBox();
-      if (b.x < vb.x || b.y < vb.y || b.x + b.width > vb.x + vb.width || b.y + b.height > vb.y + vb.height)
-        out.push(t.textContent + " at " + [b.x, b.y, b.width, b.height].map(Math.round).join(","));
-    });
-    p.panels.push({title: svg.getAttribute("aria-label"), has_view_box: !!svg.getAttribute("viewBox"),
-      series: svg.querySelectorAll("g.series").length, outside: out});
-  });
-  var pre = document.createElement("pre"); pre.id = "probe"; pre.textContent = JSON.stringify(p);
-  document.body.appendChild(pre);
-});
-</script>"##;
-
-/// What differs between the first screen's answer table (`page`, the probe's record) and
-/// `answer` (answer.json): each cell's method, "nothing is cheaper", runner-up and ratio, and
-/// whether the cell is on the first screen.
-fn answer_mismatches(page: &serde_json::Value, answer: &serde_json::Value) -> Vec<String> {
-    let mut out = Vec::new();
-    let shown = page["cells"].as_array().cloned().unwrap_or_default();
-    let cells = answer["cells"].as_array().cloned().unwrap_or_default();
-    if shown.len() != cells.len() {
-        out.push(format!(
-            "{} cells shown, {} in answer.json",
-            shown.len(),
-            cells.len()
-        ));
-    }
-    for c in &cells {
-        let (b, m) = (&c["budget"], &c["cost_model"]);
-        let Some(td) = shown.iter().find(|t| t["budget"] == *b && t["model"] == *m) else {
-            out.push(format!("{b} x {m}: not on the page"));
-            continue;
-        };
-        let text = td["text"].as_str().unwrap_or("");
-        let nothing = c["nothing_cheaper"].as_bool().unwrap_or(false);
-        let runner = c["runner_up"]["method"].as_str().unwrap_or("");
-        if td["method"] != c["answer"]["method"] || td["nothing"] != nothing.to_string() {
-            out.push(format!("{b} x {m}: page {td}, answer.json {}", c["answer"]));
-        }
-        if td["runner_up"] != runner || !text.contains(runner) {
-            out.push(format!("{b} x {m}: runner-up {runner} not shown: {text}"));
-        }
-        let claim = if nothing {
-            "nothing is cheaper than phong_exact".to_string()
-        } else {
-            let method = c["answer"]["method"].as_str().unwrap_or("?");
-            match c["answer"]["ratio"].as_f64() {
-                Some(r) => format!("{method} {r:.3}"),
-                None => format!("{method} unmeasured"),
-            }
-        };
-        if !text.contains(&claim) {
-            out.push(format!("{b} x {m}: {claim:?} not in {text:?}"));
-        }
-        // The scene that decides the cell (the cube on the shipped scenes), named in the cell.
-        let binding = c["binding"]["scene"].as_str().unwrap_or("");
-        let named = binding.is_empty() || text.contains(&format!("decided by {binding}"));
-        if td["binding"] != binding || !named {
-            out.push(format!(
-                "{b} x {m}: deciding scene {binding:?} not shown: {text}"
-            ));
-        }
-        if td["visible"] != true {
-            out.push(format!("{b} x {m}: not on the first screen"));
-        }
-    }
-    out
+/// The disassembly folders under a report's `dir` (isa/asm, isa-f16/asm) that exist.
+fn disassembly_dirs(dir: &Path) -> Vec<PathBuf> {
+    ["isa/asm", "isa-f16/asm"]
+        .iter()
+        .map(|d| dir.join(d))
+        .filter(|d| d.exists())
+        .collect()
 }
 
-/// Panels with text outside their view box, without a view box, or with more than 8 series.
-fn chart_problems(page: &serde_json::Value) -> Vec<String> {
-    let mut out = Vec::new();
-    for p in page["panels"].as_array().cloned().unwrap_or_default() {
-        if p["has_view_box"] != true {
-            out.push(format!("{}: no viewBox", p["title"]));
-        }
-        if p["series"].as_u64().unwrap_or(0) > 8 {
-            out.push(format!("{}: {} series", p["title"], p["series"]));
-        }
-        for t in p["outside"].as_array().cloned().unwrap_or_default() {
-            out.push(format!("{}: text outside the view box: {t}", p["title"]));
-        }
+/// The default report leaves the static cost's disassembly to `--full` (tens of MB over every
+/// family): no asm/ folder, isa.json lists none, yet every family's figures are there.
+#[test]
+fn report_leaves_the_disassembly_to_full() {
+    let dir = report_dir();
+    assert_eq!(disassembly_dirs(dir), Vec::<PathBuf>::new());
+    for f in ["isa/isa.json", "isa-f16/isa.json"] {
+        let isa = read_json(dir.join(f));
+        assert_eq!(isa["asm"], serde_json::json!([]), "{f}");
+        assert!(!isa["results"].as_array().unwrap().is_empty(), "{f}");
     }
-    out
+    // Teeth: a folder holding isa/asm is found.
+    let t = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(t.path().join("isa/asm/amd_navi21")).unwrap();
+    assert_eq!(disassembly_dirs(t.path()), vec![t.path().join("isa/asm")]);
 }
 
 #[test]
@@ -691,74 +617,6 @@ fn report_writes_an_answer_that_matches_its_schema() {
     assert!(
         md.contains("| cost model |") && md.contains("max |dI| <= 1/255"),
         "{md}"
-    );
-}
-
-#[test]
-fn first_screen_shows_the_answer_and_charts_stay_readable() {
-    let Some(browser) = chromium() else { return };
-    let dir = report_dir();
-    let page = probe_with(&browser, &dir.join("index.html"), FIRST_SCREEN, "1400,900");
-    let answer = read_json(dir.join("answer.json"));
-    assert_eq!(
-        answer_mismatches(&page, &answer),
-        Vec::<String>::new(),
-        "{page}"
-    );
-    assert!(page["panels"].as_array().unwrap().len() >= 2, "{page}");
-    assert_eq!(chart_problems(&page), Vec::<String>::new());
-
-    // Teeth: a tampered answer.json (another method, a flipped "nothing is cheaper") fails.
-    let mut tampered = answer.clone();
-    tampered["cells"][0]["answer"]["method"] = "gouraud_tampered".into();
-    let flip = !tampered["cells"][1]["nothing_cheaper"].as_bool().unwrap();
-    tampered["cells"][1]["nothing_cheaper"] = flip.into();
-    let file = dir.join("answer.tampered.json");
-    std::fs::write(&file, tampered.to_string()).unwrap();
-    let bad = answer_mismatches(&page, &read_json(&file));
-    std::fs::remove_file(&file).unwrap();
-    assert!(bad.len() >= 2, "{bad:?}");
-    // A table pushed below the first screen fails too.
-    let low = dir.join("low.html");
-    std::fs::write(
-        &low,
-        index_html().replacen(
-            "<section id=\"answer\">",
-            "<div style=\"height:1200px\"></div><section id=\"answer\">",
-            1,
-        ),
-    )
-    .unwrap();
-    let pushed = probe_with(&browser, &low, FIRST_SCREEN, "1400,900");
-    std::fs::remove_file(&low).unwrap();
-    assert!(
-        answer_mismatches(&pushed, &answer)
-            .iter()
-            .any(|m| m.contains("not on the first screen")),
-        "{pushed}"
-    );
-    // A text outside its panel and a panel of 9 series fail the chart check.
-    let nine = "<g class=\"series\"></g>".repeat(9);
-    let broken = dir.join("charts.broken.html");
-    std::fs::write(
-        &broken,
-        index_html().replacen(
-            "</main>",
-            &format!(
-                "<svg class=\"panel\" aria-label=\"bad\" viewBox=\"0 0 100 50\" width=\"100\" \
-                 height=\"50\"><text x=\"80\" y=\"20\">far outside the box</text>{nine}</svg></main>"
-            ),
-            1,
-        ),
-    )
-    .unwrap();
-    let b = probe_with(&browser, &broken, FIRST_SCREEN, "1400,900");
-    std::fs::remove_file(&broken).unwrap();
-    let found = chart_problems(&b);
-    assert!(
-        found.iter().any(|f| f.contains("far outside the box"))
-            && found.iter().any(|f| f.contains("9 series")),
-        "{found:?}"
     );
 }
 

@@ -421,9 +421,15 @@ enum Command {
         #[arg(long, value_enum)]
         interpolation: Option<InterpArg>,
         /// Bench's long setting (40 timed draws after 3 warm-ups; stress refined 8 rounds)
-        /// instead of the short one (10 after 2; 2 rounds).
+        /// instead of the short one (10 after 2; 2 rounds), and the static cost's disassembly
+        /// and isolated kernels (DIR/isa/asm/: tens of MB).
         #[arg(long)]
         full: bool,
+        /// The tune.json of `shadelab tune`: its winners show in the answer's cells ("a tuned
+        /// approximation beats exact normalisation here") and in its words (copied to
+        /// DIR/tune/tune.json).
+        #[arg(long, value_name = "FILE.json")]
+        tuned: Option<PathBuf>,
         #[command(flatten)]
         device: DeviceArgs,
     },

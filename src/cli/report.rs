@@ -57,6 +57,8 @@ pub(super) struct How {
     pub interpolation: Option<InterpArg>,
     pub full: bool,
     pub runs: Option<usize>,
+    /// `--tuned FILE`: tune's findings for the answer.
+    pub tuned: Option<PathBuf>,
 }
 
 /// The OBJ files (*.obj) of a folder, sorted (an error when there is none).
@@ -125,6 +127,7 @@ pub(super) fn run_report(c: Command) -> Result<ExitCode> {
         size,
         interpolation,
         full,
+        tuned,
         device,
     } = c
     else {
@@ -143,6 +146,7 @@ pub(super) fn run_report(c: Command) -> Result<ExitCode> {
         interpolation,
         full,
         runs,
+        tuned,
     };
     cmd_report(&src, &how, &device, &methods, &out)
 }
@@ -193,6 +197,7 @@ pub(super) fn cmd_report(
             precision: crate::method::Precision::F32,
         },
         costs: crate::costs::builtin(),
+        tuned: how.tuned.clone(),
     };
     let w = report::run(&r, &scenes, &methods, out, &opts)?;
     check_validation(r.context())?;

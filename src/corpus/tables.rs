@@ -357,7 +357,7 @@ fn html(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
     writeln!(
         w,
         "{}",
-        crate::report::front::answer_table(&r.answer).replace(
+        crate::report::first_screen::section(&r.answer).replace(
             "<h2>Which method to use</h2>",
             "<h2>Answer: which method to use</h2>"
         )

@@ -24,8 +24,8 @@ use serde::{Deserialize, Serialize};
 use crate::cost::{CostFigure, CostKind, CostModel};
 use crate::method::{Precision, Verdict, PHONG_EXACT};
 
-/// answer.json `schema_version`.
-pub const SCHEMA_VERSION: u32 = 1;
+/// answer.json `schema_version` (2: `summary`, cells' `unresolved` and `tuned`).
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// One error budget: a compare metric (of the linear luminance) and its limit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -125,6 +125,15 @@ pub struct Cell {
     /// The scene that decides the cell, when a method this model measures cheaper than the
     /// answer fails the budget: the scene ruling out the most of them.
     pub binding: Option<Binding>,
+    /// Interval models: the methods within the budget whose interval does not tell them from
+    /// the answer (neither measured cheaper nor dearer, yet possibly cheaper): the cell is
+    /// unresolved by this run, and its text says what would resolve it. Empty: resolved.
+    #[serde(default)]
+    pub unresolved: Vec<String>,
+    /// A tuned approximation (`shadelab tune`) proven within the budget and cheaper than
+    /// phong_exact under the cell's model, when the report read tune's findings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tuned: Option<super::tuned::TunedWin>,
     /// The cell as one sentence.
     pub text: String,
 }
@@ -152,6 +161,8 @@ pub struct Answer {
     pub cost_models: Vec<CostModel>,
     pub checks: Vec<BudgetCheck>,
     pub cells: Vec<Cell>,
+    /// The answer in words, what differs, and per scene ([`super::summary`]).
+    pub summary: super::summary::Summary,
 }
 
 /// Whether `method` meets `b` over `errors` (every scene of `scenes`).
@@ -367,7 +378,80 @@ fn cell_text(b: &Budget, m: &CostModel, c: &Cell) -> String {
             k.scene, k.ruled_out, k.cheaper_failing, k.cheapest
         );
     }
+    if !c.unresolved.is_empty() {
+        t += &format!("; {}", unresolved_text(&c.unresolved, m));
+    }
+    if let Some(w) = &c.tuned {
+        t += &format!(
+            "; a tuned approximation beats exact normalisation here: {} ({}) at {} of \
+             phong_exact, proven within {} (shadelab tune)",
+            w.candidate,
+            w.label,
+            w.ratio.map_or("unmeasured".into(), |r| format!("{r:.3}")),
+            w.proven_error
+                .map_or("unknown".into(), |e| format!("{e:.3e}"))
+        );
+    }
     t
+}
+
+/// What would resolve an interval model's cell: longer draws or more runs (docs/answer.md
+/// "Unresolved cells").
+pub const RESOLVE_HINT: &str = "a larger --size (longer draws: the fixed cost of a submission \
+     and the machine's noise weigh less) or more --runs narrows the intervals";
+
+/// "unresolved at this size: ..." for the methods `names` of model `m`.
+pub fn unresolved_text(names: &[String], m: &CostModel) -> String {
+    let shown: Vec<String> = names
+        .iter()
+        .take(3)
+        .map(|n| match m.figure(n) {
+            Some(f) => format!("{n} {}", ratio_text(&choice(n, Some(f), None))),
+            None => n.clone(),
+        })
+        .collect();
+    let more = if names.len() > 3 {
+        format!(" and {} more", names.len() - 3)
+    } else {
+        String::new()
+    };
+    format!(
+        "unresolved at this size: {} {} within the budget {} neither measured cheaper nor \
+         dearer ({}{more}); {RESOLVE_HINT}",
+        names.len(),
+        if names.len() == 1 {
+            "method"
+        } else {
+            "methods"
+        },
+        if names.len() == 1 { "is" } else { "are" },
+        shown.join(", ")
+    )
+}
+
+/// The methods of `ranked` (qualifying, with a ratio) that model `m` does not tell from the
+/// answer: inconclusive, with an interval reaching below the answer's ratio (1 for
+/// phong_exact). Interval models only: a static figure is never inconclusive.
+fn unresolved_of(
+    m: &CostModel,
+    ranked: &[&CostFigure],
+    answer: &Choice,
+    nothing: bool,
+) -> Vec<String> {
+    if m.kind != CostKind::Interval {
+        return Vec::new();
+    }
+    let bar = if nothing {
+        1.0
+    } else {
+        answer.ratio.unwrap_or(1.0)
+    };
+    ranked
+        .iter()
+        .filter(|f| f.method != answer.method && f.verdict == Verdict::Inconclusive)
+        .filter(|f| f.ci95_low.or(f.ratio).is_some_and(|l| l < bar))
+        .map(|f| f.method.clone())
+        .collect()
 }
 
 /// One cell of the answer: budget `b` under cost model `m` (`checks`: every method's check of
@@ -419,6 +503,7 @@ fn cell(b: &Budget, m: &CostModel, checks: &[&BudgetCheck], scenes: &[String]) -
         (None, _) => false,
     };
     let answer_ratio = if nothing { None } else { answer.ratio };
+    let unresolved = unresolved_of(m, &ranked, &answer, nothing);
     let mut c = Cell {
         budget: b.id.clone(),
         cost_model: m.id.to_string(),
@@ -428,20 +513,37 @@ fn cell(b: &Budget, m: &CostModel, checks: &[&BudgetCheck], scenes: &[String]) -
         nothing_cheaper: nothing,
         qualifying,
         separated,
+        unresolved,
+        tuned: None,
         text: String::new(),
     };
     c.text = cell_text(b, m, &c);
     c
 }
 
-/// The answer over `scenes` from the errors and the cost models.
-pub fn answer(
+/// What an answer is made of.
+pub struct Inputs<'a> {
+    /// The scenes, in the report's order.
+    pub scenes: &'a [String],
+    pub methods: &'a [String],
+    pub errors: &'a [SceneError],
+    /// The cost models over every scene.
+    pub models: Vec<CostModel>,
+    /// Per scene, the same models measured on that scene alone (the scene-independent ones
+    /// unchanged); a scene not listed takes `models`.
+    pub scene_models: Vec<(String, Vec<CostModel>)>,
+    /// What `shadelab tune` found, when the report was given it.
+    pub tuned: Option<super::tuned::Tuned>,
+}
+
+/// Every method's check of every budget in every precision `models` need.
+fn checks_of(
     scenes: &[String],
     methods: &[String],
     errors: &[SceneError],
-    models: Vec<CostModel>,
-) -> Answer {
-    let budgets = budgets();
+    models: &[CostModel],
+    budgets: &[Budget],
+) -> Vec<BudgetCheck> {
     let mut precisions: Vec<Precision> = models.iter().map(|m| m.precision).collect();
     precisions.push(Precision::F32);
     precisions.sort();
@@ -449,12 +551,23 @@ pub fn answer(
     let mut checks: Vec<BudgetCheck> = Vec::new();
     for p in precisions {
         for m in methods {
-            for b in &budgets {
+            for b in budgets {
                 checks.push(check(m, b, scenes, errors, p));
             }
         }
     }
-    let cells = budgets
+    checks
+}
+
+/// Every cell (budgets x models, budget-major).
+fn cells_of(
+    budgets: &[Budget],
+    models: &[CostModel],
+    checks: &[BudgetCheck],
+    scenes: &[String],
+    tuned: Option<&super::tuned::Tuned>,
+) -> Vec<Cell> {
+    budgets
         .iter()
         .flat_map(|b| models.iter().map(move |m| (b, m)))
         .map(|(b, m)| {
@@ -462,12 +575,57 @@ pub fn answer(
                 .iter()
                 .filter(|c| c.budget == b.id && c.precision == m.precision)
                 .collect();
-            cell(b, m, &of, scenes)
+            let mut c = cell(b, m, &of, scenes);
+            if let Some(w) = tuned.and_then(|t| t.win(b, m.id.as_str())) {
+                c.tuned = Some(w.clone());
+                c.text = cell_text(b, m, &c);
+            }
+            c
         })
-        .collect();
+        .collect()
+}
+
+/// The answer over `scenes` from the errors and the cost models (the same models for every
+/// scene, no tune findings).
+pub fn answer(
+    scenes: &[String],
+    methods: &[String],
+    errors: &[SceneError],
+    models: Vec<CostModel>,
+) -> Answer {
+    answer_with(Inputs {
+        scenes,
+        methods,
+        errors,
+        models,
+        scene_models: Vec::new(),
+        tuned: None,
+    })
+}
+
+/// The answer of `i`: the cells over every scene, then per scene, then the words.
+pub fn answer_with(i: Inputs) -> Answer {
+    let budgets = budgets();
+    let checks = checks_of(i.scenes, i.methods, i.errors, &i.models, &budgets);
+    let cells = cells_of(&budgets, &i.models, &checks, i.scenes, i.tuned.as_ref());
+    let mut per_scene = Vec::new();
+    for s in i.scenes {
+        let one = std::slice::from_ref(s);
+        let models = (i.scene_models.iter())
+            .find(|(x, _)| x == s)
+            .map_or(&i.models, |(_, m)| m);
+        let checks = checks_of(one, i.methods, i.errors, models, &budgets);
+        let cells = cells_of(&budgets, models, &checks, one, None);
+        for b in &budgets {
+            let of: Vec<Cell> = cells.iter().filter(|c| c.budget == b.id).cloned().collect();
+            per_scene.push(super::summary::scene_budget(s, &b.id, &of));
+        }
+    }
+    let summary =
+        super::summary::summarize(&cells, &budgets, i.scenes, &i.models, per_scene, i.tuned);
     Answer {
         schema_version: SCHEMA_VERSION,
-        scenes: scenes.to_vec(),
+        scenes: i.scenes.to_vec(),
         errors_from: "compare: |dI| of the linear luminance against exact Phong in f64, over \
                       the covered pixels of each scene (Vulkan pipeline; a float32 cost model \
                       takes the float32 programs' errors, a float16 one the float16 \
@@ -475,9 +633,10 @@ pub fn answer(
                       pixel"
             .into(),
         budgets,
-        cost_models: models,
+        cost_models: i.models,
         checks,
         cells,
+        summary,
     }
 }
 

@@ -1,9 +1,9 @@
-//! The report's first screen: the inputs of [`super::answer`] taken from a run (errors per scene
-//! from compare, float32 and float16; one cost model per measurement: lavapipe frame time
-//! across runs, lavapipe isolated cost, the software engine, and per GPU family of `isa` the
-//! static cost of the float32 and the float16 programs), the answer table at the top of
-//! index.html (one row per cost model, one column per budget), and the papers' claims as one
-//! matrix (claim x where it was measured), each verdict linked to its row.
+//! The inputs of [`super::answer`] taken from a run (errors per scene from compare, float32 and
+//! float16; one cost model per measurement: lavapipe frame time across runs, lavapipe isolated
+//! cost, the software engine, and per GPU family of `isa` the static cost of the float32 and
+//! the float16 programs; the same per scene alone; tune's findings), and the papers' claims as
+//! one matrix (claim x where it was measured), each verdict linked to its row. The answer's
+//! HTML is [`super::first_screen`].
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -12,7 +12,7 @@ use super::html::{esc, method_anchor};
 use super::ReportData;
 use crate::bench::cost::TimedScene;
 use crate::bench::software::cost::SoftwareScene;
-use crate::cost::{Evidence, Registry};
+use crate::cost::{CostModel, Evidence, Registry};
 use crate::method::Precision;
 
 /// The id of a method's row in a scene's metric table (the bench figures of the cost models).
@@ -58,8 +58,14 @@ pub fn scene_errors(d: &ReportData) -> Vec<SceneError> {
 /// What this run measured, as the cost sources read it: each scene's bench and software
 /// timings, and `isa`'s reports (float32, float16).
 pub fn evidence(d: &ReportData) -> Evidence {
+    evidence_of(d, None)
+}
+
+/// [`evidence`] of scene `only` alone (without `isa`'s reports, which do not depend on the
+/// scene), or of every scene.
+fn evidence_of(d: &ReportData, only: Option<&str>) -> Evidence {
     let mut ev = Evidence::new();
-    for s in &d.scenes {
+    for s in d.scenes.iter().filter(|s| only.is_none_or(|o| o == s.id)) {
         ev.push(TimedScene {
             scene: s.id.clone(),
             methods: s.bench.methods.clone(),
@@ -73,13 +79,36 @@ pub fn evidence(d: &ReportData) -> Evidence {
             });
         }
     }
-    for c in super::isa::compiled(&d.isa) {
-        ev.push(c);
+    if only.is_none() {
+        for c in super::isa::compiled(&d.isa) {
+            ev.push(c);
+        }
     }
     ev
 }
 
-/// The answer of a run under the cost models of `costs`.
+/// The models of `all` as measured on scene `id` alone: a model its own evidence makes (the
+/// frame times) from it, the others (the isolated cost, the static costs: they do not depend
+/// on the scene) as they are.
+fn models_of_scene(
+    d: &ReportData,
+    id: &str,
+    costs: &Registry,
+    all: &[CostModel],
+) -> Vec<CostModel> {
+    let own = costs.models(&evidence_of(d, Some(id)));
+    all.iter()
+        .map(|m| {
+            own.iter()
+                .find(|o| o.id == m.id)
+                .cloned()
+                .unwrap_or_else(|| m.clone())
+        })
+        .collect()
+}
+
+/// The answer of a run under the cost models of `costs`, over every scene and per scene, with
+/// tune's findings when the run has them.
 pub fn answer_of(d: &ReportData, costs: &Registry) -> Answer {
     let scenes: Vec<String> = d.scenes.iter().map(|s| s.id.clone()).collect();
     let mut methods: Vec<String> = Vec::new();
@@ -90,123 +119,19 @@ pub fn answer_of(d: &ReportData, costs: &Registry) -> Answer {
             }
         }
     }
-    answer::answer(
-        &scenes,
-        &methods,
-        &scene_errors(d),
-        costs.models(&evidence(d)),
-    )
-}
-
-/// `index.html#x` -> `#x` (the page links to itself), other paths unchanged.
-fn href(e: &str) -> String {
-    e.strip_prefix("index.html").unwrap_or(e).to_string()
-}
-
-/// `text`, linked to `evidence` when there is one.
-fn linked(text: &str, evidence: &str) -> String {
-    if evidence.is_empty() {
-        esc(text)
-    } else {
-        format!("<a href=\"{}\">{}</a>", esc(&href(evidence)), esc(text))
-    }
-}
-
-fn choice_html(c: &answer::Choice) -> String {
-    let link = linked(&c.method, &c.cost_evidence);
-    let err = if c.error_evidence.is_empty() {
-        String::new()
-    } else {
-        format!(
-            " <a class=\"err\" href=\"{}\" title=\"its error\">err</a>",
-            esc(&href(&c.error_evidence))
-        )
-    };
-    format!(
-        "{link} <span class=\"ratio\">{}</span>{err}",
-        esc(&answer::ratio_text(c))
-    )
-}
-
-/// The words naming the scene that decides a cell, linked to the evidence (the counts in
-/// the tooltip).
-fn binding_html(c: &answer::Cell) -> Option<String> {
-    let k = c.binding.as_ref()?;
-    let scene = linked(&k.scene, &k.evidence);
-    Some(format!(
-        "<span class=\"bind\" title=\"{} of the {} methods cheaper than the answer that fail \
-         the budget fail it on this scene; the cheapest: {}\">decided by {scene}</span>",
-        k.ruled_out,
-        k.cheaper_failing,
-        esc(&k.cheapest)
-    ))
-}
-
-/// The answer table (first on the page): one row per cost model, one column per budget.
-pub fn answer_table(a: &Answer) -> String {
-    let mut h = String::from(
-        "<section id=\"answer\"><h2>Which method to use</h2><p class=\"lede\">Per cost model \
-         and error budget (luminance |dI| against exact Phong in f64 on <em>every</em> scene, no \
-         non-finite pixel; float16 rows: the float16 programs' errors): the cheapest method \
-         measured cheaper than phong_exact with its cost ratio (below 1 is cheaper, interval in \
-         brackets), the runner-up, and the scene that decides the cell. Data: \
-         <a href=\"answer.json\">answer.json</a>, <a href=\"answer.md\">answer.md</a>.</p>\
-         <table class=\"answer\" id=\"answer-table\"><thead><tr><th>cost model</th>",
-    );
-    for b in &a.budgets {
-        let _ = write!(
-            h,
-            "<th data-budget=\"{}\">{}</th>",
-            esc(&b.id),
-            esc(&b.label)
-        );
-    }
-    h += "</tr></thead><tbody>";
-    for m in &a.cost_models {
-        let _ = write!(
-            h,
-            "<tr data-model=\"{}\"><th scope=\"row\" title=\"{}\">{}</th>",
-            esc(m.id.as_str()),
-            esc(&m.description),
-            esc(&m.title)
-        );
-        for b in &a.budgets {
-            let Some(c) = a.cell(&b.id, m.id.as_str()) else {
-                h += "<td>-</td>";
-                continue;
-            };
-            let main = if c.nothing_cheaper {
-                "<strong class=\"none\">nothing is cheaper than phong_exact</strong>".to_string()
-            } else {
-                format!("<strong>{}</strong>", choice_html(&c.answer))
-            };
-            let label = if c.nothing_cheaper { "closest" } else { "then" };
-            let ru = c
-                .runner_up
-                .as_ref()
-                .map(|r| format!("{label} {}", choice_html(r)));
-            let parts: Vec<String> = ru.into_iter().chain(binding_html(c)).collect();
-            let second = if parts.is_empty() {
-                String::new()
-            } else {
-                format!("<div class=\"ru\">{}</div>", parts.join("; "))
-            };
-            let _ = write!(
-                h,
-                "<td id=\"{}\" data-budget=\"{}\" data-model=\"{}\" data-method=\"{}\" \
-                 data-nothing=\"{}\" data-runner-up=\"{}\" data-binding=\"{}\">{main}{second}</td>",
-                esc(&format!("answer-{}-{}", b.id, m.id)),
-                esc(&b.id),
-                esc(m.id.as_str()),
-                esc(&c.answer.method),
-                c.nothing_cheaper,
-                esc(c.runner_up.as_ref().map_or("", |r| r.method.as_str())),
-                esc(c.binding.as_ref().map_or("", |k| k.scene.as_str()))
-            );
-        }
-        h += "</tr>";
-    }
-    h + "</tbody></table></section>"
+    let models = costs.models(&evidence(d));
+    let scene_models = scenes
+        .iter()
+        .map(|s| (s.clone(), models_of_scene(d, s, costs, &models)))
+        .collect();
+    answer::answer_with(answer::Inputs {
+        scenes: &scenes,
+        methods: &methods,
+        errors: &scene_errors(d),
+        models,
+        scene_models,
+        tuned: d.tuned.clone(),
+    })
 }
 
 /// One claim's verdicts per source: (verdict, basis, anchor or file).

@@ -3,7 +3,7 @@
 //! throughput over phong_exact's per method and family, and per family a chart of error (the
 //! scenes' compare p99 and max) against that cost with its Pareto front. [`compile_all`]
 //! compiles the report's methods in `isa`'s children before the answer (a few seconds per
-//! precision): float32 into DIR/isa/ (isa.json, isa.csv, asm/, charts/), float16 into
+//! precision): float32 into DIR/isa/ (isa.json, isa.csv, charts/; asm/ only with `--full`), float16 into
 //! DIR/isa-f16/; each supported family becomes a static cost model of the answer
 //! ([`compiled`], read by [`crate::isa::cost::StaticCost`]). A failure is a paragraph saying why, never fatal to the report.
 use std::fmt::Write as _;
@@ -35,12 +35,35 @@ impl IsaRun {
     }
 }
 
-/// Compiles the report's methods in float32 (with charts) and float16.
-pub fn compile_all(out: &Path, methods: &[&'static Method], scenes: &[SceneResult]) -> IsaRun {
+/// Compiles the report's methods in float32 (with charts) and float16; the disassembly
+/// (DIR/isa/asm/, tens of MB over every family) is written only when `full` (`--full`).
+pub fn compile_all(
+    out: &Path,
+    methods: &[&'static Method],
+    scenes: &[SceneResult],
+    full: bool,
+) -> IsaRun {
     IsaRun {
-        f32: compile(out, methods, scenes),
-        f16: compile_f16(out, methods),
+        f32: compile(out, methods, scenes, full),
+        f16: compile_f16(out, methods, full),
     }
+}
+
+/// Writes `r`'s files into `dir`: without the disassembly unless `full` (the report keeps the
+/// disassembly in memory: the op-count claim was read from it).
+fn write_files(dir: &Path, r: &IsaReport, full: bool) -> std::result::Result<(), String> {
+    let lean;
+    let r = if full {
+        r
+    } else {
+        lean = IsaReport {
+            disassembly: Vec::new(),
+            asm: Vec::new(),
+            ..r.clone()
+        };
+        &lean
+    };
+    crate::isa::files::write(dir, r).map_err(|e| e.to_string())
 }
 
 /// The reports `isa` gave, as the cost sources read them: float32 (DIR/isa/isa.json), then
@@ -123,10 +146,14 @@ fn options(
 }
 
 /// Runs isa on the float16 programs and writes DIR/isa-f16/ (no charts).
-fn compile_f16(out: &Path, methods: &[&'static Method]) -> std::result::Result<IsaReport, String> {
+fn compile_f16(
+    out: &Path,
+    methods: &[&'static Method],
+    full: bool,
+) -> std::result::Result<IsaReport, String> {
     let opts = options(methods, Precision::F16)?;
     let r = crate::isa::run(&opts, &|_| {}).map_err(|e| e.to_string())?;
-    crate::isa::files::write(&out.join(DIR_F16), &r).map_err(|e| e.to_string())?;
+    write_files(&out.join(DIR_F16), &r, full)?;
     Ok(r)
 }
 
@@ -135,6 +162,7 @@ fn compile(
     out: &Path,
     methods: &[&'static Method],
     scenes: &[SceneResult],
+    full: bool,
 ) -> std::result::Result<(IsaReport, Vec<String>), String> {
     let opts = options(methods, Precision::F32)?;
     let mut r = crate::isa::run(&opts, &|_| {}).map_err(|e| e.to_string())?;
@@ -148,7 +176,7 @@ fn compile(
         }
     };
     r.charts = charts.clone();
-    crate::isa::files::write(&dir, &r).map_err(|e| e.to_string())?;
+    write_files(&dir, &r, full)?;
     Ok((r, charts))
 }
 

@@ -15,19 +15,23 @@
 //! `report.js`, `formulas.html` (docs/formulas.md, which the claims cite: [`formulas`]), `scenes/<id>/compare/` (compare's outputs), `scenes/<id>/bench/` (bench's
 //! outputs), `scenes/<id>/software/` (the software engine's bench), `stress/` (stress's outputs).
 //!
-//! The page opens with the answer ([`front::answer_table`]), then the charts ([`svg`]: small
+//! The page opens with the answer ([`first_screen::section`]: in words, what differs, per
+//! scene, the full grid one click away), then the charts ([`svg`]: small
 //! multiples, one panel per method family), the claims matrix, and the scenes, the most telling
 //! (the most triangles) first.
 pub mod answer;
+pub mod first_screen;
 pub mod formulas;
 pub mod front;
 pub mod html;
 pub mod isa;
 pub mod links;
 pub mod sections;
+pub mod summary;
 pub mod svg;
 #[cfg(test)]
 mod tests;
+pub mod tuned;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -74,6 +78,8 @@ pub struct ReportOptions {
     pub device: crate::gpu::DeviceSpec,
     /// The cost models of the answer and of the benches' speed claims.
     pub costs: crate::cost::Registry,
+    /// `shadelab tune`'s tune.json, an input of the answer ([`tuned`]).
+    pub tuned: Option<PathBuf>,
 }
 
 /// Everything one scene contributed: the compare summary and the bench report, and where their
@@ -133,6 +139,8 @@ pub struct ReportData {
     pub isa: isa::IsaRun,
     /// The report's methods (the references included), in its order.
     pub methods: Vec<&'static Method>,
+    /// What `shadelab tune` found (`--tuned`), copied to DIR/tune/tune.json.
+    pub tuned: Option<tuned::Tuned>,
 }
 
 /// What a run wrote.
@@ -427,6 +435,16 @@ fn write_page(out: &Path, data: &ReportData) -> Result<PathBuf> {
     Ok(index)
 }
 
+/// Reads `--tuned FILE` and copies it to DIR/tune/tune.json (the page links to the copy).
+fn read_tuned(path: Option<&Path>, out: &Path) -> Result<Option<tuned::Tuned>> {
+    let Some(path) = path else { return Ok(None) };
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let rel = "tune/tune.json";
+    let t = tuned::Tuned::parse(&text, rel, path)?;
+    output::write_bytes_atomic(&out.join(rel), text.as_bytes())?;
+    Ok(Some(t))
+}
+
 /// Runs compare and bench on every scene and stress once, then writes DIR/index.html.
 pub fn run(
     renderer: &Renderer,
@@ -440,6 +458,8 @@ pub fn run(
         return Err(Error::Usage("the report has no scene to show".into()));
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    // Read before measuring: a bad file must not cost a run.
+    let tuned = read_tuned(opts.tuned.as_deref(), out)?;
     let methods = with_references(methods);
     let plan = &opts.plan;
     if plan.many() && opts.exe.is_none() {
@@ -500,12 +520,13 @@ pub fn run(
         opts.progress,
         "isa (static cost, float32 and float16)".to_string(),
     );
-    let isa = isa::compile_all(out, &methods, &results);
+    let isa = isa::compile_all(out, &methods, &results, opts.full);
     step(&bar, opts.progress, "index.html".to_string());
     let mut data = ReportData {
         answer: answer::answer(&[], &[], &[], Vec::new()),
         isa,
         methods: methods.clone(),
+        tuned,
         scenes: results,
         stress,
         stress_dir: "stress".into(),

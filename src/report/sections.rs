@@ -31,7 +31,7 @@ type Sections = fn(&ReportData, Dims) -> Vec<Section>;
 
 /// The page's sections, in order.
 pub const SECTIONS: [Sections; 9] = [
-    |d, _| Section::new("answer", "answer", super::front::answer_table(&d.answer)),
+    |d, _| Section::new("answer", "answer", super::first_screen::section(&d.answer)),
     |d, _| Section::new("charts", "charts", super::svg::charts_section(d)),
     |d, _| Section::new("claims", "claims", super::front::claims_matrix(d)),
     |d, dims| {

@@ -85,11 +85,21 @@ pub fn panels(by_family: Vec<(Family, Vec<Series>)>) -> Vec<(String, Vec<Series>
     out
 }
 
-fn short(name: &str) -> String {
-    if name.chars().count() <= NAME_CHARS {
+/// `name` in at most `n` characters (an ellipsis ends a cut one).
+fn short_to(name: &str, n: usize) -> String {
+    if name.chars().count() <= n {
         name.to_string()
     } else {
-        name.chars().take(NAME_CHARS - 1).collect::<String>() + "\u{2026}"
+        name.chars().take(n.saturating_sub(1)).collect::<String>() + "\u{2026}"
+    }
+}
+
+/// A value in a legend: `3e8`, `0.002`, `1.5`.
+fn short_num(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e4).contains(&v.abs()) {
+        format!("{v:.0e}")
+    } else {
+        format!("{}", (v * 1000.0).round() / 1000.0)
     }
 }
 
@@ -122,6 +132,28 @@ impl Chart {
         let (a, b) = self.y_decades;
         let l = y.max(1e-300).log10().clamp(f64::from(a), f64::from(b));
         Y1 - (l - f64::from(a)) / f64::from(b - a) * (Y1 - Y0)
+    }
+
+    /// The largest value the y axis shows (values above are drawn on its top edge, marked).
+    pub fn y_max(&self) -> f64 {
+        10f64.powi(self.y_decades.1)
+    }
+
+    /// The smallest value the y axis shows (values below are drawn on its bottom edge,
+    /// marked).
+    pub fn y_min(&self) -> f64 {
+        10f64.powi(self.y_decades.0)
+    }
+
+    /// Whether `y` lies beyond the y axis (or is not finite): drawn on an edge with a marker.
+    fn off_scale(&self, y: Option<f64>) -> bool {
+        y.is_none_or(|y| !(y.is_finite() && y <= self.y_max() && y >= self.y_min()))
+    }
+
+    /// x clamped to the axis (an interval reaching beyond it ends on the frame, with an arrow).
+    fn px_clamped(&self, x: f64) -> (f64, bool) {
+        let (a, b) = self.x_range;
+        (self.px(x.clamp(a, b)), !(a..=b).contains(&x))
     }
 
     fn axes(&self, title: &str) -> String {
@@ -180,6 +212,98 @@ impl Chart {
         h
     }
 
+    /// One data point: a numbered marker (points) or a small dot (lines) where it lies on the
+    /// axes; on the top or bottom edge, as a triangle pointing off the axis, where its value
+    /// lies beyond them; a cross on the top edge where it is not finite. `data-y` holds the
+    /// value (the browser test checks every point against the axes).
+    fn point(&self, x: f64, y: Option<f64>, c: &str, n: usize) -> String {
+        let px = self.px(x);
+        let shown = y.map_or("nan".to_string(), |v| format!("{v:e}"));
+        match y {
+            None => format!(
+                "<path class=\"pt off nonfinite\" data-y=\"nan\" d=\"M{:.1},{:.1}l6,6m0,-6l-6,6\" \
+                 stroke=\"{c}\" stroke-width=\"2\"/>",
+                px - 3.0,
+                Y0 - 3.0
+            ),
+            Some(v) if self.off_scale(Some(v)) => {
+                let (edge, dir) = if v.is_finite() && v < self.y_min() {
+                    (Y1, 1.0)
+                } else {
+                    (Y0, -1.0)
+                };
+                format!(
+                    "<path class=\"pt off\" data-y=\"{shown}\" data-edge=\"{edge}\" \
+                     d=\"M{:.1},{edge:.1}l5,{:.1}l-10,0z\" fill=\"{c}\" stroke=\"#222\" \
+                     stroke-width=\"0.8\"/>",
+                    px,
+                    -dir * 8.0
+                )
+            }
+            Some(v) if self.lines => format!(
+                "<circle class=\"pt\" data-y=\"{shown}\" cx=\"{px:.1}\" cy=\"{:.1}\" r=\"2\" \
+                 fill=\"{c}\"/>",
+                self.py(v)
+            ),
+            Some(v) => {
+                let py = self.py(v);
+                format!(
+                    "<circle class=\"pt\" data-y=\"{shown}\" cx=\"{px:.1}\" cy=\"{py:.1}\" \
+                     r=\"7\" fill=\"{c}\"/><text x=\"{px:.1}\" y=\"{:.1}\" class=\"mk\">{n}</text>",
+                    py + 3.5
+                )
+            }
+        }
+    }
+
+    /// A point's interval along x, clipped to the axis with an arrow where it reaches beyond.
+    fn interval(&self, y: f64, (lo, hi): (f64, f64), c: &str) -> String {
+        let py = self.py(y);
+        let ((l, lo_off), (r, hi_off)) = (self.px_clamped(lo), self.px_clamped(hi));
+        let mut h = format!(
+            "<line x1=\"{l:.1}\" x2=\"{r:.1}\" y1=\"{py:.1}\" y2=\"{py:.1}\" stroke=\"{c}\" \
+             stroke-width=\"2\"/>"
+        );
+        for (x, off, d) in [(l, lo_off, 1.0), (r, hi_off, -1.0)] {
+            if off {
+                let _ = write!(
+                    h,
+                    "<path class=\"clip\" d=\"M{x:.1},{py:.1}l{:.1},-4l0,8z\" fill=\"{c}\"/>",
+                    d * 7.0
+                );
+            }
+        }
+        h
+    }
+
+    /// What the legend adds after a series' name: its off-scale values, largest first.
+    fn legend_note(&self, s: &Series) -> String {
+        let nonfinite = s.points.iter().any(|p| p.1.is_none_or(|y| !y.is_finite()));
+        let above = (s.points.iter())
+            .filter_map(|p| p.1)
+            .filter(|y| y.is_finite() && *y > self.y_max())
+            .fold(None, |m: Option<f64>, y| Some(m.map_or(y, |m| m.max(y))));
+        let below = (s.points.iter())
+            .filter_map(|p| p.1)
+            .filter(|y| y.is_finite() && *y < self.y_min())
+            .fold(None, |m: Option<f64>, y| Some(m.map_or(y, |m| m.min(y))));
+        let mut parts = Vec::new();
+        if let Some(v) = above {
+            parts.push(format!("\u{25b2}{}", short_num(v)));
+        }
+        if let Some(v) = below {
+            parts.push(format!("\u{25bc}{}", short_num(v)));
+        }
+        if nonfinite {
+            parts.push("\u{d7}NaN".into());
+        }
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", parts.join(" "))
+        }
+    }
+
     fn series(&self, k: usize, s: &Series) -> String {
         let c = PALETTE[k % MAX_SERIES];
         let n = k + 1;
@@ -188,13 +312,17 @@ impl Chart {
             esc(&s.name),
             esc(&s.name)
         );
-        let finite: Vec<(f64, f64)> = s
+        // Lines run through every finite point, an off-scale one on its edge.
+        let drawn: Vec<(f64, f64)> = s
             .points
             .iter()
-            .filter_map(|&(x, y, _)| Some((self.px(x), self.py(y?))))
+            .filter_map(|&(x, y, _)| {
+                y.filter(|v| v.is_finite())
+                    .map(|v| (self.px(x), self.py(v)))
+            })
             .collect();
-        if self.lines && finite.len() > 1 {
-            let pts: Vec<String> = finite
+        if self.lines && drawn.len() > 1 {
+            let pts: Vec<String> = drawn
                 .iter()
                 .map(|(x, y)| format!("{x:.1},{y:.1}"))
                 .collect();
@@ -205,38 +333,14 @@ impl Chart {
             );
         }
         for &(x, y, iv) in &s.points {
-            let px = self.px(x);
-            match y {
-                None => {
-                    // Non-finite: a cross on the top edge.
-                    let _ = write!(
-                        h,
-                        "<path d=\"M{:.1},{:.1}l6,6m0,-6l-6,6\" stroke=\"{c}\" stroke-width=\"2\"/>",
-                        px - 3.0,
-                        Y0 - 3.0
-                    );
+            if let (false, Some(v), Some(iv)) = (self.lines, y, iv) {
+                if !self.off_scale(Some(v)) {
+                    h += &self.interval(v, iv, c);
                 }
-                Some(y) if !self.lines => {
-                    let py = self.py(y);
-                    if let Some((lo, hi)) = iv {
-                        let _ = write!(
-                            h,
-                            "<line x1=\"{:.1}\" x2=\"{:.1}\" y1=\"{py:.1}\" y2=\"{py:.1}\" stroke=\"{c}\" stroke-width=\"2\"/>",
-                            self.px(lo),
-                            self.px(hi)
-                        );
-                    }
-                    let _ = write!(
-                        h,
-                        "<circle cx=\"{px:.1}\" cy=\"{py:.1}\" r=\"7\" fill=\"{c}\"/>\
-                         <text x=\"{px:.1}\" y=\"{:.1}\" class=\"mk\">{n}</text>",
-                        py + 3.5
-                    );
-                }
-                Some(_) => {}
             }
+            h += &self.point(x, y, c, n);
         }
-        if let (true, Some(&(x, y))) = (self.lines, finite.last()) {
+        if let (true, Some(&(x, y))) = (self.lines, drawn.last()) {
             let _ = write!(
                 h,
                 "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"7\" fill=\"{c}\"/>\
@@ -244,24 +348,22 @@ impl Chart {
                 y + 3.5
             );
         }
-        // Legend entry, right of the plot.
+        // Legend entry, right of the plot: the name, then any off-scale value.
         let ly = Y0 + 8.0 + 18.0 * k as f64;
-        let unplotted = if finite.is_empty() {
-            " (not finite)"
-        } else {
-            ""
-        };
+        let note = self.legend_note(s);
+        let room = NAME_CHARS.saturating_sub(note.chars().count()).max(8);
         let _ = write!(
             h,
             "<circle cx=\"{:.1}\" cy=\"{ly:.1}\" r=\"7\" fill=\"{c}\"/><text x=\"{:.1}\" \
-             y=\"{:.1}\" class=\"mk\">{n}</text><text x=\"{:.1}\" y=\"{:.1}\" class=\"lg\">{}{}</text></g>",
+             y=\"{:.1}\" class=\"mk\">{n}</text><text x=\"{:.1}\" y=\"{:.1}\" class=\"lg\">{}\
+             <tspan class=\"offv\">{}</tspan></text></g>",
             X1 + 18.0,
             X1 + 18.0,
             ly + 3.5,
             X1 + 30.0,
             ly + 4.0,
-            esc(&short(&s.name)),
-            if unplotted.is_empty() { "" } else { "*" }
+            esc(&short_to(&s.name, room)),
+            esc(&note)
         );
         h
     }
@@ -276,9 +378,13 @@ impl Chart {
             let _ = write!(
                 h,
                 "<svg class=\"panel\" viewBox=\"0 0 {W} {H}\" width=\"{W}\" height=\"{H}\" \
-                 role=\"img\" aria-label=\"{}\" data-series=\"{}\">{STYLE}{}",
+                 role=\"img\" aria-label=\"{}\" data-series=\"{}\" data-y-min=\"{:e}\" \
+                 data-y-max=\"{:e}\" data-top=\"{Y0}\" data-bottom=\"{Y1}\" data-left=\"{X0}\" \
+                 data-right=\"{X1}\">{STYLE}{}",
                 esc(title),
                 series.len(),
+                self.y_min(),
+                self.y_max(),
                 self.axes(title)
             );
             for (k, s) in series.iter().enumerate() {
@@ -295,19 +401,27 @@ impl Chart {
     }
 }
 
-/// The decades covering the finite positive values of `ys` (at least one decade).
-fn decades(ys: impl Iterator<Item = f64>) -> (i32, i32) {
+/// The largest error an axis shows: 1 (an error above it is wrong, not a degree of accuracy;
+/// such a point is drawn on the top edge, marked, its value in the legend).
+pub const ERROR_CEILING_DECADE: i32 = 0;
+/// The smallest: 1e-9 (below, float32's rounding; drawn on the bottom edge, marked).
+pub const ERROR_FLOOR_DECADE: i32 = -9;
+
+/// The decades of an error axis: those covering the finite positive values of `ys`, clamped
+/// to [1e-9, 1] (at least one decade).
+pub fn decades(ys: impl Iterator<Item = f64>) -> (i32, i32) {
     let (lo, hi) = ys
         .filter(|y| y.is_finite() && *y > 0.0)
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
             (a.min(y), b.max(y))
         });
     if !lo.is_finite() {
-        return (-4, 0);
+        return (-4, ERROR_CEILING_DECADE);
     }
-    let a = lo.log10().floor() as i32;
-    let b = (hi.log10().ceil() as i32).max(a + 1);
-    (a.max(-9), b.max(a.max(-9) + 1))
+    let top = ERROR_CEILING_DECADE;
+    let a = (lo.log10().floor() as i32).clamp(ERROR_FLOOR_DECADE, top - 1);
+    let b = (hi.log10().ceil() as i32).clamp(a + 1, top);
+    (a, b)
 }
 
 fn family_of(name: &str) -> Family {
@@ -339,14 +453,10 @@ fn cost_chart_of(
             points: vec![(x, y, iv)],
         })
         .collect();
+    // The medians set the x axis; an interval reaching beyond it ends on the frame, marked.
     let xs = series
         .iter()
-        .flat_map(|s| {
-            s.points
-                .iter()
-                .flat_map(|p| [Some(p.0), p.2.map(|i| i.0), p.2.map(|i| i.1)])
-        })
-        .flatten()
+        .flat_map(|s| s.points.iter().map(|p| p.0))
         .filter(|x| x.is_finite())
         .chain([1.0]);
     let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
@@ -393,7 +503,7 @@ pub fn cost_chart(d: &ReportData) -> Option<Chart> {
     Some(cost_chart_of(
         "chart-cost".into(),
         "frame time / phong_exact (lavapipe)",
-        "y: worst max |dI| over the scenes (log); * not finite",
+        "y: worst max |dI| over the scenes (log); \u{25b2} off the axis, value in the legend",
         points,
     ))
 }
@@ -421,7 +531,7 @@ pub fn scene_cost_chart(s: &SceneResult) -> Option<Chart> {
         cost_chart_of(
             format!("scene-{}--chart-cost", s.id),
             "frame time / phong_exact (lavapipe, this scene)",
-            "y: max |dI| on this scene (log); * not finite",
+            "y: max |dI| on this scene (log); \u{25b2} off the axis, value in the legend",
             points,
         )
     })
@@ -489,7 +599,7 @@ pub fn stress_chart(d: &ReportData, sweep: Sweep) -> Option<Chart> {
     Some(Chart {
         id: id.into(),
         x_title: x_title.into(),
-        y_title: "y: worst |colour error| (linear, log); x on top: not finite".into(),
+        y_title: "y: worst |colour error| (log); \u{25b2} off the axis (legend: its largest), \u{d7} not finite".into(),
         lines: true,
         x_range: (lo, hi.max(lo + 1.0)),
         y_decades: decades(ys.map(|y| y.max(1e-9))),

@@ -4,6 +4,9 @@ use super::html::{esc, number};
 use super::links::{attribute_values, broken_in};
 use super::*;
 
+/// The charts' error axes and their off-scale markers (tests/svg_axes.rs).
+mod svg_axes;
+
 #[test]
 fn escaping_covers_every_special_character() {
     assert_eq!(
@@ -440,6 +443,9 @@ mod answer_rule {
         let c = a.cell("max_4_255", "isa:x:f16").unwrap();
         assert!(c.nothing_cheaper && c.qualifying == 0, "{c:?}");
     }
+
+    /// The answer in words and tune's findings (tests/answer_rule/words.rs).
+    mod words;
 
     #[test]
     fn panels_never_hold_more_than_eight_series() {

@@ -1,0 +1,497 @@
+//! The answer in words (answer.json `summary`, the first lines of index.html): computed from the
+//! answer's cells, never written by hand.
+//!
+//! - [`Common`]: the answer most cells (budget x cost model, over every scene) give, and the
+//!   cells that differ from it ([`Summary::differing`]);
+//! - per scene ([`SceneBudget`]): for each budget, the answers of the cost models on that scene
+//!   alone (a real mesh allows what the 12-triangle cube forbids), grouped by answer;
+//! - the interval models' cells this run cannot resolve ([`super::answer::Cell::unresolved`]);
+//! - what `shadelab tune` found, when the report was given its output ([`super::tuned`]);
+//! - [`Summary::sentences`]: one to three sentences saying what holds everywhere, then what
+//!   differs. The browser test derives the same facts from answer.json's cells and checks the
+//!   page against them.
+use serde::{Deserialize, Serialize};
+
+use super::answer::{Budget, Cell};
+use super::tuned::Tuned;
+use crate::cost::{CostKind, CostModel};
+use crate::method::{Precision, PHONG_EXACT};
+
+/// The answer most cells give.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Common {
+    pub method: String,
+    pub nothing_cheaper: bool,
+    /// How many cells give it, of how many.
+    pub cells: usize,
+    pub of: usize,
+}
+
+/// A cell named by its budget and cost model, with its answer.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CellRef {
+    pub budget: String,
+    pub cost_model: String,
+    pub method: String,
+    pub nothing_cheaper: bool,
+}
+
+/// One answer on one scene under a budget, and the cost models that give it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SceneAnswer {
+    pub method: String,
+    pub nothing_cheaper: bool,
+    /// The cost models giving this answer on the scene, in the answer's model order.
+    pub cost_models: Vec<String>,
+    /// The smallest and largest ratio to phong_exact among them (null for phong_exact).
+    pub ratio_range: Option<(f64, f64)>,
+    /// Those of `cost_models` whose cell on this scene is unresolved (interval models).
+    #[serde(default)]
+    pub unresolved: Vec<String>,
+}
+
+/// A scene under a budget: its answers, the most widespread first.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SceneBudget {
+    pub scene: String,
+    pub budget: String,
+    pub answers: Vec<SceneAnswer>,
+}
+
+/// answer.json `summary`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub common: Common,
+    /// The cells whose answer is not the common one, in the answer's cell order.
+    pub differing: Vec<CellRef>,
+    /// Per scene (the report's order) and budget.
+    pub per_scene: Vec<SceneBudget>,
+    /// The cells of interval models that this run's intervals do not resolve.
+    pub unresolved: Vec<CellRef>,
+    /// `shadelab tune`'s findings, when the report read them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tuned: Option<Tuned>,
+    /// One to three sentences: what holds across every cost model and scene, then what differs.
+    pub sentences: Vec<String>,
+}
+
+/// A cost model's vendor (or source) and how a person names it: `isa:intel:tgl` is Intel's,
+/// `lavapipe_frame` lavapipe's.
+pub fn vendor_of(id: &str) -> (String, String) {
+    let parts: Vec<&str> = id.split(':').collect();
+    match parts.as_slice() {
+        ["isa", v, _, ..] => {
+            let shown = match *v {
+                "amd" => "AMD",
+                "intel" => "Intel",
+                "nvidia" => "NVIDIA",
+                "terascale" => "TeraScale",
+                "qualcomm" | "adreno" => "Qualcomm",
+                "arm" | "mali" => "Arm",
+                other => other,
+            };
+            (v.to_string(), shown.to_string())
+        }
+        ["isa", ..] => ("isa".into(), "GPU".into()),
+        [first, ..] => {
+            let w = first.split('_').next().unwrap_or(first);
+            (w.to_string(), w.to_string())
+        }
+        [] => (String::new(), String::new()),
+    }
+}
+
+/// The family (chip) of a static model's id (`isa:intel:tgl:f16` -> `tgl`), else the id.
+pub fn family_of(id: &str) -> &str {
+    let parts: Vec<&str> = id.split(':').collect();
+    match parts.as_slice() {
+        ["isa", _, chip, ..] | ["isa", chip] => chip,
+        _ => id,
+    }
+}
+
+/// `ids` (a subset of `all`) named compactly: a vendor's every family in one precision as
+/// "AMD (all 6)", a part of them as "Intel tgl, adl", other models by their title.
+pub fn describe(ids: &[String], all: &[CostModel]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut done: Vec<(String, Precision)> = Vec::new();
+    for m in all
+        .iter()
+        .filter(|m| ids.iter().any(|i| m.id == *i.as_str()))
+    {
+        if m.kind != CostKind::Static {
+            parts.push(m.title.clone());
+            continue;
+        }
+        let (v, shown) = vendor_of(m.id.as_str());
+        if done.contains(&(v.clone(), m.precision)) {
+            continue;
+        }
+        done.push((v.clone(), m.precision));
+        let same = |x: &&CostModel| {
+            x.kind == CostKind::Static
+                && x.precision == m.precision
+                && vendor_of(x.id.as_str()).0 == v
+        };
+        let group: Vec<&CostModel> = all.iter().filter(same).collect();
+        let members: Vec<&str> = group
+            .iter()
+            .filter(|x| ids.iter().any(|i| x.id == *i.as_str()))
+            .map(|x| family_of(x.id.as_str()))
+            .collect();
+        let f16 = if m.precision == Precision::F16 {
+            " float16"
+        } else {
+            ""
+        };
+        parts.push(if members.len() == group.len() && group.len() > 1 {
+            format!("{shown}{f16} (all {})", group.len())
+        } else {
+            format!("{shown}{f16} {}", members.join(", "))
+        });
+    }
+    parts.join("; ")
+}
+
+/// What the models are, in words: "lavapipe frame time, ..., and the static cost of 18 GPU
+/// families of 4 vendors (AMD 6, Intel 5, NVIDIA 5, TeraScale 2), 9 of them in float16 too".
+pub fn scope(all: &[CostModel]) -> String {
+    let mut parts: Vec<String> = all
+        .iter()
+        .filter(|m| m.kind != CostKind::Static)
+        .map(|m| m.title.clone())
+        .collect();
+    let statics = |p: Precision| -> Vec<&CostModel> {
+        all.iter()
+            .filter(|m| m.kind == CostKind::Static && m.precision == p)
+            .collect()
+    };
+    let (f32s, f16s) = (statics(Precision::F32), statics(Precision::F16));
+    let mut vendors: Vec<(String, usize)> = Vec::new();
+    for m in &f32s {
+        let shown = vendor_of(m.id.as_str()).1;
+        match vendors.iter_mut().find(|(v, _)| *v == shown) {
+            Some((_, n)) => *n += 1,
+            None => vendors.push((shown, 1)),
+        }
+    }
+    if !f32s.is_empty() {
+        let by: Vec<String> = vendors.iter().map(|(v, n)| format!("{v} {n}")).collect();
+        let mut s = format!(
+            "the static cost of {} GPU {} of {} {} ({})",
+            f32s.len(),
+            plural(f32s.len(), "family", "families"),
+            vendors.len(),
+            plural(vendors.len(), "vendor", "vendors"),
+            by.join(", ")
+        );
+        if !f16s.is_empty() {
+            s += &format!(", {} of them in float16 too", f16s.len());
+        }
+        parts.push(s);
+    } else if !f16s.is_empty() {
+        parts.push(format!(
+            "the static cost of {} GPU {} in float16",
+            f16s.len(),
+            plural(f16s.len(), "family", "families")
+        ));
+    }
+    match parts.len() {
+        0 => String::new(),
+        1 => parts.remove(0),
+        n => format!("{} and {}", parts[..n - 1].join(", "), parts[n - 1]),
+    }
+}
+
+/// `a, b and c`.
+fn and_list(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
+}
+
+fn plural<'a>(n: usize, one: &'a str, many: &'a str) -> &'a str {
+    if n == 1 {
+        one
+    } else {
+        many
+    }
+}
+
+/// What a cell answers, as a key.
+fn key(c: &Cell) -> (String, bool) {
+    (c.answer.method.clone(), c.nothing_cheaper)
+}
+
+/// The most frequent answer of `cells` (ties: the first met).
+pub fn common(cells: &[Cell]) -> Common {
+    let mut counts: Vec<((String, bool), usize)> = Vec::new();
+    for c in cells {
+        match counts.iter_mut().find(|(k, _)| *k == key(c)) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((key(c), 1)),
+        }
+    }
+    let best = counts
+        .iter()
+        .enumerate()
+        .max_by(|(i, a), (j, b)| a.1.cmp(&b.1).then(j.cmp(i)))
+        .map(|(_, x)| x.clone());
+    let ((method, nothing_cheaper), n) = best.unwrap_or(((PHONG_EXACT.into(), true), 0));
+    Common {
+        method,
+        nothing_cheaper,
+        cells: n,
+        of: cells.len(),
+    }
+}
+
+fn cell_ref(c: &Cell) -> CellRef {
+    CellRef {
+        budget: c.budget.clone(),
+        cost_model: c.cost_model.clone(),
+        method: c.answer.method.clone(),
+        nothing_cheaper: c.nothing_cheaper,
+    }
+}
+
+/// Groups one scene's cells under one budget by answer, the most widespread first (ties: the
+/// answer's first cost model).
+pub fn scene_budget(scene: &str, budget: &str, cells: &[Cell]) -> SceneBudget {
+    let mut answers: Vec<SceneAnswer> = Vec::new();
+    for c in cells {
+        let ratio = if c.nothing_cheaper {
+            None
+        } else {
+            c.answer.ratio
+        };
+        let unresolved = !c.unresolved.is_empty();
+        let found = answers
+            .iter_mut()
+            .find(|a| a.method == c.answer.method && a.nothing_cheaper == c.nothing_cheaper);
+        let a = match found {
+            Some(a) => a,
+            None => {
+                answers.push(SceneAnswer {
+                    method: c.answer.method.clone(),
+                    nothing_cheaper: c.nothing_cheaper,
+                    cost_models: Vec::new(),
+                    ratio_range: None,
+                    unresolved: Vec::new(),
+                });
+                answers.last_mut().expect("just pushed")
+            }
+        };
+        a.cost_models.push(c.cost_model.clone());
+        if unresolved {
+            a.unresolved.push(c.cost_model.clone());
+        }
+        if let Some(r) = ratio.filter(|r| r.is_finite()) {
+            a.ratio_range = Some(a.ratio_range.map_or((r, r), |(l, h)| (l.min(r), h.max(r))));
+        }
+    }
+    answers.sort_by_key(|a| std::cmp::Reverse(a.cost_models.len()));
+    SceneBudget {
+        scene: scene.into(),
+        budget: budget.into(),
+        answers,
+    }
+}
+
+/// The sentence of what holds over every scene: the common answer and where it holds.
+fn first_sentence(
+    c: &Common,
+    budgets: &[Budget],
+    scenes: &[String],
+    models: &[CostModel],
+) -> String {
+    let what = if c.nothing_cheaper {
+        format!("Nothing is cheaper than {PHONG_EXACT}")
+    } else {
+        format!("{} is the cheapest method", c.method)
+    };
+    let scenes_said = match scenes.len() {
+        1 => format!("on the one scene ({})", scenes[0]),
+        n => format!("on all {n} scenes together"),
+    };
+    if c.cells == c.of {
+        format!(
+            "{what} within every one of the {} error budgets, {scenes_said}, under every one \
+             of the {} cost models: {}.",
+            budgets.len(),
+            models.len(),
+            scope(models)
+        )
+    } else {
+        format!(
+            "{what} in {} of the {} cells (error budget x cost model), {scenes_said}; the {} \
+             that differ are listed below (cost models: {}).",
+            c.cells,
+            c.of,
+            c.of - c.cells,
+            scope(models)
+        )
+    }
+}
+
+/// The sentence of what differs scene by scene: for each scene where some cost model answers
+/// otherwise than the common answer under some budget, the most widespread such answer.
+fn scene_sentence(
+    c: &Common,
+    per_scene: &[SceneBudget],
+    scenes: &[String],
+    budgets: &[Budget],
+    models: &[CostModel],
+) -> String {
+    let mut said: Vec<String> = Vec::new();
+    let mut same: Vec<&str> = Vec::new();
+    for s in scenes {
+        let of_scene: Vec<&SceneBudget> = per_scene.iter().filter(|x| x.scene == *s).collect();
+        // (budget, answer) pairs that differ from the common answer on this scene.
+        let mut other: Vec<(&SceneBudget, &SceneAnswer)> = Vec::new();
+        for sb in &of_scene {
+            for a in &sb.answers {
+                if a.method != c.method || a.nothing_cheaper != c.nothing_cheaper {
+                    other.push((sb, a));
+                }
+            }
+        }
+        if other.is_empty() {
+            same.push(s);
+            continue;
+        }
+        let budgets_with = of_scene
+            .iter()
+            .filter(|sb| other.iter().any(|(x, _)| std::ptr::eq(*x, **sb)))
+            .count();
+        // The answer most models give, then the tightest budget.
+        let (sb, a) = other
+            .iter()
+            .max_by(|(x, a), (y, b)| {
+                a.cost_models.len().cmp(&b.cost_models.len()).then_with(|| {
+                    let lim = |s: &SceneBudget| {
+                        budgets
+                            .iter()
+                            .find(|b| b.id == s.budget)
+                            .map_or(0.0, |b| b.limit)
+                    };
+                    lim(y).total_cmp(&lim(x))
+                })
+            })
+            .copied()
+            .expect("not empty");
+        let label = budgets
+            .iter()
+            .find(|b| b.id == sb.budget)
+            .map_or(sb.budget.clone(), |b| b.label.clone());
+        let how_many = if budgets_with == budgets.len() {
+            "all budgets".to_string()
+        } else {
+            format!("{budgets_with} of the {} budgets", budgets.len())
+        };
+        let widest = if a.nothing_cheaper {
+            format!("nothing cheaper than {PHONG_EXACT} within {label}")
+        } else {
+            format!("{} within {label}", a.method)
+        };
+        let verb = if budgets_with == 1 { "has" } else { "have" };
+        said.push(format!(
+            "on {s}, {how_many} {verb} another answer under some cost model (most widely: \
+             {widest}, under {} of the {} cost models)",
+            a.cost_models.len(),
+            models.len()
+        ));
+    }
+    if said.is_empty() {
+        return "Scene by scene the answer is the same on every scene.".into();
+    }
+    let mut t = format!("Scene by scene the answer differs: {}", said.join("; "));
+    if !same.is_empty() {
+        t += &format!("; on {} it is the same", and_list(&same));
+    }
+    t + "."
+}
+
+/// The sentence of what this run could not resolve, and of what tune found.
+fn last_sentence(
+    unresolved: &[CellRef],
+    cells: &[Cell],
+    models: &[CostModel],
+    tuned: Option<&Tuned>,
+) -> Option<String> {
+    let mut parts = Vec::new();
+    if !unresolved.is_empty() {
+        let mut ids: Vec<String> = unresolved.iter().map(|u| u.cost_model.clone()).collect();
+        ids.sort();
+        ids.dedup();
+        let total: usize = cells.iter().filter(|c| ids.contains(&c.cost_model)).count();
+        let named: Vec<String> = describe(&ids, models)
+            .split("; ")
+            .map(String::from)
+            .collect();
+        let named: Vec<&str> = named.iter().map(String::as_str).collect();
+        parts.push(format!(
+            "the {} {} unresolved at this size in {} of {} {} cells: in each, a method within \
+             the budget is measured neither cheaper nor dearer than {PHONG_EXACT}, and the \
+             cell says what would resolve it",
+            and_list(&named),
+            if ids.len() == 1 {
+                "model is"
+            } else {
+                "models are"
+            },
+            unresolved.len(),
+            if ids.len() == 1 { "its" } else { "their" },
+            total
+        ));
+    }
+    if let Some(t) = tuned {
+        parts.push(t.sentence(models));
+    }
+    if parts.is_empty() {
+        return None;
+    }
+    let mut s = parts.join("; ");
+    if let Some(first) = s.get(..1) {
+        s = first.to_uppercase() + &s[1..];
+    }
+    Some(s + ".")
+}
+
+/// The summary of `cells` over `scenes`, with the per-scene groups `per_scene` and tune's
+/// findings.
+pub fn summarize(
+    cells: &[Cell],
+    budgets: &[Budget],
+    scenes: &[String],
+    models: &[CostModel],
+    per_scene: Vec<SceneBudget>,
+    tuned: Option<Tuned>,
+) -> Summary {
+    let common = common(cells);
+    let differing: Vec<CellRef> = cells
+        .iter()
+        .filter(|c| key(c) != (common.method.clone(), common.nothing_cheaper))
+        .map(cell_ref)
+        .collect();
+    let unresolved: Vec<CellRef> = cells
+        .iter()
+        .filter(|c| !c.unresolved.is_empty())
+        .map(cell_ref)
+        .collect();
+    let mut sentences = vec![first_sentence(&common, budgets, scenes, models)];
+    if scenes.len() > 1 {
+        sentences.push(scene_sentence(&common, &per_scene, scenes, budgets, models));
+    }
+    sentences.extend(last_sentence(&unresolved, cells, models, tuned.as_ref()));
+    Summary {
+        common,
+        differing,
+        per_scene,
+        unresolved,
+        tuned,
+        sentences,
+    }
+}
