@@ -1,6 +1,6 @@
-//! The report's ISA section: what each method costs on AMD GPU generations (ACO's static
-//! model on RADV's null device, `shadelab isa`), as a table of the fragment shader's inverse
-//! throughput over phong_exact's per method and family, and per family a chart of error (the
+//! The report's ISA section: what each method costs on every GPU family `shadelab isa`
+//! compiled (each vendor's compiler and its ranking statistic), as a table of the fragment
+//! shader's ranking figure over phong_exact's per method and family, and per family a chart of error (the
 //! scenes' compare p99 and max) against that cost with its Pareto front. [`compile_all`]
 //! compiles the report's methods in `isa`'s children before the answer (a few seconds per
 //! precision): float32 into DIR/isa/ (isa.json, isa.csv, charts/; asm/ only with `--full`), float16 into
@@ -83,11 +83,13 @@ pub fn compiled(run: &IsaRun) -> Vec<crate::isa::cost::Compiled> {
 /// The ISA section of the report for `methods` from `run`.
 pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
     let mut h = String::from(
-        "<section id=\"isa\"><h2>Static cost on AMD GPU generations</h2><p>ACO's static model on \
-         RADV's null device (<code>shadelab isa</code>): the inverse throughput of the timed \
-         draw's fragment shader (estimated busy cycles per wave), over phong_exact's on the \
-         same family; bold: cheaper than exact normalisation. Deterministic figures, not \
-         timings: they rank programs.</p>",
+        "<section id=\"isa\"><h2>Static cost on GPU families</h2><p>Each vendor's compiler \
+         (<code>shadelab isa</code>: RADV's ACO on AMD, Mesa's drivers behind drm-shims \
+         elsewhere) on the timed draw's fragment shader, its own ranking statistic (ACO's \
+         inverse throughput, Intel's cycle estimate, nouveau's instruction count, ...: \
+         isa.json names each family's) over phong_exact's on the same family; bold: cheaper \
+         than exact normalisation. Deterministic figures, not timings: they rank programs \
+         within a family, and families only by their ratios.</p>",
     );
     match &run.f32 {
         Ok((r, charts)) => {
@@ -192,10 +194,7 @@ fn table(r: &IsaReport, methods: &[&'static Method]) -> String {
     for m in methods {
         let _ = write!(h, "<tr><th>{}</th>", esc(m.name));
         for f in &fams {
-            let ratio = r
-                .row(f, m.name, "fragment", "draw")
-                .and_then(|row| row.ratio_to_phong_exact.get("inverse_throughput").copied())
-                .filter(|v| v.is_finite());
+            let ratio = r.ranking_ratio(f, m.name).filter(|v| v.is_finite());
             let _ = match ratio {
                 Some(v) if v < 1.0 => write!(h, "<td><b>{v:.2}</b></td>"),
                 Some(v) => write!(h, "<td>{v:.2}</td>"),
@@ -215,4 +214,47 @@ fn table(r: &IsaReport, methods: &[&'static Method]) -> String {
         let _ = write!(h, "<p>{}</p>", esc(&refused.join("; ")));
     }
     h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A report of one family whose fragment draws have `stat` as their only statistic.
+    fn report(family: &str, stat: &str, costs: &[(&str, f64)]) -> IsaReport {
+        let rows: Vec<_> = costs
+            .iter()
+            .map(|(m, v)| {
+                serde_json::json!({"family": family, "method": m, "stage": "fragment",
+                    "kind": "draw", "program": m, "statistics": {stat: v},
+                    "ratio_to_phong_exact": {}, "hash": []})
+            })
+            .collect();
+        let mut r: IsaReport = serde_json::from_value(serde_json::json!({"version": 1,
+            "precision": "f32", "scene": "s", "kernel_counts": [2, 3], "model": "m",
+            "families": [{"family": family, "supported": true, "status": "compiled",
+                "device_name": null, "driver_name": null, "driver_info": null,
+                "elapsed_ms": null, "statistics": []}],
+            "results": rows, "elapsed_s": 0.0}))
+        .unwrap();
+        crate::isa::table::fill_ratios(&mut r.results);
+        r
+    }
+
+    #[test]
+    fn the_table_reads_each_familys_own_ranking_statistic() {
+        let methods: Vec<&'static Method> = ["phong_exact", "phong_unnormalized"]
+            .iter()
+            .map(|n| crate::method::find(n).unwrap())
+            .collect();
+        let costs = [("phong_exact", 332.0), ("phong_unnormalized", 249.0)];
+        let intel = table(&report("intel:tgl", "cycle_count", &costs), &methods);
+        assert!(intel.contains("<td><b>0.75</b></td>"), "{intel}");
+        // Teeth: a statistic that is not the family's ranking one is no figure.
+        let other = table(&report("intel:tgl", "inverse_throughput", &costs), &methods);
+        assert!(
+            !other.contains("0.75") && other.contains("<td>-</td>"),
+            "{other}"
+        );
+    }
 }
