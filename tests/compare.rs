@@ -360,8 +360,8 @@ fn culling_and_specialization_change_nothing_visible() {
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{err}");
-        let s = read_json(out.join("summary.json"));
-        s
+
+        read_json(out.join("summary.json"))
     };
     let shipped = root().join("scenes/torus.toml");
     let shipped = shipped.to_str().unwrap();

@@ -309,6 +309,9 @@ pub fn skips(
     Ok(report)
 }
 
+/// Per draw list, its value in each round.
+type PerRound = Vec<Vec<f64>>;
+
 /// Times every draw list in the same interleaved rounds: each round's samples, and their values
 /// in the checked clock.
 fn time_lists(
@@ -318,7 +321,7 @@ fn time_lists(
     scene: &Scene,
     opts: &SkipOptions,
     clock: &str,
-) -> Result<(Vec<Vec<Sample>>, Vec<Vec<f64>>)> {
+) -> Result<(Vec<Vec<Sample>>, PerRound)> {
     eprintln!(
         "skips: timing {} draws of {} ({}) in the same interleaved rounds: {} warm-up \
          submissions each, then {} rounds",

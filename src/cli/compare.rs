@@ -14,6 +14,7 @@ pub(super) struct Limits<'a> {
     pub precision: PrecisionArgs,
 }
 
+#[allow(clippy::too_many_arguments)] // one argument per parsed group of compare's flags
 pub(super) fn cmd_compare(
     scene_args: &SceneArgs,
     dev: &DeviceArgs,

@@ -212,6 +212,8 @@ enum InterpArg {
     Perspective,
 }
 
+// Parsed once per process: the size of its largest variant costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render one method to an 8-bit PNG (and optionally the float images as .npy).

@@ -226,7 +226,7 @@ impl Shard {
                 Some(m) => num("SLURM_ARRAY_TASK_MIN", &m)?,
                 None => 1,
             };
-            let k = (id + 1).checked_sub(min).unwrap_or(0);
+            let k = (id + 1).saturating_sub(min);
             return Shard::parse(&format!("{k}/{}", num("SLURM_ARRAY_TASK_COUNT", &n)?), src);
         }
         Ok(Shard {

@@ -233,11 +233,14 @@ struct Pass {
     normal_buf: Option<Buffer>,
 }
 
+/// RGBA float pixels, row by row.
+type Pixels = Vec<[f32; 4]>;
+
 impl Pass {
     /// The rendered colour and normal pixels (no normal target: none), read into the memory of
     /// `recycled` when there is one ([`take_pixels`]: in place from host targets, zeroing them
     /// for the next render, else from the read-back buffers).
-    fn take_pixels(&mut self, recycled: Option<Frame>) -> Result<(Vec<[f32; 4]>, Vec<[f32; 4]>)> {
+    fn take_pixels(&mut self, recycled: Option<Frame>) -> Result<(Pixels, Pixels)> {
         let (old_color, old_normal) = recycled.map_or_else(Default::default, Frame::into_pixels);
         let color = take_pixels(&mut self.targets.color, self.color_buf.as_ref(), old_color)?;
         let normal = match self.targets.normal.as_mut() {

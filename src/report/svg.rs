@@ -37,11 +37,14 @@ const PALETTE: [&str; MAX_SERIES] = [
     "#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948", "#b07aa1", "#9c755f",
 ];
 
+/// One point of a series: x, y (`None`: non-finite) and x's interval when there is one.
+pub type Point = (f64, Option<f64>, Option<(f64, f64)>);
+
 /// One series of a panel: a method and its points (x, y; y `None`: non-finite).
 pub struct Series {
     pub name: String,
     /// (x, y, x interval) per point.
-    pub points: Vec<(f64, Option<f64>, Option<(f64, f64)>)>,
+    pub points: Vec<Point>,
 }
 
 /// A chart: its panels' titles and series, and the axes they share.
@@ -439,13 +442,12 @@ fn group(series: Vec<Series>) -> Vec<(Family, Vec<Series>)> {
     by
 }
 
+/// A method's cost point: its name, cost, the cost's interval and its error (`None`:
+/// non-finite).
+type CostPoint = (String, f64, Option<(f64, f64)>, Option<f64>);
+
 /// A cost chart from (method, ratio, interval, error) points.
-fn cost_chart_of(
-    id: String,
-    x_title: &str,
-    y_title: &str,
-    points: Vec<(String, f64, Option<(f64, f64)>, Option<f64>)>,
-) -> Chart {
+fn cost_chart_of(id: String, x_title: &str, y_title: &str, points: Vec<CostPoint>) -> Chart {
     let series: Vec<Series> = points
         .into_iter()
         .map(|(name, x, iv, y)| Series {
@@ -559,7 +561,7 @@ pub fn stress_chart(d: &ReportData, sweep: Sweep) -> Option<Chart> {
                 .filter(|p| p.key.first() == Some(&crate::stress::chart::SHININESS_CHART_ANGLE))
                 .collect(),
         };
-        let points: Vec<(f64, Option<f64>, Option<(f64, f64)>)> = curve
+        let points: Vec<Point> = curve
             .iter()
             .map(|p| {
                 let y = if p.device.non_finite > 0 {

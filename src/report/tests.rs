@@ -256,7 +256,8 @@ mod answer_rule {
     fn non_finite_or_missing_errors_fail_every_budget() {
         let base = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
         assert_eq!(base.cell("p99_4_255", "m").unwrap().answer.method, "faster");
-        let broken: [(&str, Box<dyn Fn(&mut SceneError)>); 4] = [
+        type Break = Box<dyn Fn(&mut SceneError)>;
+        let broken: [(&str, Break); 4] = [
             (
                 "NaN",
                 Box::new(|e| {

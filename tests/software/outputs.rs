@@ -24,7 +24,7 @@ fn compare_with_the_software_engine_writes_a_valid_summary_that_names_it() {
             &o,
         ]);
         assert_eq!(code, 0, "{engine}: {err}");
-        read_json(&std::path::Path::new(&o).join("summary.json"))
+        read_json(std::path::Path::new(&o).join("summary.json"))
     };
     let sw = args("software", &out("sw"));
     let vk = args("vulkan", &out("vk"));
@@ -126,7 +126,7 @@ fn bench_with_the_software_engine_writes_paired_ratios_and_computed_verdicts() {
     let (code, stdout, err) = bench(&vk_path, &out);
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("phong_exact"), "{stdout}");
-    let b = read_json(&out.join("bench.json"));
+    let b = read_json(out.join("bench.json"));
     assert_eq!(b["engine"], "software");
     assert_eq!(b["rounds"]["rounds"], 6);
     let methods = b["methods"].as_array().unwrap();
@@ -138,7 +138,7 @@ fn bench_with_the_software_engine_writes_paired_ratios_and_computed_verdicts() {
             6
         );
     }
-    let claims = read_json(&out.join("claims.json"));
+    let claims = read_json(out.join("claims.json"));
     assert_eq!(claims, b["claims"]);
     let md = std::fs::read_to_string(out.join("claims.md")).unwrap();
     let mut judged = 0;
@@ -191,7 +191,7 @@ fn bench_with_the_software_engine_writes_paired_ratios_and_computed_verdicts() {
     std::fs::write(&known, vk.to_string()).unwrap();
     let (code, _, err) = bench(&known, &dir.path().join("known"));
     assert_eq!(code, 0, "{err}");
-    let k = read_json(&dir.path().join("known/claims.json"));
+    let k = read_json(dir.path().join("known/claims.json"));
     let of_k = |num: &str| {
         k.as_array()
             .unwrap()
@@ -249,7 +249,7 @@ fn bench_with_the_software_engine_pairs_lavapipe_in_the_same_rounds() {
         stdout.contains("software / lavapipe phong_exact per round"),
         "{stdout}"
     );
-    let b = read_json(&dir.path().join("paired/bench.json"));
+    let b = read_json(dir.path().join("paired/bench.json"));
     assert_eq!(b["vulkan_paired"], true);
     assert!(b["vulkan_bench"].is_null());
     let a = &b["software_to_lavapipe"];
@@ -293,7 +293,7 @@ fn bench_with_the_software_engine_pairs_lavapipe_in_the_same_rounds() {
     std::fs::write(&vk_path, vk.to_string()).unwrap();
     let (code, _, err) = run_s(args(&["--vulkan-bench", vk_path.to_str().unwrap()], "file"));
     assert_eq!(code, 0, "{err}");
-    let f = read_json(&dir.path().join("file/bench.json"));
+    let f = read_json(dir.path().join("file/bench.json"));
     assert_eq!(f["vulkan_paired"], false);
     assert!(f["software_to_lavapipe"].is_null());
     assert_eq!(claim(&f, "dichotomy_poly1")["paired"], false);

@@ -460,6 +460,8 @@ fn flag_runs(flags: &[bool]) -> impl Iterator<Item = std::ops::Range<usize>> + '
 /// Source row `row`'s columns `x0 - r .. x0 + width + r` (clamped to the row) in YCxCz and
 /// normalised Y (`Y / 116 + 16 / 116` as the feature pass computes it per tap), where a
 /// `computed` block's horizontal pass reads them.
+// `i` indexes the three padded channels at once (an iterator per channel would not be clearer).
+#[allow(clippy::needless_range_loop)]
 fn pad_row(
     p: &Params,
     row: &[u8],
