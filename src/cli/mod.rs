@@ -212,8 +212,7 @@ enum InterpArg {
     Perspective,
 }
 
-// Parsed once per process: the size of its largest variant costs nothing.
-#[allow(clippy::large_enum_variant)]
+#[allow(clippy::large_enum_variant)] // parsed once per process: its size costs nothing
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render one method to an 8-bit PNG (and optionally the float images as .npy).
@@ -345,9 +344,8 @@ enum Command {
         #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
         error_budget: Option<ErrorBudget>,
     },
-    /// What each method compiles to on the GPU families of every vendor set up (AMD through
-    /// RADV's null device, Intel, NVIDIA and TeraScale through Mesa's drm-shims): each
-    /// compiler's static statistics and disassembly; no GPU needed.
+    /// What each method compiles to on the GPU families of every vendor set up (each vendor's
+    /// compiler behind a null device or Mesa's drm-shims: statistics, disassembly; no GPU).
     Isa(self::isa::IsaArgs),
     /// List the methods (`--json` for machines).
     List {
