@@ -69,17 +69,8 @@ fail() {
   exit 1
 }
 
-# A private apt configuration under $cache/apt/<name>: its own sources, lists and archives.
-apt_private() {
-  local name=$1
-  shift
-  local dir="$cache/apt/$name"
-  mkdir -p "$dir/lists/partial" "$dir/archives/partial" "$dir/parts"
-  apt-get -q -o Dir::Etc::SourceList="$dir/sources.list" -o Dir::Etc::SourceParts="$dir/parts" \
-    -o Dir::State::Lists="$dir/lists" -o Dir::Cache="$dir" -o Dir::Cache::archives="$dir/archives" \
-    -o Dir::Cache::pkgcache= -o Dir::Cache::srcpkgcache= -o APT::Sandbox::User=root \
-    -o Debug::NoLocking=true "$@"
-}
+# apt_private: apt-get with a private configuration under $cache/apt/<name>.
+. "$here/apt-private.sh"
 
 apt_sources() {
   local name=$1 line=$2

@@ -7,7 +7,7 @@ use std::sync::OnceLock;
 use glam::DVec3;
 use serde::Serialize;
 
-use crate::analysis::stats::percentile;
+use crate::analysis::stats::{histogram, percentile};
 use crate::cases::grid::{self, Grid, Sweep};
 use crate::cases::Case;
 use crate::geometry::{topology, Topology};
@@ -30,18 +30,7 @@ pub struct Distribution {
 fn distribution(values: &[f64], edges: &[f64]) -> Distribution {
     let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
     let max = v.iter().copied().fold(0.0, f64::max);
-    let histogram = edges
-        .windows(2)
-        .enumerate()
-        .map(|(i, e)| {
-            let last = i + 2 == edges.len();
-            let n = v
-                .iter()
-                .filter(|&&x| x >= e[0] && (x < e[1] || (last && x <= e[1])))
-                .count();
-            (e[0], e[1], n)
-        })
-        .collect();
+    let histogram = histogram(&v, edges);
     Distribution {
         max,
         p50: percentile(&mut v, 50.0),

@@ -86,17 +86,7 @@ fn identical_runs_and_the_phong_order_on_every_family() {
     // The files, and isa.json against its schema.
     let dir = tempfile::tempdir().unwrap();
     isa::files::write(dir.path(), &a).unwrap();
-    let json = read_json(dir.path().join("isa.json"));
-    let validator = schema_validator("docs/isa.schema.json");
-    let errors: Vec<String> = validator
-        .iter_errors(&json)
-        .map(|e| format!("{e} at {}", e.instance_path()))
-        .collect();
-    assert!(
-        errors.is_empty(),
-        "isa.json vs its schema:\n{}",
-        errors.join("\n")
-    );
+    let (json, validator) = isa_json_against_its_schema(dir.path());
     let asm = dir.path().join("asm/amd_navi21/phong_exact.fragment.s");
     let text = std::fs::read_to_string(&asm).unwrap();
     assert!(
@@ -528,17 +518,7 @@ fn every_method_compiles_on_every_vendor_family() {
     isa::files::write(dir.path(), &r).unwrap();
     let asm = std::fs::read_to_string(dir.path().join("asm/intel_tgl/phong_exact.fragment.s"));
     assert!(asm.unwrap().contains("// SIMD8"));
-    let json = read_json(dir.path().join("isa.json"));
-    let validator = schema_validator("docs/isa.schema.json");
-    let errors: Vec<String> = validator
-        .iter_errors(&json)
-        .map(|e| format!("{e} at {}", e.instance_path()))
-        .collect();
-    assert!(
-        errors.is_empty(),
-        "isa.json vs its schema:\n{}",
-        errors.join("\n")
-    );
+    let (json, validator) = isa_json_against_its_schema(dir.path());
     // Teeth: a nouveau row without its instruction count fails the schema.
     let mut bad = json;
     let i = r
@@ -578,15 +558,7 @@ fn vendor_families_compile_identically_twice() {
         "{:#?}",
         a.families
     );
-    assert_eq!(a.results.len(), b.results.len());
-    for (x, y) in a.results.iter().zip(&b.results) {
-        assert_eq!(
-            (&x.family, &x.method, &x.stage),
-            (&y.family, &y.method, &y.stage)
-        );
-        assert_eq!(x.statistics, y.statistics, "{} {}", x.family, x.method);
-        assert!(x.statistics.values().all(|v| v.is_finite()));
-    }
+    assert_identical_runs(&a, &b);
 }
 
 /// A chipset the driver does not know is refused, never measured: nouveau falls back to
@@ -651,5 +623,37 @@ fn regex_like(pattern: &str, s: &str) -> bool {
     match pattern.strip_prefix('^').and_then(|p| p.strip_suffix(':')) {
         Some(prefix) => s.starts_with(&format!("{prefix}:")),
         None => !s.contains(':'),
+    }
+}
+
+/// DIR/isa.json checked against docs/isa.schema.json (every error named), and the validator for
+/// a test's teeth.
+pub(crate) fn isa_json_against_its_schema(
+    dir: &std::path::Path,
+) -> (serde_json::Value, jsonschema::Validator) {
+    let json = read_json(dir.join("isa.json"));
+    let validator = schema_validator("docs/isa.schema.json");
+    let errors: Vec<String> = validator
+        .iter_errors(&json)
+        .map(|e| format!("{e} at {}", e.instance_path()))
+        .collect();
+    assert!(
+        errors.is_empty(),
+        "isa.json vs its schema:\n{}",
+        errors.join("\n")
+    );
+    (json, validator)
+}
+
+/// Two runs gave the same rows with the same statistics, every one finite.
+pub(crate) fn assert_identical_runs(a: &IsaReport, b: &IsaReport) {
+    assert_eq!(a.results.len(), b.results.len());
+    for (x, y) in a.results.iter().zip(&b.results) {
+        assert_eq!(
+            (&x.family, &x.method, &x.stage),
+            (&y.family, &y.method, &y.stage)
+        );
+        assert_eq!(x.statistics, y.statistics, "{} {}", x.family, x.method);
+        assert!(x.statistics.values().all(|v| v.is_finite()));
     }
 }

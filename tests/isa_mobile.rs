@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use shadelab::isa::{self, IsaOptions, IsaReport, Precision};
 use shadelab::method;
 
-use crate::support::{read_json, schema_validator};
+use crate::isa::{assert_identical_runs, isa_json_against_its_schema};
 
 /// The families of issue 41.
 const FAMILIES: [&str; 18] = [
@@ -160,17 +160,7 @@ fn every_method_in(precision: Precision, families: &[&str]) -> IsaReport {
     }
     let dir = tempfile::tempdir().unwrap();
     isa::files::write(dir.path(), &r).unwrap();
-    let json = read_json(dir.path().join("isa.json"));
-    let validator = schema_validator("docs/isa.schema.json");
-    let errors: Vec<String> = validator
-        .iter_errors(&json)
-        .map(|e| format!("{e} at {}", e.instance_path()))
-        .collect();
-    assert!(
-        errors.is_empty(),
-        "isa.json vs its schema:\n{}",
-        errors.join("\n")
-    );
+    let (json, validator) = isa_json_against_its_schema(dir.path());
     // Teeth: each new vendor's row without its ranking statistic fails the schema.
     for (prefix, key) in [
         ("qualcomm:", "instruction_count"),
@@ -247,15 +237,7 @@ fn mobile_families_compile_identically_twice() {
     );
     let (a, b) = (isa_run(&opts), isa_run(&opts));
     assert_eq!(a.supported().len(), FAMILIES.len(), "{:#?}", a.families);
-    assert_eq!(a.results.len(), b.results.len());
-    for (x, y) in a.results.iter().zip(&b.results) {
-        assert_eq!(
-            (&x.family, &x.method, &x.stage),
-            (&y.family, &y.method, &y.stage)
-        );
-        assert_eq!(x.statistics, y.statistics, "{} {}", x.family, x.method);
-        assert!(x.statistics.values().all(|v| v.is_finite()));
-    }
+    assert_identical_runs(&a, &b);
 }
 
 /// A chip the driver does not know is refused, never measured: Turnip takes no a5xx, panfrost

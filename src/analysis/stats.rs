@@ -9,6 +9,23 @@ pub fn percentile(values: &mut [f64], p: f64) -> f64 {
     percentiles(values, [p])[0]
 }
 
+/// Counts of `values` over the bins of `edges` (ascending): (lower edge, upper edge, count),
+/// each bin [a, b) and the last one closed.
+pub fn histogram(values: &[f64], edges: &[f64]) -> Vec<(f64, f64, usize)> {
+    edges
+        .windows(2)
+        .enumerate()
+        .map(|(i, e)| {
+            let last = i + 2 == edges.len();
+            let n = values
+                .iter()
+                .filter(|&&x| x >= e[0] && (x < e[1] || (last && x <= e[1])))
+                .count();
+            (e[0], e[1], n)
+        })
+        .collect()
+}
+
 /// The 0-based index of the nearest-rank `p` percentile among `n` > 0 sorted values.
 pub(crate) fn rank_index(n: usize, p: f64) -> usize {
     let rank = ((p / 100.0) * n as f64).ceil().max(1.0) as usize;

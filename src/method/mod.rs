@@ -7,6 +7,7 @@ pub mod dual;
 pub mod formulas;
 pub mod interval;
 pub mod kernel;
+pub mod linalg;
 pub mod precision;
 pub mod real;
 pub mod scanline;

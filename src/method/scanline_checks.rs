@@ -80,7 +80,9 @@ pub(crate) fn minimax_inv_root<const N: usize>() -> Vec<f64> {
                 row
             })
             .collect();
-        let sol = solve(&mut m);
+        // A singular reference gives no solution: NaN coefficients, which the checks count.
+        let unknowns = m.len();
+        let sol = super::linalg::gauss(&mut m).unwrap_or_else(|| vec![f64::NAN; unknowns]);
         coef = sol[..=deg].to_vec();
         let level = sol[deg + 1].abs();
         let err = |z: f64| coef.iter().rev().fold(0.0, |a, c| a * z + c) - f(z);
@@ -103,30 +105,6 @@ pub(crate) fn minimax_inv_root<const N: usize>() -> Vec<f64> {
         x = ext;
     }
     coef
-}
-
-/// Gaussian elimination with partial pivoting on an augmented matrix; returns the solution.
-fn solve(m: &mut [Vec<f64>]) -> Vec<f64> {
-    let n = m.len();
-    for c in 0..n {
-        let p = (c..n)
-            .max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs()))
-            .unwrap_or(c);
-        m.swap(c, p);
-        let pivot = m[c].clone();
-        for row in m.iter_mut().skip(c + 1) {
-            let k = row[c] / pivot[c];
-            for (x, p) in row[c..].iter_mut().zip(&pivot[c..]) {
-                *x -= k * p;
-            }
-        }
-    }
-    let mut x = vec![0.0; n];
-    for r in (0..n).rev() {
-        let s: f64 = (r + 1..n).map(|j| m[r][j] * x[j]).sum();
-        x[r] = (m[r][n] - s) / m[r][r];
-    }
-    x
 }
 
 /// An inverse root shown beside the one a claim is judged on: its name and the function.

@@ -23,7 +23,7 @@
 use glam::{DVec2, DVec3};
 use serde::Serialize;
 
-use crate::analysis::stats::percentiles;
+use crate::analysis::stats::{histogram, percentiles};
 use crate::frame::IdFrame;
 use crate::method::real::Real;
 use crate::method::scanline::span_ends;
@@ -100,18 +100,7 @@ impl Distribution {
     pub fn of(values: &[f64], edges: &[f64]) -> Distribution {
         let mut v: Vec<f64> = values.to_vec();
         let [p0_1, p1, p50, p99] = percentiles(&mut v, [0.1, 1.0, 50.0, 99.0]);
-        let histogram = edges
-            .windows(2)
-            .enumerate()
-            .map(|(i, e)| {
-                let last = i + 2 == edges.len();
-                let n = values
-                    .iter()
-                    .filter(|&&x| x >= e[0] && (x < e[1] || (last && x <= e[1])))
-                    .count();
-                (e[0], e[1], n)
-            })
-            .collect();
+        let histogram = histogram(values, edges);
         Distribution {
             count: values.len(),
             min: values.iter().copied().fold(f64::INFINITY, f64::min),

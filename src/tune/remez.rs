@@ -128,7 +128,7 @@ fn solve_reference(t: &Target, x: &[f64], d: usize) -> Result<(Vec<f64>, f64), S
             row
         })
         .collect();
-    let sol = gauss(&mut a).ok_or("singular reference system")?;
+    let sol = crate::method::linalg::gauss(&mut a).ok_or("singular reference system")?;
     // p(x) = sum a_j ((x - m)/r)^j: expand each power binomially.
     let mut c = vec![0.0; d + 1];
     for (j, aj) in sol[..=d].iter().enumerate() {
@@ -142,31 +142,6 @@ fn solve_reference(t: &Target, x: &[f64], d: usize) -> Result<(Vec<f64>, f64), S
 
 fn binomial(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |a, i| a * (n - i) as f64 / (i + 1) as f64)
-}
-
-/// Gaussian elimination with partial pivoting of an augmented matrix; None when singular.
-fn gauss(m: &mut [Vec<f64>]) -> Option<Vec<f64>> {
-    let n = m.len();
-    for c in 0..n {
-        let p = (c..n).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs()))?;
-        m.swap(c, p);
-        if m[c][c] == 0.0 || !m[c][c].is_finite() {
-            return None;
-        }
-        let pivot = m[c].clone();
-        for row in m.iter_mut().skip(c + 1) {
-            let k = row[c] / pivot[c];
-            for (x, p) in row[c..].iter_mut().zip(&pivot[c..]) {
-                *x -= k * p;
-            }
-        }
-    }
-    let mut x = vec![0.0; n];
-    for r in (0..n).rev() {
-        let s: f64 = (r + 1..n).map(|j| m[r][j] * x[j]).sum();
-        x[r] = (m[r][n] - s) / m[r][r];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// Golden-section search for the largest |err| in [a, b] (err has one extremum there).
