@@ -151,7 +151,7 @@ pub fn claims_measured(d: &ReportData) -> Vec<Measured> {
                 claim: c.claim.clone(),
                 place: place("lavapipe", Some(&s.id)),
                 verdict: c.verdict,
-                basis: basis_text(&c.evidence),
+                basis: basis_text(&c.evidence, &c.how),
                 link: format!("#{}", claim_anchor(&s.id, k)),
                 detail: c.measured.clone(),
             });
@@ -196,8 +196,10 @@ pub fn claims_matrix(d: &ReportData) -> String {
 }
 
 /// A claim's basis for the matrix: "proven <= x, found y" for a proven bound, "found y" for a
-/// found one, each with what the figures are of (`quantity`), "measured" otherwise.
-fn basis_text(e: &crate::method::Evidence) -> String {
+/// found one, each with what the figures are of (`quantity`), "measured" otherwise, with the
+/// measure its `how` names when it is one of bench's two timings (a speed claim is judged by
+/// each: the matrix shows both).
+fn basis_text(e: &crate::method::Evidence, how: &str) -> String {
     let num = |x: Option<f64>| x.map_or("null".into(), |v| format!("{v:.3e}"));
     let of = e
         .quantity
@@ -211,7 +213,17 @@ fn basis_text(e: &crate::method::Evidence) -> String {
             )
         }
         crate::method::Basis::Found => format!("found {}{of}", num(e.found)),
-        crate::method::Basis::Measured => "measured".into(),
+        crate::method::Basis::Measured => {
+            let timing = [
+                ("measure: paired frame time", "measured: frame time"),
+                ("measure: isolated cost", "measured: isolated cost"),
+            ];
+            timing
+                .iter()
+                .find(|(by, _)| how.starts_with(by))
+                .map_or("measured", |(_, basis)| basis)
+                .into()
+        }
     }
 }
 
