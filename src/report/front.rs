@@ -2,13 +2,15 @@
 //! float16; one cost model per measurement: lavapipe frame time across runs, lavapipe isolated
 //! cost, the software engine, and per GPU family of `isa` the static cost of the float32 and
 //! the float16 programs; the same per scene alone; tune's findings), and the papers' claims as
-//! one matrix (claim x where it was measured), each verdict linked to its row. The answer's
-//! HTML is [`super::first_screen`].
+//! measured in each place, the input of the claims matrix ([`claims`]). The answer's HTML is
+//! [`super::first_screen`].
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
+
+pub mod claims;
+use claims::{Measured, Place};
 
 use super::answer::{self, Answer, SceneError};
-use super::html::{esc, method_anchor};
+use super::html::method_anchor;
 use super::ReportData;
 use crate::bench::cost::TimedScene;
 use crate::bench::software::cost::SoftwareScene;
@@ -134,110 +136,70 @@ pub fn answer_of(d: &ReportData, costs: &Registry) -> Answer {
     })
 }
 
-/// One claim's verdicts per source: (verdict, basis, anchor or file).
-type ClaimRow = BTreeMap<usize, (String, String, String)>;
-
-/// The papers' claims as one matrix: each claim (method, text) against each place that
-/// measured it (lavapipe bench per scene, the software engine per scene, stress).
-pub fn claims_matrix(d: &ReportData) -> String {
-    let mut sources: Vec<String> = Vec::new();
-    let mut rows: BTreeMap<(String, String), ClaimRow> = BTreeMap::new();
-    let mut put = |sources: &mut Vec<String>,
-                   src: String,
-                   m: &str,
-                   c: &str,
-                   v: (&str, String),
-                   at: String| {
-        let col = sources.iter().position(|s| *s == src).unwrap_or_else(|| {
-            sources.push(src);
-            sources.len() - 1
-        });
-        rows.entry((m.to_string(), c.to_string()))
-            .or_default()
-            .insert(col, (v.0.to_string(), v.1, at));
+/// Every claim as measured in each place (lavapipe bench per scene, the software engine per
+/// scene, stress), each linked to its measurement, in that order.
+pub fn claims_measured(d: &ReportData) -> Vec<Measured> {
+    let place = |engine: &str, scene: Option<&str>| Place {
+        engine: engine.into(),
+        scene: scene.map(String::from),
     };
+    let mut out = Vec::new();
     for s in &d.scenes {
-        let src = format!("lavapipe: {}", s.id);
         for (k, c) in s.bench.claims.iter().enumerate() {
-            let at = format!("#{}", claim_anchor(&s.id, k));
-            put(
-                &mut sources,
-                src.clone(),
-                &c.method,
-                &c.claim,
-                (c.verdict.as_str(), basis_text(&c.evidence)),
-                at,
-            );
+            out.push(Measured {
+                method: c.method.clone(),
+                claim: c.claim.clone(),
+                place: place("lavapipe", Some(&s.id)),
+                verdict: c.verdict,
+                basis: basis_text(&c.evidence, &c.how),
+                link: format!("#{}", claim_anchor(&s.id, k)),
+                detail: c.measured.clone(),
+            });
         }
     }
     for s in &d.scenes {
         let Some(sw) = &s.software else { continue };
-        let src = format!("software: {}", s.id);
         for c in &sw.claims {
             let Some(j) = &c.software else { continue };
-            let at = format!("{}/claims.md", s.software_dir);
-            put(
-                &mut sources,
-                src.clone(),
-                &c.num,
-                &c.claim,
-                (j.verdict.as_str(), "measured".into()),
-                at,
-            );
+            out.push(Measured {
+                method: c.num.clone(),
+                claim: c.claim.clone(),
+                place: place("software", Some(&s.id)),
+                verdict: j.verdict,
+                basis: "measured".into(),
+                link: format!("{}/claims.md", s.software_dir),
+                detail: format!(
+                    "{} / {} per round: median {:.4}, 95% interval [{:.4}, {:.4}]",
+                    c.num, c.den, j.median, j.ci95_low, j.ci95_high
+                ),
+            });
         }
     }
     for (k, c) in d.stress.claims.iter().enumerate() {
-        let at = format!("#stress--claim-{k}");
-        put(
-            &mut sources,
-            "stress".into(),
-            &c.method,
-            &c.claim,
-            (c.verdict.as_str(), "found".into()),
-            at,
-        );
+        out.push(Measured {
+            method: c.method.clone(),
+            claim: c.claim.clone(),
+            place: place("stress", None),
+            verdict: c.verdict,
+            basis: "found".into(),
+            link: format!("#stress--claim-{k}"),
+            detail: c.measured.clone(),
+        });
     }
-    let mut h = String::from(
-        "<section id=\"claims\"><h2>The papers' claims</h2><p>Each claim against each place \
-         that measured it; a verdict links to its measurement (the claim's row, with what was \
-         measured and the rule), with its basis: proven (a proven upper bound beside the \
-         value found), found (the worst sampled value only) or measured (not a bound).</p><div class=\"scroll\"><table class=\"sortable matrix\" \
-         id=\"claims-matrix\"><thead><tr><th>method</th><th>claim</th>",
-    );
-    for s in &sources {
-        let _ = write!(h, "<th>{}</th>", esc(s));
-    }
-    h += "</tr></thead><tbody>";
-    for ((m, c), cells) in &rows {
-        let _ = write!(
-            h,
-            "<tr><td>{}</td><td>{}</td>",
-            esc(m),
-            super::formulas::cite(c)
-        );
-        for k in 0..sources.len() {
-            match cells.get(&k) {
-                Some((v, basis, at)) => {
-                    let _ = write!(
-                        h,
-                        "<td class=\"verdict v-{}\"><a href=\"{}\">{}</a> <small>{}</small></td>",
-                        esc(v),
-                        esc(at),
-                        esc(v),
-                        esc(basis)
-                    );
-                }
-                None => h += "<td class=\"na\">-</td>",
-            }
-        }
-        h += "</tr>";
-    }
-    h + "</tbody></table></div></section>"
+    out
+}
+
+/// The papers' claims as one matrix ([`claims::matrix`]): each claim (method, claim text)
+/// against each place that measured it, one merged cell where every place agrees.
+pub fn claims_matrix(d: &ReportData) -> String {
+    claims::matrix(&claims_measured(d))
 }
 
 /// A claim's basis for the matrix: "proven <= x, found y" for a proven bound, "found y" for a
-/// found one, each with what the figures are of (`quantity`), "measured" otherwise.
-fn basis_text(e: &crate::method::Evidence) -> String {
+/// found one, each with what the figures are of (`quantity`), "measured" otherwise, with the
+/// measure its `how` names when it is one of bench's two timings (a speed claim is judged by
+/// each: the matrix shows both).
+fn basis_text(e: &crate::method::Evidence, how: &str) -> String {
     let num = |x: Option<f64>| x.map_or("null".into(), |v| format!("{v:.3e}"));
     let of = e
         .quantity
@@ -251,7 +213,17 @@ fn basis_text(e: &crate::method::Evidence) -> String {
             )
         }
         crate::method::Basis::Found => format!("found {}{of}", num(e.found)),
-        crate::method::Basis::Measured => "measured".into(),
+        crate::method::Basis::Measured => {
+            let timing = [
+                ("measure: paired frame time", "measured: frame time"),
+                ("measure: isolated cost", "measured: isolated cost"),
+            ];
+            timing
+                .iter()
+                .find(|(by, _)| how.starts_with(by))
+                .map_or("measured", |(_, basis)| basis)
+                .into()
+        }
     }
 }
 
