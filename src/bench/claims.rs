@@ -183,8 +183,15 @@ impl Measure {
         }
     }
 
-    /// (low, median, high) of a row's paired ratio to phong_exact by this measure.
+    /// (low, median, high) of a row's paired ratio to phong_exact by this measure, when
+    /// finite.
     fn ratio(self, r: &MethodTiming) -> Option<(f64, f64, f64)> {
+        self.raw(r)
+            .filter(|(lo, _, hi)| lo.is_finite() && hi.is_finite())
+    }
+
+    /// The ratio as measured, finite or not; None when this run did not measure it.
+    fn raw(self, r: &MethodTiming) -> Option<(f64, f64, f64)> {
         match self {
             Measure::FrameTime => (r.ratio_rounds > 0).then_some((
                 r.ratio_ci95_low,
@@ -195,13 +202,14 @@ impl Measure {
                 .isolated_ratio_to_phong_exact
                 .map(|i| (i.ci95_low, i.median, i.ci95_high)),
         }
-        .filter(|(lo, _, hi)| lo.is_finite() && hi.is_finite())
     }
 }
 
 /// A claim "`factor` times faster than phong_exact" (a range `factor..factor_hi`), judged by
 /// `measure`: the method's paired ratio to phong_exact should be at most 1 / factor, by
-/// [`factor_verdict`]; inconclusive when unmeasured.
+/// [`factor_verdict`]; inconclusive when the measured ratio is not finite; `not_checked` when
+/// this run did not measure it (a report measures the isolated cost on its first scene only):
+/// no measurement, no verdict.
 pub(crate) fn factor_claim(
     r: &MethodTiming,
     claim: &str,
@@ -221,8 +229,17 @@ pub(crate) fn factor_claim(
                 1.0 / lo
             ),
         ),
-        None => (
+        // measured, but not finite: a failure of the measurement, never "no verdict"
+        None if measure.raw(r).is_some() => (
             Verdict::Inconclusive,
+            format!(
+                "{}: {} / phong_exact is not finite (a failed measurement)",
+                r.name,
+                measure.name()
+            ),
+        ),
+        None => (
+            Verdict::NotChecked,
             format!("{}: not measured by {}", r.name, measure.name()),
         ),
     };

@@ -508,10 +508,10 @@ fn factor_claims_follow_the_ratio_of_each_measure() {
         factor_claim(&reach, "2x", 2.0, Measure::FrameTime).verdict,
         Verdict::Agrees
     );
-    // isolated cost: unmeasured is inconclusive, measured follows its own interval
+    // isolated cost: unmeasured is not checked (no verdict), measured follows its own interval
     assert_eq!(
         factor_claim(&fast, "2x", 2.0, Measure::IsolatedCost).verdict,
-        Verdict::Inconclusive
+        Verdict::NotChecked
     );
     let mut iso = slow.clone();
     iso.isolated_ratio_to_phong_exact = Some(Interval {
