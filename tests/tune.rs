@@ -319,6 +319,7 @@ fn a_tuned_file_is_accepted_by_verify_and_prove() {
         .unwrap()
         .clone();
     assert_eq!(row["family"], "tuned", "{row}");
+    assert!(list["software_forms"][id].is_object(), "a software form");
     let p = dir.path().join("p");
     let (code, so, se) = run(&[
         "--method-file",
