@@ -7,9 +7,9 @@
 //! kernel is [`Kernel::None`], which the software engine refuses. A file written by `shadelab
 //! tune` is the exception: its `// shadelab-tuned:` line ([`super::tuned`]) states its formula,
 //! the file's code must be the code that line generates (else it is refused, exit 2), and its
-//! row is [`Family::Tuned`] with the formula as its kernel (a twin, a software form, a proof). A row made in code with its
-//! file ([`prepare_row`]: a method generated at run time, a test's) has the kernel and claims
-//! of its row, like a row of the table. Their programs
+//! row is [`Family::Tuned`] with the formula as its kernel (a twin, a software form, a proof).
+//! A row made in code with its file ([`prepare_row`]: a method generated at run time, a
+//! test's) has the kernel and claims of its row, like a row of the table. Their programs
 //! are compiled before registration ([`crate::gpu::shaders::register_user`]) from
 //! the GLSL embedded in the binary, so it runs outside the repository too.
 //!
@@ -467,6 +467,26 @@ mod tests {
         let commented =
             "// shadelab-inputs: vertex_color\n// methodNormal() was here\nreal3 methodColor() {}";
         assert!(parse(&p("m.glsl"), commented).is_err(), "no METHOD_COLOR");
+    }
+
+    /// A folder is every .glsl file below it, sorted; a file stays itself; a folder without
+    /// one is refused.
+    #[test]
+    fn a_folder_is_every_glsl_file_below_it() {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::create_dir_all(d.path().join("b/c")).unwrap();
+        for f in ["b/c/z.glsl", "a.glsl", "notes.txt"] {
+            std::fs::write(d.path().join(f), "").unwrap();
+        }
+        let one = p("one.glsl");
+        let got = expand(&[d.path().to_path_buf(), one.clone()]).unwrap();
+        assert_eq!(
+            got,
+            vec![d.path().join("a.glsl"), d.path().join("b/c/z.glsl"), one]
+        );
+        let empty = tempfile::tempdir().unwrap();
+        let e = expand(&[empty.path().to_path_buf()]).unwrap_err();
+        assert!(e.to_string().contains("no .glsl file below it"), "{e}");
     }
 
     #[test]
