@@ -222,3 +222,80 @@ fn a_registered_cost_model_ranks_auto_and_answers_a_corpus() {
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(html.contains("made-up GPU (static)"), "the corpus page");
 }
+
+/// A second made-up model, `madeup:tuned`: the tuned row `tuned_cheap` costs 0.1 of
+/// phong_exact, everything else 1.5 (phong_exact 1).
+struct TunedCheap;
+
+const TUNED_ID: &str = "madeup:tuned";
+
+impl CostSource for TunedCheap {
+    fn name(&self) -> &'static str {
+        "madeup_tuned"
+    }
+
+    fn models(&self, _ev: &Evidence) -> Vec<CostModel> {
+        Vec::new()
+    }
+
+    fn on_demand(&self) -> Option<&'static str> {
+        Some(TUNED_ID)
+    }
+
+    fn measures(&self, id: &CostModelId) -> bool {
+        *id == *TUNED_ID
+    }
+
+    fn measure(
+        &self,
+        _id: &CostModelId,
+        methods: &[&'static Method],
+        _ev: &Evidence,
+    ) -> shadelab::Result<CostModel> {
+        let mut m = model(methods.iter().map(|m| m.name.to_string()));
+        m.id = CostModelId::parse(TUNED_ID).unwrap();
+        for f in &mut m.figures {
+            let r = match f.method.as_str() {
+                "tuned_cheap" => 0.1,
+                "phong_exact" => 1.0,
+                _ => 1.5,
+            };
+            f.value = Some(100.0 * r);
+            f.ratio = Some(r);
+            f.verdict = static_cheaper(Some(r));
+        }
+        Ok(m)
+    }
+}
+
+/// `auto` draws a tuned row (a `shadelab tune` file through `--method-file`) where it is the
+/// cheapest within the budget: under a model that makes it cheapest it comes first, and on
+/// the torus every triangle inside its proven domain whose samples pass draws it.
+#[test]
+fn auto_draws_a_tuned_row_where_it_is_the_cheapest_within_budget() {
+    use shadelab::method::tuned::{Tuned, TunedForm};
+    let dir = tempfile::tempdir().unwrap();
+    let t = Tuned {
+        form: TunedForm::Newton,
+        steps: 3,
+        coeffs: vec![1.5, -0.5],
+        domain: [0.5, 1.0001],
+    };
+    let file = dir.path().join("tuned_cheap.glsl");
+    std::fs::write(&file, format!("{}\n{}", t.line(), t.code())).unwrap();
+    shadelab::gpu::shaders::register_user(&[file]).unwrap();
+    let registry = shadelab::costs::builtin().with(TunedCheap);
+    let id = CostModelId::parse(TUNED_ID).unwrap();
+    let (order, _) = shadelab::auto::order_by_model(&registry, &id, &Evidence::new()).unwrap();
+    let order: Vec<&'static Method> = order.iter().map(|(m, _)| *m).collect();
+    assert_eq!(order[0].name, "tuned_cheap", "the cheapest comes first");
+    let scene = shadelab::scene::load_scene(Path::new("scenes/torus.toml")).unwrap();
+    let inputs = shadelab::scene::SceneInputs::new(&scene, shadelab::method::Geometry::Mesh);
+    let pick = shadelab::auto::choose(&inputs, &order, 1.0 / 255.0);
+    let drawn = pick.iter().filter(|&&k| k == 0).count();
+    assert_eq!(
+        drawn,
+        inputs.triangle_count(),
+        "inside its domain everywhere"
+    );
+}

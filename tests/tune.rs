@@ -248,3 +248,251 @@ fn tune_over_an_angle_and_its_refusals() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("isa:FAMILY"), "{err}");
 }
+
+/// The f32 length bound of candidate `id` in tune.json: (proven, found at a real z).
+fn tuned_length(r: &serde_json::Value, id: &str) -> (f64, f64) {
+    let c = candidates(r).iter().find(|c| c["id"] == id).unwrap();
+    let b = f32_bound(c);
+    (
+        b["length_error"].as_f64().unwrap(),
+        b["found_length_error"].as_f64().unwrap(),
+    )
+}
+
+/// Whether prove's length bound (`upper`, `found`) over the triangle domain and tune's over
+/// the same domain's z enclose the same maximum consistently: tune's bound is prove's (the
+/// real formula, its found value within 1 %) plus the rounding of float32 arithmetic.
+fn consistent(upper: f64, found: f64, tune: (f64, f64)) -> bool {
+    let (bound, tune_found) = tune;
+    tune_found <= upper && upper <= bound && (found - tune_found).abs() <= 0.01 * tune_found
+}
+
+/// A tuned file is a row with its f64 formula: `verify` accepts it (its twin agrees with the
+/// device, Vulkan and the software engine; judged against another formula it fails), `prove`
+/// bounds it, consistently with tune.json's proof of that candidate (and not with another
+/// candidate's), `stress` runs it.
+#[test]
+fn a_tuned_file_is_accepted_by_verify_and_prove() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t");
+    let (r, _) = tune_ok(
+        &["--max-angle", "40", "--cost-model", "isa:amd:tahiti"],
+        &out,
+    );
+    let id = "angle40_triangle_newton1_seed1";
+    let file = out.join(format!("methods/{id}.glsl")).display().to_string();
+    let scene = "scenes/sphere_coarse.toml";
+    for engine in ["vulkan", "software"] {
+        let (code, so, se) = run(&[
+            "--method-file",
+            &file,
+            "verify",
+            "--scene",
+            scene,
+            "--methods",
+            id,
+            "--engine",
+            engine,
+        ]);
+        assert_eq!(code, 0, "{engine}: {so}{se}");
+    }
+    let (code, so, _) = run(&[
+        "--method-file",
+        &file,
+        "verify",
+        "--scene",
+        scene,
+        "--methods",
+        id,
+        "--against",
+        "phong_unnormalized",
+    ]);
+    assert_ne!(code, 0, "the teeth: another formula is not its twin\n{so}");
+    let (code, so, se) = run(&["--method-file", &file, "list", "--json"]);
+    assert_eq!(code, 0, "{se}");
+    let list: serde_json::Value = serde_json::from_str(&so).unwrap();
+    let row = list["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == id)
+        .unwrap()
+        .clone();
+    assert_eq!(row["family"], "tuned", "{row}");
+    assert!(list["software_forms"][id].is_object(), "a software form");
+    let p = dir.path().join("p");
+    let (code, so, se) = run(&[
+        "--method-file",
+        &file,
+        "prove",
+        "--methods",
+        id,
+        "--max-angle",
+        "40",
+        "--out",
+        p.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{so}{se}");
+    let proof = read_json(p.join("proof.json"));
+    let tri = proof["methods"][0]["domains"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["domain"] == "triangle")
+        .unwrap()["metrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["metric"] == "length_error")
+        .unwrap()
+        .clone();
+    let (upper, found) = (
+        tri["proven_upper"].as_f64().unwrap(),
+        tri["found"].as_f64().unwrap(),
+    );
+    let mine = tuned_length(&r, id);
+    assert!(
+        consistent(upper, found, mine),
+        "prove {upper:e} {found:e}, tune {mine:?}"
+    );
+    let other = tuned_length(&r, "angle40_triangle_minimax2");
+    assert!(!consistent(upper, found, other), "the teeth: {other:?}");
+    let s = dir.path().join("s");
+    let (code, so, se) = run(&[
+        "--method-file",
+        &file,
+        "stress",
+        "--methods",
+        id,
+        "--out",
+        s.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{so}{se}");
+}
+
+/// A tuned file whose code is not what its line says is refused (exit 2, naming the way out);
+/// without its line it is the user's own method again, which `verify` refuses for want of a
+/// twin.
+#[test]
+fn an_edited_tuned_file_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t");
+    tune_ok(
+        &["--max-angle", "40", "--cost-model", "isa:amd:tahiti"],
+        &out,
+    );
+    let id = "angle40_triangle_minimax2";
+    let text = std::fs::read_to_string(out.join(format!("methods/{id}.glsl"))).unwrap();
+    let scene = "scenes/sphere_coarse.toml";
+    let verify = |text: &str| {
+        let d = dir.path().join("e");
+        std::fs::create_dir_all(&d).unwrap();
+        let f = d.join(format!("{id}.glsl"));
+        std::fs::write(&f, text).unwrap();
+        let f = f.display().to_string();
+        run(&[
+            "--method-file",
+            &f,
+            "verify",
+            "--scene",
+            scene,
+            "--methods",
+            id,
+        ])
+    };
+    let (code, so, se) = verify(&text);
+    assert_eq!(code, 0, "as written: {so}{se}");
+    let line = text
+        .lines()
+        .find(|l| l.contains("shadelab-tuned:"))
+        .unwrap();
+    let edited = text.replacen("k = k * z + R(", "k = k * z + R(0.5) + R(", 1);
+    assert_ne!(edited, text);
+    let (code, _, se) = verify(&edited);
+    assert_eq!(code, 2, "{se}");
+    assert!(
+        se.contains("its code differs from its // shadelab-tuned: line")
+            && se.contains("delete that line to use it as your own method"),
+        "{se}"
+    );
+    let mine = edited.replace(&format!("{line}\n"), "");
+    let (code, _, se) = verify(&mine);
+    assert_eq!(code, 2, "{se}");
+    assert!(se.contains("needs the method's f64 twin"), "{se}");
+}
+
+/// The classes' answers for auto: each answer that is a fitted form names its file under
+/// methods/classes/, a tuned file proven on the class's domain with the class's coefficients
+/// (one per class and form); the folder given to `--method-file` makes them auto candidates,
+/// and `auto` ranked by a model under which a class form is cheaper draws one.
+#[test]
+fn the_classes_files_are_auto_candidates_that_auto_draws() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t");
+    let (r, _) = tune_ok(
+        &[
+            "--scene",
+            "scenes/torus.toml",
+            "--cost-model",
+            "isa:amd:tahiti",
+            "--cost-model",
+            "isa:broadcom:vc4",
+        ],
+        &out,
+    );
+    let mut files = std::collections::BTreeSet::new();
+    for c in r["classes"].as_array().unwrap() {
+        for a in c["answers"].as_array().unwrap() {
+            let fitted = a["form"]
+                .as_str()
+                .is_some_and(|f| f.starts_with("minimax d") || f.starts_with("newton k"));
+            assert_eq!(a["file"].is_string(), fitted, "{a}");
+            let Some(f) = a["file"].as_str() else {
+                continue;
+            };
+            let text = std::fs::read_to_string(out.join(f)).unwrap();
+            let t = shadelab::method::tuned::Tuned::of_text(&text)
+                .unwrap()
+                .unwrap();
+            assert_eq!(serde_json::json!(t.domain), c["domain"], "{f}");
+            assert_eq!(serde_json::json!(t.coeffs), a["coeffs"], "{f}");
+            assert!(t.matches(&text));
+            files.insert(f.to_string());
+        }
+    }
+    assert!(
+        !files.is_empty(),
+        "the torus has classes with a fitted form"
+    );
+    let classes = out.join("methods/classes");
+    let on_disk = std::fs::read_dir(&classes).unwrap().count();
+    assert_eq!(on_disk, files.len(), "one file per class and form");
+    let cmp = dir.path().join("c");
+    let (code, so, se) = run(&[
+        "--method-file",
+        classes.to_str().unwrap(),
+        "compare",
+        "--scene",
+        "scenes/torus.toml",
+        "--methods",
+        "auto",
+        "--cost-model",
+        "isa:broadcom:vc4",
+        "--out",
+        cmp.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{so}{se}");
+    let s = read_json(cmp.join("summary.json"));
+    let drawn: usize = s["auto"]["triangles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| {
+            files
+                .iter()
+                .any(|f| f.contains(&format!("/{}.glsl", p[0].as_str().unwrap())))
+        })
+        .map(|p| p[1].as_u64().unwrap() as usize)
+        .sum();
+    assert!(drawn > 0, "{}", s["auto"]);
+}

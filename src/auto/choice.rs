@@ -2,6 +2,11 @@
 //! each triangle stays within the budget, judged before drawing from the triangle's vertex
 //! normals and the scene's lighting (lights, H, shininess) at a grid of barycentric samples; and
 //! its cache (this process, then disk).
+//!
+//! A tuned row (`shadelab tune`'s file, [`crate::method::tuned`]) is proven only on its domain
+//! of z: it is drawn on a triangle only when the triangle's exact range of z
+//! ([`crate::geometry::zdomain::triangle_z_range`]) lies inside that domain ([`licensed`]),
+//! the proof licensing it; the samples are judged on top, as for every method.
 use glam::DVec3;
 
 use crate::scene::SceneInputs;
@@ -46,6 +51,27 @@ fn samples(
     (frags, exact)
 }
 
+/// Where each method may be drawn: the proven domain of z of a tuned row, None (anywhere) for
+/// the others.
+pub fn licences(order: &[&'static crate::method::Method]) -> Vec<Option<[f64; 2]>> {
+    order.iter().map(|m| licence_of(m)).collect()
+}
+
+/// The proven domain of z of a tuned row; None for the others.
+pub fn licence_of(m: &crate::method::Method) -> Option<[f64; 2]> {
+    crate::method::tuned::proven_domain(m)
+}
+
+/// Whether a method with `licence` ([`licences`]) may be drawn on triangle `t`: anywhere
+/// without one; for a tuned row only when the triangle's range of z lies inside its proven
+/// domain.
+pub fn licensed(licence: Option<[f64; 2]>, inputs: &SceneInputs, t: usize) -> bool {
+    licence.is_none_or(|[lo, hi]| {
+        let z = crate::geometry::zdomain::triangle_z_range(inputs.vertex_normals(t));
+        z.lo >= lo && z.hi <= hi
+    })
+}
+
 /// Whether `m` keeps the budget (with the margin) at every sample.
 fn passes(
     m: &crate::method::Method,
@@ -70,13 +96,15 @@ pub fn within_budget(
 ) -> bool {
     let lighting = inputs.lighting();
     let weights = sample_weights();
+    let licence = licence_of(m);
     triangles.iter().all(|&t| {
-        passes(
-            m,
-            &lighting,
-            &samples(inputs, &lighting, &weights, t),
-            budget,
-        )
+        licensed(licence, inputs, t)
+            && passes(
+                m,
+                &lighting,
+                &samples(inputs, &lighting, &weights, t),
+                budget,
+            )
     })
 }
 
@@ -91,11 +119,13 @@ pub fn choose(
     let tris = inputs.triangle_count();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let chunk = tris.div_ceil(threads).max(1);
+    let licence = licences(order);
     let pick = |t: usize| -> usize {
         let s = samples(inputs, &lighting, &weights, t);
         order
             .iter()
-            .position(|m| passes(m, &lighting, &s, budget))
+            .zip(&licence)
+            .position(|(m, l)| licensed(*l, inputs, t) && passes(m, &lighting, &s, budget))
             .unwrap_or(order.len() - 1)
     };
     std::thread::scope(|s| {
@@ -129,8 +159,10 @@ pub enum ChoiceSource {
 /// The code a choice depends on: this file, the budget's error definition, and the f64 methods it
 /// evaluates. Part of [`cache_key`] (a stale cache entry from a build with other formulas was
 /// read as valid before).
-pub const CHOICE_SOURCES: [&str; 6] = [
+pub const CHOICE_SOURCES: [&str; 8] = [
     include_str!("choice.rs"),
+    include_str!("../method/tuned.rs"),
+    include_str!("../geometry/zdomain.rs"),
     include_str!("mod.rs"),
     include_str!("../method/formulas.rs"),
     include_str!("../method/scanline.rs"),
@@ -168,6 +200,10 @@ pub fn cache_key(
     for m in order {
         h.update(m.name.as_bytes());
         h.update(b"\0");
+        // a method file's bytes (a tuned row's coefficients and domain)
+        if let Some(u) = crate::method::user::of(m) {
+            h.update(u.sha256.as_bytes());
+        }
     }
     h.update((inputs.triangle_count() as u64).to_le_bytes());
     h.update(bytemuck::cast_slice::<[f32; 2], u8>(&inputs.window));

@@ -106,10 +106,14 @@ pub fn colour_error(abs_error_per_channel: [f64; 3]) -> f64 {
 }
 
 /// The methods `auto` chooses from: the rows with [`method::Property::AutoCandidate`] (gouraud
-/// and flat included), ordered at run time by their measured cost ([`order_by_cost`]);
-/// phong_exact is the fallback.
+/// and flat included, and the tuned rows of `--method-file`, each only where its proof holds:
+/// [`choice`]), ordered at run time by their measured cost ([`order_by_cost`]); phong_exact is
+/// the fallback.
 pub fn candidates() -> Result<Vec<&'static Method>> {
-    Ok(method::with_property(method::Property::AutoCandidate).collect())
+    Ok(method::all()
+        .into_iter()
+        .filter(|m| m.has(method::Property::AutoCandidate))
+        .collect())
 }
 
 /// The candidates with their cost (`cost` returns one per candidate, in order; a non-finite

@@ -423,3 +423,65 @@ fn the_frame_check_keeps_the_grouping_only_when_it_measured_cheaper() {
     let back: AutoSummary = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
     assert_eq!(back, s);
 }
+
+/// A tuned row (unregistered: only its row) of newton_raphson's seed `(3 - z)/2` and three
+/// Newton steps, accurate to ~1e-9 on the torus, proven (by this test's word) on `domain`.
+fn tuned_row(name: &'static str, domain: [f64; 2]) -> &'static Method {
+    use crate::method::tuned::{Tuned, TunedForm};
+    Tuned {
+        form: TunedForm::Newton,
+        steps: 3,
+        coeffs: vec![1.5, -0.5],
+        domain,
+    }
+    .row(name, "/nowhere/tuned.glsl")
+}
+
+/// The proof licenses a tuned row, the samples do not: on the torus a tuned row whose proven
+/// domain starts at the median of the triangles' smallest z is drawn on no triangle whose
+/// range of z reaches below it, although its samples pass there (the same formula proven on
+/// [0, 2] is drawn on every triangle), and on the triangles inside it it is drawn (the
+/// cheapest, first in the order).
+#[test]
+fn auto_never_draws_a_tuned_row_below_its_proven_domain() {
+    use crate::geometry::zdomain::triangle_z_range;
+    let inputs = torus();
+    let lows: Vec<f64> = (0..inputs.triangle_count())
+        .map(|t| triangle_z_range(inputs.vertex_normals(t)).lo)
+        .collect();
+    let mut sorted = lows.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    assert!(sorted[0] < median, "the torus has triangles of different z");
+    let budget = 1.0 / 255.0;
+    let everywhere = tuned_row("tuned_everywhere", [0.0, 2.0]);
+    let pick = choose(&inputs, &[everywhere, method::phong_exact()], budget);
+    assert!(
+        pick.iter().all(|&k| k == 0),
+        "its samples pass on every triangle"
+    );
+    let half = tuned_row("tuned_half", [median, 2.0]);
+    let pick = choose(&inputs, &[half, method::phong_exact()], budget);
+    let (mut below, mut drawn) = (0, 0);
+    for (t, &k) in pick.iter().enumerate() {
+        if lows[t] < median {
+            assert_eq!(k, 1, "triangle {t}: z from {} below {median}", lows[t]);
+            below += 1;
+        } else {
+            assert_eq!(k, 0, "triangle {t} is inside the domain");
+            drawn += 1;
+        }
+    }
+    assert!(below > 0 && drawn > 0, "{below} {drawn}");
+    // the grouping's merges ask the same question
+    let outside: Vec<usize> = (0..lows.len()).filter(|&t| lows[t] < median).collect();
+    assert!(!within_budget(&inputs, half, &outside, budget));
+    assert!(within_budget(&inputs, everywhere, &outside, budget));
+    // the upper end counts too: a domain ending below the normals' |n|^2
+    let short = tuned_row("tuned_short", [0.0, 0.99]);
+    let pick = choose(&inputs, &[short, method::phong_exact()], budget);
+    assert!(
+        pick.iter().all(|&k| k == 1),
+        "no triangle's z ends below 0.99"
+    );
+}

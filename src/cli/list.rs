@@ -2,9 +2,9 @@
 use std::process::ExitCode;
 
 use crate::error::{Error, Result};
-use crate::method::METHODS;
 
-/// The table, then the user methods of `--method-file` (which have no software form).
+/// The table, then the user methods of `--method-file` (which have no software form, but for
+/// the tuned files of `shadelab tune`).
 pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
     if json {
         let text = serde_json::to_string_pretty(&serde_json::json!({
@@ -14,9 +14,10 @@ pub(super) fn cmd_list(json: bool) -> Result<ExitCode> {
                 .map(judged)
                 .collect::<Result<Vec<_>>>()?,
             // How each method runs under `--engine software` (src/software/): its scanline
-            // form, or its per-pixel form where it has none.
-            "software_forms": METHODS
-                .iter()
+            // form, or its per-pixel form where it has none (a tuned file's included).
+            "software_forms": crate::method::all()
+                .into_iter()
+                .filter(|m| m.kernel.exists())
                 .map(|m| (m.name, crate::software::form_of(m)))
                 .collect::<std::collections::BTreeMap<_, _>>(),
         }))

@@ -26,6 +26,7 @@ pub mod obj;
 #[cfg(test)]
 mod tests;
 pub mod topology;
+pub mod zdomain;
 
 pub use generators::*;
 pub use obj::*;

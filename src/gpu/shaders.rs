@@ -280,13 +280,14 @@ fn compile_program(
 static RUNTIME_SPIRV: std::sync::RwLock<Vec<(String, &'static [u8])>> =
     std::sync::RwLock::new(Vec::new());
 
-/// Reads, checks, compiles and registers user method files (`--method-file`; a path already
-/// registered is skipped): each becomes a method row ([`crate::method::user`]) once its
-/// float32 programs compile. A compile error is reported against the user's file (exit 2),
-/// an undeclared input by name.
+/// Reads, checks, compiles and registers user method files (`--method-file`; a folder means
+/// every .glsl file below it, [`crate::method::user::expand`]; a path already registered is
+/// skipped): each becomes a method row ([`crate::method::user`]; a tuned row for a file of
+/// `shadelab tune`) once its float32 programs compile. A compile error is reported against the
+/// user's file (exit 2), an undeclared input by name.
 pub fn register_user(paths: &[std::path::PathBuf]) -> Result<()> {
     use crate::method::user;
-    for p in paths {
+    for p in &user::expand(paths)? {
         let abs = std::path::absolute(p).map_err(|e| Error::io(p, e))?;
         if user::is_registered(&abs) {
             continue;

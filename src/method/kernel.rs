@@ -30,6 +30,12 @@ pub trait Factor: Sync + Send {
     fn f16(&self, z: f16) -> f16;
     fn interval(&self, z: Interval) -> Interval;
     fn dual(&self, z: Dual) -> Dual;
+    /// The domain of z a generated formula was proven on, outside which it may be anything (a
+    /// tuned method's, src/method/tuned.rs): `auto` draws it only inside. None: every z the
+    /// method's claims and validity state (every formula of the table).
+    fn proven_domain(&self) -> Option<[f64; 2]> {
+        None
+    }
 }
 
 impl std::fmt::Debug for dyn Factor {

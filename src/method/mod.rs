@@ -15,6 +15,7 @@ pub mod scanline_checks;
 pub mod table;
 #[cfg(test)]
 mod tests;
+pub mod tuned;
 pub mod twins;
 pub mod user;
 mod worst;
@@ -120,17 +121,22 @@ pub enum Family {
     /// The user's own methods (`--method-file`, src/method/user.rs): no f64 twin, no software
     /// kernel.
     Yours,
+    /// Methods fitted by `shadelab tune` (a `--method-file` with its `// shadelab-tuned:` line,
+    /// src/method/tuned.rs): a polynomial seed and Newton steps, with f64 twin, software kernel
+    /// and proof like a row of the table.
+    Tuned,
 }
 
 impl Family {
     /// Every family, in presentation order.
-    pub const ALL: [Family; 6] = [
+    pub const ALL: [Family; 7] = [
         Family::Reference,
         Family::PerPixelNormalisation,
         Family::VertexAttribute,
         Family::Scanline,
         Family::DigitalSegments,
         Family::Yours,
+        Family::Tuned,
     ];
 
     /// The snake_case name, as in the JSON.
@@ -142,6 +148,7 @@ impl Family {
             Family::Scanline => "scanline",
             Family::DigitalSegments => "digital_segments",
             Family::Yours => "yours",
+            Family::Tuned => "tuned",
         }
     }
 }
@@ -496,7 +503,8 @@ impl Method {
     }
 
     /// Whether it has an f64 twin: `None` for a user method (`--method-file`), which exists only
-    /// as GLSL; else the method itself (call [`Method::eval_f64`]).
+    /// as GLSL; else the method itself (call [`Method::eval_f64`]): a tuned file (`shadelab
+    /// tune`'s, with its line) has one.
     pub fn twin(&self) -> Option<&Method> {
         (self.family != Family::Yours && self.kernel.exists()).then_some(self)
     }
@@ -507,8 +515,9 @@ impl Method {
         self.twin().ok_or_else(|| {
             Error::Usage(format!(
                 "{what} needs the method's f64 twin, and {} is a user method (--method-file) \
-                 without one; leave it out (compare, stress, bench, isa and report judge it \
-                 against exact Phong)",
+                 without one (only a file written by shadelab tune, with its `// \
+                 shadelab-tuned:` line, has one); leave it out (compare, stress, bench, isa and \
+                 report judge it against exact Phong)",
                 self.name
             ))
         })

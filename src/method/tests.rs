@@ -172,8 +172,11 @@ fn properties_agree_with_the_columns_they_summarise() {
             m.name
         );
     }
-    // `yours` holds only the user methods of `--method-file` (none in the table).
-    for family in Family::ALL.into_iter().filter(|f| *f != Family::Yours) {
+    // `yours` and `tuned` hold only the methods of `--method-file` (none in the table).
+    for family in Family::ALL
+        .into_iter()
+        .filter(|f| !matches!(f, Family::Yours | Family::Tuned))
+    {
         let n = METHODS.iter().filter(|m| m.family == family).count();
         assert!(
             (1..=9).contains(&n),
@@ -183,7 +186,7 @@ fn properties_agree_with_the_columns_they_summarise() {
     }
     assert!(METHODS
         .iter()
-        .all(|m| m.family != Family::Yours && m.twin().is_some()));
+        .all(|m| !matches!(m.family, Family::Yours | Family::Tuned) && m.twin().is_some()));
     // The papers' square-root-free methods (docs/formulas.md#exact-phong) are all per-pixel
     // forms.
     for m in with_property(Property::SqrtFree) {

@@ -4,9 +4,12 @@
 //! table followed by them) and the refusals (a clashing id, an unknown or undeclared input).
 //!
 //! A user row has no f64 twin and no software kernel: [`Method::twin`] is `None` and its
-//! kernel is [`Kernel::None`], which the software engine refuses. A row made in code with its
-//! file ([`prepare_row`]: a method generated at run time, a test's) has the kernel and claims
-//! of its row, like a row of the table. Their programs
+//! kernel is [`Kernel::None`], which the software engine refuses. A file written by `shadelab
+//! tune` is the exception: its `// shadelab-tuned:` line ([`super::tuned`]) states its formula,
+//! the file's code must be the code that line generates (else it is refused, exit 2), and its
+//! row is [`Family::Tuned`] with the formula as its kernel (a twin, a software form, a proof).
+//! A row made in code with its file ([`prepare_row`]: a method generated at run time, a
+//! test's) has the kernel and claims of its row, like a row of the table. Their programs
 //! are compiled before registration ([`crate::gpu::shaders::register_user`]) from
 //! the GLSL embedded in the binary, so it runs outside the repository too.
 //!
@@ -90,6 +93,9 @@ pub struct UserMethod {
     /// 1-based line of the `// shadelab-inputs:` declaration.
     #[serde(skip)]
     pub declaration_line: usize,
+    /// The tuned form of a file written by `shadelab tune` (its `// shadelab-tuned:` line).
+    #[serde(skip)]
+    pub tuned: Option<&'static super::tuned::Tuned>,
 }
 
 static REGISTRY: RwLock<Vec<&'static UserMethod>> = RwLock::new(Vec::new());
@@ -248,6 +254,38 @@ pub fn paths_of(methods: &[&Method]) -> Vec<PathBuf> {
         .collect()
 }
 
+/// `paths` with each folder replaced by every `.glsl` file below it (recursively, sorted by
+/// path): `--method-file DIR`. A folder without one is an error (exit 2).
+pub fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
+        let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+        for entry in rd {
+            let p = entry.map_err(|e| Error::io(dir, e))?.path();
+            if p.is_dir() {
+                walk(&p, out)?;
+            } else if p.extension().and_then(|e| e.to_str()) == Some("glsl") {
+                out.push(p);
+            }
+        }
+        Ok(())
+    }
+    let mut out = Vec::new();
+    for p in paths {
+        if !p.is_dir() {
+            out.push(p.clone());
+            continue;
+        }
+        let mut found = Vec::new();
+        walk(p, &mut found)?;
+        if found.is_empty() {
+            return Err(usage(p, "is a folder with no .glsl file below it".into()));
+        }
+        found.sort();
+        out.extend(found);
+    }
+    Ok(out)
+}
+
 /// Whether the file at the absolute path `abs` is registered already.
 pub fn is_registered(abs: &Path) -> bool {
     registered().iter().any(|u| Path::new(&u.path) == abs)
@@ -258,6 +296,23 @@ pub fn is_registered(abs: &Path) -> bool {
 pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
     let (bytes, text, parsed) = read(path)?;
     let path_str = leak(path.display().to_string());
+    if let Some(tuned) = super::tuned::Tuned::of_text(&text) {
+        let tuned = tuned.map_err(|why| usage(path, why))?;
+        if !tuned.matches(&text) {
+            return Err(usage(
+                path,
+                format!(
+                    "its code differs from its {} line (the code that line generates: \
+                     docs/tune.md); delete that line to use it as your own method",
+                    super::tuned::TUNED_MARKER
+                ),
+            ));
+        }
+        let method = tuned.clone().row(leak(parsed.name.clone()), path_str);
+        let tuned: &'static super::tuned::Tuned = Box::leak(Box::new(tuned));
+        let u = user_method(method, path_str, &bytes, text, &parsed, Some(tuned));
+        return Ok((u, parsed));
+    }
     let method: &'static Method = Box::leak(Box::new(Method {
         name: leak(parsed.name.clone()),
         description: leak(format!("your method, from {path_str}")),
@@ -273,7 +328,10 @@ pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
         glsl: path_str,
         kernel: Kernel::None,
     }));
-    Ok((user_method(method, path_str, &bytes, text, &parsed), parsed))
+    Ok((
+        user_method(method, path_str, &bytes, text, &parsed, None),
+        parsed,
+    ))
 }
 
 /// A method row made in code with its GLSL file at the absolute path `path` (not registered
@@ -295,7 +353,10 @@ pub fn prepare_row(path: &Path, row: &'static Method) -> Result<(&'static UserMe
         ));
     }
     let path_str = leak(path.display().to_string());
-    Ok((user_method(row, path_str, &bytes, text, &parsed), parsed))
+    Ok((
+        user_method(row, path_str, &bytes, text, &parsed, None),
+        parsed,
+    ))
 }
 
 /// The file's bytes, text and declaration, refused when its id is registered already.
@@ -322,6 +383,7 @@ fn user_method(
     bytes: &[u8],
     source: String,
     parsed: &Parsed,
+    tuned: Option<&'static super::tuned::Tuned>,
 ) -> &'static UserMethod {
     Box::leak(Box::new(UserMethod {
         method,
@@ -333,6 +395,7 @@ fn user_method(
             .collect(),
         source,
         declaration_line: parsed.declaration_line,
+        tuned,
     }))
 }
 
@@ -404,6 +467,26 @@ mod tests {
         let commented =
             "// shadelab-inputs: vertex_color\n// methodNormal() was here\nreal3 methodColor() {}";
         assert!(parse(&p("m.glsl"), commented).is_err(), "no METHOD_COLOR");
+    }
+
+    /// A folder is every .glsl file below it, sorted; a file stays itself; a folder without
+    /// one is refused.
+    #[test]
+    fn a_folder_is_every_glsl_file_below_it() {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::create_dir_all(d.path().join("b/c")).unwrap();
+        for f in ["b/c/z.glsl", "a.glsl", "notes.txt"] {
+            std::fs::write(d.path().join(f), "").unwrap();
+        }
+        let one = p("one.glsl");
+        let got = expand(&[d.path().to_path_buf(), one.clone()]).unwrap();
+        assert_eq!(
+            got,
+            vec![d.path().join("a.glsl"), d.path().join("b/c/z.glsl"), one]
+        );
+        let empty = tempfile::tempdir().unwrap();
+        let e = expand(&[empty.path().to_path_buf()]).unwrap_err();
+        assert!(e.to_string().contains("no .glsl file below it"), "{e}");
     }
 
     #[test]

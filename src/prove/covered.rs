@@ -59,11 +59,9 @@ pub fn out_of_reach(m: &Method) -> &'static str {
     }
 }
 
-/// How far the float32 rounding of the inputs moves |N|: each rounded normal is within
-/// 2^-24 |N_i| of the exact one and each rounded weight within 2^-24 w_i + 1e-15, so
-/// |N~ - N| <= sum w_i (2^-24 + 2^-24 (1 + 2^-24)) + 3e-15 ~ 1.2e-7 (the weights sum to 1);
-/// twice that for margin.
-pub const INPUT_ROUNDING: f64 = 2.5e-7;
+/// How far the float32 rounding of the inputs moves |N| (with the triangle's z range, which
+/// `tune` and `auto` share).
+pub use crate::geometry::zdomain::INPUT_ROUNDING;
 
 /// The enclosure of `z = N.N` over a cell. With N0, N1 = cos(theta/2) M -+ sin(theta/2) T and
 /// N2 = M: `N = (w1 - w0) sin T + ((w0 + w1) cos + w2) M`, and with the weights of the cell,

@@ -329,4 +329,12 @@ impl SceneInputs {
     pub fn triangle_count(&self) -> usize {
         self.positions.len() / 3
     }
+
+    /// The three vertex normals of triangle `t` (view space, float32 as uploaded), in f64.
+    pub fn vertex_normals(&self, t: usize) -> [DVec3; 3] {
+        [0, 1, 2].map(|k| {
+            let v = self.view_normals[3 * t + k];
+            DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+        })
+    }
 }

@@ -18,6 +18,8 @@ use serde::Serialize;
 use super::remez::{self, Certificate, Target};
 use crate::method::formulas as f;
 use crate::method::real::Real;
+pub use crate::method::tuned::{horner, newton_step};
+use crate::method::tuned::{Tuned, TunedForm};
 
 /// A candidate's family.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -90,21 +92,6 @@ pub struct Candidate {
     pub seed_scale: Option<f64>,
 }
 
-/// `sum c_i z^i` in Horner's order: `k = c_d; k = k z + c_(d-1); ...`.
-pub fn horner<T: Real>(c: &[f64], z: T) -> T {
-    let mut it = c.iter().rev();
-    let mut k = T::c(it.next().copied().unwrap_or(0.0));
-    for &ci in it {
-        k = k * z + T::c(ci);
-    }
-    k
-}
-
-/// One Newton step for `1/sqrt(z)`: `y (3/2 - (z/2) y y)`, in the GLSL's order.
-pub fn newton_step<T: Real>(z: T, y: T) -> T {
-    y * (T::c(1.5) - T::c(0.5) * z * y * y)
-}
-
 impl Candidate {
     /// The scale factor `k(z)`, `N' = k(N.N) N`: the one formula of the candidate.
     pub fn k<T: Real>(&self, z: T) -> T {
@@ -112,15 +99,27 @@ impl Candidate {
             Family::Paper => paper_k(&self.id, z),
             // normalize(n): as n (1 / sqrt(n.n)), whose two roundings bound Vulkan's
             Family::Reference => T::c(1.0) / z.sqrt(),
-            Family::Minimax => horner(&self.coeffs, z),
-            Family::Newton => {
-                let mut y = horner(&self.coeffs, z);
-                for _ in 0..self.steps {
-                    y = newton_step(z, y);
-                }
-                y
+            // the tuned rows' formula (src/method/tuned.rs), the one copy
+            Family::Minimax | Family::Newton => {
+                crate::method::tuned::k(&self.coeffs, self.steps, z)
             }
         }
+    }
+
+    /// The tuned form of a fitted candidate, proven on `domain` (None for a paper or the
+    /// reference): what its method file's `// shadelab-tuned:` line says.
+    pub fn tuned(&self, domain: [f64; 2]) -> Option<Tuned> {
+        let form = match self.family {
+            Family::Minimax => TunedForm::Minimax,
+            Family::Newton => TunedForm::Newton,
+            Family::Paper | Family::Reference => return None,
+        };
+        Some(Tuned {
+            form,
+            steps: self.steps,
+            coeffs: self.coeffs.clone(),
+            domain,
+        })
     }
 
     /// The paper method `name`.
@@ -213,35 +212,19 @@ impl Candidate {
         }
     }
 
-    /// The method file (None for a paper: its file is the table's). `header` lines are
-    /// written as comments after the formula.
-    pub fn glsl(&self, header: &[String]) -> Option<String> {
-        if matches!(self.family, Family::Paper | Family::Reference) {
-            return None;
-        }
+    /// The method file (None for a paper: its file is the table's), its form proven on
+    /// `domain`: the header, the `// shadelab-tuned:` line, then the code that line generates
+    /// ([`Tuned::code`]). `header` lines are written as comments after the formula.
+    pub fn glsl(&self, header: &[String], domain: [f64; 2]) -> Option<String> {
+        let tuned = self.tuned(domain)?;
         let mut s = format!("// {}: {} (shadelab tune)\n", self.id, self.label());
         s += &format!("// {}; N' = k(N.N) N\n", self.formula());
         for h in header {
             s += &format!("// {h}\n");
         }
-        s += "// shadelab-inputs: interpolated_normal\nreal3 methodNormal() {\n";
-        s += "    real3 n = R3(vNormal);\n";
-        let lit = |c: f64| format!("R({c:?})");
-        let mut it = self.coeffs.iter().rev();
-        let top = it.next().copied().unwrap_or(0.0);
-        if self.coeffs.len() == 1 && self.steps == 0 {
-            s += &format!("    return n * {};\n}}\n", lit(top));
-            return Some(s);
-        }
-        s += "    real z = dot(n, n);\n";
-        s += &format!("    real k = {};\n", lit(top));
-        for &c in it {
-            s += &format!("    k = k * z + {};\n", lit(c));
-        }
-        for _ in 0..self.steps {
-            s += "    k = k * (R(1.5) - R(0.5) * z * k * k);\n";
-        }
-        s += "    return n * k;\n}\n";
+        s += &tuned.line();
+        s.push('\n');
+        s += &tuned.code();
         Some(s)
     }
 }
@@ -334,18 +317,30 @@ mod tests {
     #[test]
     fn the_glsl_spells_the_formula() {
         let c = Candidate::newton("m_newton1_seed1".into(), 1, 1, 0.5, 1.0).unwrap();
-        let g = c.glsl(&["a header".into()]).unwrap();
+        let g = c.glsl(&["a header".into()], [0.5, 1.0]).unwrap();
         for x in &c.coeffs {
             assert!(g.contains(&format!("R({x:?})")), "{g}");
             assert_eq!(f64::from(format!("{x:?}").parse::<f32>().unwrap()), *x);
         }
         assert!(g.contains("k = k * (R(1.5) - R(0.5) * z * k * k);"), "{g}");
-        assert!(g.contains("// a header\n// shadelab-inputs: interpolated_normal\n"));
+        assert!(g.contains("// a header\n// shadelab-tuned: {"), "{g}");
+        assert!(
+            g.contains("}\n// shadelab-inputs: interpolated_normal\n"),
+            "{g}"
+        );
+        let t = Tuned::of_text(&g).unwrap().unwrap();
+        assert!(t.matches(&g) && t.coeffs == c.coeffs && t.steps == 1);
+        assert_eq!(t.domain, [0.5, 1.0]);
         let p = crate::method::user::parse(std::path::Path::new("/x/m_newton1_seed1.glsl"), &g);
         assert!(p.unwrap().has_normal);
         let zero = Candidate::minimax("m_minimax0".into(), 0, 0.5, 1.0).unwrap();
-        assert!(zero.glsl(&[]).unwrap().contains("return n * R("));
-        assert!(Candidate::paper("romanyuk_poly").glsl(&[]).is_none());
+        assert!(zero
+            .glsl(&[], [0.5, 1.0])
+            .unwrap()
+            .contains("return n * R("));
+        assert!(Candidate::paper("romanyuk_poly")
+            .glsl(&[], [0.5, 1.0])
+            .is_none());
     }
 
     /// The papers' formulas are the table's: romanyuk at z = 0.75 (docs/formulas.md golden

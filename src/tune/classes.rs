@@ -6,21 +6,22 @@
 //! only on the operations: tests/tune.rs compiles two coefficient sets and compares them).
 use serde::Serialize;
 
-use super::candidate::Family;
+use super::candidate::{Candidate, Family};
 use super::choose::{self, Row};
 use super::domain::{widened, MeshDomain, CLASS_EDGES};
 use super::proof::{Lights, ProofBudget};
 use crate::cost::CostModel;
 
-/// What `auto` would need to draw a tuned candidate per class (tune.json `auto`).
-pub const AUTO_NEEDS: &str = "per triangle its smallest z (the exact minimum of the \
-     interpolated vertex normals' N.N, computed once per mesh as tune's domain does); the class \
-     table below (the class's lower end of z and, per cost model, the form and float32 \
-     coefficients proven within the budget on the class's domain); one program per form drawn, \
-     its coefficients a per-draw constant (a uniform or specialization constants) so that the \
-     classes drawing the same form share a program; and the triangles grouped by class as auto \
-     groups them by method today (its grouping rule decides whether the extra programs pay). \
-     Nothing of this is wired into auto yet";
+/// How `auto` draws the classes' answers (tune.json `auto`).
+pub const AUTO_NEEDS: &str = "per class and cost model, an answer that is a fitted form is \
+     written as a method file (methods/classes/, one per class and form: its float32 \
+     coefficients fitted on the class's domain, its `// shadelab-tuned:` line naming that proven \
+     domain of z). Given to `--method-file` (a folder means every .glsl below it), each is a \
+     tuned row, an auto candidate; `auto` orders its candidates by the chosen cost model and \
+     draws a tuned row on a triangle only when the triangle's exact range of z (its smallest \
+     N.N of the interpolated vertex normals, its longest normal, widened by the inputs' float32 \
+     rounding) lies inside the row's proven domain, and its sampled colour error keeps the \
+     budget there too. One program per class file; the costs are the files' own";
 
 /// One class's answer under one cost model.
 #[derive(Debug, Clone, Serialize)]
@@ -34,6 +35,12 @@ pub struct ClassAnswer {
     pub colour_bound: Option<f64>,
     /// The form's ratio to phong_exact under the model (its mesh-level file's).
     pub ratio: Option<f64>,
+    /// The method file of the form with the class's coefficients (under the output folder,
+    /// `methods/classes/ID.glsl`); null when the answer is none.
+    pub file: Option<String>,
+    /// The class's candidate answered (its file is written from it).
+    #[serde(skip)]
+    pub candidate: Option<Candidate>,
 }
 
 /// One class of triangles.
@@ -123,6 +130,8 @@ fn answer(class_rows: &[Row], rows: &[Row], m: &CostModel, budget: f64) -> Class
             coeffs: r.candidate.coeffs.clone(),
             colour_bound: r.bound(m.precision).and_then(|b| b.colour),
             ratio: Some(ratio),
+            file: None,
+            candidate: Some(r.candidate.clone()),
         },
         None => ClassAnswer {
             model: m.id.to_string(),
@@ -130,6 +139,8 @@ fn answer(class_rows: &[Row], rows: &[Row], m: &CostModel, budget: f64) -> Class
             coeffs: Vec::new(),
             colour_bound: None,
             ratio: None,
+            file: None,
+            candidate: None,
         },
     }
 }

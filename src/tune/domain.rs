@@ -3,12 +3,12 @@
 //!
 //! Per triangle: the smallest `|w0 n0 + w1 n1 + w2 n2|^2` over the barycentric weights
 //! (w_i >= 0, summing to 1) of its vertex normals as the device receives them (float32,
-//! [`smallest_squared_length`]): a convex quadratic over the triangle (its matrix is the Gram
+//! [`smallest_squared_length`], in src/geometry/zdomain.rs for `auto`): a convex quadratic over the triangle (its matrix is the Gram
 //! matrix of the normals), minimised exactly: the projection of the origin onto the normals'
 //! plane when it falls inside, else the smallest of the three edges' minima (each a
 //! one-dimensional quadratic), never by sampling. The mesh's proven domain is
 //! [smallest over its triangles, 1], widened by the float32 rounding of the inputs as `prove`
-//! widens its own ([`crate::prove::covered::INPUT_ROUNDING`]).
+//! widens its own ([`widened`], [`crate::geometry::zdomain::INPUT_ROUNDING`]).
 //!
 //! The dichotomy methods' factor is `1/sqrt(2 + 2c)`, c the cosine between the unit span ends;
 //! per triangle the smallest c is the smallest pairwise cosine of its unit vertex normals
@@ -25,44 +25,9 @@ use serde::Serialize;
 
 use crate::analysis::stats::{histogram, percentiles};
 use crate::frame::IdFrame;
-use crate::method::real::Real;
+pub use crate::geometry::zdomain::{smallest_squared_length, widened};
 use crate::method::scanline::span_ends;
-use crate::prove::covered::INPUT_ROUNDING;
-use crate::prove::interval::Interval;
 use crate::scene::SceneInputs;
-
-/// The smallest `|sum w_i n_i|^2` over the weights of a triangle (w_i >= 0, sum 1), exact up
-/// to f64 rounding: the function is convex (a Gram matrix), so its minimum is the interior
-/// stationary point when that lies inside, else on an edge, where `|a + t (b - a)|^2` is
-/// minimal at `t = -a.(b - a) / |b - a|^2` clamped to [0, 1].
-pub fn smallest_squared_length(n: [DVec3; 3]) -> f64 {
-    let edge = |a: DVec3, b: DVec3| {
-        let d = b - a;
-        let dd = d.length_squared();
-        let t = if dd > 0.0 {
-            (-a.dot(d) / dd).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (a + d * t).length_squared()
-    };
-    let on_edges = edge(n[0], n[1]).min(edge(n[1], n[2])).min(edge(n[2], n[0]));
-    // The plane n0 + w1 d1 + w2 d2: normal equations of the origin's projection.
-    let (d1, d2) = (n[1] - n[0], n[2] - n[0]);
-    let (a, b, c) = (d1.dot(d1), d1.dot(d2), d2.dot(d2));
-    let (r1, r2) = (-n[0].dot(d1), -n[0].dot(d2));
-    let det = a * c - b * b;
-    if det <= 1e-14 * (a * c).max(f64::MIN_POSITIVE) {
-        // The normals' affine hull is a line or a point: the minimum lies on an edge.
-        return on_edges;
-    }
-    let (w1, w2) = ((r1 * c - r2 * b) / det, (a * r2 - b * r1) / det);
-    if w1 >= 0.0 && w2 >= 0.0 && w1 + w2 <= 1.0 {
-        (n[0] + d1 * w1 + d2 * w2).length_squared().min(on_edges)
-    } else {
-        on_edges
-    }
-}
 
 /// The smallest pairwise cosine of the unit vertex normals (the dichotomy's smallest c on the
 /// triangle while the normals are at most 90 deg apart).
@@ -73,10 +38,7 @@ pub fn smallest_cosine(n: [DVec3; 3]) -> f64 {
 
 /// The three vertex normals of triangle `t` (float32, as uploaded), in f64.
 pub fn normals_of(inputs: &SceneInputs, t: usize) -> [DVec3; 3] {
-    [0, 1, 2].map(|k| {
-        let v = inputs.view_normals[3 * t + k];
-        DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
-    })
+    inputs.vertex_normals(t)
 }
 
 /// A distribution of values: count, extremes, percentiles and a histogram.
@@ -167,16 +129,6 @@ pub struct MeshDomain {
     /// Per covered pixel, its triangle and z.
     #[serde(skip)]
     pub per_pixel: Vec<(u32, f64)>,
-}
-
-/// The proven range of z for a smallest z of `z_min` and normals up to `n_max` long: |N|
-/// widened by [`INPUT_ROUNDING`] each way (and 1e-12 for this module's own f64 rounding).
-pub fn widened(z_min: f64, n_max: f64) -> Interval {
-    let lo = (Interval::point((z_min - 1e-12).max(0.0)).sqrt() - Interval::point(INPUT_ROUNDING))
-        .lo
-        .max(0.0);
-    let hi = Interval::point(n_max) + Interval::point(INPUT_ROUNDING);
-    Interval::new(lo, hi.hi).sqr()
 }
 
 /// The domain of `inputs` (every triangle) and of the pixels `ids` covers.

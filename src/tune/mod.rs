@@ -48,7 +48,7 @@ use crate::prove::interval::Interval;
 use crate::scene::{Interpolation, Material, Scene, SceneInputs};
 
 /// Version of tune.json (docs/tune.schema.json).
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// Options of a run.
 #[derive(Debug, Clone)]
@@ -127,7 +127,7 @@ pub struct TuneReport {
     pub skipped: Vec<String>,
     pub cost_models: Vec<Answer>,
     pub classes: Vec<classes::Class>,
-    /// What `auto` would need to draw a tuned candidate per class (docs/tune.md).
+    /// How `auto` draws the classes' files (docs/tune.md).
     pub auto: &'static str,
     pub papers: Vec<refit::Refit>,
     pub timings: Timings,
@@ -349,14 +349,21 @@ fn file_header(r: &Row, name: &str, budget: f64) -> Vec<String> {
     h
 }
 
-/// Writes the tuned candidates' method files into `out`/methods/ and registers them as user
-/// methods (compiled now).
-fn write_and_register(rows: &mut [Row], name: &str, budget: f64, out: &Path) -> Result<()> {
+/// Writes the tuned candidates' method files (proven on `domain`) into `out`/methods/ and
+/// registers them as tuned rows (compiled now).
+fn write_and_register(
+    rows: &mut [Row],
+    name: &str,
+    budget: f64,
+    domain: Interval,
+    out: &Path,
+) -> Result<()> {
     let dir = out.join("methods");
     std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
     let mut paths = Vec::new();
     for r in rows.iter_mut() {
-        if let Some(text) = r.candidate.glsl(&file_header(r, name, budget)) {
+        let header = file_header(r, name, budget);
+        if let Some(text) = r.candidate.glsl(&header, [domain.lo, domain.hi]) {
             let p = dir.join(format!("{}.glsl", r.candidate.id));
             crate::output::write_bytes_atomic(&p, text.as_bytes())?;
             r.file = Some(format!("methods/{}.glsl", r.candidate.id));
@@ -364,6 +371,69 @@ fn write_and_register(rows: &mut [Row], name: &str, budget: f64, out: &Path) -> 
         }
     }
     crate::gpu::shaders::register_user(&paths)
+}
+
+/// Writes each class answer that is a fitted form as a method file proven on the class's
+/// domain, `out`/methods/classes/PREFIX_zI_FORM.glsl (I the class's index in
+/// [`domain::CLASS_EDGES`]; the same form of one class is one file whatever the models), and
+/// names it in the answer.
+fn write_class_files(
+    classes: &mut [classes::Class],
+    prefix: &str,
+    name: &str,
+    budget: f64,
+    out: &Path,
+) -> Result<()> {
+    let dir = out.join("methods").join("classes");
+    let mut written: Vec<String> = Vec::new();
+    for c in classes.iter_mut() {
+        let i = domain::CLASS_EDGES
+            .iter()
+            .position(|&e| e == c.z_from)
+            .unwrap_or(0);
+        let models: Vec<(String, String)> = c
+            .answers
+            .iter()
+            .filter_map(|a| Some((a.model.clone(), a.form.clone()?)))
+            .collect();
+        for a in c.answers.iter_mut() {
+            let Some(cand) = &a.candidate else { continue };
+            let Some(d) = cand.degree else { continue };
+            let id = form_id(&format!("{prefix}_z{i}"), cand.family, d, cand.steps);
+            let file = format!("methods/classes/{id}.glsl");
+            a.file = Some(file.clone());
+            if written.contains(&id) {
+                continue;
+            }
+            let label = cand.label();
+            let chosen: Vec<&str> = models
+                .iter()
+                .filter(|(_, f)| *f == label)
+                .map(|(m, _)| m.as_str())
+                .collect();
+            let header = vec![
+                format!(
+                    "class of {name}'s triangles whose smallest z lies in [{}, {}): {} \
+                     triangles, fitted and proven on z in [{:.9}, {:.9}]",
+                    c.z_from, c.z_to, c.triangles, c.domain[0], c.domain[1]
+                ),
+                format!(
+                    "the cheapest form proven within the budget {budget:.6} there under: {}",
+                    chosen.join(", ")
+                ),
+            ];
+            let cand = Candidate {
+                id: id.clone(),
+                ..cand.clone()
+            };
+            if let Some(text) = cand.glsl(&header, c.domain) {
+                std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+                crate::output::write_bytes_atomic(&out.join(&file), text.as_bytes())?;
+                written.push(id);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Measures every model of `ids` on `methods`: the timed ones (lavapipe's) first and alone,
@@ -443,7 +513,7 @@ pub fn run(
     timings.candidates_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let budget = opts.budget.get();
-    write_and_register(&mut rows, &name, budget, out)?;
+    write_and_register(&mut rows, &name, budget, z, out)?;
     timings.files_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let mut methods = vec![method::phong_exact()];
@@ -485,10 +555,11 @@ pub fn run(
         .collect();
     timings.costs_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let classes = match &dom.mesh {
+    let mut classes = match &dom.mesh {
         Some(md) => classes::of_mesh(md, &rows, &models, &lights, budget, &opts.proof),
         None => Vec::new(),
     };
+    write_class_files(&mut classes, &prefix, &name, budget, out)?;
     timings.classes_s = t.elapsed().as_secs_f64();
     let papers = refit::all().map_err(|e| Error::Internal(format!("tune: re-fit: {e}")))?;
     timings.total_s = start.elapsed().as_secs_f64();
