@@ -13,6 +13,7 @@ use shadelab::report::links::broken_links;
 
 use crate::support::*;
 
+mod budget;
 mod first_screen;
 
 /// The methods asked for; the report adds phong_exact and phong_unnormalized (bench's refs).
