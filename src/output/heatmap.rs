@@ -446,15 +446,11 @@ pub fn write_png(path: &std::path::Path, fig: &Figure, rows: Rows) -> Result<()>
         Rows::Charts => (CompressionType::Default, FilterType::Adaptive),
         Rows::Field => (CompressionType::Level(4), FilterType::NoFilter),
     };
-    crate::output::write_atomic(path, |w| {
-        PngEncoder::new_with_quality(w, level, filter)
-            .write_image(
-                &fig.rgb,
-                fig.width,
-                fig.height,
-                image::ExtendedColorType::Rgb8,
-            )
-            .map_err(std::io::Error::other)
+    let (w, h) = (fig.width, fig.height);
+    crate::output::write_atomic(path, |out| {
+        let png = PngEncoder::new_with_quality(out, level, filter);
+        let written = png.write_image(&fig.rgb, w, h, image::ExtendedColorType::Rgb8);
+        written.map_err(std::io::Error::other)
     })
 }
 
