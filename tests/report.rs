@@ -13,6 +13,7 @@ use shadelab::report::links::broken_links;
 
 use crate::support::*;
 
+mod budget;
 mod claims;
 mod first_screen;
 

@@ -97,7 +97,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         );
     } else {
         let err = isa::chart::errors(&args.compare)?;
-        report.charts = isa::chart::write(&out, &report, &err)?;
+        report.charts = isa::chart::write(&out, &report, &err, true)?;
     }
     isa::files::write(&out, &report)?;
     print!("{}", report.text_table());

@@ -6,9 +6,6 @@ use super::*;
 use crate::error::{Error, Result};
 use crate::report::{self, ReportOptions, ReportScene};
 
-/// What the page of the shipped scenes may weigh, everything under DIR included (issue 14).
-const PAGE_BUDGET_BYTES: u64 = 50_000_000;
-
 /// The scene files (*.toml) of a folder, sorted (an error when there is none).
 pub(super) fn scene_files(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -212,12 +209,12 @@ pub(super) fn cmd_report(
         w.total_bytes as f64 / 1e6,
         out.join("answer.md").display()
     );
-    if w.total_bytes > PAGE_BUDGET_BYTES {
+    if w.total_bytes > report::BUDGET_BYTES {
         eprintln!(
             "report: warning: {:.1} MB is over the {} MB budget of a report (docs/report.md); \
              use a smaller --size or fewer --methods",
             w.total_bytes as f64 / 1e6,
-            PAGE_BUDGET_BYTES / 1_000_000
+            report::BUDGET_BYTES / 1_000_000
         );
     }
     println!("{}", w.index.display());

@@ -214,7 +214,7 @@ impl Analysis<'_> {
                 },
                 buffer,
             )?;
-            heatmap::write_png(&dir.join(file), &fig)?;
+            heatmap::write_png(&dir.join(file), &fig, heatmap::Rows::Field)?;
             buffer = fig.rgb;
             files.push(rel(m.name, file));
         }

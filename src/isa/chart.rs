@@ -11,7 +11,7 @@ use plotters::prelude::*;
 
 use super::table::IsaReport;
 use crate::error::{Error, Result};
-use crate::output::chart::{both, plot_err};
+use crate::output::chart::{both, plot_err, svg};
 
 /// Errors below this sit on the floor of the log axis (exact methods have 0).
 const ERROR_FLOOR: f64 = 1e-7;
@@ -144,12 +144,14 @@ fn draw<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Writes DIR/charts/<family>.svg and .png for every compiled family; returns their paths
-/// relative to `out`.
+/// Writes DIR/charts/<family>.svg for every compiled family, and beside it the same chart as
+/// .png when `png` (`shadelab isa`, `report --full`: the report's page shows the SVG); returns
+/// their paths relative to `out`.
 pub fn write(
     out: &Path,
     report: &IsaReport,
     err: &BTreeMap<String, (f64, f64)>,
+    png: bool,
 ) -> Result<Vec<String>> {
     let dir = out.join("charts");
     std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
@@ -163,11 +165,14 @@ pub fn write(
             .map_or(String::from("static cost"), |r| {
                 format!("{} of the fragment shader ({})", r.key, r.unit)
             });
-        both(&dir, &file, &|a| draw(a, f, &axis, &pts), &|a| {
-            draw(a, f, &axis, &pts)
-        })?;
-        written.push(format!("charts/{}.svg", super::table::asm_dir(f)));
-        written.push(format!("charts/{}.png", super::table::asm_dir(f)));
+        let draw_svg = |a: &DrawingArea<SVGBackend, Shift>| draw(a, f, &axis, &pts);
+        written.push(format!("charts/{file}.svg"));
+        if png {
+            both(&dir, &file, &draw_svg, &|a| draw(a, f, &axis, &pts))?;
+            written.push(format!("charts/{file}.png"));
+        } else {
+            svg(&dir, &file, &draw_svg)?;
+        }
     }
     Ok(written)
 }

@@ -22,14 +22,7 @@ pub fn both(
     draw: &dyn Fn(&DrawingArea<SVGBackend, Shift>) -> Result<()>,
     draw_png: &dyn Fn(&DrawingArea<BitMapBackend, Shift>) -> Result<()>,
 ) -> Result<()> {
-    heatmap::register_font()?;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        draw(&root)?;
-        root.present().map_err(plot_err)?;
-    }
-    crate::output::write_bytes_atomic(&out.join(format!("{stem}.svg")), svg.as_bytes())?;
+    svg(out, stem, draw)?;
     let mut rgb = vec![255u8; (SIZE.0 * SIZE.1 * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
@@ -44,5 +37,22 @@ pub fn both(
             rgb,
             bar: (0, 0, 0, 0),
         },
+        heatmap::Rows::Charts,
     )
+}
+
+/// Draws with `draw` into DIR/<stem>.svg only.
+pub fn svg(
+    out: &Path,
+    stem: &str,
+    draw: &dyn Fn(&DrawingArea<SVGBackend, Shift>) -> Result<()>,
+) -> Result<()> {
+    heatmap::register_font()?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        draw(&root)?;
+        root.present().map_err(plot_err)?;
+    }
+    crate::output::write_bytes_atomic(&out.join(format!("{stem}.svg")), svg.as_bytes())
 }

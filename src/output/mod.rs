@@ -113,11 +113,13 @@ pub fn write_png_srgb(path: &Path, width: u32, height: u32, pixels: &[[f32; 4]])
 pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()> {
     use image::ImageEncoder;
     write_atomic(path, |w| {
-        // Fast compression: renders are written often and large; files are ~20 % bigger.
+        // zlib level 4, rows unfiltered: on the report's 222 renders of the shipped scenes
+        // 5.4 MB against 8.8 MB at the fast level, about 2 ms each (busy); the default level
+        // (6) saves 0.2 MB more for twice the time, and the Sub filter 0.5 MB for four times.
         image::codecs::png::PngEncoder::new_with_quality(
             w,
-            image::codecs::png::CompressionType::Fast,
-            image::codecs::png::FilterType::Adaptive,
+            image::codecs::png::CompressionType::Level(4),
+            image::codecs::png::FilterType::NoFilter,
         )
         .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
         .map_err(std::io::Error::other)

@@ -3,7 +3,8 @@
 //! shader's ranking figure over phong_exact's per method and family, and per family a chart of error (the
 //! scenes' compare p99 and max) against that cost with its Pareto front. [`compile_all`]
 //! compiles the report's methods in `isa`'s children before the answer (a few seconds per
-//! precision): float32 into DIR/isa/ (isa.json, isa.csv, charts/; asm/ only with `--full`), float16 into
+//! precision): float32 into DIR/isa/ (isa.json, isa.csv, charts/*.svg; asm/ and the charts as
+//! PNG only with `--full`), float16 into
 //! DIR/isa-f16/; each supported family becomes a static cost model of the answer
 //! ([`compiled`], read by [`crate::isa::cost::StaticCost`]). A failure is a paragraph saying why, never fatal to the report.
 use std::fmt::Write as _;
@@ -36,7 +37,8 @@ impl IsaRun {
 }
 
 /// Compiles the report's methods in float32 (with charts) and float16; the disassembly
-/// (DIR/isa/asm/, tens of MB over every family) is written only when `full` (`--full`).
+/// (DIR/isa/asm/, tens of MB over every family) and the charts as PNG (which the page does
+/// not show: it shows the SVG) are written only when `full` (`--full`).
 pub fn compile_all(
     out: &Path,
     methods: &[&'static Method],
@@ -171,7 +173,7 @@ fn compile(
     let dir = out.join(DIR);
     let dirs: Vec<PathBuf> = scenes.iter().map(|s| out.join(&s.compare_dir)).collect();
     let charts = match crate::isa::chart::errors(&dirs) {
-        Ok(err) => crate::isa::chart::write(&dir, &r, &err).map_err(|e| e.to_string())?,
+        Ok(err) => crate::isa::chart::write(&dir, &r, &err, full).map_err(|e| e.to_string())?,
         Err(e) => {
             r.charts_note = Some(e.to_string());
             Vec::new()

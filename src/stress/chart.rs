@@ -263,5 +263,6 @@ pub fn validity_map(path: &Path, m: &MethodStress, threshold: f64) -> Result<()>
             rgb,
             bar: (0, 0, 0, 0),
         },
+        heatmap::Rows::Charts,
     )
 }
