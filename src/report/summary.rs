@@ -81,15 +81,10 @@ pub fn vendor_of(id: &str) -> (String, String) {
     let parts: Vec<&str> = id.split(':').collect();
     match parts.as_slice() {
         ["isa", v, _, ..] => {
-            let shown = match *v {
-                "amd" => "AMD",
-                "intel" => "Intel",
-                "nvidia" => "NVIDIA",
-                "terascale" => "TeraScale",
-                "qualcomm" | "adreno" => "Qualcomm",
-                "arm" | "mali" => "Arm",
-                other => other,
-            };
+            let shown = crate::isa::vendor::VENDORS
+                .iter()
+                .find(|x| x.prefix() == *v)
+                .map_or(*v, |x| x.name());
             (v.to_string(), shown.to_string())
         }
         ["isa", ..] => ("isa".into(), "GPU".into()),

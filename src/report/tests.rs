@@ -502,3 +502,24 @@ fn the_reports_citations_resolve_in_its_copy_of_formulas_md() {
         "{found:?}"
     );
 }
+
+/// A cost model's vendor as a sentence names it: the vendor's own name for every `isa` family
+/// (the id's prefix written as is, "broadcom", was the bug), the source's first word otherwise.
+#[test]
+fn cost_models_name_their_vendor_as_a_person_does() {
+    use super::summary::vendor_of;
+    for (id, key, shown) in [
+        ("isa:broadcom:vc4", "broadcom", "Broadcom"),
+        ("isa:nvidia:nvc0", "nvidia", "NVIDIA"),
+        ("isa:amd:navi21:f16", "amd", "AMD"),
+        ("isa:arm:g610", "arm", "Arm"),
+        ("lavapipe_frame", "lavapipe", "lavapipe"),
+    ] {
+        assert_eq!(vendor_of(id), (key.to_string(), shown.to_string()), "{id}");
+    }
+    // every vendor of isa is named by its own name, none by its id
+    for v in crate::isa::vendor::VENDORS {
+        let id = format!("isa:{}:{}", v.prefix(), v.default_chips()[0]);
+        assert_eq!(vendor_of(&id).1, v.name(), "{id}");
+    }
+}

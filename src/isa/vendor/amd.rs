@@ -14,6 +14,10 @@ impl Vendor for Amd {
         "amd"
     }
 
+    fn name(&self) -> &'static str {
+        "AMD"
+    }
+
     fn default_chips(&self) -> &'static [&'static str] {
         &crate::isa::DEFAULT_FAMILIES
     }

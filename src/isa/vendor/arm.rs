@@ -55,6 +55,10 @@ impl Vendor for Arm {
         "arm"
     }
 
+    fn name(&self) -> &'static str {
+        "Arm"
+    }
+
     fn default_chips(&self) -> &'static [&'static str] {
         &["mali450", "t860", "g72", "g52", "g57", "g610"]
     }

@@ -20,6 +20,10 @@ impl Vendor for Broadcom {
         "broadcom"
     }
 
+    fn name(&self) -> &'static str {
+        "Broadcom"
+    }
+
     fn default_chips(&self) -> &'static [&'static str] {
         &["vc4", "v3d42"]
     }

@@ -37,6 +37,10 @@ impl Vendor for Intel {
         "intel"
     }
 
+    fn name(&self) -> &'static str {
+        "Intel"
+    }
+
     fn default_chips(&self) -> &'static [&'static str] {
         // Gen9 Skylake, Gen11 Ice Lake, Gen12 Tiger Lake and Alder Lake, Xe-HPG DG2 (Arc);
         // through ANV 25.0.7: Meteor Lake, Lunar Lake, Battlemage, Panther Lake.

@@ -105,6 +105,8 @@ impl Setup {
 pub trait Vendor: Sync {
     /// The prefix of this vendor's family ids: "amd", "intel", "nvidia", "terascale".
     fn prefix(&self) -> &'static str;
+    /// How a person names the vendor in a sentence or a table: "AMD", "Broadcom".
+    fn name(&self) -> &'static str;
     /// The families compiled by default (chips, without the prefix), oldest first.
     fn default_chips(&self) -> &'static [&'static str];
     fn api(&self) -> Api;
@@ -355,6 +357,14 @@ mod tests {
                 VENDORS.iter().filter(|w| w.prefix() == v.prefix()).count(),
                 1
             );
+            // a name a person reads ("Broadcom", not the id's "broadcom"), one per vendor
+            assert!(
+                v.name().starts_with(|c: char| c.is_ascii_uppercase()),
+                "{}: {:?}",
+                v.prefix(),
+                v.name()
+            );
+            assert_eq!(VENDORS.iter().filter(|w| w.name() == v.name()).count(), 1);
             let r = v.ranking();
             assert!(
                 v.required_statistics().contains(&r.key.as_str()),

@@ -17,6 +17,10 @@ impl Vendor for Nouveau {
         "nvidia"
     }
 
+    fn name(&self) -> &'static str {
+        "NVIDIA"
+    }
+
     fn default_chips(&self) -> &'static [&'static str] {
         // Fermi GF100, Kepler GK104, Maxwell GM107, Pascal GP104, Turing TU102.
         &["nvc0", "nve4", "nv117", "nv134", "nv162"]

@@ -26,6 +26,10 @@ impl Vendor for Qualcomm {
         "qualcomm"
     }
 
+    fn name(&self) -> &'static str {
+        "Qualcomm"
+    }
+
     fn default_chips(&self) -> &'static [&'static str] {
         // a6xx: Snapdragon 710 (618), 845 (630), 888 (660); a7xx: 7 Gen 1 (730), 8 Gen 2
         // (740), 8 Gen 3 (750).

@@ -17,6 +17,10 @@ impl Vendor for TeraScale {
         "terascale"
     }
 
+    fn name(&self) -> &'static str {
+        "TeraScale"
+    }
+
     fn default_chips(&self) -> &'static [&'static str] {
         // Evergreen (HD 5870) and Northern Islands (HD 6970, VLIW4).
         &["cypress", "cayman"]
