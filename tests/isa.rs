@@ -433,10 +433,34 @@ const VENDOR_FAMILIES: [&str; 12] = [
     "terascale:cayman",
 ];
 
+/// Family `f` of `r` ranks gouraud < phong_unnormalized < phong_exact on its own statistic
+/// (`what` names the family, and the precision where it matters, in the message).
+pub(crate) fn assert_references_in_order(r: &IsaReport, f: &isa::FamilyStatus, what: &str) {
+    let order: Vec<f64> = ["gouraud", "phong_unnormalized", "phong_exact"]
+        .iter()
+        .map(|m| r.ranking_value(&f.family, m).unwrap())
+        .collect();
+    assert!(
+        order[0] < order[1] && order[1] < order[2],
+        "{what}: {} gouraud {} < phong_unnormalized {} < phong_exact {} fails",
+        f.ranking().expect("a ranking statistic").key,
+        order[0],
+        order[1],
+        order[2]
+    );
+}
+
 /// Whether every vendor of `families` is set up (scripts/setup-vendors.sh); when one is not,
 /// the test is skipped with a visible `SKIPPED` line, or fails under
 /// `SHADELAB_REQUIRE_VENDORS=1` (which .ci/run sets, after `make test` set the routes up).
 fn vendors_ready(test: &str, families: &[&str]) -> bool {
+    families_ready(test, families, "SHADELAB_REQUIRE_VENDORS")
+}
+
+/// Whether every family of `families` is set up; when one is not, the test `test` is skipped
+/// with a visible `SKIPPED` line naming the command that sets it up, or fails when the
+/// environment variable `require` is 1 (CI sets it).
+pub(crate) fn families_ready(test: &str, families: &[&str], require: &str) -> bool {
     for f in families {
         let (vendor, chip) = isa::vendor::resolve(f).unwrap();
         if let Err(why) = vendor.setup_for(&chip, std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
@@ -444,8 +468,8 @@ fn vendors_ready(test: &str, families: &[&str]) -> bool {
                 "{test}: {f} is not set up ({why}); run {}",
                 vendor.setup_command_for(&chip)
             );
-            if std::env::var("SHADELAB_REQUIRE_VENDORS").as_deref() == Ok("1") {
-                panic!("SHADELAB_REQUIRE_VENDORS=1 but {msg}");
+            if std::env::var(require).as_deref() == Ok("1") {
+                panic!("{require}=1 but {msg}");
             }
             // Straight to the terminal: `eprintln!` is captured and hidden for a passing test.
             use std::io::Write as _;
@@ -488,19 +512,7 @@ fn every_method_compiles_on_every_vendor_family() {
                 .unwrap_or_else(|| panic!("{} {m}: no {}", f.id, ranking.key));
             assert!(v.is_finite() && v > 0.0, "{} {m}: {v}", f.id);
         }
-        let order: Vec<f64> = ["gouraud", "phong_unnormalized", "phong_exact"]
-            .iter()
-            .map(|m| r.ranking_value(&f.family, m).unwrap())
-            .collect();
-        assert!(
-            order[0] < order[1] && order[1] < order[2],
-            "{}: {} gouraud {} < phong_unnormalized {} < phong_exact {} fails",
-            f.id,
-            ranking.key,
-            order[0],
-            order[1],
-            order[2]
-        );
+        assert_references_in_order(&r, f, &f.id);
         assert_eq!(r.ranking_ratio(&f.family, "phong_exact"), Some(1.0));
     }
     // Intel: every width's figures, the dispatched one's unprefixed, and the assembly.

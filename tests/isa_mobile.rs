@@ -11,7 +11,10 @@ use std::path::PathBuf;
 use shadelab::isa::{self, IsaOptions, IsaReport, Precision};
 use shadelab::method;
 
-use crate::isa::{assert_identical_runs, isa_json_against_its_schema};
+use crate::isa::{
+    assert_identical_runs, assert_references_in_order, families_ready, isa_json_against_its_schema,
+};
+use crate::support::rerun_test;
 
 /// The families of issue 41.
 const FAMILIES: [&str; 18] = [
@@ -84,22 +87,7 @@ fn compilers_ready(families: &[&str]) -> bool {
         .name()
         .unwrap_or("a test")
         .to_string();
-    for f in families {
-        let (vendor, chip) = isa::vendor::resolve(f).unwrap();
-        if let Err(why) = vendor.setup_for(&chip, std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
-            let msg = format!(
-                "{test}: {f} is not set up ({why}); run {}",
-                vendor.setup_command_for(&chip)
-            );
-            if std::env::var("SHADELAB_REQUIRE_COMPILERS").as_deref() == Ok("1") {
-                panic!("SHADELAB_REQUIRE_COMPILERS=1 but {msg}");
-            }
-            use std::io::Write as _;
-            let _ = writeln!(std::io::stderr(), "SKIPPED: {msg}");
-            return false;
-        }
-    }
-    true
+    families_ready(&test, families, "SHADELAB_REQUIRE_COMPILERS")
 }
 
 /// Every method on every family: compiled by Mesa 25.0.7, finite positive figures, the Phong
@@ -144,19 +132,7 @@ fn every_method_in(precision: Precision, families: &[&str]) -> IsaReport {
             };
             assert!(v.is_finite() && v > 0.0, "{} {m}: {v}", f.id);
         }
-        let order: Vec<f64> = ["gouraud", "phong_unnormalized", "phong_exact"]
-            .iter()
-            .map(|m| r.ranking_value(&f.family, m).unwrap())
-            .collect();
-        assert!(
-            order[0] < order[1] && order[1] < order[2],
-            "{} {precision:?}: {} gouraud {} < phong_unnormalized {} < phong_exact {} fails",
-            f.id,
-            ranking.key,
-            order[0],
-            order[1],
-            order[2]
-        );
+        assert_references_in_order(&r, f, &format!("{} {precision:?}", f.id));
     }
     let dir = tempfile::tempdir().unwrap();
     isa::files::write(dir.path(), &r).unwrap();
@@ -272,12 +248,13 @@ fn missing_compilers_skip_visibly_and_fail_when_required() {
     let cache = tempfile::tempdir().unwrap();
     let test = "isa_mobile::a_chip_the_driver_does_not_know_is_refused";
     let run = |require: &str| {
-        std::process::Command::new(std::env::current_exe().unwrap())
-            .args(["--exact", test, "--test-threads=1"])
-            .env("XDG_CACHE_HOME", cache.path())
-            .env("SHADELAB_REQUIRE_COMPILERS", require)
-            .output()
-            .unwrap()
+        rerun_test(
+            test,
+            &[
+                ("XDG_CACHE_HOME", cache.path().as_os_str()),
+                ("SHADELAB_REQUIRE_COMPILERS", require.as_ref()),
+            ],
+        )
     };
     let skipped = run("0");
     let err = String::from_utf8_lossy(&skipped.stderr);

@@ -72,12 +72,13 @@ fn shared_models_load() {
 #[test]
 fn missing_models_skip_visibly_and_fail_when_required() {
     let run = |require: &str| {
-        std::process::Command::new(std::env::current_exe().unwrap())
-            .args(["--exact", "models::shared_models_load", "--test-threads=1"])
-            .env("SHADELAB_MODELS", "/nonexistent/shadelab-models")
-            .env("SHADELAB_REQUIRE_MODELS", require)
-            .output()
-            .unwrap()
+        rerun_test(
+            "models::shared_models_load",
+            &[
+                ("SHADELAB_MODELS", "/nonexistent/shadelab-models".as_ref()),
+                ("SHADELAB_REQUIRE_MODELS", require.as_ref()),
+            ],
+        )
     };
     let skipped = run("0");
     let err = String::from_utf8_lossy(&skipped.stderr);

@@ -153,3 +153,14 @@ pub fn assert_schema(value: &serde_json::Value, file: &str, pointer: &str, field
         "{file}: the schema check has no teeth (the output without {pointer}/{field} passes)"
     );
 }
+
+/// Runs test `test` of this test binary alone (`--exact`), with `env` added: how a test checks
+/// what another test does when a folder or a compiler is missing (skip, or fail when required).
+pub fn rerun_test(test: &str, env: &[(&str, &std::ffi::OsStr)]) -> std::process::Output {
+    let mut cmd = std::process::Command::new(std::env::current_exe().unwrap());
+    cmd.args(["--exact", test, "--test-threads=1"]);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().unwrap()
+}

@@ -54,12 +54,10 @@ fn samples(
 /// Where each method may be drawn: the proven domain of z of a tuned row, None (anywhere) for
 /// the others.
 pub fn licences(order: &[&'static crate::method::Method]) -> Vec<Option<[f64; 2]>> {
-    order.iter().map(|m| licence_of(m)).collect()
-}
-
-/// The proven domain of z of a tuned row; None for the others.
-pub fn licence_of(m: &crate::method::Method) -> Option<[f64; 2]> {
-    crate::method::tuned::proven_domain(m)
+    order
+        .iter()
+        .map(|m| crate::method::tuned::proven_domain(m))
+        .collect()
 }
 
 /// Whether a method with `licence` ([`licences`]) may be drawn on triangle `t`: anywhere
@@ -96,7 +94,7 @@ pub fn within_budget(
 ) -> bool {
     let lighting = inputs.lighting();
     let weights = sample_weights();
-    let licence = licence_of(m);
+    let licence = crate::method::tuned::proven_domain(m);
     triangles.iter().all(|&t| {
         licensed(licence, inputs, t)
             && passes(

@@ -36,11 +36,6 @@ pub fn smallest_cosine(n: [DVec3; 3]) -> f64 {
     u[0].dot(u[1]).min(u[1].dot(u[2])).min(u[2].dot(u[0]))
 }
 
-/// The three vertex normals of triangle `t` (float32, as uploaded), in f64.
-pub fn normals_of(inputs: &SceneInputs, t: usize) -> [DVec3; 3] {
-    inputs.vertex_normals(t)
-}
-
 /// A distribution of values: count, extremes, percentiles and a histogram.
 #[derive(Debug, Clone, Serialize)]
 pub struct Distribution {
@@ -137,7 +132,7 @@ pub fn of_mesh(inputs: &SceneInputs, ids: &IdFrame) -> MeshDomain {
     let mut per_triangle = Vec::with_capacity(count);
     let (mut c_min, mut n_max) = (1.0f64, 0.0f64);
     for t in 0..count {
-        let n = normals_of(inputs, t);
+        let n = inputs.vertex_normals(t);
         per_triangle.push(smallest_squared_length(n));
         c_min = c_min.min(smallest_cosine(n));
         n_max = n.iter().map(|v| v.length()).fold(n_max, f64::max);
@@ -154,7 +149,7 @@ pub fn of_mesh(inputs: &SceneInputs, ids: &IdFrame) -> MeshDomain {
             continue;
         }
         let t = (p - 1) as usize;
-        let n = normals_of(inputs, t);
+        let n = inputs.vertex_normals(t);
         let w = ids.weights[k];
         let v = n[0] * f64::from(w[0]) + n[1] * f64::from(w[1]) + n[2] * f64::from(w[2]);
         per_pixel.push((p - 1, v.length_squared()));
