@@ -1,10 +1,9 @@
 //! The report's copy of docs/formulas.md, the page every citation of the tool points to
 //! (`docs/formulas.md#<anchor>`), so that a citation in the report is a link that opens offline.
 //!
-//! The page is the Markdown text itself, one `<section>` per heading: the heading with its
-//! GitHub-style anchor as `id` (the anchor a citation names, the one GitHub renders), the text
-//! under it preformatted. Links inside the page (`[text](#anchor)`) become links; other Markdown
-//! is left as it reads. [`cite`] turns the citations in a text into links to it.
+//! The page is the Markdown rendered as HTML (pulldown-cmark), each heading with its GitHub-style
+//! anchor as `id` (the anchor a citation names, the one GitHub renders). [`cite`] turns the
+//! citations in a text into links to it.
 use super::html::esc;
 
 /// docs/formulas.md, built into the binary.
@@ -126,33 +125,13 @@ pub fn cite(text: &str) -> String {
     out + &esc(rest)
 }
 
-/// `[text](#anchor)` in escaped Markdown, as links within the page.
-fn local_links(escaped: &str) -> String {
-    let mut out = String::with_capacity(escaped.len());
-    let mut rest = escaped;
-    while let Some(i) = rest.find("](#") {
-        let (before, after) = (&rest[..i], &rest[i + 3..]);
-        let (Some(open), Some(close)) = (before.rfind('['), after.find(')')) else {
-            out += &rest[..i + 3];
-            rest = after;
-            continue;
-        };
-        out += &before[..open];
-        let _ = std::fmt::Write::write_fmt(
-            &mut out,
-            format_args!(
-                "<a href=\"#{}\">{}</a>",
-                &after[..close],
-                &before[open + 1..]
-            ),
-        );
-        rest = &after[close + 1..];
-    }
-    out + rest
-}
-
-/// The report's copy of `markdown` (docs/formulas.md) as one HTML page.
+/// The report's copy of `markdown` (docs/formulas.md) as one HTML page, rendered as Markdown
+/// (tables, emphasis, code, lists; GitHub's extensions for tables and strikethrough), each
+/// heading with the anchor [`sections`] gives it, so `formulas.html#<anchor>` opens where
+/// GitHub's rendering of docs/formulas.md would. Raw HTML in the source is escaped, never passed
+/// through.
 pub fn page(markdown: &str) -> String {
+    use pulldown_cmark::{Event, Options, Parser, Tag};
     let mut h = String::from(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
          <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
@@ -161,19 +140,26 @@ pub fn page(markdown: &str) -> String {
          <a href=\"index.html\">back to the report</a>. This page is docs/formulas.md of \
          shadelab, the page the report's citations name.</p></header><main class=\"formulas\">",
     );
-    for s in sections(markdown) {
-        let level = s.level.min(6);
-        h += &format!(
-            "<section><h{level} id=\"{}\">{}</h{level}>",
-            esc(&s.anchor),
-            local_links(&esc(&s.heading))
-        );
-        let body = s.body.trim_matches('\n');
-        if !body.is_empty() {
-            h += &format!("<pre>{}</pre>", local_links(&esc(body)));
-        }
-        h += "</section>";
-    }
+    // The anchors in page order: the parser's headings are the same ones, in the same order
+    // (both skip fenced code), which the test below checks against the ids of the page.
+    let mut anchors = sections(markdown).into_iter().map(|s| s.anchor);
+    let options = Options::ENABLE_TABLES | Options::ENABLE_STRIKETHROUGH;
+    let events = Parser::new_ext(markdown, options).map(|e| match e {
+        Event::Start(Tag::Heading {
+            level,
+            classes,
+            attrs,
+            ..
+        }) => Event::Start(Tag::Heading {
+            level,
+            id: anchors.next().map(Into::into),
+            classes,
+            attrs,
+        }),
+        Event::Html(t) | Event::InlineHtml(t) => Event::Text(t),
+        other => other,
+    });
+    pulldown_cmark::html::push_html(&mut h, events);
     h + "</main></body></html>\n"
 }
 
@@ -233,5 +219,31 @@ mod tests {
         );
         let ids = crate::report::links::attribute_values(&page(SOURCE), "id");
         assert_eq!(ids, anchors(SOURCE));
+    }
+
+    #[test]
+    fn the_page_is_rendered_markdown_not_its_source() {
+        let md = "# T\n| a | b |\n|---|---|\n| **x** | `y` |\n\n- item\n\n```\n# code\n```\n";
+        let html = page(md);
+        assert!(html.contains("<table>"), "{html}");
+        assert!(html.contains("<strong>x</strong>"), "{html}");
+        assert!(html.contains("<code>y</code>"), "{html}");
+        assert!(html.contains("<li>item</li>"), "{html}");
+        // a fenced line that looks like a heading stays code and takes no anchor
+        assert!(html.contains("<pre><code># code"), "{html}");
+        assert!(!html.contains("|---|"), "{html}");
+        // raw HTML in the source is text, never markup
+        assert!(page("a <script>x</script>").contains("&lt;script&gt;"));
+        // and docs/formulas.md itself: its tables and emphasis are rendered, none left as source
+        let full = page(SOURCE);
+        assert!(
+            full.contains("<table>") && full.contains("<strong>"),
+            "{}",
+            &full[..400]
+        );
+        assert!(
+            !full.contains("\n|---") && !full.contains("**"),
+            "raw Markdown left"
+        );
     }
 }
