@@ -44,7 +44,14 @@ pub struct Envelope<T> {
     /// The user's method files (`--method-file`), registered by the child before anything.
     #[serde(default)]
     pub method_files: Vec<PathBuf>,
+    /// What the child tells on stderr: the parent's `log` level (its `-v`/`-q`), e.g. `WARN`.
+    #[serde(default = "default_log_level")]
+    pub log_level: String,
     pub request: T,
+}
+
+fn default_log_level() -> String {
+    log::LevelFilter::Info.to_string()
 }
 
 /// The reply file.
@@ -111,6 +118,7 @@ pub fn call<J: Job>(
         reply: reply.clone(),
         driver_env: spawn.driver_env.clone(),
         method_files: spawn.method_files.clone(),
+        log_level: log::max_level().to_string(),
         request,
     };
     let bytes = serde_json::to_vec_pretty(&envelope)
@@ -235,6 +243,7 @@ mod tests {
             reply: dir.join("r.json"),
             driver_env: Vec::new(),
             method_files: Vec::new(),
+            log_level: default_log_level(),
             request,
         }
     }

@@ -313,3 +313,33 @@ fn render_leaves_out_the_normal_target_unless_asked() {
         .count();
     assert_eq!(unit, covered);
 }
+
+/// `-q` hides a command's progress, `-v` shows more, and the two cannot be combined; the
+/// result (the file) is the same whatever the verbosity.
+#[test]
+fn verbosity_flags_change_only_what_stderr_tells() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("t.obj");
+    let mesh = |flags: &[&str]| {
+        let mut a = flags.to_vec();
+        a.extend([
+            "mesh",
+            "icosphere",
+            "subdivisions=1",
+            "--out",
+            obj.to_str().unwrap(),
+        ]);
+        let (code, _, err) = run(&a);
+        assert_eq!(code, 0, "{a:?}: {err}");
+        assert!(obj.is_file());
+        err
+    };
+    assert!(
+        mesh(&[]).contains("wrote "),
+        "the default tells what it wrote"
+    );
+    assert_eq!(mesh(&["-q"]), "", "-q: nothing but warnings and errors");
+    assert!(mesh(&["-v"]).contains("wrote "));
+    let (code, _, err) = run(&["-q", "-v", "list"]);
+    assert_eq!(code, 2, "{err}");
+}

@@ -82,7 +82,7 @@ fn isa_run(opts: &IsaOptions) -> IsaReport {
 /// Whether the compilers of `families` are built; when not, the test is skipped with a
 /// `SKIPPED: <test>` line written straight to the terminal (`eprintln!` is captured and hidden
 /// for a passing test), or fails under `SHADELAB_REQUIRE_COMPILERS=1`.
-fn compilers_ready(families: &[&str]) -> bool {
+pub(crate) fn compilers_ready(families: &[&str]) -> bool {
     let test = std::thread::current()
         .name()
         .unwrap_or("a test")

@@ -57,7 +57,19 @@ fn report_dir() -> &'static Path {
         assert_eq!(code, 0, "report failed:\n{stderr}");
         let index = out.join("index.html");
         assert_eq!(stdout.trim(), index.display().to_string(), "{stderr}");
-        assert!(stderr.contains("MB in total"), "{stderr}");
+        // The answer in a few lines: the words and the differing cells after the totals; each
+        // job's progress and every cell's line only with -v.
+        let answer: Vec<&str> = (stderr.lines())
+            .skip_while(|l| !l.starts_with("report: 1 scene(s)"))
+            .collect();
+        assert!(
+            (2..=15).contains(&answer.len()) && answer[0].contains("The answer ("),
+            "{stderr}"
+        );
+        assert!(
+            !stderr.contains("answer: ") && !stderr.contains("bench: run"),
+            "{stderr}"
+        );
         out
     })
 }
@@ -623,7 +635,7 @@ fn report_writes_an_answer_that_matches_its_schema() {
 }
 
 /// `--models DIR` adds every OBJ of the folder as a scene (alone here), and the answer covers
-/// it; a folder without an OBJ is a usage error.
+/// it; a folder without an OBJ is a usage error. With `-v` the report prints every cell.
 #[test]
 fn report_models_adds_every_obj_of_a_folder() {
     let dir = tempfile::tempdir().unwrap();
@@ -633,7 +645,9 @@ fn report_models_adds_every_obj_of_a_folder() {
     std::fs::copy("scenes/cube.obj", models.join("box.OBJ")).unwrap();
     std::fs::write(models.join("notes.txt"), "not a mesh").unwrap();
     let out = dir.path().join("out");
+    // -v: every cell's line and the jobs' progress, which the default leaves out.
     let (code, _, stderr) = run(&[
+        "-v",
         "report",
         "--models",
         models.to_str().unwrap(),
@@ -647,7 +661,7 @@ fn report_models_adds_every_obj_of_a_folder() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("answer: "), "{stderr}");
+    assert!(stderr.contains("answer: ") && stderr.contains("bench: "), "{stderr}");
     let answer = read_json(out.join("answer.json"));
     // The most triangles first: the icosphere before the 12-triangle cube.
     assert_eq!(answer["scenes"], serde_json::json!(["ball", "box"]));

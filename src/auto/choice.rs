@@ -278,7 +278,7 @@ pub fn choose_cached_in(
                         crate::output::write_bytes_atomic(f, &b).map_err(|e| e.to_string())
                     });
                 if let Err(e) = written {
-                    eprintln!("auto: choice not cached on disk ({}): {e}", f.display());
+                    log::warn!("auto: choice not cached on disk ({}): {e}", f.display());
                 }
             }
             (p, ChoiceSource::Computed)

@@ -56,7 +56,7 @@ pub fn choose_checked(
     let check = match given {
         Some(keep) => FrameCheck::given(keep, predicted),
         None => {
-            eprintln!(
+            log::info!(
                 "auto: frame check of {}: its {} programs against {} alone, {} rounds",
                 spec.name,
                 summary.grouping.as_ref().map_or(0, |g| g.programs_drawn),

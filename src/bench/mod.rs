@@ -211,9 +211,9 @@ fn setup(
             points: Vec::new(),
         },
         _ => {
-            eprintln!("bench: checking the clock at sizes {SIZES:?}");
+            log::info!("bench: checking the clock at sizes {SIZES:?}");
             let clock = check_clock(renderer, scene)?;
-            eprintln!("bench: clock = {} ({})", clock.clock, clock.reason);
+            log::info!("bench: clock = {} ({})", clock.clock, clock.reason);
             clock
         }
     };
@@ -230,7 +230,7 @@ fn setup(
             crate::auto::Cache::Use,
             opts.runs.frame_decision(&spec.name),
         )?;
-        eprintln!("bench: {}", summary.line());
+        log::info!("bench: {}", summary.line());
         auto_summaries.push(summary);
         autos.push((spec.name.clone(), scene_auto));
     }
@@ -415,7 +415,7 @@ pub fn bench(
         .sweeps
         .iter()
         .map(|&sw| {
-            eprintln!("bench: sweep {sw:?}");
+            log::info!("bench: sweep {sw:?}");
             sweep::sweep(renderer, scene, sw, opts)
         })
         .collect::<Result<Vec<_>>>()?;
@@ -481,12 +481,12 @@ fn untimed(
     opts: &BenchOptions,
     programs: &[Program],
 ) -> Result<(Vec<Option<u64>>, compare::Summary)> {
-    eprintln!("bench: fragment invocations (untimed, one submission per program)");
+    log::info!("bench: fragment invocations (untimed, one submission per program)");
     let invocations = programs
         .iter()
         .map(|p| renderer.fragment_invocations_list(&p.list()))
         .collect::<Result<Vec<_>>>()?;
-    eprintln!("bench: error metrics (compare, without images)");
+    log::info!("bench: error metrics (compare, without images)");
     let copts = CompareOptions {
         images: false,
         auto: opts.auto.clone(),
@@ -747,7 +747,7 @@ fn time_rounds(
         .position(|n| n == crate::method::PHONG_EXACT)
         .unwrap_or(0);
     let plan = &opts.plan.rounds;
-    eprintln!(
+    log::info!(
         "bench: timing {} programs in the same interleaved rounds: {}",
         programs.len(),
         plan.describe()

@@ -219,7 +219,7 @@ pub(crate) fn run_rounds<D: Draws + ?Sized>(
             break (stop, w);
         }
         if rounds.len() % 10 == 0 {
-            eprintln!(
+            log::info!(
                 "{who}: {} rounds, widest paired ratio interval +-{:.2} % ({})",
                 rounds.len(),
                 w.0,
@@ -232,13 +232,13 @@ pub(crate) fn run_rounds<D: Draws + ?Sized>(
     let n = rounds.len();
     let target = plan.until_ci_pct.unwrap_or(f64::NAN);
     match stopped {
-        Stop::FixedRepeat => eprintln!(
+        Stop::FixedRepeat => log::info!(
             "{who}: {n} rounds in {timing_s:.1} s; widest paired ratio interval +-{w:.2} % ({which})"
         ),
-        Stop::TargetReached => eprintln!(
+        Stop::TargetReached => log::info!(
             "{who}: stopped: target reached: every paired ratio interval within +-{target} % after {n} rounds ({timing_s:.1} s); widest +-{w:.2} % ({which})"
         ),
-        Stop::TimeCap => eprintln!(
+        Stop::TimeCap => log::info!(
             "{who}: stopped: time cap of {} s reached after {n} rounds; target +-{target} % NOT reached: widest paired ratio interval +-{w:.2} % ({which})",
             plan.max_time_s
         ),

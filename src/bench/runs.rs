@@ -201,7 +201,7 @@ pub fn run_all(
     let base = base_seed();
     let mut out = Vec::with_capacity(count);
     for k in 1..=count {
-        eprintln!("bench: run {k} of {count} (a fresh process: its own Vulkan device, JIT, warm-up and rounds)");
+        log::info!("bench: run {k} of {count} (a fresh process: its own Vulkan device, JIT, warm-up and rounds)");
         let req = RunRequest {
             scene: launcher.scene.clone(),
             device: launcher.device.clone(),

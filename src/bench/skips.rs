@@ -211,9 +211,9 @@ pub fn skips(
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let exact = method::phong_exact();
-    eprintln!("skips: checking the clock");
+    log::info!("skips: checking the clock");
     let clock = check_clock(renderer, scene)?;
-    eprintln!("skips: clock = {} ({})", clock.clock, clock.reason);
+    log::info!("skips: clock = {} ({})", clock.clock, clock.reason);
 
     let mut no_cull = scene.clone();
     no_cull.cull = Cull::None;
@@ -229,7 +229,7 @@ pub fn skips(
         crate::auto::Cache::Use,
         None,
     )?;
-    eprintln!("skips: {}", auto_summary.line());
+    log::info!("skips: {}", auto_summary.line());
 
     let variants = variants(culls);
     let gpu_of = |v: &Variant| -> &GpuScene {
@@ -322,7 +322,7 @@ fn time_lists(
     opts: &SkipOptions,
     clock: &str,
 ) -> Result<(Vec<Vec<Sample>>, PerRound)> {
-    eprintln!(
+    log::info!(
         "skips: timing {} draws of {} ({}) in the same interleaved rounds: {} warm-up \
          submissions each, then {} rounds",
         lists.len(),

@@ -132,7 +132,7 @@ pub fn software_column(
         vulkan_bench: None,
         command_line: Vec::new(),
     };
-    eprintln!(
+    log::info!(
         "bench: the software engine's column: {} programs, {SOFTWARE_REPEAT} rounds",
         ms.len()
     );
@@ -175,11 +175,11 @@ pub fn load(
                     exe.clone(),
                 )
             };
-            eprintln!(
+            log::info!(
                 "bench: static cost (shadelab isa, {} families)",
                 opts.families.len()
             );
-            match crate::isa::run(&opts, &|line| eprintln!("isa: {line}")) {
+            match crate::isa::run(&opts, &|line| log::info!("isa: {line}")) {
                 Ok(r) => (Some(r), "compiled now".into()),
                 Err(e) => (None, format!("not compiled: {e}")),
             }

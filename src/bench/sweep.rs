@@ -75,7 +75,7 @@ pub(crate) fn sweep(
                 ci_confidence: e.confidence,
             });
         }
-        eprintln!(
+        log::info!(
             "bench: sweep point {}x{}, {} triangles",
             s.width,
             s.height,

@@ -151,7 +151,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         "{}",
         crate::bench::speed_claims::markdown(&report.speed_claims, Some(&report.static_cost))
     );
-    eprintln!(
+    log::info!(
         "wrote {} ({:.1} s)",
         out.join("bench.json").display(),
         report.total_s

@@ -9,6 +9,10 @@ use crate::error::{Error, Result};
 
 pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
     let env = child::read(file)?;
+    // The parent's verbosity (a level this shadelab does not know keeps the default).
+    if let Ok(level) = env.log_level.parse() {
+        log::set_max_level(level);
+    }
     // Before anything resolves a method set: the parent's method files.
     crate::gpu::shaders::register_user(&env.method_files)?;
     match env.job.as_str() {

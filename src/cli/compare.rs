@@ -79,7 +79,7 @@ pub(super) fn cmd_compare(
     };
     let summary = compare::compare_with(engine, &scene, &methods, out, &opts)?;
     print!("{}", compare::table(&summary));
-    eprintln!(
+    log::info!(
         "wrote {} ({} engine, {} methods, {:.1} s; metrics {:.0} Mpixel/s, FLIP {:.1} Mpixel/s)",
         out.join("summary.json").display(),
         summary.engine,

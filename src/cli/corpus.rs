@@ -80,7 +80,7 @@ pub(super) fn cmd_corpus(a: CorpusArgs) -> Result<ExitCode> {
     let shard = Shard::resolve(a.shard.as_deref(), &env)?;
     let methods = super::select_methods(&a.methods)?;
     let mine = meshes.iter().filter(|m| shard.holds(&m.id)).count();
-    eprintln!(
+    log::info!(
         "corpus: shard {}/{} (from {}): {mine} of {} meshes -> {}",
         shard.k,
         shard.n,
@@ -114,7 +114,7 @@ pub(super) fn cmd_corpus(a: CorpusArgs) -> Result<ExitCode> {
     let m = corpus::run::run_shard(&r, &opts)?;
     super::check_validation(r.context())?;
     println!("{}", a.out.join("manifest.json").display());
-    eprintln!(
+    log::info!(
         "corpus: shard {}/{} done: {} meshes, {} failed, static cost: {} ({:.1} s)",
         m.shard.k,
         m.shard.n,

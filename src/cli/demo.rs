@@ -1,42 +1,28 @@
-//! `shadelab demo`: every shipped scene rendered with phong_exact.
+//! `shadelab demo`: the quick start's report, `report --scenes scenes --out out/report`, as a
+//! command of the installed binary.
 use std::path::Path;
 use std::process::ExitCode;
-use std::time::Instant;
 
-use super::*;
+use super::report::{cmd_report, How, Sources};
+use super::DeviceArgs;
 use crate::error::Result;
-use crate::gpu::Shading;
-use crate::method::{self};
-use crate::output;
-use crate::scene::{self};
+
+/// The size of the demo's report: the report's default (its page under the 50 MB budget).
+const SIZE: (u32, u32) = (256, 256);
+
 pub(super) fn cmd_demo(scenes_dir: &Path, out: &Path, dev: &DeviceArgs) -> Result<ExitCode> {
-    let files = super::report::scene_files(scenes_dir)?;
-    let r = renderer(dev)?;
-    let method = method::phong_exact();
-    for (i, f) in files.iter().enumerate() {
-        let start = Instant::now();
-        let scene = scene::load_scene(f)?;
-        let prepared = r.prepare(&scene, &[method])?;
-        let gpu = prepared.base();
-        let (frame, _) = r.render(gpu, Shading::Method(method), false)?;
-        let stem = f
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let png = out.join(format!("{stem}.png"));
-        output::write_png_srgb(&png, frame.width, frame.height, &frame.color)?;
-        eprintln!(
-            "[{}/{}] {} -> {} ({}x{}, {} triangles, {:.0} ms)",
-            i + 1,
-            files.len(),
-            f.display(),
-            png.display(),
-            frame.width,
-            frame.height,
-            gpu.inputs.triangle_count(),
-            start.elapsed().as_secs_f64() * 1e3
-        );
-    }
-    check_validation(r.context())?;
-    Ok(ExitCode::SUCCESS)
+    let src = Sources {
+        scenes: Some(scenes_dir),
+        scene: None,
+        mesh: None,
+        models: None,
+    };
+    let how = How {
+        size: SIZE,
+        interpolation: None,
+        full: false,
+        runs: None,
+        tuned: None,
+    };
+    cmd_report(&src, &how, dev, "all", out)
 }

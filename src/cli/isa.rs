@@ -85,7 +85,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         None => None,
     };
     let start = Instant::now();
-    let mut report = isa::run(&opts, &|line| eprintln!("{line}"))?;
+    let mut report = isa::run(&opts, &|line| log::info!("{line}"))?;
     if let Some(b) = &bench {
         report.spearman = isa::rank::against_bench(&report, b)?;
     }

@@ -35,13 +35,13 @@ pub(super) fn cmd_merge(a: MergeArgs) -> Result<ExitCode> {
     let report = tables::report(&shards, &meshes, isa.as_ref(), &crate::costs::builtin());
     tables::write(&a.out, &report, &meshes)?;
     if report.mixed_machines {
-        eprintln!(
+        log::info!(
             "merge: the shards ran on {} machines: error merged, time kept per machine",
             report.machines.len()
         );
     }
     println!("{}", a.out.join("index.html").display());
-    eprintln!(
+    log::info!(
         "merge: {} shards, {} meshes, {} failed -> {}",
         shards.len(),
         report.meshes,

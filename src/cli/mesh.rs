@@ -12,7 +12,7 @@ pub(super) fn cmd_mesh(
 ) -> Result<ExitCode> {
     if let Some(dir) = shipped {
         for p in geometry::write_shipped(&dir)? {
-            eprintln!("wrote {}", p.display());
+            log::info!("wrote {}", p.display());
         }
         return Ok(ExitCode::SUCCESS);
     }
@@ -24,6 +24,6 @@ pub(super) fn cmd_mesh(
     let g = geometry::parse_generator_args(&name, params)?;
     let m = g.build()?;
     geometry::write_obj(&m, &out)?;
-    eprintln!("wrote {} ({} triangles)", out.display(), m.triangle_count());
+    log::info!("wrote {} ({} triangles)", out.display(), m.triangle_count());
     Ok(ExitCode::SUCCESS)
 }

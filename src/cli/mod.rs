@@ -17,6 +17,7 @@ mod shaders;
 mod skips;
 mod stress;
 mod tune;
+mod verbosity;
 mod verify;
 
 use self::bench::cmd_bench;
@@ -28,7 +29,7 @@ use self::plan::cmd_plan;
 use self::prove::cmd_prove;
 use self::render::cmd_render;
 use self::shaders::cmd_shaders;
-use self::skips::cmd_skips;
+use self::skips::{cmd_skips, SkipsCmd};
 use self::stress::cmd_stress;
 use self::verify::cmd_verify;
 use std::path::PathBuf;
@@ -65,6 +66,8 @@ pub struct Cli {
     /// in their request.
     #[arg(long = "method-file", value_name = "PATH.glsl", global = true)]
     method_file: Vec<PathBuf>,
+    #[command(flatten)]
+    verbosity: verbosity::Verbosity,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -375,11 +378,14 @@ enum Command {
         #[arg(long, default_value = "spirv")]
         spirv: PathBuf,
     },
-    /// The main job on the shipped scenes: render every scene of DIR with exact Phong into OUT.
+    /// The quick start's report: `report --scenes scenes --out out/report` (what `make demo`
+    /// runs), from a checkout of the repository.
     Demo {
+        /// The scene files (*.toml) of this folder.
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
-        #[arg(long, default_value = "out")]
+        /// Output directory of the report.
+        #[arg(long, default_value = "out/report")]
         out: PathBuf,
         #[command(flatten)]
         device: DeviceArgs,
@@ -545,26 +551,6 @@ struct BenchCmd {
     no_software: bool,
 }
 
-// `shadelab skips` (its help is the variant's doc comment).
-#[derive(Args, Debug)]
-struct SkipsCmd {
-    #[command(flatten)]
-    scene: SceneArgs,
-    #[command(flatten)]
-    device: DeviceArgs,
-    /// Output directory (skips.json, skips.md).
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-    /// Interleaved rounds (each draws every row once).
-    #[arg(long, default_value_t = 30)]
-    repeat: usize,
-    /// Discarded submissions per row (the first includes lavapipe's shader JIT).
-    #[arg(long, default_value_t = 3)]
-    warmup: usize,
-    #[command(flatten)]
-    error_budget: BudgetArgs,
-}
-
 fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -593,6 +579,7 @@ fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
 /// Parses the command line and runs it. Errors are printed once by the caller.
 pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
+    cli.verbosity.init(&cli.command);
     // Before anything resolves a method set or starts a thread or child process.
     crate::gpu::shaders::register_user(&cli.method_file)?;
     match cli.command {
@@ -727,7 +714,7 @@ fn load_scene(args: &SceneArgs) -> Result<Scene> {
     let scene = args.source().load()?;
     if let Some(report) = &scene.mesh_report {
         for w in &report.warnings {
-            eprintln!("shadelab: warning: {}: {w}", scene.mesh.source);
+            log::warn!("{}: {w}", scene.mesh.source);
         }
     }
     Ok(scene)
@@ -777,7 +764,7 @@ fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
     let t = std::time::Instant::now();
     let ev = crate::cost::Evidence::new().with(r.context().clone());
     let (order, model) = crate::auto::order_by_model(&crate::costs::builtin(), &b.cost_model, &ev)?;
-    eprintln!(
+    log::info!(
         "auto: candidates by {} in {} (measured in {:.1} s): {}",
         model.id,
         model.measure.unit,

@@ -30,7 +30,7 @@ pub(super) fn cmd_render(
     if dev.engine == EngineArg::Software {
         let inputs = crate::scene::SceneInputs::new(&scene, method.geometry);
         let form = crate::software::form_of(method);
-        eprintln!(
+        log::info!(
             "software engine: {} in its {} ({})",
             method.name,
             if form.scanline {
@@ -86,7 +86,7 @@ fn render_auto(
         crate::auto::Cache::Use,
         None,
     )?;
-    eprintln!("{}", summary.line());
+    log::info!("{}", summary.line());
     let frame = r.render_auto(&a)?;
     write_frame(&frame, out, float, normals)?;
     check_validation(r.context())?;

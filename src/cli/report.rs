@@ -198,10 +198,10 @@ pub(super) fn cmd_report(
     };
     let w = report::run(&r, &scenes, &methods, out, &opts)?;
     check_validation(r.context())?;
-    eprint!("{}", w.answer_lines);
+    // Every cell with -v; the words and the differing cells always.
+    log::info!("{}", w.answer.lines().trim_end());
     eprintln!(
-        "report: {} scene(s) x {} method(s) in {:.1} s; {} files, {:.1} MB in total; \
-         the answer: {}",
+        "report: {} scene(s) x {} method(s) in {:.1} s; {} files, {:.1} MB. The answer ({}):",
         scenes.len(),
         w.methods,
         w.seconds,
@@ -209,9 +209,10 @@ pub(super) fn cmd_report(
         w.total_bytes as f64 / 1e6,
         out.join("answer.md").display()
     );
+    eprint!("{}", w.answer.terminal());
     if w.total_bytes > report::BUDGET_BYTES {
-        eprintln!(
-            "report: warning: {:.1} MB is over the {} MB budget of a report (docs/report.md); \
+        log::warn!(
+            "report: {:.1} MB is over the {} MB budget of a report (docs/report.md); \
              use a smaller --size or fewer --methods",
             w.total_bytes as f64 / 1e6,
             report::BUDGET_BYTES / 1_000_000

@@ -4,6 +4,26 @@ use std::process::ExitCode;
 use super::*;
 use crate::error::{Error, Result};
 
+// `shadelab skips` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct SkipsCmd {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// Output directory (skips.json, skips.md).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Interleaved rounds (each draws every row once).
+    #[arg(long, default_value_t = 30)]
+    repeat: usize,
+    /// Discarded submissions per row (the first includes lavapipe's shader JIT).
+    #[arg(long, default_value_t = 3)]
+    warmup: usize,
+    #[command(flatten)]
+    error_budget: BudgetArgs,
+}
+
 pub(super) fn cmd_skips(k: SkipsCmd) -> Result<ExitCode> {
     if k.device.engine == EngineArg::Software {
         return Err(Error::Usage(

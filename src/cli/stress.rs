@@ -75,7 +75,7 @@ pub(super) fn cmd_stress(
     stress::write(out, &report)?;
     print!("{}", stress::table(&report));
     check_validation(&ctx)?;
-    eprintln!(
+    log::info!(
         "stress: {} methods x {} cases in {:.1} s; wrote {}",
         report.methods.len(),
         report.cases_per_method,

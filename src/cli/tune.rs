@@ -131,7 +131,7 @@ pub(super) fn cmd_tune(a: &TuneArgs) -> Result<ExitCode> {
         validate: false,
     }) {
         Ok(ctx) => ev.push(ctx),
-        Err(e) => eprintln!("tune: no Vulkan device ({e}): lavapipe_isolated is left unmeasured"),
+        Err(e) => log::warn!("tune: no Vulkan device ({e}): lavapipe_isolated is left unmeasured"),
     }
     let registry = crate::costs::builtin();
     let run = |source: &Source, out: &Path| -> Result<()> {

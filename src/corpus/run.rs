@@ -269,8 +269,8 @@ fn static_cost(opts: &ShardOptions) -> String {
         opts.config.precision,
         opts.exe.clone(),
     );
-    eprintln!("corpus: static GPU cost (isa) ...");
-    match crate::isa::run(&iopts, &|line| eprintln!("isa: {line}"))
+    log::info!("corpus: static GPU cost (isa) ...");
+    match crate::isa::run(&iopts, &|line| log::info!("isa: {line}"))
         .and_then(|rep| crate::isa::files::write(&out, &rep))
     {
         Ok(()) => "isa/isa.json".into(),
@@ -316,7 +316,7 @@ pub fn run_shard(r: &Renderer, opts: &ShardOptions) -> Result<Manifest> {
             &std::fs::read(dir.join("result.json")).map_err(|e| Error::io(&dir, e))?,
         )
         .map_err(|e| Error::output("result.json", e))?;
-        eprintln!(
+        log::info!(
             "corpus: [{}/{}] {} {}{}",
             n + 1,
             mine.len(),

@@ -354,8 +354,8 @@ pub fn compile_user(u: &crate::method::user::UserMethod) -> Result<()> {
             Err(e) => {
                 let why = e.to_string();
                 let line = why.lines().find(|l| l.contains(": error")).unwrap_or(&why);
-                eprintln!(
-                    "shadelab: warning: {}: no float16 programs (--precision f16 refuses it): {line}",
+                log::warn!(
+                    "{}: no float16 programs (--precision f16 refuses it): {line}",
                     u.path
                 );
                 let mut no = RUNTIME_NO_F16.write().map_err(|_| poisoned())?;

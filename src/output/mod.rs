@@ -6,6 +6,7 @@ pub mod heatmap;
 pub mod provenance;
 pub mod srgb;
 mod steps;
+pub mod terminal;
 
 pub use provenance::Provenance;
 pub use srgb::srgb8;

@@ -482,11 +482,11 @@ pub fn run(methods: &[&'static Method], opts: &ProveOptions) -> Result<ProofRepo
         match covered::factor_of(m) {
             Some(k) => {
                 if opts.progress {
-                    eprintln!("prove: {} ...", m.name);
+                    log::info!("prove: {} ...", m.name);
                 }
                 let p = prove_method(m, k, &grid, opts);
                 if opts.progress {
-                    eprintln!("prove: {} done in {:.2} s", m.name, p.seconds);
+                    log::info!("prove: {} done in {:.2} s", m.name, p.seconds);
                 }
                 proofs.push(p);
             }

@@ -17,7 +17,6 @@
 //!   phong_exact" (the runner-up is then the qualifying method with the lowest ratio, not
 //!   measured cheaper).
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
@@ -646,71 +645,5 @@ impl Answer {
         self.cells
             .iter()
             .find(|c| c.budget == b && c.cost_model == m)
-    }
-
-    /// answer.md: one table (budgets x cost models), then every cell as a sentence.
-    pub fn markdown(&self) -> String {
-        let mut s = String::from("# Which method to use\n\n");
-        let _ = writeln!(
-            s,
-            "Scenes: {}. Errors: {}. Cost: ratio to phong_exact (below 1 is cheaper), \
-             interval in brackets; the runner-up below. Schema: docs/answer.schema.json.\n",
-            self.scenes.join(", "),
-            self.errors_from
-        );
-        s += "| cost model |";
-        for b in &self.budgets {
-            let _ = write!(s, " {} |", b.label);
-        }
-        s += "\n|---|";
-        s += &"---|".repeat(self.budgets.len());
-        s += "\n";
-        for m in &self.cost_models {
-            let _ = write!(s, "| {} |", m.title);
-            for b in &self.budgets {
-                let Some(c) = self.cell(&b.id, m.id.as_str()) else {
-                    s += " - |";
-                    continue;
-                };
-                let main = if c.nothing_cheaper {
-                    "nothing is cheaper than phong_exact".to_string()
-                } else {
-                    format!(
-                        "[{}](index.html#answer-{}-{}) {}",
-                        c.answer.method,
-                        b.id,
-                        m.id,
-                        ratio_text(&c.answer)
-                    )
-                };
-                let second = c.runner_up.as_ref().map_or(String::new(), |r| {
-                    format!("<br>then {} {}", r.method, ratio_text(r))
-                });
-                let bind = c
-                    .binding
-                    .as_ref()
-                    .map_or(String::new(), |k| format!("<br>decided by {}", k.scene));
-                let _ = write!(s, " {main}{second}{bind} |");
-            }
-            s += "\n";
-        }
-        s += "\n";
-        for m in &self.cost_models {
-            let _ = writeln!(s, "- **{}** ({:?}): {}", m.title, m.kind, m.description);
-        }
-        s += "\n";
-        for c in &self.cells {
-            let _ = writeln!(s, "- {}", c.text);
-        }
-        s
-    }
-
-    /// The lines `shadelab report` prints: one per cell.
-    pub fn lines(&self) -> String {
-        let mut s = String::new();
-        for c in &self.cells {
-            let _ = writeln!(s, "answer: {}", c.text);
-        }
-        s
     }
 }

@@ -20,6 +20,7 @@
 //! multiples, one panel per method family), the claims matrix, and the scenes, the most telling
 //! (the most triangles) first.
 pub mod answer;
+mod answer_text;
 pub mod first_screen;
 pub mod formulas;
 pub mod front;
@@ -157,8 +158,8 @@ pub struct Written {
     /// Methods shown per scene ([`ALWAYS`] included).
     pub methods: usize,
     pub seconds: f64,
-    /// The answer, one line per cell (printed by `shadelab report`).
-    pub answer_lines: String,
+    /// The answer (`shadelab report` prints its words, [`answer::Answer::terminal`]).
+    pub answer: answer::Answer,
 }
 
 /// The methods a report always includes: the references of bench's ratios (bench times them
@@ -238,10 +239,19 @@ fn pareto_charts(dir: &Path, rel: &str) -> Result<Vec<String>> {
     Ok(v)
 }
 
+/// The report's progress bar (steps: compare, bench and skips per scene, stress, the page),
+/// registered so that what the jobs log (`-v`) is printed above it, not through it.
+fn progress(opts: &ReportOptions, scenes: usize) -> indicatif::ProgressBar {
+    let bar = output::progress_bar(opts.progress, 3 * scenes as u64 + 2);
+    output::terminal::show_bar(Some(bar.clone()));
+    bar
+}
+
 /// Shows the step on the progress bar; where the bar is not drawn (stderr is not a terminal,
 /// as under `make demo > log 2>&1`), prints it as a line with the time since the start.
 fn step(bar: &indicatif::ProgressBar, progress: bool, msg: String) {
-    if progress && bar.is_hidden() {
+    // `-q` (errors only) hides the steps too.
+    if progress && bar.is_hidden() && log::max_level() >= log::LevelFilter::Warn {
         eprintln!("report: [{:.0} s] {msg}", bar.elapsed().as_secs_f64());
     }
     bar.set_message(msg);
@@ -472,8 +482,7 @@ pub fn run(
             plan.runs
         )));
     }
-    // Steps: compare, bench and skips per scene, stress, the page.
-    let bar = output::progress_bar(opts.progress, 3 * scenes.len() as u64 + 2);
+    let bar = progress(opts, scenes.len());
     let mut scenes = scenes.to_vec();
     front::order_scenes(&mut scenes);
     // `auto`'s candidates for the skips rows, by isolated cost: measured once for all scenes.
@@ -552,6 +561,7 @@ pub fn run(
     let index = write_page(out, &data)?;
     bar.inc(1);
     bar.finish_and_clear();
+    output::terminal::show_bar(None);
     let broken = links::broken_links(&index)?;
     if !broken.is_empty() {
         return Err(Error::Internal(format!(
@@ -567,6 +577,6 @@ pub fn run(
         files,
         methods: methods.len(),
         seconds: start.elapsed().as_secs_f64(),
-        answer_lines: data.answer.lines(),
+        answer: data.answer,
     })
 }

@@ -340,73 +340,68 @@ fn scene_sentence(
     budgets: &[Budget],
     models: &[CostModel],
 ) -> String {
-    let mut said: Vec<String> = Vec::new();
-    let mut same: Vec<&str> = Vec::new();
+    let limit = |s: &SceneBudget| {
+        budgets
+            .iter()
+            .find(|b| b.id == s.budget)
+            .map_or(0.0, |b| b.limit)
+    };
+    // Per scene, the (budget, answer) pairs that differ from the common answer.
+    let mut differ: Vec<&str> = Vec::new();
+    let mut widest: Option<(&SceneBudget, &SceneAnswer)> = None;
     for s in scenes {
-        let of_scene: Vec<&SceneBudget> = per_scene.iter().filter(|x| x.scene == *s).collect();
-        // (budget, answer) pairs that differ from the common answer on this scene.
-        let mut other: Vec<(&SceneBudget, &SceneAnswer)> = Vec::new();
-        for sb in &of_scene {
+        let mut any = false;
+        for sb in per_scene.iter().filter(|x| x.scene == *s) {
             for a in &sb.answers {
-                if a.method != c.method || a.nothing_cheaper != c.nothing_cheaper {
-                    other.push((sb, a));
+                if a.method == c.method && a.nothing_cheaper == c.nothing_cheaper {
+                    continue;
+                }
+                any = true;
+                // The answer most models give, then the tightest budget, then the first scene.
+                let wider = widest.is_none_or(|(wb, wa)| {
+                    a.cost_models
+                        .len()
+                        .cmp(&wa.cost_models.len())
+                        .then_with(|| limit(wb).total_cmp(&limit(sb)))
+                        .is_gt()
+                });
+                if wider {
+                    widest = Some((sb, a));
                 }
             }
         }
-        if other.is_empty() {
-            same.push(s);
-            continue;
+        if any {
+            differ.push(s);
         }
-        let budgets_with = of_scene
-            .iter()
-            .filter(|sb| other.iter().any(|(x, _)| std::ptr::eq(*x, **sb)))
-            .count();
-        // The answer most models give, then the tightest budget.
-        let (sb, a) = other
-            .iter()
-            .max_by(|(x, a), (y, b)| {
-                a.cost_models.len().cmp(&b.cost_models.len()).then_with(|| {
-                    let lim = |s: &SceneBudget| {
-                        budgets
-                            .iter()
-                            .find(|b| b.id == s.budget)
-                            .map_or(0.0, |b| b.limit)
-                    };
-                    lim(y).total_cmp(&lim(x))
-                })
-            })
-            .copied()
-            .expect("not empty");
-        let label = budgets
-            .iter()
-            .find(|b| b.id == sb.budget)
-            .map_or(sb.budget.clone(), |b| b.label.clone());
-        let how_many = if budgets_with == budgets.len() {
-            "all budgets".to_string()
-        } else {
-            format!("{budgets_with} of the {} budgets", budgets.len())
-        };
-        let widest = if a.nothing_cheaper {
-            format!("nothing cheaper than {PHONG_EXACT} within {label}")
-        } else {
-            format!("{} within {label}", a.method)
-        };
-        let verb = if budgets_with == 1 { "has" } else { "have" };
-        said.push(format!(
-            "on {s}, {how_many} {verb} another answer under some cost model (most widely: \
-             {widest}, under {} of the {} cost models)",
-            a.cost_models.len(),
-            models.len()
-        ));
     }
-    if said.is_empty() {
+    let Some((sb, a)) = widest else {
         return "Scene by scene the answer is the same on every scene.".into();
-    }
-    let mut t = format!("Scene by scene the answer differs: {}", said.join("; "));
-    if !same.is_empty() {
-        t += &format!("; on {} it is the same", and_list(&same));
-    }
-    t + "."
+    };
+    let label = budgets
+        .iter()
+        .find(|b| b.id == sb.budget)
+        .map_or(sb.budget.clone(), |b| b.label.clone());
+    let what = if a.nothing_cheaper {
+        format!("nothing is cheaper than {PHONG_EXACT} within {label}")
+    } else {
+        format!("{} is cheaper within {label}", a.method)
+    };
+    let on = match differ.as_slice() {
+        [one] => format!("on {one} alone"),
+        many => format!(
+            "on {} of the {} scenes ({})",
+            many.len(),
+            scenes.len(),
+            and_list(many)
+        ),
+    };
+    format!(
+        "Scene by scene the answer differs {on}; most widely on {}, where {what} under {} of \
+         the {} cost models (the answers per scene follow).",
+        sb.scene,
+        a.cost_models.len(),
+        models.len()
+    )
 }
 
 /// The sentence of what this run could not resolve, and of what tune found.

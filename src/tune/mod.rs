@@ -449,7 +449,7 @@ fn measure_all(
         let t = Instant::now();
         let r = registry.measure(id, methods, ev).map_err(|e| e.to_string());
         if progress {
-            eprintln!("tune: {id} measured in {:.1} s", t.elapsed().as_secs_f64());
+            log::info!("tune: {id} measured in {:.1} s", t.elapsed().as_secs_f64());
         }
         (id.clone(), r)
     };
@@ -497,9 +497,11 @@ pub fn run(
     let z = Interval::new(dom.z_range[0], dom.z_range[1]);
     timings.domain_s = start.elapsed().as_secs_f64();
     if opts.progress {
-        eprintln!(
+        log::info!(
             "tune: {name}: z in [{:.6}, {:.7}] ({:.1} s)",
-            z.lo, z.hi, timings.domain_s
+            z.lo,
+            z.hi,
+            timings.domain_s
         );
     }
     let t = Instant::now();

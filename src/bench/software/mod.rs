@@ -286,7 +286,7 @@ fn time(
     threads: usize,
 ) -> Result<(Vec<Vec<Sample>>, RoundsReport)> {
     let n = names.len();
-    eprintln!(
+    log::info!(
         "bench --engine software: {} programs on {threads} threads in the same interleaved \
          rounds: {}",
         draws.len(),

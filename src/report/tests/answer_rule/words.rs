@@ -46,8 +46,7 @@ fn the_words_state_the_common_answer_and_what_differs() {
     );
     assert_eq!(s.sentences.len(), 2, "{:?}", s.sentences);
     assert!(
-        s.sentences[1].contains("on a, 2 of the 6 budgets have another answer")
-            && s.sentences[1].contains("on b, 2 of the 6 budgets have another answer"),
+        s.sentences[1].starts_with("Scene by scene the answer differs on 2 of the 2 scenes (a and b); most widely on a, where fast is cheaper within"),
         "{}",
         s.sentences[1]
     );
@@ -156,4 +155,54 @@ fn a_tuned_winner_shows_where_its_bound_fits_the_budget() {
     for bad in [r#"{"cost_models": []}"#, r#"{"budget": -1}"#, "budget"] {
         assert!(Tuned::parse(bad, "x", path).is_err(), "{bad}");
     }
+}
+
+/// answer.md opens with the words, then the cells that differ, then the grid; the terminal
+/// shows the words and the differing cells in a few lines, never one line per cell.
+#[test]
+fn answer_md_and_the_terminal_open_with_the_words() {
+    let a = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
+    assert!(
+        !a.summary.differing.is_empty(),
+        "the fixture has differing cells"
+    );
+    let md = a.markdown();
+    let body = md.strip_prefix("# Which method to use\n\n").unwrap();
+    assert!(body.starts_with(&a.summary.sentences[0]), "{md}");
+    let differ = md.find("Cells that differ").expect("the differing cells");
+    let grid = md.find("| cost model |").expect("the grid");
+    assert!(differ < grid, "{md}");
+    let t = a.terminal();
+    assert!(t.lines().count() <= 15, "{t}");
+    assert!(t.lines().all(|l| l.chars().count() <= 100), "{t}");
+    let flat = t.split_whitespace().collect::<Vec<_>>().join(" ");
+    for w in &a.summary.sentences {
+        assert!(flat.contains(w.as_str()), "{w:?} not in {t}");
+    }
+    assert!(
+        flat.contains("Cells that differ from the common answer (2)"),
+        "{t}"
+    );
+    // Teeth: the per-cell lines (-v) are not the terminal text, and have one line per cell.
+    assert!(!t.contains("answer: "), "{t}");
+    assert_eq!(a.lines().lines().count(), a.cells.len());
+}
+
+/// However many cost models differ, the terminal lists a few groups and says how many more.
+#[test]
+fn the_terminal_caps_the_differing_cells() {
+    let models: Vec<CostModel> = (0..9)
+        .map(|k| {
+            let mut m = model(figures());
+            m.id = crate::cost::CostModelId::parse(&format!("m{k}")).unwrap();
+            m.title = format!("model {k}");
+            m
+        })
+        .collect();
+    let a = answer(&scenes(), &names(), &errors(), models);
+    let groups = a.summary.differing.len();
+    assert!(groups > 4, "{groups}");
+    let t = a.terminal();
+    assert!(t.lines().count() <= 15, "{t}");
+    assert!(t.contains("more (answer.md)"), "{t}");
 }
