@@ -1,4 +1,5 @@
-//! `shadelab demo`: every shipped scene rendered with phong_exact.
+//! `shadelab demo`: every scene of a folder drawn with phong_exact, one PNG each (a quick check
+//! that the device draws; the report of `make demo` is `shadelab report`).
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
