@@ -112,8 +112,8 @@ fn wrong_counts(c: &Counts, files: &[(PathBuf, String)]) -> Vec<String> {
     for (path, text) in files {
         let w = words(text);
         let at = |i: usize| w.get(i).map_or("", |(s, _)| s.as_str());
-        for i in 0..w.len() {
-            let Some(n) = number(at(i)) else { continue };
+        for (i, (word, line)) in w.iter().enumerate() {
+            let Some(n) = number(word) else { continue };
             let (noun, len, expected) = match (at(i + 1), at(i + 2)) {
                 ("methods", _) if at(i + 2) == "from" && at(i + 4) == "papers" => {
                     ("methods from the papers", 4, c.methods - c.guards)
@@ -135,7 +135,6 @@ fn wrong_counts(c: &Counts, files: &[(PathBuf, String)]) -> Vec<String> {
             let part = PART_AFTER.contains(&at(i + 1 + len))
                 || (i > 0 && PART_BEFORE.contains(&at(i - 1)));
             if n != expected && !part {
-                let line = w[i].1;
                 let shown = (i..=i + len).map(at).collect::<Vec<_>>().join(" ");
                 bad.push(format!(
                     "{}:{line}: \"{shown}\" ({noun}: the tool has {expected})",
@@ -454,7 +453,7 @@ fn broken_links(
             };
             let ok = exists(&page)
                 && (anchor.is_empty()
-                    || !page.extension().is_some_and(|x| x == "md")
+                    || page.extension().is_none_or(|x| x != "md")
                     || files
                         .iter()
                         .find(|(p, _)| *p == page)
@@ -527,17 +526,18 @@ fn process_words(files: &[(PathBuf, String)]) -> Vec<String> {
     for (path, text) in files {
         let w = words(text);
         let at = |i: usize| w.get(i).map_or("", |(s, _)| s.as_str());
-        for i in 0..w.len() {
+        for (i, (word, line)) in w.iter().enumerate() {
+            let word = word.as_str();
             let prev = if i > 0 { at(i - 1) } else { "" };
             let next = at(i + 1);
-            let hit = ALWAYS.contains(&at(i))
-                || (matches!(at(i), "issue" | "issues")
+            let hit = ALWAYS.contains(&word)
+                || (matches!(word, "issue" | "issues")
                     && next.starts_with(|c: char| c.is_ascii_digit()))
-                || (prev == "the" && matches!(at(i), "lead" | "leads"))
-                || (prev == "this" && at(i) == "branch")
-                || (at(i) == "moved" && next == "from" && at(i + 3) == "readme");
+                || (prev == "the" && matches!(word, "lead" | "leads"))
+                || (prev == "this" && word == "branch")
+                || (word == "moved" && next == "from" && at(i + 3) == "readme");
             if hit {
-                bad.push(format!("{}:{}: {} {}", path.display(), w[i].1, at(i), next));
+                bad.push(format!("{}:{}: {} {}", path.display(), line, word, next));
             }
         }
     }
