@@ -1,5 +1,8 @@
 //! shadelab: fast-Phong shading methods rendered through Vulkan, diffed against an f64 truth.
 //!
+//! This is the short form of ARCHITECTURE.md (at the repository's top), which adds why each
+//! seam below is where it is; docs/layout.md lists every folder.
+//!
 //! # Layers
 //! Each layer uses only the layers below it (checked by `layers_point_one_way` in tests/layout.rs):
 //!
@@ -7,7 +10,7 @@
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
 //! | report | [`report`], [`corpus`] | the main job: compare, bench and stress per scene, one offline HTML page; a mesh corpus in shards, merged |
-//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`], [`isa`], [`prove`], [`costs`], [`tune`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain; the programs compiled for AMD, Intel and NVIDIA GPU generations without the GPUs (RADV's null device, Mesa's drm-shims; a vendor per file in [`isa::vendor`]); proven error bounds by interval branch-and-bound; the inverse square root tuned to a mesh, proven and costed |
+//! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`], [`isa`], [`prove`], [`costs`], [`tune`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain; the programs compiled for the GPU families of every vendor without the GPUs (RADV's null device, Mesa's drm-shims; a vendor per file in [`isa::vendor`]); proven error bounds by interval branch-and-bound; the inverse square root tuned to a mesh, proven and costed |
 //! | judgement | [`analysis`], [`truth`], [`cases`], [`cost`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; the cases of the sweeps, shared by the jobs that sweep; cost models (one type family, their sources' interface and registry, the verdict rules); `auto`'s budget, candidates and per-triangle choice |
 //! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), [`gpu::gl`] (the only user of EGL and OpenGL), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
@@ -24,7 +27,7 @@
 //! - a method: a GLSL file in glsl/methods/, a row in [`method::table`], its f64 formula in
 //!   [`method::formulas`] (per pixel) or [`method::scanline`] (along the span, with
 //!   glsl/scanline.glsl), its twin in [`method::twins`], its claims' checks in
-//!   [`method::checks`] / [`method::scanline_checks`] (README "How to add a method");
+//!   [`method::checks`] / [`method::scanline_checks`] (docs/methods.md "How to add a method");
 //! - a metric: [`analysis`] computes it, [`compare::summary`] reports it;
 //! - a command: a file in src/cli/, calling a job of the layer below;
 //! - a cost model: a [`cost::CostSource`] beside the job that measures it, one line in

@@ -17,8 +17,8 @@ fn main() -> ExitCode {
 /// `compare`'s threads (the renderer and two workers, each peaking at a different time, with
 /// FLIP's 12 MB float images on the workers) then held each their own peak. One arena
 /// shares the freed memory between them: peak RSS of `compare` at 1024x1024 on the fine
-/// sphere 543-555 -> 466-496 MB with no more CPU time (README "Performance"). The large
-/// blocks are taken and freed a few times per method, so the lock costs nothing measurable.
+/// sphere 543-555 -> 466-496 MB with no more CPU time (docs/history/). The large blocks are
+/// taken and freed a few times per method, so the lock costs nothing measurable.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn one_malloc_arena() {
     use std::ffi::c_int;

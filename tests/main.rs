@@ -21,6 +21,9 @@
 //! - `isa_mobile`: the families of `make compilers` (Qualcomm, Arm, Broadcom, Intel Meteor Lake
 //!   to Panther Lake): every method in float32 and float16, the Phong order, refusals.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
+//! - `docs`: the documentation agrees with the tool: every count of methods, GPU families and
+//!   vendors is the library's, every path layout.md and ARCHITECTURE.md name exists, every link
+//!   between the pages resolves (the figures' rows included), no process words, closed fences.
 //! - `citations`: every `docs/formulas.md#<anchor>` the sources, docs and the method table cite
 //!   is a heading of docs/formulas.md; nothing cites a file a clone lacks.
 //! - `fuzz`: the OBJ and scene readers on mutated inputs (smoke run; scripts/fuzz.sh runs 1M).
@@ -39,6 +42,7 @@ mod cli;
 mod compare;
 mod corpus;
 mod costs;
+mod docs;
 mod float16;
 mod fuzz;
 mod gpu;

@@ -14,9 +14,10 @@ use super::AutoSpec;
 use crate::scene::SceneInputs;
 
 /// The cost of one extra program, as a share of the frame's shading work drawn with the one
-/// program. Calibrated on lavapipe from the skips table (README "Skip", `scripts/bench.sh
-/// skip`): suzanne's four programs drew at 1.103x the frame of one, ~3.4 % of the frame per
-/// extra program, and shading is only part of a frame, hence 5 % of the shading work.
+/// program. Calibrated on lavapipe from the skips table (`scripts/bench.sh skip`; the figure
+/// is in docs/history/figures-2026-11-27.md): suzanne's four programs drew at 1.103x the frame
+/// of one, ~3.4 % of the frame per extra program, and shading is only part of a frame, hence
+/// 5 % of the shading work.
 pub const SWITCH_COST: f64 = 0.05;
 
 /// What the grouping decided, for the outputs.

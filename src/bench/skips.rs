@@ -1,6 +1,6 @@
 //! `shadelab skips`: what each skip of the renderer saves on one scene, measured. The same
 //! phong_exact draw is timed in the same interleaved rounds ([`super::rounds`]) as uploaded
-//! and recorded in several ways: as milestone 1 drew it (no culling, a normal target, the
+//! and recorded in several ways: with nothing skipped (no culling, a normal target, the
 //! mesh's own triangle order), then with back-face culling (only where the scene culls: a
 //! closed, consistently oriented mesh), without the normal target nobody reads when timing,
 //! with a depth pre-pass or with the triangles sorted front to back, and `auto` at an error
@@ -68,7 +68,7 @@ impl Variant {
     }
 }
 
-/// The rows of a study: `none` (milestone 1's draw) first, then each skip added in turn, the
+/// The rows of a study: `none` (nothing skipped) first, then each skip added in turn, the
 /// renderer's default among them; rows that need culling only when the scene culls.
 pub fn variants(culls: bool) -> Vec<Variant> {
     let none = Variant {
@@ -136,7 +136,7 @@ pub struct SkipRow {
     pub median_ms: f64,
     pub ci95_low_ms: f64,
     pub ci95_high_ms: f64,
-    /// Paired per-round ratio to `none` (milestone 1's draw).
+    /// Paired per-round ratio to `none` (nothing skipped).
     pub ratio_to_none: RatioEstimate,
     pub speed_vs_none: Speed,
     /// Paired per-round ratio to the renderer's default phong_exact draw.

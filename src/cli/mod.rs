@@ -116,7 +116,7 @@ struct DeviceArgs {
     engine: EngineArg,
 }
 
-/// `--precision`, shared by render, compare, stress, bench and isa (issue 23).
+/// `--precision`, shared by render, compare, stress, bench and isa.
 #[derive(Args, Debug, Clone, Copy)]
 pub(super) struct PrecisionArgs {
     /// Arithmetic of the method programs: f32, or f16 (the same GLSL compiled with float16_t:
@@ -328,8 +328,8 @@ enum Command {
     /// that none is cheaper than phong_exact (docs/tune.md).
     Tune(self::tune::TuneArgs),
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
-    /// no skip (milestone 1's draw), back-face culling, no normal target, a depth pre-pass,
-    /// front-to-back order, and `auto`; fragment invocations and paired frame-time ratios.
+    /// nothing skipped, back-face culling, no normal target, a depth pre-pass, front-to-back
+    /// order, and `auto`; fragment invocations and paired frame-time ratios.
     Skips(SkipsCmd),
     /// What a scene needs: topology (culling), the spread of its vertex normals against each
     /// method's measured validity range, triangle sizes and facing, lighting, what is skipped.

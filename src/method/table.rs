@@ -1,5 +1,5 @@
 //! Every method as one row: name, citation, inputs, validity, claims, GLSL file, f64 twin.
-//! To add a method, add its row here (README "How to add a method").
+//! To add a method, add its row here (docs/methods.md "How to add a method").
 use super::*;
 
 use crate::method::checks;
