@@ -6,7 +6,8 @@
 //!
 //! Lines go to stderr as they are, one per record (stdout is kept for a command's result, such
 //! as the report's path). While a progress bar is drawn ([`show_bar`]), a line is printed above
-//! it rather than through it.
+//! it rather than through it: the logger suspends the bar for the line, so nothing may log
+//! inside the bar's own `suspend` (it holds the bar's lock: a deadlock).
 use std::io::Write as _;
 use std::sync::Mutex;
 

@@ -347,9 +347,9 @@ impl SceneRun<'_> {
             costs: self.opts.costs.clone(),
             ..BenchOptions::default()
         };
-        let bench = self.bar.suspend(|| {
-            crate::bench::bench(self.renderer, &s.scene, self.methods, &bdir, &bopts)
-        })?;
+        // What the jobs log goes above the bar (output::terminal); the bar is not suspended
+        // around them, which would hold its lock while they log.
+        let bench = crate::bench::bench(self.renderer, &s.scene, self.methods, &bdir, &bopts)?;
         self.bar.inc(1);
         let pareto = pareto_charts(&bdir, &bench_dir)?;
         step(self.bar, self.opts.progress, format!("{id}: skips"));
@@ -361,9 +361,12 @@ impl SceneRun<'_> {
             auto: self.auto.clone(),
             command_line: std::env::args().collect(),
         };
-        let skips = self.bar.suspend(|| {
-            crate::bench::skips::skips(self.renderer, &s.scene, &self.out.join(&skips_dir), &sopts)
-        })?;
+        let skips = crate::bench::skips::skips(
+            self.renderer,
+            &s.scene,
+            &self.out.join(&skips_dir),
+            &sopts,
+        )?;
         self.bar.inc(1);
         step(
             self.bar,
@@ -371,9 +374,7 @@ impl SceneRun<'_> {
             format!("{id}: software engine"),
         );
         let software_dir = format!("scenes/{id}/software");
-        let software = self
-            .bar
-            .suspend(|| self.software(s, &self.out.join(&software_dir)))?;
+        let software = self.software(s, &self.out.join(&software_dir))?;
         let plan = crate::plan::plan(&s.scene);
         let plan_json = format!("scenes/{id}/plan.json");
         let text =
