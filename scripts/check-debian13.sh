@@ -39,7 +39,7 @@ mirror=$(
     grep -h '^deb ' /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null |
       sed 's/\[[^]]*\]//' | awk '{print $2}'
   } | grep -v -e security -e backports | head -n 1
-)
+) || true
 mirror=${mirror:-http://deb.debian.org/debian}
 
 sysroot=$(rustc --print sysroot 2>/dev/null) ||
