@@ -14,7 +14,7 @@ fn options(methods: &[&str], families: &[&str]) -> IsaOptions {
     IsaOptions {
         methods: methods.iter().map(|m| method::find(m).unwrap()).collect(),
         families: families.iter().map(|f| f.to_string()).collect(),
-        driver_files: PathBuf::from(isa::DEFAULT_DRIVER_FILES),
+        driver_files: None,
         scene: None,
         exe: PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision: Precision::F32,
@@ -463,7 +463,7 @@ fn vendors_ready(test: &str, families: &[&str]) -> bool {
 pub(crate) fn families_ready(test: &str, families: &[&str], require: &str) -> bool {
     for f in families {
         let (vendor, chip) = isa::vendor::resolve(f).unwrap();
-        if let Err(why) = vendor.setup_for(&chip, std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
+        if let Err(why) = vendor.setup_for(&chip, None) {
             let msg = format!(
                 "{test}: {f} is not set up ({why}); run {}",
                 vendor.setup_command_for(&chip)

@@ -217,7 +217,10 @@ impl Targets {
             .chain(&self.normal)
             .map(|image| ColorTarget { image, clear })
             .collect();
-        cmd.begin_rendering(&colors, Some(&self.depth));
+        // The normal's slot stays, without an image, when these targets have none
+        // ([`color_formats`]).
+        let unused = usize::from(self.normal.is_none());
+        cmd.begin_rendering_unused(&colors, unused, Some(&self.depth));
     }
 }
 
@@ -266,12 +269,15 @@ pub struct Renderer {
 
 pub(crate) const COLOR: Format = Format::Rgba32Float;
 
-/// The colour attachments of a method pass: colour, and the normal target when there is one.
+/// The colour attachments of a method pass: colour, and the normal target when there is one,
+/// else an unused slot (the method programs write the normal at location 1 whatever the pass:
+/// the slot without an image discards it, and the driver compiles no store for it, so a timed
+/// draw's program costs what it did without the slot).
 pub(super) fn color_formats(normal: bool) -> &'static [Format] {
     if normal {
         &[COLOR, COLOR]
     } else {
-        &[COLOR]
+        &[COLOR, Format::Unused]
     }
 }
 pub(crate) const PRIM: Format = Format::R32Uint;
