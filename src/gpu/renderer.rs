@@ -217,10 +217,7 @@ impl Targets {
             .chain(&self.normal)
             .map(|image| ColorTarget { image, clear })
             .collect();
-        // The normal's slot stays, without an image, when these targets have none
-        // ([`color_formats`]).
-        let unused = usize::from(self.normal.is_none());
-        cmd.begin_rendering_unused(&colors, unused, Some(&self.depth));
+        cmd.begin_rendering(&colors, Some(&self.depth));
     }
 }
 
@@ -269,15 +266,12 @@ pub struct Renderer {
 
 pub(crate) const COLOR: Format = Format::Rgba32Float;
 
-/// The colour attachments of a method pass: colour, and the normal target when there is one,
-/// else an unused slot (the method programs write the normal at location 1 whatever the pass:
-/// the slot without an image discards it, and the driver compiles no store for it, so a timed
-/// draw's program costs what it did without the slot).
+/// The colour attachments of a method pass: colour, and the normal target when there is one.
 pub(super) fn color_formats(normal: bool) -> &'static [Format] {
     if normal {
         &[COLOR, COLOR]
     } else {
-        &[COLOR, Format::Unused]
+        &[COLOR]
     }
 }
 pub(crate) const PRIM: Format = Format::R32Uint;
@@ -426,7 +420,9 @@ impl Renderer {
         color_write: bool,
     ) -> Result<GraphicsPipeline> {
         let vs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "vert")?)?;
-        let fs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "frag")?)?;
+        // A pass without the normal target gets the program without the normal output.
+        let stage = shaders::fragment_stage(colors.len());
+        let fs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, stage)?)?;
         GraphicsPipeline::new(
             &self.ctx,
             &PipelineDesc {

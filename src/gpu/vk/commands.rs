@@ -110,20 +110,6 @@ impl OneShot {
     /// zeroes what it reads), so a clear to zero bits is a load there: no clear by the driver
     /// (lavapipe fills a 16-byte texel with one `memcpy` call per pixel).
     pub fn begin_rendering(&mut self, colors: &[ColorTarget], depth: Option<&Image>) {
-        self.begin_rendering_unused(colors, 0, depth);
-    }
-
-    /// [`OneShot::begin_rendering`] with `unused` colour slots after `colors`, each without an
-    /// image view: a fragment program's outputs there are discarded (the pipeline's format for
-    /// them is [`super::Format::Unused`]), and the rendering still has a slot for every output
-    /// the program writes (Khronos validation layer 1.4.309 reports an output without one:
-    /// Undefined-Value-ShaderOutputNotConsumed-DynamicRendering).
-    pub fn begin_rendering_unused(
-        &mut self,
-        colors: &[ColorTarget],
-        unused: usize,
-        depth: Option<&Image>,
-    ) {
         let (w, h) = match (colors.first(), depth) {
             (Some(c), _) => (c.image.desc.width, c.image.desc.height),
             (None, Some(d)) => (d.desc.width, d.desc.height),
@@ -150,7 +136,7 @@ impl OneShot {
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
             );
         }
-        let mut color_infos: Vec<_> = colors
+        let color_infos: Vec<_> = colors
             .iter()
             .map(|c| {
                 let host = c.image.is_host_target();
@@ -172,9 +158,6 @@ impl OneShot {
                     })
             })
             .collect();
-        // VK_NULL_HANDLE views: "writes to [that] attachment are discarded" (Vulkan 1.3,
-        // VkRenderingAttachmentInfo).
-        color_infos.extend((0..unused).map(|_| vk::RenderingAttachmentInfo::default()));
         let depth_info = depth.map(|d| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(d.view)

@@ -15,9 +15,6 @@ pub enum Format {
     R32Uint,
     /// 32-bit float depth.
     Depth32Float,
-    /// A colour attachment slot a pipeline leaves unused (`VK_FORMAT_UNDEFINED`): the fragment
-    /// program's output there is discarded, and the rendering gives that slot no image view.
-    Unused,
 }
 
 impl Format {
@@ -27,7 +24,6 @@ impl Format {
             Format::Rgb32Float => vk::Format::R32G32B32_SFLOAT,
             Format::R32Uint => vk::Format::R32_UINT,
             Format::Depth32Float => vk::Format::D32_SFLOAT,
-            Format::Unused => vk::Format::UNDEFINED,
         }
     }
 
@@ -37,7 +33,6 @@ impl Format {
             Format::Rgba32Float => 16,
             Format::Rgb32Float => 12,
             Format::R32Uint | Format::Depth32Float => 4,
-            Format::Unused => 0,
         }
     }
 
