@@ -182,7 +182,11 @@ fn shaderc_link() -> String {
     format!(
         "static {} + {} from {} (names: {from})",
         combined.display(),
-        found.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(" "),
+        found
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .collect::<Vec<_>>()
+            .join(" "),
         searched.join(":")
     )
 }

@@ -49,21 +49,10 @@ pub const EXIT_THRESHOLD: u8 = 1;
 /// Exit code: usage, input or runtime error.
 pub const EXIT_ERROR: u8 = 2;
 
-/// `shadelab --version`: the version, the git revision and how the shader compiler was linked
-/// (build.rs's choice: which archives or library, from which folder).
-pub const LONG_VERSION: &str = concat!(
-    env!("CARGO_PKG_VERSION"),
-    " (git ",
-    env!("SHADELAB_GIT_REVISION"),
-    ")\nshader compiler: ",
-    env!("SHADELAB_SHADERC_LINK")
-);
-
 #[derive(Parser, Debug)]
 #[command(
     name = "shadelab",
-    version,
-    long_version = LONG_VERSION,
+    version, long_version = crate::output::provenance::LONG_VERSION,
     about = "Fast Phong-shading methods against exact Phong, on software Vulkan"
 )]
 pub struct Cli {

@@ -249,7 +249,10 @@ mod tests {
         let why = find_driver_in(&paths, "libvulkan_lvp.so", "mesa-vulkan-drivers")
             .err()
             .unwrap_or_default();
-        assert!(why.contains("no Vulkan ICD manifest names libvulkan_lvp.so"), "{why}");
+        assert!(
+            why.contains("no Vulkan ICD manifest names libvulkan_lvp.so"),
+            "{why}"
+        );
         assert!(why.contains(&icd.display().to_string()), "{why}");
     }
 
@@ -259,7 +262,11 @@ mod tests {
         // A file that exists but is no ELF library of this machine (an i386 one would be
         // refused the same way: its e_machine differs).
         let foreign = dir.path().join("libvulkan_radeon.so");
-        std::fs::write(&foreign, b"\x7fELF\x01\x01\x01\0\0\0\0\0\0\0\0\0\x03\0\x03\0").unwrap();
+        std::fs::write(
+            &foreign,
+            b"\x7fELF\x01\x01\x01\0\0\0\0\0\0\0\0\0\x03\0\x03\0",
+        )
+        .unwrap();
         write(
             &dir.path().join("radeon_icd.i686.json"),
             &foreign.display().to_string(),
@@ -274,7 +281,10 @@ mod tests {
         std::fs::create_dir(&own).unwrap();
         let lib = own.join("libvulkan_radeon.so");
         std::os::unix::fs::symlink(std::env::current_exe().unwrap(), &lib).unwrap();
-        write(&dir.path().join("radeon_icd.x86.json"), &lib.display().to_string());
+        write(
+            &dir.path().join("radeon_icd.x86.json"),
+            &lib.display().to_string(),
+        );
         let m = find_driver_in(&paths, "libvulkan_radeon.so", "x").unwrap();
         assert_eq!(m.path, dir.path().join("radeon_icd.x86.json"));
     }
@@ -284,7 +294,13 @@ mod tests {
         let paths = search_paths();
         // The standard system folders are searched whatever the environment (XDG_DATA_DIRS
         // unset means /usr/local/share:/usr/share).
-        assert!(paths.iter().any(|p| p.ends_with("vulkan/icd.d")), "{paths:?}");
-        assert!(paths.contains(&PathBuf::from("/etc/vulkan/icd.d")), "{paths:?}");
+        assert!(
+            paths.iter().any(|p| p.ends_with("vulkan/icd.d")),
+            "{paths:?}"
+        );
+        assert!(
+            paths.contains(&PathBuf::from("/etc/vulkan/icd.d")),
+            "{paths:?}"
+        );
     }
 }

@@ -624,15 +624,8 @@ pub fn answer_with(i: Inputs) -> Answer {
             per_scene.push(super::summary::scene_budget(s, &b.id, &of));
         }
     }
-    let summary =
-    super::summary::summarize(
-        &cells,
-        &budgets,
-        i.scenes,
-        &i.models,
-        per_scene,
-        i.tuned,
-        i.missing,
+    let summary = super::summary::summarize(
+        &cells, &budgets, i.scenes, &i.models, per_scene, i.tuned, i.missing,
     );
     Answer {
         schema_version: SCHEMA_VERSION,

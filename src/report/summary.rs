@@ -553,7 +553,9 @@ mod tests {
         .unwrap();
         assert!(s.contains("3 cost models in all"), "{s}");
         assert!(
-            s.contains(&format!("2 cost models (isa:amd:tahiti, isa:amd:navi21): {amd}")),
+            s.contains(&format!(
+                "2 cost models (isa:amd:tahiti, isa:amd:navi21): {amd}"
+            )),
             "{s}"
         );
         assert!(s.contains("1 cost model (isa:intel:mtl)"), "{s}");

@@ -28,7 +28,9 @@ pub const RENAMED: [(&str, &str); 5] = [
 
 /// Whether a dotted version ("1.4.305") is at least `(major, minor)`.
 pub fn version_at_least(version: &str, want: (u32, u32)) -> bool {
-    let mut parts = version.split('.').map(|p| p.trim().parse::<u32>().unwrap_or(0));
+    let mut parts = version
+        .split('.')
+        .map(|p| p.trim().parse::<u32>().unwrap_or(0));
     let major = parts.next().unwrap_or(0);
     let minor = parts.next().unwrap_or(0);
     (major, minor) >= want
@@ -184,7 +186,9 @@ mod tests {
         assert!(Amd.check_device("gfx1100", "AMD RADV GFX1100").is_ok());
         // Teeth: another chip's device is refused, and so is a software renderer.
         assert!(Amd.check_device("gfx1100", "AMD RADV NAVI21").is_err());
-        assert!(Amd.check_device("navi21", "llvmpipe (LLVM 19.1.7, 256 bits)").is_err());
+        assert!(Amd
+            .check_device("navi21", "llvmpipe (LLVM 19.1.7, 256 bits)")
+            .is_err());
         assert!(Amd.unknown_chip("radv: Unknown family: gfx1100"));
         assert!(!Amd.unknown_chip("killed by signal 8"));
         assert!(version_at_least("1.4.305", (1, 4)));

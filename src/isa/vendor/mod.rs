@@ -124,7 +124,11 @@ pub trait Vendor: Sync {
     fn setup_command(&self) -> &'static str;
     /// The set-up of `chip` (a vendor whose newer chips need another build: Intel's Meteor
     /// Lake and later need ANV 25.0.7 of `make compilers`); the route's by default.
-    fn setup_for(&self, _chip: &str, driver_files: Option<&std::path::Path>) -> Result<Setup, String> {
+    fn setup_for(
+        &self,
+        _chip: &str,
+        driver_files: Option<&std::path::Path>,
+    ) -> Result<Setup, String> {
         self.setup(driver_files)
     }
     /// The command that sets `chip` up; the route's by default.
