@@ -16,6 +16,9 @@
 # Exit status: 0 when both pass, 1 when either fails, 2 when the root cannot be made.
 # Environment: SHADELAB_DEBIAN13_FRESH=1 starts from a new root; SHADELAB_REQUIRE_* variables
 # are passed in (as .ci/run sets them).
+# Usage: scripts/check-debian13.sh              make demo, then make test
+#        scripts/check-debian13.sh --run CMD    CMD alone in the clone (e.g. one test), logged
+#                                               as run.log and printed
 set -euo pipefail
 
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -128,6 +131,13 @@ in_root() {
 }
 
 times=()
+if [ "${1:-}" = "--run" ]; then
+  shift
+  status=0
+  in_root run "$*" || status=$?
+  cat "$logs/run.log"
+  exit $status
+fi
 demo=0 tests=0
 in_root deps "scripts/install-deps.sh build" || die "the build packages did not install"
 in_root demo "make demo" || demo=1
