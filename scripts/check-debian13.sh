@@ -50,8 +50,16 @@ sysroot=$(rustc --print sysroot 2>/dev/null) ||
 models="${SHADELAB_MODELS:-$repo/../shared/models}"
 
 mounted=()
+child=""
 cleanup() {
   local i
+  # What runs in the root first (its own session: setsid below), then the mounts.
+  if [ -n "$child" ]; then
+    kill -TERM -- "-$child" 2>/dev/null || true
+    sleep 2
+    kill -KILL -- "-$child" 2>/dev/null || true
+    child=""
+  fi
   for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do
     umount "${mounted[$i]}" 2>/dev/null || umount -l "${mounted[$i]}" 2>/dev/null ||
       say "could not unmount ${mounted[$i]}"
@@ -118,12 +126,15 @@ in_root() {
   local name=$1 cmd=$2 env=(HOME=/root LANG=C.UTF-8 TERM=dumb CARGO_HOME=/root/.cargo
     PATH=/opt/rust/bin:/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin)
   local v
-  for v in $(env | sed -n 's/^\(SHADELAB_REQUIRE_[A-Z_]*\)=.*/\1/p'); do env+=("$v=${!v}"); done
+  for v in $(env | sed -n 's/^\(SHADELAB_REQUIRE_[A-Z_]*\)=..*/\1/p'); do env+=("$v=${!v}"); done
   [ -d "$models" ] && env+=(SHADELAB_MODELS=/root/shared/models)
   local s=$(date +%s) status=0
   say "$name ..."
-  chroot "$root" /usr/bin/env -i "${env[@]}" /bin/bash -c "cd /root/shadelab && $cmd" \
-    >"$logs/$name.log" 2>&1 || status=$?
+  setsid chroot "$root" /usr/bin/env -i "${env[@]}" /bin/bash -c "cd /root/shadelab && $cmd" \
+    >"$logs/$name.log" 2>&1 &
+  child=$!
+  wait "$child" || status=$?
+  child=""
   times+=("$name: $([ $status -eq 0 ] && echo PASS || echo "FAIL (exit $status)") in $(($(date +%s) - s)) s (log: $logs/$name.log)")
   say "${times[-1]}"
   [ $status -eq 0 ] || tail -n 30 "$logs/$name.log" | sed 's/^/check-debian13:   /' >&2

@@ -162,6 +162,7 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
             Err(f) if i + 1 < names.len() && family.vendor.unknown_chip(&f.why) => {
                 refused.push(format!("`{name}`: {}", f.why));
             }
+            Err(f) if refused.is_empty() => return ChildOutcome::Failed(f.why),
             Err(f) => {
                 refused.push(format!("`{name}`: {}", f.why));
                 return ChildOutcome::Failed(refused.join("; "));
