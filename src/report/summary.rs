@@ -7,8 +7,8 @@
 //!   alone (a real mesh allows what the 12-triangle cube forbids), grouped by answer;
 //! - the interval models' cells this run cannot resolve ([`super::answer::Cell::unresolved`]);
 //! - what `shadelab tune` found, when the report was given its output ([`super::tuned`]);
-//! - [`Summary::sentences`]: one to three sentences saying what holds everywhere, then what
-//!   differs. The browser test derives the same facts from answer.json's cells and checks the
+//! - [`Summary::sentences`]: sentences saying what holds everywhere, then what differs, then
+//!   the cost models this run lost ([`Summary::missing`], each with why). The browser test derives the same facts from answer.json's cells and checks the
 //!   page against them.
 use serde::{Deserialize, Serialize};
 
@@ -75,7 +75,8 @@ pub struct Summary {
     /// the driver refused), each with why; the last sentence names them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub missing: Vec<Missing>,
-    /// One to three sentences: what holds across every cost model and scene, then what differs.
+    /// One to four sentences: what holds across every cost model and scene, then what differs,
+    /// then what this run cannot resolve, then the cost models it lost ([`Summary::missing`]).
     pub sentences: Vec<String>,
 }
 
