@@ -132,7 +132,7 @@ fn shaderc_link() -> String {
     let Some(combined) = find(&dirs, "libshaderc_combined.a") else {
         // shaderc-sys then links libshaderc.so, or builds shaderc from source.
         return match find(&dirs, "libshaderc.so") {
-            Some(so) if probe(&[so.clone()], &cxx).is_ok() => {
+            Some(so) if probe(std::slice::from_ref(&so), &cxx).is_ok() => {
                 warn(&format!(
                     "no libshaderc_combined.a; linking {} (complete: it carries glslang)",
                     so.display()
@@ -147,7 +147,7 @@ fn shaderc_link() -> String {
             }
         };
     };
-    if probe(&[combined.clone()], &cxx).is_ok() {
+    if probe(std::slice::from_ref(&combined), &cxx).is_ok() {
         link_cxx(&cxx);
         return format!("static {} (complete)", combined.display());
     }
