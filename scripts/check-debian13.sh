@@ -107,6 +107,9 @@ say "clone at $(git -C "$src" rev-parse --short=12 HEAD)"
 
 mnt "$root/proc" -t proc proc
 mnt "$root/sys" -t sysfs sysfs
+# Slurm 24.11's slurmd needs the cgroup filesystem a booted Debian 13 has ("No filesystem
+# mounted on /sys/fs/cgroup" otherwise).
+[ -d /sys/fs/cgroup ] && mnt "$root/sys/fs/cgroup" --bind /sys/fs/cgroup
 mnt "$root/dev" --bind /dev
 mnt "$root/dev/pts" --bind /dev/pts
 mnt "$root/dev/shm" -t tmpfs tmpfs
