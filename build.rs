@@ -1,31 +1,30 @@
-//! Build script: links Debian's static glslang / SPIRV-Tools for shaderc, and embeds spirv/.
+//! Build script: finds the shader compiler's libraries, and embeds spirv/ and glsl/.
 //!
-//! 1. shaderc-sys with `prefer-static-linking` links `libshaderc_combined.a`, which on Debian holds
-//!    only shaderc's own objects; the glslang and SPIRV-Tools archives must follow it
-//!    (measured in ../shared/TOOLCHAIN.md: dynamic linking and the combined archive alone both fail).
-//! 3. The git revision (`SHADELAB_GIT_REVISION`, "unknown" outside a git checkout) for reports.
-//! 2. Every `spirv/*.spv` file is embedded with `include_bytes!` through a generated table, so the
+//! 1. shaderc-sys with `prefer-static-linking` links `libshaderc_combined.a`. Debian's holds
+//!    only shaderc's own objects, so glslang's and SPIRV-Tools' archives must follow it
+//!    (../shared/TOOLCHAIN.md: the combined archive alone fails; Debian 12's libshaderc.so is
+//!    under-linked). Nothing about the platform is assumed ([`shaderc_link`]): the library
+//!    folders are those pkg-config and the C compiler (`cc -print-search-dirs`) report, the
+//!    archives those that exist there (glslang 15 of Debian 13 has no libOGLCompiler.a and
+//!    folds its parts into libglslang.a), and a small C program linked the same way tells
+//!    whether a choice is complete before cargo's link does. The choice is baked in as
+//!    `SHADELAB_SHADERC_LINK` (`shadelab --version`) and printed in the build's output;
+//!    a `cargo:warning` only when it is not the usual one.
+//! 2. The git revision (`SHADELAB_GIT_REVISION`, "unknown" outside a git checkout) for reports.
+//! 3. Every `spirv/*.spv` file is embedded with `include_bytes!` through a generated table, so the
 //!    binary is self-contained and `make spirv` is the only step that changes shaders.
 //! 4. Every top-level `glsl/*` source is embedded with `include_str!` (`EMBEDDED_GLSL`), so a
 //!    user's method (`--method-file`, issue 28) compiles at run time outside the repository.
-use std::{env, fs, path::Path};
+use std::{
+    env, fs,
+    path::{Path, PathBuf},
+    process::Command,
+};
 
 fn main() {
-    for lib in [
-        "glslang",
-        "MachineIndependent",
-        "GenericCodeGen",
-        "OSDependent",
-        "OGLCompiler",
-        "SPIRV",
-        "glslang-default-resource-limits",
-        "SPIRV-Tools-opt",
-        "SPIRV-Tools",
-    ] {
-        println!("cargo:rustc-link-lib=static={lib}");
-    }
-    println!("cargo:rustc-link-search=native=/usr/lib/x86_64-linux-gnu");
-    println!("cargo:rustc-link-lib=dylib=stdc++");
+    let choice = shaderc_link();
+    println!("shadelab build: shader compiler: {choice}");
+    println!("cargo:rustc-env=SHADELAB_SHADERC_LINK={choice}");
 
     let root = env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
     let spirv = Path::new(&root).join("spirv");
@@ -97,4 +96,228 @@ fn embed_glsl(glsl: &Path, table: &mut String) {
         ));
     }
     table.push_str("];\n");
+}
+
+/// The archives of glslang and SPIRV-Tools that shaderc's objects need, in link order (a
+/// library before the ones it calls): those pkg-config names for glslang and SPIRV-Tools where
+/// it has them, and the parts glslang's own build installs (its CMake targets; a newer glslang
+/// keeps some as empty stubs and drops OGLCompiler). Only the ones whose archive exists are
+/// linked.
+const GLSLANG_PARTS: [&str; 8] = [
+    "glslang",
+    "MachineIndependent",
+    "OSDependent",
+    "OGLCompiler",
+    "GenericCodeGen",
+    "HLSL",
+    "SPIRV",
+    "glslang-default-resource-limits",
+];
+const SPIRV_TOOLS_PARTS: [&str; 2] = ["SPIRV-Tools-opt", "SPIRV-Tools"];
+
+/// Links what shaderc's objects need and says what was chosen (one line).
+fn shaderc_link() -> String {
+    for var in [
+        "SHADERC_LIB_DIR",
+        "PKG_CONFIG_PATH",
+        "PKG_CONFIG_LIBDIR",
+        "CC",
+        "CXXSTDLIB",
+    ] {
+        println!("cargo:rerun-if-env-changed={var}");
+    }
+    let dirs = library_dirs();
+    let shown = |d: &Path| d.display().to_string();
+    let cxx = env::var("CXXSTDLIB").unwrap_or_else(|_| "stdc++".into());
+    let Some(combined) = find(&dirs, "libshaderc_combined.a") else {
+        // shaderc-sys then links libshaderc.so, or builds shaderc from source.
+        return match find(&dirs, "libshaderc.so") {
+            Some(so) if probe(std::slice::from_ref(&so), &cxx).is_ok() => {
+                warn(&format!(
+                    "no libshaderc_combined.a; linking {} (complete: it carries glslang)",
+                    so.display()
+                ));
+                format!("dynamic {}", so.display())
+            }
+            _ => {
+                warn(
+                    "neither libshaderc_combined.a nor a complete libshaderc.so in the library                      folders; shaderc-sys builds shaderc from source (cmake, about 13 minutes):                      install libshaderc-dev (scripts/install-deps.sh build) to avoid it",
+                );
+                "built from source by shaderc-sys".into()
+            }
+        };
+    };
+    if probe(std::slice::from_ref(&combined), &cxx).is_ok() {
+        link_cxx(&cxx);
+        return format!("static {} (complete)", combined.display());
+    }
+    let (names, from) = archive_names();
+    let mut found: Vec<(String, PathBuf)> = Vec::new();
+    for n in names {
+        if let Some(a) = find(&dirs, &format!("lib{n}.a")) {
+            if !found.iter().any(|(m, _)| *m == n) {
+                found.push((n, a));
+            }
+        }
+    }
+    let mut files = vec![combined.clone()];
+    files.extend(found.iter().map(|(_, a)| a.clone()));
+    if let Err(why) = probe(&files, &cxx) {
+        warn(&format!(
+            "{} and the archives {} do not link a shaderc program ({why}); the build's link will              fail: install libshaderc-dev, glslang-dev and spirv-tools (scripts/install-deps.sh              build) or set SHADERC_LIB_DIR",
+            combined.display(),
+            found.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ")
+        ));
+    }
+    let mut searched: Vec<String> = Vec::new();
+    for (n, a) in &found {
+        let dir = a.parent().map(shown).unwrap_or_default();
+        if !searched.contains(&dir) {
+            println!("cargo:rustc-link-search=native={dir}");
+            searched.push(dir);
+        }
+        println!("cargo:rustc-link-lib=static={n}");
+    }
+    link_cxx(&cxx);
+    format!(
+        "static {} + {} from {} (names: {from})",
+        combined.display(),
+        found
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .collect::<Vec<_>>()
+            .join(" "),
+        searched.join(":")
+    )
+}
+
+fn link_cxx(cxx: &str) {
+    println!("cargo:rustc-link-lib=dylib={cxx}");
+}
+
+fn warn(text: &str) {
+    println!("cargo:warning=shaderc: {text}");
+}
+
+/// The library folders, most specific first: `SHADERC_LIB_DIR` (shaderc-sys's own variable),
+/// pkg-config's `libdir` of shaderc, glslang and SPIRV-Tools, then the C compiler's search
+/// path (`cc -print-search-dirs`: the folders the system linker searches, the platform's
+/// multiarch folder among them). Only folders that exist, each once.
+fn library_dirs() -> Vec<PathBuf> {
+    let mut dirs: Vec<PathBuf> = Vec::new();
+    if let Some(d) = env::var_os("SHADERC_LIB_DIR") {
+        dirs.push(PathBuf::from(d));
+    }
+    for pkg in ["shaderc", "glslang", "SPIRV-Tools"] {
+        if let Some(d) = run("pkg-config", &["--variable=libdir", pkg]) {
+            dirs.push(PathBuf::from(d.trim()));
+        }
+    }
+    let cc = env::var("CC").unwrap_or_else(|_| "cc".into());
+    if let Some(out) = run(&cc, &["-print-search-dirs"]) {
+        for line in out.lines() {
+            if let Some(list) = line.strip_prefix("libraries: =") {
+                dirs.extend(list.split(':').filter(|d| !d.is_empty()).map(PathBuf::from));
+            }
+        }
+    }
+    let mut seen: Vec<PathBuf> = Vec::new();
+    for d in dirs {
+        if let Ok(c) = fs::canonicalize(&d) {
+            if c.is_dir() && !seen.contains(&c) {
+                seen.push(c);
+            }
+        }
+    }
+    seen
+}
+
+/// The archive names to look for, in link order, and where they came from.
+fn archive_names() -> (Vec<String>, &'static str) {
+    let libs = |pkg: &str| -> Vec<String> {
+        run("pkg-config", &["--libs-only-l", "--static", pkg])
+            .map(|o| {
+                o.split_whitespace()
+                    .filter_map(|t| t.strip_prefix("-l"))
+                    .map(String::from)
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let (glslang, tools) = (libs("glslang"), libs("SPIRV-Tools"));
+    let from = if glslang.is_empty() && tools.is_empty() {
+        "glslang's and SPIRV-Tools' build targets"
+    } else {
+        "pkg-config, then glslang's and SPIRV-Tools' build targets"
+    };
+    let mut names: Vec<String> = Vec::new();
+    let parts = glslang
+        .into_iter()
+        .chain(GLSLANG_PARTS.map(String::from))
+        .chain(tools.into_iter().filter(|n| n.starts_with("SPIRV-Tools")))
+        .chain(SPIRV_TOOLS_PARTS.map(String::from));
+    for n in parts {
+        // pkg-config's system libraries (pthread, m) are not archives of ours.
+        if !names.contains(&n) && n != "pthread" && n != "m" {
+            names.push(n);
+        }
+    }
+    // SPIRV-Tools-opt calls SPIRV-Tools: keep the core library last.
+    if let Some(i) = names.iter().position(|n| n == "SPIRV-Tools") {
+        let core = names.remove(i);
+        names.push(core);
+    }
+    (names, from)
+}
+
+/// The first `dir/name` that exists.
+fn find(dirs: &[PathBuf], name: &str) -> Option<PathBuf> {
+    dirs.iter().map(|d| d.join(name)).find(|p| p.exists())
+}
+
+/// `program args` when it ran and succeeded: its stdout.
+fn run(program: &str, args: &[&str]) -> Option<String> {
+    let out = Command::new(program).args(args).output().ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// Links a C program that creates a shaderc compiler and compiles with it against `libs`
+/// (archives or shared libraries, in order) and the C++ runtime: whether the libraries are
+/// complete, before cargo's own link says so with a page of undefined symbols.
+fn probe(libs: &[PathBuf], cxx: &str) -> Result<(), String> {
+    let out = PathBuf::from(env::var("OUT_DIR").map_err(|e| e.to_string())?);
+    let src = out.join("shaderc_probe.c");
+    fs::write(
+        &src,
+        "void *shaderc_compiler_initialize(void);\n\
+         void *shaderc_compile_options_initialize(void);\n\
+         void *shaderc_compile_into_spv(void *, const char *, unsigned long, int, const char *,\n\
+                                        const char *, void *);\n\
+         void shaderc_compiler_release(void *);\n\
+         int main(void) {\n\
+           void *c = shaderc_compiler_initialize();\n\
+           void *o = shaderc_compile_options_initialize();\n\
+           shaderc_compile_into_spv(c, \"void main(){}\", 13, 0, \"p\", \"main\", o);\n\
+           shaderc_compiler_release(c);\n\
+           return 0;\n\
+         }\n",
+    )
+    .map_err(|e| e.to_string())?;
+    let cc = env::var("CC").unwrap_or_else(|_| "cc".into());
+    let mut cmd = Command::new(&cc);
+    cmd.arg(&src).arg("-o").arg(out.join("shaderc_probe"));
+    cmd.args(libs);
+    cmd.args([format!("-l{cxx}"), "-lm".into(), "-lpthread".into()]);
+    let o = cmd.output().map_err(|e| format!("{cc}: {e}"))?;
+    if o.status.success() {
+        return Ok(());
+    }
+    let err = String::from_utf8_lossy(&o.stderr);
+    let first = err
+        .lines()
+        .find(|l| l.contains("undefined") || l.contains("cannot find"))
+        .unwrap_or("the link failed");
+    Err(first.trim().to_string())
 }

@@ -1,15 +1,7 @@
 #version 450
+// A method's fragment program for a pass with a normal target (compare, verify): the colour
+// at location 0, the shading normal the method used at location 1.
 #define STAGE_FRAGMENT
 #include "common.glsl"
 #include "shading.glsl"
-
-layout(location = 0) out vec4 outColor;    // linear colour, alpha 1 = covered
-layout(location = 1) out vec4 outNormal;   // the shading normal the method used, w 1 = has one
-
-#include "method_main.glsl"
-
-void main() {
-    vec3 color;
-    evaluateMethod(color, outNormal);
-    outColor = vec4(color, 1.0);
-}
+#include "shade_main.glsl"

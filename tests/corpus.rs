@@ -314,8 +314,12 @@ fn start_slurm() -> Slurm {
         .next()
         .unwrap()
         .to_string();
+    // Ports of their own (a Slurm already on 6817/6818 would make slurmctld exit), and a short
+    // message timeout: a daemon that is down fails sinfo in seconds, not Slurm's default ten.
+    let (ctld_port, d_port) = (free_port(), free_port());
     let conf = format!(
         "ClusterName=shadelab\nSlurmctldHost={host}(127.0.0.1)\nSlurmUser=root\nSlurmdUser=root\n\
+         SlurmctldPort={ctld_port}\nSlurmdPort={d_port}\nMessageTimeout=3\n\
          AuthType=auth/munge\nAuthInfo=socket={sock}\nProctrackType=proctrack/linuxproc\n\
          TaskPlugin=task/none\nAccountingStorageType=accounting_storage/none\n\
          JobAcctGatherType=jobacct_gather/none\nMailProg=/bin/true\nSelectType=select/cons_tres\n\
@@ -345,7 +349,13 @@ fn start_slurm() -> Slurm {
             .args(["-D", "-N", &host])
             .env("SLURM_CONF", &conf),
     );
-    for _ in 0..100 {
+    // Up in about 1 s here (TOOLCHAIN.md); a daemon that exits fails at once with its log, a
+    // node not idle within 60 s with the logs.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while std::time::Instant::now() < deadline {
+        if let Some(why) = daemon_exited(&mut s) {
+            panic!("{why}");
+        }
         let o = Command::new("sinfo")
             .args(["-h", "-o", "%t"])
             .env("SLURM_CONF", &conf)
@@ -356,7 +366,47 @@ fn start_slurm() -> Slurm {
         }
         std::thread::sleep(std::time::Duration::from_millis(200));
     }
-    panic!("the Slurm node never became idle; logs in {}", d.display());
+    panic!(
+        "the Slurm node was not idle within 60 s; logs in {}:\n{}",
+        d.display(),
+        log_tails(&d)
+    );
+}
+
+/// A port free on 127.0.0.1 now (the kernel's pick).
+fn free_port() -> u16 {
+    let l = std::net::TcpListener::bind("127.0.0.1:0").expect("bind a free port");
+    l.local_addr().unwrap().port()
+}
+
+/// The last lines of every log of the scratch folder `d`.
+fn log_tails(d: &std::path::Path) -> String {
+    let mut out = String::new();
+    let mut logs: Vec<_> = std::fs::read_dir(d)
+        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    logs.sort();
+    for p in logs.iter().filter(|p| p.to_string_lossy().contains("log")) {
+        let text = std::fs::read_to_string(p).unwrap_or_default();
+        let lines: Vec<&str> = text.lines().collect();
+        let tail = lines[lines.len().saturating_sub(5)..].join("\n");
+        out += &format!("{}:\n{tail}\n", p.display());
+    }
+    out
+}
+
+/// Which daemon (munged, slurmctld, slurmd) has exited, with its status and the logs.
+fn daemon_exited(s: &mut Slurm) -> Option<String> {
+    let names = ["munged", "slurmctld", "slurmd"];
+    for (name, child) in names.iter().zip(s.children.iter_mut()) {
+        if let Ok(Some(status)) = child.try_wait() {
+            return Some(format!(
+                "{name} exited ({status}) before the node was idle:\n{}",
+                log_tails(s.dir.path())
+            ));
+        }
+    }
+    None
 }
 
 #[test]
@@ -431,4 +481,34 @@ fn the_slurm_example_runs_a_job_array_and_merges() {
         "Slurm's merged figures differ from an unsharded run"
     );
     drop(slurm);
+}
+
+/// The Slurm start fails fast with the cause: a daemon that exited (a port taken, a bad
+/// configuration) is named with its log at the next poll, never waited on for minutes; one
+/// still running is not.
+#[test]
+fn a_slurm_daemon_that_exits_is_reported_at_once() {
+    let mut s = Slurm {
+        dir: tempfile::tempdir().unwrap(),
+        children: Vec::new(),
+    };
+    spawn(&mut s, Command::new("sleep").arg("30"));
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    assert_eq!(daemon_exited(&mut s), None);
+    spawn(
+        &mut s,
+        Command::new("sh").args(["-c", "echo 'bind: Address already in use'; exit 1"]),
+    );
+    let start = std::time::Instant::now();
+    let why = loop {
+        if let Some(why) = daemon_exited(&mut s) {
+            break why;
+        }
+        assert!(start.elapsed().as_secs() < 10, "the exit was not seen");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    assert!(why.starts_with("slurmctld exited"), "{why}");
+    assert!(why.contains("Address already in use"), "{why}");
+    let p = free_port();
+    assert!(std::net::TcpListener::bind(("127.0.0.1", p)).is_ok(), "{p}");
 }

@@ -273,7 +273,7 @@ fn isa_compiles_float16_programs_where_the_family_has_float16() {
     let opts = |precision| IsaOptions {
         methods: vec![method::phong_exact()],
         families: vec!["polaris10".into(), "vega10".into()],
-        driver_files: std::path::PathBuf::from(isa::DEFAULT_DRIVER_FILES),
+        driver_files: None,
         scene: None,
         exe: std::path::PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision,

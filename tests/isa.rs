@@ -14,7 +14,7 @@ fn options(methods: &[&str], families: &[&str]) -> IsaOptions {
     IsaOptions {
         methods: methods.iter().map(|m| method::find(m).unwrap()).collect(),
         families: families.iter().map(|f| f.to_string()).collect(),
-        driver_files: PathBuf::from(isa::DEFAULT_DRIVER_FILES),
+        driver_files: None,
         scene: None,
         exe: PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision: Precision::F32,
@@ -191,17 +191,25 @@ fn a_refused_family_is_reported_not_fatal() {
             .unwrap();
     assert_eq!(r.supported(), vec!["amd:navi21"]);
     assert!(r.results.iter().all(|row| row.family == "amd:navi21"));
-    let opts = options(&["phong_exact"], &["navi24"]);
+    // navi24 is refused or not by the driver's version: Mesa 22.3.6 dies of SIGFPE on it
+    // (TOOLCHAIN.md), Mesa 25.0.7 compiles it. navi21 beside it says which Mesa this is.
+    let opts = options(&["phong_exact"], &["navi24", "navi21"]);
     let r = isa_run(&opts);
-    assert!(!r.families[0].supported);
-    assert!(
-        r.families[0]
-            .status
-            .starts_with("not supported by this driver: "),
-        "{}",
-        r.families[0].status
-    );
-    assert!(r.results.is_empty());
+    let mesa = (r.families[1].compiler())
+        .and_then(|c| c.mesa_version)
+        .expect("navi21 compiles and names its Mesa");
+    if mesa.starts_with("Mesa 22.") {
+        assert!(!r.families[0].supported, "{mesa}: {:?}", r.families[0]);
+        assert!(
+            r.families[0]
+                .status
+                .starts_with("not supported by this driver: "),
+            "{}",
+            r.families[0].status
+        );
+        assert!(r.results.iter().all(|row| row.family != "amd:navi24"));
+    }
+    assert!(r.families[1].supported);
 }
 
 /// The whole chain on the CLI: compare and bench (without the static cost) feed `isa
@@ -463,7 +471,7 @@ fn vendors_ready(test: &str, families: &[&str]) -> bool {
 pub(crate) fn families_ready(test: &str, families: &[&str], require: &str) -> bool {
     for f in families {
         let (vendor, chip) = isa::vendor::resolve(f).unwrap();
-        if let Err(why) = vendor.setup_for(&chip, std::path::Path::new(isa::DEFAULT_DRIVER_FILES)) {
+        if let Err(why) = vendor.setup_for(&chip, None) {
             let msg = format!(
                 "{test}: {f} is not set up ({why}); run {}",
                 vendor.setup_command_for(&chip)
@@ -498,9 +506,13 @@ fn every_method_compiles_on_every_vendor_family() {
     for f in &r.families {
         let ranking = f.ranking().expect("a ranking statistic");
         let compiler = f.compiler().expect("a compiler");
+        // The system's Mesa (22.3.6 on Debian 12, 25.0.7 on 13), the same for every family
+        // of these routes: they all use the installed drivers.
+        let mesa = compiler.mesa_version.clone().unwrap_or_default();
+        assert!(mesa.starts_with("Mesa "), "{}: {mesa:?}", f.id);
         assert_eq!(
-            compiler.mesa_version.as_deref(),
-            Some("Mesa 22.3.6"),
+            Some(mesa),
+            r.families[0].compiler().and_then(|c| c.mesa_version),
             "{}",
             f.id
         );
@@ -574,11 +586,12 @@ fn vendor_families_compile_identically_twice() {
 }
 
 /// A chipset the driver does not know is refused, never measured: nouveau falls back to
-/// llvmpipe silently on Ampere (nv172), the radeon shim aborts on a name it lacks, ANV finds
-/// no device on a platform it does not know; the families beside them still compile.
+/// llvmpipe silently on a chipset newer than it knows (nv1a0: both Mesa 22.3.6 and 25.0.7;
+/// Ampere's nv172 only 22.3.6, 25.0.7 compiles it), the radeon shim aborts on a name it lacks,
+/// ANV finds no device on a platform it does not know; the families beside them still compile.
 #[test]
 fn a_fake_chipset_is_refused_on_every_vendor() {
-    let fakes = ["nvidia:nv172", "terascale:bogus", "intel:bogus"];
+    let fakes = ["nvidia:nv1a0", "terascale:bogus", "intel:bogus"];
     let real = ["nvidia:nv162", "terascale:cayman", "intel:tgl"];
     if !vendors_ready("a_fake_chipset_is_refused_on_every_vendor", &real) {
         return;
@@ -594,11 +607,11 @@ fn a_fake_chipset_is_refused_on_every_vendor() {
         );
         assert!(r.results.iter().all(|row| row.family != f.family));
     }
-    let nv172 = r.family("nvidia:nv172").unwrap();
+    let nv1a0 = r.family("nvidia:nv1a0").unwrap();
     assert!(
-        nv172.status.contains("software renderer"),
+        nv1a0.status.contains("software renderer"),
         "{}",
-        nv172.status
+        nv1a0.status
     );
 }
 

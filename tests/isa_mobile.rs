@@ -67,7 +67,7 @@ fn options(methods: &[&str], families: &[&str], precision: Precision) -> IsaOpti
     IsaOptions {
         methods: methods.iter().map(|m| method::find(m).unwrap()).collect(),
         families: families.iter().map(|f| f.to_string()).collect(),
-        driver_files: PathBuf::from(isa::DEFAULT_DRIVER_FILES),
+        driver_files: None,
         scene: None,
         exe: PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision,

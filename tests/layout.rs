@@ -629,3 +629,72 @@ fn the_function_length_check_fails_on_a_long_function() {
     let v = function_verdicts(&split, &[("cli/mod.rs", "run")]);
     assert!(v.len() == 1 && v[0].contains("take it off"), "{v:?}");
 }
+
+/// What names one distribution's or one architecture's files: a multiarch triplet folder, an
+/// ICD manifest's architecture infix, a fixed library folder. Such names are found at run time
+/// (the Vulkan loader's rules in src/gpu/icd.rs, the dynamic linker's cache) or at build time
+/// (pkg-config and the C compiler's search folders in build.rs), never spelt.
+const DISTRIBUTION_NAMES: &[&str] = &[
+    "-linux-gnu",
+    ".x86_64.json",
+    ".i686.json",
+    ".aarch64.json",
+    "/usr/lib/x86_64",
+    "/usr/lib/aarch64",
+    "/usr/lib/i386",
+    "/usr/lib64",
+];
+
+/// Production lines (test items and test files left out, comments cut) that spell one of
+/// [`DISTRIBUTION_NAMES`], as `path:line: text`.
+fn distribution_names(files: &[(PathBuf, String)]) -> Vec<String> {
+    let tests = test_files(files);
+    let mut out = Vec::new();
+    for (p, text) in files.iter().filter(|(p, _)| !is_test_file(&tests, p)) {
+        for (i, (l, test)) in text.lines().zip(test_lines(text)).enumerate() {
+            let code = l.split("//").next().unwrap_or("");
+            if !test && DISTRIBUTION_NAMES.iter().any(|n| code.contains(n)) {
+                out.push(format!("{}:{}: {}", p.display(), i + 1, l.trim()));
+            }
+        }
+    }
+    out
+}
+
+/// build.rs and src/ hold no path or file name of one distribution or architecture (Debian's
+/// `x86_64-linux-gnu`, Mesa 22.3's `radeon_icd.x86_64.json`): the same source builds and runs
+/// on Debian 12 and 13 and would on arm64.
+#[test]
+fn no_distribution_or_architecture_is_spelt() {
+    let mut files = source_tree();
+    let build = Path::new(env!("CARGO_MANIFEST_DIR")).join("build.rs");
+    files.push((
+        PathBuf::from("../build.rs"),
+        std::fs::read_to_string(&build).unwrap(),
+    ));
+    let bad = distribution_names(&files);
+    assert!(bad.is_empty(), "found, not spelt:\n{}", bad.join("\n"));
+    // Teeth: main's hard-coded names are caught; the same words in a comment or a test are not.
+    let t = tree(&[
+        (
+            "isa/mod.rs",
+            "pub const F: &str = \"/usr/share/vulkan/icd.d/radeon_icd.x86_64.json\";\n",
+        ),
+        (
+            "../build.rs",
+            "    println!(\"cargo:rustc-link-search=native=/usr/lib/x86_64-linux-gnu\");\n",
+        ),
+        (
+            "isa/vendor/mod.rs",
+            "let egl = \"/usr/lib64/libEGL.so.1\";\n",
+        ),
+        ("gpu/icd.rs", "//! Mesa 22.3 names radeon_icd.x86_64.json\n"),
+        (
+            "gpu/x.rs",
+            "#[cfg(test)]\nmod tests {\n    const M: &str = \"radeon_icd.i686.json\";\n}\n",
+        ),
+    ]);
+    let bad = distribution_names(&t);
+    assert_eq!(bad.len(), 3, "{bad:?}");
+    assert!(bad[0].starts_with("isa/mod.rs:1:"), "{bad:?}");
+}

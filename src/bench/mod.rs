@@ -173,7 +173,8 @@ fn static_ops(
     precision: crate::method::Precision,
 ) -> Option<OpCounts> {
     let name = crate::gpu::shaders::program_name_in(program, interp, precision);
-    let bytes = crate::gpu::shaders::embedded(&name, "frag").ok()?;
+    // The timed draw's program (no normal target).
+    let bytes = crate::gpu::shaders::embedded(&name, crate::gpu::shaders::COLOR_ONLY).ok()?;
     spirv::count_ops(bytes).ok()
 }
 

@@ -22,9 +22,10 @@ pub(super) struct IsaArgs {
     /// vendor (docs/isa.md); a vendor whose route is not set up is reported as such.
     #[arg(long, default_value = "all")]
     families: String,
-    /// The RADV Vulkan ICD manifest to load (VK_DRIVER_FILES), e.g. a Mesa 25 build (docs/isa.md).
-    #[arg(long, value_name = "JSON", default_value = isa::DEFAULT_DRIVER_FILES)]
-    driver_files: PathBuf,
+    /// The RADV Vulkan ICD manifest to load (VK_DRIVER_FILES), e.g. a Mesa 25 build (docs/isa.md);
+    /// by default the system's RADV, found among the loader's ICD manifests by its library.
+    #[arg(long, value_name = "JSON")]
+    driver_files: Option<PathBuf>,
     /// Scene whose timed draw is compiled (specialization constants, streams, culling);
     /// default: the shipped generated torus.
     #[arg(long, value_name = "FILE")]

@@ -53,7 +53,7 @@ pub const EXIT_ERROR: u8 = 2;
 #[derive(Parser, Debug)]
 #[command(
     name = "shadelab",
-    version,
+    version, long_version = crate::output::provenance::LONG_VERSION,
     about = "Fast Phong-shading methods against exact Phong, on software Vulkan"
 )]
 pub struct Cli {

@@ -2,12 +2,13 @@
 //! ([`shaders`], [`spirv`]), the offscreen renderer ([`renderer`]) and its read-back
 //! (`readback`), its timed draws ([`timing`]), methods evaluated on buffers of cases
 //! ([`evaluate`]), and the timed draw's programs as a driver compiled them ([`compiled`], for
-//! `shadelab isa`). [`gl`] is the only user of EGL and OpenGL (khronos-egl, glow): the
+//! `shadelab isa`), the Vulkan drivers found by the loader's rules ([`icd`]). [`gl`] is the only user of EGL and OpenGL (khronos-egl, glow): the
 //! OpenGL-only drivers' compilers, for `shadelab isa`.
 pub mod compiled;
 pub mod device;
 pub mod evaluate;
 pub mod gl;
+pub mod icd;
 mod readback;
 pub mod renderer;
 pub mod shaders;

@@ -420,7 +420,9 @@ impl Renderer {
         color_write: bool,
     ) -> Result<GraphicsPipeline> {
         let vs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "vert")?)?;
-        let fs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, "frag")?)?;
+        // A pass without the normal target gets the program without the normal output.
+        let stage = shaders::fragment_stage(colors.len());
+        let fs = ShaderModule::new(&self.ctx, program, shaders::embedded(program, stage)?)?;
         GraphicsPipeline::new(
             &self.ctx,
             &PipelineDesc {

@@ -107,7 +107,26 @@ fn method_defines(m: &crate::method::Method, defines: &mut Vec<(String, String)>
     }
 }
 
-const GRAPHICS: [(&str, &str); 2] = [("vert", "shade.vert"), ("frag", "shade.frag")];
+/// A method's stages: the vertex program, the fragment program of a pass with a normal target
+/// (`frag`), and the one of a pass without (`color.frag`: the timed draws and what `shadelab
+/// isa` compiles write the colour alone, having no attachment for the normal).
+const GRAPHICS: [(&str, &str); 3] = [
+    ("vert", "shade.vert"),
+    ("frag", "shade.frag"),
+    (COLOR_ONLY, "shade_color.frag"),
+];
+
+/// The stage tag of the fragment program without the normal output.
+pub const COLOR_ONLY: &str = "color.frag";
+
+/// The fragment stage for a pass with `colors` attachments: with the normal's or without.
+pub fn fragment_stage(colors: usize) -> &'static str {
+    if colors >= 2 {
+        "frag"
+    } else {
+        COLOR_ONLY
+    }
+}
 
 /// The program name of a method or internal program (`ids`, `constant`) in a mode (float32).
 pub fn program_name(base: &str, interp: Interpolation) -> String {
@@ -193,7 +212,11 @@ pub fn programs() -> Vec<Program> {
         });
         out.push(Program {
             name: program_name("constant", mode),
-            stages: vec![("vert", "shade.vert"), ("frag", "constant.frag")],
+            stages: vec![
+                ("vert", "shade.vert"),
+                ("frag", "constant.frag"),
+                (COLOR_ONLY, "constant_color.frag"),
+            ],
             method_file: None,
             defines: with(&[]),
         });
@@ -244,7 +267,7 @@ fn compile_program(
     for &(stage, file) in &p.stages {
         let kind = match stage {
             "vert" => shaderc::ShaderKind::Vertex,
-            "frag" => shaderc::ShaderKind::Fragment,
+            s if s.ends_with("frag") => shaderc::ShaderKind::Fragment,
             _ => shaderc::ShaderKind::Compute,
         };
         let (main_name, source) = read(file).map_err(Error::Shader)?;

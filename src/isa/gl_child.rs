@@ -144,7 +144,11 @@ fn compile_draw(
     spec: &[(u32, u32)],
 ) -> Result<Vec<Executable>> {
     let (vs, mut set) = cross(program, shaders::embedded(program, "vert")?, spec)?;
-    let (fs, set_fs) = cross(program, shaders::embedded(program, "frag")?, spec)?;
+    let (fs, set_fs) = cross(
+        program,
+        shaders::embedded(program, shaders::COLOR_ONLY)?,
+        spec,
+    )?;
     set.extend(set_fs);
     glsl::check_all_set(program, spec, &set)?;
     let messages = ctx.compile(program, &[(GlStage::Vertex, &vs), (GlStage::Fragment, &fs)])?;

@@ -47,8 +47,6 @@ pub const DEFAULT_FAMILIES: [&str; 6] = [
     "navi21",
     "gfx1100",
 ];
-/// Debian's RADV ICD (mesa-vulkan-drivers).
-pub const DEFAULT_DRIVER_FILES: &str = "/usr/share/vulkan/icd.d/radeon_icd.x86_64.json";
 /// The isolated kernel's two evaluation counts: the cost of one evaluation is the difference.
 /// Both >= 2 so that both programs sum their results the same way (`REPEAT == 1` stores the
 /// colour alone), and small enough that NIR unrolls both loops fully (a loop left rolled would
@@ -64,8 +62,9 @@ pub use crate::method::Precision;
 pub struct IsaOptions {
     pub methods: Vec<&'static Method>,
     pub families: Vec<String>,
-    /// The Vulkan ICD manifest of the RADV build to use (VK_DRIVER_FILES).
-    pub driver_files: PathBuf,
+    /// The Vulkan ICD manifest of the RADV build to use (VK_DRIVER_FILES); `None`: the
+    /// system's RADV, found by the loader's rules ([`crate::gpu::icd`]).
+    pub driver_files: Option<PathBuf>,
     /// Scene whose timed draw is compiled; `None`: [`child::DEFAULT_SCENE`].
     pub scene: Option<PathBuf>,
     /// The shadelab binary the children run (`std::env::current_exe()` from the CLI; tests
@@ -92,7 +91,7 @@ impl IsaOptions {
         IsaOptions {
             methods: ms,
             families: vendor::default_family_ids(),
-            driver_files: PathBuf::from(DEFAULT_DRIVER_FILES),
+            driver_files: None,
             scene: None,
             exe,
             precision,
@@ -129,37 +128,48 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
 }
 
 /// Runs one child for `family` (the protocol of [`crate::child`], its request and reply under
-/// `dir`) and reads its report; a route that is not set up starts none.
+/// `dir`) and reads its report; a route that is not set up starts none. A driver that does not
+/// know the chip under one name gets the next of [`Vendor::driver_chips`].
 pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> ChildOutcome {
-    let env = match family
-        .vendor
-        .setup_for(family.chip, &opts.driver_files)
-        .and_then(|setup| {
-            family
-                .vendor
-                .child_env(family.chip, &setup, &opts.driver_files)
-        }) {
-        Ok(env) => env,
+    let driver_files = opts.driver_files.as_deref();
+    let setup = match family.vendor.setup_for(family.chip, driver_files) {
+        Ok(s) => s,
         Err(why) => return ChildOutcome::NotSetUp(why),
     };
-    let req = ChildRequest {
-        family: family.id(),
-        methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
-        scene: opts.scene.clone(),
-        kernel_counts: KERNEL_COUNTS,
-        probes: opts.probes.clone(),
-        precision: opts.precision,
-    };
-    let spawn = crate::child::Spawn {
-        exe: opts.exe.clone(),
-        driver_env: env,
-        method_files: crate::method::user::paths_of(&opts.methods),
-        show_stderr: false,
-    };
-    match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
-        Ok(r) => ChildOutcome::Compiled(r),
-        Err(f) => ChildOutcome::Failed(f.why),
+    let names = family.vendor.driver_chips(family.chip, &setup);
+    let mut refused = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        let env = match family.vendor.child_env(name, &setup, driver_files) {
+            Ok(env) => env,
+            Err(why) => return ChildOutcome::NotSetUp(why),
+        };
+        let req = ChildRequest {
+            family: family.id(),
+            methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
+            scene: opts.scene.clone(),
+            kernel_counts: KERNEL_COUNTS,
+            probes: opts.probes.clone(),
+            precision: opts.precision,
+        };
+        let spawn = crate::child::Spawn {
+            exe: opts.exe.clone(),
+            driver_env: env,
+            method_files: crate::method::user::paths_of(&opts.methods),
+            show_stderr: false,
+        };
+        match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
+            Ok(r) => return ChildOutcome::Compiled(r),
+            Err(f) if i + 1 < names.len() && family.vendor.unknown_chip(&f.why) => {
+                refused.push(format!("`{name}`: {}", f.why));
+            }
+            Err(f) if refused.is_empty() => return ChildOutcome::Failed(f.why),
+            Err(f) => {
+                refused.push(format!("`{name}`: {}", f.why));
+                return ChildOutcome::Failed(refused.join("; "));
+            }
+        }
     }
+    ChildOutcome::Failed(refused.join("; "))
 }
 
 /// The families of `ids` (family ids, or bare AMD chip names), in order; an unknown vendor

@@ -96,7 +96,7 @@ pub trait Float: Real + PartialOrd + Send + Sync + std::fmt::Debug + AddAssign +
 /// The `Real` and `Float` impls of a primitive float type (`f64`, `f32`), each operation the
 /// type's own.
 macro_rules! primitive {
-    ($t:ty, $refined:expr, $c:expr) => {
+    ($t:ty, $refined:expr, $c:expr, $acos:expr) => {
         impl Real for $t {
             #[inline(always)]
             fn c(x: f64) -> $t {
@@ -159,7 +159,7 @@ macro_rules! primitive {
             }
             #[inline(always)]
             fn acos(self) -> $t {
-                <$t>::acos(self)
+                $acos(self)
             }
             #[inline(always)]
             fn floor(self) -> $t {
@@ -185,8 +185,19 @@ macro_rules! primitive {
     };
 }
 
-primitive!(f64, false, |x: f64| x);
-primitive!(f32, true, |x: f64| x as f32);
+primitive!(f64, false, |x: f64| x, f64::acos);
+primitive!(f32, true, |x: f64| x as f32, acos_f32);
+
+/// `acos` of an f32, the engines' own: libm's f64 `acos` rounded once to f32. The platform's
+/// `acosf` is not the same function everywhere (glibc 2.41 made it correctly rounded, 2.36's
+/// returns other bits for some inputs: the software engine's golden frames changed between
+/// Debian 12 and 13); the f64 function is within one f64 ulp of the exact value on both, so its
+/// rounding to f32 is the correctly rounded result except where the exact value lies within an
+/// f64 ulp of a midpoint between two f32 (tests/software/golden.rs holds the frames this gives).
+#[inline(always)]
+pub fn acos_f32(x: f32) -> f32 {
+    f64::from(x).acos() as f32
+}
 
 /// One f32 function of an f16, rounded once to f16.
 #[inline(always)]
@@ -260,7 +271,8 @@ impl Float for f16 {
     }
     #[inline(always)]
     fn acos(self) -> f16 {
-        via(self, f32::acos)
+        // The engines' own f32 acos ([`acos_f32`]), rounded once to f16.
+        via(self, acos_f32)
     }
     #[inline(always)]
     fn floor(self) -> f16 {

@@ -1,6 +1,16 @@
 //! Where a result came from: tool version, git revision, device, driver, CPU, command line.
 use serde::{Deserialize, Serialize};
 
+/// `shadelab --version`: the version, the git revision and how the shader compiler was linked
+/// (build.rs's choice: which archives or library, from which folder).
+pub const LONG_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (git ",
+    env!("SHADELAB_GIT_REVISION"),
+    ")\nshader compiler: ",
+    env!("SHADELAB_SHADERC_LINK")
+);
+
 /// The tool, device and scene a summary was made with.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Provenance {

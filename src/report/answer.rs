@@ -533,6 +533,8 @@ pub struct Inputs<'a> {
     pub scene_models: Vec<(String, Vec<CostModel>)>,
     /// What `shadelab tune` found, when the report was given it.
     pub tuned: Option<super::tuned::Tuned>,
+    /// The cost models the run lost, with why ([`super::summary::Missing`]).
+    pub missing: Vec<super::summary::Missing>,
 }
 
 /// Every method's check of every budget in every precision `models` need.
@@ -599,6 +601,7 @@ pub fn answer(
         models,
         scene_models: Vec::new(),
         tuned: None,
+        missing: Vec::new(),
     })
 }
 
@@ -620,8 +623,9 @@ pub fn answer_with(i: Inputs) -> Answer {
             per_scene.push(super::summary::scene_budget(s, &b.id, &of));
         }
     }
-    let summary =
-        super::summary::summarize(&cells, &budgets, i.scenes, &i.models, per_scene, i.tuned);
+    let summary = super::summary::summarize(
+        &cells, &budgets, i.scenes, &i.models, per_scene, i.tuned, i.missing,
+    );
     Answer {
         schema_version: SCHEMA_VERSION,
         scenes: i.scenes.to_vec(),

@@ -133,7 +133,29 @@ pub fn answer_of(d: &ReportData, costs: &Registry) -> Answer {
         models,
         scene_models,
         tuned: d.tuned.clone(),
+        missing: missing_models(d),
     })
+}
+
+/// The static cost models this run lost: every family `isa` did not compile (a route not set
+/// up, a family the driver refused), or all of them when isa did not run, with why.
+pub fn missing_models(d: &ReportData) -> Vec<super::summary::Missing> {
+    use super::summary::Missing;
+    match &d.isa.f32 {
+        Ok((r, _)) => r
+            .families
+            .iter()
+            .filter(|f| !f.supported)
+            .map(|f| Missing {
+                cost_model: format!("isa:{}", f.id),
+                why: f.status.clone(),
+            })
+            .collect(),
+        Err(why) => vec![Missing {
+            cost_model: "isa".into(),
+            why: format!("no static cost model: {why}"),
+        }],
+    }
 }
 
 /// Every claim as measured in each place (lavapipe bench per scene, the software engine per

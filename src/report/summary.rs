@@ -7,8 +7,8 @@
 //!   alone (a real mesh allows what the 12-triangle cube forbids), grouped by answer;
 //! - the interval models' cells this run cannot resolve ([`super::answer::Cell::unresolved`]);
 //! - what `shadelab tune` found, when the report was given its output ([`super::tuned`]);
-//! - [`Summary::sentences`]: one to three sentences saying what holds everywhere, then what
-//!   differs. The browser test derives the same facts from answer.json's cells and checks the
+//! - [`Summary::sentences`]: sentences saying what holds everywhere, then what differs, then
+//!   the cost models this run lost ([`Summary::missing`], each with why). The browser test derives the same facts from answer.json's cells and checks the
 //!   page against them.
 use serde::{Deserialize, Serialize};
 
@@ -71,8 +71,49 @@ pub struct Summary {
     /// `shadelab tune`'s findings, when the report read them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tuned: Option<Tuned>,
-    /// One to three sentences: what holds across every cost model and scene, then what differs.
+    /// The cost models this run meant to have and lost (a compiler route not set up, a family
+    /// the driver refused), each with why; the last sentence names them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub missing: Vec<Missing>,
+    /// One to four sentences: what holds across every cost model and scene, then what differs,
+    /// then what this run cannot resolve, then the cost models it lost ([`Summary::missing`]).
     pub sentences: Vec<String>,
+}
+
+/// A cost model the answer lacks: its id (`isa:amd:navi21`) and why it is missing.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Missing {
+    pub cost_model: String,
+    pub why: String,
+}
+
+/// The sentence naming the lost cost models, grouped by their reason: "Missing from this
+/// answer: 6 cost models (isa:amd:tahiti, ...): not set up: ...".
+pub fn missing_sentence(missing: &[Missing]) -> Option<String> {
+    if missing.is_empty() {
+        return None;
+    }
+    let mut groups: Vec<(&str, Vec<&str>)> = Vec::new();
+    for m in missing {
+        match groups.iter_mut().find(|(w, _)| *w == m.why) {
+            Some((_, ids)) => ids.push(&m.cost_model),
+            None => groups.push((&m.why, vec![&m.cost_model])),
+        }
+    }
+    let parts: Vec<String> = groups
+        .iter()
+        .map(|(why, ids)| {
+            let n = ids.len();
+            let s = if n == 1 { "" } else { "s" };
+            format!("{n} cost model{s} ({}): {why}", ids.join(", "))
+        })
+        .collect();
+    Some(format!(
+        "Missing from this answer, {} cost model{} in all: {}.",
+        missing.len(),
+        if missing.len() == 1 { "" } else { "s" },
+        parts.join("; ")
+    ))
 }
 
 /// A cost model's vendor (or source) and how a person names it: `isa:intel:tgl` is Intel's,
@@ -459,6 +500,7 @@ pub fn summarize(
     models: &[CostModel],
     per_scene: Vec<SceneBudget>,
     tuned: Option<Tuned>,
+    missing: Vec<Missing>,
 ) -> Summary {
     let common = common(cells);
     let differing: Vec<CellRef> = cells
@@ -476,12 +518,44 @@ pub fn summarize(
         sentences.push(scene_sentence(&common, &per_scene, scenes, budgets, models));
     }
     sentences.extend(last_sentence(&unresolved, cells, models, tuned.as_ref()));
+    sentences.extend(missing_sentence(&missing));
     Summary {
         common,
         differing,
         per_scene,
         unresolved,
         tuned,
+        missing,
         sentences,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lost_cost_models_are_named_with_their_reason() {
+        let m = |id: &str, why: &str| Missing {
+            cost_model: id.into(),
+            why: why.into(),
+        };
+        let amd = "not set up: no Vulkan ICD manifest names libvulkan_radeon.so";
+        let s = missing_sentence(&[
+            m("isa:amd:tahiti", amd),
+            m("isa:amd:navi21", amd),
+            m("isa:intel:mtl", "not set up: run make compilers"),
+        ])
+        .unwrap();
+        assert!(s.contains("3 cost models in all"), "{s}");
+        assert!(
+            s.contains(&format!(
+                "2 cost models (isa:amd:tahiti, isa:amd:navi21): {amd}"
+            )),
+            "{s}"
+        );
+        assert!(s.contains("1 cost model (isa:intel:mtl)"), "{s}");
+        // Teeth: nothing lost, nothing said.
+        assert_eq!(missing_sentence(&[]), None);
     }
 }

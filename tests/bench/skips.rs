@@ -100,9 +100,11 @@ fn skips_change_the_work_but_not_the_pixels() {
     assert_eq!(rows.iter().filter(|r| r["is_default"] == true).count(), 1);
     assert_eq!(v["default"], "cull+no_normal");
     let inv = |name: &str| row(name)["fragment_invocations"].as_u64().unwrap();
-    // Culling leaves out the back faces: about half of the torus's fragments.
+    // Culling leaves out the back faces: fewer fragments, by how much depends on the driver's
+    // count (lavapipe 22.3.6 counts whole pixel blocks: under 0.6 of the unculled; 25.0.7 the
+    // fragments left after early depth: 4340 of 6426, 0.675): at most 0.8 of them.
     assert!(
-        inv("cull") * 10 < inv("none") * 6,
+        inv("cull") * 10 < inv("none") * 8,
         "cull {} none {}",
         inv("cull"),
         inv("none")

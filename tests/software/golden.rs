@@ -3,7 +3,11 @@
 //! hashed (SHA-256 of the colour and normal images' f32 bits) against
 //! tests/data/software/f32_frames.json, which that engine wrote (`SHADELAB_BLESS=1 cargo test
 //! --release software::golden`). A method added after it (the guards, any new row) has no
-//! entry and is judged by its twin in `engines`; an entry whose method is gone fails.
+//! entry and is judged by its twin in `engines`; an entry whose method is gone fails. The
+//! frames of slerp and spherical_angular that call `acos` were re-recorded (5 entries) when the
+//! engines took their own acos (src/method/real.rs `acos_f32`) instead of the platform's
+//! `acosf`, whose bits differ between glibc 2.36 and 2.41 (Debian 12 and 13): the frames are
+//! now the same on both.
 use std::collections::BTreeMap;
 
 use sha2::{Digest, Sha256};

@@ -99,7 +99,7 @@ impl Vendor for Arm {
         None
     }
 
-    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+    fn setup(&self, _driver_files: Option<&Path>) -> Result<Setup, String> {
         mesa_build::setup(&["GLES_LIB", "PANFROST_SHIM", "LIMA_SHIM"])
     }
 
@@ -111,7 +111,7 @@ impl Vendor for Arm {
         &self,
         chip: &str,
         setup: &Setup,
-        _driver_files: &Path,
+        _driver_files: Option<&Path>,
     ) -> Result<Vec<(String, String)>, String> {
         if chip == LIMA {
             // lima compiles at the first draw unless told to precompile (at link time, with

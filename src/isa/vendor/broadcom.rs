@@ -62,7 +62,7 @@ impl Vendor for Broadcom {
         None
     }
 
-    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+    fn setup(&self, _driver_files: Option<&Path>) -> Result<Setup, String> {
         mesa_build::setup(&["GLES_LIB", "V3D_SHIM", "VC4_SHIM"])
     }
 
@@ -74,7 +74,7 @@ impl Vendor for Broadcom {
         &self,
         chip: &str,
         setup: &Setup,
-        _driver_files: &Path,
+        _driver_files: Option<&Path>,
     ) -> Result<Vec<(String, String)>, String> {
         // Any other chip runs on v3d's shim and is refused by its renderer (V3D 4.2).
         if chip == "vc4" {

@@ -1,10 +1,12 @@
-//! Intel Gen9 to Xe-HPG: Debian's ANV (mesa-vulkan-drivers) on Mesa's Intel noop drm-shim
-//! (`LD_PRELOAD`, `INTEL_STUB_GPU_PLATFORM=<chip>`), the shim built from Debian's own Mesa
-//! source by `scripts/setup-vendors.sh intel` into the user's cache. Meteor Lake, Lunar Lake,
-//! Battlemage and Panther Lake ([`XE_CHIPS`]), which Debian 12's ANV 22.3.6 does not know, go
-//! through bookworm-backports' ANV 25.0.7 on the shim built from Mesa 25.0.7 by `make
-//! compilers` (`INTEL_FORCE_PROBE='*'`: 25.0 still marks Xe3 experimental); their rows carry
-//! that Mesa version. ANV is Intel's production Linux Vulkan driver; its back-end (brw)
+//! Intel Gen9 to Xe-HPG: the system's ANV (mesa-vulkan-drivers; its ICD manifest found by its
+//! library, [`LIBRARY`]) on Mesa's Intel noop drm-shim (`LD_PRELOAD`,
+//! `INTEL_STUB_GPU_PLATFORM=<chip>`), the shim built from the release's own Mesa source by
+//! `scripts/setup-vendors.sh intel` into the user's cache. Meteor Lake, Lunar Lake,
+//! Battlemage and Panther Lake ([`XE_CHIPS`]) go through the system's ANV where it is Mesa 25
+//! (Debian 13), else (Debian 12's ANV 22.3.6 does not know them) through bookworm-backports'
+//! ANV 25.0.7 on the shim built from Mesa 25.0.7 by `make compilers`; both with
+//! `INTEL_FORCE_PROBE='*'` (25.0 still marks Xe3 experimental); their rows carry that Mesa
+//! version. ANV is Intel's production Linux Vulkan driver; its back-end (brw)
 //! compiles every fragment shader at SIMD8 (before Xe2) and, where it can, SIMD16 and SIMD32,
 //! each an executable with its own statistics.
 //!
@@ -25,8 +27,9 @@ use crate::gpu::vk::{Executable, Representation, StatValue, Statistic};
 /// The route through ANV and brw.
 pub struct Intel;
 
-/// Debian's ANV ICD (mesa-vulkan-drivers).
-pub const ICD: &str = "/usr/share/vulkan/icd.d/intel_icd.x86_64.json";
+/// ANV's driver library, whose ICD manifest is found by the loader's rules
+/// ([`crate::gpu::icd`]).
+pub const LIBRARY: &str = "libvulkan_intel.so";
 
 /// The chips compiled by ANV 25.0.7 of `make compilers`: Meteor Lake (Xe-LPG), Lunar Lake
 /// and Battlemage (Xe2), Panther Lake (Xe3).
@@ -93,10 +96,13 @@ impl Vendor for Intel {
         None
     }
 
-    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
-        super::need_file(ICD, "mesa-vulkan-drivers")?;
-        let setup = super::read_env("intel")?;
+    fn setup(&self, _driver_files: Option<&Path>) -> Result<Setup, String> {
+        let manifest = crate::gpu::icd::find_driver(LIBRARY, "mesa-vulkan-drivers")?;
+        let mut setup = super::read_env("intel")?;
         setup.get("SHIM")?;
+        setup
+            .values
+            .insert("ICD".into(), manifest.path.display().to_string());
         Ok(setup)
     }
 
@@ -104,16 +110,20 @@ impl Vendor for Intel {
         "scripts/setup-vendors.sh intel"
     }
 
-    fn setup_for(&self, chip: &str, driver_files: &Path) -> Result<Setup, String> {
-        if XE_CHIPS.contains(&chip) {
-            super::mesa_build::setup(&["ANV_ICD", "INTEL_SHIM"])
-        } else {
-            self.setup(driver_files)
+    fn setup_for(&self, chip: &str, driver_files: Option<&Path>) -> Result<Setup, String> {
+        if !XE_CHIPS.contains(&chip) {
+            return self.setup(driver_files);
+        }
+        // The system's ANV and shim where both are Mesa 25 (Debian 13); else those of `make
+        // compilers`.
+        match self.setup(driver_files) {
+            Ok(s) if system_knows_xe(&s) => Ok(s),
+            _ => super::mesa_build::setup(&["ANV_ICD", "INTEL_SHIM"]),
         }
     }
 
     fn setup_command_for(&self, chip: &str) -> &'static str {
-        if XE_CHIPS.contains(&chip) {
+        if XE_CHIPS.contains(&chip) && !self.setup(None).is_ok_and(|s| system_knows_xe(&s)) {
             super::mesa_build::SETUP_COMMAND
         } else {
             self.setup_command()
@@ -124,9 +134,9 @@ impl Vendor for Intel {
         &self,
         chip: &str,
         setup: &Setup,
-        _driver_files: &Path,
+        _driver_files: Option<&Path>,
     ) -> Result<Vec<(String, String)>, String> {
-        if XE_CHIPS.contains(&chip) {
+        if XE_CHIPS.contains(&chip) && !system_knows_xe(setup) {
             return super::mesa_build::vulkan_env(
                 setup,
                 "ANV_ICD",
@@ -137,14 +147,20 @@ impl Vendor for Intel {
                 ],
             );
         }
-        Ok(vec![
+        let icd = setup.get("ICD")?;
+        let mut env = vec![
             ("LD_PRELOAD".into(), setup.get("SHIM")?.into()),
             ("INTEL_STUB_GPU_PLATFORM".into(), chip.into()),
-            ("VK_DRIVER_FILES".into(), ICD.into()),
-            ("VK_ICD_FILENAMES".into(), ICD.into()),
+            ("VK_DRIVER_FILES".into(), icd.into()),
+            ("VK_ICD_FILENAMES".into(), icd.into()),
             ("NODEVICE_SELECT".into(), "1".into()),
             ("MESA_SHADER_CACHE_DISABLE".into(), "true".into()),
-        ])
+        ];
+        if XE_CHIPS.contains(&chip) {
+            // Mesa 25.0 still marks Xe3 experimental.
+            env.push(("INTEL_FORCE_PROBE".into(), "*".into()));
+        }
+        Ok(env)
     }
 
     fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String> {
@@ -159,6 +175,17 @@ impl Vendor for Intel {
     fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
         merge_simd(exes)
     }
+}
+
+/// Whether the system's ANV and the shim of `scripts/setup-vendors.sh intel` (built from the
+/// system's Mesa source, `MESA_VERSION` of intel.env) are Mesa 25 or later, which know Meteor
+/// Lake to Panther Lake: then those chips need no `make compilers` (Debian 13's Mesa 25.0.7).
+pub fn system_knows_xe(setup: &Setup) -> bool {
+    setup
+        .get("MESA_VERSION")
+        .ok()
+        .and_then(|v| v.split('.').next()?.parse::<u32>().ok())
+        .is_some_and(|major| major >= 25)
 }
 
 /// The SIMD width of an executable: ANV names fragment executables "SIMD16 fragment" and

@@ -119,12 +119,16 @@ pub trait Vendor: Sync {
     fn float16(&self, chip: &str) -> Option<bool>;
     /// The route's set-up, or why it is not set up. `driver_files` is the Vulkan ICD
     /// manifest the user asked for (AMD's `--driver-files`).
-    fn setup(&self, driver_files: &std::path::Path) -> Result<Setup, String>;
+    fn setup(&self, driver_files: Option<&std::path::Path>) -> Result<Setup, String>;
     /// The command that sets the route up.
     fn setup_command(&self) -> &'static str;
     /// The set-up of `chip` (a vendor whose newer chips need another build: Intel's Meteor
     /// Lake and later need ANV 25.0.7 of `make compilers`); the route's by default.
-    fn setup_for(&self, _chip: &str, driver_files: &std::path::Path) -> Result<Setup, String> {
+    fn setup_for(
+        &self,
+        _chip: &str,
+        driver_files: Option<&std::path::Path>,
+    ) -> Result<Setup, String> {
         self.setup(driver_files)
     }
     /// The command that sets `chip` up; the route's by default.
@@ -137,8 +141,19 @@ pub trait Vendor: Sync {
         &self,
         chip: &str,
         setup: &Setup,
-        driver_files: &std::path::Path,
+        driver_files: Option<&std::path::Path>,
     ) -> Result<Vec<(String, String)>, String>;
+    /// The names to give the driver for `chip`, the likeliest first (a driver that renamed a
+    /// chip between releases: AMD's `gfx1100`, `navi31` in Mesa 25); the next is tried when the
+    /// driver says it does not know one ([`Vendor::unknown_chip`]). `[chip]` by default.
+    fn driver_chips(&self, chip: &str, _setup: &Setup) -> Vec<String> {
+        vec![chip.to_string()]
+    }
+    /// Whether a child that failed with `why` failed because the driver does not know the
+    /// chip's name (then the next of [`Vendor::driver_chips`] is tried).
+    fn unknown_chip(&self, _why: &str) -> bool {
+        false
+    }
     /// Refuses a device that is not `chip` (a driver that does not know the chip may fall
     /// back to a software renderer silently): `Err(why)`.
     fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String>;
@@ -244,15 +259,6 @@ pub fn read_env_in(dir: &std::path::Path, route: &str) -> Result<Setup, String> 
     Ok(Setup { values })
 }
 
-/// Whether `file` exists, else why not (the package that holds it).
-pub fn need_file(file: &str, package: &str) -> Result<(), String> {
-    if std::path::Path::new(file).exists() {
-        Ok(())
-    } else {
-        Err(format!("{file} is missing (Debian package {package})"))
-    }
-}
-
 /// Whether `program` is on PATH, else why not.
 pub fn need_program(program: &str, package: &str) -> Result<(), String> {
     let found = std::env::var_os("PATH")
@@ -267,14 +273,25 @@ pub fn need_program(program: &str, package: &str) -> Result<(), String> {
     }
 }
 
-/// The set-up of an OpenGL route: Debian's EGL and `dri` driver, spirv-cross, and the shim
-/// `shim_key` of `gl.env` (scripts/setup-vendors.sh gl).
+/// The set-up of an OpenGL route: the system's EGL and Mesa's `dri` driver, spirv-cross, and
+/// the shim `shim_key` of `gl.env` (scripts/setup-vendors.sh gl). EGL is found in the dynamic
+/// linker's cache, the driver in the `dri` folder beside it (Mesa's default DRI path,
+/// `${libdir}/dri`) or in `LIBGL_DRIVERS_PATH`.
 pub fn gl_setup(dri: &str, shim_key: &str) -> Result<Setup, String> {
-    need_file(
-        &format!("/usr/lib/x86_64-linux-gnu/dri/{dri}_dri.so"),
-        "libgl1-mesa-dri",
-    )?;
-    need_file("/usr/lib/x86_64-linux-gnu/libEGL.so.1", "libegl1")?;
+    let egl = crate::gpu::icd::library_on_system("libEGL.so.1")
+        .ok_or("libEGL.so.1 is not in the dynamic linker's cache (Debian package libegl1)")?;
+    let file = format!("{dri}_dri.so");
+    let mut dirs: Vec<PathBuf> = std::env::var_os("LIBGL_DRIVERS_PATH")
+        .map(|v| std::env::split_paths(&v).collect())
+        .unwrap_or_default();
+    dirs.extend(egl.parent().map(|d| d.join("dri")));
+    if !dirs.iter().any(|d| d.join(&file).exists()) {
+        let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+        return Err(format!(
+            "{file} is in none of {} (Debian package libgl1-mesa-dri)",
+            shown.join(", ")
+        ));
+    }
     need_program("spirv-cross", "spirv-cross")?;
     let setup = read_env("gl")?;
     setup.get(shim_key)?;

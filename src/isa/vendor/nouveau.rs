@@ -60,7 +60,7 @@ impl Vendor for Nouveau {
         Some(false)
     }
 
-    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+    fn setup(&self, _driver_files: Option<&Path>) -> Result<Setup, String> {
         super::gl_setup("nouveau", SHIM)
     }
 
@@ -72,7 +72,7 @@ impl Vendor for Nouveau {
         &self,
         chip: &str,
         setup: &Setup,
-        _driver_files: &Path,
+        _driver_files: Option<&Path>,
     ) -> Result<Vec<(String, String)>, String> {
         let hex = chip
             .strip_prefix("nv")

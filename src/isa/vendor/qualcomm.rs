@@ -78,7 +78,7 @@ impl Vendor for Qualcomm {
         None
     }
 
-    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+    fn setup(&self, _driver_files: Option<&Path>) -> Result<Setup, String> {
         mesa_build::setup(&KEYS)
     }
 
@@ -90,7 +90,7 @@ impl Vendor for Qualcomm {
         &self,
         chip: &str,
         setup: &Setup,
-        _driver_files: &Path,
+        _driver_files: Option<&Path>,
     ) -> Result<Vec<(String, String)>, String> {
         mesa_build::vulkan_env(
             setup,

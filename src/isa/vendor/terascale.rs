@@ -62,7 +62,7 @@ impl Vendor for TeraScale {
         Some(false)
     }
 
-    fn setup(&self, _driver_files: &Path) -> Result<Setup, String> {
+    fn setup(&self, _driver_files: Option<&Path>) -> Result<Setup, String> {
         super::gl_setup("r600", SHIM)
     }
 
@@ -74,7 +74,7 @@ impl Vendor for TeraScale {
         &self,
         chip: &str,
         setup: &Setup,
-        _driver_files: &Path,
+        _driver_files: Option<&Path>,
     ) -> Result<Vec<(String, String)>, String> {
         super::gl_env(setup, SHIM, "r600", ("RADEON_GPU_ID", chip.to_uppercase()))
     }

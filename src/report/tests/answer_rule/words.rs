@@ -19,6 +19,7 @@ fn inputs<'a>(
         models,
         scene_models: Vec::new(),
         tuned,
+        missing: Vec::new(),
     }
 }
 
