@@ -347,8 +347,8 @@ impl MeshInput {
             }
             let _ = write!(
                 s,
-                " ({} triangles, normals {})",
-                p.triangles,
+                " ({}, normals {})",
+                super::soup::plural(p.triangles, "triangle", "triangles"),
                 match p.normals {
                     NormalSource::File => "from the file",
                     NormalSource::Computed => "computed",

@@ -202,7 +202,7 @@ fn extension_notes(root: &json::Root) -> std::result::Result<Vec<String>, String
         .collect();
     if !appearance.is_empty() {
         notes.push(format!(
-            "ignored {} that only change appearance ({}): the scene's own material and light are used",
+            "ignored {} ({}): appearance only; the scene's own material and light are used",
             plural(appearance.len(), "extension", "extensions"),
             appearance.join(", ")
         ));
@@ -215,7 +215,7 @@ fn extension_notes(root: &json::Root) -> std::result::Result<Vec<String>, String
         .collect();
     if !other.is_empty() {
         notes.push(format!(
-            "ignored {} the file uses but does not require ({}): read the core glTF data they fall back to",
+            "ignored {} ({}): used but not required; read the core glTF data they fall back to",
             plural(other.len(), "extension", "extensions"),
             other.join(", ")
         ));
