@@ -358,3 +358,58 @@ impl MeshInput {
         s
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn magic_bytes_win_over_the_extension_then_the_extension_then_json() {
+        let p = |s: &str| PathBuf::from(s);
+        assert_eq!(
+            Format::detect(&p("a.obj"), b"glTF\x02\0\0\0").unwrap(),
+            Format::Gltf
+        );
+        assert_eq!(
+            Format::detect(&p("a.obj"), b"ply\r\nformat").unwrap(),
+            Format::Ply
+        );
+        assert_eq!(
+            Format::detect(&p("a.PLY"), b"v 0 0 0").unwrap(),
+            Format::Ply
+        );
+        assert_eq!(Format::detect(&p("a.GLB"), b"{}").unwrap(), Format::Gltf);
+        assert_eq!(
+            Format::detect(&p("noext"), b" \n{\"asset\":{}}").unwrap(),
+            Format::Gltf
+        );
+        assert_eq!(
+            Format::detect(&p("a.obj"), b"v 0 0 0").unwrap(),
+            Format::Obj
+        );
+        // "plywood" is not PLY's first line; an unknown extension without magic is refused.
+        let e = Format::detect(&p("a.stl"), b"plywood\n").unwrap_err();
+        assert!(
+            e.to_string().contains("give .obj, .gltf, .glb or .ply"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_file_whose_extension_lies_is_read_by_its_content_with_a_note() {
+        let ply = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+        let none = |_: &Path| Err(std::io::Error::from(std::io::ErrorKind::NotFound));
+        let (m, r) = parse_mesh(Path::new("tri.obj"), ply, &none).unwrap();
+        assert_eq!(m.triangle_count(), 1);
+        assert_eq!(r.input.format, Format::Ply);
+        assert_eq!(
+            r.warnings[0],
+            "the extension says OBJ but the content is PLY: read as PLY"
+        );
+        let (_, r) = parse_mesh(Path::new("tri.ply"), ply, &none).unwrap();
+        assert!(
+            !r.warnings.iter().any(|w| w.contains("extension says")),
+            "{r:?}"
+        );
+    }
+}

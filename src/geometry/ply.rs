@@ -226,7 +226,10 @@ fn read_element(
     def: &ElementDef,
     cur: &mut Cursor,
 ) -> std::result::Result<Item, String> {
-    let eof = || "the file ends here, before the elements its header declares".to_string();
+    let eof = || {
+        "the file ends inside it, before the elements its header declares (a header that lies, or a truncated file)"
+            .to_string()
+    };
     match header.encoding {
         PlyEncoding::Ascii => loop {
             if cur.rest.is_empty() {
@@ -257,11 +260,14 @@ fn read_element(
     }
 }
 
+/// The crate's binary read error; running out of bytes (its own kind, or wrapped in a list
+/// error's message) says so plainly.
 fn binary_error(e: &std::io::Error, eof: impl Fn() -> String) -> String {
-    if e.kind() == std::io::ErrorKind::UnexpectedEof {
+    let text = e.to_string();
+    if e.kind() == std::io::ErrorKind::UnexpectedEof || text.contains("UnexpectedEof") {
         eof()
     } else {
-        one_line(&e.to_string())
+        one_line(&text)
     }
 }
 
