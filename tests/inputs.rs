@@ -398,6 +398,12 @@ fn every_bad_file_is_exit_2_naming_the_file_and_the_object() {
             vec![":12: vertex element 1: x = inf is not a finite f32 number"],
         ),
         (
+            edited(d, "gltf/morph.gltf", "v1.gltf", |b| {
+                replace(b, "\"version\": \"2.0\"", "\"version\": \"1.0\"")
+            }),
+            vec!["a glTF 1.0 file; shadelab reads glTF 2.0"],
+        ),
+        (
             edited(d, "ply/square_ascii.ply", "weird.stl", |b| {
                 replace(b, "ply\n", "solid\n")
             }),

@@ -143,12 +143,22 @@ pub fn parse_gltf(path: &Path, bytes: &[u8], read: ReadFile) -> Result<(Mesh, Lo
     let err = |msg: String| Error::input(path, None, msg);
     let c = container(bytes).map_err(err)?;
     let root: json::Root = json::deserialize::from_slice(c.json).map_err(|e| {
+        if let Some(v) = asset_version(c.json).filter(|v| !v.starts_with("2.")) {
+            return err(format!(
+                "a glTF {v} file; shadelab reads glTF 2.0: convert it first (e.g. import and export it in Blender)"
+            ));
+        }
         let msg = format!("not a glTF 2.0 document: {e}");
         match c.encoding {
             Encoding::Json => Error::input(path, Some(e.line().max(1)), msg),
             _ => err(format!("{msg} (in the .glb's JSON chunk)")),
         }
     })?;
+    if let Some(v) = Some(&root.asset.version).filter(|v| !v.starts_with("2.")) {
+        return Err(err(format!(
+            "its asset.version is {v:?}; shadelab reads glTF 2.0 (\"2.0\")"
+        )));
+    }
     let mut notes = extension_notes(&root).map_err(err)?;
     let (scene, placements) = nodes::placements(&root).map_err(err)?;
     let mut buffers = Buffers::new(&root, c.blob, path, bytes.len(), read);
@@ -167,6 +177,13 @@ pub fn parse_gltf(path: &Path, bytes: &[u8], read: ReadFile) -> Result<(Mesh, Lo
         }));
     }
     finish(path, soup, scene, parts, c.encoding, notes)
+}
+
+/// `asset.version` of a JSON document that did not parse as glTF 2.0 (a glTF 1.0 file, whose
+/// objects are maps, fails there first).
+fn asset_version(json: &[u8]) -> Option<String> {
+    let v: serde_json::Value = serde_json::from_slice(json).ok()?;
+    v.get("asset")?.get("version")?.as_str().map(str::to_owned)
 }
 
 /// The corners of every primitive read so far, in world space.
