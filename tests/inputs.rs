@@ -401,7 +401,7 @@ fn every_bad_file_is_exit_2_naming_the_file_and_the_object() {
             edited(d, "gltf/morph.gltf", "v1.gltf", |b| {
                 replace(b, "\"version\": \"2.0\"", "\"version\": \"1.0\"")
             }),
-            vec!["a glTF 1.0 file; shadelab reads glTF 2.0"],
+            vec!["its asset.version is \"1.0\"; shadelab reads glTF 2.0"],
         ),
         (
             edited(d, "ply/square_ascii.ply", "weird.stl", |b| {

@@ -77,8 +77,7 @@ struct SceneArgs {
         conflicts_with = "mesh"
     )]
     scene: Option<PathBuf>,
-    /// A mesh file instead of a scene (.obj, .gltf, .glb or .ply): camera fitted to its
-    /// bounds, default light and material.
+    /// A mesh file (.obj, .gltf, .glb, .ply) instead of a scene: camera fitted, default light.
     #[arg(long, value_name = "FILE")]
     mesh: Option<PathBuf>,
     /// Image size, overriding the scene's.
@@ -398,9 +397,8 @@ enum Command {
         /// One mesh file, .obj, .gltf, .glb or .ply (camera fitted, default light and material).
         #[arg(long, value_name = "FILE")]
         mesh: Option<PathBuf>,
-        /// Every mesh file of DIR (.obj, .gltf, .glb, .ply) as one more scene each (camera
-        /// fitted, default light and material), alone or added to --scenes / --scene / --mesh;
-        /// the answer covers them.
+        /// Every mesh file (.obj, .gltf, .glb, .ply) of DIR as one more scene each (camera fitted),
+        /// alone or added to --scenes / --scene / --mesh; the answer covers them.
         #[arg(long, value_name = "DIR")]
         models: Option<PathBuf>,
         /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
@@ -727,17 +725,8 @@ impl SceneArgs {
 
 fn load_scene(args: &SceneArgs) -> Result<Scene> {
     let scene = args.source().load()?;
-    if let Some(report) = &scene.mesh_report {
-        if report.input.format != crate::geometry::Format::Obj {
-            eprintln!(
-                "shadelab: read {}: {}",
-                scene.mesh.source,
-                report.input.describe()
-            );
-        }
-        for w in &report.warnings {
-            eprintln!("shadelab: warning: {}: {w}", scene.mesh.source);
-        }
+    for line in scene.mesh_notes() {
+        eprintln!("shadelab: {line}");
     }
     Ok(scene)
 }

@@ -201,4 +201,24 @@ impl Scene {
     pub fn aspect(&self) -> f64 {
         self.width as f64 / self.height as f64
     }
+
+    /// What reading the mesh file said, one line each, for the user: what was drawn (for glTF
+    /// and PLY: the format, and a glTF's scene and primitives; an OBJ's reading needs no
+    /// line) and every warning. Empty for a generated mesh.
+    pub fn mesh_notes(&self) -> Vec<String> {
+        let Some(report) = &self.mesh_report else {
+            return Vec::new();
+        };
+        let source = &self.mesh.source;
+        let read = (report.input.format != crate::geometry::Format::Obj)
+            .then(|| format!("read {source}: {}", report.input.describe()));
+        read.into_iter()
+            .chain(
+                report
+                    .warnings
+                    .iter()
+                    .map(|w| format!("warning: {source}: {w}")),
+            )
+            .collect()
+    }
 }
