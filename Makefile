@@ -36,10 +36,12 @@ demo: build vendors
 	@start=$$(date +%s); $(BIN) report --scenes scenes --out out/report && \
 	echo "make demo: the report took $$(( $$(date +%s) - start )) s" >&2
 
-## The whole test suite (unit, GPU under the validation layer, CLI, real-world models).
+## The whole test suite (unit, GPU under the validation layer, CLI, real-world models). The
+## glTF converter of the mesh-input tests (obj2gltf, npm) goes into the user's cache.
 test:
 	scripts/install-deps.sh run build test
 	-scripts/setup-vendors.sh
+	-scripts/setup-converters.sh
 	$(CARGO) build --release --locked
 	$(CARGO) test --release --locked
 	@scripts/build-compilers.sh --check >/dev/null 2>&1 || echo "make test: not covered: shadelab isa on the Qualcomm, Arm, Broadcom and Intel Meteor Lake to Panther Lake families (their tests skipped); run make compilers, then make test" >&2
@@ -57,7 +59,7 @@ scenes: build
 bench: build
 	scripts/bench.sh
 
-## Fuzz the OBJ and scene readers, 1,000,000 inputs (README "Fuzzing"; not part of the tests,
+## Fuzz the OBJ, scene, replay, glTF and PLY readers, 1,000,000 inputs (README "Fuzzing"; not part of the tests,
 ## which run a 20,000-input smoke run of the same harness).
 fuzz:
 	scripts/install-deps.sh run build

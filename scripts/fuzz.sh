@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the untrusted-input readers (OBJ, scene TOML, stress --replay cases; tests/fuzz.rs lists them) with the
+# Fuzzes the untrusted-input readers (OBJ, scene TOML, stress --replay cases, glTF, PLY; tests/fuzz.rs lists them) with the
 # harness of tests/fuzz/: 1,000,000 inputs in total by default, about a minute on one core.
 # Prints per target and in total: inputs tried, time, panics, inputs over 1 s or over the
 # allocation limit, and the slowest input. Exits non-zero on any of those failures; failing

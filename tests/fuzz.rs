@@ -1,4 +1,5 @@
-//! Fuzzing the readers of untrusted input (issue 10, "Bad input, fuzzed"): every target in
+//! Fuzzing the readers of untrusted input (issue 10, "Bad input, fuzzed"; OBJ, scene, replay,
+//! glTF, PLY): every target in
 //! [`TARGETS`] must turn any bytes into a value or an error, never a panic, within 1 s and
 //! without sizing an allocation from a number in the file.
 //!
@@ -36,6 +37,10 @@ pub enum Syntax {
     Toml,
     /// The replay reader of `stress --replay CASE.json`.
     Json,
+    /// glTF 2.0: a `.gltf`'s JSON or a `.glb` (the reader tells them by their magic bytes).
+    Gltf,
+    /// PLY, ASCII or binary.
+    Ply,
 }
 
 impl Syntax {
@@ -44,6 +49,8 @@ impl Syntax {
             Syntax::Obj => "obj",
             Syntax::Toml => "toml",
             Syntax::Json => "json",
+            Syntax::Gltf => "gltf",
+            Syntax::Ply => "ply",
         }
     }
 }
@@ -73,6 +80,8 @@ pub const TARGETS: &[Target] = &[
     Target { name: "obj", syntax: Syntax::Obj, seeds: &[Seeds::Repo("scenes", "obj"), Seeds::Env("SHADELAB_MODELS", "obj"), Seeds::Repo("tests/data/fuzz/obj", "obj")], parse: fuzz_obj },
     Target { name: "replay", syntax: Syntax::Json, seeds: &[Seeds::Repo("tests/data/fuzz/replay", "json")], parse: fuzz_replay },
     Target { name: "scene", syntax: Syntax::Toml, seeds: &[Seeds::Repo("scenes", "toml"), Seeds::Repo("tests/data/fuzz/scene", "toml")], parse: fuzz_scene },
+    Target { name: "gltf", syntax: Syntax::Gltf, seeds: &[Seeds::Repo("tests/data/gltf", "gltf"), Seeds::Repo("tests/data/gltf", "glb"), Seeds::Repo("tests/data/fuzz/gltf", "gltf")], parse: fuzz_gltf },
+    Target { name: "ply", syntax: Syntax::Ply, seeds: &[Seeds::Repo("tests/data/ply", "ply"), Seeds::Repo("tests/data/fuzz/ply", "ply")], parse: fuzz_ply },
 ];
 
 /// The name inputs get in error messages.
@@ -121,6 +130,31 @@ fn check_mesh(mesh: &Mesh) {
 
 fn fuzz_obj(bytes: &[u8]) -> Result<()> {
     let (mesh, report) = geometry::parse_obj(Path::new(FUZZ_PATH), bytes)
+        .inspect_err(|e| check_error_line(e, bytes))?;
+    check_mesh(&mesh);
+    assert_eq!(report.triangles, mesh.triangle_count());
+    Ok(())
+}
+
+/// glTF: `.gltf` JSON or `.glb` bytes. A buffer file the input names is never read (a fuzzed
+/// input must not reach the disk): it is missing, which the reader reports as an error.
+fn fuzz_gltf(bytes: &[u8]) -> Result<()> {
+    let missing = |_: &Path| Err(std::io::Error::from(std::io::ErrorKind::NotFound));
+    let (mesh, report) = geometry::gltf::parse_gltf(Path::new(FUZZ_PATH), bytes, &missing)
+        .inspect_err(|e| check_error_line(e, bytes))?;
+    check_mesh(&mesh);
+    assert_eq!(report.triangles, mesh.triangle_count());
+    let drawn: usize = report.input.parts.iter().map(|p| p.triangles).sum();
+    assert_eq!(
+        drawn,
+        report.triangles + report.dropped_zero_area,
+        "{report:?}"
+    );
+    Ok(())
+}
+
+fn fuzz_ply(bytes: &[u8]) -> Result<()> {
+    let (mesh, report) = geometry::ply::parse_ply(Path::new(FUZZ_PATH), bytes)
         .inspect_err(|e| check_error_line(e, bytes))?;
     check_mesh(&mesh);
     assert_eq!(report.triangles, mesh.triangle_count());

@@ -35,6 +35,9 @@
 //!   stress, isa and report; the bit trick's error against its known figure; the refusals.
 //! - `one_row`: a test-only method, its GLSL file and one row (issue 38), through verify on both
 //!   engines, stress, prove, list and the report's answer.
+//! - `inputs`: glTF 2.0 and PLY beside OBJ: hand-checked node transforms, every encoding the
+//!   same mesh, bad files (exit 2, file and object), mixed folders through report, corpus and
+//!   tune; glTF converted from the shared models by obj2gltf against their OBJ.
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod citations;
@@ -46,6 +49,7 @@ mod docs;
 mod float16;
 mod fuzz;
 mod gpu;
+mod inputs;
 mod isa;
 mod isa_mobile;
 mod layout;

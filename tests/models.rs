@@ -4,7 +4,7 @@
 use shadelab::method::METHODS;
 use shadelab::{scene, truth};
 
-use shadelab::geometry::load_obj;
+use shadelab::geometry::load_mesh;
 
 use crate::support::*;
 
@@ -25,7 +25,7 @@ fn shared_models_load() {
     ];
     for (name, triangles, computed, polygons) in models {
         let path = dir.join(name);
-        let (mesh, report) = load_obj(&path).unwrap_or_else(|e| panic!("{e}"));
+        let (mesh, report) = load_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(
             report.triangles + report.dropped_zero_area,
             triangles,

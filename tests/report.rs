@@ -679,5 +679,8 @@ fn report_models_adds_every_obj_of_a_folder() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("no OBJ meshes"), "{stderr}");
+    assert!(
+        stderr.contains("no mesh files (.obj, .gltf, .glb or .ply)"),
+        "{stderr}"
+    );
 }

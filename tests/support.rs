@@ -101,16 +101,10 @@ pub fn run(args: &[&str]) -> (i32, String, String) {
     )
 }
 
-/// The OBJ files of the models folder, sorted (`None`, with a message, when it is absent).
+/// The mesh files of the models folder, sorted (`None`, with a message, when it is absent).
 pub fn model_files() -> Option<Vec<PathBuf>> {
     let dir = models_dir()?;
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .ok()?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
-        .collect();
-    files.sort();
-    Some(files)
+    shadelab::geometry::mesh_files(&dir, shadelab::geometry::Depth::Flat, None).ok()
 }
 
 /// The JSON file at `path`, parsed (panics with the path on a missing or malformed file).

@@ -11,14 +11,15 @@ use crate::method::Precision;
 
 #[derive(Args, Debug)]
 pub(super) struct CorpusArgs {
-    /// Folder of the corpus: every *.obj under it (recursive; hidden entries skipped).
+    /// Folder of the corpus: every mesh file under it (.obj, .gltf, .glb, .ply; recursive;
+    /// hidden entries skipped).
     #[arg(
         value_name = "DIR",
         required_unless_present = "list",
         conflicts_with = "list"
     )]
     dir: Option<PathBuf>,
-    /// A list file instead: one OBJ path a line, relative to the list file's folder.
+    /// A list file instead: one mesh file path a line, relative to the list file's folder.
     #[arg(long, value_name = "FILE")]
     list: Option<PathBuf>,
     /// Output folder of this shard (manifest.json, meshes/<id>/, isa/).

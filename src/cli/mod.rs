@@ -80,8 +80,8 @@ struct SceneArgs {
         conflicts_with = "mesh"
     )]
     scene: Option<PathBuf>,
-    /// OBJ mesh instead of a scene: camera fitted to its bounds, default light and material.
-    #[arg(long, value_name = "FILE.obj")]
+    /// A mesh file (.obj, .gltf, .glb, .ply) instead of a scene: camera fitted, default light.
+    #[arg(long, value_name = "FILE")]
     mesh: Option<PathBuf>,
     /// Image size, overriding the scene's.
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
@@ -400,11 +400,11 @@ enum Command {
         /// One scene file (TOML).
         #[arg(long, value_name = "FILE")]
         scene: Option<PathBuf>,
-        /// One OBJ mesh (camera fitted, default light and material).
-        #[arg(long, value_name = "FILE.obj")]
+        /// One mesh file, .obj, .gltf, .glb or .ply (camera fitted, default light and material).
+        #[arg(long, value_name = "FILE")]
         mesh: Option<PathBuf>,
-        /// Every OBJ mesh (*.obj) of DIR as one more scene each (camera fitted, default light
-        /// and material), alone or added to --scenes / --scene / --mesh; the answer covers them.
+        /// Every mesh file (.obj, .gltf, .glb, .ply) of DIR as one more scene each (camera fitted),
+        /// alone or added to --scenes / --scene / --mesh; the answer covers them.
         #[arg(long, value_name = "DIR")]
         models: Option<PathBuf>,
         /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
@@ -439,7 +439,7 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
-    /// Compare every OBJ of a mesh corpus, or one shard K/N of it (CI matrix, Slurm job
+    /// Compare every mesh file of a corpus, or one shard K/N of it (CI matrix, Slurm job
     /// array): per-mesh results, a manifest, the static GPU cost once (docs/corpus.md).
     Corpus(self::corpus::CorpusArgs),
     /// Check the shards of a corpus (union, disjoint, same configuration) and write the corpus
@@ -712,11 +712,7 @@ impl SceneArgs {
 
 fn load_scene(args: &SceneArgs) -> Result<Scene> {
     let scene = args.source().load()?;
-    if let Some(report) = &scene.mesh_report {
-        for w in &report.warnings {
-            log::warn!("{}: {w}", scene.mesh.source);
-        }
-    }
+    scene.log_mesh_notes();
     Ok(scene)
 }
 

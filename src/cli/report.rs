@@ -58,23 +58,6 @@ pub(super) struct How {
     pub tuned: Option<PathBuf>,
 }
 
-/// The OBJ files (*.obj) of a folder, sorted (an error when there is none).
-fn obj_files(dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| Error::io(dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("obj")))
-        .collect();
-    files.sort();
-    if files.is_empty() {
-        return Err(Error::Usage(format!(
-            "no OBJ meshes (*.obj) in {}",
-            dir.display()
-        )));
-    }
-    Ok(files)
-}
-
 /// (path, is a mesh) of every scene the sources name.
 fn inputs(src: &Sources) -> Result<Vec<(PathBuf, bool)>> {
     let given = [
@@ -86,7 +69,7 @@ fn inputs(src: &Sources) -> Result<Vec<(PathBuf, bool)>> {
     if named.len() > 1 {
         return Err(Error::Usage(format!(
             "{} cannot be used with {}: give one of --scenes DIR, --scene FILE, \
-             --mesh FILE.obj (--models DIR may be added to any)",
+             --mesh FILE (--models DIR may be added to any)",
             named[0], named[1]
         )));
     }
@@ -101,11 +84,15 @@ fn inputs(src: &Sources) -> Result<Vec<(PathBuf, bool)>> {
         v.push((m.into(), true));
     }
     if let Some(d) = src.models {
-        v.extend(obj_files(d)?.into_iter().map(|f| (f, true)));
+        v.extend(
+            crate::geometry::mesh_files(d, crate::geometry::Depth::Flat, None)?
+                .into_iter()
+                .map(|f| (f, true)),
+        );
     }
     if v.is_empty() {
         return Err(Error::Usage(
-            "give one of --scenes DIR, --scene FILE, --mesh FILE.obj, or --models DIR".into(),
+            "give one of --scenes DIR, --scene FILE, --mesh FILE, or --models DIR".into(),
         ));
     }
     Ok(v)

@@ -19,13 +19,15 @@ enum DomainArg {
 #[derive(Debug, Args)]
 #[command(group(ArgGroup::new("source").required(true).args(["mesh", "scene", "models", "max_angle"])))]
 pub struct TuneArgs {
-    /// One OBJ mesh (camera fitted, default light and material, 512x512).
-    #[arg(long, value_name = "FILE.obj")]
+    /// One mesh file, .obj, .gltf, .glb or .ply (camera fitted, default light and material,
+    /// 512x512).
+    #[arg(long, value_name = "FILE")]
     mesh: Option<PathBuf>,
     /// One scene file (TOML): its mesh, lights, material and render size.
     #[arg(long, value_name = "FILE")]
     scene: Option<PathBuf>,
-    /// Every OBJ mesh (*.obj) of DIR, one run each, written to OUT/<name>/.
+    /// Every mesh file (.obj, .gltf, .glb, .ply) of DIR, one run each, written to
+    /// OUT/<name>/.
     #[arg(long, value_name = "DIR")]
     models: Option<PathBuf>,
     /// No mesh: every triangle whose vertex normals are pairwise at most DEG apart (prove's
@@ -89,19 +91,9 @@ fn scenes(a: &TuneArgs) -> Result<Vec<(Scene, &'static str, PathBuf, PathBuf)>> 
     let Some(dir) = &a.models else {
         return Ok(Vec::new());
     };
-    let mut objs: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| Error::io(dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("obj")))
-        .collect();
-    objs.sort();
-    if objs.is_empty() {
-        return Err(Error::Usage(format!(
-            "--models {}: no *.obj in it",
-            dir.display()
-        )));
-    }
-    objs.into_iter()
+    let files = crate::geometry::mesh_files(dir, crate::geometry::Depth::Flat, None)?;
+    files
+        .into_iter()
         .map(|p| {
             let s = load(None, Some(p.clone()))?;
             let out = a.out.join(tune::prefix_of(&s.name));

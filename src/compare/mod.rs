@@ -580,6 +580,7 @@ pub fn compare_with(
         },
         scene: scene.name.clone(),
         scene_source: scene.mesh.source.clone(),
+        mesh_input: scene.mesh_report.as_ref().map(|r| r.input.clone()),
         triangles: base.triangle_count(),
         width: w,
         height: h,

@@ -286,6 +286,10 @@ pub struct Summary {
     pub precision: crate::method::Precision,
     pub scene: String,
     pub scene_source: String,
+    /// What was read of the mesh file (format, encoding; for glTF the scene, nodes, meshes and
+    /// primitives drawn and where their normals came from); absent for a generated mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh_input: Option<crate::geometry::MeshInput>,
     pub triangles: usize,
     pub width: u32,
     pub height: u32,

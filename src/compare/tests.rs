@@ -390,6 +390,7 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
         precision: crate::method::Precision::F32,
         scene: String::new(),
         scene_source: String::new(),
+        mesh_input: None,
         triangles: 0,
         width: 1,
         height: 1,

@@ -2,7 +2,7 @@
 //! compared as `compare --mesh` does, the shards merged and checked into one set of tables.
 //!
 //! This module owns what the shards agree on: the list of meshes of a corpus (a folder walked
-//! for `*.obj`, or a list file), each mesh's id (its relative path, sanitised), the stable hash
+//! for mesh files ([`crate::geometry::mesh_files`]), or a list file), each mesh's id (its relative path, sanitised), the stable hash
 //! that puts a mesh in shard K of N (as cargo-nextest's `hash:K/N`, 1-based), the shard taken
 //! from `--shard` or the environment of a CI matrix / Slurm job array, the configuration and
 //! its hash. [`run`] runs one shard, [`merge`] checks and merges shards, [`tables`] computes
@@ -80,45 +80,26 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Every `*.obj` under `dir` (recursive, hidden entries and `skip` left out), sorted by
-/// relative path.
+/// Every mesh file under `dir` ([`crate::geometry::mesh_files`]: recursive, hidden entries and
+/// `skip` left out), sorted by relative path.
 pub fn list_dir(dir: &Path, skip: Option<&Path>) -> Result<Vec<Mesh>> {
-    let mut meshes = Vec::new();
-    let skip = skip.and_then(|s| s.canonicalize().ok());
-    walk(dir, dir, skip.as_deref(), &mut meshes)?;
-    finish(meshes)
-}
-
-fn walk(root: &Path, dir: &Path, skip: Option<&Path>, out: &mut Vec<Mesh>) -> Result<()> {
-    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
-    for e in entries {
-        let e = e.map_err(|e| Error::io(dir, e))?;
-        let path = e.path();
-        if e.file_name().to_string_lossy().starts_with('.') {
-            continue;
-        }
-        if skip.is_some() && path.canonicalize().ok().as_deref() == skip {
-            continue;
-        }
-        if path.is_dir() {
-            walk(root, &path, skip, out)?;
-        } else if path
-            .extension()
-            .is_some_and(|x| x.eq_ignore_ascii_case("obj"))
-        {
+    let files = crate::geometry::mesh_files(dir, crate::geometry::Depth::Recursive, skip)?;
+    let meshes = files
+        .into_iter()
+        .map(|path| {
             let rel = path
-                .strip_prefix(root)
+                .strip_prefix(dir)
                 .unwrap_or(&path)
                 .to_string_lossy()
                 .replace('\\', "/");
-            out.push(Mesh {
+            Mesh {
                 id: mesh_id(&rel),
                 rel,
                 path,
-            });
-        }
-    }
-    Ok(())
+            }
+        })
+        .collect();
+    finish(meshes)
 }
 
 /// The meshes of a list file: one path a line (blank lines and `#` comments skipped), relative
@@ -143,7 +124,7 @@ pub fn list_file(file: &Path) -> Result<Vec<Mesh>> {
 fn finish(mut meshes: Vec<Mesh>) -> Result<Vec<Mesh>> {
     meshes.sort_by(|a, b| a.rel.cmp(&b.rel));
     if meshes.is_empty() {
-        return Err(Error::Usage("corpus: no .obj file found".into()));
+        return Err(Error::Usage("corpus: no mesh file listed".into()));
     }
     for w in meshes.windows(2) {
         if w[0].rel == w[1].rel {

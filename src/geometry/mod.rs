@@ -1,17 +1,20 @@
-//! Triangle meshes: OBJ loading (validated, then parsed by `tobj`), vertex normals, fitting to
-//! the unit sphere, procedural generators, and OBJ writing.
+//! Triangle meshes: reading OBJ, glTF 2.0 and PLY files through one seam ([`input::load_mesh`],
+//! a reader per format: [`obj`], [`gltf`], [`ply`]), vertex normals, fitting to the unit
+//! sphere, procedural generators, and OBJ writing.
 //!
 //! Owns [`Mesh`], the unindexed triangle soup every renderer path consumes.
 //!
 //! Invariants of a [`Mesh`] produced here:
 //! - `positions.len() == normals.len()` and both are a multiple of 3 (3 corners per triangle);
 //! - every normal is finite and unit length (to f32 precision, |n| - 1 < 1e-6);
-//! - every triangle has non-zero area by the test in [`is_zero_area`] (OBJ loading drops the
-//!   others and counts them in [`LoadReport::dropped_zero_area`]);
+//! - every triangle has non-zero area by the test in [`is_zero_area`] (reading drops the
+//!   others and counts them in [`LoadReport::dropped_zero_area`]; every reader does, through
+//!   [`soup`]);
 //! - computed and generated normals agree with the winding (counter-clockwise seen from the
 //!   side they point to); normals given in a file are kept as the file has them;
-//! - a mesh returned by [`load_obj`] is fitted by [`fit_unit`] (bounding box centred at the
-//!   origin, bounding sphere radius 1); a mesh returned by [`Generator::build`] is not.
+//! - a mesh returned by [`load_mesh`] (any reader) is fitted by [`fit_unit`] (bounding box
+//!   centred at the origin, bounding sphere radius 1); a mesh returned by [`Generator::build`]
+//!   is not.
 //!
 //! OBJ loading is two passes over the text. Our own pass validates every statement and reports
 //! problems as `file:line` errors (tobj reports neither file nor line). It also writes a
@@ -22,13 +25,20 @@
 //! corner's normal. Our pass remembers which corners really had a normal; the two passes are
 //! cross-checked corner by corner so a disagreement is an error, never a silently wrong mesh.
 pub mod generators;
+pub mod gltf;
+pub mod input;
 pub mod obj;
+pub mod ply;
+pub(crate) mod soup;
 #[cfg(test)]
 mod tests;
 pub mod topology;
 pub mod zdomain;
 
 pub use generators::*;
+pub use input::{
+    load_mesh, mesh_files, parse_mesh, Depth, Encoding, Format, MeshInput, NormalSource,
+};
 pub use obj::*;
 pub use topology::{topology, Topology};
 
@@ -69,7 +79,7 @@ impl Mesh {
         (lo, hi)
     }
 }
-/// What [`load_obj`] did to the file's faces, for the user and for tests.
+/// What a reader ([`load_mesh`]) did to the file's faces, for the user and for tests.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct LoadReport {
     /// Triangles in the resulting mesh (after dropping zero-area ones).
@@ -82,6 +92,8 @@ pub struct LoadReport {
     pub had_quads_or_polygons: bool,
     /// Human-readable notes, e.g. "dropped 3 zero-area triangles".
     pub warnings: Vec<String>,
+    /// What was read and drawn: format, encoding, and for glTF the scene and its parts.
+    pub input: MeshInput,
 }
 /// A triangle counts as zero-area when `|cross(p1 - p0, p2 - p0)| <= 1e-12 * L^2`, with `L` its
 /// longest edge, computed in f64. Geometrically: its height over the longest edge is at most
@@ -99,7 +111,7 @@ pub fn is_zero_area(p0: DVec3, p1: DVec3, p2: DVec3) -> bool {
 }
 
 // ---------------------------------------------------------------------------------------------
-// OBJ loading
+// Fitting
 // ---------------------------------------------------------------------------------------------
 fn dvec(a: [f32; 3]) -> DVec3 {
     DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)

@@ -4,18 +4,11 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use glam::DVec3;
-
+use super::soup::{self, lacks_normal, plural, Corner};
 use super::*;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
 
-/// One face corner as the validation pass saw it (0-based, relative indices resolved).
-#[derive(Debug, Clone, Copy)]
-struct Corner {
-    position: usize,
-    normal: Option<usize>,
-}
 /// One `f` statement: `corners[first..first + len]`.
 #[derive(Debug, Clone, Copy)]
 struct Face {
@@ -152,6 +145,15 @@ fn validate_obj(path: &Path, text: &str) -> Result<Parsed> {
 /// The statements of the validation pass, each checked and recorded; an error is the message
 /// for the statement's line.
 impl Parsed {
+    /// The lists the corners index, smoothed per `v` index (the module doc of [`soup`]).
+    fn lists(&self) -> soup::Lists<'_> {
+        soup::Lists {
+            positions: &self.positions,
+            normals: &self.normals,
+            smooth_as: None,
+        }
+    }
+
     /// `v`: x y z, optionally w (tobj divides by it) or r g b (a common extension).
     fn vertex(&mut self, args: &[&str], content: &str) -> std::result::Result<(), String> {
         if args.len() < 3 {
@@ -311,49 +313,26 @@ fn run_tobj(path: &Path, text: &str) -> Result<Vec<tobj::Model>> {
     .map_err(|e| Error::input(path, None, format!("tobj could not load the file: {e}")))?;
     Ok(models)
 }
-fn plural(n: usize, one: &str, many: &str) -> String {
-    format!("{n} {}", if n == 1 { one } else { many })
-}
 /// Expands tobj's triangles into the soup, cross-checking them against the validation pass,
-/// drops zero-area triangles, fills in normals and fits the result.
+/// then drops zero-area triangles, fills in normals and fits the result ([`soup::assemble`]).
 fn build_from_parsed(
     path: &Path,
     parsed: &Parsed,
     models: &[tobj::Model],
 ) -> Result<(Mesh, LoadReport)> {
     let tri_corners = triangle_corners(path, parsed, models)?;
-
-    // Drop zero-area triangles.
-    let mut kept: Vec<[Corner; 3]> = Vec::with_capacity(tri_corners.len());
-    for tri in &tri_corners {
-        let [a, b, c] = tri.map(|k| dvec(parsed.positions[k.position]));
-        if !is_zero_area(a, b, c) {
-            kept.push(*tri);
-        }
-    }
-    let mut dropped = tri_corners.len() - kept.len();
-    if kept.is_empty() {
-        return Err(Error::input(
-            path,
-            None,
-            format!(
-                "no triangles: all {} of the file's triangles have zero area",
-                tri_corners.len()
-            ),
-        ));
-    }
-
-    let (mut mesh, counts) = corner_normals(path, parsed, &kept);
-    dropped += fit_dropping_collapsed(path, &mut mesh, tri_corners.len())?;
-    let warnings = load_warnings(parsed, &kept, dropped, &counts);
+    let lists = parsed.lists();
+    let a = soup::assemble(path, lists, &tri_corners)?;
+    let warnings = load_warnings(parsed, &a);
     let report = LoadReport {
-        triangles: mesh.triangle_count(),
-        dropped_zero_area: dropped,
-        computed_normals: counts.computed > 0,
+        triangles: a.mesh.triangle_count(),
+        dropped_zero_area: a.dropped,
+        computed_normals: a.counts.computed > 0,
         had_quads_or_polygons: parsed.had_polygons,
         warnings,
+        input: MeshInput::whole(Format::Obj, Encoding::Text),
     };
-    Ok((mesh, report))
+    Ok((a.mesh, report))
 }
 
 /// The source corners of every triangle tobj made, in file order, after checking that tobj's
@@ -420,156 +399,11 @@ fn triangle_corners(
     Ok(tri_corners)
 }
 
-/// Whether a corner lacks a usable normal in the file (none, or of zero length).
-fn lacks_normal(parsed: &Parsed, c: &Corner) -> bool {
-    c.normal.is_none_or(|n| parsed.normals[n] == [0.0; 3])
-}
-
-/// How the corners' normals were found, for the load report's warnings.
-#[derive(Clone, Copy)]
-struct NormalCounts {
-    /// Taken from the file.
-    given: usize,
-    /// Given in the file with zero length (computed instead).
-    zero_given: usize,
-    /// Computed (smooth, or the face normal where the smooth one cancels out).
-    computed: usize,
-    /// Computed where the neighbouring face normals cancel out: the face normal.
-    cancelled: usize,
-}
-
-/// Smooth normals accumulated per position index over `kept` (weighted by corner angle), and
-/// the total corner angle per position; empty when every corner has a usable normal.
-fn smooth_normals(parsed: &Parsed, kept: &[[Corner; 3]]) -> (Vec<DVec3>, Vec<f64>) {
-    let needs_smooth = kept.iter().flatten().any(|c| lacks_normal(parsed, c));
-    let mut acc = Vec::new();
-    let mut weight = Vec::new();
-    if needs_smooth {
-        acc = vec![DVec3::ZERO; parsed.positions.len()];
-        weight = vec![0f64; parsed.positions.len()];
-        for tri in kept {
-            let p = tri.map(|k| dvec(parsed.positions[k.position]));
-            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
-            for j in 0..3 {
-                let e1 = p[(j + 1) % 3] - p[j];
-                let e2 = p[(j + 2) % 3] - p[j];
-                // atan2 stays accurate for angles near 0 and pi, where acos of a dot does not.
-                let angle = e1.cross(e2).length().atan2(e1.dot(e2));
-                acc[tri[j].position] += n * angle;
-                weight[tri[j].position] += angle;
-            }
-        }
-    }
-    (acc, weight)
-}
-
-/// The triangle soup of `kept`: positions, and each corner's normal, given (normalised; a
-/// zero-length one counts as missing) or computed smooth.
-fn corner_normals(path: &Path, parsed: &Parsed, kept: &[[Corner; 3]]) -> (Mesh, NormalCounts) {
-    let mut counts = NormalCounts {
-        given: 0,
-        zero_given: 0,
-        computed: 0,
-        cancelled: 0,
-    };
-    let given = |c: &Corner, zero_given: &mut usize| -> Option<DVec3> {
-        let n = dvec(parsed.normals[c.normal?]);
-        let len = n.length();
-        if len > 0.0 {
-            Some(n / len)
-        } else {
-            *zero_given += 1;
-            None
-        }
-    };
-    let (acc, weight) = smooth_normals(parsed, kept);
-    let mut positions = Vec::with_capacity(kept.len() * 3);
-    let mut normals = Vec::with_capacity(kept.len() * 3);
-    for tri in kept {
-        let p = tri.map(|k| dvec(parsed.positions[k.position]));
-        for c in tri {
-            positions.push(parsed.positions[c.position]);
-            let n = match given(c, &mut counts.zero_given) {
-                Some(n) => {
-                    counts.given += 1;
-                    n
-                }
-                None => {
-                    counts.computed += 1;
-                    let s = acc[c.position];
-                    let len = s.length();
-                    // Cancellation: neighbouring faces point in (nearly) opposite directions, so
-                    // their sum has no meaningful direction. The threshold is relative to the
-                    // total corner angle, so small but consistent fans are unaffected.
-                    if len > 1e-6 * weight[c.position] && len > 0.0 {
-                        s / len
-                    } else {
-                        counts.cancelled += 1;
-                        (p[1] - p[0]).cross(p[2] - p[0]).normalize()
-                    }
-                }
-            };
-            normals.push(n.as_vec3().to_array());
-        }
-    }
-    let mesh = Mesh {
-        positions,
-        normals,
-        source: path.display().to_string(),
-    };
-    (mesh, counts)
-}
-
-/// Fits `mesh` to the unit sphere, dropping the triangles the fit collapses; returns how many.
-/// `triangles` (the file's count) is for the message when none is left.
-fn fit_dropping_collapsed(path: &Path, mesh: &mut Mesh, triangles: usize) -> Result<usize> {
-    // Fitting rounds to f32 in the fitted frame: beside a far-away vertex, a triangle with an
-    // area in the file's coordinates can collapse (found by the fuzz harness: one cube vertex
-    // moved to x = -2147483648). Drop those too and refit; a refit only happens when something
-    // was dropped, so other meshes keep their bits. Each round drops at least one triangle;
-    // the bound keeps an adversarial file linear.
-    let mut dropped = 0;
-    fit_unit(mesh);
-    for _ in 0..4 {
-        let collapsed = drop_zero_area(mesh);
-        if collapsed == 0 {
-            break;
-        }
-        dropped += collapsed;
-        if mesh.positions.is_empty() {
-            return Err(Error::input(
-                path,
-                None,
-                format!(
-                    "no triangles: all {triangles} of the file's triangles have zero area once fitted to the unit sphere (a vertex far from the others?)",
-                ),
-            ));
-        }
-        fit_unit(mesh);
-    }
-    Ok(dropped)
-}
-
-/// The load report's notes: dropped triangles, ignored elements, computed normals.
-fn load_warnings(
-    parsed: &Parsed,
-    kept: &[[Corner; 3]],
-    dropped: usize,
-    counts: &NormalCounts,
-) -> Vec<String> {
-    let NormalCounts {
-        given: given_count,
-        zero_given,
-        computed,
-        cancelled,
-    } = *counts;
-    let mut warnings = Vec::new();
-    if dropped > 0 {
-        warnings.push(format!(
-            "dropped {} (height below 1e-12 x longest edge)",
-            plural(dropped, "zero-area triangle", "zero-area triangles")
-        ));
-    }
+/// The load report's notes: the common ones ([`soup::common_notes`]), ignored elements, and
+/// positions written under more than one index.
+fn load_warnings(parsed: &Parsed, a: &soup::Assembled) -> Vec<String> {
+    let lists = parsed.lists();
+    let mut warnings = soup::common_notes(a.dropped, &a.counts);
     if parsed.skipped_elements > 0 {
         warnings.push(format!(
             "ignored {}: only faces are drawn",
@@ -580,23 +414,11 @@ fn load_warnings(
             )
         ));
     }
-    if zero_given > 0 {
-        warnings.push(format!(
-            "{} had a zero-length normal in the file; computed smooth normals for them instead",
-            plural(zero_given, "face corner", "face corners")
-        ));
-    }
-    if computed > 0 && given_count > 0 {
-        warnings.push(format!(
-            "{computed} of {} face corners had no usable normal in the file; computed smooth normals for them",
-            computed + given_count
-        ));
-    }
     // Smoothing follows the file's position indices, as the format's topology says; a position
     // written twice (the Utah teapot's patch seams) therefore splits the shading there.
     let mut first_index: HashMap<[u32; 3], usize> = HashMap::new();
     let mut repeated: HashMap<[u32; 3], ()> = HashMap::new();
-    for c in kept.iter().flatten().filter(|c| lacks_normal(parsed, c)) {
+    for c in a.kept.iter().flatten().filter(|c| lacks_normal(lists, c)) {
         let key = parsed.positions[c.position].map(f32::to_bits);
         if *first_index.entry(key).or_insert(c.position) != c.position {
             repeated.insert(key, ());
@@ -608,29 +430,7 @@ fn load_warnings(
             plural(repeated.len(), "position", "positions")
         ));
     }
-    if cancelled > 0 {
-        warnings.push(format!(
-            "{}: the neighbouring face normals cancel out (two-sided or folded surface), used the face normal",
-            plural(cancelled, "face corner", "face corners")
-        ));
-    }
     warnings
-}
-/// Removes the triangles of `mesh` that [`is_zero_area`] rejects; returns how many.
-fn drop_zero_area(mesh: &mut Mesh) -> usize {
-    let keep: Vec<bool> = mesh
-        .positions
-        .chunks_exact(3)
-        .map(|t| !is_zero_area(dvec(t[0]), dvec(t[1]), dvec(t[2])))
-        .collect();
-    for list in [&mut mesh.positions, &mut mesh.normals] {
-        let mut corner = 0;
-        list.retain(|_| {
-            corner += 1;
-            keep[(corner - 1) / 3]
-        });
-    }
-    keep.iter().filter(|&&k| !k).count()
 }
 /// The OBJ text for `mesh`: `header` as `#` comment lines, then `v` and `vn` lists and
 /// `f v//vn` faces. Positions and normals are deduplicated separately by exact bit pattern (so

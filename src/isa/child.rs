@@ -102,7 +102,7 @@ pub(crate) fn scene(req: &ChildRequest) -> Result<Scene> {
         None => crate::scene::parse_scene(
             Path::new(DEFAULT_SCENE_NAME),
             DEFAULT_SCENE,
-            &crate::geometry::load_obj,
+            &crate::geometry::load_mesh,
         ),
     }
 }

@@ -642,6 +642,19 @@ pub(super) fn provenance_section(d: &ReportData) -> String {
         ),
     ));
     rows.push(("jobs' run time", format!("{:.1} s", run.seconds)));
+    // What each scene's mesh file gave: format, and for glTF the scene and primitives drawn.
+    let meshes: Vec<(String, String)> = d
+        .scenes
+        .iter()
+        .filter_map(|s| {
+            let m = s.summary.mesh_input.as_ref()?;
+            Some((
+                format!("mesh of {}", s.summary.scene),
+                format!("{}: {}", s.summary.scene_source, m.describe()),
+            ))
+        })
+        .collect();
+    rows.extend(meshes.iter().map(|(k, v)| (k.as_str(), v.clone())));
     let mut h =
         String::from("<section id=\"provenance\"><h2>Provenance</h2><table class=\"prov\"><tbody>");
     for (k, v) in rows {

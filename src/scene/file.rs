@@ -1,5 +1,5 @@
 //! The TOML scene file: parsing with spans, validation with `file:line` errors, and the
-//! scene for a bare OBJ ([`scene_for_mesh`]).
+//! scene for a bare mesh file ([`scene_for_mesh`]).
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -9,13 +9,13 @@ use toml::Spanned;
 
 use super::*;
 use crate::error::{Error, Result};
-use crate::geometry::{fit_unit, load_obj, Generator, LoadReport, Mesh};
+use crate::geometry::{fit_unit, load_mesh, Generator, LoadReport, Mesh};
 
-/// A scene for a bare OBJ (`--mesh FILE.obj`): the fitted mesh, [`fit_camera`] at
-/// [`DEFAULT_FOV_Y_DEG`], the default light and material, 512 x 512, screen-linear
-/// interpolation. Named after the file stem. Errors are [`load_obj`]'s.
+/// A scene for a bare mesh file (`--mesh FILE`: OBJ, glTF 2.0 or PLY): the fitted mesh,
+/// [`fit_camera`] at [`DEFAULT_FOV_Y_DEG`], the default light and material, 512 x 512,
+/// screen-linear interpolation. Named after the file stem. Errors are [`load_mesh`]'s.
 pub fn scene_for_mesh(path: &Path) -> Result<Scene> {
-    let (mesh, report) = load_obj(path)?;
+    let (mesh, report) = load_mesh(path)?;
     let (width, height) = (DEFAULT_IMAGE_SIZE, DEFAULT_IMAGE_SIZE);
     Ok(Scene {
         name: file_stem(path),
@@ -45,9 +45,7 @@ type Vec3 = Spanned<[f64; 3]>;
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     name: Option<String>,
-    /// Kept generic: `obj` and the generators' keys share the table, which serde's `flatten`
-    /// cannot combine with `deny_unknown_fields`.
-    mesh: Option<Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>>,
+    mesh: Option<Spanned<MeshField>>,
     camera: Option<Spanned<CameraFile>>,
     light: Option<Spanned<Vec<Spanned<LightFile>>>>,
     material: Option<MaterialFile>,
@@ -98,6 +96,37 @@ struct ImageFile {
 struct RenderFile {
     interpolation: Option<Interpolation>,
     cull: Option<Cull>,
+}
+
+/// `mesh = "FILE"`, or the `[mesh]` table. The table is kept generic: `file` (or `obj`) and
+/// the generators' keys share it, which serde's `flatten` cannot combine with
+/// `deny_unknown_fields`.
+enum MeshField {
+    File(String),
+    Table(BTreeMap<Spanned<String>, Spanned<toml::Value>>),
+}
+
+impl<'de> Deserialize<'de> for MeshField {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Either;
+        impl<'de> serde::de::Visitor<'de> for Either {
+            type Value = MeshField;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a mesh file path (mesh = \"FILE\") or a [mesh] table")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<MeshField, E> {
+                Ok(MeshField::File(v.to_owned()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> std::result::Result<MeshField, A::Error> {
+                BTreeMap::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(MeshField::Table)
+            }
+        }
+        d.deserialize_any(Either)
+    }
 }
 
 /// Turns byte offsets into `file:line` errors.
@@ -173,34 +202,40 @@ fn colour(src: &Source, v: &Option<Vec3>, key: &str, default: DVec3) -> Result<D
 /// Loads a scene file (format in the module doc). The mesh is loaded relative to the scene
 /// file's folder and fitted to the unit sphere.
 ///
-/// Errors: an unreadable scene or OBJ file is [`Error::Io`] naming the path (for the OBJ, the
+/// Errors: an unreadable scene or mesh file is [`Error::Io`] naming the path (for the mesh, the
 /// resolved one); TOML syntax, unknown keys, wrong types and values out of range are
-/// [`Error::Input`] with the scene file's line; OBJ problems are [`load_obj`]'s errors, naming
-/// the OBJ file and line.
+/// [`Error::Input`] with the scene file's line; mesh problems are [`load_mesh`]'s errors,
+/// naming the mesh file and the line or object.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    parse_scene(path, &text, &load_obj)
+    parse_scene(path, &text, &load_mesh)
 }
 
-/// Reads an OBJ named by a scene file (given the path joined to the scene's folder).
-pub type ObjLoader<'a> = &'a dyn Fn(&Path) -> Result<(Mesh, LoadReport)>;
+/// Reads a mesh file named by a scene file (given the path joined to the scene's folder).
+pub type MeshLoader<'a> = &'a dyn Fn(&Path) -> Result<(Mesh, LoadReport)>;
 
 /// [`load_scene`] on text already read: `path` names the file in messages and gives the folder
-/// `obj = ...` is relative to; `load_obj` reads that OBJ ([`load_obj`] for a real scene; the
+/// the mesh file is relative to; `load` reads that file ([`load_mesh`] for a real scene; the
 /// fuzz harness in tests/fuzz.rs passes one that never touches the disk). Errors as
 /// [`load_scene`]'s.
-pub fn parse_scene(path: &Path, text: &str, load_obj: ObjLoader) -> Result<Scene> {
+pub fn parse_scene(path: &Path, text: &str, load: MeshLoader) -> Result<Scene> {
     let src = Source { path, text };
     let file: SceneFile = toml::from_str(text).map_err(|e| src.toml_error(&e))?;
 
-    let Some(mesh_table) = &file.mesh else {
+    let Some(mesh_field) = &file.mesh else {
         return Err(Error::input(
             path,
             None,
-            "no [mesh] table: add one with `obj = \"FILE.obj\"` or `generator = \"NAME\"` and its parameters",
+            "no mesh: add `mesh = \"FILE\"` (an .obj, .gltf, .glb or .ply file) or a [mesh] table with `generator = \"NAME\"` and its parameters",
         ));
     };
-    let (mesh, mesh_report) = load_mesh(&src, mesh_table, load_obj)?;
+    let (mesh, mesh_report) = match mesh_field.get_ref() {
+        MeshField::File(rel) => {
+            let (mesh, report) = mesh_file(&src, mesh_field, rel, load)?;
+            (mesh, Some(report))
+        }
+        MeshField::Table(t) => mesh_table(&src, mesh_field.span(), t, load)?,
+    };
 
     let (width, height) = image_size(&src, file.image.as_ref())?;
     let camera = camera(&src, file.camera.as_ref(), width as f64 / height as f64)?;
@@ -231,38 +266,69 @@ pub fn parse_scene(path: &Path, text: &str, load_obj: ObjLoader) -> Result<Scene
     })
 }
 
-type MeshTable = Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>;
+type MeshTable = BTreeMap<Spanned<String>, Spanned<toml::Value>>;
 
-/// `[mesh]`: exactly one of `obj` (alone) or `generator` (with its parameters).
-fn load_mesh(
+/// The mesh file `rel` (relative to the scene file's folder), read by `load`; an empty path is
+/// an error at `at`.
+fn mesh_file<T>(
     src: &Source,
-    table: &MeshTable,
-    load_obj: ObjLoader,
+    at: &Spanned<T>,
+    rel: &str,
+    load: MeshLoader,
+) -> Result<(Mesh, LoadReport)> {
+    if rel.trim().is_empty() {
+        return Err(src.at(
+            at,
+            "the mesh file path is empty: give an .obj, .gltf, .glb or .ply file relative to the scene file",
+        ));
+    }
+    let dir = src.path.parent().unwrap_or(Path::new(""));
+    load(&dir.join(rel))
+}
+
+/// `[mesh]`: exactly one of `file` (or its older name `obj`), alone, or `generator` (with its
+/// parameters).
+fn mesh_table(
+    src: &Source,
+    span: std::ops::Range<usize>,
+    entries: &MeshTable,
+    load: MeshLoader,
 ) -> Result<(Mesh, Option<LoadReport>)> {
-    let entries = table.get_ref();
+    let table = Spanned::new(span, ());
     let find = |key: &str| entries.iter().find(|(k, _)| k.get_ref() == key);
-    match (find("obj"), find("generator")) {
-        (Some(_), Some((g, _))) => Err(src.at(g, "[mesh] has both `obj` and `generator`; keep one")),
+    let file = find("file").or_else(|| find("obj"));
+    if let (Some((a, _)), Some((b, _))) = (find("file"), find("obj")) {
+        let second = if a.span().start > b.span().start {
+            a
+        } else {
+            b
+        };
+        return Err(src.at(
+            second,
+            "[mesh] has both `file` and `obj` (the same key, two names); keep `file`",
+        ));
+    }
+    match (file, find("generator")) {
+        (Some(_), Some((g, _))) => Err(src.at(g, "[mesh] has both a mesh file and `generator`; keep one")),
         (None, None) => Err(src.at(
-            table,
-            "[mesh] needs `obj = \"FILE.obj\"` (relative to the scene file) or `generator = \"NAME\"` with its parameters",
+            &table,
+            "[mesh] needs `file = \"FILE\"` (an .obj, .gltf, .glb or .ply file, relative to the scene file) or `generator = \"NAME\"` with its parameters",
         )),
-        (Some((_, obj)), None) => {
-            if let Some((k, _)) = entries.iter().find(|(k, _)| k.get_ref() != "obj") {
+        (Some((key, value)), None) => {
+            if let Some((k, _)) = entries.iter().find(|(k, _)| k != &key) {
                 return Err(src.at(
                     k,
-                    format!("unknown field `{}` in [mesh]: with `obj`, no other key is allowed", k.get_ref()),
+                    format!("unknown field `{}` in [mesh]: with `{}`, no other key is allowed", k.get_ref(), key.get_ref()),
                 ));
             }
-            let Some(rel) = obj.get_ref().as_str() else {
-                return Err(src.at(obj, format!("`obj` must be a string path, found {}", obj.get_ref().type_str())));
+            let Some(rel) = value.get_ref().as_str() else {
+                return Err(src.at(value, format!("`{}` must be a string path, found {}", key.get_ref(), value.get_ref().type_str())));
             };
-            let dir = src.path.parent().unwrap_or(Path::new(""));
-            let (mesh, report) = load_obj(&dir.join(rel))?;
+            let (mesh, report) = mesh_file(src, value, rel, load)?;
             Ok((mesh, Some(report)))
         }
         (None, Some((gkey, _))) => {
-            let generator = parse_generator(src, table, gkey)?;
+            let generator = parse_generator(src, &table, entries, gkey)?;
             let mut mesh = generator.build().map_err(|e| src.at(gkey, e.to_string()))?;
             fit_unit(&mut mesh);
             Ok((mesh, None))
@@ -274,8 +340,12 @@ fn load_mesh(
 /// Serde reports problems inside an internally tagged enum without a position, so the key is
 /// found from the message (unknown field), or by deserializing each key alone next to the
 /// tag and seeing which one reproduces the error (wrong type or value).
-fn parse_generator(src: &Source, table: &MeshTable, gkey: &Spanned<String>) -> Result<Generator> {
-    let entries = table.get_ref();
+fn parse_generator(
+    src: &Source,
+    table: &Spanned<()>,
+    entries: &MeshTable,
+    gkey: &Spanned<String>,
+) -> Result<Generator> {
     let plain = |only: Option<&str>| -> toml::Value {
         toml::Value::Table(
             entries

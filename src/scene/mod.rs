@@ -12,9 +12,10 @@
 //!
 //! ```toml
 //! name = "coarse sphere"          # optional, default: the file stem
-//!
-//! [mesh]                          # required: exactly one of `obj` or `generator`
-//! obj = "sphere_coarse.obj"       # path relative to the scene file
+//! mesh = "sphere_coarse.obj"      # a mesh file relative to the scene file (.obj, .gltf, .glb,
+//!                                 # .ply), or a [mesh] table with `file` (`obj`) or `generator`:
+//! # [mesh]
+//! # file = "sphere_coarse.obj"
 //! # or a procedural generator with all of its parameters, e.g.
 //! # generator = "torus", major_radius = 1.0, minor_radius = 0.4, major_segments = 48, minor_segments = 24
 //! # generator = "uv_sphere", segments = 10, rings = 5
@@ -48,7 +49,8 @@
 //! interpolation = "screen_linear" # default (GLSL noperspective), or "perspective"
 //! ```
 //!
-//! Meshes, OBJ or generated, are fitted to the unit sphere on load. Unknown keys, wrong types
+//! Meshes, read ([`crate::geometry::load_mesh`]) or generated, are fitted to the unit sphere on
+//! load. Unknown keys, wrong types
 //! and values out of range are errors naming `file:line`.
 
 pub mod camera;
@@ -199,4 +201,18 @@ impl Scene {
     pub fn aspect(&self) -> f64 {
         self.width as f64 / self.height as f64
     }
-}
+
+    /// What the mesh reader has to say: which file and, for glTF and PLY, what of it was drawn
+    /// (`log::info!`), then each warning (`log::warn!`).
+    pub fn log_mesh_notes(&self) {
+        let Some(report) = &self.mesh_report else {
+            return;
+        };
+        let source = &self.mesh.source;
+        if report.input.format != crate::geometry::Format::Obj {
+            log::info!("read {source}: {}", report.input.describe());
+        }
+        for w in &report.warnings {
+            log::warn!("{source}: {w}");
+        }
+    }}
