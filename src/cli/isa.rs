@@ -86,6 +86,20 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
     };
     let start = Instant::now();
     let mut report = isa::run(&opts, &|line| eprintln!("{line}"))?;
+    if report.supported().is_empty() {
+        // Nothing measured is a failed run, never "0 compiled" at exit 0 with an isa.json.
+        let why: Vec<String> = report
+            .families
+            .iter()
+            .map(|f| format!("{}: {}", f.family, f.status))
+            .collect();
+        return Err(Error::Device(format!(
+            "isa: none of the {} families compiled ({}); set their routes up (docs/isa.md) or \
+             name families that are",
+            report.families.len(),
+            why.join("; ")
+        )));
+    }
     if let Some(b) = &bench {
         report.spearman = isa::rank::against_bench(&report, b)?;
     }

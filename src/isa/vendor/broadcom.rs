@@ -28,6 +28,11 @@ impl Vendor for Broadcom {
         &["vc4", "v3d42"]
     }
 
+    /// The two chips the shims emulate (neither takes another).
+    fn known_chips(&self) -> Vec<&'static str> {
+        vec!["vc4", "v3d42"]
+    }
+
     fn api(&self) -> Api {
         Api::OpenGlEs
     }
