@@ -523,6 +523,17 @@ pub fn compare_with(
     if !all.iter().any(|m| m.name == exact.name) {
         all.push(exact);
     }
+    // Before anything is allocated: the truth, the frames and the metrics at this size.
+    let heap = match engine {
+        Engine::Vulkan(r) => Some(r.context().heap_bytes()).filter(|&h| h > 0),
+        Engine::Software { .. } => None,
+    };
+    crate::memory::check(
+        &crate::memory::compare(methods_.len() + opts.auto.len()),
+        scene.width,
+        scene.height,
+        heap,
+    )?;
     let prepared = engine::Ready::new(engine, scene, &all)?;
     let base = prepared.base();
     let (w, h) = (base.width, base.height);

@@ -184,10 +184,8 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
     }
     let families = families(&opts.families)?;
     let start = Instant::now();
-    let dir = tempfile::Builder::new()
-        .prefix("shadelab-isa-")
-        .tempdir()
-        .map_err(|e| Error::io(std::path::Path::new("a temporary folder"), e))?;
+    let dir =
+        crate::cleanup::TempDir::new("isa").map_err(|e| Error::io(std::env::temp_dir(), e))?;
     let queue: Mutex<Vec<(usize, Family)>> =
         Mutex::new(families.iter().copied().enumerate().rev().collect());
     let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());
