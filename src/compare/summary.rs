@@ -417,11 +417,8 @@ pub(crate) fn csv_row(r: &MethodReport) -> Vec<String> {
     row
 }
 
-/// Writes summary.json and summary.csv atomically.
+/// Writes summary.csv and, last (the run's completion marker), summary.json, atomically.
 pub fn write_summary(out: &Path, s: &Summary) -> Result<()> {
-    let json =
-        serde_json::to_string_pretty(s).map_err(|e| Error::output("summary.json", e))? + "\n";
-    output::write_bytes_atomic(&out.join("summary.json"), json.as_bytes())?;
     output::write_atomic(&out.join("summary.csv"), |w| {
         let mut c = csv::Writer::from_writer(w);
         c.write_record(csv_header())
@@ -430,7 +427,10 @@ pub fn write_summary(out: &Path, s: &Summary) -> Result<()> {
             c.write_record(csv_row(r)).map_err(std::io::Error::other)?;
         }
         c.flush()
-    })
+    })?;
+    let json =
+        serde_json::to_string_pretty(s).map_err(|e| Error::output("summary.json", e))? + "\n";
+    output::write_bytes_atomic(&out.join("summary.json"), json.as_bytes())
 }
 
 /// Which side of a limit fails.
