@@ -369,6 +369,35 @@ pub fn sweep(dir: &Path) -> usize {
     removed
 }
 
+/// [`sweep`] of `dir` and the folders below it, [`TREE_DEPTH`] deep: a run's output folder
+/// when the run starts (a killed run may have been writing anywhere below it). Returns how
+/// many were removed.
+pub fn sweep_tree(dir: &Path) -> usize {
+    fn walk(dir: &Path, depth: usize) -> usize {
+        let mut removed = sweep(dir);
+        if depth == 0 {
+            return removed;
+        }
+        if let Ok(entries) = std::fs::read_dir(dir) {
+            for e in entries.flatten() {
+                // not through symbolic links: only what a run wrote
+                if e.file_type().is_ok_and(|t| t.is_dir()) {
+                    removed += walk(&e.path(), depth - 1);
+                }
+            }
+        }
+        removed
+    }
+    lock(&SWEPT)
+        .get_or_insert_with(HashSet::new)
+        .insert(std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf()));
+    walk(dir, TREE_DEPTH)
+}
+
+/// How deep [`sweep_tree`] looks: a report's deepest outputs are 3 folders down
+/// (scenes/<scene>/<method>/), a corpus's 3 (meshes/<id>/bench/).
+pub const TREE_DEPTH: usize = 4;
+
 /// [`sweep`] of `dir`, once per process.
 pub fn sweep_once(dir: &Path) {
     let key = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());

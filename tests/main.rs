@@ -32,6 +32,9 @@
 //!   stress, isa and report; the bit trick's error against its known figure; the refusals.
 //! - `one_row`: a test-only method, its GLSL file and one row (issue 38), through verify on both
 //!   engines, stress, prove, list and the report's answer.
+//! - `hostile`: the contract under hostile input (issue 49): a probe per test (a byte-order mark,
+//!   an edited tuned file, unknown chips, half a size, absurd counts, in-place and unmarked
+//!   outputs, outputs over inputs, kill -9 / SIGTERM / SIGINT, an image too big for memory).
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod citations;
@@ -42,6 +45,7 @@ mod costs;
 mod float16;
 mod fuzz;
 mod gpu;
+mod hostile;
 mod isa;
 mod isa_mobile;
 mod layout;

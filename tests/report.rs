@@ -42,6 +42,10 @@ fn report_dir() -> &'static Path {
         )
         .unwrap();
         let out = dir.join("out");
+        // a file of an earlier report in the folder (another scene): named in a warning
+        let stale = out.join("scenes/earlier/render.png");
+        std::fs::create_dir_all(stale.parent().unwrap()).unwrap();
+        std::fs::write(&stale, b"an earlier report's render").unwrap();
         let (code, stdout, stderr) = run(&[
             "report",
             "--scene",
@@ -58,6 +62,13 @@ fn report_dir() -> &'static Path {
         let index = out.join("index.html");
         assert_eq!(stdout.trim(), index.display().to_string(), "{stderr}");
         assert!(stderr.contains("MB in total"), "{stderr}");
+        // (the warning was not there before: the earlier report's files stayed silently)
+        assert!(
+            stderr.contains("1 file(s) in")
+                && stderr.contains("are not from this run")
+                && stderr.contains("scenes/earlier/render.png"),
+            "{stderr}"
+        );
         out
     })
 }

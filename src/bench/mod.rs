@@ -359,6 +359,10 @@ pub fn bench(
 ) -> Result<BenchReport> {
     let start = Instant::now();
     check_options(opts)?;
+    // compare's memory at this size, before the timed rounds rather than after them
+    let heap = Some(renderer.context().heap_bytes()).filter(|&h| h > 0);
+    let need = crate::memory::compare(methods_.len());
+    crate::memory::check(&need, scene.width, scene.height, heap)?;
     // Read the baseline first: a bad path must not cost a whole run.
     let baseline = opts
         .baseline

@@ -27,6 +27,12 @@ pub(super) fn cmd_render(
     }
     let method = method::find(method)?;
     let scene = load_scene(scene_args)?;
+    let files = [
+        ("--out", Some(out)),
+        ("--float", float),
+        ("--normals", normals),
+    ];
+    super::checks::not_the_mesh(&files, &scene)?;
     if dev.engine == EngineArg::Software {
         let inputs = crate::scene::SceneInputs::new(&scene, method.geometry);
         let form = crate::software::form_of(method);
@@ -75,6 +81,12 @@ fn render_auto(
         ));
     }
     let scene = load_scene(scene_args)?;
+    let files = [
+        ("--out", Some(out)),
+        ("--float", float),
+        ("--normals", normals),
+    ];
+    super::checks::not_the_mesh(&files, &scene)?;
     let r = renderer(dev)?;
     let spec = auto_spec(&r, budget)?;
     let inputs = crate::scene::SceneInputs::new(&scene, crate::method::Geometry::Mesh);

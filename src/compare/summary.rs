@@ -576,7 +576,8 @@ pub fn exceeded(s: &Summary, limits: &[Limit]) -> Vec<Exceeded> {
 }
 
 /// The text table, sorted by mean luminance error; methods with non-finite pixels last, their
-/// errors shown as `inf` and their count in the `NaN` column.
+/// errors shown as `inf` and their count in the `NaN` column; a method that covers no pixel
+/// after them, every statistic `n/a`.
 pub fn table(s: &Summary) -> String {
     let mut rows: Vec<&MethodReport> = s.methods.iter().collect();
     rows.sort_by(|a, b| {
@@ -605,7 +606,7 @@ pub fn table(s: &Summary) -> String {
         "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
         "method", "mean|dI|", "p99|dI|", "max|dI|", "PSNR dB", "max deg", "FLIP", "NaN"
     );
-    for r in rows {
+    for r in rows.iter().filter(|r| r.covered_pixels > 0) {
         let i = &r.intensity;
         t += &format!(
             "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
@@ -617,6 +618,14 @@ pub fn table(s: &Summary) -> String {
             opt(r.max_normal_angle_deg, 3),
             opt(Some(r.flip_mean), 4),
             r.non_finite_pixels
+        );
+    }
+    // A method that covers no pixel has no statistic: n/a, not inf (non-finite) nor 0.
+    for r in rows.iter().filter(|r| r.covered_pixels == 0) {
+        let na = "n/a";
+        t += &format!(
+            "{:<32} {na:>10} {na:>10} {na:>10} {na:>8} {na:>9} {na:>9} {:>8}  (no pixel covered)\n",
+            r.name, r.non_finite_pixels
         );
     }
     t

@@ -39,7 +39,10 @@ fn bench_rejects_bad_options() {
         out,
     ]);
     assert_eq!(code, 2);
-    assert!(err.contains("--repeat must be at least 1"), "{err}");
+    assert!(
+        err.contains("\"0\" is not a count from 1 to 100000"),
+        "{err}"
+    );
     let bench = |extra: &[&str]| {
         let mut args = vec![
             "bench",
