@@ -220,15 +220,23 @@ const SIGNALS: [(libc::c_int, &str); 3] = [
 /// Takes SIGINT, SIGTERM and SIGHUP away from their default (an exit that leaves temporary
 /// files and children behind): blocked in this thread and so in every thread started after
 /// (call it first, before any other thread exists), and waited for by one thread of its own,
-/// which cleans up and exits 128 + the signal. Children start with an empty signal mask (the
-/// standard library resets it).
+/// which cleans up and exits 128 + the signal. A signal ignored when the process starts stays
+/// ignored. Children start with an empty signal mask (the standard library resets it).
 pub fn install() {
-    // SAFETY: sigset_t is plain data; the calls only fill it and set this thread's mask.
+    // SAFETY: sigset_t and sigaction are plain data; the calls only read the dispositions,
+    // fill the set and set this thread's mask.
     let set = unsafe {
         let mut set: libc::sigset_t = std::mem::zeroed();
         libc::sigemptyset(&mut set);
         for (s, _) in SIGNALS {
-            libc::sigaddset(&mut set, s);
+            // A signal ignored by whoever started us (nohup, a shell's background job) stays
+            // ignored.
+            let mut old: libc::sigaction = std::mem::zeroed();
+            let ignored = libc::sigaction(s, std::ptr::null(), &mut old) == 0
+                && old.sa_sigaction == libc::SIG_IGN;
+            if !ignored {
+                libc::sigaddset(&mut set, s);
+            }
         }
         libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut());
         set

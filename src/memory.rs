@@ -96,7 +96,7 @@ pub fn parse_bytes(s: &str) -> Option<u64> {
         _ => return None,
     };
     let v: f64 = num.trim().parse().ok()?;
-    (v.is_finite() && v >= 0.0).then(|| (v * scale as f64) as u64)
+    (v.is_finite() && v >= 0.0).then_some((v * scale as f64) as u64)
 }
 
 fn gb(b: u64) -> String {

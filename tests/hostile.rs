@@ -181,6 +181,69 @@ fn a_tuned_file_with_an_edited_domain_is_refused() {
     );
 }
 
+/// Probe 2, its pixels: with the file as tune wrote it, auto still draws the form at the
+/// sliver pixels whose rasterizer weights leave their triangle (sphere_coarse at 128x128 has
+/// two, where the interpolated normal is ~1e9 long and the polynomial overflows). Those
+/// non-finite pixels were written at exit 0; now they fail the run (exit 1, a line naming
+/// them), in compare and in render.
+#[test]
+fn non_finite_pixels_of_auto_fail_the_run() {
+    use shadelab::method::tuned::{Tuned, TunedForm};
+    let dir = tempfile::tempdir().unwrap();
+    // tune's minimax d2 for sphere_coarse (its line, 2026-11-28)
+    let mut t = Tuned {
+        form: TunedForm::Minimax,
+        steps: 0,
+        coeffs: vec![
+            f64::from(1.9718021f32),
+            f64::from(-1.451024f32),
+            f64::from(0.47930086f32),
+        ],
+        domain: [0.8181351227401077, 1.0000005513794614],
+        length_error: None,
+    };
+    t.length_error = Some(shadelab::tune::check::line_bound(&t));
+    let file = dir.path().join("sphere_coarse_minimax2.glsl");
+    std::fs::write(&file, format!("{}\n{}", t.line(), t.code())).unwrap();
+    let common = ["--scene", "scenes/sphere_coarse.toml", "--size", "128x128"];
+    let mut compare = vec!["--method-file", s(&file), "compare", "--methods", "auto"];
+    compare.extend(common);
+    let out = dir.path().join("c");
+    compare.extend(["--out", s(&out)]);
+    let (code, stdout, err) = go(&compare);
+    let bad = read_json(out.join("summary.json"))["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == "auto")
+        .unwrap()["non_finite_pixels"]
+        .as_u64()
+        .unwrap();
+    if bad == 0 {
+        // another driver's rasterizer may draw no sliver pixel here: then exit 0 is right
+        assert_eq!(code, 0, "{err}");
+        eprintln!("note: no non-finite pixel of auto on this driver (Mesa 22.3.6 draws 2)");
+        return;
+    }
+    assert_eq!(code, 1, "{stdout}\n{err}");
+    assert!(
+        err.contains(&format!(
+            "threshold exceeded: auto: {bad} non-finite pixel(s)"
+        )),
+        "{err}"
+    );
+    let mut render = vec!["--method-file", s(&file), "render", "--method", "auto"];
+    render.extend(common);
+    let png = dir.path().join("a.png");
+    render.extend(["--out", s(&png)]);
+    let (code, _, err) = go(&render);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("non-finite pixel(s)") && png.is_file(),
+        "{err}"
+    );
+}
+
 /// Probe 3. Unknown chips exited 0 with "0 compiled" (isa) or died of a child's SIGABRT
 /// (--cost-model); now each is refused before any child starts, naming the known chips.
 #[test]

@@ -379,7 +379,7 @@ mod tests {
         let why = err(render(&png, Some(&png), &scene));
         assert!(why.contains("name the same file"), "{why}");
         // a method file is an input of every command
-        assert!(check_outputs(&render(&png, None, &scene), &[png.clone()]).is_err());
+        assert!(check_outputs(&render(&png, None, &scene), std::slice::from_ref(&png)).is_err());
         // an output folder that is a file, or the folder of a report's inputs
         let why = err(folder(&scene, &scene, vec![]));
         assert!(

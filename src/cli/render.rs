@@ -102,6 +102,19 @@ fn render_auto(
     let frame = r.render_auto(&a)?;
     write_frame(&frame, out, float, normals)?;
     check_validation(r.context())?;
+    // non-finite pixels fail auto's promise (the PNG shows them as black)
+    let bad = frame
+        .color
+        .iter()
+        .filter(|c| c.iter().any(|v| !v.is_finite()))
+        .count();
+    if bad > 0 {
+        eprintln!(
+            "threshold exceeded: {}",
+            super::compare::non_finite_line("auto", bad)
+        );
+        return Ok(ExitCode::from(EXIT_THRESHOLD));
+    }
     Ok(ExitCode::SUCCESS)
 }
 

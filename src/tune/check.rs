@@ -59,7 +59,8 @@ pub fn verify(t: &Tuned) -> std::result::Result<f64, String> {
         ));
     };
     let proven = line_bound(t);
-    if !(proven < 1.0) {
+    // a NaN bound is no proof either
+    if proven.is_nan() || proven >= 1.0 {
         return Err(format!(
             "the form is not proven on its domain of z [{lo}, {hi}]: its length error there is \
              bounded by {proven:e} only (the limit is 1; beyond it N' may turn round or \
