@@ -570,22 +570,7 @@ struct SkipsCmd {
 /// Parses the command line and runs it. Errors are printed once by the caller.
 pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
-    // Before anything is read or written: no output replaces an input.
-    let marker = self::checks::check_paths(&cli)?;
-    // Before anything resolves a method set or starts a thread or child process; a tuned
-    // file's line proven again before its code is compiled.
-    crate::tune::check::check_files(&cli.method_file)?;
-    crate::gpu::shaders::register_user(&cli.method_file)?;
-    if !matches!(cli.command, Command::Child { .. }) {
-        // The request and reply folders of runs killed before they could clean up.
-        crate::cleanup::sweep_temp_dir();
-    }
-    if let Some(m) = &marker {
-        // What killed runs left in the output folder goes; a run that fails from here on
-        // leaves no marker, neither its own nor the last run's.
-        crate::cleanup::sweep_tree(m.parent().unwrap_or(std::path::Path::new(".")));
-        crate::output::remove_marker(m)?;
-    }
+    self::checks::before_running(&cli)?;
     match cli.command {
         Command::Compare {
             scene,

@@ -277,9 +277,9 @@ impl Analysis<'_> {
         let (counts, measured) = (f.counts, std::mem::take(&mut f.measured));
         drop(f);
         let (flip_mean, flip_p95) = match test8 {
+            Some(test8) if counts.measured > 0 => flip(self.flip, &test8, &measured),
             // no pixel, no FLIP: NaN (null in summary.json, n/a in the table), never 0
-            _ if counts.measured == 0 => (f64::NAN, f64::NAN),
-            Some(test8) => flip(self.flip, &test8, &measured),
+            Some(_) => (f64::NAN, f64::NAN),
             None => (f64::INFINITY, f64::INFINITY),
         };
         let flip_ms = t.elapsed().as_secs_f64() * 1e3;

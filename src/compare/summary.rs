@@ -606,7 +606,8 @@ pub fn table(s: &Summary) -> String {
         "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
         "method", "mean|dI|", "p99|dI|", "max|dI|", "PSNR dB", "max deg", "FLIP", "NaN"
     );
-    for r in rows.iter().filter(|r| r.covered_pixels > 0) {
+    let none = |r: &&&MethodReport| r.covered_pixels == 0 && r.non_finite_pixels == 0;
+    for r in rows.iter().filter(|r| !none(r)) {
         let i = &r.intensity;
         t += &format!(
             "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
@@ -621,7 +622,7 @@ pub fn table(s: &Summary) -> String {
         );
     }
     // A method that covers no pixel has no statistic: n/a, not inf (non-finite) nor 0.
-    for r in rows.iter().filter(|r| r.covered_pixels == 0) {
+    for r in rows.iter().filter(none) {
         let na = "n/a";
         t += &format!(
             "{:<32} {na:>10} {na:>10} {na:>10} {na:>8} {na:>9} {na:>9} {:>8}  (no pixel covered)\n",

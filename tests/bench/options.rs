@@ -63,7 +63,7 @@ fn bench_rejects_bad_options() {
     let (code, _, err) = bench(&["--until-ci", "1", "--max-time", "0"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("--max-time must be a number of seconds > 0"),
+        err.contains("\"0\" is not a number of seconds above 0 and at most 86400"),
         "{err}"
     );
     let (code, _, err) = bench(&["--fail-slower", "5"]);
