@@ -62,13 +62,32 @@ check "full disk: compare exits 2 ($code), one error line: $(tail -1 "$W/err")" 
 check "full disk: compare leaves no summary.json" test ! -e "$W/full/c/summary.json"
 check "full disk: compare leaves no temporary file" test -z "$(temps "$W/full")"
 rm -rf "$W/full/"*
-# isa: the disassembly of every method on two families does not fit
+# isa: the disassembly of every method on two families does not fit; every .s file left
+# must be whole (the same bytes as a run on a disk with room)
+"$BIN" isa --families navi21,tahiti --out "$W/isa-ref" >/dev/null 2>&1
 "$BIN" isa --families navi21,tahiti --out "$W/full/isa" >/dev/null 2>"$W/err"; code=$?
 check "full disk: isa exits 2 ($code): $(tail -1 "$W/err" | cut -c1-150)" test "$code" -eq 2
 check "full disk: isa leaves no isa.json" test ! -e "$W/full/isa/isa.json"
-check "full disk: isa leaves no empty .s file" test -z "$(find "$W/full" -name '*.s' -size 0)"
+cut_short=$(cd "$W/full/isa" 2>/dev/null && find . -name '*.s' | while read -r f; do
+    cmp -s "$f" "$W/isa-ref/$f" || echo "$f"; done | wc -l)
+check "full disk: isa leaves no cut .s file ($cut_short)" test "$cut_short" -eq 0
 check "full disk: isa leaves no temporary file" test -z "$(temps "$W/full")"
 rm -rf "$W/full/"*
+umount "$W/full"
+# the disk full exactly at summary.csv: room for every other file of the run (in tmpfs pages)
+# and summary.json, not for summary.csv; the run fails, and must not look complete
+args=(compare --scene scenes/sphere_coarse.toml --size 128x128 --methods gouraud,flat,newton_raphson)
+"$BIN" "${args[@]}" --out "$W/ref" >/dev/null 2>&1
+room=$(find "$W/ref" -type f ! -name summary.csv -printf '%s\n' |
+    awk '{ pages += int(($1 + 4095) / 4096) } END { print pages * 4096 }')
+mount -t tmpfs -o "size=$room" tmpfs "$W/full"
+"$BIN" "${args[@]}" --out "$W/full/c" >/dev/null 2>"$W/err"; code=$?
+check "disk full at summary.csv ($room bytes of room): compare exits 2 ($code): $(tail -1 "$W/err" | cut -c1-120)" \
+    test "$code" -eq 2
+check "disk full at summary.csv: no summary.json" test ! -e "$W/full/c/summary.json"
+check "disk full at summary.csv: no temporary file" test -z "$(temps "$W/full")"
+umount "$W/full"
+mount -t tmpfs -o size=3m tmpfs "$W/full"
 "$BIN" render --scene scenes/sphere_fine.toml --size 2048x2048 --out "$W/full/r.png" \
     --float "$W/full/r.npy" >/dev/null 2>"$W/err"; code=$?
 check "full disk: render exits 2 ($code): $(tail -1 "$W/err" | cut -c1-150)" test "$code" -eq 2
@@ -122,7 +141,7 @@ for at in 5 15 30 static; do
     pid=$!
     children=()
     if [[ $at == static ]]; then
-        for _ in $(seq 1 3000); do
+        for _ in $(seq 1 12000); do
             mapfile -t children < <(for c in $(kids "$pid"); do
                 grep -qa shadelab-isa- "/proc/$c/cmdline" 2>/dev/null && echo "$c"; done)
             [[ ${#children[@]} -gt 0 ]] && break
@@ -136,7 +155,9 @@ for at in 5 15 30 static; do
     kill -9 "$pid" 2>/dev/null
     wait "$pid" 2>/dev/null
     sleep 1
-    if any_running "${children[@]}"; then
+    if [[ $at == static && ${#children[@]} -eq 0 ]]; then
+        fail "kill -9 of report during its static cost: no GPU family's child seen in 600 s"
+    elif any_running "${children[@]}"; then
         fail "kill -9 of report at $at: ${#children[@]} child(ren) still run a second later"
     else
         pass "kill -9 of report at $at: none of its ${#children[@]} child(ren) runs a second later"
