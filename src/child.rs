@@ -126,6 +126,7 @@ pub fn call<J: Job>(
     crate::output::write_bytes_atomic(&path, &bytes).map_err(|e| failure(e.to_string()))?;
     let _ = std::fs::remove_file(&reply);
     let mut cmd = Command::new(&spawn.exe);
+    crate::cleanup::die_with_parent(&mut cmd);
     cmd.arg("child")
         .arg(&path)
         .stdin(Stdio::null())
@@ -138,9 +139,14 @@ pub fn call<J: Job>(
     for (k, v) in &spawn.driver_env {
         cmd.env(k, v);
     }
-    let out = cmd
-        .output()
+    let child = cmd
+        .spawn()
         .map_err(|e| failure(format!("cannot start {}: {e}", spawn.exe.display())))?;
+    // Killed by a signal's cleanup while it runs; with this process on SIGKILL.
+    let _running = crate::cleanup::child(child.id());
+    let out = child
+        .wait_with_output()
+        .map_err(|e| failure(format!("waiting for {}: {e}", spawn.exe.display())))?;
     match std::fs::read(&reply) {
         Ok(b) => match serde_json::from_slice::<Reply<J::Reply>>(&b) {
             Ok(Reply::Done { reply }) => Ok(reply),

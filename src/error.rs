@@ -15,8 +15,9 @@ pub enum Error {
         line: Option<usize>,
         message: String,
     },
-    /// A file could not be read or written.
-    #[error("{}: {source}", path.display())]
+    /// A file could not be read or written (with what to do for a full disk, a read-only
+    /// filesystem or a missing permission).
+    #[error("{}: {source}{}", path.display(), io_hint(source))]
     Io {
         path: PathBuf,
         source: std::io::Error,
@@ -45,6 +46,24 @@ pub enum Error {
     /// in shadelab, never the user's input.
     #[error("internal error (please report): {0}")]
     Internal(String),
+}
+
+/// What to do about the I/O errors a user can fix, also when an encoder wrapped them (its
+/// message keeps the system's "(os error N)").
+fn io_hint(e: &std::io::Error) -> &'static str {
+    use std::io::ErrorKind as K;
+    let text = e.to_string();
+    let is = |kind: K, code: i32| e.kind() == kind || text.contains(&format!("(os error {code})"));
+    // Linux's ENOSPC, EROFS, EACCES (asm-generic/errno-base.h)
+    if is(K::StorageFull, 28) {
+        ": the disk is full; free space or write elsewhere"
+    } else if is(K::ReadOnlyFilesystem, 30) {
+        ": the filesystem is read-only; write elsewhere"
+    } else if is(K::PermissionDenied, 13) {
+        ": no permission; write elsewhere or change the folder's permissions"
+    } else {
+        ""
+    }
 }
 
 fn location(path: &std::path::Path, line: Option<usize>) -> String {
@@ -95,6 +114,24 @@ mod tests {
         assert_eq!(e.to_string(), "a/b.obj:12: bad vertex");
         let e = Error::input("a/b.obj", None, "empty mesh");
         assert_eq!(e.to_string(), "a/b.obj: empty mesh");
+    }
+
+    #[test]
+    fn io_errors_say_what_to_do_when_the_user_can() {
+        let e = |code| Error::io("out/x.png", std::io::Error::from_raw_os_error(code)).to_string();
+        assert!(
+            e(28).ends_with(": the disk is full; free space or write elsewhere"),
+            "{}",
+            e(28)
+        );
+        assert!(e(30).contains("read-only; write elsewhere"), "{}", e(30));
+        assert!(e(13).contains("no permission"), "{}", e(13));
+        assert_eq!(e(2), "out/x.png: No such file or directory (os error 2)");
+        // wrapped by an encoder, as the PNG writer's are
+        let wrapped = std::io::Error::other(std::io::Error::from_raw_os_error(28));
+        assert!(Error::io("x.png", wrapped)
+            .to_string()
+            .contains("the disk is full"));
     }
 
     #[test]

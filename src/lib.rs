@@ -15,7 +15,7 @@
 //! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), [`gpu::gl`] (the only user of EGL and OpenGL), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
-//! | base | [`output`], [`error`], [`child`] | atomic files, PNG/NPY, figures, provenance; the error type; the protocol of shadelab's child processes (one typed request, one typed reply) |
+//! | base | [`output`], [`error`], [`child`], [`cleanup`], [`memory`] | atomic files, PNG/NPY, figures, provenance; the error type; the protocol of shadelab's child processes (one typed request, one typed reply); what a run leaves behind (temporary files and children removed on exit, on SIGINT/SIGTERM, and by the next run after a SIGKILL); the memory a job needs at an image size, checked before allocating |
 //!
 //! # Data flow
 //! scene file -> [`scene::Scene`] -> [`scene::SceneInputs`] (f64, rounded to f32 once) ->
@@ -48,6 +48,7 @@ pub mod auto;
 pub mod bench;
 pub mod cases;
 pub mod child;
+pub mod cleanup;
 pub mod cli;
 pub mod compare;
 pub mod corpus;
@@ -59,6 +60,7 @@ pub mod frame;
 pub mod geometry;
 pub mod gpu;
 pub mod isa;
+pub mod memory;
 pub mod method;
 pub mod output;
 pub mod plan;

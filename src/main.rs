@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     one_malloc_arena();
+    // Before any other thread exists: SIGINT/SIGTERM/SIGHUP then clean up (src/cleanup.rs).
+    shadelab::cleanup::install();
     match shadelab::cli::run() {
         Ok(code) => code,
         Err(e) => {

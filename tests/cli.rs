@@ -135,7 +135,7 @@ fn bad_inputs_exit_2_with_clear_messages() {
             "--out",
             out,
         ],
-        "shadelab: error: image size 0x10 is empty: width and height must be at least 1",
+        "expected WIDTHxHEIGHT such as 512x512, each 1 to 16384, got \"0x10\"",
     );
     fails_with(
         &[
@@ -147,7 +147,7 @@ fn bad_inputs_exit_2_with_clear_messages() {
             "--out",
             out,
         ],
-        "exceeds the device's maxImageDimension2D",
+        "each 1 to 16384, got \"100000x10\"",
     );
     fails_with(
         &[
@@ -159,7 +159,7 @@ fn bad_inputs_exit_2_with_clear_messages() {
             "--out",
             out,
         ],
-        "expected WIDTHxHEIGHT such as 512x512, got \"big\"",
+        "expected WIDTHxHEIGHT such as 512x512, each 1 to 16384, got \"big\"",
     );
     fails_with(
         &[

@@ -280,6 +280,7 @@ fn auto_draws_a_tuned_row_where_it_is_the_cheapest_within_budget() {
         steps: 3,
         coeffs: vec![1.5, -0.5],
         domain: [0.5, 1.0001],
+        length_error: None,
     };
     let file = dir.path().join("tuned_cheap.glsl");
     std::fs::write(&file, format!("{}\n{}", t.line(), t.code())).unwrap();

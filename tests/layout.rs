@@ -17,7 +17,9 @@ const LAYERS: &[&[&str]] = &[
     &["gpu", "software", "engine"],
     &["scene", "frame"],
     &["method", "geometry"],
-    &["output", "error", "child", "testutil", "lib"],
+    &[
+        "output", "error", "child", "cleanup", "memory", "testutil", "lib",
+    ],
 ];
 
 /// A production file longer than this (its `#[cfg(test)]` items left out) is a file to split.

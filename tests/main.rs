@@ -38,6 +38,9 @@
 //! - `inputs`: glTF 2.0 and PLY beside OBJ: hand-checked node transforms, every encoding the
 //!   same mesh, bad files (exit 2, file and object), mixed folders through report, corpus and
 //!   tune; glTF converted from the shared models by obj2gltf against their OBJ.
+//! - `hostile`: the contract under hostile input (issue 49): a probe per test (a byte-order mark,
+//!   an edited tuned file, unknown chips, half a size, absurd counts, in-place and unmarked
+//!   outputs, outputs over inputs, kill -9 / SIGTERM / SIGINT, an image too big for memory).
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
 mod citations;
@@ -50,6 +53,7 @@ mod float16;
 mod fuzz;
 mod gpu;
 mod inputs;
+mod hostile;
 mod isa;
 mod isa_mobile;
 mod layout;

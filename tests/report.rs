@@ -42,6 +42,10 @@ fn report_dir() -> &'static Path {
         )
         .unwrap();
         let out = dir.join("out");
+        // a file of an earlier report in the folder (another scene): named in a warning
+        let stale = out.join("scenes/earlier/render.png");
+        std::fs::create_dir_all(stale.parent().unwrap()).unwrap();
+        std::fs::write(&stale, b"an earlier report's render").unwrap();
         let (code, stdout, stderr) = run(&[
             "report",
             "--scene",
@@ -68,6 +72,13 @@ fn report_dir() -> &'static Path {
         );
         assert!(
             !stderr.contains("answer: ") && !stderr.contains("bench: run"),
+            "{stderr}"
+        );
+        // (the warning was not there before: the earlier report's files stayed silently)
+        assert!(
+            stderr.contains("1 file(s) in")
+                && stderr.contains("are not from this run")
+                && stderr.contains("scenes/earlier/render.png"),
             "{stderr}"
         );
         out

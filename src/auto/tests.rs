@@ -433,6 +433,7 @@ fn tuned_row(name: &'static str, domain: [f64; 2]) -> &'static Method {
         steps: 3,
         coeffs: vec![1.5, -0.5],
         domain,
+        length_error: None,
     }
     .row(name, "/nowhere/tuned.glsl")
 }

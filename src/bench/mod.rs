@@ -359,7 +359,7 @@ pub fn bench(
     opts: &BenchOptions,
 ) -> Result<BenchReport> {
     let start = Instant::now();
-    check_options(opts)?;
+    preflight(renderer, scene, methods_.len(), opts)?;
     // Read the baseline first: a bad path must not cost a whole run.
     let baseline = opts
         .baseline
@@ -470,6 +470,20 @@ pub fn bench(
     report.total_s = start.elapsed().as_secs_f64();
     write(out, &report)?;
     Ok(report)
+}
+
+/// The options, and compare's memory at the scene's size (before the timed rounds rather
+/// than after them).
+fn preflight(
+    renderer: &Renderer,
+    scene: &Scene,
+    methods: usize,
+    opts: &BenchOptions,
+) -> Result<()> {
+    check_options(opts)?;
+    let heap = Some(renderer.context().heap_bytes()).filter(|&h| h > 0);
+    let need = crate::memory::compare(methods);
+    crate::memory::check(&need, scene.width, scene.height, heap)
 }
 
 /// What the timing leaves out: every program's fragment invocations (untimed, one

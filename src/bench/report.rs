@@ -281,11 +281,8 @@ pub struct BenchReport {
     pub baseline: Option<crate::bench::baseline::BaselineComparison>,
     pub total_s: f64,
 }
-/// Writes every output of a bench run.
+/// Writes every output of a bench run, bench.json (its completion marker) last.
 pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
-    // Compact (one line): the report writes one per scene (190 KB against 260 KB indented).
-    let json = serde_json::to_string(r).map_err(|e| Error::output("bench.json", e))? + "\n";
-    output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())?;
     output::write_atomic(&out.join("bench.csv"), |w| {
         let mut c = csv::Writer::from_writer(w);
         let mut header: Vec<String> = [
@@ -380,7 +377,9 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
     for s in &r.sweeps {
         crate::bench::chart::sweep(out, s)?;
     }
-    Ok(())
+    // Compact (one line): the report writes one per scene (190 KB against 260 KB indented).
+    let json = serde_json::to_string(r).map_err(|e| Error::output("bench.json", e))? + "\n";
+    output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())
 }
 
 /// claims.json and claims.md: each claim with its verdict and basis (proven, found, measured).

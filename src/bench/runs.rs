@@ -11,7 +11,7 @@
 //! [`RunRequest`] (the scene's source, the device, the methods, the run plan, the clock it
 //! chose, the run's seed, `auto`'s specs and frame decisions); the run measures and replies
 //! with its [`RunFigures`].
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
@@ -187,10 +187,8 @@ pub fn run_all(
     clock: &str,
     frame: &[(String, bool)],
 ) -> Result<Vec<RunFigures>> {
-    let dir = tempfile::Builder::new()
-        .prefix("shadelab-bench-")
-        .tempdir()
-        .map_err(|e| Error::io(Path::new("a temporary folder"), e))?;
+    let dir =
+        crate::cleanup::TempDir::new("bench").map_err(|e| Error::io(std::env::temp_dir(), e))?;
     let count = opts.plan.runs;
     let spawn = crate::child::Spawn {
         exe: launcher.exe.clone(),

@@ -349,12 +349,13 @@ fn time_lists(
     Ok((samples, values))
 }
 
-/// DIR/skips.json and DIR/skips.md, each written atomically.
+/// DIR/skips.md and, last (the run's completion marker), DIR/skips.json, each written
+/// atomically.
 fn write_files(out: &Path, report: &SkipReport) -> Result<()> {
+    crate::output::write_bytes_atomic(&out.join("skips.md"), report.markdown().as_bytes())?;
     let json =
         serde_json::to_string_pretty(report).map_err(|e| Error::output("skips.json", e))? + "\n";
-    crate::output::write_bytes_atomic(&out.join("skips.json"), json.as_bytes())?;
-    crate::output::write_bytes_atomic(&out.join("skips.md"), report.markdown().as_bytes())
+    crate::output::write_bytes_atomic(&out.join("skips.json"), json.as_bytes())
 }
 
 impl SkipReport {

@@ -13,7 +13,9 @@ pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
     if let Ok(level) = env.log_level.parse() {
         log::set_max_level(level);
     }
-    // Before anything resolves a method set: the parent's method files.
+    // Before anything resolves a method set: the parent's method files (a tuned one proven
+    // again, as the parent did).
+    crate::tune::check::check_files(&env.method_files)?;
     crate::gpu::shaders::register_user(&env.method_files)?;
     match env.job.as_str() {
         crate::bench::runs::RunRequest::NAME => child::serve(env, bench_run)?,

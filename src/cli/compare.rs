@@ -92,11 +92,42 @@ pub(super) fn cmd_compare(
         check_validation(r.context())?;
     }
     let over = compare::exceeded(&summary, &limits);
-    if over.is_empty() {
+    let auto_broken = auto_non_finite(&summary);
+    if over.is_empty() && auto_broken.is_empty() {
         return Ok(ExitCode::SUCCESS);
     }
     for e in &over {
         eprintln!("threshold exceeded: {e}");
     }
+    for line in &auto_broken {
+        eprintln!("threshold exceeded: {line}");
+    }
     Ok(ExitCode::from(EXIT_THRESHOLD))
+}
+
+/// `auto` promises its budget: a non-finite pixel of it (a form drawn where its rasterizer
+/// weights leave the triangle, the sliver pixels of docs/tune.md) fails the run, exit 1, with
+/// or without a limit.
+pub(super) fn auto_non_finite(summary: &compare::Summary) -> Vec<String> {
+    let autos: Vec<&str> = summary
+        .auto
+        .iter()
+        .chain(&summary.auto_curve)
+        .map(|a| a.name.as_str())
+        .collect();
+    summary
+        .methods
+        .iter()
+        .filter(|m| autos.contains(&m.name.as_str()) && m.non_finite_pixels > 0)
+        .map(|m| non_finite_line(&m.name, m.non_finite_pixels))
+        .collect()
+}
+
+/// The line of an `auto` frame with `n` non-finite pixels.
+pub(super) fn non_finite_line(name: &str, n: usize) -> String {
+    format!(
+        "{name}: {n} non-finite pixel(s): auto keeps its budget only where its pixels are \
+         finite (a form drawn at pixels whose rasterizer weights leave their triangle, \
+         docs/tune.md; another --size usually has none)"
+    )
 }

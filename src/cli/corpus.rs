@@ -31,7 +31,7 @@ pub(super) struct CorpusArgs {
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,
     /// Comma-separated method identifiers, or `all`.
-    #[arg(long, default_value = "all")]
+    #[arg(long, default_value = "all", value_parser = super::checks::method_list)]
     methods: String,
     /// Image size of every mesh (camera fitted to each, as compare --mesh).
     #[arg(long, value_name = "WxH", value_parser = super::parse_size, default_value = "256x256")]
@@ -47,7 +47,7 @@ pub(super) struct CorpusArgs {
     #[arg(long)]
     bench: bool,
     /// Runs of --bench.
-    #[arg(long, value_name = "N", default_value_t = 5, requires = "bench")]
+    #[arg(long, value_name = "N", default_value_t = 5, requires = "bench", value_parser = super::count::<1, 100>)]
     runs: usize,
     /// Also write compare's images per mesh (render.png, heatmaps).
     #[arg(long)]
@@ -57,6 +57,24 @@ pub(super) struct CorpusArgs {
     no_isa: bool,
     #[command(flatten)]
     device: super::DeviceArgs,
+}
+
+impl CorpusArgs {
+    /// What a shard reads and writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            dir: Some(("--out", &self.out)),
+            marker: Some("manifest.json"),
+            inputs: self.list.iter().map(PathBuf::as_path).collect(),
+            input_dirs: self
+                .dir
+                .iter()
+                .map(PathBuf::as_path)
+                .chain(self.list.as_deref().and_then(std::path::Path::parent))
+                .collect(),
+            ..Default::default()
+        }
+    }
 }
 
 pub(super) fn cmd_corpus(a: CorpusArgs) -> Result<ExitCode> {

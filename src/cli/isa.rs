@@ -15,7 +15,7 @@ use crate::isa::{self, IsaOptions};
 pub(super) struct IsaArgs {
     /// Comma-separated method identifiers, or `all` (phong_exact is always compiled: the ratios'
     /// base).
-    #[arg(long, default_value = "all")]
+    #[arg(long, default_value = "all", value_parser = super::checks::method_list)]
     methods: String,
     /// Comma-separated family ids, `<vendor>:<chip>` (amd:navi21, intel:tgl, nvidia:nv162,
     /// terascale:cayman; a bare chip name is AMD's), or `all`: every default family of every
@@ -46,6 +46,24 @@ pub(super) struct IsaArgs {
     /// Output directory (isa.json, isa.csv, asm/).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
+}
+
+impl IsaArgs {
+    /// What isa reads and writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            dir: Some(("--out", &self.out)),
+            marker: Some("isa.json"),
+            inputs: self
+                .scene
+                .iter()
+                .chain(&self.bench)
+                .chain(&self.probe)
+                .map(PathBuf::as_path)
+                .collect(),
+            ..Default::default()
+        }
+    }
 }
 
 pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
@@ -87,6 +105,20 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
     };
     let start = Instant::now();
     let mut report = isa::run(&opts, &|line| log::info!("{line}"))?;
+    if report.supported().is_empty() {
+        // Nothing measured is a failed run, never "0 compiled" at exit 0 with an isa.json.
+        let why: Vec<String> = report
+            .families
+            .iter()
+            .map(|f| format!("{}: {}", f.family, f.status))
+            .collect();
+        return Err(Error::Device(format!(
+            "isa: none of the {} families compiled ({}); set their routes up (docs/isa.md) or \
+             name families that are",
+            report.families.len(),
+            why.join("; ")
+        )));
+    }
     if let Some(b) = &bench {
         report.spearman = isa::rank::against_bench(&report, b)?;
     }

@@ -18,6 +18,19 @@ pub(super) struct MergeArgs {
     out: PathBuf,
 }
 
+impl MergeArgs {
+    /// What merge reads and writes: the output may not be a shard's folder (its
+    /// meshes/<id>/result.json would replace the shard's) ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            dir: Some(("--out", &self.out)),
+            marker: Some("corpus.json"),
+            input_dirs: self.shards.iter().map(PathBuf::as_path).collect(),
+            ..Default::default()
+        }
+    }
+}
+
 pub(super) fn cmd_merge(a: MergeArgs) -> Result<ExitCode> {
     let shards = merge::check(&a.shards)?;
     let meshes = merge::gather(&shards)?;

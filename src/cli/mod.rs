@@ -1,6 +1,7 @@
 //! The command line: argument parsing (clap) and one function per command. `main.rs` only calls
 //! [`run`] and maps its result to an exit code.
 mod bench;
+mod checks;
 mod child;
 mod compare;
 mod corpus;
@@ -21,6 +22,7 @@ mod verbosity;
 mod verify;
 
 use self::bench::cmd_bench;
+use self::checks::{count, count_u32, parse_size, parse_threshold, select_methods};
 use self::compare::cmd_compare;
 use self::demo::cmd_demo;
 use self::list::cmd_list;
@@ -42,7 +44,6 @@ use crate::auto::ErrorBudget;
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Context, ContextDesc};
 use crate::gpu::Renderer;
-use crate::method::{self, Method};
 use crate::scene::{self, Interpolation, Scene};
 
 /// Exit code: a threshold was exceeded (results were still written).
@@ -249,7 +250,7 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
         /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "all")]
+        #[arg(long, default_value = "all", value_parser = checks::method_list)]
         methods: String,
         /// Judge every method against this method's f64 formula instead of its own (teeth checks).
         #[arg(long, value_name = "METHOD")]
@@ -266,7 +267,7 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
         /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "all")]
+        #[arg(long, default_value = "all", value_parser = checks::method_list)]
         methods: String,
         /// Output directory (summary.json, summary.csv, reference.png, <method>/*.png).
         #[arg(long, value_name = "DIR")]
@@ -298,7 +299,7 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
         /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "all")]
+        #[arg(long, default_value = "all", value_parser = checks::method_list)]
         methods: String,
         /// Output directory (stress.json, charts, validity/<method>.png, cases/<method>.json).
         #[arg(long, value_name = "DIR", required_unless_present = "replay")]
@@ -309,8 +310,8 @@ enum Command {
         /// Max abs colour error (linear) within which a case is valid.
         #[arg(long, default_value_t = 1.0 / 255.0, value_parser = parse_threshold)]
         threshold: f64,
-        /// Local-search rounds around each method's worst case (0: grid only).
-        #[arg(long, default_value_t = 8)]
+        /// Local-search rounds around each method's worst case (0: grid only; at most 1000).
+        #[arg(long, default_value_t = 8, value_parser = count::<0, 1000>)]
         refine: usize,
         /// (`--replay` takes the precision recorded in the case file.)
         #[command(flatten)]
@@ -410,14 +411,14 @@ enum Command {
         /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
         /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
         /// run in this process; default 5).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = count::<1, 100>)]
         runs: Option<usize>,
         /// Output directory (index.html and everything it shows).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
         /// Comma-separated method identifiers, or `all` (phong_exact and phong_unnormalized,
         /// the references of bench's ratios, are always included).
-        #[arg(long, default_value = "all")]
+        #[arg(long, default_value = "all", value_parser = checks::method_list)]
         methods: String,
         /// Image size of every scene (the default keeps the page of the shipped scenes under
         /// 50 MB).
@@ -463,23 +464,24 @@ struct BenchCmd {
     #[command(flatten)]
     device: DeviceArgs,
     /// Comma-separated method identifiers, or `all`.
-    #[arg(long, default_value = "all")]
+    #[arg(long, default_value = "all", value_parser = checks::method_list)]
     methods: String,
     /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
     /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
-    /// --runs 1, 7 with more runs; src/bench/plan.rs).
-    #[arg(long)]
+    /// --runs 1, 7 with more runs; src/bench/plan.rs; at most 100000).
+    #[arg(long, value_parser = count::<1, 100_000>)]
     repeat: Option<usize>,
     /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,
     /// warm-up and rounds); the verdicts come from the interval across runs, against
     /// phong_exact_control's spread (default 5; 1: one run in this process; the software
-    /// engine: 1).
-    #[arg(long, value_name = "N")]
+    /// engine: 1; at most 100).
+    #[arg(long, value_name = "N", value_parser = count::<1, 100>)]
     runs: Option<usize>,
-    /// Discarded submissions per program (the first includes lavapipe's shader JIT; default 3).
-    #[arg(long)]
+    /// Discarded submissions per program (the first includes lavapipe's shader JIT; default 3;
+    /// at most 1000).
+    #[arg(long, value_parser = count::<0, 1000>)]
     warmup: Option<usize>,
     /// The compare metric on the Pareto chart's y axis.
     #[arg(long, default_value = "p99_abs_error")]
@@ -493,15 +495,15 @@ struct BenchCmd {
     sweep: Vec<SweepArg>,
     /// After --repeat rounds, add rounds until every paired ratio interval (to phong_exact
     /// and to the floor) is within +-PCT percent of its median, or --max-time is reached.
-    #[arg(long, value_name = "PCT")]
+    #[arg(long, value_name = "PCT", value_parser = checks::percent)]
     until_ci: Option<f64>,
-    /// Time cap of --until-ci: seconds of timed rounds (default 300).
-    #[arg(long, value_name = "SECONDS")]
+    /// Time cap of --until-ci: seconds of timed rounds (default 300; at most a day).
+    #[arg(long, value_name = "SECONDS", value_parser = checks::seconds)]
     max_time: Option<f64>,
     /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
     /// (0: render on the submitting thread). Recorded in bench.json. With --engine
-    /// software: the software engine's threads (default: all cores).
-    #[arg(long, value_name = "N")]
+    /// software: the software engine's threads (default: all cores; at most 1024).
+    #[arg(long, value_name = "N", value_parser = count_u32::<0, 1024>)]
     threads: Option<u32>,
     /// Compare with the bench.json of an earlier run (not paired: the runs were not
     /// interleaved). Written to bench.json `baseline` and printed.
@@ -509,12 +511,12 @@ struct BenchCmd {
     baseline: Option<PathBuf>,
     /// With --baseline: exit 1 when a program's 95% interval lies above the baseline's by
     /// more than PCT percent (or cannot be compared), naming each.
-    #[arg(long, value_name = "PCT", requires = "baseline")]
+    #[arg(long, value_name = "PCT", requires = "baseline", value_parser = checks::percent)]
     fail_slower: Option<f64>,
     /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
     /// 1, 16, 64 times per invocation; 0: skip it)
-    /// (default: 21 with --runs 1, 5 per run with more runs).
-    #[arg(long, value_name = "N")]
+    /// (default: 21 with --runs 1, 5 per run with more runs; at most 10000).
+    #[arg(long, value_name = "N", value_parser = count::<0, 10_000>)]
     isolated_rounds: Option<usize>,
     #[command(flatten)]
     error_budget: BudgetArgs,
@@ -551,37 +553,13 @@ struct BenchCmd {
     no_software: bool,
 }
 
-fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WIDTHxHEIGHT such as 512x512, got {s:?}"))?;
-    let parse = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("expected WIDTHxHEIGHT such as 512x512, got {s:?}"))
-    };
-    Ok((parse(w)?, parse(h)?))
-}
-
-/// `--threshold` of compare and stress: a colour error, finite and >= 0 (a number or a fraction
-/// like 1/255), validated here once.
-fn parse_threshold(s: &str) -> std::result::Result<f64, String> {
-    let num = |x: &str| x.trim().parse::<f64>().ok();
-    let v = match s.trim().split_once('/') {
-        Some((a, b)) => num(a).zip(num(b)).map(|(a, b)| a / b),
-        None => num(s),
-    };
-    v.filter(|v| v.is_finite() && *v >= 0.0).ok_or_else(|| {
-        format!("{s:?} is not a threshold: expected a colour error >= 0 (linear), a number or a fraction like 1/255")
-    })
 }
 
 /// Parses the command line and runs it. Errors are printed once by the caller.
 pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
     cli.verbosity.init(&cli.command);
-    // Before anything resolves a method set or starts a thread or child process.
-    crate::gpu::shaders::register_user(&cli.method_file)?;
+    self::checks::before_running(&cli)?;
     match cli.command {
         Command::Compare {
             scene,
@@ -770,14 +748,4 @@ fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
     let mut spec = crate::auto::AutoSpec::new(b.budget, &order);
     spec.cost_model = model.id.to_string();
     Ok(spec)
-}
-
-fn select_methods(list: &str) -> Result<Vec<&'static Method>> {
-    if list == "all" {
-        return Ok(method::all());
-    }
-    list.split(',')
-        .filter(|s| !s.is_empty())
-        .map(|s| method::find(s.trim()))
-        .collect()
 }

@@ -10,7 +10,7 @@ use crate::prove::{self, ProveOptions};
 #[derive(Debug, Args)]
 pub struct ProveArgs {
     /// Comma-separated method identifiers, or `all` (methods out of reach are listed).
-    #[arg(long, default_value = "all")]
+    #[arg(long, default_value = "all", value_parser = super::checks::method_list)]
     methods: String,
     /// Largest angle between any two vertex normals, degrees (0, 180]. Each figure is for
     /// one of two domains: `triangle`, any triangle (three free unit normals pairwise at most
@@ -27,6 +27,17 @@ pub struct ProveArgs {
     /// Output directory (proof.json, cases/<method>_<domain>_<metric>.json).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
+}
+
+impl ProveArgs {
+    /// What prove writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            dir: Some(("--out", &self.out)),
+            marker: Some("proof.json"),
+            ..Default::default()
+        }
+    }
 }
 
 pub(super) fn cmd_prove(a: &ProveArgs) -> Result<ExitCode> {

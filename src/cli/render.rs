@@ -27,6 +27,12 @@ pub(super) fn cmd_render(
     }
     let method = method::find(method)?;
     let scene = load_scene(scene_args)?;
+    let files = [
+        ("--out", Some(out)),
+        ("--float", float),
+        ("--normals", normals),
+    ];
+    super::checks::not_the_mesh(&files, &scene)?;
     if dev.engine == EngineArg::Software {
         let inputs = crate::scene::SceneInputs::new(&scene, method.geometry);
         let form = crate::software::form_of(method);
@@ -75,6 +81,12 @@ fn render_auto(
         ));
     }
     let scene = load_scene(scene_args)?;
+    let files = [
+        ("--out", Some(out)),
+        ("--float", float),
+        ("--normals", normals),
+    ];
+    super::checks::not_the_mesh(&files, &scene)?;
     let r = renderer(dev)?;
     let spec = auto_spec(&r, budget)?;
     let inputs = crate::scene::SceneInputs::new(&scene, crate::method::Geometry::Mesh);
@@ -90,6 +102,19 @@ fn render_auto(
     let frame = r.render_auto(&a)?;
     write_frame(&frame, out, float, normals)?;
     check_validation(r.context())?;
+    // non-finite pixels fail auto's promise (the PNG shows them as black)
+    let bad = frame
+        .color
+        .iter()
+        .filter(|c| c.iter().any(|v| !v.is_finite()))
+        .count();
+    if bad > 0 {
+        eprintln!(
+            "threshold exceeded: {}",
+            super::compare::non_finite_line("auto", bad)
+        );
+        return Ok(ExitCode::from(EXIT_THRESHOLD));
+    }
     Ok(ExitCode::SUCCESS)
 }
 

@@ -143,6 +143,7 @@ pub(super) fn cmd_report(
     out: &Path,
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
+    let started = std::time::SystemTime::now();
     // The measurement, decided once (src/bench/plan.rs).
     let plan = crate::bench::plan::RunPlan::new(
         crate::bench::plan::Job::Report { full: how.full },
@@ -205,6 +206,44 @@ pub(super) fn cmd_report(
             report::BUDGET_BYTES / 1_000_000
         );
     }
+    warn_stale(out, started);
     println!("{}", w.index.display());
     Ok(ExitCode::SUCCESS)
+}
+
+/// Warns about the files of `out` this run did not write (an earlier report's, into the same
+/// folder: its other scenes, methods or --full files), which the page does not link.
+fn warn_stale(out: &Path, started: std::time::SystemTime) {
+    fn walk(dir: &Path, started: std::time::SystemTime, found: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for e in entries.flatten() {
+            let Ok(meta) = e.metadata() else { continue };
+            if meta.is_dir() {
+                walk(&e.path(), started, found);
+            } else if meta.modified().is_ok_and(|m| m < started) {
+                found.push(e.path());
+            }
+        }
+    }
+    let mut stale = Vec::new();
+    walk(out, started, &mut stale);
+    if stale.is_empty() {
+        return;
+    }
+    stale.sort();
+    let shown: Vec<String> = stale
+        .iter()
+        .take(3)
+        .map(|p| p.strip_prefix(out).unwrap_or(p).display().to_string())
+        .collect();
+    eprintln!(
+        "report: warning: {} file(s) in {} are not from this run (an earlier report's: {}{}); \
+         the page does not show them: remove them, or write the report into an empty folder",
+        stale.len(),
+        out.display(),
+        shown.join(", "),
+        if stale.len() > 3 { ", ..." } else { "" }
+    );
 }

@@ -14,11 +14,11 @@ pub(super) struct SkipsCmd {
     /// Output directory (skips.json, skips.md).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
-    /// Interleaved rounds (each draws every row once).
-    #[arg(long, default_value_t = 30)]
+    /// Interleaved rounds (each draws every row once; at most 100000).
+    #[arg(long, default_value_t = 30, value_parser = count::<1, 100_000>)]
     repeat: usize,
-    /// Discarded submissions per row (the first includes lavapipe's shader JIT).
-    #[arg(long, default_value_t = 3)]
+    /// Discarded submissions per row (the first includes lavapipe's shader JIT; at most 1000).
+    #[arg(long, default_value_t = 3, value_parser = count::<0, 1000>)]
     warmup: usize,
     #[command(flatten)]
     error_budget: BudgetArgs,

@@ -102,6 +102,24 @@ fn scenes(a: &TuneArgs) -> Result<Vec<(Scene, &'static str, PathBuf, PathBuf)>> 
         .collect()
 }
 
+impl TuneArgs {
+    /// What tune reads and writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            dir: Some(("--out", &self.out)),
+            marker: Some("tune.json"),
+            inputs: self
+                .mesh
+                .iter()
+                .chain(&self.scene)
+                .map(PathBuf::as_path)
+                .collect(),
+            input_dirs: self.models.iter().map(PathBuf::as_path).collect(),
+            ..Default::default()
+        }
+    }
+}
+
 pub(super) fn cmd_tune(a: &TuneArgs) -> Result<ExitCode> {
     if let Some(deg) = a.max_angle {
         if !(deg > 0.0 && deg <= 180.0) {

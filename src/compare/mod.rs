@@ -277,7 +277,9 @@ impl Analysis<'_> {
         let (counts, measured) = (f.counts, std::mem::take(&mut f.measured));
         drop(f);
         let (flip_mean, flip_p95) = match test8 {
-            Some(test8) => flip(self.flip, &test8, &measured),
+            Some(test8) if counts.measured > 0 => flip(self.flip, &test8, &measured),
+            // no pixel, no FLIP: NaN (null in summary.json, n/a in the table), never 0
+            Some(_) => (f64::NAN, f64::NAN),
             None => (f64::INFINITY, f64::INFINITY),
         };
         let flip_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -523,6 +525,17 @@ pub fn compare_with(
     if !all.iter().any(|m| m.name == exact.name) {
         all.push(exact);
     }
+    // Before anything is allocated: the truth, the frames and the metrics at this size.
+    let heap = match engine {
+        Engine::Vulkan(r) => Some(r.context().heap_bytes()).filter(|&h| h > 0),
+        Engine::Software { .. } => None,
+    };
+    crate::memory::check(
+        &crate::memory::compare(methods_.len() + opts.auto.len()),
+        scene.width,
+        scene.height,
+        heap,
+    )?;
     let prepared = engine::Ready::new(engine, scene, &all)?;
     let base = prepared.base();
     let (w, h) = (base.width, base.height);

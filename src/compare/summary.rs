@@ -421,11 +421,8 @@ pub(crate) fn csv_row(r: &MethodReport) -> Vec<String> {
     row
 }
 
-/// Writes summary.json and summary.csv atomically.
+/// Writes summary.csv and, last (the run's completion marker), summary.json, atomically.
 pub fn write_summary(out: &Path, s: &Summary) -> Result<()> {
-    let json =
-        serde_json::to_string_pretty(s).map_err(|e| Error::output("summary.json", e))? + "\n";
-    output::write_bytes_atomic(&out.join("summary.json"), json.as_bytes())?;
     output::write_atomic(&out.join("summary.csv"), |w| {
         let mut c = csv::Writer::from_writer(w);
         c.write_record(csv_header())
@@ -434,7 +431,10 @@ pub fn write_summary(out: &Path, s: &Summary) -> Result<()> {
             c.write_record(csv_row(r)).map_err(std::io::Error::other)?;
         }
         c.flush()
-    })
+    })?;
+    let json =
+        serde_json::to_string_pretty(s).map_err(|e| Error::output("summary.json", e))? + "\n";
+    output::write_bytes_atomic(&out.join("summary.json"), json.as_bytes())
 }
 
 /// Which side of a limit fails.
@@ -580,7 +580,8 @@ pub fn exceeded(s: &Summary, limits: &[Limit]) -> Vec<Exceeded> {
 }
 
 /// The text table, sorted by mean luminance error; methods with non-finite pixels last, their
-/// errors shown as `inf` and their count in the `NaN` column.
+/// errors shown as `inf` and their count in the `NaN` column; a method that covers no pixel
+/// after them, every statistic `n/a`.
 pub fn table(s: &Summary) -> String {
     let mut rows: Vec<&MethodReport> = s.methods.iter().collect();
     rows.sort_by(|a, b| {
@@ -609,7 +610,8 @@ pub fn table(s: &Summary) -> String {
         "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
         "method", "mean|dI|", "p99|dI|", "max|dI|", "PSNR dB", "max deg", "FLIP", "NaN"
     );
-    for r in rows {
+    let none = |r: &&&MethodReport| r.covered_pixels == 0 && r.non_finite_pixels == 0;
+    for r in rows.iter().filter(|r| !none(r)) {
         let i = &r.intensity;
         t += &format!(
             "{:<32} {:>10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>8}\n",
@@ -621,6 +623,14 @@ pub fn table(s: &Summary) -> String {
             opt(r.max_normal_angle_deg, 3),
             opt(Some(r.flip_mean), 4),
             r.non_finite_pixels
+        );
+    }
+    // A method that covers no pixel has no statistic: n/a, not inf (non-finite) nor 0.
+    for r in rows.iter().filter(none) {
+        let na = "n/a";
+        t += &format!(
+            "{:<32} {na:>10} {na:>10} {na:>10} {na:>8} {na:>9} {na:>9} {:>8}  (no pixel covered)\n",
+            r.name, r.non_finite_pixels
         );
     }
     t

@@ -387,8 +387,8 @@ fn html(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
     writeln!(w, "</ul></body></html>")
 }
 
-/// Writes corpus.json, corpus.csv, index.html and each mesh's result.json (as the shard wrote
-/// it) into `out`.
+/// Writes each mesh's result.json (as the shard wrote it), corpus.csv, index.html and, last (the
+/// merge's completion marker), corpus.json into `out`.
 pub fn write(out: &Path, r: &CorpusReport, meshes: &[Merged]) -> Result<()> {
     for m in meshes {
         crate::output::write_bytes_atomic(
@@ -396,9 +396,9 @@ pub fn write(out: &Path, r: &CorpusReport, meshes: &[Merged]) -> Result<()> {
             &m.bytes,
         )?;
     }
+    write_atomic(&out.join("corpus.csv"), |w| csv(w, r))?;
+    write_atomic(&out.join("index.html"), |w| html(w, r))?;
     let mut json = serde_json::to_vec_pretty(r).map_err(|e| Error::output("corpus.json", e))?;
     json.push(b'\n');
-    crate::output::write_bytes_atomic(&out.join("corpus.json"), &json)?;
-    write_atomic(&out.join("corpus.csv"), |w| csv(w, r))?;
-    write_atomic(&out.join("index.html"), |w| html(w, r))
+    crate::output::write_bytes_atomic(&out.join("corpus.json"), &json)
 }

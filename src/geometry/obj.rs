@@ -25,6 +25,10 @@ struct Parsed {
     corners: Vec<Corner>,
     had_polygons: bool,
     skipped_elements: usize,
+    /// Statements whose keyword the OBJ specification does not have, and the first (line,
+    /// keyword).
+    unknown_statements: usize,
+    first_unknown: Option<(usize, String)>,
     /// Normalized copy of the geometry statements for tobj (see the module doc).
     tobj_text: String,
 }
@@ -54,6 +58,7 @@ pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport)> {
 /// `source`. Errors as [`load_obj`]'s, except that it never returns [`Error::Io`]. This is the
 /// entry point the fuzz harness (tests/fuzz.rs) drives.
 pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
+    let bytes = text_bytes(path, bytes)?;
     // Lossy: a stray Latin-1 byte in a comment must not reject the file; in a number it turns
     // into U+FFFD and fails number parsing with the line reported.
     let text = String::from_utf8_lossy(bytes);
@@ -68,6 +73,78 @@ pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
     let tobj_models = run_tobj(path, &parsed.tobj_text)?;
     build_from_parsed(path, &parsed, &tobj_models)
 }
+/// The formats the reader takes, for the refusal of anything else.
+const FORMATS_READ: &str = "shadelab reads Wavefront OBJ meshes (text, ASCII or UTF-8)";
+
+/// The OBJ text of `bytes`: without a UTF-8 byte-order mark (which would otherwise make the
+/// first statement an unknown one and shift every later index), and refused when it is not
+/// text at all: UTF-16 (its mark, or NUL bytes), binary glTF, PLY, JSON or other binary data,
+/// named as such (the bytes of such a file used to read as a text with no `f` statement).
+fn text_bytes<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a [u8]> {
+    let what = if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        Some("UTF-16 text")
+    } else if bytes.starts_with(b"glTF") {
+        Some("binary glTF (.glb)")
+    } else if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
+        Some("PLY")
+    } else if bytes.trim_ascii_start().starts_with(b"{") {
+        Some("JSON (a .gltf?)")
+    } else if bytes.iter().take(1 << 16).any(|&b| b == 0) {
+        Some("binary data or UTF-16 text (it holds NUL bytes)")
+    } else {
+        None
+    };
+    if let Some(what) = what {
+        return Err(Error::input(
+            path,
+            None,
+            format!("this is {what}, not an OBJ file: {FORMATS_READ}; convert it to OBJ"),
+        ));
+    }
+    Ok(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes))
+}
+
+/// The statements of the OBJ specification (Wavefront's "Object Files (.obj)", appendix B1 of
+/// the Advanced Visualizer manual) that the reader ignores: anything else is counted and
+/// named in a warning, and a keyword holding a character no keyword has (a stray byte-order
+/// mark, a control character, U+FFFD of an undecodable byte) is an error at its line, so that
+/// leading junk never silently turns a `v` into an ignored statement.
+const IGNORED_KEYWORDS: [&str; 33] = [
+    "vp",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "g",
+    "s",
+    "mg",
+    "o",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "lod",
+    "usemtl",
+    "mtllib",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "maplib",
+    "usemap",
+    "call",
+    "csh",
+];
+
 /// Parses `tok` as an f32 coordinate that must be finite.
 fn parse_coord(tok: &str, what: &str, which: usize) -> std::result::Result<f32, String> {
     match tok.parse::<f32>() {
@@ -136,7 +213,22 @@ fn validate_obj(path: &Path, text: &str) -> Result<Parsed> {
             "f" => p.face(&args).map_err(err)?,
             "l" | "p" => p.skipped_elements += 1,
             // Groups, objects, smoothing groups, materials, free-form geometry: not ours to draw.
-            _ => {}
+            k if IGNORED_KEYWORDS.contains(&k) => {}
+            k if !k.chars().all(|c| c.is_ascii_graphic()) => {
+                return Err(err(format!(
+                    "statement `{}` starts with characters no OBJ keyword has ({}): remove them",
+                    k.escape_debug(),
+                    k.chars()
+                        .filter(|c| !c.is_ascii_graphic())
+                        .map(|c| format!("U+{:04X}", c as u32))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                )))
+            }
+            k => {
+                p.unknown_statements += 1;
+                p.first_unknown.get_or_insert((line, k.to_string()));
+            }
         }
     }
     Ok(p)
@@ -412,6 +504,12 @@ fn load_warnings(parsed: &Parsed, a: &soup::Assembled) -> Vec<String> {
                 "point/line element (`p`/`l`)",
                 "point/line elements (`p`/`l`)"
             )
+        ));
+    }
+    if let Some((line, k)) = &parsed.first_unknown {
+        warnings.push(format!(
+            "ignored {} with a keyword OBJ does not have (the first `{k}` at line {line})",
+            plural(parsed.unknown_statements, "statement", "statements")
         ));
     }
     // Smoothing follows the file's position indices, as the format's topology says; a position

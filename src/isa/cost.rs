@@ -156,7 +156,11 @@ impl CostSource for StaticCost {
             families: vec![family.clone()],
             ..IsaOptions::every_family(methods, precision, exe)
         };
-        let report = super::run(&opts, &|_| {})?;
+        let report = super::run(&opts, &|_| {}).map_err(|e| match e {
+            // an unknown chip, say: named with the model asked for
+            Error::Usage(m) => Error::Usage(format!("--cost-model {id}: {m}")),
+            other => other,
+        })?;
         match report.families.iter().find(|f| f.family == family) {
             Some(s) if s.supported => {}
             Some(s) => return Err(Error::Usage(format!("--cost-model {id}: {}", s.status))),

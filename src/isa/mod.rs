@@ -173,11 +173,12 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
 }
 
 /// The families of `ids` (family ids, or bare AMD chip names), in order; an unknown vendor
-/// is a usage error.
+/// or a chip its route does not know is a usage error, before any child starts.
 pub fn families(ids: &[String]) -> Result<Vec<Family>> {
     ids.iter()
         .map(|id| {
             let (vendor, chip) = vendor::resolve(id).map_err(Error::Usage)?;
+            vendor::check_chip(vendor, &chip).map_err(Error::Usage)?;
             // Chips live as long as the run: a family is a small, fixed set of names, leaked
             // once per process (the CLI and tests make a handful).
             let chip: &'static str = Box::leak(chip.into_boxed_str());
@@ -193,10 +194,8 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
     }
     let families = families(&opts.families)?;
     let start = Instant::now();
-    let dir = tempfile::Builder::new()
-        .prefix("shadelab-isa-")
-        .tempdir()
-        .map_err(|e| Error::io(std::path::Path::new("a temporary folder"), e))?;
+    let dir =
+        crate::cleanup::TempDir::new("isa").map_err(|e| Error::io(std::env::temp_dir(), e))?;
     let queue: Mutex<Vec<(usize, Family)>> =
         Mutex::new(families.iter().copied().enumerate().rev().collect());
     let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());

@@ -49,6 +49,49 @@ pub struct Tuned {
     /// coefficients (the shortest decimal of each double).
     #[serde(with = "exact_f64")]
     pub domain: [f64; 2],
+    /// The proven largest `| |N'| - 1 |` of the float32 program over the domain, as `tune`
+    /// proved it when it wrote the file (a string as the others): the claim a loader re-proves
+    /// (src/tune/check.rs). Absent in a file of an older shadelab, which is then refused.
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "exact_opt")]
+    pub length_error: Option<f64>,
+}
+
+/// A float32 value of the line read from its decimal string: a number beyond float32's range
+/// (`1e300`) is refused with its text and the limit, not read as `inf`.
+fn f32_of(t: &str) -> Result<f64, String> {
+    match t.parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(f64::from(x)),
+        Ok(_)
+            if t.trim_start_matches(['+', '-'])
+                .parse::<f64>()
+                .is_ok_and(f64::is_finite) =>
+        {
+            Err(format!(
+                "{t:?} is beyond float32's range (its largest finite value is {:e})",
+                f32::MAX
+            ))
+        }
+        _ => Err(format!("{t:?} is not a finite float32")),
+    }
+}
+
+/// An optional double as an exact decimal string.
+mod exact_opt {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(x) => s.serialize_str(&format!("{x:?}")),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+        let t = String::deserialize(d)?;
+        t.parse::<f64>()
+            .map(Some)
+            .map_err(|_| serde::de::Error::custom(format!("{t:?} is not a number")))
+    }
 }
 
 /// Float32 values as exact decimal strings.
@@ -62,11 +105,7 @@ mod exact_f32 {
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
         Vec::<String>::deserialize(d)?
             .iter()
-            .map(|t| {
-                t.parse::<f32>()
-                    .map(f64::from)
-                    .map_err(|_| serde::de::Error::custom(format!("{t:?} is not a float32")))
-            })
+            .map(|t| super::f32_of(t).map_err(serde::de::Error::custom))
             .collect()
     }
 }
@@ -153,6 +192,9 @@ impl Tuned {
             return Err(format!(
                 "domain [{lo}, {hi}]: expected 0 <= lo <= hi, finite"
             ));
+        }
+        if let Some(e) = self.length_error.filter(|e| !(e.is_finite() && *e >= 0.0)) {
+            return Err(format!("length_error {e}: expected a finite bound >= 0"));
         }
         Ok(())
     }
@@ -304,6 +346,7 @@ mod tests {
             steps: 1,
             coeffs: vec![f64::from(1.8f32), f64::from(-0.8f32)],
             domain: [0.5, 1.0000005],
+            length_error: Some(1.25e-3),
         }
     }
 
@@ -325,6 +368,14 @@ mod tests {
             Tuned::of_text(&bad).unwrap().is_err(),
             "a number, not a string"
         );
+        // a coefficient beyond float32's range names its text and the limit, not "inf"
+        let huge = text.replace("\"1.8\"", "\"1e300\"");
+        let why = Tuned::of_text(&huge).unwrap().unwrap_err();
+        assert!(
+            why.contains("\"1e300\" is beyond float32's range") && why.contains("3.4028235e38"),
+            "{why}"
+        );
+        assert!(!why.contains("inf"), "{why}");
         // each coefficient reads back to the same float32, bit for bit
         for x in [
             1.0423665046691895f64,

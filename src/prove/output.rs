@@ -86,12 +86,10 @@ pub fn table(r: &ProofReport) -> String {
     s
 }
 
-/// Writes DIR/proof.json and DIR/cases/<method>_<domain>_<metric>.json (each found input as a
-/// stress case file, for `stress --replay`).
+/// Writes DIR/cases/<method>_<domain>_<metric>.json (each found input as a stress case file,
+/// for `stress --replay`) and, last (the run's completion marker), DIR/proof.json.
 pub fn write(out: &Path, r: &ProofReport) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let json = serde_json::to_string_pretty(r).map_err(|e| Error::output("proof.json", e))?;
-    crate::output::write_bytes_atomic(&out.join("proof.json"), (json + "\n").as_bytes())?;
     let cases = out.join("cases");
     std::fs::create_dir_all(&cases).map_err(|e| Error::io(&cases, e))?;
     for m in &r.methods {
@@ -117,5 +115,6 @@ pub fn write(out: &Path, r: &ProofReport) -> Result<()> {
             }
         }
     }
-    Ok(())
+    let json = serde_json::to_string_pretty(r).map_err(|e| Error::output("proof.json", e))?;
+    crate::output::write_bytes_atomic(&out.join("proof.json"), (json + "\n").as_bytes())
 }

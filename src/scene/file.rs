@@ -394,6 +394,8 @@ fn parse_generator(
     }
 }
 
+/// `[image]`: both of width and height (each 1 to [`MAX_IMAGE_SIZE`]) or neither (the
+/// default square); one alone is an error at its line.
 fn image_size(src: &Source, image: Option<&ImageFile>) -> Result<(u32, u32)> {
     let check = |v: &Option<Spanned<u32>>, key: &str| -> Result<u32> {
         let Some(v) = v else {
@@ -409,10 +411,27 @@ fn image_size(src: &Source, image: Option<&ImageFile>) -> Result<(u32, u32)> {
         }
         Ok(n)
     };
-    match image {
-        None => Ok((DEFAULT_IMAGE_SIZE, DEFAULT_IMAGE_SIZE)),
-        Some(i) => Ok((check(&i.width, "width")?, check(&i.height, "height")?)),
+    let Some(i) = image else {
+        return Ok((DEFAULT_IMAGE_SIZE, DEFAULT_IMAGE_SIZE));
+    };
+    let size = (check(&i.width, "width")?, check(&i.height, "height")?);
+    // Half a size is refused: `width = 64` alone rendered 64 x 512 without a word.
+    let half = match (&i.width, &i.height) {
+        (Some(w), None) => Some((w, "width", "height")),
+        (None, Some(h)) => Some((h, "height", "width")),
+        _ => None,
+    };
+    if let Some((given, key, other)) = half {
+        return Err(src.at(
+            given,
+            format!(
+                "[image] gives {key} = {} but no {other}: give both ({DEFAULT_IMAGE_SIZE} x \
+                 {DEFAULT_IMAGE_SIZE} is the default only when both are left out)",
+                given.get_ref()
+            ),
+        ));
     }
+    Ok(size)
 }
 
 /// `[camera]`: missing keys come from [`fit_camera`] with the given (or default) fov.

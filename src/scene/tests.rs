@@ -365,6 +365,8 @@ fn bad_scenes_report_file_and_line() {
         (format!("{MESH}[image]\nwidth = 0\n"), Some(4), "image width = 0 is out of range: it must be 1 to 16384"),
         (format!("{MESH}[image]\nheight = 20000\n"), Some(4), "image height = 20000 is out of range"),
         (format!("{MESH}[image]\nheight = -2\n"), Some(4), "invalid value: integer `-2`, expected u32"),
+        (format!("{MESH}[image]\nwidth = 64\n"), Some(4), "[image] gives width = 64 but no height: give both"),
+        (format!("{MESH}[image]\n\nheight = 64\n"), Some(5), "[image] gives height = 64 but no width"),
         (format!("colour = 1\n{MESH}"), Some(1), "unknown field `colour`, expected one of `name`, `mesh`"),
         (format!("nmae = \"x\"\n{MESH}"), Some(1), "unknown field `nmae`"),
         (format!("{MESH}[camera]\neye = [1, 2]\n"), Some(4), "invalid length 2, expected an array of length 3"),

@@ -107,19 +107,25 @@ impl Candidate {
     }
 
     /// The tuned form of a fitted candidate, proven on `domain` (None for a paper or the
-    /// reference): what its method file's `// shadelab-tuned:` line says.
+    /// reference): what its method file's `// shadelab-tuned:` line says, its float32 length
+    /// error over `domain` included.
     pub fn tuned(&self, domain: [f64; 2]) -> Option<Tuned> {
         let form = match self.family {
             Family::Minimax => TunedForm::Minimax,
             Family::Newton => TunedForm::Newton,
             Family::Paper | Family::Reference => return None,
         };
-        Some(Tuned {
+        let mut t = Tuned {
             form,
             steps: self.steps,
             coeffs: self.coeffs.clone(),
             domain,
-        })
+            length_error: None,
+        };
+        // the claim the line states, proven as a loader proves it again (src/tune/check.rs)
+        let bound = super::check::line_bound(&t);
+        t.length_error = bound.is_finite().then_some(bound);
+        Some(t)
     }
 
     /// The paper method `name`.

@@ -19,6 +19,7 @@
 //!
 //! Output: tune.json (docs/tune.schema.json), a table, the candidates' method files.
 pub mod candidate;
+pub mod check;
 pub mod choose;
 pub mod classes;
 pub mod domain;

@@ -6,12 +6,13 @@ use super::TuneReport;
 use crate::error::{Error, Result};
 use crate::method::Precision;
 
-/// Writes DIR/tune.json and DIR/tune.txt (the method files are written by the run).
+/// Writes DIR/tune.txt and, last (the run's completion marker), DIR/tune.json (the method
+/// files are written by the run, before).
 pub fn write(out: &Path, r: &TuneReport) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    crate::output::write_bytes_atomic(&out.join("tune.txt"), table(r).as_bytes())?;
     let json = serde_json::to_string_pretty(r).map_err(|e| Error::output("tune.json", e))?;
-    crate::output::write_bytes_atomic(&out.join("tune.json"), (json + "\n").as_bytes())?;
-    crate::output::write_bytes_atomic(&out.join("tune.txt"), table(r).as_bytes())
+    crate::output::write_bytes_atomic(&out.join("tune.json"), (json + "\n").as_bytes())
 }
 
 fn domain_lines(r: &TuneReport) -> String {

@@ -203,6 +203,36 @@ pub fn prove_in<F: Format>(c: &Candidate, z: Interval, lights: &Lights, b: &Proo
     }
 }
 
+/// The proven largest `| |N'| - 1 |` of `c`'s program in format `F` over `z` (infinite where
+/// nothing finite is proven), after at most `max_boxes` boxes and with no time limit: the same
+/// number on every machine and every run, which a tuned file's line can state and a loader
+/// re-prove ([`super::check`]).
+pub fn length_bound<F: Format>(c: &Candidate, z: Interval, max_boxes: usize) -> f64 {
+    let allowance = length_error::<F>(c, z).1.mag();
+    let budget = Budget {
+        tolerance: ProofBudget::default().tolerance,
+        atol: bnb::ATOL + allowance,
+        max_boxes,
+        max_seconds: f64::INFINITY,
+    };
+    let point = Interval::point(0.0);
+    let bound = bnb::maximise(
+        [z, point, point],
+        budget,
+        |cell| length_error::<F>(c, cell[0]).0.mag(),
+        |p| {
+            let v = (c.k(p[0]) * p[0].sqrt() - 1.0).abs();
+            v.is_finite().then_some(v)
+        },
+    )
+    .proven_upper;
+    if bound.is_nan() {
+        f64::INFINITY
+    } else {
+        bound
+    }
+}
+
 /// [`prove_in`] for `precision`.
 pub fn prove(
     c: &Candidate,

@@ -39,7 +39,10 @@ fn bench_rejects_bad_options() {
         out,
     ]);
     assert_eq!(code, 2);
-    assert!(err.contains("--repeat must be at least 1"), "{err}");
+    assert!(
+        err.contains("\"0\" is not a count from 1 to 100000"),
+        "{err}"
+    );
     let bench = |extra: &[&str]| {
         let mut args = vec![
             "bench",
@@ -60,7 +63,7 @@ fn bench_rejects_bad_options() {
     let (code, _, err) = bench(&["--until-ci", "1", "--max-time", "0"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("--max-time must be a number of seconds > 0"),
+        err.contains("\"0\" is not a number of seconds above 0 and at most 86400"),
         "{err}"
     );
     let (code, _, err) = bench(&["--fail-slower", "5"]);

@@ -70,7 +70,7 @@ fn bench_runs_refuses_what_it_cannot_do() {
     let out = dir.path().to_str().unwrap();
     let base = ["bench", "--scene", "scenes/cube.toml", "--size", "32x32"];
     for (extra, want) in [
-        (&["--runs", "0"][..], "--runs must be at least 1"),
+        (&["--runs", "0"][..], "\"0\" is not a count from 1 to 100"),
         (&["--runs", "2", "--until-ci", "5"][..], "--until-ci"),
         (
             &["--runs", "2", "--engine", "software"][..],

@@ -364,18 +364,17 @@ fn timings(
         .collect()
 }
 
-/// DIR/bench.json, claims.json and claims.md.
+/// DIR/claims.json, claims.md and, last (the run's completion marker), bench.json.
 fn write_files(out: &Path, report: &SoftwareBench, vulkan: Option<&VulkanRatios>) -> Result<()> {
-    let json =
-        serde_json::to_string_pretty(report).map_err(|e| Error::output("bench.json", e))? + "\n";
-    output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())?;
     let json = serde_json::to_string_pretty(&report.claims)
         .map_err(|e| Error::output("claims.json", e))?
         + "\n";
     output::write_bytes_atomic(&out.join("claims.json"), json.as_bytes())?;
     let md = claims_md(report, vulkan);
     output::write_bytes_atomic(&out.join("claims.md"), md.as_bytes())?;
-    Ok(())
+    let json =
+        serde_json::to_string_pretty(report).map_err(|e| Error::output("bench.json", e))? + "\n";
+    output::write_bytes_atomic(&out.join("bench.json"), json.as_bytes())
 }
 
 /// The text table of a run: every program's frame time and paired ratio to phong_exact.

@@ -243,3 +243,71 @@ fn triangles_that_collapse_when_fitted_are_dropped() {
         DVec3::from_array(t[2].map(f64::from))
     ));
 }
+
+/// A UTF-8 byte-order mark is not part of the first statement: `v 9 9 9` stays the first
+/// vertex, so `f 1 2 3` takes it. (Read as part of the keyword, the mark made the line an
+/// unknown statement and the face took the next three vertices: the mesh without `v 9 9 9`.)
+#[test]
+fn a_byte_order_mark_does_not_shift_indices() {
+    let text = "v 9 9 9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let mut bom = b"\xEF\xBB\xBF".to_vec();
+    bom.extend_from_slice(text.as_bytes());
+    let (with_bom, _) = parse_obj(Path::new("bom.obj"), &bom).unwrap();
+    let (plain, _) = parse_obj(Path::new("plain.obj"), text.as_bytes()).unwrap();
+    assert_eq!(with_bom.positions, plain.positions);
+    // Teeth: the mesh the old reader made (the last three vertices) is another one.
+    let (shifted, _) =
+        parse_obj(Path::new("s.obj"), b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    assert_ne!(with_bom.positions, shifted.positions);
+}
+
+/// Junk before a keyword is an error at its line, never an ignored statement; a keyword the
+/// specification does not have is ignored with a warning that names it.
+#[test]
+fn leading_junk_is_refused_and_unknown_keywords_named() {
+    let junk = |prefix: &str| format!("v 0 0 0\n{prefix}v 9 9 9\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    for prefix in ["\u{feff}", "\u{1}", "\u{200b}", "\u{fffd}"] {
+        assert_input_err(load_text(&junk(prefix)), Some(2), "no OBJ keyword has");
+    }
+    let (_, report) = load_text(&junk("x")).unwrap();
+    assert!(
+        report
+            .warnings
+            .iter()
+            .any(|w| w.contains("1 statement") && w.contains("`xv` at line 2")),
+        "{:?}",
+        report.warnings
+    );
+    // the specification's own statements pass silently
+    let (_, report) = load_text(&junk("")).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+}
+
+/// A file that is not OBJ text is named as what it is, with the formats the reader takes
+/// (they used to read as text "with no faces").
+#[test]
+fn binary_and_other_formats_are_named() {
+    let utf16: Vec<u8> = "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+        .encode_utf16()
+        .flat_map(u16::to_le_bytes)
+        .collect();
+    let no_mark = utf16[2..].to_vec();
+    let ply = b"ply\nformat ascii 1.0\nelement vertex 3\n".to_vec();
+    let glb = b"glTF\x02\x00\x00\x00".to_vec();
+    let json = b"  {\"asset\": {\"version\": \"2.0\"}}".to_vec();
+    for (bytes, what) in [
+        (utf16, "UTF-16"),
+        (no_mark, "NUL bytes"),
+        (ply, "PLY"),
+        (glb, "binary glTF"),
+        (json, "JSON"),
+    ] {
+        let e = parse_obj(Path::new("m.obj"), &bytes)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(what) && e.contains("reads Wavefront OBJ"),
+            "{what}: {e}"
+        );
+    }
+}

@@ -107,7 +107,9 @@ pub fn es_version(es: (u32, u32)) -> u32 {
 
 /// spirv-cross on `spirv` with `args`, its output.
 fn cross(label: &str, spirv: &[u8], args: &[&str]) -> Result<String> {
-    let mut child = Command::new("spirv-cross")
+    let mut cmd = Command::new("spirv-cross");
+    crate::cleanup::die_with_parent(&mut cmd);
+    let mut child = cmd
         .args(args)
         .arg("-")
         .stdin(Stdio::piped())

@@ -273,7 +273,20 @@ impl Context {
         limits.is_ok_and(|l| l.max_extent.width >= width && l.max_extent.height >= height)
     }
 
-    /// Checks an image size against the device limit. Errors are usage errors (exit 2).
+    /// The size of the device's largest device-local memory heap, bytes.
+    pub fn heap_bytes(&self) -> u64 {
+        let p = &self.memory_properties;
+        p.memory_heaps[..p.memory_heap_count as usize]
+            .iter()
+            .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Checks an image size against the device limit and a draw's memory against the
+    /// device's heap and the machine's memory ([`crate::memory::DRAW`]), before any image is
+    /// allocated. Errors are usage errors (exit 2).
     pub fn check_image_size(&self, width: u32, height: u32) -> Result<()> {
         let max = self.info.max_image_dimension_2d;
         if width == 0 || height == 0 {
@@ -287,7 +300,8 @@ impl Context {
                 self.info.name
             )));
         }
-        Ok(())
+        let heap = Some(self.heap_bytes()).filter(|&h| h > 0);
+        crate::memory::check(&crate::memory::DRAW, width, height, heap)
     }
 
     /// Names and types of every device the loader reports (for `--device` errors and `shadelab devices`).

@@ -49,6 +49,67 @@ impl Vendor for Amd {
         &crate::isa::DEFAULT_FAMILIES
     }
 
+    /// The names of Mesa's `ac_get_family_name` (src/amd/common/amd_family.c) that
+    /// `RADV_FORCE_FAMILY` accepts: Mesa 22.3.6's (each tried with `shadelab isa`,
+    /// 2026-11-28; navi24, rembrandt and gfx1036 die of SIGFPE there, reported per family), then
+    /// Mesa 25.0.7's additions (../shared TOOLCHAIN "RADV null device"; 25 calls gfx1100
+    /// navi31).
+    fn known_chips(&self) -> Vec<&'static str> {
+        vec![
+            "tahiti",
+            "pitcairn",
+            "verde",
+            "oland",
+            "hainan",
+            "bonaire",
+            "kabini",
+            "kaveri",
+            "hawaii",
+            "iceland",
+            "tonga",
+            "carrizo",
+            "fiji",
+            "stoney",
+            "polaris10",
+            "polaris11",
+            "polaris12",
+            "vegam",
+            "vega10",
+            "vega12",
+            "vega20",
+            "raven",
+            "raven2",
+            "renoir",
+            "arcturus",
+            "aldebaran",
+            "navi10",
+            "navi12",
+            "navi14",
+            "navi21",
+            "navi22",
+            "navi23",
+            "vangogh",
+            "navi24",
+            "rembrandt",
+            "gfx1036",
+            "gfx1100",
+            "gfx1101",
+            "gfx1102",
+            "gfx1103_r1",
+            "gfx1103_r2",
+            "navi31",
+            "navi32",
+            "navi33",
+            "phoenix",
+            "gfx1150",
+            "gfx1151",
+            "gfx1152",
+            "gfx1153",
+            "gfx1200",
+            "gfx1201",
+        ]
+    }
+
     fn api(&self) -> Api {
         Api::Vulkan { device: "radv" }
     }

@@ -63,6 +63,22 @@ impl Vendor for Arm {
         &["mali450", "t860", "g72", "g52", "g57", "g610"]
     }
 
+    /// The Mali chips named here (panfrost's product ids, lima's Mali-450); any `id<hex>`
+    /// product id is taken too.
+    fn known_chips(&self) -> Vec<&'static str> {
+        std::iter::once(LIMA)
+            .chain(PANFROST.iter().map(|(c, _)| *c))
+            .collect()
+    }
+
+    fn knows(&self, chip: &str) -> bool {
+        chip == LIMA || product_id(chip).is_ok()
+    }
+
+    fn other_chips(&self) -> Option<&'static str> {
+        Some("or id<hex>, a panfrost product id")
+    }
+
     fn api(&self) -> Api {
         Api::OpenGlEs
     }

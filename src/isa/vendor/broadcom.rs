@@ -28,6 +28,12 @@ impl Vendor for Broadcom {
         &["vc4", "v3d42"]
     }
 
+    /// The two chips the shims emulate, and the Raspberry Pi 5's V3D 7.1, which Mesa's v3d
+    /// knows and the V3D 4.2 shim cannot be (refused per family).
+    fn known_chips(&self) -> Vec<&'static str> {
+        vec!["vc4", "v3d42", "v3d71"]
+    }
+
     fn api(&self) -> Api {
         Api::OpenGlEs
     }

@@ -52,6 +52,18 @@ impl Vendor for Intel {
         ]
     }
 
+    /// The platforms of `INTEL_STUB_GPU_PLATFORM` ANV 22.3.6 creates a device on (each tried
+    /// with `shadelab isa`, 2026-11-28: Gen7/8 names are hasvk's, refused by ANV), then
+    /// [`XE_CHIPS`] of ANV 25.0.7.
+    fn known_chips(&self) -> Vec<&'static str> {
+        let mut v = vec![
+            "skl", "bxt", "kbl", "aml", "cml", "glk", "whl", "cfl", "icl", "ehl", "jsl", "tgl",
+            "rkl", "dg1", "adl", "sg1", "rpl", "dg2",
+        ];
+        v.extend(XE_CHIPS);
+        v
+    }
+
     fn api(&self) -> Api {
         Api::Vulkan { device: "intel" }
     }

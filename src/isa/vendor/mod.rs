@@ -109,6 +109,20 @@ pub trait Vendor: Sync {
     fn name(&self) -> &'static str;
     /// The families compiled by default (chips, without the prefix), oldest first.
     fn default_chips(&self) -> &'static [&'static str];
+    /// The chips this route's driver knows by name (lower case), whatever their status: what
+    /// `--families` and an `isa:` cost model accept ([`check_chip`], before any child starts;
+    /// an unknown name used to reach the driver, which aborted or fell back). Per Mesa version
+    /// where the versions differ (AMD's gfx1100 is navi31 from Mesa 25).
+    fn known_chips(&self) -> Vec<&'static str>;
+    /// Whether `chip` is one of this route's: one of [`Vendor::known_chips`] by default.
+    fn knows(&self, chip: &str) -> bool {
+        self.known_chips().contains(&chip)
+    }
+    /// Names this route takes beyond [`Vendor::known_chips`], in words (Arm's raw product
+    /// ids), for the message of an unknown chip.
+    fn other_chips(&self) -> Option<&'static str> {
+        None
+    }
     fn api(&self) -> Api;
     fn compiler(&self) -> Compiler;
     fn ranking(&self) -> Ranking;
@@ -210,6 +224,22 @@ pub fn resolve(id: &str) -> Result<(&'static dyn Vendor, String), String> {
         ));
     }
     Ok((*vendor, chip.to_string()))
+}
+
+/// `chip` of `vendor` when the route knows it ([`Vendor::knows`]), else the message naming
+/// the chips it knows: "unknown chip 'nonsense' for amd; known: tahiti, ...".
+pub fn check_chip(vendor: &dyn Vendor, chip: &str) -> Result<(), String> {
+    if vendor.knows(chip) {
+        return Ok(());
+    }
+    Err(format!(
+        "unknown chip '{chip}' for {}; known: {}{}",
+        vendor.prefix(),
+        vendor.known_chips().join(", "),
+        vendor
+            .other_chips()
+            .map_or(String::new(), |o| format!(" ({o})"))
+    ))
 }
 
 /// The family ids compiled by default: every default chip of every vendor.
@@ -363,6 +393,33 @@ mod tests {
         assert!(why.contains("unknown vendor"), "{why}");
         assert!(resolve("intel:").is_err());
         assert!(resolve("intel:t/gl").is_err());
+    }
+
+    /// Every vendor knows its default chips; a chip no route knows is refused with the
+    /// vendor's known names (it used to reach the driver: SIGABRT, or "0 compiled", exit 0).
+    #[test]
+    fn unknown_chips_are_refused_with_the_known_ones() {
+        for v in VENDORS {
+            for c in v.default_chips() {
+                assert!(check_chip(v, c).is_ok(), "{}:{c}", v.prefix());
+            }
+            let why = check_chip(v, "nonsense").unwrap_err();
+            assert!(
+                why.starts_with(&format!(
+                    "unknown chip 'nonsense' for {}; known: ",
+                    v.prefix()
+                )) && why.contains(v.default_chips()[0]),
+                "{why}"
+            );
+        }
+        let amd = resolve("amd:navi24").unwrap().0;
+        // known to RADV 22.3.6 although it dies there (SIGFPE): reported per family, not refused
+        assert!(check_chip(amd, "navi24").is_ok());
+        assert!(check_chip(amd, "gfx1030").is_err());
+        let arm = resolve("arm:g52").unwrap().0;
+        assert!(check_chip(arm, "id7212").is_ok() && check_chip(arm, "idzz").is_err());
+        let nv = resolve("nvidia:nv162").unwrap().0;
+        assert!(check_chip(nv, "nv50").is_ok() && check_chip(nv, "nv1").is_err());
     }
 
     #[test]

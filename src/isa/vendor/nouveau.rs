@@ -26,6 +26,20 @@ impl Vendor for Nouveau {
         &["nvc0", "nve4", "nv117", "nv134", "nv162"]
     }
 
+    /// The chipsets Debian 12's nouveau (22.3.6) knows on the drm-shim (each tried with
+    /// `shadelab isa`, 2026-11-28): NV50 to GT21x (known, but without OpenGL 4.3: reported per
+    /// family), Fermi to Turing (compiled); Ampere's nv172, which Mesa 25's nouveau compiles
+    /// (../shared TOOLCHAIN, Debian 13) and 22.3.6 hands to llvmpipe (refused per family).
+    fn known_chips(&self) -> Vec<&'static str> {
+        vec![
+            "nv50", "nv84", "nv86", "nv92", "nv94", "nv96", "nv98", "nva0", "nva3", "nva5", "nva8",
+            "nvaa", "nvac", "nvaf", "nvc0", "nvc1", "nvc3", "nvc4", "nvc8", "nvce", "nvcf", "nvd7",
+            "nvd9", "nve4", "nve6", "nve7", "nvf0", "nvf1", "nv106", "nv108", "nv117", "nv118",
+            "nv120", "nv124", "nv126", "nv12b", "nv130", "nv132", "nv134", "nv136", "nv137",
+            "nv138", "nv13b", "nv140", "nv162", "nv164", "nv166", "nv167", "nv168", "nv172",
+        ]
+    }
+
     fn api(&self) -> Api {
         Api::OpenGl
     }

@@ -36,6 +36,21 @@ impl Vendor for Qualcomm {
         &["a618", "a630", "a660", "a730", "a740", "a750"]
     }
 
+    /// The defaults named; any Adreno number of freedreno's a2xx to a7xx taken (the shim takes
+    /// the number; Turnip compiles a6xx and a7xx and refuses the older ones, reported per
+    /// family, as a chip it does not know).
+    fn known_chips(&self) -> Vec<&'static str> {
+        self.default_chips().to_vec()
+    }
+
+    fn knows(&self, chip: &str) -> bool {
+        gpu_id(chip).is_ok_and(|id| id.len() == 3 && ('2'..='7').any(|d| id.starts_with(d)))
+    }
+
+    fn other_chips(&self) -> Option<&'static str> {
+        Some("or any Adreno number a2NN to a7NN")
+    }
+
     fn api(&self) -> Api {
         Api::Vulkan { device: "adreno" }
     }

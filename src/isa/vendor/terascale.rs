@@ -26,6 +26,17 @@ impl Vendor for TeraScale {
         &["cypress", "cayman"]
     }
 
+    /// The chips Debian 12's r600 (22.3.6) knows by `RADEON_GPU_ID` (each tried with
+    /// `shadelab isa`, 2026-11-28): R600 and R700 (known, but without OpenGL 4.3: reported per
+    /// family), Evergreen and Northern Islands (compiled).
+    fn known_chips(&self) -> Vec<&'static str> {
+        vec![
+            "r600", "rv610", "rv630", "rv670", "rv620", "rv635", "rs780", "rs880", "rv770",
+            "rv730", "rv710", "rv740", "cedar", "redwood", "juniper", "cypress", "hemlock", "palm",
+            "sumo", "sumo2", "barts", "turks", "caicos", "cayman", "aruba",
+        ]
+    }
+
     fn api(&self) -> Api {
         Api::OpenGl
     }
