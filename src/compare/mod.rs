@@ -19,8 +19,9 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
-use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors, Twin};
+use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors};
 use crate::analysis::scan::Prepared;
+use crate::analysis::scan::Twin;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame, SpareFrames};
