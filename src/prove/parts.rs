@@ -1,35 +1,16 @@
-//! The papers' claims that are bounds, judged by proof: [`length_error`] proves an upper bound
-//! of a scaling method's length error over a range of N.N (and finds the best real point), and
-//! [`at_most`] / [`verdict`] turn a proven upper and a found value into a verdict: a part holds
-//! only when the proven upper bound is within the claim, fails when a found (real) point
-//! exceeds it, and is undecided otherwise. The rows' bound checks ([`super::bounds`]) use them,
-//! so `shadelab list --json`, bench.json's claims and proof.json's `claims` carry one verdict
-//! each, with its basis (proven, found, measured).
-use serde::Serialize;
-
+//! The parts of a bound and their verdict: [`length_error`] proves an upper bound of a scaling
+//! method's length error over a range of N.N (and finds the best real point), and [`at_most`] /
+//! [`verdict`] turn a proven upper and a found value into a verdict: a part holds only when the
+//! proven upper bound is within the bound, fails when a found (real) point exceeds it, and is
+//! undecided otherwise. The rows' bound checks ([`super::bounds`]) use them, so `shadelab list
+//! --json`, bench.json's claims and proof.json's `claims` carry one verdict each, with its
+//! basis (proven, found, measured).
 use super::bnb::{self, Budget, Outcome};
 use super::covered;
 use super::interval::Interval;
 use crate::method::real::Real;
 use crate::method::Scale;
-use crate::method::{Basis, Method, Quantity, Verdict};
-
-/// One claim as proof.json lists it: the method table's check, with its basis and figures.
-#[derive(Debug, Clone, Serialize)]
-pub struct ProofClaim {
-    pub method: String,
-    pub claim: &'static str,
-    pub verdict: Verdict,
-    pub basis: Basis,
-    /// The proven upper bound of the bounded quantity (null: not proven).
-    pub proven_upper: Option<f64>,
-    /// The largest value of it found at a real point (null: non-finite, or not given).
-    pub found: Option<f64>,
-    /// The kind and unit of `proven_upper` and `found` (see [`Quantity`]).
-    pub quantity: Option<Quantity>,
-    pub measured: String,
-    pub how: String,
-}
+use crate::method::Verdict;
 
 /// The budget of a claim's proof: tighter than the report's 1 % (one dimension is cheap).
 const CLAIM_BUDGET: Budget = Budget {
@@ -115,41 +96,4 @@ pub fn verdict(parts: &[Part]) -> Verdict {
     } else {
         Verdict::Partly
     }
-}
-
-/// The claims of `methods` that are bounds over a domain (basis proven or found), as their
-/// rows' checks judge them (by proof where the kernel is provable, [`super::bounds`]); a found
-/// one says why it is not proven.
-pub fn judge(methods: &[&'static Method]) -> Vec<ProofClaim> {
-    let mut out = Vec::new();
-    for m in methods {
-        for c in m.claims {
-            let r = super::bounds::judge(m, c);
-            let measured = match r.evidence.basis {
-                Basis::Measured => continue,
-                Basis::Proven => r.measured,
-                Basis::Found => format!(
-                    "{}; not proven: {}",
-                    r.measured,
-                    if covered::factor_of(m).is_some() {
-                        "the claim's quantity is not a scaling method's length error"
-                    } else {
-                        covered::out_of_reach(m)
-                    }
-                ),
-            };
-            out.push(ProofClaim {
-                method: m.name.into(),
-                claim: c.claim,
-                verdict: r.verdict,
-                basis: r.evidence.basis,
-                proven_upper: r.evidence.proven_upper,
-                found: r.evidence.found,
-                quantity: r.evidence.quantity,
-                measured,
-                how: r.how,
-            });
-        }
-    }
-    out
 }
