@@ -9,7 +9,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::table::IsaReport;
+use super::report::IsaReport;
 use crate::error::{Error, Result};
 use crate::output::chart::{both, plot_err, svg};
 
