@@ -21,6 +21,7 @@
 //! (the most triangles) first.
 pub mod answer;
 mod answer_text;
+mod body;
 pub mod first_screen;
 pub mod formulas;
 pub mod front;

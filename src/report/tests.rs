@@ -122,7 +122,7 @@ fn bench_numbers_keep_nan_apart_from_does_not_apply() {
         overdraw: None,
         samples: 3,
     };
-    let n = super::html::row_numbers(&row);
+    let n = super::body::row_numbers(&row);
     assert_eq!(n.get("median_ms"), Some(&1.5));
     assert!(n.get("ratio").is_some_and(|v| v.is_nan()), "{n:?}");
     assert_eq!(n.get("overdraw"), None);
