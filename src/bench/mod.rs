@@ -89,8 +89,8 @@ pub struct BenchOptions {
     /// Everything about the measurement: runs, rounds, warm-up, isolated rounds, control
     /// ([`plan::RunPlan`], decided once).
     pub plan: plan::RunPlan,
-    /// A compare metric (JSON name) for the Pareto chart's y axis.
-    pub error_metric: String,
+    /// The compare metric on the Pareto chart's y axis.
+    pub error_metric: compare::Metric,
     pub sweeps: Vec<Sweep>,
     /// `--baseline OLD/bench.json` and `--fail-slower PCT`.
     pub baseline: Option<PathBuf>,
@@ -123,7 +123,7 @@ impl Default for BenchOptions {
         BenchOptions {
             plan: plan::RunPlan::new(plan::Job::Bench { software: false }, &given)
                 .expect("bench's defaults are a valid plan"),
-            error_metric: "p99_abs_error".into(),
+            error_metric: compare::Metric::P99AbsError,
             sweeps: Vec::new(),
             baseline: None,
             fail_slower_pct: None,
@@ -396,7 +396,7 @@ pub fn bench(
     let (mut floors_rows, method_rows, method_values) = split_floors(rows, &programs, values);
     let floor = floors_rows.remove(0);
     let mut rows = method_rows;
-    let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| e.metric(&opts.error_metric));
+    let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| opts.error_metric.of(e));
     let errors: Vec<f64> = rows.iter().map(|r| metric(r).unwrap_or(f64::NAN)).collect();
     let front: Vec<String> = pareto_front_paired(&errors, &method_values)
         .into_iter()
@@ -442,7 +442,7 @@ pub fn bench(
         })
         .into(),
         clock,
-        error_metric: opts.error_metric.clone(),
+        error_metric: opts.error_metric,
         floor,
         other_floors: floors_rows,
         methods: rows,
@@ -702,13 +702,6 @@ fn auto_points(
 }
 
 fn check_options(opts: &BenchOptions) -> Result<()> {
-    if !compare::METRICS.contains(&opts.error_metric.as_str()) {
-        return Err(Error::Usage(format!(
-            "--error-metric: unknown metric {:?}; valid metrics: {}",
-            opts.error_metric,
-            compare::METRICS.join(", ")
-        )));
-    }
     opts.plan.rounds.check()?;
     let parent = matches!(opts.runs, Runs::Many(_));
     if !matches!(opts.runs, Runs::Child(_)) && parent != opts.plan.many() {

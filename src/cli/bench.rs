@@ -191,10 +191,7 @@ fn print_table(report: &crate::bench::BenchReport) {
     let floors = 1 + report.other_floors.len();
     rows[floors..].sort_by(|a, b| a.median_ms.total_cmp(&b.median_ms));
     for m in rows {
-        let err = m
-            .error
-            .as_ref()
-            .and_then(|e| e.metric(&report.error_metric));
+        let err = m.error.as_ref().and_then(|e| report.error_metric.of(e));
         println!(
             "{:<34} {:>9.3} {:>19} {:>8.2} {:>26} {:>12} {:>8} {:>12}{}",
             m.name,

@@ -481,9 +481,9 @@ struct BenchCmd {
     /// Discarded submissions per program (the first includes lavapipe's shader JIT; default 3).
     #[arg(long)]
     warmup: Option<usize>,
-    /// The compare metric on the Pareto chart's y axis.
-    #[arg(long, default_value = "p99_abs_error")]
-    error_metric: String,
+    /// The compare metric on the Pareto chart's y axis (a summary.json name).
+    #[arg(long, default_value = "p99_abs_error", value_parser = crate::compare::Metric::parse)]
+    error_metric: crate::compare::Metric,
     /// Also time phong_exact's program under a second name (a precision control).
     #[arg(long)]
     control: bool,
@@ -772,7 +772,7 @@ fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
         crate::auto::order_line(&order)
     );
     let mut spec = crate::auto::AutoSpec::new(b.budget, &order);
-    spec.cost_model = model.id.to_string();
+    spec.cost_model = model.id;
     Ok(spec)
 }
 

@@ -39,7 +39,7 @@ use self::domain::MeshDomain;
 pub use self::output::{table, write};
 use self::proof::{Lights, ProofBudget};
 use crate::auto::ErrorBudget;
-use crate::cost::{verdict_words, CostModel, CostModelId, Evidence, Registry};
+use crate::cost::{CostModel, CostModelId, Evidence, IdKind, Registry};
 use crate::engine::{Engine, Ready};
 use crate::error::{Error, Result};
 use crate::frame::IdFrame;
@@ -391,7 +391,7 @@ fn write_class_files(
             .iter()
             .position(|&e| e == c.z_from)
             .unwrap_or(0);
-        let models: Vec<(String, String)> = c
+        let models: Vec<(CostModelId, String)> = c
             .answers
             .iter()
             .filter_map(|a| Some((a.model.clone(), a.form.clone()?)))
@@ -453,7 +453,7 @@ fn measure_all(
         }
         (id.clone(), r)
     };
-    let timed = |id: &CostModelId| id.as_str().starts_with("lavapipe");
+    let timed = |id: &CostModelId| *id.kind() == IdKind::Lavapipe;
     let mut out: Vec<_> = ids.iter().filter(|i| timed(i)).map(one).collect();
     let rest: Vec<&CostModelId> = ids.iter().filter(|i| !timed(i)).collect();
     let queue = std::sync::Mutex::new(rest.iter().rev().copied().collect::<Vec<_>>());
@@ -541,9 +541,9 @@ pub fn run(
             .map(|m| {
                 let f = m.figure(&r.candidate.id);
                 RowCost {
-                    model: m.id.to_string(),
+                    model: m.id.clone(),
                     ratio: f.and_then(|f| f.ratio),
-                    verdict: f.map_or("unmeasured", |f| verdict_words(f.verdict)),
+                    verdict: f.map_or(crate::method::Verdict::NotChecked, |f| f.verdict),
                 }
             })
             .collect();
