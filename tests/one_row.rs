@@ -5,6 +5,7 @@
 //! kernel bounded, its bound claim proven), `list --json` and the report's answer.
 use std::collections::BTreeMap;
 
+use shadelab::compare::Metric;
 use shadelab::compare::{compare, CompareOptions};
 use shadelab::cost::{CostFigure, CostKind, CostModel, CostModelId, Measure};
 use shadelab::engine::Engine;
@@ -16,6 +17,7 @@ use shadelab::method::{
 };
 use shadelab::prove::{self, ProveOptions};
 use shadelab::report::answer::{answer, SceneError};
+use shadelab::report::budget::METRICS;
 use shadelab::stress::{self, StressOptions};
 use shadelab::verify::{verify, verify_software};
 
@@ -226,10 +228,8 @@ fn a_method_of_one_row_takes_part_in_the_reports_answer() {
         )
         .unwrap();
         for s in &sum.methods {
-            let metrics: BTreeMap<String, Option<f64>> = ["max_abs_error", "p99_abs_error"]
-                .iter()
-                .map(|k| (k.to_string(), s.metric(k)))
-                .collect();
+            let metrics: BTreeMap<Metric, Option<f64>> =
+                METRICS.iter().map(|k| (*k, k.of(s))).collect();
             errors.push(SceneError {
                 scene: name.into(),
                 method: s.name.clone(),
@@ -286,11 +286,11 @@ fn a_method_of_one_row_takes_part_in_the_reports_answer() {
     // it is checked against every budget like any row, and its figures are its own
     let mine: Vec<_> = a.checks.iter().filter(|c| c.method == NAME).collect();
     assert_eq!(mine.len(), a.budgets.len());
-    let loose = mine.iter().find(|c| c.budget == "max_4_255").unwrap();
+    let loose = mine.iter().find(|c| c.budget.id() == "max_4_255").unwrap();
     assert!(loose.worst.is_some_and(|w| w > 0.0), "{loose:?}");
     // its figures are its own: the worst of its scenes' errors under each budget's metric
     for c in &mine {
-        let b = a.budgets.iter().find(|b| b.id == c.budget).unwrap();
+        let b = a.budgets.iter().find(|b| **b == c.budget).unwrap();
         let worst = errors
             .iter()
             .filter(|e| e.method == NAME)

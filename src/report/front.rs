@@ -10,10 +10,12 @@ pub mod claims;
 use claims::{Measured, Place};
 
 use super::answer::{self, Answer, SceneError};
+use super::budget::METRICS;
 use super::html::method_anchor;
 use super::ReportData;
 use crate::bench::cost::TimedScene;
 use crate::bench::software::cost::SoftwareScene;
+use crate::compare::Metric;
 use crate::cost::{CostModel, Evidence, Registry};
 use crate::method::Precision;
 
@@ -38,10 +40,8 @@ pub fn scene_errors(d: &ReportData) -> Vec<SceneError> {
                     Precision::F32 => format!("index.html#{}", method_anchor(&s.id, &m.name)),
                     Precision::F16 => format!("{}/summary.json", s.compare_f16_dir),
                 };
-                let metrics: BTreeMap<String, Option<f64>> = ["max_abs_error", "p99_abs_error"]
-                    .iter()
-                    .map(|k| (k.to_string(), m.metric(k)))
-                    .collect();
+                let metrics: BTreeMap<Metric, Option<f64>> =
+                    METRICS.iter().map(|k| (*k, k.of(m))).collect();
                 v.push(SceneError {
                     scene: s.id.clone(),
                     method: m.name.clone(),

@@ -22,12 +22,15 @@
 pub mod answer;
 mod answer_text;
 mod body;
+pub mod budget;
+pub mod cell;
 pub mod first_screen;
 pub mod formulas;
 pub mod front;
 pub mod html;
 pub mod isa;
 pub mod links;
+pub mod models;
 pub mod sections;
 pub mod summary;
 pub mod svg;

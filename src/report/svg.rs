@@ -490,7 +490,7 @@ pub fn cost_chart(d: &ReportData) -> Option<Chart> {
         .cost_models
         .iter()
         .find(|m| m.id == *crate::cost::LAVAPIPE_FRAME)?;
-    let budget = d.answer.budgets.first()?.id.clone();
+    let budget = *d.answer.budgets.first()?;
     let mut points = Vec::new();
     for f in &model.figures {
         let Some(x) = f.ratio else { continue };
