@@ -129,19 +129,19 @@ pub fn op_count(
             .map(|(_, t)| t.as_str())
     };
     let claimed: u32 = CLAIMED.iter().map(|(_, n)| n).sum();
+    let unnormalized = crate::method::phong_unnormalized().name;
     let mut out = Vec::new();
     for &f in families {
-        let (Some(exact), Some(unnorm)) = (
-            asm(f, crate::method::PHONG_EXACT),
-            asm(f, "phong_unnormalized"),
-        ) else {
+        let (Some(exact), Some(unnorm)) =
+            (asm(f, crate::method::PHONG_EXACT), asm(f, unnormalized))
+        else {
             continue;
         };
         let it = |m| {
             find_row(rows, f, m, "fragment", "draw")
                 .and_then(|r| r.statistics.get("inverse_throughput").copied())
         };
-        let (Some(a), Some(b)) = (it(crate::method::PHONG_EXACT), it("phong_unnormalized")) else {
+        let (Some(a), Some(b)) = (it(crate::method::PHONG_EXACT), it(unnormalized)) else {
             continue;
         };
         let (ce, cu) = (class_counts(exact), class_counts(unnorm));

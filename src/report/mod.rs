@@ -159,7 +159,7 @@ pub struct Written {
     /// Bytes of every file under DIR (the page and everything it can open).
     pub total_bytes: u64,
     pub files: usize,
-    /// Methods shown per scene ([`ALWAYS`] included).
+    /// Methods shown per scene ([`always`] included).
     pub methods: usize,
     pub seconds: f64,
     /// The answer (`shadelab report` prints its words, [`answer::Answer::terminal`]).
@@ -168,7 +168,9 @@ pub struct Written {
 
 /// The methods a report always includes: the references of bench's ratios (bench times them
 /// whatever it is asked, and its rows and claims must have a method section to link to).
-pub const ALWAYS: [&str; 2] = [crate::method::PHONG_EXACT, "phong_unnormalized"];
+pub fn always() -> [&'static Method; 2] {
+    [method::phong_exact(), method::phong_unnormalized()]
+}
 
 /// A folder name / HTML id from a scene's file stem: `[A-Za-z0-9_-]`, unique among `taken`.
 pub fn scene_id(stem: &str, taken: &[String]) -> String {
@@ -222,11 +224,12 @@ pub fn format_utc(secs: u64) -> String {
     )
 }
 
-/// `methods` plus [`ALWAYS`], in the method table's order.
+/// `methods` plus [`always`], in the method table's order.
 fn with_references(methods: &[&'static Method]) -> Vec<&'static Method> {
+    let always = always();
     method::all()
         .into_iter()
-        .filter(|m| methods.iter().any(|x| x.name == m.name) || ALWAYS.contains(&m.name))
+        .filter(|m| methods.iter().chain(&always).any(|x| x.name == m.name))
         .collect()
 }
 

@@ -26,14 +26,13 @@ mod output;
 pub mod proof;
 pub mod refit;
 pub mod remez;
-pub mod rounded;
 
 use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
 
-use self::candidate::{Candidate, Family, PAPERS};
+use self::candidate::{Candidate, Family};
 use self::choose::{Answer, Row, RowCost};
 use self::domain::MeshDomain;
 pub use self::output::{table, write};
@@ -171,7 +170,7 @@ pub fn fit_all(prefix: &str, lo: f64, hi: f64) -> (Vec<Candidate>, Vec<String>) 
             Err(why) => skipped.push(format!("{id}: {why}")),
         }
     }
-    out.extend(PAPERS.iter().map(|p| Candidate::paper(p)));
+    out.extend(candidate::papers());
     out.push(Candidate::reference());
     (out, skipped)
 }

@@ -20,8 +20,9 @@
 use serde::Serialize;
 
 use super::candidate::Candidate;
-use super::rounded::{Format, Rounded, F16, F32};
+use crate::method::kernel::Evaluate;
 use crate::method::real::Real;
+use crate::method::rounded::{Format, Rounded, F16, F32};
 use crate::method::Precision;
 use crate::prove::bnb::{self, Budget};
 use crate::prove::dual::{mean_value, Dual};
@@ -109,7 +110,10 @@ impl Default for ProofBudget {
 
 /// An enclosure of `|N'| - 1` of the program in format `F` over z in `z`, and of the rounding's
 /// share in it.
-pub fn length_error<F: Format>(c: &Candidate, z: Interval) -> (Interval, Interval) {
+pub fn length_error<F: Format>(c: &Candidate, z: Interval) -> (Interval, Interval)
+where
+    Rounded<F>: Evaluate,
+{
     let one = Interval::point(1.0);
     let real = real_length_error(c, z);
     let (u, u_in) = (F::ULP, input_ulp::<F>());
@@ -153,7 +157,10 @@ fn input_ulp<F: Format>() -> f64 {
 }
 
 /// Proves `c` in format `F` over the domain `z` for the lighting `lights`.
-pub fn prove_in<F: Format>(c: &Candidate, z: Interval, lights: &Lights, b: &ProofBudget) -> Bound {
+pub fn prove_in<F: Format>(c: &Candidate, z: Interval, lights: &Lights, b: &ProofBudget) -> Bound
+where
+    Rounded<F>: Evaluate,
+{
     let allowance = length_error::<F>(c, z).1.mag();
     let budget = Budget {
         tolerance: b.tolerance,
@@ -288,7 +295,7 @@ mod tests {
                 assert!(got.abs() <= e, "d {d} k {steps}: {got} > {e}");
             }
         }
-        let romanyuk = Candidate::paper("romanyuk_poly");
+        let romanyuk = Candidate::paper(crate::method::find("romanyuk_poly").unwrap()).unwrap();
         let ours = prove(
             &romanyuk,
             Precision::F32,
