@@ -90,7 +90,7 @@ impl Candidate {
     pub fn k<T: Real + Evaluate>(&self, z: T) -> T {
         match self.family {
             // the row's own factor (`1 / s(z)` for a divisor), NaN for a paper without one
-            Family::Paper => self.scale.map_or(T::c(f64::NAN), |s| s.k(z)),
+            Family::Paper => self.scale.map_or_else(|| T::c(f64::NAN), |s| s.k(z)),
             // normalize(n): as n (1 / sqrt(n.n)), whose two roundings bound Vulkan's
             Family::Reference => T::c(1.0) / z.sqrt(),
             // the tuned rows' formula (src/method/tuned.rs), the one copy
