@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-use super::software::claims::claim_specs;
+use super::software::speed::claim_specs;
 use super::MethodTiming;
 use crate::cost::{CostModel, CostModelId, Evidence};
 use crate::isa::IsaReport;
@@ -122,7 +122,7 @@ pub fn software_column(
     let dir = out.join("software");
     let threads = crate::software::default_threads();
     let sw = super::software::SoftwareOptions {
-        rounds: super::RoundsPlan {
+        rounds: super::RoundsSchedule {
             repeat: SOFTWARE_REPEAT,
             warmup: 2,
             until_ci_pct: None,

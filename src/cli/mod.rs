@@ -469,7 +469,7 @@ struct BenchCmd {
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
     /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
-    /// --runs 1, 7 with more runs; src/bench/plan.rs).
+    /// --runs 1, 7 with more runs; src/bench/schedule.rs).
     #[arg(long)]
     repeat: Option<usize>,
     /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,

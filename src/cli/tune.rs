@@ -142,7 +142,7 @@ pub(super) fn cmd_tune(a: &TuneArgs) -> Result<ExitCode> {
     let opts = TuneOptions {
         budget,
         cost_models: a.cost_model.clone(),
-        proof: tune::proof::ProofBudget::default(),
+        proof: tune::proof::ProofEffort::default(),
         threads: crate::software::default_threads(),
         progress: true,
     };

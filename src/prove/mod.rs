@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use self::bnb::{Budget, Outcome};
+use self::bnb::{Effort, Outcome};
 use self::covered::Metric;
 pub use self::domain::Domain;
 use self::interval::Interval;
@@ -48,7 +48,7 @@ pub struct ProveOptions {
     pub shininess: f64,
     /// Colour error within which a case is valid (1/255).
     pub threshold: f64,
-    /// Budget of each branch-and-bound.
+    /// The effort of each branch-and-bound: the boxes and seconds it may spend.
     pub max_boxes: usize,
     pub max_seconds: f64,
     /// Progress lines on stderr.
@@ -246,7 +246,7 @@ fn prove_metric_in(
     } else {
         bnb::ATOL
     };
-    let budget = Budget {
+    let effort = Effort {
         tolerance: opts.tolerance,
         atol,
         max_boxes: opts.max_boxes,
@@ -255,7 +255,7 @@ fn prove_metric_in(
     let point = Interval::point(0.0);
     let mut o = bnb::maximise(
         [z, point, point],
-        budget,
+        effort,
         |c| covered::upper(k, metric, c[0]),
         |p| {
             let q = domain.point_for_z(p[0], max_angle_deg);

@@ -5,15 +5,15 @@
 //! undecided otherwise. The rows' bound checks ([`super::bounds`]) use them, so `shadelab list
 //! --json`, bench.json's claims and proof.json's `claims` carry one verdict each, with its
 //! basis (proven, found, measured).
-use super::bnb::{self, Budget, Outcome};
+use super::bnb::{self, Effort, Outcome};
 use super::covered;
 use super::interval::Interval;
 use crate::method::real::Real;
 use crate::method::Scale;
 use crate::method::Verdict;
 
-/// The budget of a claim's proof: tighter than the report's 1 % (one dimension is cheap).
-const CLAIM_BUDGET: Budget = Budget {
+/// The effort of a claim's proof: tighter than the report's 1 % (one dimension is cheap).
+const CLAIM_EFFORT: Effort = Effort {
     tolerance: 1e-3,
     atol: bnb::ATOL,
     max_boxes: 100_000,
@@ -43,7 +43,7 @@ pub fn length_error(k: &Scale, z: Interval) -> Outcome {
     let point = Interval::point(0.0);
     bnb::maximise(
         [z, point, point],
-        CLAIM_BUDGET,
+        CLAIM_EFFORT,
         |c| covered::upper(k, covered::Metric::Length, c[0]),
         |p| Some(length_error_at(k, p[0])),
     )

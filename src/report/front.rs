@@ -6,8 +6,8 @@
 //! [`super::first_screen`].
 use std::collections::BTreeMap;
 
-pub mod claims;
-use claims::{Measured, Place};
+pub mod matrix;
+use matrix::{Measured, Place};
 
 use super::answer::{self, Answer, SceneError};
 use super::budget::METRICS;
@@ -189,10 +189,10 @@ pub fn claims_measured(d: &ReportData) -> Vec<Measured> {
     out
 }
 
-/// The papers' claims as one matrix ([`claims::matrix`]): each claim (method, claim text)
+/// The papers' claims as one matrix ([`matrix::matrix`]): each claim (method, claim text)
 /// against each place that measured it, one merged cell where every place agrees.
 pub fn claims_matrix(d: &ReportData) -> String {
-    claims::matrix(&claims_measured(d))
+    matrix::matrix(&claims_measured(d))
 }
 
 /// A claim's basis for the matrix: "proven <= x, found y" for a proven bound, "found y" for a

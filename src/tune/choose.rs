@@ -191,7 +191,7 @@ mod tests {
     use crate::cost::{CostFigure, CostKind, CostModelId, Measure};
     use crate::method::Verdict;
     use crate::prove::interval::Interval;
-    use crate::tune::proof::{prove, sampled_length_error, Lights, ProofBudget};
+    use crate::tune::proof::{prove, sampled_length_error, Lights, ProofEffort};
 
     fn model(ratios: &[(&str, f64)]) -> CostModel {
         CostModel {
@@ -228,7 +228,7 @@ mod tests {
             specular: [0.5; 3],
             shininess: 50.0,
         };
-        let b = prove(&c, Precision::F32, z, &lights, &ProofBudget::default());
+        let b = prove(&c, Precision::F32, z, &lights, &ProofEffort::default());
         Row {
             sampled_length_error: Some(sampled_length_error(&c, pixels.iter().copied())),
             candidate: c,

@@ -9,7 +9,7 @@ use serde::Serialize;
 use super::candidate::{Candidate, Family};
 use super::choose::{self, Row};
 use super::domain::{widened, MeshDomain, CLASS_EDGES};
-use super::proof::{Lights, ProofBudget};
+use super::proof::{Lights, ProofEffort};
 use crate::cost::CostModel;
 
 /// How `auto` draws the classes' answers (tune.json `auto`).
@@ -67,7 +67,7 @@ pub fn of_mesh(
     models: &[CostModel],
     lights: &Lights,
     budget: f64,
-    b: &ProofBudget,
+    b: &ProofEffort,
 ) -> Vec<Class> {
     let mut out = Vec::new();
     for (i, &from) in CLASS_EDGES.iter().enumerate() {

@@ -36,7 +36,7 @@ use self::candidate::{Candidate, Family};
 use self::choose::{Answer, Row, RowCost};
 use self::domain::MeshDomain;
 pub use self::output::{table, write};
-use self::proof::{Lights, ProofBudget};
+use self::proof::{Lights, ProofEffort};
 use crate::auto::ErrorBudget;
 use crate::cost::{CostModel, CostModelId, Evidence, IdKind, Registry};
 use crate::engine::{Engine, Ready};
@@ -55,7 +55,7 @@ pub struct TuneOptions {
     pub budget: ErrorBudget,
     /// The cost models to measure; empty: every model the registry measures on demand.
     pub cost_models: Vec<CostModelId>,
-    pub proof: ProofBudget,
+    pub proof: ProofEffort,
     /// Threads of the software engine's id pass.
     pub threads: usize,
     /// Progress lines on stderr.
@@ -307,7 +307,7 @@ pub fn prove_all(
     z: Interval,
     lights: &Lights,
     pixels: Option<&[f64]>,
-    b: &ProofBudget,
+    b: &ProofEffort,
 ) -> Vec<Row> {
     cands
         .into_iter()

@@ -19,7 +19,7 @@ const PENDING_RINGS: &[(&str, &[&str])] = &[
     ("method", &["tuned", "user"]),
 ];
 
-/// The module path of a file under src/: `report/front/claims.rs` -> [report, front, claims],
+/// The module path of a file under src/: `report/front/matrix.rs` -> [report, front, matrix],
 /// `report/mod.rs` -> [report], `lib.rs` -> [].
 fn module_path(p: &Path) -> Vec<String> {
     let mut parts: Vec<String> = p
