@@ -16,7 +16,7 @@ pub(crate) fn sweep(
     opts: &BenchOptions,
 ) -> Result<SweepResult> {
     let exact = method::phong_exact();
-    let gouraud = method::find("gouraud")?;
+    let gouraud = method::vertex_lit_reference();
     let shadings = [
         Shading::Constant,
         Shading::Method(gouraud),

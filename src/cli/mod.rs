@@ -482,7 +482,7 @@ struct BenchCmd {
     #[arg(long)]
     warmup: Option<usize>,
     /// The compare metric on the Pareto chart's y axis (a summary.json name).
-    #[arg(long, default_value = "p99_abs_error", value_parser = crate::compare::Metric::parse)]
+    #[arg(long, default_value_t = crate::compare::Metric::P99AbsError, value_parser = crate::compare::Metric::parse)]
     error_metric: crate::compare::Metric,
     /// Also time phong_exact's program under a second name (a precision control).
     #[arg(long)]

@@ -349,8 +349,7 @@ fn references(
     let slerp = methods
         .iter()
         .any(|m| m.reference == Reference::PhongAndSlerp)
-        .then(|| method::find("slerp"))
-        .transpose()?;
+        .then(method::slerp_reference);
     // Statistics need no float32 bound (verify checks those): the values alone.
     let (reference, twin) = std::thread::scope(|s| {
         let twin = slerp.map(|m| s.spawn(|| Twin::new(inputs, ids, m)));

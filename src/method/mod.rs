@@ -188,6 +188,12 @@ pub enum Property {
     /// normalisation and a ceiling of the error (the report's second reference, the op-count
     /// claim's baseline: [`phong_unnormalized`]).
     Unnormalized,
+    /// Exact slerp along the span: the second reference of the angle-interpolating methods
+    /// ([`Reference::PhongAndSlerp`], [`slerp_reference`]).
+    SlerpReference,
+    /// Lighting at the vertices, colour interpolated: the cheapest shading that lights, drawn
+    /// beside phong_exact by bench's sweeps ([`vertex_lit_reference`]).
+    VertexLitReference,
 }
 
 /// The identifier of the exact reference, [`Property::ExactReference`]. Use this constant, never
@@ -205,6 +211,20 @@ pub fn phong_unnormalized() -> &'static Method {
     with_property(Property::Unnormalized)
         .next()
         .expect("the method table has the unnormalised reference")
+}
+
+/// The second reference of the angle-interpolating methods, [`Property::SlerpReference`].
+pub fn slerp_reference() -> &'static Method {
+    with_property(Property::SlerpReference)
+        .next()
+        .expect("the method table has the slerp reference")
+}
+
+/// The vertex-lit reference, [`Property::VertexLitReference`].
+pub fn vertex_lit_reference() -> &'static Method {
+    with_property(Property::VertexLitReference)
+        .next()
+        .expect("the method table has the vertex-lit reference")
 }
 
 /// The methods with `property`, in table order.

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use super::html::{esc, figure, method_anchor, num_td, number, Dims};
 use super::*;
-use crate::compare::{MethodReport, METRICS};
+use crate::compare::{MethodReport, Metric, METRICS};
 
 /// `shadelab plan` per scene: the figures that decide what is skipped, and the whole text.
 pub(super) fn plan_section(d: &ReportData) -> String {
@@ -280,8 +280,8 @@ fn method_section(s: &SceneResult, m: &MethodReport, reference: &str, dims: Dims
         esc(&m.name),
         esc(&format!("scene-{}--metrics", s.id))
     );
-    let (_, mean) = number(m.metric("mean_abs_error"));
-    let (_, p99) = number(m.metric("p99_abs_error"));
+    let (_, mean) = number(Metric::MeanAbsError.of(m));
+    let (_, p99) = number(Metric::P99AbsError.of(m));
     let _ = write!(
         h,
         "<p class=\"figures\">mean |dI| {}, p99 |dI| {}, non-finite pixels {}</p>",

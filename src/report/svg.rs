@@ -523,7 +523,7 @@ pub fn scene_cost_chart(s: &SceneResult) -> Option<Chart> {
             continue;
         };
         let y = m
-            .metric("max_abs_error")
+            .metric(crate::compare::Metric::MaxAbsError.name())
             .filter(|v| v.is_finite() && m.non_finite_pixels == 0);
         let iv = Some((r.ratio_ci95_low, r.ratio_ci95_high))
             .filter(|(l, h)| l.is_finite() && h.is_finite());
