@@ -313,7 +313,7 @@ fn a_method_of_one_row_takes_part_in_the_reports_answer() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// A row that says it is a baseline of tune is one, with nothing added to tune (issue 50): the
+/// A row that says it is a baseline of tune is one, with nothing added to tune: the
 /// same formula registered as a row with `Property::TuneBaseline` is among tune's papers, its
 /// factor the row's in every number type tune proves in (a float32 program's rounding
 /// enclosed, not unknown). Teeth: the row without the property is no baseline.
