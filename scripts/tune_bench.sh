@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 42: `shadelab tune --budget 1/255` on every shared model (SHADELAB_MODELS, default
+# Issue 42: `shadelab tune --error-budget 1/255` on every shared model (SHADELAB_MODELS, default
 # ../shared/models) and every shipped scene, each within 60 s on 2 cores. Per mesh: its wall
 # time (the command alone, pinned to cores 0,1), tune.json's own split (domain, fit and prove,
 # files, costs), the domain, and the answer per cost model; the load average before and after
@@ -26,7 +26,7 @@ for s in "${sources[@]}"; do
   dir="$out/$name"
   start=$(date +%s.%N)
   # shellcheck disable=SC2086
-  taskset -c 0,1 target/release/shadelab tune $s --budget 1/255 --out "$dir" > "$dir.txt" 2> "$dir.err" || {
+  taskset -c 0,1 target/release/shadelab tune $s --error-budget 1/255 --out "$dir" > "$dir.txt" 2> "$dir.err" || {
     echo "$name: FAILED (see $dir.err)"; tail -3 "$dir.err"; exit 1; }
   end=$(date +%s.%N)
   secs=$(echo "$end - $start" | bc)

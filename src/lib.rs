@@ -33,7 +33,7 @@
 //! - a cost model: a [`cost::CostSource`] beside the job that measures it, one line in
 //!   [`costs::builtin`]; a GPU vendor for `isa`: a file of [`isa::vendor`], one line in its
 //!   `VENDORS`;
-//! - a setting of bench's or the report's measurement: [`bench::plan::RunPlan`] (its table of
+//! - a setting of bench's or the report's measurement: [`bench::schedule::Schedule`] (its table of
 //!   defaults is tested there);
 //! - a child process: a [`child::Job`] (one typed request, one typed reply), dispatched in
 //!   src/cli/child.rs;

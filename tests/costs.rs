@@ -113,9 +113,9 @@ fn a_registered_cost_model_reaches_the_report_and_the_speed_claims() {
         full: false,
         command_line: "test".into(),
         progress: false,
-        plan: shadelab::bench::plan::RunPlan::new(
-            shadelab::bench::plan::Job::Report { full: false },
-            &shadelab::bench::plan::Given {
+        schedule: shadelab::bench::schedule::Schedule::new(
+            shadelab::bench::schedule::Job::Report { full: false },
+            &shadelab::bench::schedule::Given {
                 runs: Some(1),
                 ..Default::default()
             },

@@ -5,6 +5,9 @@
 //! tests below can feed it a tree that breaks it.
 use std::path::{Path, PathBuf};
 
+/// No ring between the files of one module, with its teeth.
+mod rings;
+
 /// The layers of src/lib.rs, top first. A module may use modules of its own or a lower layer;
 /// within a layer, dependencies must not form a cycle.
 const LAYERS: &[&[&str]] = &[
@@ -455,12 +458,19 @@ fn ash_only_in_gpu_vk_and_clap_only_in_cli() {
 }
 
 /// The reference's identity lives in the method table: its name is spelled as a string only
-/// there (its row) and in the constant every other file uses (`method::PHONG_EXACT`).
+/// there (its row) and in the constant every other file uses (`method::PHONG_EXACT`); the
+/// other references' (unnormalised, slerp, vertex-lit) only in their rows
+/// (`method::phong_unnormalized()` and the like find them by their properties).
 #[test]
 fn the_reference_is_named_in_two_production_files() {
     let mut named = production_files_naming(&source_tree(), "\"phong_exact\"");
     named.sort();
     assert_eq!(named, ["method/mod.rs", "method/table.rs"]);
+    // the other references, found by their properties, are spelled in their rows alone
+    for name in ["phong_unnormalized", "slerp", "gouraud"] {
+        let named = production_files_naming(&source_tree(), &format!("\"{name}\""));
+        assert_eq!(named, ["method/table.rs"], "{name}");
+    }
     // Teeth: a third file spelling it is found; a test item spelling it is not.
     let t = tree(&[
         ("bench/x.rs", "let r = \"phong_exact\";\n"),

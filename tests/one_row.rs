@@ -5,6 +5,7 @@
 //! kernel bounded, its bound claim proven), `list --json` and the report's answer.
 use std::collections::BTreeMap;
 
+use shadelab::compare::Metric;
 use shadelab::compare::{compare, CompareOptions};
 use shadelab::cost::{CostFigure, CostKind, CostModel, CostModelId, Measure};
 use shadelab::engine::Engine;
@@ -16,6 +17,7 @@ use shadelab::method::{
 };
 use shadelab::prove::{self, ProveOptions};
 use shadelab::report::answer::{answer, SceneError};
+use shadelab::report::budget::METRICS;
 use shadelab::stress::{self, StressOptions};
 use shadelab::verify::{verify, verify_software};
 
@@ -226,10 +228,8 @@ fn a_method_of_one_row_takes_part_in_the_reports_answer() {
         )
         .unwrap();
         for s in &sum.methods {
-            let metrics: BTreeMap<String, Option<f64>> = ["max_abs_error", "p99_abs_error"]
-                .iter()
-                .map(|k| (k.to_string(), s.metric(k)))
-                .collect();
+            let metrics: BTreeMap<Metric, Option<f64>> =
+                METRICS.iter().map(|k| (*k, k.of(s))).collect();
             errors.push(SceneError {
                 scene: name.into(),
                 method: s.name.clone(),
@@ -286,11 +286,11 @@ fn a_method_of_one_row_takes_part_in_the_reports_answer() {
     // it is checked against every budget like any row, and its figures are its own
     let mine: Vec<_> = a.checks.iter().filter(|c| c.method == NAME).collect();
     assert_eq!(mine.len(), a.budgets.len());
-    let loose = mine.iter().find(|c| c.budget == "max_4_255").unwrap();
+    let loose = mine.iter().find(|c| c.budget.id() == "max_4_255").unwrap();
     assert!(loose.worst.is_some_and(|w| w > 0.0), "{loose:?}");
     // its figures are its own: the worst of its scenes' errors under each budget's metric
     for c in &mine {
-        let b = a.budgets.iter().find(|b| b.id == c.budget).unwrap();
+        let b = a.budgets.iter().find(|b| **b == c.budget).unwrap();
         let worst = errors
             .iter()
             .filter(|e| e.method == NAME)
@@ -311,4 +311,57 @@ fn a_method_of_one_row_takes_part_in_the_reports_answer() {
     }
     assert!(!a.cells.is_empty());
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A row that says it is a baseline of tune is one, with nothing added to tune: the
+/// same formula registered as a row with `Property::TuneBaseline` is among tune's papers, its
+/// factor the row's in every number type tune proves in (a float32 program's rounding
+/// enclosed, not unknown). Teeth: the row without the property is no baseline.
+#[test]
+fn a_method_of_one_row_is_a_tune_baseline_when_its_row_says_so() {
+    use shadelab::method::interval::Interval;
+    use shadelab::method::rounded::{Rounded, F32};
+    use shadelab::tune::candidate::{self, Family as TuneFamily};
+    let plain = the_method();
+    assert!(
+        !candidate::papers().iter().any(|c| c.id == NAME),
+        "a row without TuneBaseline became a baseline"
+    );
+    let name = "two_newton_steps_baseline";
+    let dir = std::env::temp_dir().join(format!("shadelab-one-row-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.glsl"));
+    std::fs::write(&path, GLSL.replace("two_newton_steps", name)).unwrap();
+    let row: &'static Method = Box::leak(Box::new(Method {
+        name,
+        properties: &[Property::SqrtFree, Property::TuneBaseline],
+        claims: &[],
+        glsl: Box::leak(path.display().to_string().into_boxed_str()),
+        ..*plain
+    }));
+    shadelab::gpu::shaders::register_row(&path, row).unwrap();
+    let papers = candidate::papers();
+    let c = papers
+        .iter()
+        .find(|c| c.id == name)
+        .expect("the registered row is a tune baseline");
+    assert_eq!(c.family, TuneFamily::Paper);
+    for z in [0.5f64, 0.75, 0.9, 1.0] {
+        assert_eq!(c.k(z), k_two_steps(z), "z = {z}");
+    }
+    let r = c.k(Rounded::<F32>::input(
+        Interval::point(0.75),
+        Interval::point(0.0),
+    ));
+    let exact = k_two_steps(0.75f64);
+    assert!(
+        r.computed().lo <= exact && exact <= r.computed().hi,
+        "{r:?}"
+    );
+    assert!(
+        r.e.hi - r.e.lo < 1e-5,
+        "its float32 rounding is bounded: {r:?}"
+    );
+    // the table's own baselines are still there, and still first
+    assert_eq!(papers[0].id, "phong_unnormalized");
 }

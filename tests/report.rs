@@ -13,9 +13,9 @@ use shadelab::report::links::broken_links;
 
 use crate::support::*;
 
-mod budget;
 mod claims;
 mod first_screen;
+mod size_limit;
 
 /// The methods asked for; the report adds phong_exact and phong_unnormalized (bench's refs).
 const ASKED: &str = "gouraud,slerp";

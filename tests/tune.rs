@@ -46,7 +46,7 @@ fn tune_on_a_scene_writes_files_whose_compare_error_is_within_their_proof() {
         &[
             "--scene",
             scene,
-            "--budget",
+            "--error-budget",
             "1/255",
             "--cost-model",
             "isa:amd:navi21",
@@ -499,4 +499,30 @@ fn the_classes_files_are_auto_candidates_that_auto_draws() {
         .map(|p| p[1].as_u64().unwrap() as usize)
         .sum();
     assert!(drawn > 0, "{}", s["auto"]);
+}
+
+/// One name per concept: tune's error budget is `--error-budget`, as every command's; the
+/// former `--budget` is still read, with a deprecation warning, and both at once are refused.
+/// (An angle out of range stops each run before any work, after the budget was read.)
+#[test]
+fn tune_reads_the_former_budget_flag_with_a_deprecation_warning() {
+    let tune = |budget_flag: &[&str]| {
+        let mut a = vec!["tune", "--max-angle", "400", "--out", "/nonexistent/tune"];
+        a.extend(budget_flag);
+        run(&a)
+    };
+    let (code, _, err) = tune(&["--budget", "1/255"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--budget is deprecated: use --error-budget"),
+        "{err}"
+    );
+    assert!(err.contains("--max-angle 400"), "{err}");
+    // Teeth: the current name warns of nothing; both names at once are a usage error.
+    let (code, _, err) = tune(&["--error-budget", "1/255"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(!err.contains("deprecated"), "{err}");
+    let (code, _, err) = tune(&["--error-budget", "1/255", "--budget", "1/255"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot be used with"), "{err}");
 }

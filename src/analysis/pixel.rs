@@ -24,9 +24,7 @@
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::scan::{scan_columns, Columns, Constants};
 use crate::analysis::stats::{percentiles, RankHistogram};
-use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame};
 use crate::method::formulas::Lighting;
 use crate::method::twins::Shaded;
@@ -313,7 +311,8 @@ impl ReferencePixels for Values {
 /// pixel where `reference` (the run's truth, from the same id pass) covers a pixel: no second
 /// truth is stored. The pixels and every definition are those of [`pixel_errors`]; a pixel is
 /// ill-conditioned when `reference` says so (the weights are the same) or the twin is
-/// non-finite there. `compare` evaluates the twin once per run instead ([`Twin`]; the same
+/// non-finite there. `compare` evaluates the twin once per run instead
+/// ([`crate::analysis::scan::Twin`]; the same
 /// statistics bit for bit).
 pub fn stats_against_twin(
     frame: &Frame,
@@ -337,7 +336,7 @@ pub fn stats_against_twin(
 }
 
 /// `other` in f64 at pixel `i` of the id pass `ids` (a covered pixel).
-fn twin_at(
+pub(crate) fn twin_at(
     inputs: &SceneInputs,
     lighting: &Lighting,
     ids: &IdFrame,
@@ -352,84 +351,6 @@ fn twin_at(
         DVec2::new(x as f64 + 0.5, y as f64 + 0.5),
     );
     other.eval_f64(&frag, lighting)
-}
-
-/// Another method's f64 twin (`compare`: exact slerp along the span) at every pixel an id pass
-/// covers, evaluated once per run and kept for every method judged against it (seven of the
-/// built-in methods), where [`stats_against_twin`] evaluates it again for each: 49 bytes per
-/// covered pixel and 17 of scan constants (about 49 MB at 1024x1024 on the fine sphere). The values are those
-/// `stats_against_twin` computes (the same function of the same fragment), so
-/// [`Twin::stats`] gives its statistics bit for bit.
-#[derive(Debug, Clone)]
-pub struct Twin {
-    /// Per covered pixel of the reference, in pixel order.
-    color: Vec<DVec3>,
-    /// Per covered pixel: the normal where `has_normal`, zero elsewhere.
-    normal: Vec<DVec3>,
-    has_normal: Vec<bool>,
-    /// What the scan reads per covered pixel of the twin, computed once ([`Constants`]).
-    constants: Constants,
-    /// Pixels of the reference, covered or not.
-    len: usize,
-}
-
-impl Twin {
-    /// `other` at every pixel the id pass `ids` covers: the pixels its truth covers.
-    pub fn new(inputs: &SceneInputs, ids: &IdFrame, other: &Method) -> Twin {
-        let lighting = inputs.lighting();
-        let covered = ids.covered();
-        let (mut color, mut normal, mut has_normal) = (
-            Vec::with_capacity(covered),
-            Vec::with_capacity(covered),
-            Vec::with_capacity(covered),
-        );
-        for (i, &prim) in ids.prim.iter().enumerate() {
-            if prim != 0 {
-                let s = twin_at(inputs, &lighting, ids, other, i);
-                color.push(s.color);
-                normal.push(s.normal.unwrap_or(DVec3::ZERO));
-                has_normal.push(s.normal.is_some());
-            }
-        }
-        let constants = Constants::new(&color, &normal, |k| has_normal[k]);
-        Twin {
-            color,
-            normal,
-            has_normal,
-            constants,
-            len: ids.prim.len(),
-        }
-    }
-
-    /// [`stats_against_twin`] of `frame` against this twin (bit for bit: the scan of
-    /// [`crate::analysis::scan`] over the twin's columns); `reference` is the truth of the same
-    /// id pass (an error if it covers other pixels than the twin: a different size or covered
-    /// count).
-    pub fn stats(&self, frame: &Frame, has_normal: bool, reference: &Values) -> Result<ErrorStats> {
-        if reference.len() != self.len {
-            return Err(Error::Internal(format!(
-                "a twin of {} pixels against a reference of {}",
-                self.len,
-                reference.len()
-            )));
-        }
-        if reference.colors().len() != self.color.len() {
-            return Err(Error::Internal(format!(
-                "a twin of {} covered pixels against a reference covering {}",
-                self.color.len(),
-                reference.colors().len()
-            )));
-        }
-        let columns = Columns {
-            covered: reference.covered(),
-            color: &self.color,
-            normal: &self.normal,
-            constants: &self.constants,
-            has_normal: |k| self.has_normal[k],
-            ill_conditioned: |k| reference.ill_conditioned(k),
-        };
-        Ok(scan_columns::<false, _, _>(frame, has_normal, &columns).stats())
-    }
 }
 
 /// One pass over the pixels against `truth(i)`; `store` keeps the per-pixel vectors (errors,

@@ -1,5 +1,5 @@
 //! The scan of [`crate::analysis::pixel`] over a reference kept as columns ([`Values`], the
-//! slerp [`crate::analysis::pixel::Twin`]): `compare`'s path, once per method over every pixel.
+//! slerp [`Twin`]): `compare`'s path, once per method over every pixel.
 //!
 //! It is the generic scan (`pixel::scan` over `Option<RefPixel>`s, `verify`'s path and this
 //! one's oracle in the tests) with the same f64 operations in the same order per pixel, and
@@ -10,9 +10,12 @@
 //! decided from the columns without building a `RefPixel`.
 use glam::DVec3;
 
-use crate::analysis::pixel::{d3, lum, PixelErrors, ReferencePixels};
+use crate::analysis::pixel::{d3, lum, twin_at, ErrorStats, PixelErrors, ReferencePixels};
 use crate::analysis::stats::RankHistogram;
-use crate::frame::Frame;
+use crate::error::{Error, Result};
+use crate::frame::{Frame, IdFrame};
+use crate::method::Method;
+use crate::scene::SceneInputs;
 use crate::truth::{RefPixel, Values};
 
 /// Per covered pixel of a reference, what the scan would otherwise compute for every method.
@@ -97,6 +100,84 @@ impl ReferencePixels for Prepared<'_> {
             ill_conditioned: |k| v.ill_conditioned(k),
         };
         scan_columns::<true, _, _>(frame, has_normal, &columns)
+    }
+}
+
+/// Another method's f64 twin (`compare`: exact slerp along the span) at every pixel an id pass
+/// covers, evaluated once per run and kept for every method judged against it (seven of the
+/// built-in methods), where [`crate::analysis::pixel::stats_against_twin`] evaluates it again for each: 49 bytes per
+/// covered pixel and 17 of scan constants (about 49 MB at 1024x1024 on the fine sphere). The values are those
+/// `stats_against_twin` computes (the same function of the same fragment), so
+/// [`Twin::stats`] gives its statistics bit for bit.
+#[derive(Debug, Clone)]
+pub struct Twin {
+    /// Per covered pixel of the reference, in pixel order.
+    color: Vec<DVec3>,
+    /// Per covered pixel: the normal where `has_normal`, zero elsewhere.
+    normal: Vec<DVec3>,
+    has_normal: Vec<bool>,
+    /// What the scan reads per covered pixel of the twin, computed once ([`Constants`]).
+    constants: Constants,
+    /// Pixels of the reference, covered or not.
+    len: usize,
+}
+
+impl Twin {
+    /// `other` at every pixel the id pass `ids` covers: the pixels its truth covers.
+    pub fn new(inputs: &SceneInputs, ids: &IdFrame, other: &Method) -> Twin {
+        let lighting = inputs.lighting();
+        let covered = ids.covered();
+        let (mut color, mut normal, mut has_normal) = (
+            Vec::with_capacity(covered),
+            Vec::with_capacity(covered),
+            Vec::with_capacity(covered),
+        );
+        for (i, &prim) in ids.prim.iter().enumerate() {
+            if prim != 0 {
+                let s = twin_at(inputs, &lighting, ids, other, i);
+                color.push(s.color);
+                normal.push(s.normal.unwrap_or(DVec3::ZERO));
+                has_normal.push(s.normal.is_some());
+            }
+        }
+        let constants = Constants::new(&color, &normal, |k| has_normal[k]);
+        Twin {
+            color,
+            normal,
+            has_normal,
+            constants,
+            len: ids.prim.len(),
+        }
+    }
+
+    /// [`crate::analysis::pixel::stats_against_twin`] of `frame` against this twin (bit for bit: the scan of
+    /// [`crate::analysis::scan`] over the twin's columns); `reference` is the truth of the same
+    /// id pass (an error if it covers other pixels than the twin: a different size or covered
+    /// count).
+    pub fn stats(&self, frame: &Frame, has_normal: bool, reference: &Values) -> Result<ErrorStats> {
+        if reference.len() != self.len {
+            return Err(Error::Internal(format!(
+                "a twin of {} pixels against a reference of {}",
+                self.len,
+                reference.len()
+            )));
+        }
+        if reference.colors().len() != self.color.len() {
+            return Err(Error::Internal(format!(
+                "a twin of {} covered pixels against a reference covering {}",
+                self.color.len(),
+                reference.colors().len()
+            )));
+        }
+        let columns = Columns {
+            covered: reference.covered(),
+            color: &self.color,
+            normal: &self.normal,
+            constants: &self.constants,
+            has_normal: |k| self.has_normal[k],
+            ill_conditioned: |k| reference.ill_conditioned(k),
+        };
+        Ok(scan_columns::<false, _, _>(frame, has_normal, &columns).stats())
     }
 }
 

@@ -10,6 +10,8 @@
 //! A group is kept when moving it to the one program would add more than that.
 use serde::{Deserialize, Serialize};
 
+use crate::cost::CostModelId;
+
 use super::AutoSpec;
 use crate::scene::SceneInputs;
 
@@ -24,7 +26,7 @@ pub const SWITCH_COST: f64 = 0.05;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Grouping {
     /// The cost model whose costs were compared (`lavapipe_isolated`, `isa:amd:navi21`).
-    pub cost_model: String,
+    pub cost_model: CostModelId,
     /// Programs (groups with triangles) of the per-triangle choice, and drawn after merging.
     pub programs_chosen: usize,
     pub programs_drawn: usize,

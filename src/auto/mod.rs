@@ -201,8 +201,8 @@ pub struct AutoSpec {
     pub budget: ErrorBudget,
     /// The cost of each candidate of `order` in `cost_model` (what [`grouping`] compares).
     pub costs: Vec<f64>,
-    /// The id of the costs' model ([`crate::cost::CostModelId`]).
-    pub cost_model: String,
+    /// The costs' model.
+    pub cost_model: crate::cost::CostModelId,
 }
 
 impl AutoSpec {
@@ -213,7 +213,7 @@ impl AutoSpec {
             order: order.iter().map(|(m, _)| *m).collect(),
             budget,
             costs: order.iter().map(|(_, c)| *c).collect(),
-            cost_model: crate::cost::LAVAPIPE_ISOLATED.into(),
+            cost_model: crate::cost::CostModelId::of(crate::cost::LAVAPIPE_ISOLATED),
         }
     }
 

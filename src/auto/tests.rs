@@ -241,7 +241,7 @@ fn spec_with_costs(costs: &[f64]) -> AutoSpec {
         order: order(),
         budget: ErrorBudget::new(1.0 / 255.0).unwrap(),
         costs: costs.to_vec(),
-        cost_model: "test".into(),
+        cost_model: crate::cost::CostModelId::parse("test").unwrap(),
     }
 }
 

@@ -35,7 +35,7 @@ fn pareto_points(r: &BenchReport, axis: Axis) -> Vec<Point> {
     r.methods
         .iter()
         .filter_map(|m| {
-            let e = m.error.as_ref()?.metric(&r.error_metric)?;
+            let e = r.error_metric.of(m.error.as_ref()?)?;
             if !e.is_finite() {
                 return None;
             }
@@ -82,7 +82,7 @@ fn unplottable(r: &BenchReport) -> Vec<&str> {
         .filter(|m| {
             m.error
                 .as_ref()
-                .and_then(|e| e.metric(&r.error_metric))
+                .and_then(|e| r.error_metric.of(e))
                 .is_some_and(|e| !e.is_finite())
         })
         .map(|m| m.name.as_str())

@@ -17,11 +17,11 @@ pub mod clock;
 pub mod cost;
 pub mod isolated;
 pub mod per_machine;
-pub mod plan;
 mod programs;
 pub mod report;
 pub mod rounds;
 pub mod runs;
+pub mod schedule;
 pub mod skips;
 pub mod software;
 pub mod speed_claims;
@@ -33,7 +33,7 @@ pub use clock::*;
 pub use programs::floor_name;
 use programs::{programs, Program, What};
 pub use report::*;
-pub use rounds::{RoundsPlan, RoundsReport, Stop};
+pub use rounds::{RoundsReport, RoundsSchedule, Stop};
 pub use runs::Runs;
 
 use std::path::{Path, PathBuf};
@@ -87,10 +87,10 @@ pub enum Sweep {
 #[derive(Debug, Clone)]
 pub struct BenchOptions {
     /// Everything about the measurement: runs, rounds, warm-up, isolated rounds, control
-    /// ([`plan::RunPlan`], decided once).
-    pub plan: plan::RunPlan,
-    /// A compare metric (JSON name) for the Pareto chart's y axis.
-    pub error_metric: String,
+    /// ([`schedule::Schedule`], decided once).
+    pub schedule: schedule::Schedule,
+    /// The compare metric on the Pareto chart's y axis.
+    pub error_metric: compare::Metric,
     pub sweeps: Vec<Sweep>,
     /// `--baseline OLD/bench.json` and `--fail-slower PCT`.
     pub baseline: Option<PathBuf>,
@@ -100,7 +100,7 @@ pub struct BenchOptions {
     /// `auto` (named `auto`) and the points of its budget curve (`auto_<k>_255`, `auto_1_<k>`), timed and
     /// judged like the methods.
     pub auto: Vec<crate::auto::AutoSpec>,
-    /// Where this process stands: the only run, the parent of `plan.runs` fresh processes, or
+    /// Where this process stands: the only run, the parent of `schedule.runs` fresh processes, or
     /// one of them ([`runs`]).
     pub runs: Runs,
     /// Where the static cost of the speed claims' per-family columns comes from.
@@ -114,16 +114,16 @@ pub struct BenchOptions {
 }
 
 impl Default for BenchOptions {
-    /// One run in this process with bench's defaults ([`plan::RunPlan::new`]).
+    /// One run in this process with bench's defaults ([`schedule::Schedule::new`]).
     fn default() -> Self {
-        let given = plan::Given {
+        let given = schedule::Given {
             runs: Some(1),
-            ..plan::Given::default()
+            ..schedule::Given::default()
         };
         BenchOptions {
-            plan: plan::RunPlan::new(plan::Job::Bench { software: false }, &given)
-                .expect("bench's defaults are a valid plan"),
-            error_metric: "p99_abs_error".into(),
+            schedule: schedule::Schedule::new(schedule::Job::Bench { software: false }, &given)
+                .expect("bench's defaults are a valid schedule"),
+            error_metric: compare::Metric::P99AbsError,
             sweeps: Vec::new(),
             baseline: None,
             fail_slower_pct: None,
@@ -198,7 +198,7 @@ fn setup(
     opts: &BenchOptions,
 ) -> Result<Setup> {
     let exact = method::phong_exact();
-    let unnormalized = method::find("phong_unnormalized")?;
+    let unnormalized = method::phong_unnormalized();
     let mut all = methods_.to_vec();
     for m in [exact, unnormalized] {
         if !all.iter().any(|x| x.name == m.name) {
@@ -284,16 +284,16 @@ fn isolated_costs(
     methods: &[&'static Method],
     opts: &BenchOptions,
 ) -> Result<Vec<isolated::IsolatedCost>> {
-    let plan = &opts.plan;
-    if plan.isolated_rounds == 0 {
+    let schedule = &opts.schedule;
+    if schedule.isolated_rounds == 0 {
         return Ok(Vec::new());
     }
     let iso_opts = isolated::IsolatedOptions {
-        rounds: plan.isolated_rounds,
-        control: plan.many(),
+        rounds: schedule.isolated_rounds,
+        control: schedule.many(),
         precision: renderer.precision(),
         order_seed: opts.runs.seed(),
-        warmup: plan.isolated_warmup,
+        warmup: schedule.isolated_warmup,
         ..isolated::IsolatedOptions::default()
     };
     let bar = crate::output::progress_bar(true, 0);
@@ -339,7 +339,7 @@ fn timed(
     let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
     let (p, f) = ratios(&values, phong, &floors);
     let report = RoundsReport::new(
-        &opts.plan.rounds,
+        &opts.schedule.rounds,
         rounds,
         Stop::FixedRepeat,
         timing_s,
@@ -368,7 +368,7 @@ pub fn bench(
         .transpose()?;
     let s = setup(renderer, scene, methods_, opts)?;
     let (all, clock) = (&s.all, s.clock.clone());
-    let control = opts.plan.control.then_some(s.exact);
+    let control = opts.schedule.control.then_some(s.exact);
     let programs = programs(&s.prepared, all, control, &s.autos);
     let floors: Vec<usize> = programs.iter().map(|p| p.floor).collect();
     let phong = programs
@@ -397,7 +397,7 @@ pub fn bench(
     let (mut floors_rows, method_rows, method_values) = split_floors(rows, &programs, values);
     let floor = floors_rows.remove(0);
     let mut rows = method_rows;
-    let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| e.metric(&opts.error_metric));
+    let metric = |r: &MethodTiming| r.error.as_ref().and_then(|e| opts.error_metric.of(e));
     let errors: Vec<f64> = rows.iter().map(|r| metric(r).unwrap_or(f64::NAN)).collect();
     let front: Vec<String> = pareto_front_paired(&errors, &method_values)
         .into_iter()
@@ -432,8 +432,8 @@ pub fn bench(
         width: scene.width,
         height: scene.height,
         triangles: s.prepared.base().inputs.triangle_count(),
-        repeat: opts.plan.rounds.repeat,
-        warmup: opts.plan.rounds.warmup,
+        repeat: opts.schedule.rounds.repeat,
+        warmup: opts.schedule.rounds.warmup,
         rounds: rounds_report,
         runs: runs_report,
         ratio_interval: (if run_figures.is_empty() {
@@ -443,7 +443,7 @@ pub fn bench(
         })
         .into(),
         clock,
-        error_metric: opts.error_metric.clone(),
+        error_metric: opts.error_metric,
         floor,
         other_floors: floors_rows,
         methods: rows,
@@ -572,7 +572,7 @@ fn rows_of(
     let (phong_ms, floor_ms) = (medians[phong], medians[0]);
     let base_ops = rows
         .iter()
-        .find(|r| r.name == "phong_unnormalized")
+        .find(|r| r.name == method::phong_unnormalized().name)
         .and_then(|r| r.static_ops);
     for (r, p) in rows.iter_mut().zip(programs) {
         let own_floor = medians[p.floor];
@@ -717,19 +717,12 @@ fn auto_points(
 }
 
 fn check_options(opts: &BenchOptions) -> Result<()> {
-    if !compare::METRICS.contains(&opts.error_metric.as_str()) {
-        return Err(Error::Usage(format!(
-            "--error-metric: unknown metric {:?}; valid metrics: {}",
-            opts.error_metric,
-            compare::METRICS.join(", ")
-        )));
-    }
-    opts.plan.rounds.check()?;
+    opts.schedule.rounds.check()?;
     let parent = matches!(opts.runs, Runs::Many(_));
-    if !matches!(opts.runs, Runs::Child(_)) && parent != opts.plan.many() {
+    if !matches!(opts.runs, Runs::Child(_)) && parent != opts.schedule.many() {
         return Err(Error::Internal(format!(
-            "bench: a plan of {} runs in a process that is {:?}",
-            opts.plan.runs, opts.runs
+            "bench: a schedule of {} runs in a process that is {:?}",
+            opts.schedule.runs, opts.runs
         )));
     }
     if let Some(p) = opts.fail_slower_pct {
@@ -761,14 +754,14 @@ fn time_rounds(
         .iter()
         .position(|n| n == crate::method::PHONG_EXACT)
         .unwrap_or(0);
-    let plan = &opts.plan.rounds;
+    let rounds = &opts.schedule.rounds;
     log::info!(
         "bench: timing {} programs in the same interleaved rounds: {}",
         programs.len(),
-        plan.describe()
+        rounds.describe()
     );
     let draws = renderer.timed_draw_lists(&lists)?;
-    rounds::run_rounds(&draws, plan, "bench", |samples| {
+    rounds::run_rounds(&draws, rounds, "bench", |samples| {
         let values: Vec<Vec<f64>> = samples.iter().map(|s| round_values(s, clock)).collect();
         let (p, f) = ratios(&values, phong, &floors);
         widest(&names, &p, &f)

@@ -250,7 +250,7 @@ pub struct BenchReport {
     /// How the paired ratio intervals are computed.
     pub ratio_interval: String,
     pub clock: ClockCheck,
-    pub error_metric: String,
+    pub error_metric: crate::compare::Metric,
     pub floor: MethodTiming,
     /// The constant-colour program on each other geometry of the run (a PN tessellation):
     /// the floor of the methods that draw it; its paired ratio to `floor` is the cost of that

@@ -154,15 +154,15 @@ pub(crate) fn widest(
 /// at a time until every paired ratio interval is within +-PCT % or `max_time_s` of rounds has
 /// passed.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct RoundsPlan {
+pub struct RoundsSchedule {
     pub repeat: usize,
     pub warmup: usize,
     pub until_ci_pct: Option<f64>,
     pub max_time_s: f64,
 }
 
-impl RoundsPlan {
-    /// Refuses a plan that cannot run: no round, a target or a cap that is not a positive
+impl RoundsSchedule {
+    /// Refuses a schedule that cannot run: no round, a target or a cap that is not a positive
     /// number.
     pub fn check(&self) -> Result<()> {
         if self.repeat == 0 {
@@ -197,24 +197,25 @@ impl RoundsPlan {
     }
 }
 
-/// The warm-up and rounds of `draws` by `plan` (see [`RoundsPlan`]); `widest_of` gives the
+/// The warm-up and rounds of `draws` by `schedule` (see [`RoundsSchedule`]); `widest_of` gives the
 /// widest paired ratio interval (+- percent, and whose) of the rounds so far. Says on stderr,
 /// after `who`, how the rounds went and why they stopped. Shared by every engine's bench.
 pub(crate) fn run_rounds<D: Draws + ?Sized>(
     draws: &D,
-    plan: &RoundsPlan,
+    schedule: &RoundsSchedule,
     who: &str,
     widest_of: impl Fn(&[Vec<Sample>]) -> (f64, String),
 ) -> Result<(Vec<Vec<Sample>>, RoundsReport)> {
-    let mut rounds = Rounds::new(draws, plan.warmup)?;
+    let mut rounds = Rounds::new(draws, schedule.warmup)?;
     let t0 = std::time::Instant::now();
-    rounds.run(plan.repeat)?;
+    rounds.run(schedule.repeat)?;
     let (stopped, (w, which)) = loop {
         let w = widest_of(&rounds.samples);
-        let Some(target) = plan.until_ci_pct else {
+        let Some(target) = schedule.until_ci_pct else {
             break (Stop::FixedRepeat, w);
         };
-        if let Some(stop) = until_ci_stop(w.0, target, t0.elapsed().as_secs_f64(), plan.max_time_s)
+        if let Some(stop) =
+            until_ci_stop(w.0, target, t0.elapsed().as_secs_f64(), schedule.max_time_s)
         {
             break (stop, w);
         }
@@ -230,7 +231,7 @@ pub(crate) fn run_rounds<D: Draws + ?Sized>(
     };
     let timing_s = t0.elapsed().as_secs_f64();
     let n = rounds.len();
-    let target = plan.until_ci_pct.unwrap_or(f64::NAN);
+    let target = schedule.until_ci_pct.unwrap_or(f64::NAN);
     match stopped {
         Stop::FixedRepeat => log::info!(
             "{who}: {n} rounds in {timing_s:.1} s; widest paired ratio interval +-{w:.2} % ({which})"
@@ -240,10 +241,10 @@ pub(crate) fn run_rounds<D: Draws + ?Sized>(
         ),
         Stop::TimeCap => log::info!(
             "{who}: stopped: time cap of {} s reached after {n} rounds; target +-{target} % NOT reached: widest paired ratio interval +-{w:.2} % ({which})",
-            plan.max_time_s
+            schedule.max_time_s
         ),
     }
-    let report = RoundsReport::new(plan, n, stopped, timing_s, (w, which));
+    let report = RoundsReport::new(schedule, n, stopped, timing_s, (w, which));
     Ok((rounds.samples, report))
 }
 
@@ -310,7 +311,7 @@ impl RoundsReport {
     /// The report of `rounds` rounds run by `opts`, stopped for `stopped` after `timing_s`
     /// seconds with `widest` (half-width in percent, and whose) the widest interval.
     pub(crate) fn new(
-        opts: &RoundsPlan,
+        opts: &RoundsSchedule,
         rounds: usize,
         stopped: Stop,
         timing_s: f64,

@@ -8,7 +8,7 @@
 //! timed in every run) as the noise floor.
 //!
 //! A run is a child process of [`crate::child`]'s protocol: the parent ([`run_all`]) sends one
-//! [`RunRequest`] (the scene's source, the device, the methods, the run plan, the clock it
+//! [`RunRequest`] (the scene's source, the device, the methods, the schedule, the clock it
 //! chose, the run's seed, `auto`'s specs and frame decisions); the run measures and replies
 //! with its [`RunFigures`].
 use std::path::PathBuf;
@@ -21,8 +21,8 @@ use crate::gpu::{DeviceSpec, Sample};
 use crate::scene::SceneSource;
 
 use super::isolated::{Comparison, Interval, IsolatedCost};
-use super::plan::RunPlan;
 use super::rounds::round_values;
+use super::schedule::Schedule;
 use super::{MethodTiming, Speed};
 
 /// A base seed for the runs of one bench: from the clock (each bench its own orders). Run k
@@ -48,13 +48,13 @@ pub enum Runs {
     /// One run in this process (the rounds' own intervals give the verdicts).
     #[default]
     One,
-    /// The parent of the plan's runs (>= 2), each a fresh process started by the launcher.
+    /// The parent of the schedule's runs (>= 2), each a fresh process started by the launcher.
     Many(Launcher),
     /// One run of a parent's: measure as the request says, reply.
     Child(RunContext),
 }
 
-/// What a run takes from its parent besides the plan.
+/// What a run takes from its parent besides the schedule.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunContext {
     /// The clock the parent's check chose (`timestamp` or `wall`).
@@ -99,7 +99,7 @@ pub struct RunRequest {
     pub scene: SceneSource,
     pub device: DeviceSpec,
     pub methods: Vec<String>,
-    pub plan: RunPlan,
+    pub schedule: Schedule,
     pub context: RunContext,
     /// `auto`'s specs, as the parent measured their candidates' order.
     pub auto: Vec<crate::auto::AutoSpec>,
@@ -177,8 +177,8 @@ impl RunFigures {
     }
 }
 
-/// Runs the plan's runs one after another, each a fresh process of `launcher` timing
-/// `methods` (with `opts`' plan and `auto` specs, the `clock` and `auto`'s frame decisions
+/// Runs the schedule's runs one after another, each a fresh process of `launcher` timing
+/// `methods` (with `opts`' schedule and `auto` specs, the `clock` and `auto`'s frame decisions
 /// `frame`), saying on stderr which run of N is going; returns their figures in run order.
 pub fn run_all(
     launcher: &Launcher,
@@ -189,7 +189,7 @@ pub fn run_all(
 ) -> Result<Vec<RunFigures>> {
     let dir =
         crate::cleanup::TempDir::new("bench").map_err(|e| Error::io(std::env::temp_dir(), e))?;
-    let count = opts.plan.runs;
+    let count = opts.schedule.runs;
     let spawn = crate::child::Spawn {
         exe: launcher.exe.clone(),
         driver_env: launcher.driver_env.clone(),
@@ -204,7 +204,7 @@ pub fn run_all(
             scene: launcher.scene.clone(),
             device: launcher.device.clone(),
             methods: methods.iter().map(|m| m.name.to_string()).collect(),
-            plan: opts.plan.clone(),
+            schedule: opts.schedule.clone(),
             context: RunContext {
                 clock: clock.to_string(),
                 seed: base + k as u64,

@@ -5,7 +5,7 @@
 //! family the static cost (`shadelab isa`). Each cell is [`CostModel::ratio`] judged by one rule
 //! ([`crate::cost::factor_verdict`]); a static cost is one deterministic figure, no interval,
 //! so it agrees or disagrees, never inconclusive. The op-count claim is judged per family on
-//! the compiled instructions ([`crate::isa::claims::op_count`]).
+//! the compiled instructions ([`crate::isa::op_count`]).
 //!
 //! Where the static cost comes from ([`StaticCostSource`]): compiled now by `shadelab isa`'s
 //! children (after the timed rounds, never during them), read from an isa.json (`--isa`), or
@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-use super::software::claims::claim_specs;
+use super::software::speed::claim_specs;
 use super::MethodTiming;
 use crate::cost::{CostModel, CostModelId, Evidence};
 use crate::isa::IsaReport;
@@ -70,7 +70,7 @@ pub struct StaticCost {
     /// (family, status): "compiled" or "not supported by this driver: ...".
     pub families: Vec<(String, String)>,
     /// The op-count claim per family, judged on the compiled instructions.
-    pub op_count: Vec<crate::isa::claims::OpCountVerdict>,
+    pub op_count: Vec<crate::isa::op_count::OpCountVerdict>,
 }
 
 /// Rounds of the software engine's column in a Vulkan bench (after 2 warm-up renders each),
@@ -122,7 +122,7 @@ pub fn software_column(
     let dir = out.join("software");
     let threads = crate::software::default_threads();
     let sw = super::software::SoftwareOptions {
-        rounds: super::RoundsPlan {
+        rounds: super::RoundsSchedule {
             repeat: SOFTWARE_REPEAT,
             warmup: 2,
             until_ci_pct: None,
@@ -245,12 +245,8 @@ pub fn table(models: &[CostModel]) -> Vec<SpeedClaim> {
 /// The op-count verdict on the compiled instructions, as a claims verdict: the instructions
 /// exact normalisation adds hold the claim's 9 operations of its classes (agrees), fewer
 /// (disagrees: overstated), or as many of other classes (partly).
-pub fn op_count_verdict(v: &crate::isa::claims::OpCountVerdict) -> Verdict {
-    match v.verdict.as_str() {
-        "holds" => Verdict::Agrees,
-        "overstated" => Verdict::Disagrees,
-        _ => Verdict::Partly,
-    }
+pub fn op_count_verdict(v: &crate::isa::op_count::OpCountVerdict) -> Verdict {
+    v.verdict.verdict()
 }
 
 /// claims.md's speed table: a row per claim, a column per measure.
@@ -323,7 +319,7 @@ pub fn markdown(claims: &[SpeedClaim], stat: Option<&StaticCost>) -> String {
 
 /// The op-count claim per family as rows of the claims list (beside the SPIR-V count's row).
 pub fn op_count_checks(s: &StaticCost) -> Vec<super::ClaimCheck> {
-    // the claim as phong_exact's row states it (its counts are src/isa/claims.rs's CLAIMED)
+    // the claim as phong_exact's row states it (its counts are src/isa/op_count.rs's CLAIMED)
     let row = crate::method::phong_exact();
     let Some(claim) = row
         .claims

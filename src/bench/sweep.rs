@@ -16,7 +16,7 @@ pub(crate) fn sweep(
     opts: &BenchOptions,
 ) -> Result<SweepResult> {
     let exact = method::phong_exact();
-    let gouraud = method::find("gouraud")?;
+    let gouraud = method::vertex_lit_reference();
     let shadings = [
         Shading::Constant,
         Shading::Method(gouraud),
@@ -47,12 +47,12 @@ pub(crate) fn sweep(
     };
     let mut points = Vec::new();
     // At least 20 draws: from 5, a "95 %" interval is [min, max] and covers 93.75 %.
-    let reps = (opts.plan.rounds.repeat).clamp(SWEEP_MIN_REPEAT, SWEEP_MAX_REPEAT);
+    let reps = (opts.schedule.rounds.repeat).clamp(SWEEP_MIN_REPEAT, SWEEP_MAX_REPEAT);
     for s in &scenes {
         let prepared = renderer.prepare(s, &[gouraud, exact])?;
         let pairs: Vec<_> = shadings.iter().map(|s| (prepared.base(), *s)).collect();
         let draws = renderer.timed_draws(&pairs)?;
-        let samples = interleaved(&draws, opts.plan.rounds.warmup.max(1), reps)?;
+        let samples = interleaved(&draws, opts.schedule.rounds.warmup.max(1), reps)?;
         for (sh, smp) in shadings.iter().zip(&samples) {
             let (frame, _) = renderer.render(prepared.base(), *sh, false)?;
             let wall: Vec<f64> = smp.iter().map(|x| x.wall_ms).collect();

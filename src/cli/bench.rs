@@ -4,9 +4,9 @@ use std::process::ExitCode;
 use super::*;
 use crate::error::{Error, Result};
 impl BenchCmd {
-    /// What the command line gave of the run plan.
-    fn given(&self) -> crate::bench::plan::Given {
-        crate::bench::plan::Given {
+    /// What the command line gave of the schedule.
+    fn given(&self) -> crate::bench::schedule::Given {
+        crate::bench::schedule::Given {
             runs: self.runs,
             repeat: self.repeat,
             warmup: self.warmup,
@@ -18,11 +18,14 @@ impl BenchCmd {
     }
 }
 
-/// One run here, or the plan's runs as fresh processes of this binary on the same scene and
+/// One run here, or the schedule's runs as fresh processes of this binary on the same scene and
 /// device ([`crate::bench::runs`]).
-fn bench_runs(b: &BenchCmd, plan: &crate::bench::plan::RunPlan) -> Result<crate::bench::Runs> {
+fn bench_runs(
+    b: &BenchCmd,
+    schedule: &crate::bench::schedule::Schedule,
+) -> Result<crate::bench::Runs> {
     use crate::bench::runs::{Launcher, Runs};
-    if !plan.many() {
+    if !schedule.many() {
         return Ok(Runs::One);
     }
     Ok(Runs::Many(Launcher {
@@ -63,12 +66,14 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
     let methods = select_methods(&list)?;
     let scene = load_scene(&b.scene)?;
     let software = b.device.engine == EngineArg::Software;
-    let plan =
-        crate::bench::plan::RunPlan::new(crate::bench::plan::Job::Bench { software }, &b.given())?;
-    let runs = bench_runs(&b, &plan)?;
+    let schedule = crate::bench::schedule::Schedule::new(
+        crate::bench::schedule::Job::Bench { software },
+        &b.given(),
+    )?;
+    let runs = bench_runs(&b, &schedule)?;
     let static_cost = static_cost_source(&b)?;
     let mut opts = crate::bench::BenchOptions {
-        plan,
+        schedule,
         error_metric: b.error_metric,
         sweeps: b.sweep.into_iter().map(Into::into).collect(),
         baseline: b.baseline,
@@ -102,7 +107,7 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
             )));
         }
         let sw = crate::bench::software::SoftwareOptions {
-            rounds: opts.plan.rounds.clone(),
+            rounds: opts.schedule.rounds.clone(),
             threads: b
                 .threads
                 .map_or_else(crate::software::default_threads, |n| n as usize),
@@ -191,10 +196,7 @@ fn print_table(report: &crate::bench::BenchReport) {
     let floors = 1 + report.other_floors.len();
     rows[floors..].sort_by(|a, b| a.median_ms.total_cmp(&b.median_ms));
     for m in rows {
-        let err = m
-            .error
-            .as_ref()
-            .and_then(|e| e.metric(&report.error_metric));
+        let err = m.error.as_ref().and_then(|e| report.error_metric.of(e));
         println!(
             "{:<34} {:>9.3} {:>19} {:>8.2} {:>26} {:>12} {:>8} {:>12}{}",
             m.name,

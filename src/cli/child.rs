@@ -32,7 +32,7 @@ pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// One measurement run of a bench of several runs: the same scene, device, methods and plan
+/// One measurement run of a bench of several runs: the same scene, device, methods and schedule
 /// as the parent, with its clock, seed and `auto`'s decisions.
 fn bench_run(req: crate::bench::runs::RunRequest) -> Result<crate::bench::runs::RunFigures> {
     let renderer = req.device.renderer()?;
@@ -43,7 +43,7 @@ fn bench_run(req: crate::bench::runs::RunRequest) -> Result<crate::bench::runs::
         .map(|m| crate::method::find(m))
         .collect::<Result<Vec<_>>>()?;
     let opts = crate::bench::BenchOptions {
-        plan: req.plan,
+        schedule: req.schedule,
         auto: req.auto,
         runs: crate::bench::Runs::Child(req.context),
         ..crate::bench::BenchOptions::default()

@@ -120,7 +120,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         )));
     }
     if let Some(b) = &bench {
-        report.spearman = isa::rank::against_bench(&report, b)?;
+        report.spearman = report.against_bench(b)?;
     }
     if args.compare.is_empty() {
         report.charts_note = Some(

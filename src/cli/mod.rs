@@ -470,7 +470,7 @@ struct BenchCmd {
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
     /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
-    /// --runs 1, 7 with more runs; src/bench/plan.rs; at most 100000).
+    /// --runs 1, 7 with more runs; src/bench/schedule.rs; at most 100000).
     #[arg(long, value_parser = count::<1, 100_000>)]
     repeat: Option<usize>,
     /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,
@@ -483,9 +483,9 @@ struct BenchCmd {
     /// at most 1000).
     #[arg(long, value_parser = count::<0, 1000>)]
     warmup: Option<usize>,
-    /// The compare metric on the Pareto chart's y axis.
-    #[arg(long, default_value = "p99_abs_error")]
-    error_metric: String,
+    /// The compare metric on the Pareto chart's y axis (a summary.json name).
+    #[arg(long, default_value_t = crate::compare::Metric::P99AbsError, value_parser = crate::compare::Metric::parse)]
+    error_metric: crate::compare::Metric,
     /// Also time phong_exact's program under a second name (a precision control).
     #[arg(long)]
     control: bool,
@@ -551,8 +551,6 @@ struct BenchCmd {
     /// claims' programs in the software engine after its rounds, into DIR/software/).
     #[arg(long)]
     no_software: bool,
-}
-
 }
 
 /// Parses the command line and runs it. Errors are printed once by the caller.
@@ -746,6 +744,6 @@ fn auto_spec(r: &Renderer, b: &BudgetArgs) -> Result<crate::auto::AutoSpec> {
         crate::auto::order_line(&order)
     );
     let mut spec = crate::auto::AutoSpec::new(b.budget, &order);
-    spec.cost_model = model.id.to_string();
+    spec.cost_model = model.id;
     Ok(spec)
 }

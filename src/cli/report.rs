@@ -144,10 +144,10 @@ pub(super) fn cmd_report(
 ) -> Result<ExitCode> {
     let methods = select_methods(list)?;
     let started = std::time::SystemTime::now();
-    // The measurement, decided once (src/bench/plan.rs).
-    let plan = crate::bench::plan::RunPlan::new(
-        crate::bench::plan::Job::Report { full: how.full },
-        &crate::bench::plan::Given {
+    // The measurement, decided once (src/bench/schedule.rs).
+    let schedule = crate::bench::schedule::Schedule::new(
+        crate::bench::schedule::Job::Report { full: how.full },
+        &crate::bench::schedule::Given {
             runs: how.runs,
             ..Default::default()
         },
@@ -174,7 +174,7 @@ pub(super) fn cmd_report(
         full: how.full,
         command_line: command_line(),
         progress: true,
-        plan,
+        schedule,
         exe: Some(std::env::current_exe().map_err(|e| Error::io(Path::new("shadelab"), e))?),
         device: crate::gpu::DeviceSpec {
             device: dev.device.clone(),
@@ -198,12 +198,12 @@ pub(super) fn cmd_report(
         out.join("answer.md").display()
     );
     eprint!("{}", w.answer.terminal());
-    if w.total_bytes > report::BUDGET_BYTES {
+    if w.total_bytes > report::SIZE_LIMIT_BYTES {
         log::warn!(
-            "report: {:.1} MB is over the {} MB budget of a report (docs/report.md); \
+            "report: {:.1} MB is over the {} MB size limit of a report (docs/report.md); \
              use a smaller --size or fewer --methods",
             w.total_bytes as f64 / 1e6,
-            report::BUDGET_BYTES / 1_000_000
+            report::SIZE_LIMIT_BYTES / 1_000_000
         );
     }
     warn_stale(out, started);

@@ -8,12 +8,12 @@ use crate::error::{Error, Result};
 #[derive(Args, Debug)]
 pub(super) struct SkipsCmd {
     #[command(flatten)]
-    scene: SceneArgs,
+    pub(super) scene: SceneArgs,
     #[command(flatten)]
     device: DeviceArgs,
     /// Output directory (skips.json, skips.md).
     #[arg(long, value_name = "DIR")]
-    out: PathBuf,
+    pub(super) out: PathBuf,
     /// Interleaved rounds (each draws every row once; at most 100000).
     #[arg(long, default_value_t = 30, value_parser = count::<1, 100_000>)]
     repeat: usize,

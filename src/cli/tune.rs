@@ -42,9 +42,13 @@ pub struct TuneArgs {
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     size: Option<(u32, u32)>,
     /// The colour error budget (linear, max over the channels): a number or a fraction like
-    /// 1/255. A candidate is within it only by proof.
-    #[arg(long, value_name = "E", default_value = "1/255", value_parser = ErrorBudget::parse)]
-    budget: ErrorBudget,
+    /// 1/255 (default 1/255), as every command's --error-budget. A candidate is within it only
+    /// by proof.
+    #[arg(long = "error-budget", value_name = "E", value_parser = ErrorBudget::parse)]
+    error_budget: Option<ErrorBudget>,
+    /// The former name of --error-budget, still read (with a warning that it is deprecated).
+    #[arg(long = "budget", value_name = "E", value_parser = ErrorBudget::parse, hide = true, conflicts_with = "error_budget")]
+    budget: Option<ErrorBudget>,
     /// A cost model to measure (repeatable; default: every model measured on demand:
     /// lavapipe_isolated, isa:FAMILY and isa:FAMILY:f16 for each default family of every
     /// vendor, e.g. isa:amd:navi21, isa:intel:tgl:f16).
@@ -118,9 +122,24 @@ impl TuneArgs {
             ..Default::default()
         }
     }
+
+    /// `--error-budget`, or its former name `--budget` (deprecated: a warning says so), or the
+    /// default 1/255.
+    fn error_budget(&self) -> ErrorBudget {
+        if self.budget.is_some() {
+            log::warn!(
+                "--budget is deprecated: use --error-budget (the same option, as every command \
+                 that takes an error budget names it)"
+            );
+        }
+        self.error_budget
+            .or(self.budget)
+            .unwrap_or(ErrorBudget::DEFAULT)
+    }
 }
 
 pub(super) fn cmd_tune(a: &TuneArgs) -> Result<ExitCode> {
+    let budget = a.error_budget();
     if let Some(deg) = a.max_angle {
         if !(deg > 0.0 && deg <= 180.0) {
             return Err(Error::Usage(format!(
@@ -129,9 +148,9 @@ pub(super) fn cmd_tune(a: &TuneArgs) -> Result<ExitCode> {
         }
     }
     let opts = TuneOptions {
-        budget: a.budget,
+        budget,
         cost_models: a.cost_model.clone(),
-        proof: tune::proof::ProofBudget::default(),
+        proof: tune::proof::ProofEffort::default(),
         threads: crate::software::default_threads(),
         progress: true,
     };

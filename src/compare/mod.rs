@@ -19,8 +19,9 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::flip::{flip, srgb_rgb8, FlipReference};
-use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors, Twin};
+use crate::analysis::pixel::{channel_stats, pixel_errors, IntensityStats, PixelErrors};
 use crate::analysis::scan::Prepared;
+use crate::analysis::scan::Twin;
 use crate::engine::{self, Engine};
 use crate::error::{Error, Result};
 use crate::frame::{Frame, IdFrame, SpareFrames};
@@ -350,8 +351,7 @@ fn references(
     let slerp = methods
         .iter()
         .any(|m| m.reference == Reference::PhongAndSlerp)
-        .then(|| method::find("slerp"))
-        .transpose()?;
+        .then(method::slerp_reference);
     // Statistics need no float32 bound (verify checks those): the values alone.
     let (reference, twin) = std::thread::scope(|s| {
         let twin = slerp.map(|m| s.spawn(|| Twin::new(inputs, ids, m)));

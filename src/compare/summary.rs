@@ -56,8 +56,10 @@ pub struct AgainstReference {
 
 /// A numeric per-method metric of summary.json, by name in `--fail-above` / `--fail-below`,
 /// bench's `--error-metric` and the report's tables. Each is one row of [`METRIC_ROWS`] (in
-/// this order): its name, its direction, whether it counts pixels, and its accessor.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// this order): its name, its direction, whether it counts pixels, and its accessor. Written
+/// as its name in JSON, read back from it, and parsed from it on the command line
+/// ([`Metric::parse`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Metric {
     MeanAbsError,
     MaxAbsError,
@@ -197,6 +199,16 @@ impl Metric {
         self.row().name
     }
 
+    /// The metric named `name`, or an error listing the valid names (`--error-metric`).
+    pub fn parse(name: &str) -> std::result::Result<Metric, String> {
+        Metric::from_name(name.trim()).ok_or_else(|| {
+            format!(
+                "unknown metric {name:?}; valid metrics: {}",
+                METRICS.join(", ")
+            )
+        })
+    }
+
     /// Its value for `r` (see [`MetricRow`]).
     pub fn of(self, r: &MethodReport) -> Option<f64> {
         (self.row().value)(r)
@@ -210,6 +222,32 @@ impl Metric {
             Some(v) => format!("{v:e}"),
             None => String::new(),
         }
+    }
+}
+
+impl std::fmt::Display for Metric {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Metric {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Metric::parse(s)
+    }
+}
+
+impl Serialize for Metric {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Metric {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        Metric::parse(&name).map_err(serde::de::Error::custom)
     }
 }
 

@@ -170,15 +170,15 @@ fn bench_mesh(
         size: Some((c.width, c.height)),
         ..Default::default()
     };
-    let plan = crate::bench::plan::RunPlan::new(
-        crate::bench::plan::Job::Bench { software: false },
-        &crate::bench::plan::Given {
+    let schedule = crate::bench::schedule::Schedule::new(
+        crate::bench::schedule::Job::Bench { software: false },
+        &crate::bench::schedule::Given {
             runs: Some(runs),
             ..Default::default()
         },
     )?;
     let bopts = crate::bench::BenchOptions {
-        runs: if plan.many() {
+        runs: if schedule.many() {
             crate::bench::Runs::Many(crate::bench::runs::Launcher {
                 exe: opts.exe.clone(),
                 scene: load.clone(),
@@ -191,7 +191,7 @@ fn bench_mesh(
         } else {
             crate::bench::Runs::One
         },
-        plan,
+        schedule,
         command_line: std::env::args().collect(),
         ..crate::bench::BenchOptions::default()
     };

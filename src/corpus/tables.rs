@@ -12,28 +12,33 @@ use serde::Serialize;
 
 use super::merge::{Merged, ShardDir};
 use crate::analysis::stats::percentile;
+use crate::auto::ErrorBudget;
 use crate::bench::per_machine::MeshTiming;
+use crate::compare::Metric;
 use crate::cost::{CostModel, Evidence, Registry};
 use crate::error::{Error, Result};
 use crate::method::Precision;
 use crate::output::write_atomic;
 use crate::report::answer::{self, Answer, SceneError};
+use crate::report::budget;
 
-/// The budgets of the tables: the largest colour error a method may make (linear).
-pub const BUDGETS: [(&str, f64); 3] = [
-    ("1/1024", 1.0 / 1024.0),
-    ("1/255", 1.0 / 255.0),
-    ("4/255", 4.0 / 255.0),
-];
-/// The summary metrics judged against the budgets.
-pub const METRICS: [&str; 2] = ["max_abs_error", "p99_abs_error"];
+/// The summary metrics judged against the budgets: the answer's ([`budget::METRICS`]).
+pub const METRICS: [Metric; 2] = budget::METRICS;
+
+/// The budgets of the tables, the answer's fractions ([`budget::FRACTIONS`]): the largest
+/// colour error a method may make (linear), each with its name in corpus.json (`1/255`).
+pub fn budgets() -> Vec<(String, ErrorBudget)> {
+    (budget::FRACTIONS.iter())
+        .map(|&f| (budget::fraction_text(f), budget::limit_of(f)))
+        .collect()
+}
 /// Worst meshes listed per method.
 pub const WORST: usize = 5;
 
 /// One metric's distribution over the meshes (null in JSON where infinite).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Distribution {
-    pub metric: String,
+    pub metric: Metric,
     pub median: f64,
     pub p90: f64,
     pub max: f64,
@@ -72,8 +77,8 @@ fn figures(meshes: &[Merged]) -> Figures {
         let Some(s) = &m.result.summary else { continue };
         for row in s["methods"].as_array().into_iter().flatten() {
             let name = row["name"].as_str().unwrap_or("?").to_string();
-            let nf = row["non_finite_pixels"].as_u64().unwrap_or(0) > 0;
-            let val = |k: &str| match row[k].as_f64() {
+            let nf = row[Metric::NonFinitePixels.name()].as_u64().unwrap_or(0) > 0;
+            let val = |k: Metric| match row[k.name()].as_f64() {
                 Some(v) if !nf && v.is_finite() => v,
                 _ => f64::INFINITY,
             };
@@ -90,16 +95,16 @@ fn figures(meshes: &[Merged]) -> Figures {
     out
 }
 
-fn distribution(metric: &str, mut v: Vec<f64>) -> Distribution {
+fn distribution(metric: Metric, mut v: Vec<f64>) -> Distribution {
     let n = v.len().max(1) as f64;
     Distribution {
-        metric: metric.into(),
+        metric,
         non_finite_meshes: v.iter().filter(|x| !x.is_finite()).count(),
-        share_within: BUDGETS
-            .iter()
+        share_within: budgets()
+            .into_iter()
             .map(|(b, e)| {
-                let within = v.iter().filter(|x| **x <= *e).count();
-                (b.to_string(), within as f64 / n)
+                let within = v.iter().filter(|x| **x <= e.get()).count();
+                (b, within as f64 / n)
             })
             .collect(),
         median: percentile(&mut v, 50.0),
@@ -176,10 +181,10 @@ pub fn mesh_errors(meshes: &[Merged], precision: Precision) -> Vec<SceneError> {
                 method: row["name"].as_str().unwrap_or("?").to_string(),
                 precision,
                 covered_pixels: count("covered_pixels"),
-                non_finite_pixels: count("non_finite_pixels"),
+                non_finite_pixels: count(Metric::NonFinitePixels.name()),
                 metrics: METRICS
                     .iter()
-                    .map(|k| (k.to_string(), row[*k].as_f64()))
+                    .map(|k| (*k, row[k.name()].as_f64()))
                     .collect(),
                 evidence: format!("meshes/{}/result.json", m.result.id),
             });
@@ -299,7 +304,7 @@ fn num(v: f64) -> String {
 /// corpus.csv: one line per method and metric.
 fn csv(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
     write!(w, "method,metric,meshes,median,p90,max,non_finite_meshes")?;
-    for (b, _) in BUDGETS {
+    for (b, _) in budgets() {
         write!(w, ",within_{}", b.replace('/', "_"))?;
     }
     writeln!(w)?;
@@ -316,8 +321,8 @@ fn csv(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
                 num(d.max),
                 d.non_finite_meshes
             )?;
-            for (b, _) in BUDGETS {
-                write!(w, ",{}", d.share_within.get(b).copied().unwrap_or(0.0))?;
+            for (b, _) in budgets() {
+                write!(w, ",{}", d.share_within.get(&b).copied().unwrap_or(0.0))?;
             }
             writeln!(w)?;
         }
@@ -363,7 +368,7 @@ fn html(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
         )
     )?;
     writeln!(w, "<h2>Error over meshes</h2><table><tr><th>method</th><th>metric</th><th>median</th><th>p90</th><th>max</th><th>non-finite</th>")?;
-    for (b, _) in BUDGETS {
+    for (b, _) in budgets() {
         write!(w, "<th>within {b}</th>")?;
     }
     writeln!(w, "<th>worst mesh (pixel)</th></tr>")?;
@@ -373,8 +378,8 @@ fn html(w: &mut dyn Write, r: &CorpusReport) -> std::io::Result<()> {
                 format!("{} {:?}", m.id, m.max_error_pixel.unwrap_or_default())
             });
             write!(w, "<tr><td>{}</td><td>{}</td><td>{:.3e}</td><td>{:.3e}</td><td>{:.3e}</td><td>{}</td>", esc(&t.name), d.metric, d.median, d.p90, d.max, d.non_finite_meshes)?;
-            for (b, _) in BUDGETS {
-                let s = d.share_within.get(b).copied().unwrap_or(0.0);
+            for (b, _) in budgets() {
+                let s = d.share_within.get(&b).copied().unwrap_or(0.0);
                 write!(w, "<td>{:.0}%</td>", s * 100.0)?;
             }
             writeln!(w, "<td>{}</td></tr>", esc(&worst))?;

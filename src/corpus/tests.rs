@@ -123,8 +123,10 @@ fn the_configuration_hash_sees_every_field() {
 /// errors and cost models, cell for cell, and the isa figures become the same static rows.
 #[test]
 fn the_corpus_answer_is_the_reports_on_the_same_inputs() {
+    use crate::compare::Metric;
+    use crate::cost::CostModelId;
     use crate::method::Precision;
-    use crate::report::answer::{answer, SceneError};
+    use crate::report::answer::{answer, Budget, SceneError};
     use std::collections::BTreeMap;
     // Three meshes (one failed), three methods: (max, p99) per mesh.
     let figures = [
@@ -163,8 +165,8 @@ fn the_corpus_answer_is_the_reports_on_the_same_inputs() {
                 covered_pixels: 50,
                 non_finite_pixels: 0,
                 metrics: BTreeMap::from([
-                    ("max_abs_error".to_string(), Some(max)),
-                    ("p99_abs_error".to_string(), Some(p99)),
+                    (Metric::MaxAbsError, Some(max)),
+                    (Metric::P99AbsError, Some(p99)),
                 ]),
                 evidence: format!("meshes/{id}/result.json"),
             });
@@ -196,7 +198,12 @@ fn the_corpus_answer_is_the_reports_on_the_same_inputs() {
     assert_eq!(corpus.cells, report.cells);
     assert_eq!(corpus.checks, report.checks);
     // max 1/255: fast (0.8) and rough (0.5) both within on a and b? rough is not (0.1 on a).
-    let c = corpus.cell("max_1_255", "isa:gfx1100").unwrap();
+    let c = corpus
+        .cell(
+            &Budget::parse_id("max_1_255").unwrap(),
+            &CostModelId::parse("isa:gfx1100").unwrap(),
+        )
+        .unwrap();
     assert_eq!(c.answer.method, "fast");
     assert_eq!(c.binding.as_ref().unwrap().scene, "a");
     // Teeth: a mesh's different figure changes the corpus's cells, not the report's.

@@ -20,10 +20,32 @@ pub use self::rule::{factor_verdict, Ratio};
 pub use self::source::{CostSource, Evidence, Registry};
 use crate::method::{Precision, Verdict};
 
-/// A cost model's identifier: `[a-z0-9_.-]` words joined by `:` (`isa:navi21:f16`).
+/// A cost model's identifier: `[a-z0-9_.-]` words joined by `:` (`isa:amd:navi21:f16`), with
+/// what it names ([`IdKind`]: a GPU family's vendor, chip and precision) read from its words
+/// once, when it is made or read from JSON. Written as its text everywhere.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(transparent)]
-pub struct CostModelId(String);
+#[serde(try_from = "String", into = "String")]
+pub struct CostModelId {
+    text: String,
+    kind: IdKind,
+}
+
+/// What a [`CostModelId`] names.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum IdKind {
+    /// lavapipe's timings ([`LAVAPIPE_FRAME`], [`LAVAPIPE_ISOLATED`]): measured on this machine's
+    /// CPU, where nothing else may run beside them.
+    Lavapipe,
+    /// A GPU family's static cost: `isa:VENDOR:CHIP`, `isa:VENDOR:CHIP:f16`; `isa:CHIP` and
+    /// `isa:CHIP:f16` leave the vendor to `isa` (a bare chip is AMD's).
+    Isa {
+        vendor: Option<String>,
+        chip: String,
+        precision: Precision,
+    },
+    /// Any other source's model ([`SOFTWARE`], `bench:<machine>`, a registered source's own).
+    Other,
+}
 
 /// lavapipe's frame time of the whole draw (bench's paired ratio, across runs).
 pub const LAVAPIPE_FRAME: &str = "lavapipe_frame";
@@ -32,12 +54,36 @@ pub const LAVAPIPE_ISOLATED: &str = "lavapipe_isolated";
 /// The software scanline engine's frame time.
 pub const SOFTWARE: &str = "software";
 
+impl IdKind {
+    /// The kind of the (valid) id `text`.
+    fn of(text: &str) -> IdKind {
+        if text == LAVAPIPE_FRAME || text == LAVAPIPE_ISOLATED {
+            return IdKind::Lavapipe;
+        }
+        let words: Vec<&str> = text.split(':').collect();
+        let precision = |w: &str| Precision::ALL.into_iter().find(|p| p.as_str() == w);
+        let isa = |vendor: Option<&str>, chip: &str, precision| IdKind::Isa {
+            vendor: vendor.map(str::to_string),
+            chip: chip.to_string(),
+            precision,
+        };
+        match words[..] {
+            ["isa", chip] => isa(None, chip, Precision::F32),
+            ["isa", chip, p] if precision(p).is_some() => isa(None, chip, precision(p).unwrap()),
+            ["isa", vendor, chip] => isa(Some(vendor), chip, Precision::F32),
+            ["isa", vendor, chip, p] if precision(p).is_some() => {
+                isa(Some(vendor), chip, precision(p).unwrap())
+            }
+            _ => IdKind::Other,
+        }
+    }
+}
+
 impl CostModelId {
     /// `s` when it is an identifier, else why not.
     /// Upper case is read as lower case (`isa:Navi21` is `isa:navi21`).
     pub fn parse(s: &str) -> std::result::Result<Self, String> {
         let s = s.trim().to_ascii_lowercase();
-        let s = s.as_str();
         let word = |w: &str| {
             !w.is_empty()
                 && w.chars().all(|c| {
@@ -45,12 +91,20 @@ impl CostModelId {
                 })
         };
         if s.split(':').all(word) {
-            Ok(CostModelId(s.to_string()))
+            Ok(CostModelId::made(s))
         } else {
             Err(format!(
                 "{s:?} is not a cost model id: lower-case words of [a-z0-9_.-] joined by ':' \
                  (e.g. lavapipe_isolated, isa:navi21)"
             ))
+        }
+    }
+
+    /// The id of a valid `text`.
+    fn made(text: String) -> Self {
+        CostModelId {
+            kind: IdKind::of(&text),
+            text,
         }
     }
 
@@ -65,36 +119,95 @@ impl CostModelId {
                 w.push('-');
             }
         }
-        CostModelId(format!("{prefix}:{}", w.trim_end_matches('-')))
+        CostModelId::made(format!("{prefix}:{}", w.trim_end_matches('-')))
     }
 
     /// A fixed id of this module ([`LAVAPIPE_FRAME`], ...).
     pub fn of(s: &'static str) -> Self {
-        CostModelId(s.to_string())
+        CostModelId::made(s.to_string())
     }
 
-    /// The static model of GPU family `family` in `precision` (`isa:navi21`, `isa:navi21:f16`).
+    /// The static model of GPU family `family` (`vendor:chip`, or a bare chip) in `precision`
+    /// (`isa:amd:navi21`, `isa:amd:navi21:f16`).
     pub fn isa(family: &str, precision: Precision) -> Self {
-        CostModelId(match precision {
+        CostModelId::made(match precision {
             Precision::F32 => format!("isa:{family}"),
             p => format!("isa:{family}:{}", p.as_str()),
         })
     }
 
     pub fn as_str(&self) -> &str {
-        &self.0
+        &self.text
+    }
+
+    /// What the id names.
+    pub fn kind(&self) -> &IdKind {
+        &self.kind
+    }
+
+    /// The vendor of a GPU family's model (`isa:intel:tgl` -> `intel`); `None` for other
+    /// models and for a bare chip (`isa:navi21`), whose vendor `isa` decides.
+    pub fn vendor(&self) -> Option<&str> {
+        match &self.kind {
+            IdKind::Isa { vendor, .. } => vendor.as_deref(),
+            _ => None,
+        }
+    }
+
+    /// The chip of a GPU family's model (`isa:intel:tgl:f16` -> `tgl`).
+    pub fn chip(&self) -> Option<&str> {
+        match &self.kind {
+            IdKind::Isa { chip, .. } => Some(chip),
+            _ => None,
+        }
+    }
+
+    /// The GPU family of a static model's id, as `isa` names families (`isa:intel:tgl:f16` ->
+    /// `intel:tgl`, `isa:navi21` -> `navi21`).
+    pub fn gpu_family(&self) -> Option<String> {
+        match &self.kind {
+            IdKind::Isa {
+                vendor: Some(v),
+                chip,
+                ..
+            } => Some(format!("{v}:{chip}")),
+            IdKind::Isa { chip, .. } => Some(chip.clone()),
+            _ => None,
+        }
+    }
+
+    /// The precision the id names: a GPU family's (`:f16`), float32 for every other id (a
+    /// model's own precision is [`CostModel::precision`]).
+    pub fn precision(&self) -> Precision {
+        match &self.kind {
+            IdKind::Isa { precision, .. } => *precision,
+            _ => Precision::F32,
+        }
+    }
+}
+
+impl TryFrom<String> for CostModelId {
+    type Error = String;
+    fn try_from(s: String) -> std::result::Result<Self, String> {
+        Self::parse(&s)
+    }
+}
+
+impl From<CostModelId> for String {
+    fn from(id: CostModelId) -> String {
+        id.text
     }
 }
 
 impl std::fmt::Display for CostModelId {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
+        f.write_str(&self.text)
     }
 }
 
 impl PartialEq<str> for CostModelId {
     fn eq(&self, other: &str) -> bool {
-        self.0 == other
+        self.text == other
     }
 }
 
@@ -153,6 +266,12 @@ impl CostFigure {
     pub fn verdict_words(&self) -> &'static str {
         verdict_words(self.verdict)
     }
+}
+
+/// Writes a verdict of "cheaper than phong_exact" as its words ([`verdict_words`]), as
+/// tune.json does (`#[serde(serialize_with = "crate::cost::as_words")]`).
+pub fn as_words<S: serde::Serializer>(v: &Verdict, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(verdict_words(*v))
 }
 
 /// A verdict of "cheaper than phong_exact" in the words of a cost: cheaper, not cheaper,
@@ -227,5 +346,38 @@ mod tests {
         for bad in ["", "isa:", ":x", "isa:a b", "isa:../x", "isa:x/y", "é"] {
             assert!(CostModelId::parse(bad).is_err(), "{bad:?} accepted");
         }
+    }
+
+    /// The vendor, chip and precision are read from the id's words once: a precision word is
+    /// not a chip (`isa:navi21:f16` has no vendor), a vendor word is not a precision.
+    #[test]
+    fn an_id_knows_its_gpu_family() {
+        let id = |s: &str| CostModelId::parse(s).unwrap();
+        let gpu = |s: &str| {
+            let i = id(s);
+            (
+                i.vendor().map(str::to_string),
+                i.chip().map(str::to_string),
+                i.precision(),
+            )
+        };
+        let p16 = Precision::F16;
+        let s = |x: &str| Some(x.to_string());
+        assert_eq!(gpu("isa:intel:tgl"), (s("intel"), s("tgl"), Precision::F32));
+        assert_eq!(gpu("isa:amd:navi21:f16"), (s("amd"), s("navi21"), p16));
+        assert_eq!(gpu("isa:navi21:f16"), (None, s("navi21"), p16));
+        assert_eq!(gpu("isa:navi21"), (None, s("navi21"), Precision::F32));
+        // Teeth: other ids have no family; an unknown last word is not a precision.
+        assert_eq!(gpu("lavapipe_frame"), (None, None, Precision::F32));
+        assert_eq!(gpu("bench:isa-x"), (None, None, Precision::F32));
+        assert_eq!(id("isa:a:b:f64").kind(), &IdKind::Other);
+        assert_eq!(id(LAVAPIPE_ISOLATED).kind(), &IdKind::Lavapipe);
+        assert_eq!(id(SOFTWARE).kind(), &IdKind::Other);
+        // JSON reads into the same id, written as its text.
+        let json = serde_json::to_string(&id("isa:arm:g610:f16")).unwrap();
+        assert_eq!(json, "\"isa:arm:g610:f16\"");
+        let back: CostModelId = serde_json::from_str(&json).unwrap();
+        assert_eq!(back.vendor(), Some("arm"));
+        assert!(serde_json::from_str::<CostModelId>("\"isa:a b\"").is_err());
     }
 }

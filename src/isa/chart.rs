@@ -9,7 +9,8 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::table::IsaReport;
+use super::report::IsaReport;
+use crate::compare::Metric;
 use crate::error::{Error, Result};
 use crate::output::chart::{both, plot_err, svg};
 
@@ -31,8 +32,8 @@ pub fn errors(dirs: &[std::path::PathBuf]) -> Result<BTreeMap<String, (f64, f64)
         for m in methods {
             let (Some(name), Some(p99), Some(max)) = (
                 m["name"].as_str(),
-                m["p99_abs_error"].as_f64(),
-                m["max_abs_error"].as_f64(),
+                m[Metric::P99AbsError.name()].as_f64(),
+                m[Metric::MaxAbsError.name()].as_f64(),
             ) else {
                 continue;
             };

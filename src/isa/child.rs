@@ -3,11 +3,10 @@
 //! child only). It builds the timed draw's pipelines and the isolated kernels on that device,
 //! reads back what the compiler made of them and prints one [`ChildReport`] as JSON on stdout.
 //! Nothing is ever submitted: the null device compiles, it cannot execute.
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
-use serde::{Deserialize, Serialize};
-
+use super::request::{scene, ChildReport, ChildRequest, Compiled};
 use crate::error::{Error, Result};
 use crate::gpu::evaluate::Kernel;
 use crate::gpu::shaders::has_evaluate_program;
@@ -18,69 +17,6 @@ use crate::gpu::vk::{
 use crate::gpu::{Renderer, Shading};
 use crate::isa::vendor::{Api, Vendor};
 use crate::method::{self, Method};
-use crate::scene::Scene;
-
-/// The scene whose timed draw is compiled when none is given: the shipped generated torus
-/// (one directional light, specular on, screen-linear), so no mesh file is needed.
-pub const DEFAULT_SCENE: &str = include_str!("../../scenes/torus_generated.toml");
-/// Its name in reports.
-pub const DEFAULT_SCENE_NAME: &str = "scenes/torus_generated.toml";
-
-impl crate::child::Job for ChildRequest {
-    const NAME: &'static str = "isa_family";
-    type Reply = ChildReport;
-}
-
-/// What a child is asked to compile.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct ChildRequest {
-    pub family: String,
-    pub methods: Vec<String>,
-    /// Scene file; `None`: [`DEFAULT_SCENE`].
-    pub scene: Option<PathBuf>,
-    /// The two evaluation counts of the isolated kernel (glsl/evaluate.comp `REPEAT`).
-    pub kernel_counts: [u32; 2],
-    /// Extra compute programs (SPIR-V files, one storage buffer at binding 0), compiled as
-    /// they are: the probes of the tests.
-    pub probes: Vec<PathBuf>,
-    /// The precision of the method programs (issue 23; absent: f32).
-    #[serde(default)]
-    pub precision: crate::method::Precision,
-}
-
-/// One compiled program.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Compiled {
-    pub method: String,
-    /// SPIR-V program name (spirv/<program>.<stage>.spv), or the probe's file name.
-    pub program: String,
-    /// "draw" (the timed draw's pipeline), "kernel" (glsl/evaluate.comp) or "probe".
-    pub kind: String,
-    /// The kernel's evaluation count (`REPEAT`); `None` for draws and probes.
-    pub repeat: Option<u32>,
-    pub executables: Vec<Executable>,
-}
-
-/// What one child prints.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct ChildReport {
-    pub family: String,
-    pub device_name: String,
-    pub driver_name: String,
-    /// The driver's version string ("Mesa 22.3.6" on Debian 12).
-    pub driver_info: String,
-    pub api_version: String,
-    pub compiled: Vec<Compiled>,
-    pub elapsed_ms: f64,
-    /// Whether the device compiles float16 arithmetic (Vulkan's shaderFloat16); absent from
-    /// the OpenGL route, whose vendors say it themselves.
-    #[serde(default)]
-    pub float16: Option<bool>,
-    /// Methods the driver's shading language cannot express, each with why (OpenGL ES 2.0's
-    /// ESSL 1.00 has no array constructors, gl_VertexID or storage buffers); empty elsewhere.
-    #[serde(default)]
-    pub skipped: Vec<String>,
-}
 
 /// Keeps only the disassembly among the representations (ACO's "Assembly"; NIR and ACO IR are
 /// large and not asked for), so that the report stays small; none where the driver has none.
@@ -93,18 +29,6 @@ fn keep_disassembly(mut exes: Vec<Executable>) -> Vec<Executable> {
         });
     }
     exes
-}
-
-/// Loads the request's scene.
-pub(crate) fn scene(req: &ChildRequest) -> Result<Scene> {
-    match &req.scene {
-        Some(p) => crate::scene::load_scene(p),
-        None => crate::scene::parse_scene(
-            Path::new(DEFAULT_SCENE_NAME),
-            DEFAULT_SCENE,
-            &crate::geometry::load_mesh,
-        ),
-    }
 }
 
 /// Compiles everything `req` asks for on the device the environment selects (the parent sets

@@ -179,15 +179,11 @@ impl CostSource for StaticCost {
 }
 
 /// The family id (`vendor:chip`) and precision of an `isa:FAMILY` (float32) or
-/// `isa:FAMILY:f16` id, FAMILY a family id or a bare AMD chip; `None` for anything else.
+/// `isa:FAMILY:f16` id, FAMILY a family id or a bare AMD chip ([`CostModelId::gpu_family`]);
+/// `None` for anything else.
 fn family_of(id: &CostModelId) -> Option<(String, Precision)> {
-    let f = id.as_str().strip_prefix("isa:")?;
-    let (f, p) = match f.strip_suffix(":f16") {
-        Some(f) => (f, Precision::F16),
-        None => (f, Precision::F32),
-    };
-    let (vendor, chip) = super::vendor::resolve(f).ok()?;
-    Some((format!("{}:{chip}", vendor.prefix()), p))
+    let (vendor, chip) = super::vendor::resolve(&id.gpu_family()?).ok()?;
+    Some((format!("{}:{chip}", vendor.prefix()), id.precision()))
 }
 
 #[cfg(test)]

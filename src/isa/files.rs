@@ -7,7 +7,8 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::table::{IsaReport, REQUIRED};
+use super::report::IsaReport;
+use super::table::REQUIRED;
 use crate::error::{Error, Result};
 use crate::output::{
     sync_filesystem, write_atomic, write_atomic_as, write_bytes_atomic, Durability,

@@ -10,7 +10,7 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use super::child::{ChildReport, ChildRequest, Compiled};
+use super::request::{ChildReport, ChildRequest, Compiled};
 use super::vendor::{Api, Vendor};
 use crate::error::{Error, Result};
 use crate::gpu::gl::{glsl, GlApi, GlContext, GlInfo, GlStage};
@@ -56,7 +56,7 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
     };
     // Compute shaders: OpenGL 4.3 and OpenGL ES 3.1.
     let compute = info.es.is_none_or(|v| v >= (3, 1));
-    let scene = super::child::scene(req)?;
+    let scene = super::request::scene(req)?;
     let mut inputs: BTreeMap<String, SceneInputs> = BTreeMap::new();
     let mut compiled = Vec::new();
     let mut skipped = Vec::new();

@@ -11,19 +11,22 @@
 //! environment (driver selection, preloaded shim, chip variable) set before the driver loads:
 //! a family the driver refuses or crashes on (Mesa 22.3.6 dies of SIGFPE on navi24; nouveau
 //! falls back to llvmpipe on Ampere) is reported as not supported, a vendor that is not set up
-//! as such with the command that sets it up, never fatal. [`table`] turns the children's
-//! reports into rows and ratios to phong_exact; [`files`] writes isa.json, isa.csv, the
-//! disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated cost and
-//! [`claims`] the op-count judgement on AMD's compiled instructions. The figures are each
+//! as such with the command that sets it up, never fatal. [`request`] is what a child is asked
+//! and prints; [`table`] turns the children's reports into rows and ratios to phong_exact,
+//! [`report`] into isa.json's report with each family's status; [`files`] writes isa.json,
+//! isa.csv, the disassembly; [`rank`] holds the Spearman correlation with lavapipe's isolated
+//! cost and [`op_count`] the op-count judgement on AMD's compiled instructions. The figures are each
 //! compiler's static model or counts (`FamilyStatus::ranking` says which), not timings: they
 //! rank programs, they do not time them.
 pub mod chart;
 pub mod child;
-pub mod claims;
 pub mod cost;
 pub mod files;
 pub mod gl_child;
+pub mod op_count;
 pub mod rank;
+pub mod report;
+pub mod request;
 pub mod table;
 pub mod vendor;
 
@@ -33,8 +36,9 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::method::Method;
-pub use child::{ChildReport, ChildRequest, Compiled};
-pub use table::{FamilyStatus, IsaReport, Row};
+pub use report::{FamilyStatus, IsaReport};
+pub use request::{ChildReport, ChildRequest, Compiled};
+pub use table::Row;
 pub use vendor::{Family, Vendor};
 
 /// The families compiled by default: a spread Mesa 22.3.6 accepts, oldest first (GCN1, GCN4,
@@ -65,7 +69,7 @@ pub struct IsaOptions {
     /// The Vulkan ICD manifest of the RADV build to use (VK_DRIVER_FILES); `None`: the
     /// system's RADV, found by the loader's rules ([`crate::gpu::icd`]).
     pub driver_files: Option<PathBuf>,
-    /// Scene whose timed draw is compiled; `None`: [`child::DEFAULT_SCENE`].
+    /// Scene whose timed draw is compiled; `None`: [`request::DEFAULT_SCENE`].
     pub scene: Option<PathBuf>,
     /// The shadelab binary the children run (`std::env::current_exe()` from the CLI; tests
     /// pass Cargo's `CARGO_BIN_EXE_shadelab`).
@@ -237,5 +241,5 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
         .into_iter()
         .map(|(i, o)| (families[i], o))
         .collect();
-    table::report(opts, outcomes, start.elapsed().as_secs_f64())
+    report::report(opts, outcomes, start.elapsed().as_secs_f64())
 }

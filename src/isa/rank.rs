@@ -3,7 +3,7 @@
 //! lavapipe's isolated cost (bench.json), per family.
 use serde::{Deserialize, Serialize};
 
-use super::table::IsaReport;
+use super::table::{find_row, Row};
 use crate::error::{Error, Result};
 
 /// The measure compared with lavapipe's isolated cost, for a family ranked by `key`.
@@ -11,9 +11,14 @@ pub fn measure(key: &str) -> String {
     format!("{key} of one kernel evaluation vs bench.json isolated_ns_per_eval")
 }
 
-/// Per family, Spearman's rho between one kernel evaluation's inverse throughput and
-/// bench.json's `isolated_ns_per_eval`, over the methods both have.
-pub fn against_bench(report: &IsaReport, bench: &serde_json::Value) -> Result<Vec<Correlation>> {
+/// Per family of `families` ((row key, its ranking statistic's key): the compiled ones),
+/// Spearman's rho between one kernel evaluation's ranking statistic in `rows` and bench.json's
+/// `isolated_ns_per_eval`, over the methods both have.
+pub fn against_bench(
+    rows: &[Row],
+    families: &[(&str, String)],
+    bench: &serde_json::Value,
+) -> Result<Vec<Correlation>> {
     let methods = bench["methods"].as_array().ok_or_else(|| {
         Error::Usage("--bench: no `methods` list: not a bench.json of `shadelab bench`".into())
     })?;
@@ -21,24 +26,19 @@ pub fn against_bench(report: &IsaReport, bench: &serde_json::Value) -> Result<Ve
         .iter()
         .filter_map(|m| Some((m["name"].as_str()?, m["isolated_ns_per_eval"].as_f64()?)))
         .collect();
-    Ok(report
-        .supported()
-        .into_iter()
-        .map(|f| {
-            let key = report
-                .family(f)
-                .and_then(|s| s.ranking())
-                .map_or(String::new(), |r| r.key);
+    Ok(families
+        .iter()
+        .map(|&(f, ref key)| {
             let (a, b): (Vec<f64>, Vec<f64>) = isolated
                 .iter()
                 .filter_map(|&(m, ns)| {
-                    let row = report.row(f, m, "compute", "evaluation")?;
-                    Some((*row.statistics.get(&key)?, ns))
+                    let row = find_row(rows, f, m, "compute", "evaluation")?;
+                    Some((*row.statistics.get(key)?, ns))
                 })
                 .unzip();
             Correlation {
                 family: f.to_string(),
-                measure: measure(&key),
+                measure: measure(key),
                 methods: a.len(),
                 spearman: spearman(&a, &b),
             }

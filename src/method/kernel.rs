@@ -17,9 +17,11 @@ use super::dual::Dual;
 use super::interval::Interval;
 #[cfg(doc)]
 use super::real::Real;
+use super::rounded::{Rounded, F16, F32};
 
 /// A scalar formula `f(z)` in every number type it is evaluated in: the f64 truth, the
-/// software engine's float32 and float16, and `prove`'s intervals and their derivatives.
+/// software engine's float32 and float16, `prove`'s intervals and their derivatives, and the
+/// program's rounding in float32 and float16 that `tune` proves ([`Rounded`]).
 /// Each must be the same formula (the same operations in the same order), which
 /// [`Generic`] guarantees by instantiating one generic function.
 pub trait Factor: Sync + Send {
@@ -30,6 +32,15 @@ pub trait Factor: Sync + Send {
     fn f16(&self, z: f16) -> f16;
     fn interval(&self, z: Interval) -> Interval;
     fn dual(&self, z: Dual) -> Dual;
+    /// The formula as a float32 program computes it, its rounding enclosed. By default the
+    /// rounding is not known (the whole line): a proof of it then bounds nothing.
+    fn rounded_f32(&self, z: Rounded<F32>) -> Rounded<F32> {
+        Rounded::unknown(self.interval(z.v))
+    }
+    /// [`Factor::rounded_f32`] of a float16 program.
+    fn rounded_f16(&self, z: Rounded<F16>) -> Rounded<F16> {
+        Rounded::unknown(self.interval(z.v))
+    }
     /// The domain of z a generated formula was proven on, outside which it may be anything (a
     /// tuned method's, src/method/tuned.rs): `auto` draws it only inside. None: every z the
     /// method's claims and validity state (every formula of the table).
@@ -44,7 +55,7 @@ impl std::fmt::Debug for dyn Factor {
     }
 }
 
-/// A [`Factor`] that is one generic function over [`Real`], instantiated five times
+/// A [`Factor`] that is one generic function over [`Real`], instantiated in every number type
 /// ([`formula!`]).
 pub struct Generic {
     pub name: &'static str,
@@ -53,6 +64,8 @@ pub struct Generic {
     pub f16: fn(f16) -> f16,
     pub interval: fn(Interval) -> Interval,
     pub dual: fn(Dual) -> Dual,
+    pub rounded_f32: fn(Rounded<F32>) -> Rounded<F32>,
+    pub rounded_f16: fn(Rounded<F16>) -> Rounded<F16>,
 }
 
 /// The [`Generic`] factor of a generic function `fn k<T: Real>(z: T) -> T`:
@@ -67,6 +80,8 @@ macro_rules! formula {
             f16: $f,
             interval: $f,
             dual: $f,
+            rounded_f32: $f,
+            rounded_f16: $f,
         }
     };
 }
@@ -94,6 +109,12 @@ impl Factor for Generic {
     fn dual(&self, z: Dual) -> Dual {
         (self.dual)(z)
     }
+    fn rounded_f32(&self, z: Rounded<F32>) -> Rounded<F32> {
+        (self.rounded_f32)(z)
+    }
+    fn rounded_f16(&self, z: Rounded<F16>) -> Rounded<F16> {
+        (self.rounded_f16)(z)
+    }
 }
 
 /// A number type a [`Factor`] is evaluated in: picks the factor's instantiation.
@@ -116,6 +137,8 @@ evaluate!(f32, f32);
 evaluate!(f16, f16);
 evaluate!(Interval, interval);
 evaluate!(Dual, dual);
+evaluate!(Rounded<F32>, rounded_f32);
+evaluate!(Rounded<F16>, rounded_f16);
 
 /// How a [`Scale`]'s function makes the normal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

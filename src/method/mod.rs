@@ -10,6 +10,7 @@ pub mod kernel;
 pub mod linalg;
 pub mod precision;
 pub mod real;
+pub mod rounded;
 pub mod scanline;
 pub mod scanline_checks;
 pub mod table;
@@ -178,6 +179,21 @@ pub enum Property {
     /// `auto` may choose it (`crate::auto::candidates`): a cheap method, or the exact
     /// reference as the fallback.
     AutoCandidate,
+    /// A scale of the squared length that is not exact normalisation anywhere (its kernel a
+    /// [`Kernel::Scaled`] `N' = k(z) N` or `N / s(z)`): `tune` proves and costs it as a
+    /// baseline beside the approximations it fits (`crate::tune::candidate::papers`), from the
+    /// row's own factor.
+    TuneBaseline,
+    /// The interpolated normal used as it comes, unnormalised: the cost floor of exact
+    /// normalisation and a ceiling of the error (the report's second reference, the op-count
+    /// claim's baseline: [`phong_unnormalized`]).
+    Unnormalized,
+    /// Exact slerp along the span: the second reference of the angle-interpolating methods
+    /// ([`Reference::PhongAndSlerp`], [`slerp_reference`]).
+    SlerpReference,
+    /// Lighting at the vertices, colour interpolated: the cheapest shading that lights, drawn
+    /// beside phong_exact by bench's sweeps ([`vertex_lit_reference`]).
+    VertexLitReference,
 }
 
 /// The identifier of the exact reference, [`Property::ExactReference`]. Use this constant, never
@@ -187,6 +203,28 @@ pub const PHONG_EXACT: &str = "phong_exact";
 /// The exact reference's row.
 pub fn phong_exact() -> &'static Method {
     find(PHONG_EXACT).expect("the method table has phong_exact")
+}
+
+/// The unnormalised reference's row, [`Property::Unnormalized`]: its name is spelled in its
+/// row alone.
+pub fn phong_unnormalized() -> &'static Method {
+    with_property(Property::Unnormalized)
+        .next()
+        .expect("the method table has the unnormalised reference")
+}
+
+/// The second reference of the angle-interpolating methods, [`Property::SlerpReference`].
+pub fn slerp_reference() -> &'static Method {
+    with_property(Property::SlerpReference)
+        .next()
+        .expect("the method table has the slerp reference")
+}
+
+/// The vertex-lit reference, [`Property::VertexLitReference`].
+pub fn vertex_lit_reference() -> &'static Method {
+    with_property(Property::VertexLitReference)
+        .next()
+        .expect("the method table has the vertex-lit reference")
 }
 
 /// The methods with `property`, in table order.

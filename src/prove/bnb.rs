@@ -1,7 +1,7 @@
 //! Branch-and-bound over a box of inputs: the box with the largest proven upper bound is split
 //! in two along its widest side (measured against the root's), each half bounded again and a
 //! real point inside it evaluated, until the largest upper bound is within the tolerance of the
-//! best value found at a real point, or the box or time budget runs out. Every box ever
+//! best value found at a real point, or the boxes or seconds it may spend run out. Every box ever
 //! bounded counts in `boxes`.
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -21,9 +21,10 @@ pub type Cell = [Interval; 3];
 /// A point of the domain (theta degrees, t, s).
 pub type Point = [f64; 3];
 
-/// Budgets and stopping rule.
+/// How hard a branch-and-bound searches: its stopping rule, and the boxes and seconds it may
+/// spend (its effort; the error budgets are what its results are judged against).
 #[derive(Debug, Clone, Copy)]
-pub struct Budget {
+pub struct Effort {
     /// Stop when upper <= found * (1 + tolerance) + atol.
     pub tolerance: f64,
     /// The absolute allowance ([`ATOL`] for a reported metric).
@@ -44,7 +45,7 @@ pub struct Outcome {
     pub found_at: Option<Point>,
     pub boxes: usize,
     pub seconds: f64,
-    /// Stopped by the tolerance (false: by a budget).
+    /// Stopped by the tolerance (false: by its effort's limit).
     pub converged: bool,
 }
 
@@ -142,7 +143,7 @@ impl Best {
 /// value at a real point (None: the point is not one the method can be evaluated at).
 pub fn maximise(
     root: Cell,
-    budget: Budget,
+    effort: Effort,
     upper: impl Fn(&Cell) -> f64,
     value: impl Fn(&Point) -> Option<f64>,
 ) -> Outcome {
@@ -163,10 +164,10 @@ pub fn maximise(
         if best.non_finite {
             break (f64::INFINITY, true);
         }
-        if top.upper <= best.found.max(0.0) * (1.0 + budget.tolerance) + budget.atol {
+        if top.upper <= best.found.max(0.0) * (1.0 + effort.tolerance) + effort.atol {
             break (top.upper, true);
         }
-        if boxes >= budget.max_boxes || start.elapsed().as_secs_f64() >= budget.max_seconds {
+        if boxes >= effort.max_boxes || start.elapsed().as_secs_f64() >= effort.max_seconds {
             break (top.upper, false);
         }
         let axis = (0..3)

@@ -1,14 +1,17 @@
 //! The claims that bound a scaled method's length error, judged from their row: the row's
 //! kernel gives the formula ([`Scale`]: its f64 instantiation for the sweep, its interval one
-//! for [`super::claims::length_error`]'s branch-and-bound) and the claim's kind gives the
+//! for [`super::parts::length_error`]'s branch-and-bound) and the claim's kind gives the
 //! figure and the criterion ([`Kind::Validity`], [`Bound::Length`], [`Bound::TimesSmaller`]).
 //! A method whose kernel `prove` does not cover is judged by the sweep alone (basis found,
 //! never agrees); one without a scale is left to `shadelab stress` (not checked here). These
 //! checks are the rows' own: `shadelab list --json`, bench's claims, proof.json's `claims`
 //! and through bench.json the report's claims matrix all call them through
 //! [`crate::method::Method::judge`].
-use super::claims::{at_most, length_error, verdict, Part};
+use serde::Serialize;
+
+use super::covered;
 use super::interval::Interval;
+use super::parts::{at_most, length_error, verdict, Part};
 use crate::method::checks::{
     edge_error, interior_error_of, judged_elsewhere, length_error_at, Worst, COLOUR_LEVEL_PCT,
     STEPS, VISIBLE_LENGTH_ERROR_PCT,
@@ -382,6 +385,60 @@ pub(crate) fn times_smaller_of(
             k.0
         ),
     }
+}
+
+/// One claim as proof.json lists it: the method table's check, with its basis and figures.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProofClaim {
+    pub method: String,
+    pub claim: &'static str,
+    pub verdict: Verdict,
+    pub basis: Basis,
+    /// The proven upper bound of the bounded quantity (null: not proven).
+    pub proven_upper: Option<f64>,
+    /// The largest value of it found at a real point (null: non-finite, or not given).
+    pub found: Option<f64>,
+    /// The kind and unit of `proven_upper` and `found` (see [`Quantity`]).
+    pub quantity: Option<Quantity>,
+    pub measured: String,
+    pub how: String,
+}
+
+/// The claims of `methods` that are bounds over a domain (basis proven or found), as their
+/// rows' checks judge them (by proof where the kernel is provable, [`judge`]); a found
+/// one says why it is not proven.
+pub fn proof_claims(methods: &[&'static Method]) -> Vec<ProofClaim> {
+    let mut out = Vec::new();
+    for m in methods {
+        for c in m.claims {
+            let r = judge(m, c);
+            let measured = match r.evidence.basis {
+                Basis::Measured => continue,
+                Basis::Proven => r.measured,
+                Basis::Found => format!(
+                    "{}; not proven: {}",
+                    r.measured,
+                    if covered::factor_of(m).is_some() {
+                        "the claim's quantity is not a scaling method's length error"
+                    } else {
+                        covered::out_of_reach(m)
+                    }
+                ),
+            };
+            out.push(ProofClaim {
+                method: m.name.into(),
+                claim: c.claim,
+                verdict: r.verdict,
+                basis: r.evidence.basis,
+                proven_upper: r.evidence.proven_upper,
+                found: r.evidence.found,
+                quantity: r.evidence.quantity,
+                measured,
+                how: r.how,
+            });
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@
 //! normal-space errors do not depend on them.
 use glam::DVec3;
 
-use super::bnb::{maximise, Budget, Cell, Point};
+use super::bnb::{maximise, Cell, Effort, Point};
 use super::dual::{mean_value, Dual};
 use super::interval::Interval;
 use crate::cases::{errors, Case, CaseSpec, Shape};
@@ -151,7 +151,7 @@ pub fn upper(k: &Scale, metric: Metric, z: Interval) -> f64 {
 pub fn z_range(max_angle_deg: f64) -> Interval {
     let unit = Interval::new(0.0, 1.0);
     let root = [Interval::new(0.0, max_angle_deg), unit, unit];
-    let budget = Budget {
+    let effort = Effort {
         tolerance: 1e-6,
         atol: 1e-6,
         max_boxes: 20_000,
@@ -159,7 +159,7 @@ pub fn z_range(max_angle_deg: f64) -> Interval {
     };
     let o = maximise(
         root,
-        budget,
+        effort,
         |c| (Interval::point(1.0) - squared_length(c)).hi,
         |p| {
             let case = Case::new(spec_at(p, 1.0));

@@ -6,12 +6,12 @@
 //! error is carried from the normal-space bounds through the lighting's derivatives;
 //! `max_valid_angle` is proven per domain (the largest angle at which that colour bound stays
 //! within the threshold), stress's grid's beside it (its cases are edges). The claims that are
-//! bounds are judged in [`claims`]. Output: proof.json (docs/proof.schema.json), a table.
+//! bounds are judged in [`bounds`] (their parts in [`parts`]). Output: proof.json (docs/proof.schema.json), a table.
 pub mod bnb;
 pub mod bounds;
-pub mod claims;
 pub mod covered;
 pub mod domain;
+pub mod parts;
 /// The interval types live with the number types of the formulas ([`crate::method::real`]);
 /// `prove` is where they are used.
 pub use crate::method::{dual, interval};
@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use self::bnb::{Budget, Outcome};
+use self::bnb::{Effort, Outcome};
 use self::covered::Metric;
 pub use self::domain::Domain;
 use self::interval::Interval;
@@ -48,7 +48,7 @@ pub struct ProveOptions {
     pub shininess: f64,
     /// Colour error within which a case is valid (1/255).
     pub threshold: f64,
-    /// Budget of each branch-and-bound.
+    /// The effort of each branch-and-bound: the boxes and seconds it may spend.
     pub max_boxes: usize,
     pub max_seconds: f64,
     /// Progress lines on stderr.
@@ -200,7 +200,7 @@ pub struct ProofReport {
     pub domains: Vec<domain::DomainInfo>,
     pub methods: Vec<MethodProof>,
     pub out_of_reach: Vec<OutOfReach>,
-    pub claims: Vec<claims::ProofClaim>,
+    pub claims: Vec<bounds::ProofClaim>,
     /// Every metric of every covered method within the tolerance, over both domains.
     pub all_within_tolerance: bool,
     pub seconds: f64,
@@ -246,7 +246,7 @@ fn prove_metric_in(
     } else {
         bnb::ATOL
     };
-    let budget = Budget {
+    let effort = Effort {
         tolerance: opts.tolerance,
         atol,
         max_boxes: opts.max_boxes,
@@ -255,7 +255,7 @@ fn prove_metric_in(
     let point = Interval::point(0.0);
     let mut o = bnb::maximise(
         [z, point, point],
-        budget,
+        effort,
         |c| covered::upper(k, metric, c[0]),
         |p| {
             let q = domain.point_for_z(p[0], max_angle_deg);
@@ -501,7 +501,7 @@ pub fn run(methods: &[&'static Method], opts: &ProveOptions) -> Result<ProofRepo
             .iter()
             .all(|d| d.metrics.iter().all(|x| x.within_tolerance))
     });
-    let claims = claims::judge(methods);
+    let claims = bounds::proof_claims(methods);
     Ok(ProofReport {
         schema_version: SCHEMA_VERSION,
         max_angle_deg: opts.max_angle_deg,

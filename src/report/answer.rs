@@ -20,42 +20,16 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use crate::cost::{CostFigure, CostKind, CostModel};
+pub use super::budget::{budgets, Budget};
+pub use super::cell::{ratio_text, Binding, Cell, Choice};
+use super::summary::Summary;
+use super::tuned::Tuned;
+use crate::compare::Metric;
+use crate::cost::{CostFigure, CostKind, CostModel, CostModelId};
 use crate::method::{Precision, Verdict, PHONG_EXACT};
 
 /// answer.json `schema_version` (2: `summary`, cells' `unresolved` and `tuned`).
 pub const SCHEMA_VERSION: u32 = 2;
-
-/// One error budget: a compare metric (of the linear luminance) and its limit.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Budget {
-    /// `max_1_1024`, `max_1_255`, `max_4_255`, `p99_1_1024`, ...
-    pub id: String,
-    /// compare's JSON metric: `max_abs_error` or `p99_abs_error`.
-    pub metric: String,
-    pub limit: f64,
-    /// As a person reads it: `max |dI| <= 1/255`.
-    pub label: String,
-}
-
-/// The six budgets of the answer: largest and p99 |dI| at 1/1024, 1/255 and 4/255.
-pub fn budgets() -> Vec<Budget> {
-    let mut v = Vec::new();
-    for (metric, short, shown) in [
-        ("max_abs_error", "max", "max |dI|"),
-        ("p99_abs_error", "p99", "p99 |dI|"),
-    ] {
-        for (num, den) in [(1u32, 1024u32), (1, 255), (4, 255)] {
-            v.push(Budget {
-                id: format!("{short}_{num}_{den}"),
-                metric: metric.into(),
-                limit: f64::from(num) / f64::from(den),
-                label: format!("{shown} <= {num}/{den}"),
-            });
-        }
-    }
-    v
-}
 
 /// One method's error on one scene (compare's summary), the input of the budget check.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,8 +40,8 @@ pub struct SceneError {
     pub precision: Precision,
     pub covered_pixels: usize,
     pub non_finite_pixels: usize,
-    /// Metric name to value (`None`: the metric does not apply).
-    pub metrics: BTreeMap<String, Option<f64>>,
+    /// Each metric's value (`None`: the metric does not apply).
+    pub metrics: BTreeMap<Metric, Option<f64>>,
     /// Where the measurement is shown, relative to the report folder.
     pub evidence: String,
 }
@@ -76,7 +50,8 @@ pub struct SceneError {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BudgetCheck {
     pub method: String,
-    pub budget: String,
+    #[serde(with = "super::budget::as_id")]
+    pub budget: Budget,
     /// The precision of the errors checked.
     #[serde(default)]
     pub precision: Precision,
@@ -92,64 +67,6 @@ pub struct BudgetCheck {
     pub evidence: String,
 }
 
-/// A method chosen for a cell.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Choice {
-    pub method: String,
-    pub ratio: Option<f64>,
-    pub ci95_low: Option<f64>,
-    pub ci95_high: Option<f64>,
-    /// The verdict of "cheaper than phong_exact" under the cell's model.
-    pub verdict: Verdict,
-    /// Its worst error under the budget's metric over the scenes.
-    pub worst_error: Option<f64>,
-    pub cost_evidence: String,
-    pub error_evidence: String,
-}
-
-/// One cell: a budget under a cost model.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Cell {
-    pub budget: String,
-    pub cost_model: String,
-    /// The cheapest qualifying method measured cheaper than phong_exact, or phong_exact.
-    pub answer: Choice,
-    pub runner_up: Option<Choice>,
-    pub nothing_cheaper: bool,
-    /// Methods meeting the budget on every scene (phong_exact included).
-    pub qualifying: usize,
-    /// Whether the answer's interval lies wholly below the runner-up's (an interval model;
-    /// static: the figures differ). False: the two are not told apart by this measurement.
-    pub separated: bool,
-    /// The scene that decides the cell, when a method this model measures cheaper than the
-    /// answer fails the budget: the scene ruling out the most of them.
-    pub binding: Option<Binding>,
-    /// Interval models: the methods within the budget whose interval does not tell them from
-    /// the answer (neither measured cheaper nor dearer, yet possibly cheaper): the cell is
-    /// unresolved by this run, and its text says what would resolve it. Empty: resolved.
-    #[serde(default)]
-    pub unresolved: Vec<String>,
-    /// A tuned approximation (`shadelab tune`) proven within the budget and cheaper than
-    /// phong_exact under the cell's model, when the report read tune's findings.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tuned: Option<super::tuned::TunedWin>,
-    /// The cell as one sentence.
-    pub text: String,
-}
-
-/// The scene that keeps cheaper methods out of a cell.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Binding {
-    pub scene: String,
-    /// Methods cheaper than the answer (under the cell's model) that fail the budget on it.
-    pub ruled_out: usize,
-    /// Methods cheaper than the answer that fail the budget on some scene.
-    pub cheaper_failing: usize,
-    /// The cheapest of those it rules out, and its error there.
-    pub cheapest: String,
-    pub evidence: String,
-}
-
 /// DIR/answer.json.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Answer {
@@ -161,7 +78,7 @@ pub struct Answer {
     pub checks: Vec<BudgetCheck>,
     pub cells: Vec<Cell>,
     /// The answer in words, what differs, and per scene ([`super::summary`]).
-    pub summary: super::summary::Summary,
+    pub summary: Summary,
 }
 
 /// Whether `method` meets `b` over `errors` (every scene of `scenes`).
@@ -174,7 +91,7 @@ pub fn check(
 ) -> BudgetCheck {
     let mut c = BudgetCheck {
         method: method.into(),
-        budget: b.id.clone(),
+        budget: *b,
         precision,
         meets: true,
         worst: Some(f64::NEG_INFINITY),
@@ -228,7 +145,7 @@ pub fn check(
                     c.worst_scene = s.clone();
                     c.evidence = e.evidence.clone();
                 }
-                if v > b.limit {
+                if v > b.limit.get() {
                     fail(&mut c, s, format!("{} {v:.3e} on {s}", b.metric));
                 }
             }
@@ -257,27 +174,6 @@ fn choice(m: &str, fig: Option<&CostFigure>, chk: Option<&BudgetCheck>) -> Choic
         worst_error: chk.and_then(|c| c.worst),
         cost_evidence: fig.map_or(String::new(), |f| f.evidence.clone()),
         error_evidence: chk.map_or(String::new(), |c| c.evidence.clone()),
-    }
-}
-
-impl Choice {
-    /// Whether the cell's model measured it cheaper than phong_exact.
-    pub fn cheaper(&self) -> bool {
-        self.verdict == Verdict::Agrees
-    }
-
-    /// Its verdict in the words of a cost.
-    pub fn verdict_words(&self) -> &'static str {
-        crate::cost::verdict_words(self.verdict)
-    }
-}
-
-/// A ratio for a cell's text: `0.873 [0.85, 0.90]` or `0.873`.
-pub fn ratio_text(c: &Choice) -> String {
-    let r = c.ratio.map_or("unmeasured".into(), |r| format!("{r:.3}"));
-    match (c.ci95_low, c.ci95_high) {
-        (Some(l), Some(h)) => format!("{r} [{l:.3}, {h:.3}]"),
-        _ => r,
     }
 }
 
@@ -355,12 +251,13 @@ fn cell_text(b: &Budget, m: &CostModel, c: &Cell) -> String {
         );
         format!(
             "{}, {}: nothing is cheaper than phong_exact{close}",
-            b.label, m.title
+            b.label(),
+            m.title
         )
     } else {
         format!(
             "{}, {}: {} at {} of phong_exact; runner-up {} at {}{}",
-            b.label,
+            b.label(),
             m.title,
             c.answer.method,
             ratio_text(&c.answer),
@@ -504,8 +401,8 @@ fn cell(b: &Budget, m: &CostModel, checks: &[&BudgetCheck], scenes: &[String]) -
     let answer_ratio = if nothing { None } else { answer.ratio };
     let unresolved = unresolved_of(m, &ranked, &answer, nothing);
     let mut c = Cell {
-        budget: b.id.clone(),
-        cost_model: m.id.to_string(),
+        budget: *b,
+        cost_model: m.id.clone(),
         binding: binding(m, answer_ratio, checks, scenes),
         answer,
         runner_up,
@@ -532,7 +429,7 @@ pub struct Inputs<'a> {
     /// unchanged); a scene not listed takes `models`.
     pub scene_models: Vec<(String, Vec<CostModel>)>,
     /// What `shadelab tune` found, when the report was given it.
-    pub tuned: Option<super::tuned::Tuned>,
+    pub tuned: Option<Tuned>,
     /// The cost models the run lost, with why ([`super::summary::Missing`]).
     pub missing: Vec<super::summary::Missing>,
 }
@@ -566,7 +463,7 @@ fn cells_of(
     models: &[CostModel],
     checks: &[BudgetCheck],
     scenes: &[String],
-    tuned: Option<&super::tuned::Tuned>,
+    tuned: Option<&Tuned>,
 ) -> Vec<Cell> {
     budgets
         .iter()
@@ -574,10 +471,10 @@ fn cells_of(
         .map(|(b, m)| {
             let of: Vec<&BudgetCheck> = checks
                 .iter()
-                .filter(|c| c.budget == b.id && c.precision == m.precision)
+                .filter(|c| c.budget == *b && c.precision == m.precision)
                 .collect();
             let mut c = cell(b, m, &of, scenes);
-            if let Some(w) = tuned.and_then(|t| t.win(b, m.id.as_str())) {
+            if let Some(w) = tuned.and_then(|t| t.win(b, &m.id)) {
                 c.tuned = Some(w.clone());
                 c.text = cell_text(b, m, &c);
             }
@@ -619,8 +516,8 @@ pub fn answer_with(i: Inputs) -> Answer {
         let checks = checks_of(one, i.methods, i.errors, models, &budgets);
         let cells = cells_of(&budgets, models, &checks, one, None);
         for b in &budgets {
-            let of: Vec<Cell> = cells.iter().filter(|c| c.budget == b.id).cloned().collect();
-            per_scene.push(super::summary::scene_budget(s, &b.id, &of));
+            let of: Vec<Cell> = cells.iter().filter(|c| c.budget == *b).cloned().collect();
+            per_scene.push(super::summary::scene_budget(s, *b, &of));
         }
     }
     let summary = super::summary::summarize(
@@ -645,9 +542,9 @@ pub fn answer_with(i: Inputs) -> Answer {
 
 impl Answer {
     /// The cell of budget `b` under model `m`.
-    pub fn cell(&self, b: &str, m: &str) -> Option<&Cell> {
+    pub fn cell(&self, b: &Budget, m: &CostModelId) -> Option<&Cell> {
         self.cells
             .iter()
-            .find(|c| c.budget == b && c.cost_model == m)
+            .find(|c| c.budget == *b && c.cost_model == *m)
     }
 }

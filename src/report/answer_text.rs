@@ -4,7 +4,9 @@
 use std::fmt::Write as _;
 
 use super::answer::{ratio_text, Answer};
+use super::budget::Budget;
 use super::summary::CellRef;
+use crate::cost::CostModelId;
 
 /// Columns of the terminal text.
 const WIDTH: usize = 100;
@@ -12,24 +14,17 @@ const WIDTH: usize = 100;
 const TERMINAL_GROUPS: usize = 4;
 
 impl Answer {
-    /// A budget's label (`max |dI| <= 1/255`) from its id.
-    fn budget_label<'a>(&'a self, id: &'a str) -> &'a str {
-        (self.budgets.iter())
-            .find(|b| b.id == id)
-            .map_or(id, |b| b.label.as_str())
-    }
-
     /// A cost model's title from its id.
-    fn model_title<'a>(&'a self, id: &'a str) -> &'a str {
+    fn model_title<'a>(&'a self, id: &'a CostModelId) -> &'a str {
         (self.cost_models.iter())
-            .find(|m| m.id.as_str() == id)
-            .map_or(id, |m| m.title.as_str())
+            .find(|m| m.id == *id)
+            .map_or(id.as_str(), |m| m.title.as_str())
     }
 
     /// The differing cells grouped by (answer, cost model), in cell order: "specular_lut under
     /// lavapipe isolated cost, at every budget" reads better than six lines.
     fn differing_groups(&self) -> Vec<String> {
-        let mut groups: Vec<(&CellRef, Vec<&str>)> = Vec::new();
+        let mut groups: Vec<(&CellRef, Vec<&Budget>)> = Vec::new();
         for c in &self.summary.differing {
             match groups.iter_mut().find(|(g, _)| {
                 g.cost_model == c.cost_model
@@ -51,7 +46,7 @@ impl Answer {
                 let at = if budgets.len() == self.budgets.len() {
                     "at every budget".to_string()
                 } else {
-                    let labels: Vec<&str> = budgets.iter().map(|b| self.budget_label(b)).collect();
+                    let labels: Vec<String> = budgets.iter().map(|b| b.label()).collect();
                     format!("at {}", labels.join(", "))
                 };
                 format!("under {}: {what} {at}", self.model_title(&c.cost_model))
@@ -88,7 +83,7 @@ impl Answer {
         );
         s += "| cost model |";
         for b in &self.budgets {
-            let _ = write!(s, " {} |", b.label);
+            let _ = write!(s, " {} |", b.label());
         }
         s += "\n|---|";
         s += &"---|".repeat(self.budgets.len());
@@ -96,7 +91,7 @@ impl Answer {
         for m in &self.cost_models {
             let _ = write!(s, "| {} |", m.title);
             for b in &self.budgets {
-                let Some(c) = self.cell(&b.id, m.id.as_str()) else {
+                let Some(c) = self.cell(b, &m.id) else {
                     s += " - |";
                     continue;
                 };
@@ -106,7 +101,7 @@ impl Answer {
                     format!(
                         "[{}](index.html#answer-{}-{}) {}",
                         c.answer.method,
-                        b.id,
+                        b.id(),
                         m.id,
                         ratio_text(&c.answer)
                     )

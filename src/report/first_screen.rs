@@ -7,7 +7,8 @@ use std::fmt::Write as _;
 
 use super::answer::{self, Answer, Cell};
 use super::html::esc;
-use super::summary::{describe, vendor_of, SceneAnswer, SceneBudget};
+use super::models::{describe, vendor_of};
+use super::summary::{SceneAnswer, SceneBudget};
 use crate::cost::{CostKind, CostModel};
 use crate::method::PHONG_EXACT;
 
@@ -110,8 +111,8 @@ fn cell_html(c: &Cell, m: &CostModel, b: &answer::Budget) -> String {
         "<td id=\"{}\" data-budget=\"{}\" data-model=\"{}\" data-method=\"{}\" \
          data-nothing=\"{}\" data-runner-up=\"{}\" data-binding=\"{}\" data-unresolved=\"{}\">\
          {main}{second}{extra}</td>",
-        esc(&format!("answer-{}-{}", b.id, m.id)),
-        esc(&b.id),
+        esc(&format!("answer-{}-{}", b.id(), m.id)),
+        esc(&b.id()),
         esc(m.id.as_str()),
         esc(&c.answer.method),
         c.nothing_cheaper,
@@ -127,7 +128,7 @@ fn group_of(m: &CostModel) -> String {
     if m.kind != CostKind::Static {
         return "Timed on this machine's CPU (lavapipe, the software engine)".into();
     }
-    let vendor = vendor_of(m.id.as_str()).1;
+    let vendor = vendor_of(&m.id).1;
     match m.precision {
         crate::method::Precision::F16 => format!("{vendor} GPUs, float16 programs (static)"),
         _ => format!("{vendor} GPUs (static)"),
@@ -142,8 +143,8 @@ pub fn grid(a: &Answer) -> String {
         let _ = write!(
             h,
             "<th data-budget=\"{}\">{}</th>",
-            esc(&b.id),
-            esc(&b.label)
+            esc(&b.id()),
+            esc(&b.label())
         );
     }
     h += "</tr></thead><tbody>";
@@ -167,7 +168,7 @@ pub fn grid(a: &Answer) -> String {
             esc(&m.title)
         );
         for b in &a.budgets {
-            match a.cell(&b.id, m.id.as_str()) {
+            match a.cell(b, &m.id) {
                 Some(c) => h += &cell_html(c, m, b),
                 None => h += "<td>-</td>",
             }
@@ -190,10 +191,8 @@ fn differing(a: &Answer) -> String {
     for r in d {
         let (Some(c), Some(m), Some(b)) = (
             a.cell(&r.budget, &r.cost_model),
-            a.cost_models
-                .iter()
-                .find(|m| m.id == *r.cost_model.as_str()),
-            a.budgets.iter().find(|b| b.id == r.budget),
+            a.cost_models.iter().find(|m| m.id == r.cost_model),
+            a.budgets.iter().find(|b| **b == r.budget),
         ) else {
             continue;
         };
@@ -212,12 +211,12 @@ fn differing(a: &Answer) -> String {
             "<tr data-budget=\"{}\" data-model=\"{}\" data-method=\"{}\" data-nothing=\"{}\">\
              <th scope=\"row\">{}</th><td>{}</td><td><strong>{main}</strong>{extra}</td>\
              <td>{then}</td></tr>",
-            esc(&b.id),
+            esc(&b.id()),
             esc(m.id.as_str()),
             esc(&c.answer.method),
             c.nothing_cheaper,
             esc(&m.title),
-            esc(&b.label)
+            esc(&b.label())
         );
     }
     h + "</tbody></table>"
@@ -263,14 +262,14 @@ fn per_scene(a: &Answer) -> String {
         "<table class=\"answer scenes\" id=\"answer-scenes\"><thead><tr><th>scene</th>",
     );
     for b in &a.budgets {
-        let _ = write!(h, "<th>{}</th>", esc(&b.label));
+        let _ = write!(h, "<th>{}</th>", esc(&b.label()));
     }
     h += "</tr></thead><tbody>";
     let n = a.cost_models.len();
     for s in &a.scenes {
         let _ = write!(h, "<tr><th scope=\"row\">{}</th>", esc(s));
         for b in &a.budgets {
-            let Some(sb) = (a.summary.per_scene.iter()).find(|x| x.scene == *s && x.budget == b.id)
+            let Some(sb) = (a.summary.per_scene.iter()).find(|x| x.scene == *s && x.budget == *b)
             else {
                 h += "<td>-</td>";
                 continue;
@@ -294,7 +293,7 @@ fn per_scene(a: &Answer) -> String {
                 h,
                 "<td data-scene=\"{}\" data-budget=\"{}\" data-answers=\"{}\"{}>{body}</td>",
                 esc(s),
-                esc(&b.id),
+                esc(&b.id()),
                 esc(&answers_key(sb)),
                 if same { " class=\"same\"" } else { "" }
             );

@@ -6,14 +6,16 @@
 //! [`super::first_screen`].
 use std::collections::BTreeMap;
 
-pub mod claims;
-use claims::{Measured, Place};
+pub mod matrix;
+use matrix::{Measured, Place};
 
 use super::answer::{self, Answer, SceneError};
+use super::budget::METRICS;
 use super::html::method_anchor;
 use super::ReportData;
 use crate::bench::cost::TimedScene;
 use crate::bench::software::cost::SoftwareScene;
+use crate::compare::Metric;
 use crate::cost::{CostModel, Evidence, Registry};
 use crate::method::Precision;
 
@@ -38,10 +40,8 @@ pub fn scene_errors(d: &ReportData) -> Vec<SceneError> {
                     Precision::F32 => format!("index.html#{}", method_anchor(&s.id, &m.name)),
                     Precision::F16 => format!("{}/summary.json", s.compare_f16_dir),
                 };
-                let metrics: BTreeMap<String, Option<f64>> = ["max_abs_error", "p99_abs_error"]
-                    .iter()
-                    .map(|k| (k.to_string(), m.metric(k)))
-                    .collect();
+                let metrics: BTreeMap<Metric, Option<f64>> =
+                    METRICS.iter().map(|k| (*k, k.of(m))).collect();
                 v.push(SceneError {
                     scene: s.id.clone(),
                     method: m.name.clone(),
@@ -211,10 +211,10 @@ pub fn claims_measured(d: &ReportData) -> Vec<Measured> {
     out
 }
 
-/// The papers' claims as one matrix ([`claims::matrix`]): each claim (method, claim text)
+/// The papers' claims as one matrix ([`matrix::matrix`]): each claim (method, claim text)
 /// against each place that measured it, one merged cell where every place agrees.
 pub fn claims_matrix(d: &ReportData) -> String {
-    claims::matrix(&claims_measured(d))
+    matrix::matrix(&claims_measured(d))
 }
 
 /// A claim's basis for the matrix: "proven <= x, found y" for a proven bound, "found y" for a

@@ -21,12 +21,16 @@
 //! (the most triangles) first.
 pub mod answer;
 mod answer_text;
+mod body;
+pub mod budget;
+pub mod cell;
 pub mod first_screen;
 pub mod formulas;
 pub mod front;
 pub mod html;
 pub mod isa;
 pub mod links;
+pub mod models;
 pub mod sections;
 pub mod summary;
 pub mod svg;
@@ -62,7 +66,7 @@ pub struct ReportScene {
 
 /// What the default report of the shipped scenes may weigh, every file under DIR included
 /// (docs/report.md): `shadelab report` warns above it; a test holds the shipped scenes under it.
-pub const BUDGET_BYTES: u64 = 50_000_000;
+pub const SIZE_LIMIT_BYTES: u64 = 50_000_000;
 
 /// The settings of a report run.
 #[derive(Debug, Clone)]
@@ -74,9 +78,9 @@ pub struct ReportOptions {
     pub command_line: String,
     /// Show a progress bar on stderr (drawn only when stderr is a terminal).
     pub progress: bool,
-    /// The measurement plan (`report --runs`, `--full`: [`crate::bench::plan`], decided once
+    /// The measurement schedule (`report --runs`, `--full`: [`crate::bench::schedule`], decided once
     /// by the caller). Several runs need `exe`.
-    pub plan: crate::bench::plan::RunPlan,
+    pub schedule: crate::bench::schedule::Schedule,
     /// The shadelab binary that starts a bench's fresh-process runs.
     pub exe: Option<PathBuf>,
     /// The device every bench run opens (the report's own).
@@ -155,7 +159,7 @@ pub struct Written {
     /// Bytes of every file under DIR (the page and everything it can open).
     pub total_bytes: u64,
     pub files: usize,
-    /// Methods shown per scene ([`ALWAYS`] included).
+    /// Methods shown per scene ([`always`] included).
     pub methods: usize,
     pub seconds: f64,
     /// The answer (`shadelab report` prints its words, [`answer::Answer::terminal`]).
@@ -164,7 +168,9 @@ pub struct Written {
 
 /// The methods a report always includes: the references of bench's ratios (bench times them
 /// whatever it is asked, and its rows and claims must have a method section to link to).
-pub const ALWAYS: [&str; 2] = [crate::method::PHONG_EXACT, "phong_unnormalized"];
+pub fn always() -> [&'static Method; 2] {
+    [method::phong_exact(), method::phong_unnormalized()]
+}
 
 /// A folder name / HTML id from a scene's file stem: `[A-Za-z0-9_-]`, unique among `taken`.
 pub fn scene_id(stem: &str, taken: &[String]) -> String {
@@ -218,11 +224,12 @@ pub fn format_utc(secs: u64) -> String {
     )
 }
 
-/// `methods` plus [`ALWAYS`], in the method table's order.
+/// `methods` plus [`always`], in the method table's order.
 fn with_references(methods: &[&'static Method]) -> Vec<&'static Method> {
+    let always = always();
     method::all()
         .into_iter()
-        .filter(|m| methods.iter().any(|x| x.name == m.name) || ALWAYS.contains(&m.name))
+        .filter(|m| methods.iter().chain(&always).any(|x| x.name == m.name))
         .collect()
 }
 
@@ -282,9 +289,9 @@ struct SceneRun<'a> {
     half: Option<&'a Renderer>,
     methods: &'a [&'static Method],
     out: &'a Path,
-    /// The run plan of this scene (only the first scene measures the isolated cost:
-    /// [`crate::bench::plan::RunPlan::later_scene`]).
-    plan: crate::bench::plan::RunPlan,
+    /// The schedule of this scene (only the first scene measures the isolated cost:
+    /// [`crate::bench::schedule::Schedule::later_scene`]).
+    schedule: crate::bench::schedule::Schedule,
     auto: &'a crate::auto::AutoSpec,
     bar: &'a indicatif::ProgressBar,
     opts: &'a ReportOptions,
@@ -341,7 +348,7 @@ impl SceneRun<'_> {
         let bdir = self.out.join(&bench_dir);
         std::fs::create_dir_all(&bdir).map_err(|e| Error::io(&bdir, e))?;
         let bopts = BenchOptions {
-            plan: self.plan.clone(),
+            schedule: self.schedule.clone(),
             command_line: std::env::args().collect(),
             runs: self.bench_runs(s),
             costs: self.opts.costs.clone(),
@@ -354,7 +361,7 @@ impl SceneRun<'_> {
         let pareto = pareto_charts(&bdir, &bench_dir)?;
         step(self.bar, self.opts.progress, format!("{id}: skips"));
         let skips_dir = format!("scenes/{id}/skips");
-        let (repeat, warmup) = self.plan.skips_rounds();
+        let (repeat, warmup) = self.schedule.skips_rounds();
         let sopts = crate::bench::skips::SkipOptions {
             repeat,
             warmup,
@@ -399,10 +406,10 @@ impl SceneRun<'_> {
         })
     }
 
-    /// One run here, or the plan's runs as fresh processes on the same scene (each with its
+    /// One run here, or the schedule's runs as fresh processes on the same scene (each with its
     /// own Vulkan device, JIT, warm-up and rounds; [`crate::bench::runs`]).
     fn bench_runs(&self, s: &ReportScene) -> crate::bench::Runs {
-        match self.opts.exe.clone().filter(|_| self.plan.many()) {
+        match self.opts.exe.clone().filter(|_| self.schedule.many()) {
             None => crate::bench::Runs::One,
             Some(exe) => crate::bench::Runs::Many(crate::bench::runs::Launcher {
                 exe,
@@ -421,7 +428,7 @@ impl SceneRun<'_> {
     ) -> Result<crate::bench::software::SoftwareBench> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let sw = crate::bench::software::SoftwareOptions {
-            rounds: self.plan.software_rounds(),
+            rounds: self.schedule.software_rounds(),
             threads: crate::software::default_threads(),
             vulkan_bench: None,
             command_line: std::env::args().collect(),
@@ -476,11 +483,11 @@ pub fn run(
     // Read before measuring: a bad file must not cost a run.
     let tuned = read_tuned(opts.tuned.as_deref(), out)?;
     let methods = with_references(methods);
-    let plan = &opts.plan;
-    if plan.many() && opts.exe.is_none() {
+    let schedule = &opts.schedule;
+    if schedule.many() && opts.exe.is_none() {
         return Err(Error::Usage(format!(
             "a report of {} bench runs needs the shadelab binary to start them",
-            plan.runs
+            schedule.runs
         )));
     }
     let bar = progress(opts, scenes.len());
@@ -509,10 +516,10 @@ pub fn run(
             half: half.as_ref(),
             methods: &methods,
             out,
-            plan: if results.is_empty() {
-                plan.clone()
+            schedule: if results.is_empty() {
+                schedule.clone()
             } else {
-                plan.later_scene()
+                schedule.later_scene()
             },
             auto: &auto,
             bar: &bar,
@@ -522,7 +529,7 @@ pub fn run(
     }
     step(&bar, opts.progress, "stress".to_string());
     let sopts = StressOptions {
-        refine_rounds: plan.stress_refine,
+        refine_rounds: schedule.stress_refine,
         progress: false,
         ..StressOptions::default()
     };
@@ -550,10 +557,10 @@ pub fn run(
             cpu_model: output::provenance::cpu_model(),
             available_threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
-            bench_repeat: plan.rounds.repeat,
-            bench_warmup: plan.rounds.warmup,
-            bench_runs: plan.runs,
-            stress_refine: plan.stress_refine,
+            bench_repeat: schedule.rounds.repeat,
+            bench_warmup: schedule.rounds.warmup,
+            bench_runs: schedule.runs,
+            stress_refine: schedule.stress_refine,
             full: opts.full,
             seconds: start.elapsed().as_secs_f64(),
         },

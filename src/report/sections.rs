@@ -40,13 +40,13 @@ pub const SECTIONS: [Sections; 9] = [
             .map(|s| Section {
                 id: format!("scene-{}", s.id),
                 nav: s.summary.scene.clone(),
-                html: super::html::scene_section(s, dims),
+                html: super::body::scene_section(s, dims),
             })
             .collect()
     },
-    |d, dims| Section::new("stress", "stress", super::html::stress_section(d, dims)),
-    |d, _| Section::new("plan", "plan", super::html::plan_section(d)),
-    |d, _| Section::new("skips", "skips", super::html::skips_section(d)),
+    |d, dims| Section::new("stress", "stress", super::body::stress_section(d, dims)),
+    |d, _| Section::new("plan", "plan", super::body::plan_section(d)),
+    |d, _| Section::new("skips", "skips", super::body::skips_section(d)),
     |d, _| {
         Section::new(
             "isa",
@@ -58,7 +58,7 @@ pub const SECTIONS: [Sections; 9] = [
         Section::new(
             "provenance",
             "provenance",
-            super::html::provenance_section(d),
+            super::body::provenance_section(d),
         )
     },
 ];

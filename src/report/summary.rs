@@ -5,17 +5,19 @@
 //!   cells that differ from it ([`Summary::differing`]);
 //! - per scene ([`SceneBudget`]): for each budget, the answers of the cost models on that scene
 //!   alone (a real mesh allows what the 12-triangle cube forbids), grouped by answer;
-//! - the interval models' cells this run cannot resolve ([`super::answer::Cell::unresolved`]);
+//! - the interval models' cells this run cannot resolve ([`Cell::unresolved`]);
 //! - what `shadelab tune` found, when the report was given its output ([`super::tuned`]);
 //! - [`Summary::sentences`]: sentences saying what holds everywhere, then what differs, then
 //!   the cost models this run lost ([`Summary::missing`], each with why). The browser test derives the same facts from answer.json's cells and checks the
 //!   page against them.
 use serde::{Deserialize, Serialize};
 
-use super::answer::{Budget, Cell};
+use super::budget::Budget;
+use super::cell::Cell;
+use super::models::{and_list, describe, scope};
 use super::tuned::Tuned;
-use crate::cost::{CostKind, CostModel};
-use crate::method::{Precision, PHONG_EXACT};
+use crate::cost::{CostModel, CostModelId};
+use crate::method::PHONG_EXACT;
 
 /// The answer most cells give.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -30,8 +32,9 @@ pub struct Common {
 /// A cell named by its budget and cost model, with its answer.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CellRef {
-    pub budget: String,
-    pub cost_model: String,
+    #[serde(with = "super::budget::as_id")]
+    pub budget: Budget,
+    pub cost_model: CostModelId,
     pub method: String,
     pub nothing_cheaper: bool,
 }
@@ -42,19 +45,20 @@ pub struct SceneAnswer {
     pub method: String,
     pub nothing_cheaper: bool,
     /// The cost models giving this answer on the scene, in the answer's model order.
-    pub cost_models: Vec<String>,
+    pub cost_models: Vec<CostModelId>,
     /// The smallest and largest ratio to phong_exact among them (null for phong_exact).
     pub ratio_range: Option<(f64, f64)>,
     /// Those of `cost_models` whose cell on this scene is unresolved (interval models).
     #[serde(default)]
-    pub unresolved: Vec<String>,
+    pub unresolved: Vec<CostModelId>,
 }
 
 /// A scene under a budget: its answers, the most widespread first.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SceneBudget {
     pub scene: String,
-    pub budget: String,
+    #[serde(with = "super::budget::as_id")]
+    pub budget: Budget,
     pub answers: Vec<SceneAnswer>,
 }
 
@@ -116,146 +120,6 @@ pub fn missing_sentence(missing: &[Missing]) -> Option<String> {
     ))
 }
 
-/// A cost model's vendor (or source) and how a person names it: `isa:intel:tgl` is Intel's,
-/// `lavapipe_frame` lavapipe's.
-pub fn vendor_of(id: &str) -> (String, String) {
-    let parts: Vec<&str> = id.split(':').collect();
-    match parts.as_slice() {
-        ["isa", v, _, ..] => {
-            let shown = crate::isa::vendor::VENDORS
-                .iter()
-                .find(|x| x.prefix() == *v)
-                .map_or(*v, |x| x.name());
-            (v.to_string(), shown.to_string())
-        }
-        ["isa", ..] => ("isa".into(), "GPU".into()),
-        [first, ..] => {
-            let w = first.split('_').next().unwrap_or(first);
-            (w.to_string(), w.to_string())
-        }
-        [] => (String::new(), String::new()),
-    }
-}
-
-/// The family (chip) of a static model's id (`isa:intel:tgl:f16` -> `tgl`), else the id.
-pub fn family_of(id: &str) -> &str {
-    let parts: Vec<&str> = id.split(':').collect();
-    match parts.as_slice() {
-        ["isa", _, chip, ..] | ["isa", chip] => chip,
-        _ => id,
-    }
-}
-
-/// `ids` (a subset of `all`) named compactly: a vendor's every family in one precision as
-/// "AMD (all 6)", a part of them as "Intel tgl, adl", other models by their title.
-pub fn describe(ids: &[String], all: &[CostModel]) -> String {
-    let mut parts: Vec<String> = Vec::new();
-    let mut done: Vec<(String, Precision)> = Vec::new();
-    for m in all
-        .iter()
-        .filter(|m| ids.iter().any(|i| m.id == *i.as_str()))
-    {
-        if m.kind != CostKind::Static {
-            parts.push(m.title.clone());
-            continue;
-        }
-        let (v, shown) = vendor_of(m.id.as_str());
-        if done.contains(&(v.clone(), m.precision)) {
-            continue;
-        }
-        done.push((v.clone(), m.precision));
-        let same = |x: &&CostModel| {
-            x.kind == CostKind::Static
-                && x.precision == m.precision
-                && vendor_of(x.id.as_str()).0 == v
-        };
-        let group: Vec<&CostModel> = all.iter().filter(same).collect();
-        let members: Vec<&str> = group
-            .iter()
-            .filter(|x| ids.iter().any(|i| x.id == *i.as_str()))
-            .map(|x| family_of(x.id.as_str()))
-            .collect();
-        let f16 = if m.precision == Precision::F16 {
-            " float16"
-        } else {
-            ""
-        };
-        parts.push(if members.len() == group.len() && group.len() > 1 {
-            format!("{shown}{f16} (all {})", group.len())
-        } else {
-            format!("{shown}{f16} {}", members.join(", "))
-        });
-    }
-    parts.join("; ")
-}
-
-/// What the models are, in words: "lavapipe frame time, ..., and the static cost of 18 GPU
-/// families of 4 vendors (AMD 6, Intel 5, NVIDIA 5, TeraScale 2), 9 of them in float16 too".
-pub fn scope(all: &[CostModel]) -> String {
-    let mut parts: Vec<String> = all
-        .iter()
-        .filter(|m| m.kind != CostKind::Static)
-        .map(|m| m.title.clone())
-        .collect();
-    let statics = |p: Precision| -> Vec<&CostModel> {
-        all.iter()
-            .filter(|m| m.kind == CostKind::Static && m.precision == p)
-            .collect()
-    };
-    let (f32s, f16s) = (statics(Precision::F32), statics(Precision::F16));
-    let mut vendors: Vec<(String, usize)> = Vec::new();
-    for m in &f32s {
-        let shown = vendor_of(m.id.as_str()).1;
-        match vendors.iter_mut().find(|(v, _)| *v == shown) {
-            Some((_, n)) => *n += 1,
-            None => vendors.push((shown, 1)),
-        }
-    }
-    if !f32s.is_empty() {
-        let by: Vec<String> = vendors.iter().map(|(v, n)| format!("{v} {n}")).collect();
-        let mut s = format!(
-            "the static cost of {} GPU {} of {} {} ({})",
-            f32s.len(),
-            plural(f32s.len(), "family", "families"),
-            vendors.len(),
-            plural(vendors.len(), "vendor", "vendors"),
-            by.join(", ")
-        );
-        if !f16s.is_empty() {
-            s += &format!(", {} of them in float16 too", f16s.len());
-        }
-        parts.push(s);
-    } else if !f16s.is_empty() {
-        parts.push(format!(
-            "the static cost of {} GPU {} in float16",
-            f16s.len(),
-            plural(f16s.len(), "family", "families")
-        ));
-    }
-    match parts.len() {
-        0 => String::new(),
-        1 => parts.remove(0),
-        n => format!("{} and {}", parts[..n - 1].join(", "), parts[n - 1]),
-    }
-}
-
-/// `a, b and c`.
-fn and_list(items: &[&str]) -> String {
-    match items {
-        [] => String::new(),
-        [one] => one.to_string(),
-        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
-    }
-}
-
-fn plural<'a>(n: usize, one: &'a str, many: &'a str) -> &'a str {
-    if n == 1 {
-        one
-    } else {
-        many
-    }
-}
-
 /// What a cell answers, as a key.
 fn key(c: &Cell) -> (String, bool) {
     (c.answer.method.clone(), c.nothing_cheaper)
@@ -286,7 +150,7 @@ pub fn common(cells: &[Cell]) -> Common {
 
 fn cell_ref(c: &Cell) -> CellRef {
     CellRef {
-        budget: c.budget.clone(),
+        budget: c.budget,
         cost_model: c.cost_model.clone(),
         method: c.answer.method.clone(),
         nothing_cheaper: c.nothing_cheaper,
@@ -295,7 +159,7 @@ fn cell_ref(c: &Cell) -> CellRef {
 
 /// Groups one scene's cells under one budget by answer, the most widespread first (ties: the
 /// answer's first cost model).
-pub fn scene_budget(scene: &str, budget: &str, cells: &[Cell]) -> SceneBudget {
+pub fn scene_budget(scene: &str, budget: Budget, cells: &[Cell]) -> SceneBudget {
     let mut answers: Vec<SceneAnswer> = Vec::new();
     for c in cells {
         let ratio = if c.nothing_cheaper {
@@ -331,7 +195,7 @@ pub fn scene_budget(scene: &str, budget: &str, cells: &[Cell]) -> SceneBudget {
     answers.sort_by_key(|a| std::cmp::Reverse(a.cost_models.len()));
     SceneBudget {
         scene: scene.into(),
-        budget: budget.into(),
+        budget,
         answers,
     }
 }
@@ -378,15 +242,9 @@ fn scene_sentence(
     c: &Common,
     per_scene: &[SceneBudget],
     scenes: &[String],
-    budgets: &[Budget],
     models: &[CostModel],
 ) -> String {
-    let limit = |s: &SceneBudget| {
-        budgets
-            .iter()
-            .find(|b| b.id == s.budget)
-            .map_or(0.0, |b| b.limit)
-    };
+    let limit = |s: &SceneBudget| s.budget.limit.get();
     // Per scene, the (budget, answer) pairs that differ from the common answer.
     let mut differ: Vec<&str> = Vec::new();
     let mut widest: Option<(&SceneBudget, &SceneAnswer)> = None;
@@ -418,10 +276,7 @@ fn scene_sentence(
     let Some((sb, a)) = widest else {
         return "Scene by scene the answer is the same on every scene.".into();
     };
-    let label = budgets
-        .iter()
-        .find(|b| b.id == sb.budget)
-        .map_or(sb.budget.clone(), |b| b.label.clone());
+    let label = sb.budget.label();
     let what = if a.nothing_cheaper {
         format!("nothing is cheaper than {PHONG_EXACT} within {label}")
     } else {
@@ -454,7 +309,7 @@ fn last_sentence(
 ) -> Option<String> {
     let mut parts = Vec::new();
     if !unresolved.is_empty() {
-        let mut ids: Vec<String> = unresolved.iter().map(|u| u.cost_model.clone()).collect();
+        let mut ids: Vec<CostModelId> = unresolved.iter().map(|u| u.cost_model.clone()).collect();
         ids.sort();
         ids.dedup();
         let total: usize = cells.iter().filter(|c| ids.contains(&c.cost_model)).count();
@@ -515,7 +370,7 @@ pub fn summarize(
         .collect();
     let mut sentences = vec![first_sentence(&common, budgets, scenes, models)];
     if scenes.len() > 1 {
-        sentences.push(scene_sentence(&common, &per_scene, scenes, budgets, models));
+        sentences.push(scene_sentence(&common, &per_scene, scenes, models));
     }
     sentences.extend(last_sentence(&unresolved, cells, models, tuned.as_ref()));
     sentences.extend(missing_sentence(&missing));

@@ -490,7 +490,7 @@ pub fn cost_chart(d: &ReportData) -> Option<Chart> {
         .cost_models
         .iter()
         .find(|m| m.id == *crate::cost::LAVAPIPE_FRAME)?;
-    let budget = d.answer.budgets.first()?.id.clone();
+    let budget = *d.answer.budgets.first()?;
     let mut points = Vec::new();
     for f in &model.figures {
         let Some(x) = f.ratio else { continue };
@@ -523,7 +523,7 @@ pub fn scene_cost_chart(s: &SceneResult) -> Option<Chart> {
             continue;
         };
         let y = m
-            .metric("max_abs_error")
+            .metric(crate::compare::Metric::MaxAbsError.name())
             .filter(|v| v.is_finite() && m.non_finite_pixels == 0);
         let iv = Some((r.ratio_ci95_low, r.ratio_ci95_high))
             .filter(|(l, h)| l.is_finite() && h.is_finite());

@@ -122,7 +122,7 @@ fn bench_numbers_keep_nan_apart_from_does_not_apply() {
         overdraw: None,
         samples: 3,
     };
-    let n = super::html::row_numbers(&row);
+    let n = super::body::row_numbers(&row);
     assert_eq!(n.get("median_ms"), Some(&1.5));
     assert!(n.get("ratio").is_some_and(|v| v.is_nan()), "{n:?}");
     assert_eq!(n.get("overdraw"), None);
@@ -137,14 +137,23 @@ fn bench_numbers_keep_nan_apart_from_does_not_apply() {
 
 mod answer_rule {
     use super::super::answer::*;
+    use crate::compare::Metric;
     use crate::cost::{CostFigure, CostKind, CostModel, CostModelId, Measure};
     use crate::method::{Precision, Verdict};
     use std::collections::BTreeMap;
 
+    /// The cell of budget `b` (its id) under model `m` (its id).
+    fn cell<'a>(a: &'a Answer, b: &str, m: &str) -> Option<&'a Cell> {
+        a.cell(
+            &Budget::parse_id(b).unwrap(),
+            &CostModelId::parse(m).unwrap(),
+        )
+    }
+
     fn err(scene: &str, method: &str, max: f64, p99: f64) -> SceneError {
         let mut metrics = BTreeMap::new();
-        metrics.insert("max_abs_error".to_string(), Some(max));
-        metrics.insert("p99_abs_error".to_string(), Some(p99));
+        metrics.insert(Metric::MaxAbsError, Some(max));
+        metrics.insert(Metric::P99AbsError, Some(p99));
         SceneError {
             scene: scene.into(),
             method: method.into(),
@@ -223,13 +232,13 @@ mod answer_rule {
     #[test]
     fn the_cheapest_method_meeting_the_budget_on_every_scene_wins() {
         let a = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
-        let c = a.cell("max_1_255", "m").unwrap();
+        let c = cell(&a, "max_1_255", "m").unwrap();
         assert_eq!(c.answer.method, "faster");
         assert_eq!(c.runner_up.as_ref().unwrap().method, "fast");
         assert!(!c.nothing_cheaper && c.separated);
         assert_eq!(c.qualifying, 3);
         // 1/1024 = 9.8e-4: fast fails on scene b alone, faster everywhere.
-        let c = a.cell("max_1_1024", "m").unwrap();
+        let c = cell(&a, "max_1_1024", "m").unwrap();
         assert!(c.nothing_cheaper, "{c:?}");
         assert_eq!(c.answer.method, "phong_exact");
         assert!(
@@ -240,12 +249,12 @@ mod answer_rule {
         let fast = a
             .checks
             .iter()
-            .find(|k| k.method == "fast" && k.budget == "max_1_1024")
+            .find(|k| k.method == "fast" && k.budget.id() == "max_1_1024")
             .unwrap();
         assert!(!fast.meets && fast.why.contains("on b"), "{fast:?}");
         assert_eq!(fast.worst, Some(2e-3));
         // 4/255 = 0.0157: rough (0.1) still fails, so faster wins again; p99 4/255 too.
-        assert_eq!(a.cell("max_4_255", "m").unwrap().answer.method, "faster");
+        assert_eq!(cell(&a, "max_4_255", "m").unwrap().answer.method, "faster");
         assert_eq!(a.budgets.len(), 6);
         assert_eq!(a.cells.len(), 6);
     }
@@ -255,13 +264,16 @@ mod answer_rule {
     #[test]
     fn non_finite_or_missing_errors_fail_every_budget() {
         let base = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
-        assert_eq!(base.cell("p99_4_255", "m").unwrap().answer.method, "faster");
+        assert_eq!(
+            cell(&base, "p99_4_255", "m").unwrap().answer.method,
+            "faster"
+        );
         type Break = Box<dyn Fn(&mut SceneError)>;
         let broken: [(&str, Break); 4] = [
             (
                 "NaN",
                 Box::new(|e| {
-                    e.metrics.insert("p99_abs_error".into(), Some(f64::NAN));
+                    e.metrics.insert(Metric::P99AbsError, Some(f64::NAN));
                 }),
             ),
             ("non-finite pixels", Box::new(|e| e.non_finite_pixels = 3)),
@@ -269,7 +281,7 @@ mod answer_rule {
             (
                 "missing",
                 Box::new(|e| {
-                    e.metrics.insert("p99_abs_error".into(), None);
+                    e.metrics.insert(Metric::P99AbsError, None);
                 }),
             ),
         ];
@@ -284,12 +296,12 @@ mod answer_rule {
             let k = a
                 .checks
                 .iter()
-                .find(|k| k.method == "faster" && k.budget == "p99_4_255")
+                .find(|k| k.method == "faster" && k.budget.id() == "p99_4_255")
                 .unwrap();
             assert!(!k.meets, "{what}: {k:?}");
             assert_eq!(k.worst, None, "{what}");
             assert_eq!(
-                a.cell("p99_4_255", "m").unwrap().answer.method,
+                cell(&a, "p99_4_255", "m").unwrap().answer.method,
                 "fast",
                 "{what}"
             );
@@ -300,7 +312,7 @@ mod answer_rule {
         let k = a
             .checks
             .iter()
-            .find(|k| k.method == "faster" && k.budget == "max_4_255")
+            .find(|k| k.method == "faster" && k.budget.id() == "max_4_255")
             .unwrap();
         assert!(!k.meets && k.why.contains("not measured on a"), "{k:?}");
     }
@@ -312,12 +324,12 @@ mod answer_rule {
         let mut figs = figures();
         figs[2] = fig("faster", 0.7, 0.5, 1.1);
         let a = answer(&scenes(), &names(), &errors(), vec![model(figs.clone())]);
-        let c = a.cell("max_1_255", "m").unwrap();
+        let c = cell(&a, "max_1_255", "m").unwrap();
         assert_eq!(c.answer.method, "fast");
         assert_eq!(c.runner_up.as_ref().unwrap().method, "phong_exact");
         figs[1] = fig("fast", 0.9, 0.8, 1.2);
         let a = answer(&scenes(), &names(), &errors(), vec![model(figs)]);
-        let c = a.cell("max_1_255", "m").unwrap();
+        let c = cell(&a, "max_1_255", "m").unwrap();
         assert!(c.nothing_cheaper);
         assert_eq!(c.runner_up.as_ref().unwrap().method, "faster");
         let isa = CostModel {
@@ -347,7 +359,7 @@ mod answer_rule {
             pairs: Vec::new(),
         };
         let a = answer(&scenes(), &names(), &errors(), vec![model(figures()), isa]);
-        let c = a.cell("max_1_255", "isa:rdna3").unwrap();
+        let c = cell(&a, "max_1_255", "isa:rdna3").unwrap();
         assert_eq!(c.answer.method, "fast");
         assert_eq!(ratio_text(&c.answer), "0.600");
         assert!(a.markdown().contains("RDNA3 (static)"));
@@ -363,7 +375,7 @@ mod answer_rule {
     fn a_cell_names_the_scene_that_decides_it() {
         let a = answer(&scenes(), &names(), &errors(), vec![model(figures())]);
         // max 1/1024: fast (0.9) fails on b only, faster (0.7) and rough (0.2) on a and b.
-        let c = a.cell("max_1_1024", "m").unwrap();
+        let c = cell(&a, "max_1_1024", "m").unwrap();
         let k = c.binding.as_ref().expect("a binding scene");
         assert_eq!(
             (k.scene.as_str(), k.ruled_out, k.cheaper_failing),
@@ -375,13 +387,13 @@ mod answer_rule {
         let mut errs = errors();
         for e in errs.iter_mut().filter(|e| e.method == "fast") {
             e.metrics.insert(
-                "max_abs_error".into(),
+                Metric::MaxAbsError,
                 Some(if e.scene == "a" { 2e-3 } else { 1e-4 }),
             );
         }
         let a2 = answer(&scenes(), &names(), &errs, vec![model(figures())]);
         assert_eq!(
-            a2.cell("max_1_1024", "m")
+            cell(&a2, "max_1_1024", "m")
                 .unwrap()
                 .binding
                 .as_ref()
@@ -391,16 +403,16 @@ mod answer_rule {
         );
         // Without the failing scene b in the report, max 1/1024 has an answer: fast.
         let only_a = answer(&scenes()[..1], &names(), &errors(), vec![model(figures())]);
-        let c = only_a.cell("max_1_1024", "m").unwrap();
+        let c = cell(&only_a, "max_1_1024", "m").unwrap();
         assert_eq!(c.answer.method, "fast");
         // max 4/255: rough (cheaper than the answer faster) fails on both: a decides (first).
-        let c = a.cell("max_4_255", "m").unwrap();
+        let c = cell(&a, "max_4_255", "m").unwrap();
         assert_eq!(c.binding.as_ref().unwrap().cheapest, "rough");
         // Nothing cheaper fails: no binding scene.
         let mut figs = figures();
         figs[3] = fig("rough", 1.2, 1.1, 1.3);
         let a3 = answer(&scenes(), &names(), &errors(), vec![model(figs)]);
-        assert_eq!(a3.cell("max_4_255", "m").unwrap().binding, None);
+        assert_eq!(cell(&a3, "max_4_255", "m").unwrap().binding, None);
     }
 
     /// A float16 cost model is judged on the float16 errors: a method that meets a budget in
@@ -424,7 +436,7 @@ mod answer_rule {
             .iter_mut()
             .filter(|e| e.method == "faster" && e.scene == "a")
         {
-            e.metrics.insert("max_abs_error".into(), Some(1e-2));
+            e.metrics.insert(Metric::MaxAbsError, Some(1e-2));
         }
         errs.extend(halves);
         let a = answer(
@@ -433,15 +445,15 @@ mod answer_rule {
             &errs,
             vec![model(figures()), f16.clone()],
         );
-        assert_eq!(a.cell("max_1_255", "m").unwrap().answer.method, "faster");
+        assert_eq!(cell(&a, "max_1_255", "m").unwrap().answer.method, "faster");
         assert_eq!(
-            a.cell("max_1_255", "isa:x:f16").unwrap().answer.method,
+            cell(&a, "max_1_255", "isa:x:f16").unwrap().answer.method,
             "fast"
         );
         assert!(a.checks.iter().any(|k| k.precision == Precision::F16));
         // Teeth: with no float16 error at all, every float16 check fails.
         let a = answer(&scenes(), &names(), &errors(), vec![f16]);
-        let c = a.cell("max_4_255", "isa:x:f16").unwrap();
+        let c = cell(&a, "max_4_255", "isa:x:f16").unwrap();
         assert!(c.nothing_cheaper && c.qualifying == 0, "{c:?}");
     }
 
@@ -507,7 +519,8 @@ fn the_reports_citations_resolve_in_its_copy_of_formulas_md() {
 /// (the id's prefix written as is, "broadcom", was the bug), the source's first word otherwise.
 #[test]
 fn cost_models_name_their_vendor_as_a_person_does() {
-    use super::summary::vendor_of;
+    use super::models::vendor_of;
+    let vendor_of = |id: &str| vendor_of(&crate::cost::CostModelId::parse(id).unwrap());
     for (id, key, shown) in [
         ("isa:broadcom:vc4", "broadcom", "Broadcom"),
         ("isa:nvidia:nvc0", "nvidia", "NVIDIA"),

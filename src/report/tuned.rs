@@ -12,14 +12,16 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::answer::Budget;
-use crate::cost::CostModel;
+use super::budget::Budget;
+use super::models::describe;
+use crate::auto::ErrorBudget;
+use crate::cost::{CostModel, CostModelId};
 use crate::error::{Error, Result};
 
 /// A tuned candidate that beats exact normalisation under one cost model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TunedWin {
-    pub cost_model: String,
+    pub cost_model: CostModelId,
     pub candidate: String,
     /// Its form ("minimax degree 2", ...).
     pub label: String,
@@ -36,10 +38,10 @@ pub struct Tuned {
     pub evidence: String,
     /// The colour error every win is proven within (linear; a bound of the largest channel
     /// error, hence of the luminance error too).
-    pub budget: f64,
+    pub budget: ErrorBudget,
     pub wins: Vec<TunedWin>,
     /// The cost models tune looked at and found no winner for.
-    pub none: Vec<String>,
+    pub none: Vec<CostModelId>,
 }
 
 #[derive(Deserialize)]
@@ -51,7 +53,7 @@ struct File {
 
 #[derive(Deserialize)]
 struct FileModel {
-    model: String,
+    model: CostModelId,
     #[serde(default)]
     cheapest: Option<FilePick>,
 }
@@ -72,16 +74,16 @@ impl Tuned {
     pub fn parse(text: &str, evidence: &str, path: &Path) -> Result<Tuned> {
         let f: File = serde_json::from_str(text)
             .map_err(|e| Error::input(path, None, format!("not a tune.json: {e}")))?;
-        if !(f.budget.is_finite() && f.budget > 0.0) {
-            return Err(Error::input(
+        let budget = ErrorBudget::new(f.budget).map_err(|_| {
+            Error::input(
                 path,
                 None,
                 format!("tune.json budget {} is not a positive number", f.budget),
-            ));
-        }
+            )
+        })?;
         let mut t = Tuned {
             evidence: evidence.into(),
-            budget: f.budget,
+            budget,
             wins: Vec::new(),
             none: Vec::new(),
         };
@@ -102,31 +104,31 @@ impl Tuned {
 
     /// The winner for a cell of budget `b` under model `model`: tune's bound must be within
     /// the cell's limit (a bound of the largest error bounds its 99th percentile too).
-    pub fn win(&self, b: &Budget, model: &str) -> Option<&TunedWin> {
+    pub fn win(&self, b: &Budget, model: &CostModelId) -> Option<&TunedWin> {
         if self.budget > b.limit {
             return None;
         }
-        self.wins.iter().find(|w| w.cost_model == model)
+        self.wins.iter().find(|w| w.cost_model == *model)
     }
 
     /// The clause of the answer's last sentence.
     pub fn sentence(&self, models: &[CostModel]) -> String {
-        let ids: Vec<String> = (self.wins.iter())
-            .filter(|w| models.iter().any(|m| m.id == *w.cost_model.as_str()))
+        let ids: Vec<CostModelId> = (self.wins.iter())
+            .filter(|w| models.iter().any(|m| m.id == w.cost_model))
             .map(|w| w.cost_model.clone())
             .collect();
         if ids.is_empty() {
             return format!(
                 "shadelab tune found no approximation proven within {:.3e} that is cheaper \
                  than phong_exact under these cost models",
-                self.budget
+                self.budget.get()
             );
         }
         format!(
             "a tuned approximation proven within {:.3e} beats exact normalisation under {} \
              ({} of the {} cost models; shadelab tune)",
-            self.budget,
-            super::summary::describe(&ids, models),
+            self.budget.get(),
+            describe(&ids, models),
             ids.len(),
             models.len()
         )

@@ -215,4 +215,5 @@ impl Scene {
         for w in &report.warnings {
             log::warn!("{source}: {w}");
         }
-    }}
+    }
+}

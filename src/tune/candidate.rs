@@ -10,16 +10,19 @@
 //!   (Mikami's idea: fit the seed for the error after the steps): the seed is the minimax of
 //!   relative error, scaled so that the error after the steps is equal at its two ends (one
 //!   step turns a seed error e into `-(3/2) e^2 - e^3/2 <= 0`, larger for e > 0 than for -e).
-//! - [`Family::Paper`]: the covered methods of the table (the papers' fixed formulas), by name.
+//! - [`Family::Paper`]: the rows of the method table that say they are a baseline of tune
+//!   ([`crate::method::Property::TuneBaseline`]: the papers' fixed formulas), each its row's
+//!   scale ([`papers`]).
 //! - [`Family::Reference`]: phong_exact itself, `1/sqrt(z)`: the yardstick of every cost, and
 //!   its own proven bound (the rounding of its program) beside the candidates'.
 use serde::Serialize;
 
 use super::remez::{self, Certificate, Target};
-use crate::method::formulas as f;
+use crate::method::kernel::{Evaluate, Form};
 use crate::method::real::Real;
 pub use crate::method::tuned::{horner, newton_step};
 use crate::method::tuned::{Tuned, TunedForm};
+use crate::method::{Method, Property, Scale};
 
 /// A candidate's family.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -42,34 +45,21 @@ impl Family {
     }
 }
 
-/// The papers' methods `tune` takes as baselines: the covered methods that scale N by a
-/// function of N.N and are not exact normalisation (safe_normalize and filament_clamp are).
-/// Their formulas are the table's ([`paper_k`]).
-pub const PAPERS: [&str; 8] = [
-    "phong_unnormalized",
-    "newton_raphson",
-    "lyon_taylor",
-    "lyon_shift",
-    "romanyuk_poly",
-    "mikami_const",
-    "mikami_linear",
-    "mikami_quadratic",
-];
-
-/// The factor of paper method `name` (its generic formula of [`crate::method::formulas`]).
-fn paper_k<T: Real>(name: &str, z: T) -> T {
-    match name {
-        "newton_raphson" => f::k_newton(z),
-        "lyon_taylor" => f::k_lyon2(z),
-        "lyon_shift" => f::k_lyon_shift(z),
-        "romanyuk_poly" => f::k_romanyuk(z),
-        // the rows' scale is Mikami's square root: k = 1 / s
-        "mikami_const" => T::c(1.0) / f::s_mikami_const(z),
-        "mikami_linear" => T::c(1.0) / f::s_mikami_linear(z),
-        "mikami_quadratic" => T::c(1.0) / f::s_mikami_quadratic(z),
-        // phong_unnormalized, and nothing else (PAPERS lists the names)
-        _ => T::c(1.0),
-    }
+/// The papers' methods `tune` takes as baselines: every row of the method table (its own
+/// rows, and rows registered at run time) with [`Property::TuneBaseline`] whose kernel is a
+/// scale of N.N ([`Candidate::paper`]), the factors `N' = k(z) N` before the divisors
+/// `N' = N / s(z)` (Mikami's), each group in table order: the order tune has always listed
+/// them in.
+pub fn papers() -> Vec<Candidate> {
+    let mut rows: Vec<(&'static Method, Scale)> = crate::method::all()
+        .into_iter()
+        .filter(|m| m.has(Property::TuneBaseline))
+        .filter_map(|m| Some((m, *m.kernel.provable()?)))
+        .collect();
+    rows.sort_by_key(|(_, s)| s.form == Form::Over);
+    rows.into_iter()
+        .filter_map(|(m, _)| Candidate::paper(m))
+        .collect()
 }
 
 /// One candidate.
@@ -90,13 +80,17 @@ pub struct Candidate {
     pub remez: Option<Certificate>,
     /// The seed's scale (Newton): the minimax seed times this.
     pub seed_scale: Option<f64>,
+    /// A paper's formula: its row's scale (None for the other families).
+    #[serde(skip)]
+    pub scale: Option<Scale>,
 }
 
 impl Candidate {
     /// The scale factor `k(z)`, `N' = k(N.N) N`: the one formula of the candidate.
-    pub fn k<T: Real>(&self, z: T) -> T {
+    pub fn k<T: Real + Evaluate>(&self, z: T) -> T {
         match self.family {
-            Family::Paper => paper_k(&self.id, z),
+            // the row's own factor (`1 / s(z)` for a divisor), NaN for a paper without one
+            Family::Paper => self.scale.map_or_else(|| T::c(f64::NAN), |s| s.k(z)),
             // normalize(n): as n (1 / sqrt(n.n)), whose two roundings bound Vulkan's
             Family::Reference => T::c(1.0) / z.sqrt(),
             // the tuned rows' formula (src/method/tuned.rs), the one copy
@@ -128,18 +122,16 @@ impl Candidate {
         Some(t)
     }
 
-    /// The paper method `name`.
-    pub fn paper(name: &'static str) -> Candidate {
-        Candidate {
-            id: name.to_string(),
+    /// The paper method of row `m`: its kernel's scale, when it is a scale of N.N that is not
+    /// exact normalisation ([`crate::method::Kernel::provable`]); None otherwise.
+    pub fn paper(m: &'static Method) -> Option<Candidate> {
+        let scale = *m.kernel.provable()?;
+        Some(Candidate {
+            id: m.name.to_string(),
             family: Family::Paper,
-            degree: None,
-            steps: 0,
-            coeffs: Vec::new(),
-            fitted_on: None,
-            remez: None,
-            seed_scale: None,
-        }
+            scale: Some(scale),
+            ..Candidate::reference()
+        })
     }
 
     /// phong_exact, the reference.
@@ -147,7 +139,13 @@ impl Candidate {
         Candidate {
             id: crate::method::PHONG_EXACT.to_string(),
             family: Family::Reference,
-            ..Candidate::paper("phong_unnormalized")
+            degree: None,
+            steps: 0,
+            coeffs: Vec::new(),
+            fitted_on: None,
+            remez: None,
+            seed_scale: None,
+            scale: None,
         }
     }
 
@@ -164,6 +162,7 @@ impl Candidate {
             fitted_on: Some([lo, hi]),
             remez: Some(fit.certificate),
             seed_scale: None,
+            scale: None,
         })
     }
 
@@ -183,6 +182,7 @@ impl Candidate {
             fitted_on: Some([lo, hi]),
             remez: Some(fit.certificate),
             seed_scale: Some(s),
+            scale: None,
         })
     }
 
@@ -344,20 +344,55 @@ mod tests {
             .glsl(&[], [0.5, 1.0])
             .unwrap()
             .contains("return n * R("));
-        assert!(Candidate::paper("romanyuk_poly")
-            .glsl(&[], [0.5, 1.0])
-            .is_none());
+        assert!(paper("romanyuk_poly").glsl(&[], [0.5, 1.0]).is_none());
+    }
+
+    /// The paper candidate of the table's row `name`.
+    pub(crate) fn paper(name: &str) -> Candidate {
+        Candidate::paper(crate::method::find(name).unwrap()).unwrap()
     }
 
     /// The papers' formulas are the table's: romanyuk at z = 0.75 (docs/formulas.md golden
-    /// values: 1.154875), and newton_raphson's (3 - z)/2.
+    /// values: 1.154875), newton_raphson's (3 - z)/2, Mikami's 1 / s(z), the same in every
+    /// number type (a float32 program's rounding enclosed around the f64 value).
     #[test]
     fn paper_formulas_are_the_tables() {
-        assert!((Candidate::paper("romanyuk_poly").k(0.75f64) - 1.154875).abs() < 1e-12);
-        assert_eq!(Candidate::paper("newton_raphson").k(0.5), 1.25);
-        assert_eq!(Candidate::paper("phong_unnormalized").k(0.3), 1.0);
-        for p in PAPERS {
-            assert!(crate::method::find(p).is_ok(), "{p}");
-        }
+        assert!((paper("romanyuk_poly").k(0.75f64) - 1.154875).abs() < 1e-12);
+        assert_eq!(paper("newton_raphson").k(0.5), 1.25);
+        assert_eq!(paper("phong_unnormalized").k(0.3), 1.0);
+        let s = crate::method::formulas::s_mikami_linear(0.8f64);
+        assert_eq!(paper("mikami_linear").k(0.8f64), 1.0 / s);
+        use crate::method::interval::Interval;
+        use crate::method::rounded::{Rounded, F32};
+        let r = paper("romanyuk_poly").k(Rounded::<F32>::input(
+            Interval::point(0.75),
+            Interval::point(0.0),
+        ));
+        let v = paper("romanyuk_poly").k(0.75f64);
+        assert!(r.computed().lo <= v && v <= r.computed().hi, "{r:?}");
+        assert!(r.e.hi - r.e.lo < 1e-6, "the rounding is known: {r:?}");
+    }
+
+    /// The baselines are the rows that say so, in the order tune has always listed them (the
+    /// factors, then Mikami's divisors); a row that is not a scale of N.N is no baseline.
+    #[test]
+    fn the_baselines_are_the_rows_that_say_so() {
+        let names: Vec<String> = papers().into_iter().map(|c| c.id).collect();
+        assert_eq!(
+            names,
+            [
+                "phong_unnormalized",
+                "newton_raphson",
+                "lyon_taylor",
+                "lyon_shift",
+                "romanyuk_poly",
+                "mikami_const",
+                "mikami_linear",
+                "mikami_quadratic",
+            ]
+        );
+        // Teeth: exact normalisation and a span method have no scale to take.
+        assert!(Candidate::paper(crate::method::phong_exact()).is_none());
+        assert!(Candidate::paper(crate::method::find("slerp").unwrap()).is_none());
     }
 }

@@ -12,8 +12,8 @@ use std::path::{Path, PathBuf};
 
 use super::candidate::{Candidate, Family};
 use super::proof::length_bound;
-use super::rounded::F32;
 use crate::error::{Error, Result};
+use crate::method::rounded::F32;
 use crate::method::tuned::{Tuned, TunedForm};
 use crate::prove::interval::Interval;
 
@@ -33,7 +33,7 @@ fn candidate(t: &Tuned) -> Candidate {
         degree: Some(t.coeffs.len().saturating_sub(1)),
         steps: t.steps,
         coeffs: t.coeffs.clone(),
-        ..Candidate::paper("phong_unnormalized")
+        ..Candidate::reference()
     }
 }
 

@@ -6,8 +6,9 @@ use serde::Serialize;
 
 use super::candidate::{Candidate, Family};
 use super::proof::Bound;
-use crate::cost::{verdict_words, CostModel};
+use crate::cost::{verdict_words, CostModel, CostModelId};
 use crate::method::Precision;
+use crate::method::Verdict;
 
 /// One candidate with what was proven and measured about it.
 #[derive(Debug, Clone, Serialize)]
@@ -28,10 +29,11 @@ pub struct Row {
 /// A candidate's figure under one cost model.
 #[derive(Debug, Clone, Serialize)]
 pub struct RowCost {
-    pub model: String,
+    pub model: CostModelId,
     pub ratio: Option<f64>,
-    /// cheaper, not cheaper, inconclusive, unmeasured.
-    pub verdict: &'static str,
+    /// Written as its words: cheaper, not cheaper, inconclusive, unmeasured.
+    #[serde(serialize_with = "crate::cost::as_words")]
+    pub verdict: Verdict,
 }
 
 impl Row {
@@ -47,7 +49,9 @@ pub struct Pick {
     pub candidate: String,
     pub label: String,
     pub ratio: Option<f64>,
-    pub verdict: &'static str,
+    /// Written as its words ([`verdict_words`]).
+    #[serde(serialize_with = "crate::cost::as_words")]
+    pub verdict: Verdict,
     /// The proven colour bound in the model's precision (null: not provable).
     pub colour_bound: Option<f64>,
     pub within_budget: bool,
@@ -56,7 +60,7 @@ pub struct Pick {
 /// The answer under one cost model.
 #[derive(Debug, Clone, Serialize)]
 pub struct Answer {
-    pub model: String,
+    pub model: CostModelId,
     pub title: String,
     pub precision: Precision,
     /// Why the model has no figures (it could not be measured), else null.
@@ -77,7 +81,7 @@ fn pick(r: &Row, m: &CostModel, budget: f64) -> Pick {
         candidate: r.candidate.id.clone(),
         label: r.candidate.label(),
         ratio: f.and_then(|f| f.ratio),
-        verdict: f.map_or("unmeasured", |f| verdict_words(f.verdict)),
+        verdict: f.map_or(Verdict::NotChecked, |f| f.verdict),
         colour_bound: b.and_then(|b| b.colour),
         within_budget: b.is_some_and(|b| b.within(budget)),
     }
@@ -110,7 +114,7 @@ pub fn answer(rows: &[Row], m: &CostModel, budget: f64) -> Answer {
                 p.candidate,
                 p.label,
                 num(p.colour_bound),
-                p.verdict,
+                verdict_words(p.verdict),
                 num(p.ratio)
             ),
         ),
@@ -129,7 +133,7 @@ pub fn answer(rows: &[Row], m: &CostModel, budget: f64) -> Answer {
                     "; closest: {} ({}), proven within the budget but {} (ratio {})",
                     c.candidate,
                     c.label,
-                    c.verdict,
+                    verdict_words(c.verdict),
                     num(c.ratio)
                 ),
                 (Some(c), false) => format!(
@@ -149,7 +153,7 @@ pub fn answer(rows: &[Row], m: &CostModel, budget: f64) -> Answer {
         }
     };
     Answer {
-        model: m.id.to_string(),
+        model: m.id.clone(),
         title: m.title.clone(),
         precision: m.precision,
         error: None,
@@ -160,15 +164,11 @@ pub fn answer(rows: &[Row], m: &CostModel, budget: f64) -> Answer {
 }
 
 /// The answer of a model that could not be measured (`why`).
-pub fn unmeasured(id: &crate::cost::CostModelId, why: &str) -> Answer {
+pub fn unmeasured(id: &CostModelId, why: &str) -> Answer {
     Answer {
-        model: id.to_string(),
+        model: id.clone(),
         title: id.to_string(),
-        precision: if id.as_str().ends_with(":f16") {
-            Precision::F16
-        } else {
-            Precision::F32
-        },
+        precision: id.precision(),
         error: Some(why.to_string()),
         cheapest: None,
         closest: None,
@@ -191,7 +191,7 @@ mod tests {
     use crate::cost::{CostFigure, CostKind, CostModelId, Measure};
     use crate::method::Verdict;
     use crate::prove::interval::Interval;
-    use crate::tune::proof::{prove, sampled_length_error, Lights, ProofBudget};
+    use crate::tune::proof::{prove, sampled_length_error, Lights, ProofEffort};
 
     fn model(ratios: &[(&str, f64)]) -> CostModel {
         CostModel {
@@ -228,7 +228,7 @@ mod tests {
             specular: [0.5; 3],
             shininess: 50.0,
         };
-        let b = prove(&c, Precision::F32, z, &lights, &ProofBudget::default());
+        let b = prove(&c, Precision::F32, z, &lights, &ProofEffort::default());
         Row {
             sampled_length_error: Some(sampled_length_error(&c, pixels.iter().copied())),
             candidate: c,

@@ -9,7 +9,7 @@ use serde::Serialize;
 use super::candidate::{Candidate, Family};
 use super::choose::{self, Row};
 use super::domain::{widened, MeshDomain, CLASS_EDGES};
-use super::proof::{Lights, ProofBudget};
+use super::proof::{Lights, ProofEffort};
 use crate::cost::CostModel;
 
 /// How `auto` draws the classes' answers (tune.json `auto`).
@@ -26,7 +26,7 @@ pub const AUTO_NEEDS: &str = "per class and cost model, an answer that is a fitt
 /// One class's answer under one cost model.
 #[derive(Debug, Clone, Serialize)]
 pub struct ClassAnswer {
-    pub model: String,
+    pub model: crate::cost::CostModelId,
     /// The form (`minimax d2`, `newton k1 seed d0`, a paper's name); null: none is cheaper
     /// than phong_exact within the budget here.
     pub form: Option<String>,
@@ -67,7 +67,7 @@ pub fn of_mesh(
     models: &[CostModel],
     lights: &Lights,
     budget: f64,
-    b: &ProofBudget,
+    b: &ProofEffort,
 ) -> Vec<Class> {
     let mut out = Vec::new();
     for (i, &from) in CLASS_EDGES.iter().enumerate() {
@@ -125,7 +125,7 @@ fn answer(class_rows: &[Row], rows: &[Row], m: &CostModel, budget: f64) -> Class
         .min_by(|a, b| a.1.total_cmp(&b.1));
     match best {
         Some((r, ratio)) => ClassAnswer {
-            model: m.id.to_string(),
+            model: m.id.clone(),
             form: Some(r.candidate.label()),
             coeffs: r.candidate.coeffs.clone(),
             colour_bound: r.bound(m.precision).and_then(|b| b.colour),
@@ -134,7 +134,7 @@ fn answer(class_rows: &[Row], rows: &[Row], m: &CostModel, budget: f64) -> Class
             candidate: Some(r.candidate.clone()),
         },
         None => ClassAnswer {
-            model: m.id.to_string(),
+            model: m.id.clone(),
             form: None,
             coeffs: Vec::new(),
             colour_bound: None,

@@ -27,20 +27,19 @@ mod output;
 pub mod proof;
 pub mod refit;
 pub mod remez;
-pub mod rounded;
 
 use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
 
-use self::candidate::{Candidate, Family, PAPERS};
+use self::candidate::{Candidate, Family};
 use self::choose::{Answer, Row, RowCost};
 use self::domain::MeshDomain;
 pub use self::output::{table, write};
-use self::proof::{Lights, ProofBudget};
+use self::proof::{Lights, ProofEffort};
 use crate::auto::ErrorBudget;
-use crate::cost::{verdict_words, CostModel, CostModelId, Evidence, Registry};
+use crate::cost::{CostModel, CostModelId, Evidence, IdKind, Registry};
 use crate::engine::{Engine, Ready};
 use crate::error::{Error, Result};
 use crate::frame::IdFrame;
@@ -57,7 +56,7 @@ pub struct TuneOptions {
     pub budget: ErrorBudget,
     /// The cost models to measure; empty: every model the registry measures on demand.
     pub cost_models: Vec<CostModelId>,
-    pub proof: ProofBudget,
+    pub proof: ProofEffort,
     /// Threads of the software engine's id pass.
     pub threads: usize,
     /// Progress lines on stderr.
@@ -172,7 +171,7 @@ pub fn fit_all(prefix: &str, lo: f64, hi: f64) -> (Vec<Candidate>, Vec<String>) 
             Err(why) => skipped.push(format!("{id}: {why}")),
         }
     }
-    out.extend(PAPERS.iter().map(|p| Candidate::paper(p)));
+    out.extend(candidate::papers());
     out.push(Candidate::reference());
     (out, skipped)
 }
@@ -309,7 +308,7 @@ pub fn prove_all(
     z: Interval,
     lights: &Lights,
     pixels: Option<&[f64]>,
-    b: &ProofBudget,
+    b: &ProofEffort,
 ) -> Vec<Row> {
     cands
         .into_iter()
@@ -392,7 +391,7 @@ fn write_class_files(
             .iter()
             .position(|&e| e == c.z_from)
             .unwrap_or(0);
-        let models: Vec<(String, String)> = c
+        let models: Vec<(CostModelId, String)> = c
             .answers
             .iter()
             .filter_map(|a| Some((a.model.clone(), a.form.clone()?)))
@@ -454,7 +453,7 @@ fn measure_all(
         }
         (id.clone(), r)
     };
-    let timed = |id: &CostModelId| id.as_str().starts_with("lavapipe");
+    let timed = |id: &CostModelId| *id.kind() == IdKind::Lavapipe;
     let mut out: Vec<_> = ids.iter().filter(|i| timed(i)).map(one).collect();
     let rest: Vec<&CostModelId> = ids.iter().filter(|i| !timed(i)).collect();
     let queue = std::sync::Mutex::new(rest.iter().rev().copied().collect::<Vec<_>>());
@@ -542,9 +541,9 @@ pub fn run(
             .map(|m| {
                 let f = m.figure(&r.candidate.id);
                 RowCost {
-                    model: m.id.to_string(),
+                    model: m.id.clone(),
                     ratio: f.and_then(|f| f.ratio),
-                    verdict: f.map_or("unmeasured", |f| verdict_words(f.verdict)),
+                    verdict: f.map_or(crate::method::Verdict::NotChecked, |f| f.verdict),
                 }
             })
             .collect();

@@ -3,8 +3,9 @@ use std::path::Path;
 
 use super::choose::num;
 use super::TuneReport;
+use crate::cost::CostModelId;
 use crate::error::{Error, Result};
-use crate::method::Precision;
+use crate::method::{Precision, Verdict};
 
 /// Writes DIR/tune.txt and, last (the run's completion marker), DIR/tune.json (the method
 /// files are written by the run, before).
@@ -114,11 +115,11 @@ pub fn table(r: &TuneReport) -> String {
 
 /// Each candidate's ratio to phong_exact per cost model (`*`: measured cheaper).
 fn cost_table(r: &TuneReport) -> String {
-    let models: Vec<&str> = r
+    let models: Vec<&CostModelId> = r
         .cost_models
         .iter()
         .filter(|a| a.error.is_none())
-        .map(|a| a.model.as_str())
+        .map(|a| &a.model)
         .collect();
     if models.is_empty() {
         return "costs: no cost model measured\n".into();
@@ -126,18 +127,28 @@ fn cost_table(r: &TuneReport) -> String {
     let mut s = String::from("cost / phong_exact's (* cheaper):\n");
     s += &format!("{:<32}", "candidate");
     for m in &models {
-        s += &format!(" {:>16}", m.trim_start_matches("isa:"));
+        // a GPU family's model by its family (`amd:navi21:f16`), any other by its id
+        let head = match m.gpu_family() {
+            Some(f) if m.precision() == Precision::F32 => f,
+            Some(f) => format!("{f}:{}", m.precision()),
+            None => m.to_string(),
+        };
+        s += &format!(" {head:>16}");
     }
     s.push('\n');
     for row in &r.candidates {
         s += &format!("{:<32}", row.candidate.id);
         for m in &models {
-            let c = row.costs.iter().find(|c| c.model == *m);
+            let c = row.costs.iter().find(|c| c.model == **m);
             let cell = c.map_or("n/a".to_string(), |c| {
                 format!(
                     "{}{}",
                     c.ratio.map_or("n/a".into(), |x| format!("{x:.3}")),
-                    if c.verdict == "cheaper" { "*" } else { "" }
+                    if c.verdict == Verdict::Agrees {
+                        "*"
+                    } else {
+                        ""
+                    }
                 )
             });
             s += &format!(" {cell:>16}");

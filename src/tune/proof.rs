@@ -20,10 +20,11 @@
 use serde::Serialize;
 
 use super::candidate::Candidate;
-use super::rounded::{Format, Rounded, F16, F32};
+use crate::method::kernel::Evaluate;
 use crate::method::real::Real;
+use crate::method::rounded::{Format, Rounded, F16, F32};
 use crate::method::Precision;
-use crate::prove::bnb::{self, Budget};
+use crate::prove::bnb::{self, Effort};
 use crate::prove::dual::{mean_value, Dual};
 use crate::prove::interval::Interval;
 
@@ -89,17 +90,17 @@ impl Bound {
     }
 }
 
-/// Budgets of the branch-and-bounds.
+/// The effort of the branch-and-bounds: tolerance, boxes and seconds.
 #[derive(Debug, Clone, Copy)]
-pub struct ProofBudget {
+pub struct ProofEffort {
     pub tolerance: f64,
     pub max_boxes: usize,
     pub max_seconds: f64,
 }
 
-impl Default for ProofBudget {
+impl Default for ProofEffort {
     fn default() -> Self {
-        ProofBudget {
+        ProofEffort {
             tolerance: 0.01,
             max_boxes: 20_000,
             max_seconds: 2.0,
@@ -109,7 +110,10 @@ impl Default for ProofBudget {
 
 /// An enclosure of `|N'| - 1` of the program in format `F` over z in `z`, and of the rounding's
 /// share in it.
-pub fn length_error<F: Format>(c: &Candidate, z: Interval) -> (Interval, Interval) {
+pub fn length_error<F: Format>(c: &Candidate, z: Interval) -> (Interval, Interval)
+where
+    Rounded<F>: Evaluate,
+{
     let one = Interval::point(1.0);
     let real = real_length_error(c, z);
     let (u, u_in) = (F::ULP, input_ulp::<F>());
@@ -153,9 +157,12 @@ fn input_ulp<F: Format>() -> f64 {
 }
 
 /// Proves `c` in format `F` over the domain `z` for the lighting `lights`.
-pub fn prove_in<F: Format>(c: &Candidate, z: Interval, lights: &Lights, b: &ProofBudget) -> Bound {
+pub fn prove_in<F: Format>(c: &Candidate, z: Interval, lights: &Lights, b: &ProofEffort) -> Bound
+where
+    Rounded<F>: Evaluate,
+{
     let allowance = length_error::<F>(c, z).1.mag();
-    let budget = Budget {
+    let effort = Effort {
         tolerance: b.tolerance,
         atol: bnb::ATOL + allowance,
         max_boxes: b.max_boxes,
@@ -168,13 +175,13 @@ pub fn prove_in<F: Format>(c: &Candidate, z: Interval, lights: &Lights, b: &Proo
     };
     let abs = bnb::maximise(
         [z, point, point],
-        budget,
+        effort,
         |cell| length_error::<F>(c, cell[0]).0.mag(),
         |p| real(p).map(f64::abs),
     );
     let signed = bnb::maximise(
         [z, point, point],
-        budget,
+        effort,
         |cell| length_error::<F>(c, cell[0]).0.hi,
         real,
     );
@@ -207,10 +214,13 @@ pub fn prove_in<F: Format>(c: &Candidate, z: Interval, lights: &Lights, b: &Proo
 /// nothing finite is proven), after at most `max_boxes` boxes and with no time limit: the same
 /// number on every machine and every run, which a tuned file's line can state and a loader
 /// re-prove ([`super::check`]).
-pub fn length_bound<F: Format>(c: &Candidate, z: Interval, max_boxes: usize) -> f64 {
+pub fn length_bound<F: Format>(c: &Candidate, z: Interval, max_boxes: usize) -> f64
+where
+    Rounded<F>: Evaluate,
+{
     let allowance = length_error::<F>(c, z).1.mag();
-    let budget = Budget {
-        tolerance: ProofBudget::default().tolerance,
+    let effort = Effort {
+        tolerance: ProofEffort::default().tolerance,
         atol: bnb::ATOL + allowance,
         max_boxes,
         max_seconds: f64::INFINITY,
@@ -218,7 +228,7 @@ pub fn length_bound<F: Format>(c: &Candidate, z: Interval, max_boxes: usize) -> 
     let point = Interval::point(0.0);
     let bound = bnb::maximise(
         [z, point, point],
-        budget,
+        effort,
         |cell| length_error::<F>(c, cell[0]).0.mag(),
         |p| {
             let v = (c.k(p[0]) * p[0].sqrt() - 1.0).abs();
@@ -239,7 +249,7 @@ pub fn prove(
     precision: Precision,
     z: Interval,
     lights: &Lights,
-    b: &ProofBudget,
+    b: &ProofEffort,
 ) -> Bound {
     match precision {
         Precision::F32 => prove_in::<F32>(c, z, lights, b),
@@ -300,7 +310,7 @@ mod tests {
             } else {
                 Candidate::newton("m".into(), d, steps, lo, hi).unwrap()
             };
-            let b = prove(&c, Precision::F32, z, &lights(), &ProofBudget::default());
+            let b = prove(&c, Precision::F32, z, &lights(), &ProofEffort::default());
             let e = b.length_error.unwrap();
             let found = b.found_length_error.unwrap();
             assert!(b.converged && e <= found * 1.01 + b.rounding_allowance + 1e-12);
@@ -318,13 +328,13 @@ mod tests {
                 assert!(got.abs() <= e, "d {d} k {steps}: {got} > {e}");
             }
         }
-        let romanyuk = Candidate::paper("romanyuk_poly");
+        let romanyuk = Candidate::paper(crate::method::find("romanyuk_poly").unwrap()).unwrap();
         let ours = prove(
             &romanyuk,
             Precision::F32,
             z,
             &lights(),
-            &ProofBudget::default(),
+            &ProofEffort::default(),
         );
         let (e, found) = (ours.length_error.unwrap(), ours.found_length_error.unwrap());
         assert!(
@@ -343,15 +353,15 @@ mod tests {
     fn rounding_is_in_the_bound() {
         let z = Interval::new(0.95, 1.0);
         let c = Candidate::minimax("m".into(), 4, 0.95, 1.0).unwrap();
-        let f32b = prove(&c, Precision::F32, z, &lights(), &ProofBudget::default());
-        let f16b = prove(&c, Precision::F16, z, &lights(), &ProofBudget::default());
+        let f32b = prove(&c, Precision::F32, z, &lights(), &ProofEffort::default());
+        let f16b = prove(&c, Precision::F16, z, &lights(), &ProofEffort::default());
         assert!(
             f16b.length_error.unwrap() > 100.0 * f32b.length_error.unwrap(),
             "{f16b:?}"
         );
         assert!(f16b.colour.unwrap() > f32b.colour.unwrap());
         let point = Interval::point(0.0);
-        let budget = Budget {
+        let effort = Effort {
             tolerance: 0.01,
             atol: 1e-15,
             max_boxes: 100_000,
@@ -359,7 +369,7 @@ mod tests {
         };
         let real_only = bnb::maximise(
             [z, point, point],
-            budget,
+            effort,
             |cell| real_length_error(&c, cell[0]).mag(),
             |p| Some((c.k(p[0]) * p[0].sqrt() - 1.0).abs()),
         )
@@ -388,7 +398,7 @@ mod tests {
             Precision::F32,
             Interval::new(0.5, 1.0),
             &lights(),
-            &ProofBudget::default(),
+            &ProofEffort::default(),
         );
         assert_eq!(b.angle_rad, std::f64::consts::PI);
         assert!(!b.within(1.0 / 255.0));

@@ -20,7 +20,7 @@ fn bench_rejects_bad_options() {
     ]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("--error-metric: unknown metric \"nope\""),
+        err.contains("--error-metric") && err.contains("unknown metric \"nope\""),
         "{err}"
     );
     let (code, _, err) = run(&[

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use shadelab::method::Verdict;
-use shadelab::report::front::claims::{matrix, Measured, Place};
+use shadelab::report::front::matrix::{matrix, Measured, Place};
 use shadelab::report::links::{attribute_values, broken_in};
 
 use super::{chromium, index_html, probe_with, report_dir};

@@ -13,7 +13,7 @@
 
 use std::ops::Range;
 
-use super::kernel::{
+use super::color::{
     clamp01, mat, Params, DELTA_CUBE, FACTOR, GPT, GQC, GQF, ILLUMINANT, INV_ILLUMINANT,
     RGB_TO_XYZ, TERM, XYZ_TO_RGB,
 };
@@ -250,7 +250,7 @@ impl SidePlanes {
 
 #[cfg(test)]
 mod tests {
-    use super::super::kernel::{flip_value, side_at, Side};
+    use super::super::color::{flip_value, side_at, Side};
     use super::*;
 
     /// Vertical sums as the filters give them: Y from below black to above white (both sides

@@ -6,7 +6,7 @@
 //! # Why computing near the differing pixels only is exact
 //! FLIP's value at a pixel is a pointwise function of the two images filtered by kernels of
 //! finite support (the CSF filter and the edge/point detectors, both separable, radius
-//! [`kernel::Params::radius`] at most, clamped at the image border): it reads the input pixels
+//! [`color::Params::radius`] at most, clamped at the image border): it reads the input pixels
 //! within Chebyshev distance `r` of it and nothing else (no global normalisation in LDR-FLIP).
 //! Where the two 8-bit images agree over that whole neighbourhood, every filtered value is the
 //! same on both sides and the pixel's FLIP is exactly +0.0 (HyAB of equal colours is 0,
@@ -17,11 +17,13 @@
 //! pixels computed, or one bounding box); the tests check the map bit for bit against nv-flip
 //! over the whole image (`flip_map_full`, the oracle, a dev-dependency).
 mod batch;
+mod color;
 mod kernel;
 
 use batch::SidePlanes;
+use color::Params;
 use glam::DVec3;
-use kernel::{Mode, Params, Planes};
+use kernel::{Mode, Planes};
 
 #[cfg(test)]
 use crate::analysis::stats::percentile;

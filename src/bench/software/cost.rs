@@ -22,7 +22,7 @@ fn finite(x: f64) -> Option<f64> {
 }
 
 /// The claims' pairs the software engine timed against each other in the same rounds.
-pub fn pairs(scene: &str, claims: &[super::claims::SpeedClaim]) -> Vec<PairFigure> {
+pub fn pairs(scene: &str, claims: &[super::speed::SpeedClaim]) -> Vec<PairFigure> {
     claims
         .iter()
         .filter_map(|c| {

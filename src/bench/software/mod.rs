@@ -16,7 +16,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::rounds::{ratios, round_values, run_rounds, widest, Draws};
-use super::{RoundsPlan, RoundsReport, RATIO_INTERVAL};
+use super::{RoundsReport, RoundsSchedule, RATIO_INTERVAL};
 use crate::analysis::stats::{median_ci, paired_ratio, RatioEstimate};
 use crate::engine::Engine;
 use crate::error::{Error, Result};
@@ -27,9 +27,9 @@ use crate::output::provenance::{cpu_model, Provenance};
 use crate::scene::{Scene, SceneInputs};
 use crate::software;
 
-pub mod claims;
 pub mod cost;
-pub use claims::*;
+pub mod speed;
+pub use speed::*;
 
 /// Version of the software bench.json layout.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -42,7 +42,7 @@ pub const CLOCK: &str = "wall: one software::render_into call, set-up to finishe
 #[derive(Debug, Clone)]
 pub struct SoftwareOptions {
     /// The rounds, as the Vulkan bench runs them.
-    pub rounds: RoundsPlan,
+    pub rounds: RoundsSchedule,
     /// Threads of the software engine (at least 1).
     pub threads: usize,
     /// A Vulkan run's bench.json whose paired ratios are judged beside this run's.
@@ -168,8 +168,8 @@ pub fn bench(
     paired_vulkan: Option<&crate::gpu::Renderer>,
 ) -> Result<SoftwareBench> {
     let start = Instant::now();
-    let plan = &sw.rounds;
-    plan.check()?;
+    let schedule = &sw.rounds;
+    schedule.check()?;
     if paired_vulkan.is_some() && sw.vulkan_bench.is_some() {
         return Err(Error::Usage(BOTH_VULKAN_COLUMNS.into()));
     }
@@ -218,7 +218,7 @@ pub fn bench(
         software,
         vulkan: vulkan_draws,
     };
-    let (samples, rounds) = time(&draws, plan, &names, phong, threads)?;
+    let (samples, rounds) = time(&draws, schedule, &names, phong, threads)?;
     let values = values_all(&samples[..n]);
     let vulkan = match &draws.vulkan {
         Some(_) => Some(VulkanRatios::paired(
@@ -252,8 +252,8 @@ pub fn bench(
         width: scene.width,
         height: scene.height,
         triangles: inputs[0].triangle_count(),
-        repeat: plan.repeat,
-        warmup: plan.warmup,
+        repeat: schedule.repeat,
+        warmup: schedule.warmup,
         rounds,
         ratio_interval: RATIO_INTERVAL.into(),
         clock: CLOCK,
@@ -280,7 +280,7 @@ pub fn bench(
 /// widest interval is of the software programs' ratios.
 fn time(
     draws: &Both,
-    plan: &RoundsPlan,
+    schedule: &RoundsSchedule,
     names: &[String],
     phong: usize,
     threads: usize,
@@ -290,11 +290,11 @@ fn time(
         "bench --engine software: {} programs on {threads} threads in the same interleaved \
          rounds: {}",
         draws.len(),
-        plan.describe()
+        schedule.describe()
     );
     // Every program is its own "floor": the floor ratios are 1 and never the widest.
     let own: Vec<usize> = (0..n).collect();
-    run_rounds(draws, plan, "bench --engine software", |samples| {
+    run_rounds(draws, schedule, "bench --engine software", |samples| {
         let (p, f) = ratios(&values_all(&samples[..n]), phong, &own);
         widest(names, &p, &f)
     })

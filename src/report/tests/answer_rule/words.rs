@@ -38,7 +38,7 @@ fn the_words_state_the_common_answer_and_what_differs() {
             of: 6
         }
     );
-    let differ: Vec<&str> = s.differing.iter().map(|c| c.budget.as_str()).collect();
+    let differ: Vec<String> = s.differing.iter().map(|c| c.budget.id()).collect();
     assert_eq!(differ, ["max_1_1024", "p99_1_1024"]);
     assert!(
         s.sentences[0].starts_with("faster is the cheapest method in 4 of the 6 cells"),
@@ -53,7 +53,7 @@ fn the_words_state_the_common_answer_and_what_differs() {
     );
     let on = |scene: &str, budget: &str| {
         let sb = (s.per_scene.iter())
-            .find(|x| x.scene == scene && x.budget == budget)
+            .find(|x| x.scene == scene && x.budget.id() == budget)
             .unwrap();
         (sb.answers[0].method.clone(), sb.answers[0].nothing_cheaper)
     };
@@ -90,7 +90,7 @@ fn an_interval_that_cannot_tell_leaves_the_cell_unresolved() {
     let mut figs = figures();
     figs[2] = fig("faster", 0.7, 0.5, 1.1);
     let a = answer(&scenes(), &names(), &errors(), vec![model(figs.clone())]);
-    let c = a.cell("max_1_255", "m").unwrap();
+    let c = cell(&a, "max_1_255", "m").unwrap();
     assert_eq!(c.answer.method, "fast");
     assert_eq!(c.unresolved, ["faster"]);
     assert!(
@@ -130,17 +130,17 @@ fn a_tuned_winner_shows_where_its_bound_fits_the_budget() {
     let t = Tuned::parse(TUNE_JSON, "tune/tune.json", path).unwrap();
     assert_eq!(
         (t.wins.len(), t.none.clone()),
-        (1, vec!["other".to_string()])
+        (1, vec![CostModelId::parse("other").unwrap()])
     );
     let (s, n, e) = (scenes(), names(), errors());
     let a = answer_with(inputs(&s, &n, &e, vec![model(figures())], Some(t)));
-    let with: Vec<&str> = (a.cells.iter())
+    let with: Vec<String> = (a.cells.iter())
         .filter(|c| c.tuned.is_some())
-        .map(|c| c.budget.as_str())
+        .map(|c| c.budget.id())
         .collect();
     // 0.003 fits 1/255 (0.0039) and 4/255, not 1/1024 (0.00098).
     assert_eq!(with, ["max_1_255", "max_4_255", "p99_1_255", "p99_4_255"]);
-    let c = a.cell("max_1_255", "m").unwrap();
+    let c = cell(&a, "max_1_255", "m").unwrap();
     assert!(
         c.text
             .contains("a tuned approximation beats exact normalisation here: rsqrt_p2"),

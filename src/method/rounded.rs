@@ -1,8 +1,9 @@
 //! A number type for proving what a program computes in float32 or float16, not only the real
 //! formula it stands for: [`Rounded`] carries an enclosure of the exact value of the formula
 //! (`v`) and an enclosure of the difference between the program's value and it (`e`), both
-//! outward-rounded [`Interval`]s. It implements [`Real`], so a candidate's one generic formula
-//! runs on it unchanged.
+//! outward-rounded [`Interval`]s. It implements [`Real`], so a formula's one generic function
+//! runs on it unchanged: tune's candidates, and the rows' factors ([`super::kernel::Factor`]),
+//! which tune proves beside them.
 //!
 //! What a program may do to each operation (the Vulkan precision rules for SPIR-V): +, - and *
 //! are correctly rounded in the implementation's rounding mode, round to nearest even or toward
@@ -21,9 +22,9 @@
 use std::marker::PhantomData;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::method::real::Real;
-use crate::method::Precision;
-use crate::prove::interval::Interval;
+use super::interval::Interval;
+use super::real::Real;
+use super::Precision;
 
 /// A floating-point format a program computes in.
 pub trait Format: Copy + std::fmt::Debug + 'static {
@@ -90,6 +91,12 @@ impl<F: Format> Rounded<F> {
             e,
             _f: PhantomData,
         }
+    }
+
+    /// A value whose exact value lies in `v` and whose program's error is not known (the whole
+    /// line): what a formula without a rounded form gives ([`super::kernel::Factor`]).
+    pub fn unknown(v: Interval) -> Self {
+        Rounded::input(v, Interval::ENTIRE)
     }
 
     /// Encloses the program's value.

@@ -1,8 +1,8 @@
-//! What a bench or report run decides, decided once: [`RunPlan`], built from what the command
-//! line gave ([`Given`]) and the table of defaults ([`RunPlan::new`], tested in one place).
-//! Every later step reads the plan: bench's rounds, its fresh-process runs (the plan travels in
-//! their requests), the isolated cost, the control, the report's skips, software bench and
-//! stress.
+//! What a bench or report run decides, decided once: [`Schedule`], built from what the command
+//! line gave ([`Given`]) and the table of defaults ([`Schedule::new`], tested in one place).
+//! Every later step reads the schedule: bench's rounds, its fresh-process runs (the schedule
+//! travels in their requests), the isolated cost, the control, the report's skips, software
+//! bench and stress.
 //!
 //! The defaults, and why:
 //!
@@ -20,10 +20,10 @@
 //! were compiled (and their JIT done) when created, so one warm-up round is enough there. The
 //! control (`phong_exact_control`) is timed when asked for and in every bench of several runs:
 //! it is their noise floor. A report measures the isolated cost with its first scene only (it
-//! does not depend on the scene: [`RunPlan::later_scene`]).
+//! does not depend on the scene: [`Schedule::later_scene`]).
 use serde::{Deserialize, Serialize};
 
-use super::rounds::RoundsPlan;
+use super::rounds::RoundsSchedule;
 use crate::error::{Error, Result};
 
 /// The default number of fresh-process runs of `bench` and `report`.
@@ -52,11 +52,11 @@ pub struct Given {
 
 /// Everything a bench or report run decides about its measurement.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RunPlan {
+pub struct Schedule {
     /// Fresh-process measurement runs; 1: one run in this process.
     pub runs: usize,
     /// Each run's timed rounds (repeat, warm-up, `--until-ci` and its cap).
-    pub rounds: RoundsPlan,
+    pub rounds: RoundsSchedule,
     /// Isolated-cost rounds per run (0: not measured), after `isolated_warmup` discarded ones.
     pub isolated_rounds: usize,
     pub isolated_warmup: usize,
@@ -66,10 +66,10 @@ pub struct RunPlan {
     pub stress_refine: usize,
 }
 
-impl RunPlan {
-    /// The plan of `job` with what the command line `given`, else the defaults of the table
-    /// above; a usage error for a plan that cannot run.
-    pub fn new(job: Job, given: &Given) -> Result<RunPlan> {
+impl Schedule {
+    /// The schedule of `job` with what the command line `given`, else the defaults of the table
+    /// above; a usage error for a schedule that cannot run.
+    pub fn new(job: Job, given: &Given) -> Result<Schedule> {
         let software = matches!(job, Job::Bench { software: true });
         let runs = given
             .runs
@@ -96,9 +96,9 @@ impl RunPlan {
             (Job::Report { full: false }, false) => (10, 2, false),
             (Job::Report { full: false }, true) => (6, 1, false),
         };
-        let plan = RunPlan {
+        let schedule = Schedule {
             runs,
-            rounds: RoundsPlan {
+            rounds: RoundsSchedule {
                 repeat: given.repeat.unwrap_or(repeat),
                 warmup: given.warmup.unwrap_or(warmup),
                 until_ci_pct: given.until_ci_pct,
@@ -115,8 +115,8 @@ impl RunPlan {
                 Job::Bench { .. } => 0,
             },
         };
-        plan.rounds.check()?;
-        Ok(plan)
+        schedule.rounds.check()?;
+        Ok(schedule)
     }
 
     /// Whether the timing comes from several fresh processes.
@@ -124,10 +124,10 @@ impl RunPlan {
         self.runs > 1
     }
 
-    /// The plan of a report's scenes after the first: no isolated cost (it does not depend on
+    /// The schedule of a report's scenes after the first: no isolated cost (it does not depend on
     /// the scene; the first scene measured it).
-    pub fn later_scene(&self) -> RunPlan {
-        RunPlan {
+    pub fn later_scene(&self) -> Schedule {
+        Schedule {
             isolated_rounds: 0,
             ..self.clone()
         }
@@ -140,8 +140,8 @@ impl RunPlan {
 
     /// The rounds of a report's software bench (at least one warm-up: the first draw builds
     /// the engine's tables).
-    pub fn software_rounds(&self) -> RoundsPlan {
-        RoundsPlan {
+    pub fn software_rounds(&self) -> RoundsSchedule {
+        RoundsSchedule {
             warmup: self.rounds.warmup.max(1),
             until_ci_pct: None,
             ..self.rounds.clone()
@@ -154,7 +154,7 @@ mod tests {
     use super::*;
 
     fn row(job: Job, runs: Option<usize>) -> (usize, usize, usize, usize, usize, bool, usize) {
-        let p = RunPlan::new(
+        let p = Schedule::new(
             job,
             &Given {
                 runs,
@@ -188,9 +188,9 @@ mod tests {
         assert_eq!(row(Job::Bench { software: true }, None).0, 1);
     }
 
-    /// What the command line gives wins; a plan that cannot run is a usage error.
+    /// What the command line gives wins; a schedule that cannot run is a usage error.
     #[test]
-    fn given_values_win_and_bad_plans_are_refused() {
+    fn given_values_win_and_bad_schedules_are_refused() {
         let g = Given {
             runs: Some(3),
             repeat: Some(12),
@@ -198,7 +198,7 @@ mod tests {
             isolated_rounds: Some(0),
             ..Given::default()
         };
-        let p = RunPlan::new(Job::Bench { software: false }, &g).unwrap();
+        let p = Schedule::new(Job::Bench { software: false }, &g).unwrap();
         assert_eq!(
             (p.rounds.repeat, p.rounds.warmup, p.isolated_rounds),
             (12, 0, 0)
@@ -206,7 +206,7 @@ mod tests {
         assert_eq!(p.later_scene().isolated_rounds, 0);
         assert_eq!(p.skips_rounds(), (12, 0));
         assert_eq!(p.software_rounds().warmup, 1);
-        let bad = |g: Given, job| RunPlan::new(job, &g).unwrap_err().to_string();
+        let bad = |g: Given, job| Schedule::new(job, &g).unwrap_err().to_string();
         let bench = Job::Bench { software: false };
         let runs = |n| Given {
             runs: Some(n),
@@ -223,7 +223,7 @@ mod tests {
             runs: Some(1),
             ..until
         };
-        assert!(RunPlan::new(bench, &one).is_ok());
+        assert!(Schedule::new(bench, &one).is_ok());
         let zero = Given {
             runs: Some(1),
             repeat: Some(0),

@@ -2,13 +2,14 @@
 //! 3 divisions + 3 multiplications + 2 additions + 1 square root") is checked per family on
 //! the real instructions: what phong_exact's fragment shader has that phong_unnormalized's
 //! (the same shader without the normalisation) has not, counted per operation class in the
-//! disassembly, and what it adds to ACO's inverse throughput. The claims table
-//! (src/bench/claims.rs) calls [`op_count`] and [`static_verdicts`].
+//! disassembly, and what it adds to ACO's inverse throughput. [`super::report`] judges it on
+//! every family it compiled; bench's speed claims (src/bench/speed_claims.rs) read the verdicts.
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::table::IsaReport;
+use super::table::{asm_dir, find_row, Row};
+use crate::method::Verdict;
 
 /// The claim's operations: (class, count), 9 in all.
 pub const CLAIMED: [(&str, u32); 4] = [
@@ -67,38 +68,80 @@ pub struct OpCountVerdict {
     pub extra_by_class: BTreeMap<String, i64>,
     /// ACO's inverse throughput of phong_exact's fragment shader over phong_unnormalized's.
     pub inverse_throughput_ratio: f64,
-    /// "holds" (at least as many instructions as operations claimed, every claimed class
-    /// present), "overstated" (fewer instructions than claimed), or "other mix" (as many, in
-    /// other classes).
-    pub verdict: String,
+    pub verdict: OpCount,
 }
 
-/// The op-count claim per compiled family; families without both shaders' disassembly are
-/// left out.
-pub fn op_count(report: &IsaReport) -> Vec<OpCountVerdict> {
+/// What the compiled instructions say of the op-count claim, written as its words ("holds",
+/// "overstated", "other mix") in isa.json and bench.json.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum OpCount {
+    /// At least as many instructions as operations claimed, every claimed class present.
+    #[serde(rename = "holds")]
+    Holds,
+    /// Fewer instructions than operations claimed.
+    #[serde(rename = "overstated")]
+    Overstated,
+    /// As many, in other classes.
+    #[serde(rename = "other mix")]
+    OtherMix,
+}
+
+impl OpCount {
+    /// The words, as in the JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            OpCount::Holds => "holds",
+            OpCount::Overstated => "overstated",
+            OpCount::OtherMix => "other mix",
+        }
+    }
+
+    /// As a claims verdict: the claim's 9 operations of its classes are there (agrees), fewer
+    /// (disagrees: overstated), or as many of other classes (partly).
+    pub fn verdict(self) -> Verdict {
+        match self {
+            OpCount::Holds => Verdict::Agrees,
+            OpCount::Overstated => Verdict::Disagrees,
+            OpCount::OtherMix => Verdict::Partly,
+        }
+    }
+}
+
+impl std::fmt::Display for OpCount {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The op-count claim on each of `families` (the compiled ones, keys of `rows`), from their
+/// rows and `disassembly` ((path, text) of each); families without both shaders' disassembly
+/// are left out.
+pub fn op_count(
+    rows: &[Row],
+    disassembly: &[(String, String)],
+    families: &[&str],
+) -> Vec<OpCountVerdict> {
     let asm = |f: &str, m: &str| {
-        let path = format!("asm/{}/{m}.fragment.s", super::table::asm_dir(f));
-        report
-            .disassembly
+        let path = format!("asm/{}/{m}.fragment.s", asm_dir(f));
+        disassembly
             .iter()
             .find(|(p, _)| *p == path)
             .map(|(_, t)| t.as_str())
     };
     let claimed: u32 = CLAIMED.iter().map(|(_, n)| n).sum();
+    let unnormalized = crate::method::phong_unnormalized().name;
     let mut out = Vec::new();
-    for f in report.supported() {
-        let (Some(exact), Some(unnorm)) = (
-            asm(f, crate::method::PHONG_EXACT),
-            asm(f, "phong_unnormalized"),
-        ) else {
+    for &f in families {
+        let (Some(exact), Some(unnorm)) =
+            (asm(f, crate::method::PHONG_EXACT), asm(f, unnormalized))
+        else {
             continue;
         };
         let it = |m| {
-            report
-                .row(f, m, "fragment", "draw")
+            find_row(rows, f, m, "fragment", "draw")
                 .and_then(|r| r.statistics.get("inverse_throughput").copied())
         };
-        let (Some(a), Some(b)) = (it(crate::method::PHONG_EXACT), it("phong_unnormalized")) else {
+        let (Some(a), Some(b)) = (it(crate::method::PHONG_EXACT), it(unnormalized)) else {
             continue;
         };
         let (ce, cu) = (class_counts(exact), class_counts(unnorm));
@@ -109,14 +152,14 @@ pub fn op_count(report: &IsaReport) -> Vec<OpCountVerdict> {
         }
         let total: i64 = extra.values().sum();
         let verdict = if total < i64::from(claimed) {
-            "overstated"
+            OpCount::Overstated
         } else if CLAIMED
             .iter()
             .all(|(c, _)| extra.get(*c).copied().unwrap_or(0) > 0)
         {
-            "holds"
+            OpCount::Holds
         } else {
-            "other mix"
+            OpCount::OtherMix
         };
         out.push(OpCountVerdict {
             family: f.to_string(),
@@ -124,40 +167,10 @@ pub fn op_count(report: &IsaReport) -> Vec<OpCountVerdict> {
             extra_instructions: total as f64,
             extra_by_class: extra,
             inverse_throughput_ratio: a / b,
-            verdict: verdict.into(),
+            verdict,
         });
     }
     out
-}
-
-/// A speed claim ("`fast` is cheaper than `slow`") judged per family on the static cost: the
-/// fragment shader's inverse throughput ratio fast/slow, "holds" below 1, "fails" otherwise.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StaticVerdict {
-    pub family: String,
-    pub ratio: f64,
-    pub verdict: String,
-}
-
-/// [`StaticVerdict`] of `fast` against `slow` on every family that compiled both.
-pub fn static_verdicts(report: &IsaReport, fast: &str, slow: &str) -> Vec<StaticVerdict> {
-    report
-        .supported()
-        .into_iter()
-        .filter_map(|f| {
-            let it = |m| {
-                report
-                    .row(f, m, "fragment", "draw")
-                    .and_then(|r| r.statistics.get("inverse_throughput").copied())
-            };
-            let ratio = it(fast)? / it(slow)?;
-            ratio.is_finite().then(|| StaticVerdict {
-                family: f.to_string(),
-                ratio,
-                verdict: if ratio < 1.0 { "holds" } else { "fails" }.into(),
-            })
-        })
-        .collect()
 }
 
 #[cfg(test)]
