@@ -661,7 +661,10 @@ fn report_models_adds_every_obj_of_a_folder() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("answer: ") && stderr.contains("bench: "), "{stderr}");
+    assert!(
+        stderr.contains("answer: ") && stderr.contains("bench: "),
+        "{stderr}"
+    );
     let answer = read_json(out.join("answer.json"));
     // The most triangles first: the icosphere before the 12-triangle cube.
     assert_eq!(answer["scenes"], serde_json::json!(["ball", "box"]));

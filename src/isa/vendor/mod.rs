@@ -1,5 +1,6 @@
 //! The vendor seam of `shadelab isa`: one [`Vendor`] per compiler route, each in a file of its
-//! own ([`amd`], [`intel`], [`nouveau`], [`terascale`], [`qualcomm`], [`arm`], [`broadcom`];
+//! own ([`amd`], [`intel`], [`nouveau`], [`terascale`], [`qualcomm`], [`arm`], [`broadcom`],
+//! [`apple`];
 //! the routes built by `make compilers` share [`mesa_build`]) and registered in [`VENDORS`]. A
 //! vendor says which families it compiles, how a child compiles them (Vulkan pipeline
 //! executable statistics, or OpenGL's shader-db statistics through KHR_debug: [`Api`]), the
@@ -14,6 +15,7 @@
 //!
 //! Adding a vendor: a file implementing [`Vendor`] and one line in [`VENDORS`].
 pub mod amd;
+pub mod apple;
 pub mod arm;
 pub mod broadcom;
 pub mod intel;
@@ -30,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use crate::gpu::vk::Executable;
 
 /// Every vendor `shadelab isa` knows, in the order of its reports.
-pub static VENDORS: [&dyn Vendor; 7] = [
+pub static VENDORS: [&dyn Vendor; 8] = [
     &amd::Amd,
     &intel::Intel,
     &nouveau::Nouveau,
@@ -38,6 +40,7 @@ pub static VENDORS: [&dyn Vendor; 7] = [
     &qualcomm::Qualcomm,
     &arm::Arm,
     &broadcom::Broadcom,
+    &apple::Apple,
 ];
 
 /// How a vendor's child compiles.
@@ -404,6 +407,7 @@ mod tests {
             "arm:mali450",
             "broadcom:v3d42",
             "broadcom:vc4",
+            "apple:g13",
         ] {
             assert!(ids.iter().any(|i| i == want), "{want} not among {ids:?}");
         }
