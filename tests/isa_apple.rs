@@ -1,6 +1,6 @@
-//! `shadelab isa` on Apple's G13 (M1) through Mesa 25.0.7's asahi OpenGL ES driver on its noop
-//! drm-shim (`make compilers`): every method compiles in float32 and float16; the ranking
-//! statistic is the compiler's cycle model (`alu`, the bound unit named); gouraud <
+//! `shadelab isa` on Apple's G13 (M1) through Mesa 25.0.7's Honeykrisp (asahi's Vulkan driver)
+//! on its noop drm-shim (`make compilers`): every method compiles in float32 and float16; the
+//! ranking statistic is the compiler's cycle model (`alu`, the bound unit named); gouraud <
 //! phong_unnormalized < phong_exact on it; two runs are identical; a chip the shim is not is
 //! refused. Skipped with a line when the compilers are not built, failing under
 //! `SHADELAB_REQUIRE_COMPILERS=1`.
@@ -32,7 +32,7 @@ fn isa_run(opts: &IsaOptions) -> IsaReport {
     isa::run(opts, &|_| {}).expect("isa run")
 }
 
-/// Every method in `precision`: compiled by Mesa 25.0.7's asahi on the G13G, each draw's
+/// Every method in `precision`: compiled by Mesa 25.0.7's Honeykrisp on the G13G, each draw's
 /// fragment program with a finite positive cycle figure, its bound unit named with that
 /// figure, the Phong order, isa.json valid against its schema (with teeth).
 fn every_method_in(precision: Precision) -> IsaReport {
@@ -45,6 +45,7 @@ fn every_method_in(precision: Precision) -> IsaReport {
         assert_eq!(ranking.key, "alu");
         let compiler = f.compiler().expect("a compiler");
         assert_eq!(compiler.mesa_version.as_deref(), Some("Mesa 25.0.7"));
+        assert_eq!(compiler.api, "Vulkan");
         assert_eq!(f.float16, Some(true), "{}", f.id);
         assert!(f
             .device_name

@@ -24,6 +24,7 @@ pub mod cost;
 pub mod files;
 pub mod gl_child;
 pub mod rank;
+pub mod stderr;
 pub mod table;
 pub mod vendor;
 

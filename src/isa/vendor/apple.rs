@@ -1,22 +1,25 @@
-//! Apple GPUs (AGX): the G13 of the M1 through Mesa's asahi OpenGL ES driver and its AGX
-//! compiler, built by `make compilers` in a configuration of its own (asahi compiles an OpenCL C
-//! library of its own with LLVM at build time, which the other drivers do not need), on the
-//! asahi noop drm-shim. The shim is a G13G (`gpu_generation = 13`, `gpu_variant = 'G'` in
-//! src/asahi/drm-shim/asahi_noop.c, no variable to choose another), so the renderer is
-//! "Apple M1 (G13G A0)" and any other chip is refused. The compiler has no other target to
-//! offer: its device key differs between G13G and G13X only in atomics' cluster coherency
+//! Apple GPUs (AGX): the G13 of the M1 through Honeykrisp, Mesa's asahi Vulkan driver, and its
+//! AGX compiler, built by `make compilers` in a configuration of its own (asahi compiles an
+//! OpenCL C library of its own with LLVM at build time, which the other drivers do not need),
+//! on the asahi noop drm-shim. The shim is a G13G (`gpu_generation = 13`, `gpu_variant = 'G'` in
+//! src/asahi/drm-shim/asahi_noop.c, no variable to choose another), so the device is "Apple M1
+//! (G13G A0)" and any other chip is refused. The compiler has no other target to offer: its
+//! device key differs between G13G and G13X only in atomics' cluster coherency
 //! (src/asahi/compiler/agx_compile.h, `agx_device_key`), G14 and G15 only in the command
 //! stream, and its cycle model is "for G13G" (src/asahi/compiler/agx_performance.c).
 //!
-//! OpenGL ES rather than Honeykrisp (asahi's Vulkan driver): Honeykrisp's pipeline statistics
-//! are a code size and a register count, while the gallium driver sends the compiler's
-//! shader-db line as a KHR_debug message: instructions, the cycle model's estimated cycles of
-//! the F/SCIB unit (`fscib`: float, select, compare, integer add) and of the IC unit (`ic`:
-//! integer multiply, conversions and the transcendentals: rcp, rsqrt, exp2, log2), `alu` the
-//! larger of the two (the units run in parallel across warps), code bytes, registers, threads,
-//! spills. The bound unit is named in the row as `bound_fscib` or `bound_ic` (both on a tie),
-//! with `alu`'s figure. float16 is `mediump` in GLSL ES, which asahi computes in 16 bits
-//! (AGX has 16-bit arithmetic; its GL reports 10 bits of mediump precision).
+//! Vulkan rather than OpenGL ES: Mesa 25.0.7's gallium loader has no entry for asahi alone (it
+//! reaches it only through kmsro, as the render half of a display device, and kmsro's list of
+//! render drivers lacks asahi: src/gallium/auxiliary/pipe-loader/pipe_loader_drm.c), so EGL
+//! fails ("DRI2: failed to create screen"); Honeykrisp opens the shim's render node. Its
+//! pipeline statistics are a code size and a register count; the compiler's shader-db line
+//! (`AGX_MESA_DEBUG=shaderdb`, printed on stderr: [`crate::isa::stderr`]) adds the
+//! instructions, the cycle model's estimated cycles of the F/SCIB unit (`fscib`: float, select,
+//! compare, integer add) and of the IC unit (`ic`: integer multiply, conversions and the
+//! transcendentals: rcp, rsqrt, exp2, log2), `alu` the larger of the two (the units run in
+//! parallel across warps), code bytes, registers, threads, spills. The bound unit is named in
+//! the row as `bound_fscib` or `bound_ic` (both on a tie), with `alu`'s figure. float16
+//! programs compile with 16-bit arithmetic (AGX has it; Honeykrisp offers shaderFloat16).
 //!
 //! Mesa's compiler is the production driver of Linux on Apple silicon (Asahi Linux); macOS
 //! and iOS ship Apple's own compiler.
@@ -27,11 +30,10 @@ use super::{mesa_build, Api, Compiler, Ranking, Setup, Vendor};
 /// The route through asahi.
 pub struct Apple;
 
-/// The keys of `compilers.env` this route reads: its own EGL/OpenGL ES libraries (its
-/// configuration's libgallium has asahi alone) and its shim.
-const KEYS: [&str; 2] = ["ASAHI_GLES_LIB", "ASAHI_SHIM"];
+/// The keys of `compilers.env` this route reads: Honeykrisp's ICD manifest and the shim.
+const KEYS: [&str; 2] = ["ASAHI_ICD", "ASAHI_SHIM"];
 
-/// The chips the shim can be, with the variant code the driver puts in its renderer string
+/// The chips the shim can be, with the variant code the driver puts in its device name
 /// ("Apple M1 (G13G A0)"): the shim is a G13G and nothing else.
 const CHIPS: [(&str, &str); 1] = [("g13", "G13G")];
 
@@ -52,13 +54,13 @@ impl Vendor for Apple {
     }
 
     fn api(&self) -> Api {
-        Api::OpenGlEs
+        Api::Vulkan { device: "apple" }
     }
 
     fn compiler(&self) -> Compiler {
         Compiler {
-            driver: "asahi (AGX)".into(),
-            api: "OpenGL ES".into(),
+            driver: "Honeykrisp (asahi's AGX compiler)".into(),
+            api: "Vulkan".into(),
             mesa_version: None,
             production: false,
             note: "Mesa's open-source compiler for Apple GPUs, the driver of Asahi Linux; \
@@ -105,10 +107,13 @@ impl Vendor for Apple {
         setup: &Setup,
         _driver_files: &Path,
     ) -> Result<Vec<(String, String)>, String> {
-        // Every chip runs on the G13G shim; check_device refuses any other. The driver
-        // compiles vertex and fragment shaders at link time with the default key (the variant
-        // a draw would use first), so nothing needs precompiling.
-        mesa_build::gles_env_in(setup, "ASAHI_GLES_LIB", "ASAHI_SHIM", "asahi", &[])
+        // Every chip runs on the G13G shim; check_device refuses any other.
+        mesa_build::vulkan_env(
+            setup,
+            "ASAHI_ICD",
+            "ASAHI_SHIM",
+            &[("AGX_MESA_DEBUG", "shaderdb".into())],
+        )
     }
 
     fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String> {
@@ -133,8 +138,11 @@ impl Vendor for Apple {
         }
     }
 
+    /// A shader-db line, as the compiler prints it ("SHADER-DB: <label> - MESA_SHADER_FRAGMENT
+    /// shader: 60 inst, 48 alu, ...") or bare.
     fn parse_debug_message(&self, message: &str) -> Option<(String, Vec<(String, f64)>)> {
-        let (stage, mut stats) = mesa_build::parse_shader_db(message)?;
+        let line = &message[message.find("MESA_SHADER_")?..];
+        let (stage, mut stats) = mesa_build::parse_shader_db(line)?;
         let get = |k: &str| stats.iter().find(|(n, _)| n == k).map(|(_, v)| *v);
         if let Some(alu) = get("alu") {
             let bound: Vec<(String, f64)> = UNITS
@@ -145,6 +153,10 @@ impl Vendor for Apple {
             stats.extend(bound);
         }
         Some((stage, stats))
+    }
+
+    fn statistics_on_stderr(&self) -> bool {
+        true
     }
 }
 
@@ -194,5 +206,22 @@ mod tests {
         assert!(Apple
             .check_device("g13", "llvmpipe (LLVM 15.0.6, 256 bits)")
             .is_err());
+    }
+
+    #[test]
+    fn the_compiler_s_stderr_line_parses() {
+        let (stage, stats) = Apple
+            .parse_debug_message(
+                "SHADER-DB:  - MESA_SHADER_FRAGMENT shader: 60 inst, 48 alu, 48 fscib, 24 ic, \
+                 496 bytes, 31 regs, 2 uniforms, 0 scratch, 1024 threads, 0 loops, 0:0 \
+                 spills:fills",
+            )
+            .unwrap();
+        assert_eq!(stage, "fragment");
+        assert!(stats.contains(&("bound_fscib".into(), 48.0)), "{stats:?}");
+        // Teeth: a line of something else.
+        assert!(Apple
+            .parse_debug_message("SHADER-DB: nothing here")
+            .is_none());
     }
 }

@@ -1,8 +1,9 @@
 //! What the routes built by `make compilers` share (scripts/build-compilers.sh: Mesa 25.0.7
 //! from Debian's source package in the user's cache, its `compilers.env` naming the files):
-//! the set-up check, the environment of a Vulkan child on a drm-shim (Turnip, ANV 25.0.7) and
-//! of an OpenGL ES child (panfrost, lima, v3d, vc4, asahi on their shims, with the build's own
-//! EGL and OpenGL ES libraries first on the library path), and the shader-db lines these
+//! the set-up check, the environment of a Vulkan child on a drm-shim (Turnip, ANV 25.0.7,
+//! Honeykrisp) and
+//! of an OpenGL ES child (panfrost, lima, v3d, vc4 on their shims, with the build's own EGL
+//! and OpenGL ES libraries first on the library path), and the shader-db lines these
 //! compilers send as KHR_debug messages ("MESA_SHADER_FRAGMENT shader: 59 inst, 2 threads,
 //! ..., 0:0 spills:fills").
 use super::Setup;
@@ -49,21 +50,9 @@ pub fn gles_env(
     driver: &str,
     vars: &[(&str, String)],
 ) -> Result<Vec<(String, String)>, String> {
-    gles_env_in(setup, "GLES_LIB", shim_key, driver, vars)
-}
-
-/// [`gles_env`] with the libraries of `lib_key` (a driver built in a configuration of its
-/// own: asahi's `ASAHI_GLES_LIB`).
-pub fn gles_env_in(
-    setup: &Setup,
-    lib_key: &str,
-    shim_key: &str,
-    driver: &str,
-    vars: &[(&str, String)],
-) -> Result<Vec<(String, String)>, String> {
     let mut env = vec![
         ("LD_PRELOAD".to_string(), setup.get(shim_key)?.to_string()),
-        ("LD_LIBRARY_PATH".into(), setup.get(lib_key)?.into()),
+        ("LD_LIBRARY_PATH".into(), setup.get("GLES_LIB")?.into()),
         ("MESA_LOADER_DRIVER_OVERRIDE".into(), driver.into()),
         ("EGL_PLATFORM".into(), "surfaceless".into()),
         ("MESA_SHADER_CACHE_DISABLE".into(), "true".into()),

@@ -150,10 +150,18 @@ pub trait Vendor: Sync {
     fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
         exes
     }
-    /// The statistics of one KHR_debug message of the OpenGL compiler: (stage, statistics)
+    /// The statistics of one KHR_debug message of the OpenGL compiler (or, with
+    /// [`Vendor::statistics_on_stderr`], one line the compiler printed): (stage, statistics)
     /// with the driver's own names, or `None` for a message that holds none.
     fn parse_debug_message(&self, _message: &str) -> Option<(String, Vec<(String, f64)>)> {
         None
+    }
+    /// Whether a Vulkan driver prints the compiler's own statistics on stderr (a line per
+    /// program, read by [`Vendor::parse_debug_message`]) beyond the few its pipeline
+    /// statistics give: the child catches stderr around each compile and adds them to that
+    /// program's executables (asahi's Honeykrisp: its cycle model). No by default.
+    fn statistics_on_stderr(&self) -> bool {
+        false
     }
 }
 
