@@ -149,7 +149,7 @@ mod tests {
             e.statistics
                 .iter()
                 .find(|s| s.name == "inst")
-                .map(|s| s.value.clone())
+                .map(|s| s.value)
         };
         assert_eq!(inst(&exes[0]), Some(StatValue::Float(11.0)));
         assert_eq!(inst(&exes[1]), Some(StatValue::Float(42.0)));
