@@ -21,8 +21,9 @@ build:
 vendors:
 	-scripts/setup-vendors.sh
 
-## The compilers of `shadelab isa`'s phone, board and newest Intel families (Qualcomm Adreno,
-## Arm Mali, Broadcom VideoCore; Intel Meteor Lake to Panther Lake: docs/isa.md), built from
+## The compilers of `shadelab isa`'s phone, board, Apple and newest Intel families (Qualcomm
+## Adreno, Arm Mali, Broadcom VideoCore, Apple G13; Intel Meteor Lake to Panther Lake:
+## docs/isa.md), built from
 ## Debian's Mesa 25.0.7 source into the user's cache: long the first time (docs/isa.md gives
 ## the minutes), a second afterwards. `make test` without it skips those families' tests and
 ## says so.
@@ -44,7 +45,7 @@ test:
 	-scripts/setup-converters.sh
 	$(CARGO) build --release --locked
 	$(CARGO) test --release --locked
-	@scripts/build-compilers.sh --check >/dev/null 2>&1 || echo "make test: not covered: shadelab isa on the Qualcomm, Arm, Broadcom and Intel Meteor Lake to Panther Lake families (their tests skipped); run make compilers, then make test" >&2
+	@scripts/build-compilers.sh --check >/dev/null 2>&1 || echo "make test: not covered: shadelab isa on the Qualcomm, Arm, Broadcom, Apple and Intel Meteor Lake to Panther Lake families (their tests skipped); run make compilers, then make test" >&2
 
 ## Regenerate spirv/ from glsl/ with shaderc (a test fails when spirv/ is stale).
 spirv: build

@@ -12,6 +12,12 @@
 #            driver): it offers Vulkan 1.0/1.1 and a code size only, and Mali goes through
 #            panfrost's OpenGL ES compiler (docs/isa.md)
 #   drm-shims (noop): freedreno, panfrost, lima, vc4, v3d, intel
+# then, in a second meson configuration of the same source (asahi needs LLVM: it compiles an
+# OpenCL C library of its own with Mesa's mesa_clc at build time; the first configuration
+# stays LLVM-free and its drivers unchanged):
+#   Vulkan : Honeykrisp (Apple AGX G13, asahi's compiler), its drm-shim (noop). Not the asahi
+#            gallium driver: Mesa 25.0.7's gallium loader reaches asahi only as the render half
+#            of a display device, so EGL cannot open it on the shim (docs/isa.md)
 # and downloads bookworm-backports' ANV 25.0.7 (mesa-vulkan-drivers .deb, unpacked, for Intel
 # Meteor Lake, Lunar Lake, Battlemage, Panther Lake under the 25.0.7 Intel shim).
 #
@@ -51,6 +57,8 @@ if [ "${1:-}" = "--check" ]; then
   [ -f "$env" ] || { echo "build-compilers: $env is missing (make compilers)" >&2; exit 1; }
   grep -q "^GLES_LIB=" "$env" ||
     { echo "build-compilers: $env lacks the OpenGL ES drivers (make compilers)" >&2; exit 1; }
+  grep -q "^ASAHI_SHIM=" "$env" ||
+    { echo "build-compilers: $env lacks the Apple (asahi) route (make compilers)" >&2; exit 1; }
   grep -q "^MESA_SOURCE_SHA256=$MESA_DSC_SHA256\$" "$env" ||
     { echo "build-compilers: $env is of another Mesa source (make compilers)" >&2; exit 1; }
   while IFS='=' read -r k v; do
@@ -179,10 +187,10 @@ gles=(
   src/mapi/es2api/libGLESv2.so.2.0.0
 )
 run_ninja() {
-  local what=$1
-  shift
+  local dir=$1 what=$2
+  shift 2
   say "ninja -j$jobs: $what ($# targets)"
-  nice -n 19 ninja -C "$build" -j"$jobs" "$@" 2>&1 | tee -a "$log" |
+  nice -n 19 ninja -C "$dir" -j"$jobs" "$@" 2>&1 | tee -a "$log" |
     awk -v t0="$t0" -v what="$what" '/^\[[0-9]+\/[0-9]+\]/ {
         split(substr($1, 2), a, "/"); n = a[1] + 0; total = a[2] + 0
         pct = int(100 * n / total)
@@ -194,8 +202,8 @@ run_ninja() {
       }'
   [ "${PIPESTATUS[0]}" -eq 0 ] || fail "ninja ($what)"
 }
-# 7. What the routes read, written after each round (so that a failure in the second leaves
-# the first's routes usable): ICD manifests with absolute paths, the shims, and after the
+# 7. What the routes read, written after each round (so that a failure in a later one leaves
+# the earlier ones' routes usable): ICD manifests with absolute paths, the shims, and after the
 # second the EGL/GLES libraries in one folder (LD_LIBRARY_PATH of the OpenGL ES children).
 out="$key/out"
 icd() {
@@ -205,7 +213,7 @@ icd() {
 EOF
 }
 write_env() {
-  local gles=$1
+  local gles=$1 asahi=${2:-no}
   icd turnip "$build/src/freedreno/vulkan/libvulkan_freedreno.so"
   icd anv "$(find "$anv/root" -name libvulkan_intel.so | head -n 1)"
   if [ "$gles" = yes ]; then
@@ -218,6 +226,7 @@ write_env() {
       cp -L "$l" "$out/lib/"
     done
   fi
+  if [ "$asahi" = yes ]; then icd asahi "$build_asahi/src/asahi/vulkan/libvulkan_asahi.so"; fi
   {
     echo "MESA_SOURCE=mesa_$MESA_VERSION.dsc"
     echo "MESA_SOURCE_SHA256=$MESA_DSC_SHA256"
@@ -231,13 +240,65 @@ write_env() {
     echo "V3D_SHIM=$build/src/broadcom/drm-shim/libv3d_noop_drm_shim.so"
     echo "VC4_SHIM=$build/src/broadcom/drm-shim/libvc4_noop_drm_shim.so"
     echo "INTEL_SHIM=$build/src/intel/tools/libintel_noop_drm_shim.so"
+    if [ "$asahi" = yes ]; then
+      echo "ASAHI_ICD=$out/icd/asahi.json"
+      echo "ASAHI_SHIM=$build_asahi/src/asahi/drm-shim/libasahi_noop_drm_shim.so"
+    fi
   } >"$base/vendors/compilers.env.partial"
   mv "$base/vendors/compilers.env.partial" "$base/vendors/compilers.env"
 }
 
-run_ninja "Turnip and the drm-shims" "${vulkan_and_shims[@]}"
+build_asahi="$key/build-asahi"
+run_ninja "$build" "Turnip and the drm-shims" "${vulkan_and_shims[@]}"
 write_env no
 say "Turnip, ANV 25.0.7 and the shims are ready ($base/vendors/compilers.env)"
-run_ninja "the OpenGL ES drivers" "${gles[@]}"
+run_ninja "$build" "the OpenGL ES drivers" "${gles[@]}"
 write_env yes
+say "the OpenGL ES drivers are ready ($base/vendors/compilers.env)"
+
+# 8. Honeykrisp (asahi, Apple AGX) in a configuration of its own: LLVM 15 (Debian 12's; meson
+# is told which llvm-config, not left to find Debian's default llvm-config of LLVM 14) for
+# mesa_clc, which compiles asahi's OpenCL C library (libagx) at build time; nothing of LLVM is
+# loaded by the driver at run time. `-Dtools=asahi` because Mesa 25.0.7 enters src/asahi only
+# for the gallium driver or the tools (src/meson.build), not for the Vulkan driver alone; only
+# the targets below are built. Same rules: set up once, reconfigured when the options change.
+# Mesa 25.0.7's Honeykrisp refuses every device before probing it (the asahi kernel interface
+# was unstable); under the noop shim that refusal is all that stands in the way: the one change
+# to the pinned source, in a file only this configuration compiles (the patch says why).
+patch_file="$here/patches/honeykrisp-probe.patch"
+if [ ! -f "$src/.shadelab-honeykrisp-probe" ]; then
+  if ! patch -p1 -R --dry-run -s -f -d "$src" <"$patch_file" >/dev/null 2>&1; then
+    say "patch: Honeykrisp probes the shim ($patch_file)"
+    patch -p1 -s -f -d "$src" <"$patch_file" >>"$log" 2>&1 || fail "patch $patch_file"
+  fi
+  touch "$src/.shadelab-honeykrisp-probe"
+fi
+printf "[binaries]\nllvm-config = '/usr/lib/llvm-15/bin/llvm-config'\n" >"$key/llvm15.ini"
+asahi_options=(--native-file "$key/llvm15.ini" --buildtype=release -Db_ndebug=true
+  --wrap-mode=nodownload
+  -Dplatforms= -Degl=disabled -Dglx=disabled -Dgbm=disabled -Dglvnd=disabled
+  -Dopengl=false -Dgles1=disabled -Dgles2=disabled
+  -Dgallium-drivers= -Dvulkan-drivers=asahi -Dvulkan-layers= -Dtools=drm-shim,asahi
+  -Dexpat=enabled -Dllvm=enabled -Dshared-llvm=enabled -Ddraw-use-llvm=false
+  -Dgallium-va=disabled -Dgallium-vdpau=disabled -Dgallium-xa=disabled
+  -Dgallium-nine=false -Dgallium-rusticl=false -Dvideo-codecs=
+  -Dvalgrind=disabled -Dlibunwind=disabled -Dlmsensors=disabled -Dzstd=disabled
+  -Dbuild-tests=false -Dperfetto=false -Dandroid-libbacktrace=disabled)
+if [ ! -f "$build_asahi/build.ninja" ]; then
+  say "meson setup (asahi)"
+  rm -rf "$build_asahi"
+  meson setup "$build_asahi" "$src" "${asahi_options[@]}" >>"$log" 2>&1 || fail "meson setup (asahi)"
+  echo "${asahi_options[*]}" >"$build_asahi/.shadelab-options"
+elif [ "$(cat "$build_asahi/.shadelab-options" 2>/dev/null)" != "${asahi_options[*]}" ]; then
+  say "meson setup --reconfigure (asahi: the options changed)"
+  meson setup --reconfigure "$build_asahi" "$src" "${asahi_options[@]}" >>"$log" 2>&1 ||
+    fail "meson setup --reconfigure (asahi)"
+  echo "${asahi_options[*]}" >"$build_asahi/.shadelab-options"
+fi
+asahi=(
+  src/asahi/vulkan/libvulkan_asahi.so
+  src/asahi/drm-shim/libasahi_noop_drm_shim.so
+)
+run_ninja "$build_asahi" "Honeykrisp (Apple AGX)" "${asahi[@]}"
+write_env yes yes
 say "done in $(($(date +%s) - t0)) s: $base/vendors/compilers.env"

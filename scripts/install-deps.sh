@@ -62,7 +62,9 @@ for set in "${@:-run build test}"; do
                     libexpat1-dev zlib1g-dev pkg-config dpkg-dev xz-utils ca-certificates) ;;
       compilers) want+=(ninja-build python3-mako python3-yaml python3-pip bison flex gcc g++
                         libdrm-dev libexpat1-dev zlib1g-dev pkg-config dpkg-dev xz-utils
-                        glslang-tools ca-certificates) ;;
+                        glslang-tools ca-certificates
+                        llvm-15-dev libclang-15-dev libclang-cpp15-dev libclc-15
+                        libllvmspirvlib-15-dev) ;;
       gl) want+=(libegl1 libegl-mesa0 libgl1-mesa-dri spirv-cross ca-certificates) ;;
       debian13) want+=(debootstrap ca-certificates) ;;
       *) echo "install-deps: unknown set '$s' (expected run, build, test, intel, compilers, gl or debian13)" >&2; exit 2 ;;

@@ -20,6 +20,8 @@
 //!   multiplications cost more, a refused family is reported, isa.json against its schema.
 //! - `isa_mobile`: the families of `make compilers` (Qualcomm, Arm, Broadcom, Intel Meteor Lake
 //!   to Panther Lake): every method in float32 and float16, the Phong order, refusals.
+//! - `isa_apple`: Apple's G13 through Honeykrisp (`make compilers`): every method in float32 and
+//!   float16, the cycle model's bound unit, the Phong order, identical runs, refused chips.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `docs`: the documentation agrees with the tool: every count of methods, GPU families and
 //!   vendors is the library's, every path layout.md and ARCHITECTURE.md name exists, every link
@@ -55,6 +57,7 @@ mod gpu;
 mod hostile;
 mod inputs;
 mod isa;
+mod isa_apple;
 mod isa_mobile;
 mod layout;
 mod methods;

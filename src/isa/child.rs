@@ -59,6 +59,15 @@ fn compile_vulkan(
         .check_device(chip, &info.name)
         .map_err(|why| Error::Device(format!("{}: {why}", req.family)))?;
     let keep = |exes| keep_disassembly(vendor.merge_executables(exes));
+    // A driver that prints its compiler's statistics on stderr: each compile caught alone.
+    let caught = |program: &str, compile: &dyn Fn() -> Result<Vec<Executable>>| {
+        if !vendor.statistics_on_stderr() {
+            return compile();
+        }
+        let is_stats = |l: &str| vendor.parse_debug_message(l).is_some();
+        let (exes, lines) = super::stderr::capture(is_stats, compile)?;
+        super::stderr::merge(vendor, program, exes?, &lines)
+    };
     let methods: Vec<&'static Method> = req
         .methods
         .iter()
@@ -72,14 +81,15 @@ fn compile_vulkan(
         let prepared = r.prepare(&scene, &methods)?;
         for m in &methods {
             let gpu = prepared.for_method(m);
-            let exes = r.compiled(gpu, Shading::Method(m))?;
+            let program = crate::gpu::shaders::program_name_in(
+                m.name,
+                gpu.inputs.interpolation,
+                req.precision,
+            );
+            let exes = caught(&program, &|| r.compiled(gpu, Shading::Method(m)))?;
             compiled.push(Compiled {
                 method: m.name.to_string(),
-                program: crate::gpu::shaders::program_name_in(
-                    m.name,
-                    gpu.inputs.interpolation,
-                    req.precision,
-                ),
+                program,
                 kind: "draw".into(),
                 repeat: None,
                 executables: keep(exes),
@@ -87,14 +97,17 @@ fn compile_vulkan(
             if !has_evaluate_program(m) {
                 continue;
             }
+            let program = crate::gpu::shaders::evaluate_program_in(m.name, req.precision);
             for &k in &req.kernel_counts {
-                let kernel = Kernel::with_precision(&ctx, m, k, req.precision)?;
+                let exes = caught(&program, &|| {
+                    Kernel::with_precision(&ctx, m, k, req.precision)?.executables()
+                })?;
                 compiled.push(Compiled {
                     method: m.name.to_string(),
-                    program: crate::gpu::shaders::evaluate_program_in(m.name, req.precision),
+                    program: program.clone(),
                     kind: "kernel".into(),
                     repeat: Some(k),
-                    executables: keep(kernel.executables()?),
+                    executables: keep(exes),
                 });
             }
         }

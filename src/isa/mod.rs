@@ -27,6 +27,7 @@ pub mod op_count;
 pub mod rank;
 pub mod report;
 pub mod request;
+pub mod stderr;
 pub mod table;
 pub mod vendor;
 

@@ -1,6 +1,7 @@
 //! What the routes built by `make compilers` share (scripts/build-compilers.sh: Mesa 25.0.7
 //! from Debian's source package in the user's cache, its `compilers.env` naming the files):
-//! the set-up check, the environment of a Vulkan child on a drm-shim (Turnip, ANV 25.0.7) and
+//! the set-up check, the environment of a Vulkan child on a drm-shim (Turnip, ANV 25.0.7,
+//! Honeykrisp) and
 //! of an OpenGL ES child (panfrost, lima, v3d, vc4 on their shims, with the build's own EGL
 //! and OpenGL ES libraries first on the library path), and the shader-db lines these
 //! compilers send as KHR_debug messages ("MESA_SHADER_FRAGMENT shader: 59 inst, 2 threads,

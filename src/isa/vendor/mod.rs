@@ -1,5 +1,6 @@
 //! The vendor seam of `shadelab isa`: one [`Vendor`] per compiler route, each in a file of its
-//! own ([`amd`], [`intel`], [`nouveau`], [`terascale`], [`qualcomm`], [`arm`], [`broadcom`];
+//! own ([`amd`], [`intel`], [`nouveau`], [`terascale`], [`qualcomm`], [`arm`], [`broadcom`],
+//! [`apple`];
 //! the routes built by `make compilers` share [`mesa_build`]) and registered in [`VENDORS`]. A
 //! vendor says which families it compiles, how a child compiles them (Vulkan pipeline
 //! executable statistics, or OpenGL's shader-db statistics through KHR_debug: [`Api`]), the
@@ -14,6 +15,7 @@
 //!
 //! Adding a vendor: a file implementing [`Vendor`] and one line in [`VENDORS`].
 pub mod amd;
+pub mod apple;
 pub mod arm;
 pub mod broadcom;
 pub mod intel;
@@ -30,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use crate::gpu::vk::Executable;
 
 /// Every vendor `shadelab isa` knows, in the order of its reports.
-pub static VENDORS: [&dyn Vendor; 7] = [
+pub static VENDORS: [&dyn Vendor; 8] = [
     &amd::Amd,
     &intel::Intel,
     &nouveau::Nouveau,
@@ -38,6 +40,7 @@ pub static VENDORS: [&dyn Vendor; 7] = [
     &qualcomm::Qualcomm,
     &arm::Arm,
     &broadcom::Broadcom,
+    &apple::Apple,
 ];
 
 /// How a vendor's child compiles.
@@ -176,10 +179,18 @@ pub trait Vendor: Sync {
     fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
         exes
     }
-    /// The statistics of one KHR_debug message of the OpenGL compiler: (stage, statistics)
+    /// The statistics of one KHR_debug message of the OpenGL compiler (or, with
+    /// [`Vendor::statistics_on_stderr`], one line the compiler printed): (stage, statistics)
     /// with the driver's own names, or `None` for a message that holds none.
     fn parse_debug_message(&self, _message: &str) -> Option<(String, Vec<(String, f64)>)> {
         None
+    }
+    /// Whether a Vulkan driver prints the compiler's own statistics on stderr (a line per
+    /// program, read by [`Vendor::parse_debug_message`]) beyond the few its pipeline
+    /// statistics give: the child catches stderr around each compile and adds them to that
+    /// program's executables (asahi's Honeykrisp: its cycle model). No by default.
+    fn statistics_on_stderr(&self) -> bool {
+        false
     }
 }
 
@@ -478,6 +489,7 @@ mod tests {
             "arm:mali450",
             "broadcom:v3d42",
             "broadcom:vc4",
+            "apple:g13",
         ] {
             assert!(ids.iter().any(|i| i == want), "{want} not among {ids:?}");
         }
