@@ -27,6 +27,7 @@
 pub mod generators;
 pub mod gltf;
 pub mod input;
+pub mod mesh_file;
 pub mod obj;
 pub mod ply;
 pub(crate) mod soup;

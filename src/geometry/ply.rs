@@ -18,7 +18,7 @@ use ply_rs_bw::ply::{
     ElementDef, Encoding as PlyEncoding, Header, Property, PropertyAccess, PropertyType, ScalarType,
 };
 
-use super::input::{Encoding, Format, MeshInput};
+use super::mesh_file::{Encoding, Format, MeshInput};
 use super::soup::{self, plural, Corner};
 use super::{LoadReport, Mesh};
 use crate::error::{Error, Result};

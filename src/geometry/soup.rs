@@ -1,6 +1,6 @@
 //! From indexed triangles to the fitted [`Mesh`] every reader returns: zero-area triangles
 //! dropped, each corner's normal taken from the file or computed smooth, the result fitted to
-//! the unit sphere. One definition for every format ([`super::input::Format`]), so an OBJ and a
+//! the unit sphere. One definition for every format ([`super::mesh_file::Format`]), so an OBJ and a
 //! glTF or PLY file of the same triangles give the same mesh.
 //!
 //! A reader hands over its positions and normals as lists and its triangles as [`Corner`]s

@@ -21,7 +21,6 @@ use super::remez::{self, Certificate, Target};
 use crate::method::kernel::{Evaluate, Form};
 use crate::method::real::Real;
 pub use crate::method::tuned::{horner, newton_step};
-use crate::method::tuned::{Tuned, TunedForm};
 use crate::method::{Method, Property, Scale};
 
 /// A candidate's family.
@@ -98,28 +97,6 @@ impl Candidate {
                 crate::method::tuned::k(&self.coeffs, self.steps, z)
             }
         }
-    }
-
-    /// The tuned form of a fitted candidate, proven on `domain` (None for a paper or the
-    /// reference): what its method file's `// shadelab-tuned:` line says, its float32 length
-    /// error over `domain` included.
-    pub fn tuned(&self, domain: [f64; 2]) -> Option<Tuned> {
-        let form = match self.family {
-            Family::Minimax => TunedForm::Minimax,
-            Family::Newton => TunedForm::Newton,
-            Family::Paper | Family::Reference => return None,
-        };
-        let mut t = Tuned {
-            form,
-            steps: self.steps,
-            coeffs: self.coeffs.clone(),
-            domain,
-            length_error: None,
-        };
-        // the claim the line states, proven as a loader proves it again (src/tune/check.rs)
-        let bound = super::check::line_bound(&t);
-        t.length_error = bound.is_finite().then_some(bound);
-        Some(t)
     }
 
     /// The paper method of row `m`: its kernel's scale, when it is a scale of N.N that is not
@@ -217,22 +194,6 @@ impl Candidate {
             Family::Paper | Family::Reference => format!("the table's {}", self.id),
         }
     }
-
-    /// The method file (None for a paper: its file is the table's), its form proven on
-    /// `domain`: the header, the `// shadelab-tuned:` line, then the code that line generates
-    /// ([`Tuned::code`]). `header` lines are written as comments after the formula.
-    pub fn glsl(&self, header: &[String], domain: [f64; 2]) -> Option<String> {
-        let tuned = self.tuned(domain)?;
-        let mut s = format!("// {}: {} (shadelab tune)\n", self.id, self.label());
-        s += &format!("// {}; N' = k(N.N) N\n", self.formula());
-        for h in header {
-            s += &format!("// {h}\n");
-        }
-        s += &tuned.line();
-        s.push('\n');
-        s += &tuned.code();
-        Some(s)
-    }
 }
 
 /// Each value rounded to float32 (to nearest), as f64.
@@ -316,35 +277,6 @@ mod tests {
                 assert!((a - b).abs() <= 1e-6 * a.max(b) + 1e-18, "{a} {b}");
             }
         }
-    }
-
-    /// The method file computes the formula's operations in its order, with the float32
-    /// coefficients written exactly.
-    #[test]
-    fn the_glsl_spells_the_formula() {
-        let c = Candidate::newton("m_newton1_seed1".into(), 1, 1, 0.5, 1.0).unwrap();
-        let g = c.glsl(&["a header".into()], [0.5, 1.0]).unwrap();
-        for x in &c.coeffs {
-            assert!(g.contains(&format!("R({x:?})")), "{g}");
-            assert_eq!(f64::from(format!("{x:?}").parse::<f32>().unwrap()), *x);
-        }
-        assert!(g.contains("k = k * (R(1.5) - R(0.5) * z * k * k);"), "{g}");
-        assert!(g.contains("// a header\n// shadelab-tuned: {"), "{g}");
-        assert!(
-            g.contains("}\n// shadelab-inputs: interpolated_normal\n"),
-            "{g}"
-        );
-        let t = Tuned::of_text(&g).unwrap().unwrap();
-        assert!(t.matches(&g) && t.coeffs == c.coeffs && t.steps == 1);
-        assert_eq!(t.domain, [0.5, 1.0]);
-        let p = crate::method::user::parse(std::path::Path::new("/x/m_newton1_seed1.glsl"), &g);
-        assert!(p.unwrap().has_normal);
-        let zero = Candidate::minimax("m_minimax0".into(), 0, 0.5, 1.0).unwrap();
-        assert!(zero
-            .glsl(&[], [0.5, 1.0])
-            .unwrap()
-            .contains("return n * R("));
-        assert!(paper("romanyuk_poly").glsl(&[], [0.5, 1.0]).is_none());
     }
 
     /// The paper candidate of the table's row `name`.

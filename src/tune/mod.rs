@@ -23,6 +23,7 @@ pub mod check;
 pub mod choose;
 pub mod classes;
 pub mod domain;
+pub mod method_file;
 mod output;
 pub mod proof;
 pub mod refit;
@@ -363,7 +364,7 @@ fn write_and_register(
     let mut paths = Vec::new();
     for r in rows.iter_mut() {
         let header = file_header(r, name, budget);
-        if let Some(text) = r.candidate.glsl(&header, [domain.lo, domain.hi]) {
+        if let Some(text) = method_file::glsl(&r.candidate, &header, [domain.lo, domain.hi]) {
             let p = dir.join(format!("{}.glsl", r.candidate.id));
             crate::output::write_bytes_atomic(&p, text.as_bytes())?;
             r.file = Some(format!("methods/{}.glsl", r.candidate.id));
@@ -426,7 +427,7 @@ fn write_class_files(
                 id: id.clone(),
                 ..cand.clone()
             };
-            if let Some(text) = cand.glsl(&header, c.domain) {
+            if let Some(text) = method_file::glsl(&cand, &header, c.domain) {
                 std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
                 crate::output::write_bytes_atomic(&out.join(&file), text.as_bytes())?;
                 written.push(id);

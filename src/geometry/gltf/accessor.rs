@@ -8,7 +8,7 @@ use base64::Engine as _;
 use json::accessor::{ComponentType, Type};
 use json::validation::Checked;
 
-use crate::geometry::input::ReadFile;
+use crate::geometry::mesh_file::ReadFile;
 
 /// The buffers of a file, each loaded on first use.
 pub(super) struct Buffers<'a> {

@@ -27,7 +27,7 @@ use glam::{DMat4, DVec3};
 use json::mesh::{Mode, Semantic};
 use json::validation::Checked;
 
-use super::input::{Encoding, Format, MeshInput, Named, NormalSource, Part, ReadFile};
+use super::mesh_file::{Encoding, Format, MeshInput, Named, NormalSource, Part, ReadFile};
 use super::soup::{self, plural, Corner};
 use super::{LoadReport, Mesh};
 use crate::error::{Error, Result};
@@ -506,7 +506,7 @@ fn place(soup: &mut Soup, v: Vertices, tris: &[[u32; 3]], world: Option<&DMat4>)
 fn finish(
     path: &Path,
     soup: Soup,
-    scene: Option<super::input::DrawnScene>,
+    scene: Option<super::mesh_file::DrawnScene>,
     parts: Vec<Part>,
     encoding: Encoding,
     mut notes: Vec<String>,

@@ -5,7 +5,7 @@
 use ::gltf::json;
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
-use crate::geometry::input::{DrawnScene, Named, SceneChoice};
+use crate::geometry::mesh_file::{DrawnScene, Named, SceneChoice};
 
 /// A mesh placed by a node (or, in a file without scenes, each mesh once at the identity).
 pub(super) struct Placement {
