@@ -541,7 +541,7 @@ struct BenchCmd {
     #[arg(long, conflicts_with = "vulkan_bench")]
     vulkan_paired: bool,
     /// The claims' per-GPU-family static cost from this isa.json of `shadelab isa` instead of
-    /// compiling it now (by default bench compiles its methods on six families, a few s).
+    /// compiling it now (by default bench compiles its methods on every GPU family set up).
     #[arg(long, value_name = "FILE.json", conflicts_with = "no_isa")]
     isa: Option<PathBuf>,
     /// No per-GPU-family static cost in the claims.
