@@ -112,12 +112,16 @@ pub fn missing_sentence(missing: &[Missing]) -> Option<String> {
             format!("{n} cost model{s} ({}): {why}", ids.join(", "))
         })
         .collect();
-    Some(format!(
-        "Missing from this answer, {} cost model{} in all: {}.",
-        missing.len(),
-        if missing.len() == 1 { "" } else { "s" },
-        parts.join("; ")
-    ))
+    Some(if groups.len() == 1 {
+        format!("Missing from this answer: {}.", parts[0])
+    } else {
+        format!(
+            "Missing from this answer, {} cost model{} in all: {}.",
+            missing.len(),
+            if missing.len() == 1 { "" } else { "s" },
+            parts.join("; ")
+        )
+    })
 }
 
 /// What a cell answers, as a key.
@@ -410,6 +414,14 @@ mod tests {
             "{s}"
         );
         assert!(s.contains("1 cost model (isa:intel:mtl)"), "{s}");
+        // One reason: said once, without a total that repeats the group's count.
+        let one = missing_sentence(&[m("isa:amd:tahiti", amd), m("isa:amd:navi21", amd)]).unwrap();
+        assert_eq!(
+            one,
+            format!(
+                "Missing from this answer: 2 cost models (isa:amd:tahiti, isa:amd:navi21): {amd}."
+            )
+        );
         // Teeth: nothing lost, nothing said.
         assert_eq!(missing_sentence(&[]), None);
     }
