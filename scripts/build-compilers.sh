@@ -190,7 +190,9 @@ run_ninja() {
   local dir=$1 what=$2
   shift 2
   say "ninja -j$jobs: $what ($# targets)"
-  nice -n 19 ninja -C "$dir" -j"$jobs" "$@" 2>&1 | tee -a "$log" |
+  # PYTHONPATH: when ninja reconfigures (meson.build or a native file changed), it runs
+  # `python3 -m mesonbuild` itself, which must be the pinned meson, not the system's.
+  PYTHONPATH="$meson_dir" nice -n 19 ninja -C "$dir" -j"$jobs" "$@" 2>&1 | tee -a "$log" |
     awk -v t0="$t0" -v what="$what" '/^\[[0-9]+\/[0-9]+\]/ {
         split(substr($1, 2), a, "/"); n = a[1] + 0; total = a[2] + 0
         pct = int(100 * n / total)
@@ -266,14 +268,20 @@ say "the OpenGL ES drivers are ready ($base/vendors/compilers.env)"
 # was unstable); under the noop shim that refusal is all that stands in the way: the one change
 # to the pinned source, in a file only this configuration compiles (the patch says why).
 patch_file="$here/patches/honeykrisp-probe.patch"
-if [ ! -f "$src/.shadelab-honeykrisp-probe" ]; then
-  if ! patch -p1 -R --dry-run -s -f -d "$src" <"$patch_file" >/dev/null 2>&1; then
-    say "patch: Honeykrisp probes the shim ($patch_file)"
-    patch -p1 -s -f -d "$src" <"$patch_file" >>"$log" 2>&1 || fail "patch $patch_file"
-  fi
-  touch "$src/.shadelab-honeykrisp-probe"
+# Checked on every run by the refusal's own line, never remembered by a marker file (a source
+# unpacked again must be patched again), nor by a reverse dry run (a patch that only removes
+# lines reverses "successfully" with fuzz onto the unpatched file).
+if grep -q 'Blanket refusal to probe' "$src/src/asahi/vulkan/hk_physical_device.c"; then
+  say "patch: Honeykrisp probes the shim ($patch_file)"
+  patch -p1 -s -f -F0 -d "$src" <"$patch_file" >>"$log" 2>&1 || fail "patch $patch_file"
+  ! grep -q 'Blanket refusal to probe' "$src/src/asahi/vulkan/hk_physical_device.c" ||
+    fail "patch $patch_file left the refusal in place"
 fi
-printf "[binaries]\nllvm-config = '/usr/lib/llvm-15/bin/llvm-config'\n" >"$key/llvm15.ini"
+# Written only when it differs: meson's build.ninja depends on its native file, so a new mtime
+# alone would make ninja reconfigure the asahi build at every run.
+ini="[binaries]
+llvm-config = '/usr/lib/llvm-15/bin/llvm-config'"
+[ "$(cat "$key/llvm15.ini" 2>/dev/null)" = "$ini" ] || printf '%s\n' "$ini" >"$key/llvm15.ini"
 asahi_options=(--native-file "$key/llvm15.ini" --buildtype=release -Db_ndebug=true
   --wrap-mode=nodownload
   -Dplatforms= -Degl=disabled -Dglx=disabled -Dgbm=disabled -Dglvnd=disabled

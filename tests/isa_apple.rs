@@ -56,8 +56,15 @@ fn every_method_in(precision: Precision) -> IsaReport {
                 .row(&f.family, m, "fragment", "draw")
                 .unwrap_or_else(|| panic!("{} {m}: no fragment row", f.id));
             let s = &row.statistics;
+            // gouraud's and trueform's fragment programs only pass the interpolated colour on:
+            // no ALU cycle at all (0); every other figure is positive.
             let alu = s["alu"];
-            assert!(alu.is_finite() && alu > 0.0, "{} {m}: {alu}", f.id);
+            let passes_colour_on = ["gouraud", "trueform"].contains(m);
+            assert!(
+                alu.is_finite() && (alu > 0.0 || (alu == 0.0 && passes_colour_on)),
+                "{} {m}: {alu}",
+                f.id
+            );
             // alu is the larger unit's estimate, and that unit is the one named bound.
             assert_eq!(alu, s["fscib"].max(s["ic"]), "{} {m}: {s:?}", f.id);
             let bound: Vec<&String> = s.keys().filter(|k| k.starts_with("bound_")).collect();
@@ -124,26 +131,30 @@ fn g13_compiles_identically_twice() {
     }
 }
 
-/// The shim is a G13G: a G14 (M2), a G13X and an unknown chip are refused by the renderer
-/// check, never measured; the G13 beside them still compiles.
+/// The shim is a G13G: a G14 (M2), a G13X and an unknown chip are refused by name before any
+/// child starts (the route knows only the G13), never measured.
 #[test]
 fn a_chip_the_asahi_shim_is_not_is_refused() {
     if !compilers_ready(&FAMILIES) {
         return;
     }
-    let families = ["apple:g14", "apple:g13x", "apple:g99", "apple:g13"];
-    let r = isa_run(&options(&["phong_exact"], &families, Precision::F32));
-    assert_eq!(r.supported(), FAMILIES.to_vec(), "{:#?}", r.families);
-    for f in r.families.iter().filter(|f| !f.supported) {
+    for chip in ["g14", "g13x", "g99"] {
+        let family = format!("apple:{chip}");
+        let e = isa::run(
+            &options(&["phong_exact"], &[&family, "apple:g13"], Precision::F32),
+            &|_| {},
+        )
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
         assert!(
-            f.status.starts_with("not supported by this driver: ")
-                && f.status.contains("G13G (M1) only"),
-            "{}: {}",
-            f.id,
-            f.status
+            e.starts_with(&format!("unknown chip '{chip}' for apple; known: g13")),
+            "{family}: {e}"
         );
-        assert!(r.results.iter().all(|row| row.family != f.family));
     }
+    // Teeth: the G13 alone compiles.
+    let r = isa_run(&options(&["phong_exact"], &FAMILIES, Precision::F32));
+    assert_eq!(r.supported(), FAMILIES.to_vec(), "{:#?}", r.families);
 }
 
 /// Without `make compilers` the Apple tests are a visible skip naming the command, and a
