@@ -123,6 +123,16 @@ else
   say "no models folder at $models: the models tests will say SKIPPED"
 fi
 cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
+# The host's trust store, for cargo's downloads in the root: a network that reaches the
+# registries through a proxy with its own certificate authority (the host trusts it; a minbase
+# root's ca-certificates does not) would otherwise refuse every crate.
+host_ca="${SSL_CERT_FILE:-/etc/ssl/certs/ca-certificates.crt}"
+ca_env=()
+if [ -f "$host_ca" ]; then
+  cp "$host_ca" "$root/etc/ssl/host-ca-certificates.crt"
+  ca_env=(CARGO_HTTP_CAINFO=/etc/ssl/host-ca-certificates.crt
+    SSL_CERT_FILE=/etc/ssl/host-ca-certificates.crt CURL_CA_BUNDLE=/etc/ssl/host-ca-certificates.crt)
+fi
 
 # in_root NAME COMMAND: runs COMMAND in the root with a clean environment, logged.
 in_root() {
@@ -131,6 +141,7 @@ in_root() {
   local v
   for v in $(env | sed -n 's/^\(SHADELAB_REQUIRE_[A-Z_]*\)=..*/\1/p'); do env+=("$v=${!v}"); done
   [ -d "$models" ] && env+=(SHADELAB_MODELS=/root/shared/models)
+  env+=("${ca_env[@]}")
   local s=$(date +%s) status=0
   say "$name ..."
   setsid chroot "$root" /usr/bin/env -i "${env[@]}" /bin/bash -c "cd /root/shadelab && $cmd" \
