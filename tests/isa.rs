@@ -103,9 +103,18 @@ fn identical_runs_and_the_phong_order_on_every_family() {
         .unwrap()
         .remove("inverse_throughput");
     assert!(!validator.is_valid(&bad), "the schema check has no teeth");
-    let mut bad = json;
+    let mut bad = json.clone();
     bad["results"][0]["stage"] = "geometry".into();
     assert!(!validator.is_valid(&bad), "the schema check has no teeth");
+    // Every row names its bound unit, one of the six; the CSV carries it too.
+    assert!(a.results.iter().all(|r| r.bound_unit.is_some()));
+    assert!(csv.lines().next().unwrap().ends_with(",bound_unit"));
+    let mut bad = json.clone();
+    bad["results"][0].as_object_mut().unwrap().remove("bound_unit");
+    assert!(!validator.is_valid(&bad), "a row without its bound unit passes");
+    let mut bad = json;
+    bad["results"][0]["bound_unit"] = "alu".into();
+    assert!(!validator.is_valid(&bad), "an unknown bound unit passes");
 }
 
 /// A compute program loading one value and storing `y`; with `extra`, 16 more dependent

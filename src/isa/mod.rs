@@ -29,6 +29,7 @@ pub mod report;
 pub mod request;
 pub mod stderr;
 pub mod table;
+pub mod throughput;
 pub mod vendor;
 
 use std::path::PathBuf;

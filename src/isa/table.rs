@@ -9,6 +9,8 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use super::request::ChildReport;
+use super::throughput::Unit;
+use super::vendor::Vendor;
 use super::Precision;
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Executable, StatValue};
@@ -51,6 +53,24 @@ pub struct Row {
     pub ratio_to_phong_exact: BTreeMap<String, f64>,
     /// The driver's hashes of the executable (those of both kernels for an evaluation).
     pub hash: Vec<String>,
+    /// The unit that bounds this program in its family's throughput model
+    /// ([`super::throughput`]); absent where the model lacks a figure it needs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bound_unit: Option<Unit>,
+}
+
+/// Adds the family's model figure to `statistics` (under the ranking key, when the compiler
+/// has no statistic of that name) and says which unit bounds the program.
+fn apply_model(
+    family: Option<(&dyn Vendor, &str)>,
+    statistics: &mut BTreeMap<String, f64>,
+) -> Option<Unit> {
+    let (vendor, chip) = family?;
+    let model = vendor.model(chip, statistics)?;
+    statistics
+        .entry(vendor.ranking().key)
+        .or_insert(model.cycles);
+    Some(model.bound)
 }
 
 /// What the figures are, for readers of isa.json.
@@ -106,6 +126,8 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
     let mut asm = Vec::new();
     let mut kernels: BTreeMap<String, Vec<(u32, &Executable)>> = BTreeMap::new();
     let dir = asm_dir(key);
+    let resolved = super::vendor::resolve(key).ok();
+    let family = resolved.as_ref().map(|(v, c)| (*v, c.as_str()));
     for c in &r.compiled {
         for e in &c.executables {
             for s in &e.statistics {
@@ -128,7 +150,8 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
                 kernels.entry(c.method.clone()).or_default().push((k, e));
                 continue;
             }
-            let (statistics, hash) = stats(e);
+            let (mut statistics, hash) = stats(e);
+            let bound_unit = apply_model(family, &mut statistics);
             rows.push(Row {
                 family: key.to_string(),
                 method: c.method.clone(),
@@ -138,6 +161,7 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
                 statistics,
                 ratio_to_phong_exact: BTreeMap::new(),
                 hash,
+                bound_unit,
             });
         }
     }
@@ -151,10 +175,11 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
         };
         let ((a, ha), (b, hb)) = (stats(lo), stats(hi));
         let per: f64 = f64::from(k1 - k0);
-        let statistics = b
+        let mut statistics = b
             .iter()
             .filter_map(|(k, v)| a.get(k).map(|w| (k.clone(), (v - w) / per)))
             .collect();
+        let bound_unit = apply_model(family, &mut statistics);
         rows.push(Row {
             family: key.to_string(),
             program: crate::gpu::shaders::evaluate_program_in(&method, r_precision(r)),
@@ -164,6 +189,7 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
             statistics,
             ratio_to_phong_exact: BTreeMap::new(),
             hash: ha.into_iter().chain(hb).collect(),
+            bound_unit,
         });
     }
     Ok((rows, names, asm))
@@ -267,6 +293,7 @@ mod tests {
             statistics: [("inverse_throughput".to_string(), it)].into(),
             ratio_to_phong_exact: BTreeMap::new(),
             hash: Vec::new(),
+            bound_unit: None,
         }
     }
 
