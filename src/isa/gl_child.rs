@@ -95,7 +95,7 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
             }
             Err(e) => return Err(e),
         }
-        if !shaders::has_evaluate_program(m) || !compute {
+        if !shaders::has_evaluate_program(m) || !compute || req.draws_only {
             continue;
         }
         let program = shaders::evaluate_program_in(m.name, req.precision);
