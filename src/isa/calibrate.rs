@@ -61,13 +61,14 @@ impl Kernel {
         }
     }
 
-    /// One step of the chain, in glsl/common.glsl's precision vocabulary.
+    /// One step of the chain, in float32 (plain `float`: the kernels have no float16
+    /// programs, which halves what each child compiles).
     pub fn step(self) -> &'static str {
         match self {
             Kernel::Fma => "x = x * y + z;",
             Kernel::Rsqrt => "x = inversesqrt(x);",
-            Kernel::Rcp => "x = R(1.0) / x + y;",
-            Kernel::Dot => "v = real3(dot(v, n), dot(v, n.yzx), dot(v, n.zxy));",
+            Kernel::Rcp => "x = 1.0 / x + y;",
+            Kernel::Dot => "v = vec3(dot(v, n), dot(v, n.yzx), dot(v, n.zxy));",
             Kernel::Normalize => "v = normalize(v);",
         }
     }
@@ -83,18 +84,18 @@ impl Kernel {
         let steps: String = (0..n).map(|_| format!("    {}\n", self.step())).collect();
         let ret = match self {
             Kernel::Normalize | Kernel::Dot => "v",
-            _ => "real3(x, y, z)",
+            _ => "vec3(x, y, z)",
         };
         format!(
             "// isa --calibrate: {n} dependent steps of `{}`.\n\
              // shadelab-inputs: interpolated_normal\n\
              #define METHOD_COLOR\n\
              real3 methodColor() {{\n\
-             \x20   real3 n = R3(vNormal);\n\
-             \x20   real3 v = n;\n\
-             \x20   real x = n.x;\n\
-             \x20   real y = n.y;\n\
-             \x20   real z = n.z;\n\
+             \x20   vec3 n = vec3(vNormal);\n\
+             \x20   vec3 v = n;\n\
+             \x20   float x = n.x;\n\
+             \x20   float y = n.y;\n\
+             \x20   float z = n.z;\n\
              {steps}\
              \x20   return {ret};\n\
              }}\n",
@@ -392,7 +393,12 @@ pub fn run(
     let dir = crate::cleanup::TempDir::new("calibrate")
         .map_err(|e| Error::io(std::env::temp_dir(), e))?;
     let paths = write_kernels(dir.path())?;
-    crate::gpu::shaders::register_user(&paths)?;
+    // Their float16 programs fail to compile by design (plain float): not worth a warning each.
+    let level = log::max_level();
+    log::set_max_level(log::LevelFilter::Error.min(level));
+    let registered = crate::gpu::shaders::register_user(&paths);
+    log::set_max_level(level);
+    registered?;
     let methods = KERNELS
         .iter()
         .flat_map(|k| CHAINS.map(|n| k.method(n)))
