@@ -28,23 +28,43 @@ fn calibration_json_holds_each_models_ratios_beside_the_measurements() {
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("nvidia:nv162"), "{stdout}");
     let json = read_json(out.join("calibration.json"));
-    assert_schema(&json, "docs/calibration.schema.json", "/families/0", "model");
+    assert_schema(
+        &json,
+        "docs/calibration.schema.json",
+        "/families/0",
+        "model",
+    );
     let cal: calibrate::Calibration = serde_json::from_value(json.clone()).unwrap();
     for f in &cal.families {
         assert!(f.supported, "{}: {}", f.family, f.status);
         // Every kernel's step and every ratio, all finite.
         assert_eq!(f.step.len(), calibrate::KERNELS.len(), "{}", f.family);
         assert_eq!(f.model.len(), calibrate::RATIOS.len(), "{}", f.family);
-        assert!(f.step.values().chain(f.model.values()).all(|v| v.is_finite()));
-        assert!(f.checks.iter().all(|c| c.factor.is_finite() && c.factor > 0.0));
+        assert!(f
+            .step
+            .values()
+            .chain(f.model.values())
+            .all(|v| v.is_finite()));
+        assert!(f
+            .checks
+            .iter()
+            .all(|c| c.factor.is_finite() && c.factor > 0.0));
     }
-    let nv = cal.families.iter().find(|f| f.family == "nvidia:nv162").unwrap();
+    let nv = cal
+        .families
+        .iter()
+        .find(|f| f.family == "nvidia:nv162")
+        .unwrap();
     // The weighted count prices an rsqrt at Turing's weight (a bare count would say 1).
     assert_eq!(nv.model[&Ratio::Rsqrt], throughput::TURING.sfu);
     let rsqrt = nv.checks.iter().find(|c| c.ratio == Ratio::Rsqrt).unwrap();
     assert!(rsqrt.independent && !rsqrt.disagrees, "{rsqrt:?}");
     // ACO's quarter-rate transcendental on GCN.
-    let amd = cal.families.iter().find(|f| f.family == "amd:polaris10").unwrap();
+    let amd = cal
+        .families
+        .iter()
+        .find(|f| f.family == "amd:polaris10")
+        .unwrap();
     assert_eq!(amd.model[&Ratio::Rsqrt], 4.0);
     // Teeth: a wrong weight makes the check fail, either way: the bare count (1), or twice
     // Turing's (8).

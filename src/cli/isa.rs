@@ -173,9 +173,16 @@ fn calibrate(args: IsaArgs) -> Result<ExitCode> {
             "isa --calibrate: no family compiled; set their routes up (docs/isa.md)".into(),
         ));
     }
-    println!("{:<20} {:>8} {:>8} {:>8} {:>9}  checks", "family", "rsqrt", "rcp", "dot", "normalize");
+    println!(
+        "{:<20} {:>8} {:>8} {:>8} {:>9}  checks",
+        "family", "rsqrt", "rcp", "dot", "normalize"
+    );
     for f in cal.families.iter().filter(|f| f.supported) {
-        let r = |k| f.model.get(&k).map_or("-".to_string(), |v: &f64| format!("{v:.2}"));
+        let r = |k| {
+            f.model
+                .get(&k)
+                .map_or("-".to_string(), |v: &f64| format!("{v:.2}"))
+        };
         use isa::calibrate::Ratio;
         let checks: Vec<String> = f
             .checks

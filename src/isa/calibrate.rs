@@ -205,14 +205,62 @@ const fn point(
 
 /// Every measurement the calibration checks against.
 pub const MEASUREMENTS: [Measurement; 14] = [
-    point(&["amd:polaris10"], Ratio::Rsqrt, 3.0, "Radeon RX 570 (Polaris, GCN4)", RX570),
-    point(&["amd:polaris10"], Ratio::Normalize, 1.5, "Radeon RX 570 (Polaris, GCN4)", RX570),
-    point(&["amd:polaris10"], Ratio::Dot, 2.0, "Radeon RX 570 (Polaris, GCN4)", RX570),
-    point(&["nvidia:nv162"], Ratio::Rsqrt, 3.5, "GeForce RTX 2080 (TU104, Turing)", RTX2080),
-    point(&["nvidia:nv162"], Ratio::Normalize, 1.5, "GeForce RTX 2080 (TU104, Turing)", RTX2080),
-    point(&["nvidia:nv162"], Ratio::Dot, 2.0, "GeForce RTX 2080 (TU104, Turing)", RTX2080),
-    point(ADRENO_6XX, Ratio::Rsqrt, 407.0 / 55.0, "Adreno 640 (a6xx)", ADRENO640),
-    point(ADRENO_6XX, Ratio::Rcp, 407.0 / 55.0, "Adreno 640 (a6xx)", ADRENO640),
+    point(
+        &["amd:polaris10"],
+        Ratio::Rsqrt,
+        3.0,
+        "Radeon RX 570 (Polaris, GCN4)",
+        RX570,
+    ),
+    point(
+        &["amd:polaris10"],
+        Ratio::Normalize,
+        1.5,
+        "Radeon RX 570 (Polaris, GCN4)",
+        RX570,
+    ),
+    point(
+        &["amd:polaris10"],
+        Ratio::Dot,
+        2.0,
+        "Radeon RX 570 (Polaris, GCN4)",
+        RX570,
+    ),
+    point(
+        &["nvidia:nv162"],
+        Ratio::Rsqrt,
+        3.5,
+        "GeForce RTX 2080 (TU104, Turing)",
+        RTX2080,
+    ),
+    point(
+        &["nvidia:nv162"],
+        Ratio::Normalize,
+        1.5,
+        "GeForce RTX 2080 (TU104, Turing)",
+        RTX2080,
+    ),
+    point(
+        &["nvidia:nv162"],
+        Ratio::Dot,
+        2.0,
+        "GeForce RTX 2080 (TU104, Turing)",
+        RTX2080,
+    ),
+    point(
+        ADRENO_6XX,
+        Ratio::Rsqrt,
+        407.0 / 55.0,
+        "Adreno 640 (a6xx)",
+        ADRENO640,
+    ),
+    point(
+        ADRENO_6XX,
+        Ratio::Rcp,
+        407.0 / 55.0,
+        "Adreno 640 (a6xx)",
+        ADRENO640,
+    ),
     Measurement {
         families: &["qualcomm:a660"],
         ratio: Ratio::Rsqrt,
@@ -222,10 +270,34 @@ pub const MEASUREMENTS: [Measurement; 14] = [
         source: ADRENO660,
         independent: true,
     },
-    point(&["arm:g57"], Ratio::Rsqrt, 3.0, "Mali-G57 (Valhall)", MALI_G57),
-    point(&["arm:g57"], Ratio::Normalize, 1.5, "Mali-G57 (Valhall)", MALI_G57),
-    point(&["arm:g57"], Ratio::Dot, 2.5, "Mali-G57 (Valhall)", MALI_G57),
-    point(&["apple:g13"], Ratio::Rsqrt, 5.0, "Apple M1 (G13)", APPLE_M1),
+    point(
+        &["arm:g57"],
+        Ratio::Rsqrt,
+        3.0,
+        "Mali-G57 (Valhall)",
+        MALI_G57,
+    ),
+    point(
+        &["arm:g57"],
+        Ratio::Normalize,
+        1.5,
+        "Mali-G57 (Valhall)",
+        MALI_G57,
+    ),
+    point(
+        &["arm:g57"],
+        Ratio::Dot,
+        2.5,
+        "Mali-G57 (Valhall)",
+        MALI_G57,
+    ),
+    point(
+        &["apple:g13"],
+        Ratio::Rsqrt,
+        5.0,
+        "Apple M1 (G13)",
+        APPLE_M1,
+    ),
     Measurement {
         families: &["apple:g13"],
         ratio: Ratio::Rsqrt,
@@ -337,10 +409,7 @@ pub fn calibrate(report: &IsaReport, elapsed_s: f64) -> Calibration {
     Calibration {
         schema_version: 1,
         chains: CHAINS,
-        kernels: KERNELS
-            .iter()
-            .map(|&k| (k, k.step().to_string()))
-            .collect(),
+        kernels: KERNELS.iter().map(|&k| (k, k.step().to_string())).collect(),
         disagree_factor: DISAGREE,
         families,
         elapsed_s,
@@ -374,8 +443,14 @@ pub fn checks(family: &str, model: &BTreeMap<Ratio, f64>) -> Vec<Check> {
 /// difference over the chains' difference.
 fn step_cost(report: &IsaReport, family: &str, kernel: Kernel, key: &str) -> Option<f64> {
     let [a, b] = CHAINS.map(|n| {
-        super::table::find_row(&report.results, family, &kernel.method(n), "fragment", "draw")
-            .and_then(|r| r.statistics.get(key).copied())
+        super::table::find_row(
+            &report.results,
+            family,
+            &kernel.method(n),
+            "fragment",
+            "draw",
+        )
+        .and_then(|r| r.statistics.get(key).copied())
     });
     let per = (b? - a?) / f64::from(CHAINS[1] - CHAINS[0]);
     per.is_finite().then_some(per)

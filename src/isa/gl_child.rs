@@ -103,10 +103,14 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
             let spec = [(1, k)];
             let (cs, set) = cross(&program, shaders::embedded(&program, "comp")?, &spec)?;
             glsl::check_all_set(&program, &spec, &set)?;
-            let (messages, sfu) = compile_counted(&ctx, vendor, &program, &[(GlStage::Compute, &cs)])?;
+            let (messages, sfu) =
+                compile_counted(&ctx, vendor, &program, &[(GlStage::Compute, &cs)])?;
             compiled.push(Compiled {
                 method: m.name.to_string(),
-                executables: with_sfu(executables(vendor, &program, &messages, &["compute"])?, &sfu),
+                executables: with_sfu(
+                    executables(vendor, &program, &messages, &["compute"])?,
+                    &sfu,
+                ),
                 program: program.clone(),
                 kind: "kernel".into(),
                 repeat: Some(k),
@@ -151,7 +155,9 @@ fn compile_draw(
         spec,
     )?;
     set.extend(set_fs);
-    glsl::check_all_set(program, spec, &set)?;
+    if glsl::has_constants(&vs) || glsl::has_constants(&fs) {
+        glsl::check_all_set(program, spec, &set)?;
+    }
     let (messages, sfu) = compile_counted(
         ctx,
         vendor,

@@ -10,7 +10,6 @@ use serde::{Deserialize, Serialize};
 
 use super::request::ChildReport;
 use super::throughput::Unit;
-use super::vendor::Vendor;
 use super::Precision;
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Executable, StatValue};
@@ -59,20 +58,6 @@ pub struct Row {
     pub bound_unit: Option<Unit>,
 }
 
-/// Adds the family's model figure to `statistics` (under the ranking key, when the compiler
-/// has no statistic of that name) and says which unit bounds the program.
-fn apply_model(
-    family: Option<(&dyn Vendor, &str)>,
-    statistics: &mut BTreeMap<String, f64>,
-) -> Option<Unit> {
-    let (vendor, chip) = family?;
-    let model = vendor.model(chip, statistics)?;
-    statistics
-        .entry(vendor.ranking().key)
-        .or_insert(model.cycles);
-    Some(model.bound)
-}
-
 /// What the figures are, for readers of isa.json.
 pub const MODEL_NOTE: &str = "ACO's static model on RADV's null device (Mesa): latency = issue \
 plus stall cycles, inverse_throughput = estimated busy cycles to execute one wave; loops \
@@ -119,15 +104,22 @@ pub fn asm_dir(family_key: &str) -> String {
     family_key.replace(':', "_")
 }
 
-/// The rows and status of one compiled family, whose rows are keyed `key`.
-pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
+/// Adds the family's model figure to a row's statistics and says which unit bounds the
+/// program ([`super::report`] makes it out of the family's vendor).
+pub(super) type ApplyModel<'a> = dyn Fn(&mut BTreeMap<String, f64>) -> Option<Unit> + 'a;
+
+/// The rows and status of one compiled family, whose rows are keyed `key`; `model` adds each
+/// row's throughput model.
+pub(super) fn family_rows(
+    r: &ChildReport,
+    key: &str,
+    model: &ApplyModel<'_>,
+) -> Result<FamilyRows> {
     let mut rows = Vec::new();
     let mut names: Vec<StatName> = Vec::new();
     let mut asm = Vec::new();
     let mut kernels: BTreeMap<String, Vec<(u32, &Executable)>> = BTreeMap::new();
     let dir = asm_dir(key);
-    let resolved = super::vendor::resolve(key).ok();
-    let family = resolved.as_ref().map(|(v, c)| (*v, c.as_str()));
     for c in &r.compiled {
         for e in &c.executables {
             for s in &e.statistics {
@@ -151,7 +143,7 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
                 continue;
             }
             let (mut statistics, hash) = stats(e);
-            let bound_unit = apply_model(family, &mut statistics);
+            let bound_unit = model(&mut statistics);
             rows.push(Row {
                 family: key.to_string(),
                 method: c.method.clone(),
@@ -179,7 +171,7 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
             .iter()
             .filter_map(|(k, v)| a.get(k).map(|w| (k.clone(), (v - w) / per)))
             .collect();
-        let bound_unit = apply_model(family, &mut statistics);
+        let bound_unit = model(&mut statistics);
         rows.push(Row {
             family: key.to_string(),
             program: crate::gpu::shaders::evaluate_program_in(&method, r_precision(r)),

@@ -262,7 +262,10 @@ mod tests {
         let mut mali = report("intel:tgl", "cycle_count", &costs);
         mali.results[1].bound_unit = Some(crate::isa::throughput::Unit::LoadStore);
         let mali = table(&mali, &methods);
-        assert!(mali.contains("<b>0.75</b> <small>load_store</small>"), "{mali}");
+        assert!(
+            mali.contains("<b>0.75</b> <small>load_store</small>"),
+            "{mali}"
+        );
         assert!(!intel.contains("<small>"), "{intel}");
         // Teeth: a statistic that is not the family's ranking one is no figure.
         let other = table(&report("intel:tgl", "inverse_throughput", &costs), &methods);

@@ -263,19 +263,21 @@ fn mediump_types(line: &str) -> String {
 }
 
 /// An error unless every constant of `spec` is among `set` (the ids the stages of one program
-/// set): a constant no stage has would silently keep nothing of the draw's value. A program
-/// that has no specialization constant at all (a kernel that reads no light or material:
-/// `isa --calibrate`'s) depends on none of the draw's values and passes.
+/// set): a constant no stage has would silently keep nothing of the draw's value.
 pub fn check_all_set(label: &str, spec: &[(u32, u32)], set: &[u32]) -> Result<()> {
-    if set.is_empty() {
-        return Ok(());
-    }
     match spec.iter().find(|(id, _)| !set.contains(id)) {
         Some((id, _)) => Err(Error::Shader(format!(
             "{label}: no specialization constant {id} in the program"
         ))),
         None => Ok(()),
     }
+}
+
+/// Whether spirv-cross's `glsl` has any specialization constant (a program that has none, a
+/// kernel that reads no light or material as `isa --calibrate`'s, depends on none of the
+/// draw's values: [`check_all_set`] does not apply).
+pub fn has_constants(glsl: &str) -> bool {
+    glsl.contains("#define SPIRV_CROSS_CONSTANT_ID_")
 }
 
 /// Replaces the default of each `#define SPIRV_CROSS_CONSTANT_ID_<n> <default>` by the value
@@ -377,7 +379,8 @@ mod tests {
         // Teeth: a constant the program lacks is an error, not silently the default.
         let (_, set) = specialize(GLSL, &[(1, 3)]);
         assert!(check_all_set("t", &[(1, 3)], &set).is_err());
-        // A program without any constant depends on none of the draw's values.
-        assert!(check_all_set("t", &[(1, 3)], &[]).is_ok());
+        // A program without any constant has none to set.
+        assert!(!has_constants("#version 430\nvoid main() {}\n"));
+        assert!(has_constants(GLSL));
     }
 }

@@ -75,16 +75,21 @@ impl Vendor for Nouveau {
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {
-        &["inst", "gpr", "bytes", "local", "shared", "sfu_ops", "model_cycles"]
+        &[
+            "inst",
+            "gpr",
+            "bytes",
+            "local",
+            "shared",
+            "sfu_ops",
+            "model_cycles",
+        ]
     }
 
     fn model(&self, chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
         let w = throughput::nvidia_weights(chip)?;
-        let cycles = throughput::weighted_issue(
-            *stats.get("inst")?,
-            *stats.get(throughput::SFU_KEY)?,
-            &w,
-        );
+        let cycles =
+            throughput::weighted_issue(*stats.get("inst")?, *stats.get(throughput::SFU_KEY)?, &w);
         cycles.is_finite().then_some(throughput::Model {
             cycles,
             bound: throughput::Unit::Issue,
