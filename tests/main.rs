@@ -45,6 +45,7 @@
 //!   outputs, outputs over inputs, kill -9 / SIGTERM / SIGINT, an image too big for memory).
 //! - `models`: the real-world meshes of ../shared/models (`SHADELAB_MODELS`), skipped if absent.
 mod bench;
+mod calibrate;
 mod citations;
 mod cli;
 mod compare;

@@ -43,7 +43,13 @@ pub(super) struct IsaArgs {
     /// Also compile this compute SPIR-V as is (one storage buffer at binding 0); repeatable.
     #[arg(long, value_name = "FILE.spv", hide = true)]
     probe: Vec<PathBuf>,
-    /// Output directory (isa.json, isa.csv, asm/).
+    /// Instead of the methods: compile micro-kernels (chains of FMA, rsqrt, rcp, dot,
+    /// normalize) on the families and write DIR/calibration.json, each family's model ratios
+    /// (rsqrt : FMA, ...) beside published measurements of real GPUs of its architecture
+    /// (docs/calibration.md).
+    #[arg(long, conflicts_with_all = ["methods", "bench", "compare", "probe", "scene", "driver_files"])]
+    calibrate: bool,
+    /// Output directory (isa.json, isa.csv, asm/; calibration.json with --calibrate).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
 }
@@ -67,6 +73,9 @@ impl IsaArgs {
 }
 
 pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
+    if args.calibrate {
+        return calibrate(args);
+    }
     let out = args.out;
     let mut methods = super::select_methods(&args.methods)?;
     let exact = crate::method::phong_exact();
@@ -141,6 +150,74 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         report.results.len(),
         start.elapsed().as_secs_f64(),
         out.join("isa.json").display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `isa --calibrate`: the kernels on the families, calibration.json, a line per check.
+fn calibrate(args: IsaArgs) -> Result<ExitCode> {
+    let families: Vec<String> = if args.families.trim() == "all" {
+        Vec::new()
+    } else {
+        args.families
+            .split(',')
+            .map(|s| s.trim().to_lowercase())
+            .filter(|s| !s.is_empty())
+            .collect()
+    };
+    let exe = std::env::current_exe()
+        .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
+    let cal = isa::calibrate::run(exe, families, &args.out, &|line| log::info!("{line}"))?;
+    if !cal.families.iter().any(|f| f.supported) {
+        return Err(Error::Device(
+            "isa --calibrate: no family compiled; set their routes up (docs/isa.md)".into(),
+        ));
+    }
+    println!(
+        "{:<20} {:>8} {:>8} {:>8} {:>9}  checks",
+        "family", "rsqrt", "rcp", "dot", "normalize"
+    );
+    for f in cal.families.iter().filter(|f| f.supported) {
+        let r = |k| {
+            f.model
+                .get(&k)
+                .map_or("-".to_string(), |v: &f64| format!("{v:.2}"))
+        };
+        use isa::calibrate::Ratio;
+        let checks: Vec<String> = f
+            .checks
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} {:.2} vs {} {}{}",
+                    c.ratio.name(),
+                    c.model,
+                    if c.measured_low == c.measured_high {
+                        format!("{}", c.measured_low)
+                    } else {
+                        format!("{}-{}", c.measured_low, c.measured_high)
+                    },
+                    c.gpu,
+                    if c.disagrees { " (disagrees)" } else { "" }
+                )
+            })
+            .collect();
+        println!(
+            "{:<20} {:>8} {:>8} {:>8} {:>9}  {}",
+            f.family,
+            r(Ratio::Rsqrt),
+            r(Ratio::Rcp),
+            r(Ratio::Dot),
+            r(Ratio::Normalize),
+            checks.join("; ")
+        );
+    }
+    println!(
+        "{} families ({} compiled) in {:.1} s; {}",
+        cal.families.len(),
+        cal.families.iter().filter(|f| f.supported).count(),
+        cal.elapsed_s,
+        args.out.join("calibration.json").display()
     );
     Ok(ExitCode::SUCCESS)
 }

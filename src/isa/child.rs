@@ -94,7 +94,7 @@ fn compile_vulkan(
                 repeat: None,
                 executables: keep(exes),
             });
-            if !has_evaluate_program(m) {
+            if !has_evaluate_program(m) || req.draws_only {
                 continue;
             }
             let program = crate::gpu::shaders::evaluate_program_in(m.name, req.precision);

@@ -51,7 +51,8 @@ fn csv(w: &mut dyn Write, r: &IsaReport) -> std::io::Result<()> {
         write!(w, ",ratio_{k}")?;
     }
     // Every vendor: its ranking statistic, the row's figure and its ratio to phong_exact's.
-    write!(w, ",ranking,ranking_value,ratio_ranking")?;
+    // and the unit that bounds the program in the family's throughput model.
+    write!(w, ",ranking,ranking_value,ratio_ranking,bound_unit")?;
     writeln!(w)?;
     let num = |v: Option<&f64>| v.map_or(String::new(), |v| format!("{v}"));
     for row in &r.results {
@@ -72,9 +73,10 @@ fn csv(w: &mut dyn Write, r: &IsaReport) -> std::io::Result<()> {
             .map_or(String::new(), |k| k.key);
         write!(
             w,
-            ",{key},{},{}",
+            ",{key},{},{},{}",
             num(row.statistics.get(&key)),
-            num(row.ratio_to_phong_exact.get(&key))
+            num(row.ratio_to_phong_exact.get(&key)),
+            row.bound_unit.map_or("", |u| u.name())
         )?;
         writeln!(w)?;
     }

@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use super::request::{ChildReport, ChildRequest, Compiled};
+use super::throughput;
 use super::vendor::{Api, Vendor};
 use crate::error::{Error, Result};
 use crate::gpu::gl::{glsl, GlApi, GlContext, GlInfo, GlStage};
@@ -94,7 +95,7 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
             }
             Err(e) => return Err(e),
         }
-        if !shaders::has_evaluate_program(m) || !compute {
+        if !shaders::has_evaluate_program(m) || !compute || req.draws_only {
             continue;
         }
         let program = shaders::evaluate_program_in(m.name, req.precision);
@@ -102,10 +103,14 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
             let spec = [(1, k)];
             let (cs, set) = cross(&program, shaders::embedded(&program, "comp")?, &spec)?;
             glsl::check_all_set(&program, &spec, &set)?;
-            let messages = ctx.compile(&program, &[(GlStage::Compute, &cs)])?;
+            let (messages, sfu) =
+                compile_counted(&ctx, vendor, &program, &[(GlStage::Compute, &cs)])?;
             compiled.push(Compiled {
                 method: m.name.to_string(),
-                executables: executables(vendor, &program, &messages, &["compute"])?,
+                executables: with_sfu(
+                    executables(vendor, &program, &messages, &["compute"])?,
+                    &sfu,
+                ),
                 program: program.clone(),
                 kind: "kernel".into(),
                 repeat: Some(k),
@@ -150,9 +155,54 @@ fn compile_draw(
         spec,
     )?;
     set.extend(set_fs);
-    glsl::check_all_set(program, spec, &set)?;
-    let messages = ctx.compile(program, &[(GlStage::Vertex, &vs), (GlStage::Fragment, &fs)])?;
-    executables(vendor, program, &messages, &["vertex", "fragment"])
+    if glsl::has_constants(&vs) || glsl::has_constants(&fs) {
+        glsl::check_all_set(program, spec, &set)?;
+    }
+    let (messages, sfu) = compile_counted(
+        ctx,
+        vendor,
+        program,
+        &[(GlStage::Vertex, &vs), (GlStage::Fragment, &fs)],
+    )?;
+    Ok(with_sfu(
+        executables(vendor, program, &messages, &["vertex", "fragment"])?,
+        &sfu,
+    ))
+}
+
+/// Compiles `stages` as one program: the driver's KHR_debug messages and, for a vendor that
+/// [`Vendor::counts_sfu_ops`], the special-function operations per stage of the NIR Mesa
+/// printed meanwhile (empty otherwise).
+fn compile_counted(
+    ctx: &GlContext,
+    vendor: &dyn Vendor,
+    program: &str,
+    stages: &[(GlStage, &str)],
+) -> Result<(Vec<String>, BTreeMap<String, f64>)> {
+    if !vendor.counts_sfu_ops() {
+        return Ok((ctx.compile(program, stages)?, BTreeMap::new()));
+    }
+    let (messages, dump) = super::stderr::capture_text(|| ctx.compile(program, stages))?;
+    let messages = messages?;
+    let sfu = throughput::sfu_ops_per_stage(&dump);
+    Ok((messages, sfu))
+}
+
+/// `exes` with each stage's count of special-function operations of `sfu` added as the
+/// statistic [`throughput::SFU_KEY`].
+fn with_sfu(mut exes: Vec<Executable>, sfu: &BTreeMap<String, f64>) -> Vec<Executable> {
+    for e in &mut exes {
+        if let Some(&n) = sfu.get(&e.stage) {
+            e.statistics.push(Statistic {
+                name: throughput::SFU_KEY.into(),
+                description: "special-function operations (rcp, rsq, sqrt, exp2, log2, sin, \
+                              cos; pow as two) of the NIR Mesa handed the compiler"
+                    .into(),
+                value: StatValue::Float(n),
+            });
+        }
+    }
+    exes
 }
 
 /// Whether the context computes `mediump float` in float16: GL's shader precision format

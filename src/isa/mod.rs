@@ -18,6 +18,7 @@
 //! cost and [`op_count`] the op-count judgement on AMD's compiled instructions. The figures are each
 //! compiler's static model or counts (`FamilyStatus::ranking` says which), not timings: they
 //! rank programs, they do not time them.
+pub mod calibrate;
 pub mod chart;
 pub mod child;
 pub mod cost;
@@ -29,6 +30,7 @@ pub mod report;
 pub mod request;
 pub mod stderr;
 pub mod table;
+pub mod throughput;
 pub mod vendor;
 
 use std::path::PathBuf;
@@ -136,6 +138,16 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
 /// `dir`) and reads its report; a route that is not set up starts none. A driver that does not
 /// know the chip under one name gets the next of [`Vendor::driver_chips`].
 pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> ChildOutcome {
+    run_child_with(opts, family, dir, false)
+}
+
+/// [`run_child`], with the timed draws alone when `draws_only` (no isolated kernel).
+fn run_child_with(
+    opts: &IsaOptions,
+    family: &Family,
+    dir: &std::path::Path,
+    draws_only: bool,
+) -> ChildOutcome {
     let driver_files = opts.driver_files.as_deref();
     let setup = match family.vendor.setup_for(family.chip, driver_files) {
         Ok(s) => s,
@@ -155,6 +167,7 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
             kernel_counts: KERNEL_COUNTS,
             probes: opts.probes.clone(),
             precision: opts.precision,
+            draws_only,
         };
         let spawn = crate::child::Spawn {
             exe: opts.exe.clone(),
@@ -194,6 +207,16 @@ pub fn families(ids: &[String]) -> Result<Vec<Family>> {
 
 /// Compiles every family (children [`PARALLEL_CHILDREN`] at a time) and builds the report.
 pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaReport> {
+    run_with(opts, false, progress)
+}
+
+/// [`run`], with the timed draws alone when `draws_only` (no isolated kernel: what
+/// [`calibrate`] compiles).
+pub fn run_with(
+    opts: &IsaOptions,
+    draws_only: bool,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<IsaReport> {
     if opts.families.is_empty() {
         return Err(Error::Usage("--families: no family given".into()));
     }
@@ -209,7 +232,7 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
             s.spawn(|| loop {
                 let next = queue.lock().ok().and_then(|mut q| q.pop());
                 let Some((i, family)) = next else { break };
-                let outcome = run_child(opts, &family, dir.path());
+                let outcome = run_child_with(opts, &family, dir.path(), draws_only);
                 let id = family.id();
                 progress(&match &outcome {
                     ChildOutcome::Compiled(r) => {

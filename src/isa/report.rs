@@ -2,6 +2,8 @@
 //! compiled it, with who compiled and the statistic that ranks its programs
 //! ([`FamilyStatus`]), the rows of [`super::table`], and what was judged on them: the op-count
 //! claim ([`super::op_count`]) and the rank correlation with lavapipe ([`super::rank`]).
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 use super::op_count::{op_count, OpCountVerdict};
@@ -105,6 +107,19 @@ fn status(family: &Family, supported: bool, status: String) -> FamilyStatus {
     }
 }
 
+/// Adds `family`'s model figure to `statistics` (under the ranking key, when the compiler has
+/// no statistic of that name) and says which unit bounds the program.
+fn apply_model(
+    family: &Family,
+    statistics: &mut BTreeMap<String, f64>,
+) -> Option<super::throughput::Unit> {
+    let model = family.vendor.model(family.chip, statistics)?;
+    statistics
+        .entry(family.vendor.ranking().key)
+        .or_insert(model.cycles);
+    Some(model.bound)
+}
+
 /// The report of every child's outcome.
 pub fn report(
     opts: &IsaOptions,
@@ -117,7 +132,8 @@ pub fn report(
     for (family, outcome) in outcomes {
         match outcome {
             ChildOutcome::Compiled(r) => {
-                let (rows, names, asm) = family_rows(&r, &family.id())?;
+                let apply = |stats: &mut BTreeMap<String, f64>| apply_model(&family, stats);
+                let (rows, names, asm) = family_rows(&r, &family.id(), &apply)?;
                 results.extend(rows);
                 disassembly.extend(asm);
                 let text = if r.skipped.is_empty() {

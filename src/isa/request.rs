@@ -36,6 +36,10 @@ pub struct ChildRequest {
     /// The precision of the method programs (issue 23; absent: f32).
     #[serde(default)]
     pub precision: crate::method::Precision,
+    /// The timed draw's programs only, no isolated kernel (`isa --calibrate`'s micro-kernels
+    /// are draws); absent: false.
+    #[serde(default)]
+    pub draws_only: bool,
 }
 
 /// One compiled program.

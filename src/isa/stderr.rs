@@ -12,6 +12,8 @@ use crate::error::{Error, Result};
 use crate::gpu::vk::{Executable, StatValue, Statistic};
 use crate::isa::vendor::Vendor;
 
+/// The process's standard output.
+const STDOUT: i32 = 1;
 /// The process's standard error.
 const STDERR: i32 = 2;
 
@@ -20,31 +22,56 @@ extern "C" {
     fn dup(fd: i32) -> i32;
     fn dup2(old: i32, new: i32) -> i32;
     fn close(fd: i32) -> i32;
+    // C (stdio.h): with a null stream, flushes every output stream (a driver's `printf`s).
+    fn fflush(stream: *mut std::ffi::c_void) -> i32;
 }
 
-/// Runs `f` with stderr caught: its result and the lines printed meanwhile. The lines that
-/// `keep` refuses are printed again on the restored stderr (a driver's warning stays visible).
-pub fn capture<T>(keep: impl Fn(&str) -> bool, f: impl FnOnce() -> T) -> Result<(T, Vec<String>)> {
-    let io = |e: std::io::Error| Error::Device(format!("catching the driver's stderr: {e}"));
+/// Runs `f` with file descriptor `fd` pointed at a temporary file: its result and what was
+/// written to `fd` meanwhile (C's buffered streams flushed first).
+fn catch_fd<T>(fd: i32, f: impl FnOnce() -> T) -> Result<(T, String)> {
+    let io = |e: std::io::Error| Error::Device(format!("catching the driver's output: {e}"));
     let mut file = tempfile::tempfile().map_err(io)?;
-    let _ = std::io::stderr().flush();
-    // SAFETY: dup and dup2 only duplicate descriptors: fd 2 is open for the whole process and
-    // `file` outlives both calls; the saved copy is put back and closed below on every path.
-    let saved = unsafe { dup(STDERR) };
-    if saved < 0 || unsafe { dup2(file.as_raw_fd(), STDERR) } < 0 {
+    let flush = || {
+        let _ = std::io::stdout().flush();
+        let _ = std::io::stderr().flush();
+        // SAFETY: fflush(NULL) flushes every open output stream of the C library; it reads
+        // no pointer of ours.
+        unsafe { fflush(std::ptr::null_mut()) };
+    };
+    flush();
+    // SAFETY: dup and dup2 only duplicate descriptors: `fd` (1 or 2) is open for the whole
+    // process and `file` outlives both calls; the saved copy is put back and closed below on
+    // every path.
+    let saved = unsafe { dup(fd) };
+    if saved < 0 || unsafe { dup2(file.as_raw_fd(), fd) } < 0 {
         return Err(io(std::io::Error::last_os_error()));
     }
     let out = f();
-    let _ = std::io::stderr().flush();
-    // SAFETY: `saved` is the descriptor dup returned above, still open; restoring it makes fd
-    // 2 the original stderr again, then the copy is closed.
-    let restored = unsafe { dup2(saved, STDERR) >= 0 && close(saved) == 0 };
+    flush();
+    // SAFETY: `saved` is the descriptor dup returned above, still open; restoring it makes
+    // `fd` the original stream again, then the copy is closed.
+    let restored = unsafe { dup2(saved, fd) >= 0 && close(saved) == 0 };
     if !restored {
         return Err(io(std::io::Error::last_os_error()));
     }
     let mut text = String::new();
     file.rewind().map_err(io)?;
     file.read_to_string(&mut text).map_err(io)?;
+    Ok((out, text))
+}
+
+/// Runs `f` with stderr and stdout caught: its result and what was printed on either
+/// meanwhile, stderr first (Mesa's `MESA_GLSL=dump` prints its IR on stderr).
+pub fn capture_text<T>(f: impl FnOnce() -> T) -> Result<(T, String)> {
+    let (inner, text) = catch_fd(STDOUT, || catch_fd(STDERR, f))?;
+    let (out, err) = inner?;
+    Ok((out, format!("{err}{text}")))
+}
+
+/// Runs `f` with stderr caught: its result and the lines printed meanwhile. The lines that
+/// `keep` refuses are printed again on the restored stderr (a driver's warning stays visible).
+pub fn capture<T>(keep: impl Fn(&str) -> bool, f: impl FnOnce() -> T) -> Result<(T, Vec<String>)> {
+    let (out, text) = catch_fd(STDERR, f)?;
     let (kept, others): (Vec<&str>, Vec<&str>) = text.lines().partition(|l| keep(l));
     for l in others {
         eprintln!("{l}");

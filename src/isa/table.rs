@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use super::request::ChildReport;
+use super::throughput::Unit;
 use super::Precision;
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Executable, StatValue};
@@ -51,6 +52,10 @@ pub struct Row {
     pub ratio_to_phong_exact: BTreeMap<String, f64>,
     /// The driver's hashes of the executable (those of both kernels for an evaluation).
     pub hash: Vec<String>,
+    /// The unit that bounds this program in its family's throughput model
+    /// ([`super::throughput`]); absent where the model lacks a figure it needs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bound_unit: Option<Unit>,
 }
 
 /// What the figures are, for readers of isa.json.
@@ -99,8 +104,17 @@ pub fn asm_dir(family_key: &str) -> String {
     family_key.replace(':', "_")
 }
 
-/// The rows and status of one compiled family, whose rows are keyed `key`.
-pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
+/// Adds the family's model figure to a row's statistics and says which unit bounds the
+/// program ([`super::report`] makes it out of the family's vendor).
+pub(super) type ApplyModel<'a> = dyn Fn(&mut BTreeMap<String, f64>) -> Option<Unit> + 'a;
+
+/// The rows and status of one compiled family, whose rows are keyed `key`; `model` adds each
+/// row's throughput model.
+pub(super) fn family_rows(
+    r: &ChildReport,
+    key: &str,
+    model: &ApplyModel<'_>,
+) -> Result<FamilyRows> {
     let mut rows = Vec::new();
     let mut names: Vec<StatName> = Vec::new();
     let mut asm = Vec::new();
@@ -128,7 +142,8 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
                 kernels.entry(c.method.clone()).or_default().push((k, e));
                 continue;
             }
-            let (statistics, hash) = stats(e);
+            let (mut statistics, hash) = stats(e);
+            let bound_unit = model(&mut statistics);
             rows.push(Row {
                 family: key.to_string(),
                 method: c.method.clone(),
@@ -138,6 +153,7 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
                 statistics,
                 ratio_to_phong_exact: BTreeMap::new(),
                 hash,
+                bound_unit,
             });
         }
     }
@@ -151,10 +167,11 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
         };
         let ((a, ha), (b, hb)) = (stats(lo), stats(hi));
         let per: f64 = f64::from(k1 - k0);
-        let statistics = b
+        let mut statistics = b
             .iter()
             .filter_map(|(k, v)| a.get(k).map(|w| (k.clone(), (v - w) / per)))
             .collect();
+        let bound_unit = model(&mut statistics);
         rows.push(Row {
             family: key.to_string(),
             program: crate::gpu::shaders::evaluate_program_in(&method, r_precision(r)),
@@ -164,6 +181,7 @@ pub(super) fn family_rows(r: &ChildReport, key: &str) -> Result<FamilyRows> {
             statistics,
             ratio_to_phong_exact: BTreeMap::new(),
             hash: ha.into_iter().chain(hb).collect(),
+            bound_unit,
         });
     }
     Ok((rows, names, asm))
@@ -267,6 +285,7 @@ mod tests {
             statistics: [("inverse_throughput".to_string(), it)].into(),
             ratio_to_phong_exact: BTreeMap::new(),
             hash: Vec::new(),
+            bound_unit: None,
         }
     }
 

@@ -184,8 +184,9 @@ fn compile(
     Ok((r, charts))
 }
 
-/// Per method (rows, the report's order) and family (columns): the fragment shader's inverse
-/// throughput over phong_exact's; refused families named in a line below.
+/// Per method (rows, the report's order) and family (columns): the fragment shader's ranking
+/// statistic over phong_exact's, with the bound unit where the family's model has several
+/// pipes; refused families named in a line below.
 fn table(r: &IsaReport, methods: &[&'static Method]) -> String {
     let fams = r.supported();
     let mut h = String::from("<table class=\"isa\"><thead><tr><th>method</th>");
@@ -197,9 +198,14 @@ fn table(r: &IsaReport, methods: &[&'static Method]) -> String {
         let _ = write!(h, "<tr><th>{}</th>", esc(m.name));
         for f in &fams {
             let ratio = r.ranking_ratio(f, m.name).filter(|v| v.is_finite());
+            // The unit that bounds the program, where the model has more than one.
+            let bound = crate::isa::table::find_row(&r.results, f, m.name, "fragment", "draw")
+                .and_then(|row| row.bound_unit)
+                .filter(|u| *u != crate::isa::throughput::Unit::Issue)
+                .map_or(String::new(), |u| format!(" <small>{}</small>", u.name()));
             let _ = match ratio {
-                Some(v) if v < 1.0 => write!(h, "<td><b>{v:.2}</b></td>"),
-                Some(v) => write!(h, "<td>{v:.2}</td>"),
+                Some(v) if v < 1.0 => write!(h, "<td><b>{v:.2}</b>{bound}</td>"),
+                Some(v) => write!(h, "<td>{v:.2}{bound}</td>"),
                 None => write!(h, "<td>-</td>"),
             };
         }
@@ -252,6 +258,15 @@ mod tests {
         let costs = [("phong_exact", 332.0), ("phong_unnormalized", 249.0)];
         let intel = table(&report("intel:tgl", "cycle_count", &costs), &methods);
         assert!(intel.contains("<td><b>0.75</b></td>"), "{intel}");
+        // A per-pipe model's bound unit is named beside the ratio; a single-pipe one is not.
+        let mut mali = report("intel:tgl", "cycle_count", &costs);
+        mali.results[1].bound_unit = Some(crate::isa::throughput::Unit::LoadStore);
+        let mali = table(&mali, &methods);
+        assert!(
+            mali.contains("<b>0.75</b> <small>load_store</small>"),
+            "{mali}"
+        );
+        assert!(!intel.contains("<small>"), "{intel}");
         // Teeth: a statistic that is not the family's ranking one is no figure.
         let other = table(&report("intel:tgl", "inverse_throughput", &costs), &methods);
         assert!(

@@ -273,6 +273,13 @@ pub fn check_all_set(label: &str, spec: &[(u32, u32)], set: &[u32]) -> Result<()
     }
 }
 
+/// Whether spirv-cross's `glsl` has any specialization constant (a program that has none, a
+/// kernel that reads no light or material as `isa --calibrate`'s, depends on none of the
+/// draw's values: [`check_all_set`] does not apply).
+pub fn has_constants(glsl: &str) -> bool {
+    glsl.contains("#define SPIRV_CROSS_CONSTANT_ID_")
+}
+
 /// Replaces the default of each `#define SPIRV_CROSS_CONSTANT_ID_<n> <default>` by the value
 /// of `spec`, in the default's type (`true`/`false`, `5u`, `5`); with the ids replaced.
 pub fn specialize(glsl: &str, spec: &[(u32, u32)]) -> (String, Vec<u32>) {
@@ -372,5 +379,8 @@ mod tests {
         // Teeth: a constant the program lacks is an error, not silently the default.
         let (_, set) = specialize(GLSL, &[(1, 3)]);
         assert!(check_all_set("t", &[(1, 3)], &set).is_err());
+        // A program without any constant has none to set.
+        assert!(!has_constants("#version 430\nvoid main() {}\n"));
+        assert!(has_constants(GLSL));
     }
 }

@@ -23,9 +23,11 @@
 //!
 //! Mesa's compiler is the production driver of Linux on Apple silicon (Asahi Linux); macOS
 //! and iOS ship Apple's own compiler.
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{mesa_build, Api, Compiler, Ranking, Setup, Vendor};
+use crate::isa::throughput;
 
 /// The route through asahi.
 pub struct Apple;
@@ -85,6 +87,15 @@ impl Vendor for Apple {
                       `bound_fscib` or `bound_ic`), the instruction count `inst` beside it"
                 .into(),
         }
+    }
+
+    /// The larger of the F/SCIB (arithmetic) and IC (transcendentals, conversions) units.
+    fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
+        use throughput::Unit;
+        throughput::bound(&[
+            (Unit::Arithmetic, *stats.get("fscib")?),
+            (Unit::Sfu, *stats.get("ic")?),
+        ])
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {

@@ -9,9 +9,11 @@
 //! float16 is `mediump` in GLSL ES, which panfrost computes in 16 bits on Bifrost and Valhall.
 //! The compilers are Mesa's own for Mali; Arm's driver, which phones and boards ship, has
 //! another (Arm's Mali Offline Compiler is its static analyser).
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{mesa_build, Api, Compiler, Ranking, Setup, Vendor};
+use crate::isa::throughput;
 
 /// The route through panfrost and lima.
 pub struct Arm;
@@ -31,6 +33,20 @@ const LIMA: &str = "mali450";
 /// The pipes of a shader-db line whose largest figure bounds the program (`cycles`).
 const PIPES: [&str; 10] = [
     "arith", "texture", "vary", "ldst", "fma", "cvt", "sfu", "v", "t", "ls",
+];
+
+/// The unit of each pipe of [`PIPES`].
+const PIPE_UNITS: [(&str, throughput::Unit); 10] = [
+    ("arith", throughput::Unit::Arithmetic),
+    ("texture", throughput::Unit::Texture),
+    ("vary", throughput::Unit::Varying),
+    ("ldst", throughput::Unit::LoadStore),
+    ("fma", throughput::Unit::Arithmetic),
+    ("cvt", throughput::Unit::Arithmetic),
+    ("sfu", throughput::Unit::Sfu),
+    ("v", throughput::Unit::Varying),
+    ("t", throughput::Unit::Texture),
+    ("ls", throughput::Unit::LoadStore),
 ];
 
 /// panfrost's product id for `chip`: a known name, or `id<hex>` for any id.
@@ -97,18 +113,35 @@ impl Vendor for Arm {
 
     fn ranking(&self) -> Ranking {
         Ranking {
-            key: "inst".into(),
+            key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: "draw".into(),
-            unit: "instructions".into(),
-            meaning: "the compiler's instruction count (every Mali generation has it; Bifrost \
-                      and Valhall also give per-pipe cycle estimates, `cycles` the bound one)"
+            unit: "cycles".into(),
+            meaning: "Bifrost and Valhall: panfrost's cycles of the bound pipe (Valhall: FMA, \
+                      CVT, SFU at a quarter of the FMA rate, varying, texture, load/store; \
+                      Bifrost: arithmetic tuples, texture, varying, load/store), the bound one \
+                      named; Midgard: bundles, one issued a cycle; Utgard: instruction words, \
+                      one issued a cycle; the instruction count `inst` beside it"
                 .into(),
         }
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {
-        &["inst", "loops", "spills", "fills"]
+        &["inst", "loops", "spills", "fills", "model_cycles"]
+    }
+
+    /// Bifrost and Valhall: the largest of panfrost's per-pipe cycles (its `cycles`);
+    /// Midgard: its bundles; Utgard: its instruction words (single-pipe).
+    fn model(&self, chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
+        use throughput::Unit;
+        let pipes: Vec<(Unit, f64)> = PIPE_UNITS
+            .iter()
+            .filter_map(|&(k, u)| Some((u, *stats.get(k)?)))
+            .collect();
+        if !pipes.is_empty() {
+            return throughput::bound(&pipes);
+        }
+        throughput::issue(stats, if chip == LIMA { "inst" } else { "bundles" })
     }
 
     fn float16(&self, _chip: &str) -> Option<bool> {
@@ -211,6 +244,28 @@ mod tests {
             )
             .unwrap();
         assert!(!stats.iter().any(|(k, _)| k.starts_with("bound_")));
+    }
+
+    #[test]
+    fn the_model_is_the_bound_pipe_or_the_issue_count() {
+        use throughput::Unit;
+        let valhall: BTreeMap<String, f64> = [("fma", 0.44), ("cvt", 0.38), ("sfu", 0.19)]
+            .into_iter()
+            .chain([("v", 0.5), ("t", 0.0), ("ls", 7.0), ("inst", 66.0)])
+            .map(|(k, v)| (k.to_string(), v))
+            .collect();
+        let m = Arm.model("g57", &valhall).unwrap();
+        assert_eq!((m.cycles, m.bound), (7.0, Unit::LoadStore));
+        // Teeth: more SFU work than load/store makes the SFU the bound.
+        let mut sfu = valhall.clone();
+        sfu.insert("sfu".into(), 8.0);
+        assert_eq!(Arm.model("g57", &sfu).unwrap().bound, Unit::Sfu);
+        let midgard: BTreeMap<String, f64> =
+            [("bundles".to_string(), 16.0), ("inst".to_string(), 33.0)].into();
+        let m = Arm.model("t860", &midgard).unwrap();
+        assert_eq!((m.cycles, m.bound), (16.0, Unit::Issue));
+        assert_eq!(Arm.model("mali450", &midgard).unwrap().cycles, 33.0);
+        assert!(Arm.model("t860", &BTreeMap::new()).is_none());
     }
 
     #[test]

@@ -8,9 +8,11 @@
 //! draw): instructions, threads, uniforms, temporaries, and on V3D stalls and
 //! NOPs, on VC4 estimated cycles. Neither chip computes float16: their `mediump` is float32.
 //! These are Broadcom's production Linux drivers (Raspberry Pi OS ships them).
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{mesa_build, Api, Compiler, Ranking, Setup, Vendor};
+use crate::isa::throughput;
 
 /// The route through v3d and vc4.
 pub struct Broadcom;
@@ -50,18 +52,30 @@ impl Vendor for Broadcom {
 
     fn ranking(&self) -> Ranking {
         Ranking {
-            key: "inst".into(),
+            key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: "draw".into(),
-            unit: "instructions".into(),
-            meaning: "the QPU instruction count of the compiled program (one instruction a \
-                      cycle per QPU; V3D also gives its stalls, VC4 an estimated cycle count)"
+            unit: "cycles".into(),
+            meaning: "the compiler's cycles of one QPU thread (one instruction issued a \
+                      cycle): VC4's scheduler estimate (`estimated_cycles`, a special function \
+                      read 3 instructions after it is written), V3D's instructions and stalls \
+                      (`inst_and_stalls`); the instruction count `inst` beside it"
                 .into(),
         }
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {
-        &["inst", "threads", "uniforms", "max_temps"]
+        &["inst", "threads", "uniforms", "max_temps", "model_cycles"]
+    }
+
+    /// VC4: its estimated cycles; V3D: its instructions and stalls (single-pipe).
+    fn model(&self, chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
+        let key = if chip == "vc4" {
+            "estimated_cycles"
+        } else {
+            "inst_and_stalls"
+        };
+        throughput::issue(stats, key)
     }
 
     fn float16(&self, _chip: &str) -> Option<bool> {

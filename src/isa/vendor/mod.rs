@@ -30,6 +30,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::gpu::vk::Executable;
+use crate::isa::throughput;
 
 /// Every vendor `shadelab isa` knows, in the order of its reports.
 pub static VENDORS: [&dyn Vendor; 8] = [
@@ -190,6 +191,20 @@ pub trait Vendor: Sync {
     /// statistics give: the child catches stderr around each compile and adds them to that
     /// program's executables (asahi's Honeykrisp: its cycle model). No by default.
     fn statistics_on_stderr(&self) -> bool {
+        false
+    }
+    /// The throughput model of one row's `stats` on `chip` ([`throughput`]): its figure, the
+    /// ranking statistic (written under the ranking key where it is not one of the
+    /// compiler's own), and the unit that bounds the program. By default the ranking
+    /// statistic as it stands, a single-pipe (issue) model.
+    fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
+        throughput::issue(stats, &self.ranking().key)
+    }
+    /// Whether the OpenGL child counts the special-function operations of each program in the
+    /// NIR Mesa hands the compiler (`MESA_GLSL=dump`, caught on stderr), as the statistic
+    /// [`throughput::SFU_KEY`]: the input of a weighted model where the compiler only counts
+    /// and prints no disassembly. No by default.
+    fn counts_sfu_ops(&self) -> bool {
         false
     }
 }

@@ -3,9 +3,11 @@
 //! surfaceless; the statistics are nouveau's shader-db line, delivered as a KHR_debug message
 //! when a program is compiled ("type: 4, local: 0, shared: 0, gpr: 13, inst: 38, bytes: 304,
 //! cached: 0"). The compiler is Mesa's own codegen for NVIDIA hardware, not NVIDIA's.
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{Api, Compiler, Ranking, Setup, Vendor};
+use crate::isa::throughput;
 
 /// The route through nouveau's OpenGL driver.
 pub struct Nouveau;
@@ -58,16 +60,44 @@ impl Vendor for Nouveau {
 
     fn ranking(&self) -> Ranking {
         Ranking {
-            key: "inst".into(),
+            key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: "draw".into(),
-            unit: "instructions".into(),
-            meaning: "nouveau's instruction count of the compiled program (no cycle model)".into(),
+            unit: "FMA issue slots".into(),
+            meaning: "weighted issue count: nouveau's instruction count with each \
+                      special-function operation (MUFU: rcp, rsq, exp2, log2, sin, cos) at the \
+                      architecture's FP32:SFU throughput ratio of NVIDIA's CUDA guide (Fermi \
+                      8 or 6, Kepler 6, Maxwell to Turing 4) instead of 1; the count of those \
+                      operations is `sfu_ops`, read in the NIR Mesa hands nouveau (nouveau \
+                      prints no disassembly)"
+                .into(),
         }
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {
-        &["inst", "gpr", "bytes", "local", "shared"]
+        &[
+            "inst",
+            "gpr",
+            "bytes",
+            "local",
+            "shared",
+            "sfu_ops",
+            "model_cycles",
+        ]
+    }
+
+    fn model(&self, chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
+        let w = throughput::nvidia_weights(chip)?;
+        let cycles =
+            throughput::weighted_issue(*stats.get("inst")?, *stats.get(throughput::SFU_KEY)?, &w);
+        cycles.is_finite().then_some(throughput::Model {
+            cycles,
+            bound: throughput::Unit::Issue,
+        })
+    }
+
+    fn counts_sfu_ops(&self) -> bool {
+        true
     }
 
     fn float16(&self, _chip: &str) -> Option<bool> {
@@ -92,7 +122,10 @@ impl Vendor for Nouveau {
             .strip_prefix("nv")
             .filter(|h| !h.is_empty() && h.chars().all(|c| c.is_ascii_hexdigit()))
             .ok_or_else(|| format!("`{chip}`: nouveau chips are nv<hex>, e.g. nv162, nvc0"))?;
-        super::gl_env(setup, SHIM, "nouveau", ("NOUVEAU_CHIPSET", hex.to_string()))
+        let mut env = super::gl_env(setup, SHIM, "nouveau", ("NOUVEAU_CHIPSET", hex.to_string()))?;
+        // The NIR handed to the compiler, on stdout: its special-function operations.
+        env.push(("MESA_GLSL".into(), "dump".into()));
+        Ok(env)
     }
 
     fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String> {

@@ -4,9 +4,11 @@
 //! with VK_KHR_pipeline_executable_properties' statistics (instruction count with ir3's
 //! scheduling NOPs, registers, waves per core, sync stalls, per-category counts) and ir3's
 //! disassembly. The compiler is Mesa's own for Adreno hardware; the phones ship Qualcomm's.
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{mesa_build, Api, Compiler, Ranking, Setup, Vendor};
+use crate::isa::throughput;
 
 /// The route through Turnip and ir3.
 pub struct Qualcomm;
@@ -69,14 +71,27 @@ impl Vendor for Qualcomm {
 
     fn ranking(&self) -> Ranking {
         Ranking {
-            key: "instruction_count".into(),
+            key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: "draw".into(),
-            unit: "instructions".into(),
-            meaning: "ir3's instruction count, the NOPs its scheduler inserts to cover latency \
-                      included (no cycle model)"
+            unit: "issue cycles".into(),
+            meaning: "ir3's issue cycles: its instruction count, the NOPs its scheduler \
+                      inserts to cover latency included, plus its estimated cycles stalled on \
+                      (ss) (special-function and shared results) and (sy) (texture and memory \
+                      results); no published special-function rate for Adreno is used"
                 .into(),
         }
+    }
+
+    /// Instructions (NOPs included) plus the (ss) and (sy) stall cycles ir3 estimates.
+    fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
+        let cycles = stats.get("instruction_count")?
+            + stats.get("estimated_cycles_stalled_on_ss")?
+            + stats.get("estimated_cycles_stalled_on_sy")?;
+        cycles.is_finite().then_some(throughput::Model {
+            cycles,
+            bound: throughput::Unit::Issue,
+        })
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {
@@ -86,6 +101,7 @@ impl Vendor for Qualcomm {
             "registers_used",
             "half_registers_used",
             "max_waves_per_core",
+            "model_cycles",
         ]
     }
 

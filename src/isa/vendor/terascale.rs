@@ -58,9 +58,11 @@ impl Vendor for TeraScale {
             key: "alu_groups".into(),
             stage: "fragment".into(),
             kind: "draw".into(),
-            unit: "ALU instruction groups".into(),
-            meaning: "r600's count of VLIW ALU instruction groups (one issue slot each) of the \
-                      compiled program (no cycle model)"
+            unit: "ALU issue cycles".into(),
+            meaning: "r600's VLIW ALU instruction groups of the compiled program: one group \
+                      issues a cycle, whatever it holds (up to 5 operations on Evergreen, a \
+                      transcendental in its t slot; 4 on Cayman); no published \
+                      special-function rate for TeraScale is used"
                 .into(),
         }
     }
