@@ -651,7 +651,18 @@ fn sigterm_and_sigint_clean_up_and_exit_with_their_code() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("c");
         let err = dir.path().join("err");
-        let mut c = shadelab()
+        let mut c = shadelab();
+        // A test run from a background job (`cmd &` in a script, as the Debian 13 check runs
+        // make test) inherits SIGINT ignored, and a program keeps an ignored SIGINT ignored as
+        // a shell's background job must; Ctrl-C is the interactive case: default disposition.
+        // SAFETY: signal() is async-signal-safe; nothing else runs between fork and exec.
+        unsafe {
+            std::os::unix::process::CommandExt::pre_exec(&mut c, || {
+                libc::signal(libc::SIGINT, libc::SIG_DFL);
+                Ok(())
+            });
+        }
+        let mut c = c
             .args([
                 "compare",
                 "--scene",
