@@ -19,6 +19,7 @@ fn options(methods: &[&str], families: &[&str]) -> IsaOptions {
         exe: PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision: Precision::F32,
         probes: Vec::new(),
+        store: None,
     }
 }
 

@@ -46,6 +46,8 @@ pub(super) struct IsaArgs {
     /// Output directory (isa.json, isa.csv, asm/).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
+    #[command(flatten)]
+    pub(super) store: super::StoreArgs,
 }
 
 impl IsaArgs {
@@ -92,6 +94,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         exe,
         precision: args.precision.precision,
         probes: args.probe,
+        store: isa::store::default_store(),
     };
     let bench = match &args.bench {
         Some(p) => {

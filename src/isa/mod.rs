@@ -23,11 +23,13 @@ pub mod child;
 pub mod cost;
 pub mod files;
 pub mod gl_child;
+pub mod identity;
 pub mod op_count;
 pub mod rank;
 pub mod report;
 pub mod request;
 pub mod stderr;
+pub mod store;
 pub mod table;
 pub mod vendor;
 
@@ -78,6 +80,9 @@ pub struct IsaOptions {
     pub precision: Precision,
     /// Extra compute programs compiled as they are ([`ChildRequest::probes`]).
     pub probes: Vec<PathBuf>,
+    /// The compile store the children's replies are read from and written to; `None`:
+    /// every family compiled now, nothing stored (`--no-cache`).
+    pub store: Option<store::Store>,
 }
 
 impl IsaOptions {
@@ -101,14 +106,23 @@ impl IsaOptions {
             exe,
             precision,
             probes: Vec::new(),
+            store: store::default_store(),
         }
     }
+}
+
+/// Who compiled a family's figures and whether now or earlier (read from the store).
+#[derive(Debug, Clone)]
+pub struct Provenance {
+    /// SHA-256 of the route's [`identity::CompilerIdentity`].
+    pub compiler_id: String,
+    pub source: store::Source,
 }
 
 /// How one child ended.
 #[derive(Debug)]
 pub enum ChildOutcome {
-    Compiled(ChildReport),
+    Compiled(ChildReport, Provenance),
     /// Not supported by this driver: what happened (signal, exit code, stderr tail).
     Failed(String),
     /// The vendor's route is not set up (why); no child was started.
@@ -133,8 +147,9 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
 }
 
 /// Runs one child for `family` (the protocol of [`crate::child`], its request and reply under
-/// `dir`) and reads its report; a route that is not set up starts none. A driver that does not
-/// know the chip under one name gets the next of [`Vendor::driver_chips`].
+/// `dir`) and reads its report, or reads the reply stored for the same request and compiler
+/// ([`store`]); a route that is not set up starts none. A driver that does not know the chip
+/// under one name gets the next of [`Vendor::driver_chips`].
 pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> ChildOutcome {
     let driver_files = opts.driver_files.as_deref();
     let setup = match family.vendor.setup_for(family.chip, driver_files) {
@@ -142,29 +157,57 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
         Err(why) => return ChildOutcome::NotSetUp(why),
     };
     let names = family.vendor.driver_chips(family.chip, &setup);
-    let mut refused = Vec::new();
-    for (i, name) in names.iter().enumerate() {
+    let req = ChildRequest {
+        family: family.id(),
+        methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
+        scene: opts.scene.clone(),
+        kernel_counts: KERNEL_COUNTS,
+        probes: opts.probes.clone(),
+        precision: opts.precision,
+    };
+    let method_files = crate::method::user::paths_of(&opts.methods);
+    let mut attempts = Vec::new();
+    for name in &names {
         let env = match family.vendor.child_env(name, &setup, driver_files) {
             Ok(env) => env,
             Err(why) => return ChildOutcome::NotSetUp(why),
         };
-        let req = ChildRequest {
-            family: family.id(),
-            methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
-            scene: opts.scene.clone(),
-            kernel_counts: KERNEL_COUNTS,
-            probes: opts.probes.clone(),
-            precision: opts.precision,
+        let identity = identity::CompilerIdentity::new(family.vendor, &env);
+        let provenance = |source| Provenance {
+            compiler_id: identity.digest(),
+            source,
         };
+        let material = opts.store.as_ref().and_then(|_| {
+            store::KeyMaterial::new(&opts.exe, &req, &method_files, name, identity.clone()).ok()
+        });
+        // Any of the driver's names stored: no child (a first name the driver refuses would
+        // cost a child before the second one's hit).
+        if let (Some(s), Some(m)) = (&opts.store, &material) {
+            if let Some(r) = s.get(m) {
+                return ChildOutcome::Compiled(r, provenance(store::Source::FromStore));
+            }
+        }
+        attempts.push((name, env, material, provenance(store::Source::Compiled)));
+    }
+    let mut refused = Vec::new();
+    let n = attempts.len();
+    for (i, (name, env, material, provenance)) in attempts.into_iter().enumerate() {
         let spawn = crate::child::Spawn {
             exe: opts.exe.clone(),
             driver_env: env,
-            method_files: crate::method::user::paths_of(&opts.methods),
+            method_files: method_files.clone(),
             show_stderr: false,
         };
         match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
-            Ok(r) => return ChildOutcome::Compiled(r),
-            Err(f) if i + 1 < names.len() && family.vendor.unknown_chip(&f.why) => {
+            Ok(r) => {
+                if let (Some(s), Some(m)) = (&opts.store, &material) {
+                    if let Err(e) = s.put(m, &r) {
+                        log::warn!("compile store: {}: not stored ({e})", family.id());
+                    }
+                }
+                return ChildOutcome::Compiled(r, provenance);
+            }
+            Err(f) if i + 1 < n && family.vendor.unknown_chip(&f.why) => {
                 refused.push(format!("`{name}`: {}", f.why));
             }
             Err(f) if refused.is_empty() => return ChildOutcome::Failed(f.why),
@@ -212,7 +255,10 @@ pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaRep
                 let outcome = run_child(opts, &family, dir.path());
                 let id = family.id();
                 progress(&match &outcome {
-                    ChildOutcome::Compiled(r) => {
+                    ChildOutcome::Compiled(r, p) if p.source == store::Source::FromStore => {
+                        format!("{id}: {} from the compile store", r.device_name)
+                    }
+                    ChildOutcome::Compiled(r, _) => {
                         format!("{id}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
                     }
                     ChildOutcome::Failed(why) => format!("{id}: not supported ({why})"),

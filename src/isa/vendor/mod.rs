@@ -192,6 +192,13 @@ pub trait Vendor: Sync {
     fn statistics_on_stderr(&self) -> bool {
         false
     }
+    /// The files whose change changes this route's compiler (build id of
+    /// [`crate::isa::identity::CompilerIdentity`]), given its child's environment `env`: by
+    /// default the shims, manifests, libraries and programs that environment loads
+    /// ([`crate::isa::identity::files_of_env`]).
+    fn compiler_files(&self, env: &[(String, String)]) -> Vec<crate::isa::identity::FileStamp> {
+        crate::isa::identity::files_of_env(env, self.api())
+    }
 }
 
 /// A family: its vendor and chip.
