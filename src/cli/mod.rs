@@ -1,6 +1,7 @@
 //! The command line: argument parsing (clap) and one function per command. `main.rs` only calls
 //! [`run`] and maps its result to an exit code.
 mod bench;
+mod cache;
 mod checks;
 mod child;
 mod compare;
@@ -471,6 +472,9 @@ enum Command {
     /// Check the shards of a corpus (union, disjoint, same configuration) and write the corpus
     /// tables: error over meshes per method, worst meshes, the answer per budget.
     Merge(self::merge::MergeArgs),
+    /// The compile store of the GPU families' static cost: its folder, entries and size;
+    /// checks (--verify) and prunes (--prune, --max-size) it (docs/isa.md "Compile store").
+    Cache(self::cache::CacheArgs),
     /// List the Vulkan devices the loader reports.
     Devices,
     /// Internal: one job of a parent shadelab process (src/child.rs), from its request file.
@@ -686,6 +690,7 @@ pub fn run() -> Result<ExitCode> {
         c @ Command::Report { .. } => report::run_report(c),
         Command::Corpus(a) => self::corpus::cmd_corpus(a),
         Command::Merge(a) => self::merge::cmd_merge(a),
+        Command::Cache(a) => self::cache::cmd_cache(&a),
         Command::Devices => {
             for d in Context::list_devices()? {
                 println!("{d}");
