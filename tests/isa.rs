@@ -104,8 +104,19 @@ fn identical_runs_and_the_phong_order_on_every_family() {
         .unwrap()
         .remove("inverse_throughput");
     assert!(!validator.is_valid(&bad), "the schema check has no teeth");
-    let mut bad = json;
+    let mut bad = json.clone();
     bad["results"][0]["stage"] = "geometry".into();
+    assert!(!validator.is_valid(&bad), "the schema check has no teeth");
+    // A compiled family says who compiled it and whether now or from the compile store.
+    assert_eq!(json["families"][0]["source"], "compiled");
+    let mut bad = json.clone();
+    bad["families"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("compiler_id");
+    assert!(!validator.is_valid(&bad), "the schema check has no teeth");
+    let mut bad = json;
+    bad["families"][0]["source"] = "cached".into();
     assert!(!validator.is_valid(&bad), "the schema check has no teeth");
 }
 

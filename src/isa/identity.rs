@@ -168,16 +168,8 @@ pub fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// SHA-256 of the file at `path` (hex), once per path and process: the shadelab binary whose
-/// children compile (the SPIR-V built into it and the code that builds the pipelines).
+/// SHA-256 of the file at `path` (hex), read now.
 pub fn file_sha256(path: &Path) -> std::io::Result<String> {
-    use std::collections::HashMap;
-    use std::sync::Mutex;
-    static DONE: OnceLock<Mutex<HashMap<PathBuf, String>>> = OnceLock::new();
-    let done = DONE.get_or_init(Default::default);
-    if let Some(h) = done.lock().ok().and_then(|d| d.get(path).cloned()) {
-        return Ok(h);
-    }
     use std::io::Read;
     let mut f = std::fs::File::open(path)?;
     let mut hasher = Sha256::new();
@@ -189,7 +181,21 @@ pub fn file_sha256(path: &Path) -> std::io::Result<String> {
         }
         hasher.update(&buf[..n]);
     }
-    let h = hex(&hasher.finalize());
+    Ok(hex(&hasher.finalize()))
+}
+
+/// [`file_sha256`] of the shadelab binary whose children compile (the SPIR-V built into it
+/// and the code that builds the pipelines), once per path and process: a running binary is
+/// not rewritten under its own feet (a rebuild replaces the file, and the next process sees it).
+pub fn exe_sha256(path: &Path) -> std::io::Result<String> {
+    use std::collections::HashMap;
+    use std::sync::Mutex;
+    static DONE: OnceLock<Mutex<HashMap<PathBuf, String>>> = OnceLock::new();
+    let done = DONE.get_or_init(Default::default);
+    if let Some(h) = done.lock().ok().and_then(|d| d.get(path).cloned()) {
+        return Ok(h);
+    }
+    let h = file_sha256(path)?;
     if let Ok(mut d) = done.lock() {
         d.insert(path.to_path_buf(), h.clone());
     }

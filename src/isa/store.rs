@@ -24,7 +24,7 @@ use std::time::SystemTime;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::identity::{file_sha256, hex, CompilerIdentity};
+use super::identity::{exe_sha256, file_sha256, hex, CompilerIdentity};
 use super::request::{ChildReport, ChildRequest};
 use crate::error::{Error, Result};
 
@@ -93,9 +93,9 @@ pub struct KeyMaterial {
     pub compiler: CompilerIdentity,
     /// The request as the child gets it.
     pub request: serde_json::Value,
-    /// (path, SHA-256) of every file the request names: method files, probes, the scene and
-    /// the files it names.
-    pub inputs: Vec<(String, String)>,
+    /// SHA-256 of every file the request names, in order: method files, probes, the scene
+    /// and the files it names.
+    pub inputs: Vec<String>,
 }
 
 impl KeyMaterial {
@@ -109,23 +109,34 @@ impl KeyMaterial {
         driver_chip: &str,
         compiler: CompilerIdentity,
     ) -> std::io::Result<KeyMaterial> {
+        // Contents, not paths: a method file written again elsewhere (tune's candidates in
+        // another output folder) with the same bytes is the same program; its name is the
+        // request's method id.
         let mut inputs = Vec::new();
         for p in method_files.iter().chain(&req.probes) {
-            inputs.push((p.display().to_string(), file_sha256(p)?));
+            inputs.push(file_sha256(p)?);
         }
         if let Some(scene) = &req.scene {
-            inputs.push((scene.display().to_string(), file_sha256(scene)?));
+            inputs.push(file_sha256(scene)?);
             for p in files_named_by(scene) {
-                inputs.push((p.display().to_string(), file_sha256(&p)?));
+                inputs.push(file_sha256(&p)?);
             }
         }
+        let mut request = serde_json::to_value(req).map_err(std::io::Error::other)?;
+        // A probe's name is its method id; the folder it lies in changes nothing.
+        request["probes"] = req
+            .probes
+            .iter()
+            .map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .collect::<Vec<_>>()
+            .into();
         Ok(KeyMaterial {
             store_schema: STORE_SCHEMA,
             child_schema: crate::child::SCHEMA_VERSION,
-            shadelab: file_sha256(exe)?,
+            shadelab: exe_sha256(exe)?,
             driver_chip: driver_chip.into(),
             compiler,
-            request: serde_json::to_value(req).map_err(std::io::Error::other)?,
+            request,
             inputs,
         })
     }
