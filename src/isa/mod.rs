@@ -183,8 +183,12 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
         // Any of the driver's names stored: no child (a first name the driver refuses would
         // cost a child before the second one's hit).
         if let (Some(s), Some(m)) = (&opts.store, &material) {
-            if let Some(r) = s.get(m) {
-                return ChildOutcome::Compiled(r, provenance(store::Source::FromStore));
+            match s.get(m) {
+                Some(store::Stored::Compiled(r)) => {
+                    return ChildOutcome::Compiled(r, provenance(store::Source::FromStore));
+                }
+                Some(store::Stored::Refused(why)) => return ChildOutcome::Failed(why),
+                None => {}
             }
         }
         attempts.push((name, env, material, provenance(store::Source::Compiled)));
@@ -198,22 +202,34 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
             method_files: method_files.clone(),
             show_stderr: false,
         };
+        // A reply, or the child's own refusal under this name (the final answer: not a name
+        // the driver does not know with another to try), is stored under this name's key.
+        let keep = |stored: store::Stored| {
+            if let (Some(s), Some(m)) = (&opts.store, &material) {
+                if let Err(e) = s.put(m, stored) {
+                    log::warn!("compile store: {}: not stored ({e})", family.id());
+                }
+            }
+        };
         match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
             Ok(r) => {
-                if let (Some(s), Some(m)) = (&opts.store, &material) {
-                    if let Err(e) = s.put(m, &r) {
-                        log::warn!("compile store: {}: not stored ({e})", family.id());
-                    }
-                }
+                keep(store::Stored::Compiled(r.clone()));
                 return ChildOutcome::Compiled(r, provenance);
             }
             Err(f) if i + 1 < n && family.vendor.unknown_chip(&f.why) => {
                 refused.push(format!("`{name}`: {}", f.why));
             }
-            Err(f) if refused.is_empty() => return ChildOutcome::Failed(f.why),
             Err(f) => {
-                refused.push(format!("`{name}`: {}", f.why));
-                return ChildOutcome::Failed(refused.join("; "));
+                let why = if refused.is_empty() {
+                    f.why
+                } else {
+                    refused.push(format!("`{name}`: {}", f.why));
+                    refused.join("; ")
+                };
+                if f.replied {
+                    keep(store::Stored::Refused(why.clone()));
+                }
+                return ChildOutcome::Failed(why);
             }
         }
     }

@@ -13,9 +13,9 @@
 //! so concurrent processes (Slurm shards on a shared file system) never read half of one; each
 //! entry carries the SHA-256 and length of its body and its full key material, checked on
 //! every read: a corrupt, truncated or foreign entry is reported, removed and compiled again,
-//! never used. Only replies are stored; everything derived from them (rows, ratios, rankings)
-//! is computed after the store, as for a fresh reply. Failures are not stored: a driver that
-//! refuses a chip is asked again. The store is bounded ([`DEFAULT_MAX_BYTES`]): after each
+//! never used. Only replies are stored (a child's own refusal too: float16 on a chip without it);
+//! everything derived from them (rows, ratios, rankings) is computed after the store, as for a
+//! fresh reply. A child that died or gave no reply is not stored: it is asked again. The store is bounded ([`DEFAULT_MAX_BYTES`]): after each
 //! write the least recently used entries (modification time, refreshed on every hit) go first.
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -187,11 +187,38 @@ fn files_named_by(scene: &Path) -> Vec<PathBuf> {
     out
 }
 
-/// One stored reply with the material of its key.
+/// What a child answered: its reply, or the error it replied with (a refusal it decided: the
+/// driver does not compile float16 on that chip, or does not start on it).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stored {
+    Compiled(ChildReport),
+    Refused(String),
+}
+
+/// One stored answer with the material of its key.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Entry {
     pub material: KeyMaterial,
-    pub reply: ChildReport,
+    pub stored: Stored,
+}
+
+impl Entry {
+    /// The reply, for an entry of a compile.
+    pub fn reply(&self) -> Option<&ChildReport> {
+        match &self.stored {
+            Stored::Compiled(r) => Some(r),
+            Stored::Refused(_) => None,
+        }
+    }
+
+    /// [`Entry::reply`], mutable.
+    pub fn reply_mut(&mut self) -> Option<&mut ChildReport> {
+        match &mut self.stored {
+            Stored::Compiled(r) => Some(r),
+            Stored::Refused(_) => None,
+        }
+    }
 }
 
 /// An entry's bytes: a header line `shadelab-store <schema> <sha256 of body> <body length>`,
@@ -248,6 +275,9 @@ pub struct EntryFile {
     pub used: SystemTime,
 }
 
+/// What [`Store::verify`] found: the sound entries, and each removed entry's path with why.
+pub type Verified = (Vec<Entry>, Vec<(PathBuf, String)>);
+
 /// A store in a folder.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Store {
@@ -269,15 +299,15 @@ impl Store {
         self.dir.join(format!("{key}{SUFFIX}"))
     }
 
-    /// The reply stored for `m`, if any. A corrupt entry (or one whose material is not `m`'s)
+    /// The answer stored for `m`, if any. A corrupt entry (or one whose material is not `m`'s)
     /// is warned about, removed, and a miss; a hit refreshes the entry's time (LRU).
-    pub fn get(&self, m: &KeyMaterial) -> Option<ChildReport> {
+    pub fn get(&self, m: &KeyMaterial) -> Option<Stored> {
         let path = self.path_of(&m.key());
         let bytes = std::fs::read(&path).ok()?;
         let why = match decode(&bytes) {
             Ok(e) if e.material == *m => {
                 touch(&path);
-                return Some(e.reply);
+                return Some(e.stored);
             }
             Ok(_) => "its key material is another compile's".to_string(),
             Err(why) => why,
@@ -291,12 +321,12 @@ impl Store {
         None
     }
 
-    /// Stores `reply` under `m` (atomically: written whole, then renamed), then keeps the
+    /// Stores `stored` under `m` (atomically: written whole, then renamed), then keeps the
     /// store under [`DEFAULT_MAX_BYTES`].
-    pub fn put(&self, m: &KeyMaterial, reply: &ChildReport) -> Result<()> {
+    pub fn put(&self, m: &KeyMaterial, stored: Stored) -> Result<()> {
         let bytes = encode(&Entry {
             material: m.clone(),
-            reply: reply.clone(),
+            stored,
         })?;
         crate::output::write_bytes_atomic(&self.path_of(&m.key()), &bytes)?;
         self.prune_to(DEFAULT_MAX_BYTES)?;
@@ -349,9 +379,9 @@ impl Store {
         Ok((n, freed))
     }
 
-    /// Reads every entry and removes those that do not decode; returns (sound entries, the
-    /// paths removed with why).
-    pub fn verify(&self) -> Result<(Vec<Entry>, Vec<(PathBuf, String)>)> {
+    /// Reads every entry and removes those that do not decode; returns the sound entries and
+    /// the paths removed with why.
+    pub fn verify(&self) -> Result<Verified> {
         let mut sound = Vec::new();
         let mut removed = Vec::new();
         for e in self.entries()? {
@@ -424,8 +454,11 @@ mod tests {
         let s = Store::at(dir.path());
         let m = material("amd:navi21");
         assert!(s.get(&m).is_none());
-        s.put(&m, &reply("amd:navi21")).unwrap();
-        assert_eq!(s.get(&m).unwrap().elapsed_ms, 812.0);
+        s.put(&m, Stored::Compiled(reply("amd:navi21"))).unwrap();
+        let Some(Stored::Compiled(r)) = s.get(&m) else {
+            panic!("no reply")
+        };
+        assert_eq!(r.elapsed_ms, 812.0);
         // Teeth: one flipped byte of the body is detected; the entry is gone.
         let p = s.path_of(&m.key());
         let mut bytes = std::fs::read(&p).unwrap();
@@ -435,7 +468,7 @@ mod tests {
         assert!(s.get(&m).is_none());
         assert!(!p.exists());
         // A truncated one too.
-        s.put(&m, &reply("amd:navi21")).unwrap();
+        s.put(&m, Stored::Compiled(reply("amd:navi21"))).unwrap();
         let bytes = std::fs::read(&p).unwrap();
         std::fs::write(&p, &bytes[..bytes.len() / 2]).unwrap();
         assert!(decode(&std::fs::read(&p).unwrap())
@@ -456,7 +489,8 @@ mod tests {
         // An entry renamed to another key is never another key's answer.
         let dir = tempfile::tempdir().unwrap();
         let s = Store::at(dir.path());
-        s.put(&a, &reply("amd:navi21")).unwrap();
+        s.put(&a, Stored::Refused("no float16".into())).unwrap();
+        assert!(matches!(s.get(&a), Some(Stored::Refused(w)) if w == "no float16"));
         std::fs::rename(s.path_of(&a.key()), s.path_of(&b.key())).unwrap();
         assert!(s.get(&b).is_none());
     }
@@ -466,8 +500,8 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let s = Store::at(dir.path());
         let (a, b) = (material("amd:tahiti"), material("amd:navi10"));
-        s.put(&a, &reply("amd:tahiti")).unwrap();
-        s.put(&b, &reply("amd:navi10")).unwrap();
+        s.put(&a, Stored::Compiled(reply("amd:tahiti"))).unwrap();
+        s.put(&b, Stored::Compiled(reply("amd:navi10"))).unwrap();
         let old = SystemTime::now() - std::time::Duration::from_secs(3600);
         let f = std::fs::OpenOptions::new()
             .append(true)
