@@ -124,10 +124,13 @@ fn figures_from_the_store_equal_fresh_ones_on_every_family() {
     let entries = s.verify().unwrap().0;
     let mut e = entries
         .into_iter()
-        .find(|e| e.reply.compiled.iter().any(|c| !c.executables.is_empty()))
+        .find(|e| {
+            e.reply()
+                .is_some_and(|r| r.compiled.iter().any(|c| !c.executables.is_empty()))
+        })
         .expect("an entry with executables");
-    for x in e
-        .reply
+    let reply = e.reply_mut().unwrap();
+    for x in reply
         .compiled
         .iter_mut()
         .flat_map(|c| c.executables.iter_mut())
@@ -342,4 +345,46 @@ fn two_processes_filling_the_store_at_once_leave_it_whole() {
         "{out}"
     );
     assert!(out.contains("amd:navi21: 1"), "{out}");
+}
+
+/// A child's own refusal (float16 on a chip without float16 arithmetic) is stored and read
+/// back: no child is asked again. Teeth: a stored refusal whose words were changed comes back
+/// with those words, so the second run's answer is the store's.
+#[test]
+fn a_refusal_is_stored_and_read_back() {
+    if !families_ready(
+        "store::a_refusal_is_stored_and_read_back",
+        &["amd:tahiti"],
+        "SHADELAB_REQUIRE_VENDORS",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let s = Store::at(dir.path());
+    let opts = IsaOptions {
+        precision: Precision::F16,
+        ..options(&["amd:tahiti".to_string()], Some(s.clone()))
+    };
+    let first = isa_run(&opts);
+    assert!(!first.families[0].supported, "{:#?}", first.families);
+    assert!(
+        first.families[0].status.contains("float16"),
+        "{:#?}",
+        first.families
+    );
+    let mut entries = s.verify().unwrap().0;
+    assert_eq!(entries.len(), 1);
+    let mut e = entries.pop().unwrap();
+    let store::Stored::Refused(why) = &e.stored else {
+        panic!("not a refusal: {:?}", e.stored)
+    };
+    assert!(first.families[0].status.ends_with(why.as_str()), "{why}");
+    e.stored = store::Stored::Refused("the store's own words".into());
+    std::fs::write(s.path_of(&e.material.key()), store::encode(&e).unwrap()).unwrap();
+    let second = isa_run(&opts);
+    assert!(
+        second.families[0].status.ends_with("the store's own words"),
+        "{:#?}",
+        second.families
+    );
 }
