@@ -13,8 +13,6 @@ use std::sync::OnceLock;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::vendor::{Api, Vendor};
-
 /// One file a route loads: its path, size and modification time (nanoseconds since the
 /// epoch). Hashing the files themselves (hundreds of MB of drivers) would cost seconds per
 /// run; a rebuild or a package upgrade changes the stamp.
@@ -60,17 +58,22 @@ pub struct CompilerIdentity {
 }
 
 impl CompilerIdentity {
-    /// The identity of `vendor` compiling with the environment `env` (its child's).
-    pub fn new(vendor: &dyn Vendor, env: &[(String, String)]) -> CompilerIdentity {
-        let c = vendor.compiler();
+    /// The identity of the compiler `driver` (through `api`) run with the child environment
+    /// `env`, which loads `files` (the route's
+    /// [`Vendor::compiler_files`](super::vendor::Vendor::compiler_files)).
+    pub fn new(
+        driver: &str,
+        api: &str,
+        env: &[(String, String)],
+        mut files: Vec<FileStamp>,
+    ) -> CompilerIdentity {
         let mut env = env.to_vec();
         env.sort();
-        let mut files = vendor.compiler_files(&env);
         files.sort_by(|a, b| a.path.cmp(&b.path));
         files.dedup();
         CompilerIdentity {
-            driver: c.driver,
-            api: c.api,
+            driver: driver.into(),
+            api: api.into(),
             env,
             files,
         }
@@ -86,9 +89,10 @@ impl CompilerIdentity {
 /// The files the environment `env` makes a child load: every existing absolute path among its
 /// values (`:`-separated lists included; a folder: the files directly in it), the library a
 /// Vulkan ICD manifest names, and for an OpenGL route (`MESA_LOADER_DRIVER_OVERRIDE`) the
-/// `<dri>_dri.so` it forces, EGL and spirv-cross. The default of
+/// `<dri>_dri.so` it forces, EGL and, for an OpenGL route (`opengl`: our SPIR-V translated to
+/// GLSL), spirv-cross. The default of
 /// [`Vendor::compiler_files`](super::vendor::Vendor::compiler_files).
-pub fn files_of_env(env: &[(String, String)], api: Api) -> Vec<FileStamp> {
+pub fn files_of_env(env: &[(String, String)], opengl: bool) -> Vec<FileStamp> {
     let mut out = Vec::new();
     for (_, value) in env {
         for part in value.split(':').filter(|p| p.starts_with('/')) {
@@ -119,7 +123,7 @@ pub fn files_of_env(env: &[(String, String)], api: Api) -> Vec<FileStamp> {
         }
         out.extend(dirs.iter().find_map(|d| FileStamp::of(&d.join(&file))));
     }
-    if matches!(api, Api::OpenGl | Api::OpenGlEs) {
+    if opengl {
         out.extend(on_path("spirv-cross").as_deref().and_then(FileStamp::of));
     }
     out
@@ -212,18 +216,20 @@ mod tests {
         let shim = dir.path().join("libshim.so");
         std::fs::write(&shim, b"one").unwrap();
         let env = vec![("LD_PRELOAD".to_string(), shim.display().to_string())];
-        let amd = super::super::vendor::resolve("amd:navi21").unwrap().0;
-        let a = CompilerIdentity::new(amd, &env);
+        let id = |env: &[(String, String)]| {
+            CompilerIdentity::new("RADV (ACO)", "Vulkan", env, files_of_env(env, false))
+        };
+        let a = id(&env);
         assert_eq!(a.files.len(), 1, "{a:?}");
-        assert_eq!(a, CompilerIdentity::new(amd, &env));
+        assert_eq!(a, id(&env));
         // Teeth: another size (a rebuilt shim) is another identity.
         std::fs::write(&shim, b"other").unwrap();
-        let b = CompilerIdentity::new(amd, &env);
+        let b = id(&env);
         assert_ne!(a.digest(), b.digest());
         // So is another chip variable.
         let mut env2 = env.clone();
         env2.push(("RADV_FORCE_FAMILY".into(), "navi10".into()));
-        assert_ne!(b.digest(), CompilerIdentity::new(amd, &env2).digest());
+        assert_ne!(b.digest(), id(&env2).digest());
     }
 
     #[test]
@@ -238,7 +244,7 @@ mod tests {
         )
         .unwrap();
         let env = vec![("VK_DRIVER_FILES".to_string(), icd.display().to_string())];
-        let files = files_of_env(&env, Api::Vulkan { device: "x" });
+        let files = files_of_env(&env, false);
         assert_eq!(files.len(), 2, "{files:?}");
         assert!(files[1].path.ends_with("libvulkan_x.so"), "{files:?}");
     }

@@ -172,7 +172,13 @@ pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> C
             Ok(env) => env,
             Err(why) => return ChildOutcome::NotSetUp(why),
         };
-        let identity = identity::CompilerIdentity::new(family.vendor, &env);
+        let compiler = family.vendor.compiler();
+        let identity = identity::CompilerIdentity::new(
+            &compiler.driver,
+            &compiler.api,
+            &env,
+            family.vendor.compiler_files(&env),
+        );
         let provenance = |source| Provenance {
             compiler_id: identity.digest(),
             source,

@@ -197,7 +197,8 @@ pub trait Vendor: Sync {
     /// default the shims, manifests, libraries and programs that environment loads
     /// ([`crate::isa::identity::files_of_env`]).
     fn compiler_files(&self, env: &[(String, String)]) -> Vec<crate::isa::identity::FileStamp> {
-        crate::isa::identity::files_of_env(env, self.api())
+        let opengl = matches!(self.api(), Api::OpenGl | Api::OpenGlEs);
+        crate::isa::identity::files_of_env(env, opengl)
     }
 }
 
