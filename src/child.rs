@@ -82,6 +82,10 @@ pub struct Failure {
     pub why: String,
     /// The request file, kept: `shadelab child FILE` runs it again.
     pub request: PathBuf,
+    /// Whether the child itself replied with the error (a refusal it decided: the same request
+    /// is refused again), as opposed to a child that died, could not start or wrote no
+    /// readable reply.
+    pub replied: bool,
 }
 
 impl std::fmt::Display for Failure {
@@ -110,6 +114,7 @@ pub fn call<J: Job>(
         job: J::NAME,
         why,
         request: path.clone(),
+        replied: false,
     };
     let reply = dir.join(format!("{name}.reply.json"));
     let envelope = Envelope {
@@ -150,7 +155,10 @@ pub fn call<J: Job>(
     match std::fs::read(&reply) {
         Ok(b) => match serde_json::from_slice::<Reply<J::Reply>>(&b) {
             Ok(Reply::Done { reply }) => Ok(reply),
-            Ok(Reply::Failed { error }) => Err(failure(error)),
+            Ok(Reply::Failed { error }) => Err(Failure {
+                replied: true,
+                ..failure(error)
+            }),
             Err(e) => Err(failure(format!("its reply is not readable: {e}"))),
         },
         Err(_) => Err(failure(ended(out.status, &out.stderr, spawn.show_stderr))),

@@ -278,6 +278,7 @@ fn isa_compiles_float16_programs_where_the_family_has_float16() {
         exe: std::path::PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision,
         probes: Vec::new(),
+        store: None,
     };
     let r16 = isa::run(&opts(Precision::F16), &|_| {}).expect("isa f16");
     let r32 = isa::run(&opts(Precision::F32), &|_| {}).expect("isa f32");

@@ -19,6 +19,7 @@ fn options(methods: &[&str], families: &[&str]) -> IsaOptions {
         exe: PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision: Precision::F32,
         probes: Vec::new(),
+        store: None,
     }
 }
 
@@ -118,9 +119,20 @@ fn identical_runs_and_the_phong_order_on_every_family() {
         !validator.is_valid(&bad),
         "a row without its bound unit passes"
     );
-    let mut bad = json;
+    let mut bad = json.clone();
     bad["results"][0]["bound_unit"] = "alu".into();
     assert!(!validator.is_valid(&bad), "an unknown bound unit passes");
+    // A compiled family says who compiled it and whether now or from the compile store.
+    assert_eq!(json["families"][0]["source"], "compiled");
+    let mut bad = json.clone();
+    bad["families"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("compiler_id");
+    assert!(!validator.is_valid(&bad), "the schema check has no teeth");
+    let mut bad = json;
+    bad["families"][0]["source"] = "cached".into();
+    assert!(!validator.is_valid(&bad), "the schema check has no teeth");
 }
 
 /// A compute program loading one value and storing `y`; with `extra`, 16 more dependent

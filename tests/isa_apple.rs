@@ -25,6 +25,7 @@ fn options(methods: &[&str], families: &[&str], precision: Precision) -> IsaOpti
         exe: PathBuf::from(env!("CARGO_BIN_EXE_shadelab")),
         precision,
         probes: Vec::new(),
+        store: None,
     }
 }
 

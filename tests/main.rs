@@ -22,6 +22,8 @@
 //!   to Panther Lake): every method in float32 and float16, the Phong order, refusals.
 //! - `isa_apple`: Apple's G13 through Honeykrisp (`make compilers`): every method in float32 and
 //!   float16, the cycle model's bound unit, the Phong order, identical runs, refused chips.
+//! - `store`: the compile store: figures from it equal fresh ones on every set-up family, a
+//!   corrupt entry compiled again, a changed compiler identity misses, two processes at once.
 //! - `layout`: the layers of src/lib.rs point one way; ash only in gpu/vk, clap only in cli.
 //! - `docs`: the documentation agrees with the tool: every count of methods, GPU families and
 //!   vendors is the library's, every path layout.md and ARCHITECTURE.md name exists, every link
@@ -68,6 +70,7 @@ mod prove;
 mod report;
 mod shaders;
 mod software;
+mod store;
 mod stress;
 mod support;
 mod tune;

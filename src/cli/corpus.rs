@@ -57,6 +57,8 @@ pub(super) struct CorpusArgs {
     no_isa: bool,
     #[command(flatten)]
     device: super::DeviceArgs,
+    #[command(flatten)]
+    pub(super) store: super::StoreArgs,
 }
 
 impl CorpusArgs {

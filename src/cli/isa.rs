@@ -52,6 +52,8 @@ pub(super) struct IsaArgs {
     /// Output directory (isa.json, isa.csv, asm/; calibration.json with --calibrate).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
+    #[command(flatten)]
+    pub(super) store: super::StoreArgs,
 }
 
 impl IsaArgs {
@@ -101,6 +103,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         exe,
         precision: args.precision.precision,
         probes: args.probe,
+        store: isa::store::default_store(),
     };
     let bench = match &args.bench {
         Some(p) => {

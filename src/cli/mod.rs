@@ -1,6 +1,7 @@
 //! The command line: argument parsing (clap) and one function per command. `main.rs` only calls
 //! [`run`] and maps its result to an exit code.
 mod bench;
+mod cache;
 mod checks;
 mod child;
 mod compare;
@@ -169,6 +170,27 @@ struct BudgetArgs {
     /// isa:amd:navi21, isa:intel:tgl; a bare chip is AMD's; docs/isa.md).
     #[arg(long = "cost-model", value_name = "MODEL", default_value = crate::cost::LAVAPIPE_ISOLATED, value_parser = crate::cost::CostModelId::parse)]
     cost_model: crate::cost::CostModelId,
+    #[command(flatten)]
+    store: StoreArgs,
+}
+
+/// `--no-cache`, shared by every command that compiles for GPU families (isa, report, demo,
+/// tune, corpus, bench's speed claims, an `isa:` cost model).
+#[derive(Args, Debug, Clone, Default)]
+pub(super) struct StoreArgs {
+    /// Compile every GPU family now instead of reading the compile store (docs/isa.md
+    /// "Compile store"), and store nothing; SHADELAB_NO_CACHE=1 does the same.
+    #[arg(long)]
+    no_cache: bool,
+}
+
+impl StoreArgs {
+    /// Turns the store off for this process when asked.
+    pub(super) fn apply(&self) {
+        if self.no_cache {
+            crate::isa::store::disable();
+        }
+    }
 }
 
 /// `--engine`.
@@ -390,6 +412,8 @@ enum Command {
         out: PathBuf,
         #[command(flatten)]
         device: DeviceArgs,
+        #[command(flatten)]
+        store: StoreArgs,
     },
     /// The main job: compare, bench and stress on the given scenes, written as one offline
     /// HTML report (OUT/index.html, its path printed on stdout).
@@ -439,6 +463,8 @@ enum Command {
         tuned: Option<PathBuf>,
         #[command(flatten)]
         device: DeviceArgs,
+        #[command(flatten)]
+        store: StoreArgs,
     },
     /// Compare every mesh file of a corpus, or one shard K/N of it (CI matrix, Slurm job
     /// array): per-mesh results, a manifest, the static GPU cost once (docs/corpus.md).
@@ -446,6 +472,9 @@ enum Command {
     /// Check the shards of a corpus (union, disjoint, same configuration) and write the corpus
     /// tables: error over meshes per method, worst meshes, the answer per budget.
     Merge(self::merge::MergeArgs),
+    /// The compile store of the GPU families' static cost: its folder, entries and size;
+    /// checks (--verify) and prunes (--prune, --max-size) it (docs/isa.md "Compile store").
+    Cache(self::cache::CacheArgs),
     /// List the Vulkan devices the loader reports.
     Devices,
     /// Internal: one job of a parent shadelab process (src/child.rs), from its request file.
@@ -558,6 +587,9 @@ pub fn run() -> Result<ExitCode> {
     let cli = Cli::parse();
     cli.verbosity.init(&cli.command);
     self::checks::before_running(&cli)?;
+    if let Some(store) = cli.command.store_args() {
+        store.apply();
+    }
     match cli.command {
         Command::Compare {
             scene,
@@ -653,15 +685,34 @@ pub fn run() -> Result<ExitCode> {
             scenes,
             out,
             device,
+            ..
         } => cmd_demo(&scenes, &out, &device),
         c @ Command::Report { .. } => report::run_report(c),
         Command::Corpus(a) => self::corpus::cmd_corpus(a),
         Command::Merge(a) => self::merge::cmd_merge(a),
+        Command::Cache(a) => self::cache::cmd_cache(&a),
         Command::Devices => {
             for d in Context::list_devices()? {
                 println!("{d}");
             }
             Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+impl Command {
+    /// The `--no-cache` of a command that compiles for GPU families.
+    fn store_args(&self) -> Option<&StoreArgs> {
+        match self {
+            Command::Render { error_budget, .. } | Command::Compare { error_budget, .. } => {
+                Some(&error_budget.store)
+            }
+            Command::Bench(b) => Some(&b.error_budget.store),
+            Command::Isa(a) => Some(&a.store),
+            Command::Tune(a) => Some(&a.store),
+            Command::Corpus(a) => Some(&a.store),
+            Command::Demo { store, .. } | Command::Report { store, .. } => Some(store),
+            _ => None,
         }
     }
 }

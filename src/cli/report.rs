@@ -113,6 +113,7 @@ pub(super) fn run_report(c: Command) -> Result<ExitCode> {
         full,
         tuned,
         device,
+        ..
     } = c
     else {
         return Err(Error::Internal(

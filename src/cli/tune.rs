@@ -62,6 +62,8 @@ pub struct TuneArgs {
     /// --models).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
+    #[command(flatten)]
+    pub(super) store: super::StoreArgs,
 }
 
 /// The scenes of the arguments, each with its kind, path and output folder.

@@ -491,6 +491,8 @@ pub fn run(
         exe,
         precision: super::Precision::F32,
         probes: Vec::new(),
+        // the kernels are keyed by their content, so a second calibration reads them back
+        store: super::store::default_store(),
     };
     let report = super::run_with(&opts, true, progress)?;
     let cal = calibrate(&report, start.elapsed().as_secs_f64());

@@ -24,11 +24,13 @@ pub mod child;
 pub mod cost;
 pub mod files;
 pub mod gl_child;
+pub mod identity;
 pub mod op_count;
 pub mod rank;
 pub mod report;
 pub mod request;
 pub mod stderr;
+pub mod store;
 pub mod table;
 pub mod throughput;
 pub mod vendor;
@@ -80,6 +82,9 @@ pub struct IsaOptions {
     pub precision: Precision,
     /// Extra compute programs compiled as they are ([`ChildRequest::probes`]).
     pub probes: Vec<PathBuf>,
+    /// The compile store the children's replies are read from and written to; `None`:
+    /// every family compiled now, nothing stored (`--no-cache`).
+    pub store: Option<store::Store>,
 }
 
 impl IsaOptions {
@@ -103,14 +108,23 @@ impl IsaOptions {
             exe,
             precision,
             probes: Vec::new(),
+            store: store::default_store(),
         }
     }
+}
+
+/// Who compiled a family's figures and whether now or earlier (read from the store).
+#[derive(Debug, Clone)]
+pub struct Provenance {
+    /// SHA-256 of the route's [`identity::CompilerIdentity`].
+    pub compiler_id: String,
+    pub source: store::Source,
 }
 
 /// How one child ended.
 #[derive(Debug)]
 pub enum ChildOutcome {
-    Compiled(ChildReport),
+    Compiled(ChildReport, Provenance),
     /// Not supported by this driver: what happened (signal, exit code, stderr tail).
     Failed(String),
     /// The vendor's route is not set up (why); no child was started.
@@ -135,8 +149,9 @@ pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, S
 }
 
 /// Runs one child for `family` (the protocol of [`crate::child`], its request and reply under
-/// `dir`) and reads its report; a route that is not set up starts none. A driver that does not
-/// know the chip under one name gets the next of [`Vendor::driver_chips`].
+/// `dir`) and reads its report, or reads the reply stored for the same request and compiler
+/// ([`store`]); a route that is not set up starts none. A driver that does not know the chip
+/// under one name gets the next of [`Vendor::driver_chips`].
 pub fn run_child(opts: &IsaOptions, family: &Family, dir: &std::path::Path) -> ChildOutcome {
     run_child_with(opts, family, dir, false)
 }
@@ -154,36 +169,86 @@ fn run_child_with(
         Err(why) => return ChildOutcome::NotSetUp(why),
     };
     let names = family.vendor.driver_chips(family.chip, &setup);
-    let mut refused = Vec::new();
-    for (i, name) in names.iter().enumerate() {
+    let req = ChildRequest {
+        family: family.id(),
+        methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
+        scene: opts.scene.clone(),
+        kernel_counts: KERNEL_COUNTS,
+        probes: opts.probes.clone(),
+        precision: opts.precision,
+        draws_only,
+    };
+    let method_files = crate::method::user::paths_of(&opts.methods);
+    let mut attempts = Vec::new();
+    for name in &names {
         let env = match family.vendor.child_env(name, &setup, driver_files) {
             Ok(env) => env,
             Err(why) => return ChildOutcome::NotSetUp(why),
         };
-        let req = ChildRequest {
-            family: family.id(),
-            methods: opts.methods.iter().map(|m| m.name.to_string()).collect(),
-            scene: opts.scene.clone(),
-            kernel_counts: KERNEL_COUNTS,
-            probes: opts.probes.clone(),
-            precision: opts.precision,
-            draws_only,
+        let compiler = family.vendor.compiler();
+        let identity = identity::CompilerIdentity::new(
+            &compiler.driver,
+            &compiler.api,
+            &env,
+            family.vendor.compiler_files(&env),
+        );
+        let provenance = |source| Provenance {
+            compiler_id: identity.digest(),
+            source,
         };
+        let material = opts.store.as_ref().and_then(|_| {
+            store::KeyMaterial::new(&opts.exe, &req, &method_files, name, identity.clone()).ok()
+        });
+        // Any of the driver's names stored: no child (a first name the driver refuses would
+        // cost a child before the second one's hit).
+        if let (Some(s), Some(m)) = (&opts.store, &material) {
+            match s.get(m) {
+                Some(store::Stored::Compiled(r)) => {
+                    return ChildOutcome::Compiled(r, provenance(store::Source::FromStore));
+                }
+                Some(store::Stored::Refused(why)) => return ChildOutcome::Failed(why),
+                None => {}
+            }
+        }
+        attempts.push((name, env, material, provenance(store::Source::Compiled)));
+    }
+    let mut refused = Vec::new();
+    let n = attempts.len();
+    for (i, (name, env, material, provenance)) in attempts.into_iter().enumerate() {
         let spawn = crate::child::Spawn {
             exe: opts.exe.clone(),
             driver_env: env,
-            method_files: crate::method::user::paths_of(&opts.methods),
+            method_files: method_files.clone(),
             show_stderr: false,
         };
+        // A reply, or the child's own refusal under this name (the final answer: not a name
+        // the driver does not know with another to try), is stored under this name's key.
+        let keep = |stored: store::Stored| {
+            if let (Some(s), Some(m)) = (&opts.store, &material) {
+                if let Err(e) = s.put(m, stored) {
+                    log::warn!("compile store: {}: not stored ({e})", family.id());
+                }
+            }
+        };
         match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
-            Ok(r) => return ChildOutcome::Compiled(r),
-            Err(f) if i + 1 < names.len() && family.vendor.unknown_chip(&f.why) => {
+            Ok(r) => {
+                keep(store::Stored::Compiled(r.clone()));
+                return ChildOutcome::Compiled(r, provenance);
+            }
+            Err(f) if i + 1 < n && family.vendor.unknown_chip(&f.why) => {
                 refused.push(format!("`{name}`: {}", f.why));
             }
-            Err(f) if refused.is_empty() => return ChildOutcome::Failed(f.why),
             Err(f) => {
-                refused.push(format!("`{name}`: {}", f.why));
-                return ChildOutcome::Failed(refused.join("; "));
+                let why = if refused.is_empty() {
+                    f.why
+                } else {
+                    refused.push(format!("`{name}`: {}", f.why));
+                    refused.join("; ")
+                };
+                if f.replied {
+                    keep(store::Stored::Refused(why.clone()));
+                }
+                return ChildOutcome::Failed(why);
             }
         }
     }
@@ -235,7 +300,10 @@ pub fn run_with(
                 let outcome = run_child_with(opts, &family, dir.path(), draws_only);
                 let id = family.id();
                 progress(&match &outcome {
-                    ChildOutcome::Compiled(r) => {
+                    ChildOutcome::Compiled(r, p) if p.source == store::Source::FromStore => {
+                        format!("{id}: {} from the compile store", r.device_name)
+                    }
+                    ChildOutcome::Compiled(r, _) => {
                         format!("{id}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
                     }
                     ChildOutcome::Failed(why) => format!("{id}: not supported ({why})"),

@@ -49,9 +49,19 @@ pub struct FamilyStatus {
     pub driver_name: Option<String>,
     /// The driver's version string, e.g. "Mesa 22.3.6".
     pub driver_info: Option<String>,
+    /// How long the child took to compile (for figures read from the store: when they were
+    /// compiled).
     pub elapsed_ms: Option<f64>,
     /// The statistics the driver reported, in its order, with its names and descriptions.
     pub statistics: Vec<StatName>,
+    /// SHA-256 of the compiler's identity (driver, API, the route's environment and the build
+    /// ids of its files: [`super::identity::CompilerIdentity`]); absent where nothing
+    /// compiled and in isa.json files written before the compile store.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compiler_id: Option<String>,
+    /// Whether the figures were compiled now or read from the compile store.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<super::store::Source>,
 }
 
 /// Everything `shadelab isa` found.
@@ -104,6 +114,8 @@ fn status(family: &Family, supported: bool, status: String) -> FamilyStatus {
         driver_info: None,
         elapsed_ms: None,
         statistics: Vec::new(),
+        compiler_id: None,
+        source: None,
     }
 }
 
@@ -131,7 +143,7 @@ pub fn report(
     let mut disassembly = Vec::new();
     for (family, outcome) in outcomes {
         match outcome {
-            ChildOutcome::Compiled(r) => {
+            ChildOutcome::Compiled(r, provenance) => {
                 let apply = |stats: &mut BTreeMap<String, f64>| apply_model(&family, stats);
                 let (rows, names, asm) = family_rows(&r, &family.id(), &apply)?;
                 results.extend(rows);
@@ -155,6 +167,8 @@ pub fn report(
                 f.driver_info = Some(r.driver_info);
                 f.elapsed_ms = Some(r.elapsed_ms);
                 f.statistics = names;
+                f.compiler_id = Some(provenance.compiler_id);
+                f.source = Some(provenance.source);
                 families.push(f);
             }
             ChildOutcome::Failed(why) => families.push(status(

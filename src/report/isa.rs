@@ -110,7 +110,8 @@ pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
             let _ = write!(
                 h,
                 "<p>Files: <a href=\"{DIR}/isa.json\">isa.json</a>, \
-                 <a href=\"{DIR}/isa.csv\">isa.csv</a>.</p>"
+                 <a href=\"{DIR}/isa.csv\">isa.csv</a>. {}</p>",
+                provenance(r)
             );
         }
         Err(why) => {
@@ -126,7 +127,8 @@ pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
             let _ = write!(
                 h,
                 "<p>Files: <a href=\"{DIR_F16}/isa.json\">isa.json</a>, \
-                 <a href=\"{DIR_F16}/isa.csv\">isa.csv</a>.</p>"
+                 <a href=\"{DIR_F16}/isa.csv\">isa.csv</a>. {}</p>",
+                provenance(r)
             );
         }
         Err(why) => {
@@ -134,6 +136,20 @@ pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
         }
     }
     h + "</section>"
+}
+
+/// How many families were compiled in this run and how many read from the compile store
+/// (isa.json names each one's compiler identity and source).
+fn provenance(r: &IsaReport) -> String {
+    use crate::isa::store::Source;
+    let count = |s| r.families.iter().filter(|f| f.source == Some(s)).count();
+    format!(
+        "Compiled in this run: {} families; read from the compile store (the same compiler \
+         identity, request and files; isa.json's <code>compiler_id</code> and \
+         <code>source</code> per family): {}.",
+        count(Source::Compiled),
+        count(Source::FromStore)
+    )
 }
 
 /// The options of `isa` on the report's methods (phong_exact included) in `precision`.

@@ -207,6 +207,14 @@ pub trait Vendor: Sync {
     fn counts_sfu_ops(&self) -> bool {
         false
     }
+    /// The files whose change changes this route's compiler (build id of
+    /// [`crate::isa::identity::CompilerIdentity`]), given its child's environment `env`: by
+    /// default the shims, manifests, libraries and programs that environment loads
+    /// ([`crate::isa::identity::files_of_env`]).
+    fn compiler_files(&self, env: &[(String, String)]) -> Vec<crate::isa::identity::FileStamp> {
+        let opengl = matches!(self.api(), Api::OpenGl | Api::OpenGlEs);
+        crate::isa::identity::files_of_env(env, opengl)
+    }
 }
 
 /// A family: its vendor and chip.
