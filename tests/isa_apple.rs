@@ -11,7 +11,6 @@ use shadelab::method;
 
 use crate::isa::{assert_identical_runs, assert_references_in_order, isa_json_against_its_schema};
 use crate::isa_mobile::compilers_ready;
-use crate::support::rerun_test;
 
 /// Every AGX family the shim and the compiler can be.
 const FAMILIES: [&str; 1] = ["apple:g13"];
@@ -162,28 +161,8 @@ fn a_chip_the_asahi_shim_is_not_is_refused() {
 /// failure under `SHADELAB_REQUIRE_COMPILERS=1`.
 #[test]
 fn missing_asahi_skips_visibly_and_fails_when_required() {
-    let cache = tempfile::tempdir().unwrap();
-    let test = "isa_apple::a_chip_the_asahi_shim_is_not_is_refused";
-    let run = |require: &str| {
-        rerun_test(
-            test,
-            &[
-                ("XDG_CACHE_HOME", cache.path().as_os_str()),
-                ("SHADELAB_REQUIRE_COMPILERS", require.as_ref()),
-            ],
-        )
-    };
-    let skipped = run("0");
-    let err = String::from_utf8_lossy(&skipped.stderr);
-    assert!(skipped.status.success(), "{err}");
-    assert!(
-        err.contains(&format!("SKIPPED: {test}: apple:g13 is not set up"))
-            && err.contains("run make compilers"),
-        "the skip must say SKIPPED, name the test and the command: {err}"
-    );
-    let required = run("1");
-    assert!(
-        !required.status.success(),
-        "SHADELAB_REQUIRE_COMPILERS=1 must fail an Apple test without the compilers"
+    crate::isa_mobile::assert_skips_without_compilers(
+        "isa_apple::a_chip_the_asahi_shim_is_not_is_refused",
+        "apple:g13",
     );
 }

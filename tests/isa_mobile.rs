@@ -246,8 +246,17 @@ fn a_chip_the_driver_does_not_know_is_refused() {
 /// sets): runs this test binary on one mobile test with an empty cache folder.
 #[test]
 fn missing_compilers_skip_visibly_and_fail_when_required() {
+    assert_skips_without_compilers(
+        "isa_mobile::a_chip_the_driver_does_not_know_is_refused",
+        "qualcomm:a630",
+    );
+}
+
+/// Runs `test` of this binary with an empty cache folder: without the compilers it passes
+/// with a `SKIPPED: <test>: <family> is not set up ... run make compilers` line, and under
+/// `SHADELAB_REQUIRE_COMPILERS=1` it fails.
+pub(crate) fn assert_skips_without_compilers(test: &str, family: &str) {
     let cache = tempfile::tempdir().unwrap();
-    let test = "isa_mobile::a_chip_the_driver_does_not_know_is_refused";
     let run = |require: &str| {
         rerun_test(
             test,
@@ -261,13 +270,13 @@ fn missing_compilers_skip_visibly_and_fail_when_required() {
     let err = String::from_utf8_lossy(&skipped.stderr);
     assert!(skipped.status.success(), "{err}");
     assert!(
-        err.contains(&format!("SKIPPED: {test}: qualcomm:a630 is not set up"))
+        err.contains(&format!("SKIPPED: {test}: {family} is not set up"))
             && err.contains("run make compilers"),
         "the skip must say SKIPPED, name the test and the command: {err}"
     );
     let required = run("1");
     assert!(
         !required.status.success(),
-        "SHADELAB_REQUIRE_COMPILERS=1 must fail a mobile test without the compilers"
+        "SHADELAB_REQUIRE_COMPILERS=1 must fail {test} without the compilers"
     );
 }
