@@ -330,6 +330,13 @@ fn start_slurm() -> Slurm {
         dpid = p("slurmd.pid"), clog = p("slurmctld.log"), dlog = p("slurmd.log"),
     );
     std::fs::write(d.join("slurm.conf"), conf).unwrap();
+    // The job needs no cgroups (linuxproc, task/none), but slurmd from Slurm 24 on sets up its
+    // cgroup plugin anyway and exits where the cgroup tree is not one it knows (a chroot, a
+    // container, a hybrid v1/v2 host): "Unable to initialize cgroup plugin". CgroupPlugin=disabled
+    // exists from Slurm 24.05 on (cgroup.conf(5) of 24.05, absent from 23.11's).
+    if slurm_version() >= (24, 5) {
+        std::fs::write(d.join("cgroup.conf"), "CgroupPlugin=disabled\n").unwrap();
+    }
     for _ in 0..50 {
         if socket.exists() {
             break;
@@ -371,6 +378,32 @@ fn start_slurm() -> Slurm {
         d.display(),
         log_tails(&d)
     );
+}
+
+/// Slurm's (major, minor) version, from `slurmd -V` ("slurm 22.05.8", "slurm-wlm 24.11.5").
+fn slurm_version() -> (u32, u32) {
+    let out = Command::new("slurmd")
+        .arg("-V")
+        .output()
+        .expect("run slurmd -V");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    parse_slurm_version(&text).unwrap_or_else(|| panic!("slurmd -V printed {text:?}"))
+}
+
+fn parse_slurm_version(text: &str) -> Option<(u32, u32)> {
+    let v = text.split_whitespace().nth(1)?;
+    let mut parts = v.split('.');
+    Some((parts.next()?.parse().ok()?, parts.next()?.parse().ok()?))
+}
+
+#[test]
+fn slurm_versions_are_read_from_both_package_names() {
+    assert_eq!(parse_slurm_version("slurm 22.05.8\n"), Some((22, 5)));
+    assert_eq!(parse_slurm_version("slurm-wlm 24.11.5\n"), Some((24, 11)));
+    assert!(parse_slurm_version("slurm-wlm 24.11.5") >= Some((24, 5)));
+    // Teeth: 23.11 is older than 24.05, and text without a version is none.
+    assert!(parse_slurm_version("slurm 23.11.4") < Some((24, 5)));
+    assert_eq!(parse_slurm_version("slurmd: command not found"), None);
 }
 
 /// A port free on 127.0.0.1 now (the kernel's pick).

@@ -171,46 +171,73 @@ pub const SFU_OPS: [(&str, f64); 8] = [
 ];
 
 /// The special-function operations of each stage of a NIR dump (`shader: MESA_SHADER_<STAGE>`
-/// sections; lines `vecN BITS ssa_M = op ...`, each counted once per component), by stage
-/// name in lower case ("fragment"). A stage printed twice keeps its last section.
+/// sections), by stage name in lower case ("fragment"), each counted once per component.
+/// A definition is read in both of the forms Mesa's `nir_print.c` has printed: `vecN BITS
+/// [con|div] ssa_M = op ...` (Mesa 23 and before) and `[con |div ]BITS[xN] %M = op ...` (Mesa
+/// 24 on). A stage none of whose lines reads as a definition is left out, so that a print form
+/// this reader does not know makes the statistic missing (and the weighted model refused)
+/// rather than zero. A stage printed twice keeps its last section.
 pub fn sfu_ops_per_stage(dump: &str) -> BTreeMap<String, f64> {
+    // (stage, special-function operations, definitions read)
     let mut out = BTreeMap::new();
-    let mut current: Option<(String, f64)> = None;
+    let mut current: Option<(String, f64, usize)> = None;
+    let mut close = |c: Option<(String, f64, usize)>| {
+        if let Some((stage, n, defs)) = c {
+            if defs > 0 {
+                out.insert(stage, n);
+            } else {
+                out.remove(&stage);
+            }
+        }
+    };
     for line in dump.lines() {
         if let Some(stage) = line.strip_prefix("shader: MESA_SHADER_") {
-            if let Some((s, n)) = current.take() {
-                out.insert(s, n);
-            }
-            current = Some((stage.trim().to_lowercase(), 0.0));
+            close(current.take());
+            current = Some((stage.trim().to_lowercase(), 0.0, 0));
             continue;
         }
-        let Some((_, n)) = current.as_mut() else {
+        let Some((_, n, defs)) = current.as_mut() else {
             continue;
         };
-        let mut words = line.split_whitespace();
-        let (Some(vec), Some(_bits), Some(ssa), Some("="), Some(op)) = (
-            words.next(),
-            words.next(),
-            words.next(),
-            words.next(),
-            words.next(),
-        ) else {
+        let Some((width, op)) = nir_definition(line) else {
             continue;
         };
-        let Some(width) = vec.strip_prefix("vec").and_then(|w| w.parse::<f64>().ok()) else {
-            continue;
-        };
-        if !ssa.starts_with("ssa_") {
-            continue;
-        }
+        *defs += 1;
         if let Some((_, per)) = SFU_OPS.iter().find(|(o, _)| *o == op) {
             *n += per * width;
         }
     }
-    if let Some((s, n)) = current {
-        out.insert(s, n);
-    }
+    close(current);
     out
+}
+
+/// The component count and the operation of a NIR definition line, in either print form of
+/// [`sfu_ops_per_stage`]; `None` for any other line.
+fn nir_definition(line: &str) -> Option<(f64, &str)> {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let eq = words.iter().position(|w| *w == "=")?;
+    let (dest, op) = (*words.get(eq.checked_sub(1)?)?, *words.get(eq + 1)?);
+    let index = dest
+        .strip_prefix("ssa_")
+        .or_else(|| dest.strip_prefix('%'))?;
+    if index.is_empty() || !index.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let mut width = None;
+    for w in &words[..eq - 1] {
+        let size = if let Some(n) = w.strip_prefix("vec") {
+            n.parse::<u32>().ok()
+        } else if let Some((bits, n)) = w.split_once('x') {
+            bits.parse::<u32>().ok().and(n.parse::<u32>().ok())
+        } else if matches!(*w, "con" | "div") {
+            continue;
+        } else {
+            w.parse::<u32>().ok().map(|_| 1)
+        };
+        // `vecN BITS`: the width is the first size word.
+        width = width.or(Some(size?));
+    }
+    Some((f64::from(width?), op))
 }
 
 /// The weighted issue count of a program of `instructions` of which `sfu` are
@@ -281,6 +308,49 @@ mod tests {
         let n = sfu_ops_per_stage("\tvec1 32 ssa_5 = frsq ssa_4\nshader: MESA_SHADER_COMPUTE\n\tvec1 32 ssa_5 = ffma ssa_4, ssa_4, ssa_4\n");
         assert_eq!(n["compute"], 0.0);
         assert_eq!(n.len(), 1);
+    }
+
+    #[test]
+    fn mesa_24_and_later_print_forms_are_counted_too() {
+        // nir_print.c since Mesa 24: "[con |div ]BITS[xN] %M = op", padded.
+        let dump = "shader: MESA_SHADER_FRAGMENT\n\
+                    \t32x3   %3 = @load_interpolated_input (%2, %1) (base=1)\n\
+                    \t32     %4 = fdot3 %3, %3\n\
+                    \tcon 32     %5 = frsq %4\n\
+                    \tdiv 32x2   %9 = frcp %8\n\
+                    \t32     %10 = fpow %6, %7\n\
+                    \tstore_output (%11, %0) (base=0)\n";
+        // frsq 1, frcp of two components 2, fpow 2.
+        assert_eq!(sfu_ops_per_stage(dump)["fragment"], 5.0);
+        // The old form with the divergence word after the bit size.
+        assert_eq!(
+            sfu_ops_per_stage("shader: MESA_SHADER_FRAGMENT\n\tvec1 32 con ssa_5 = frsq ssa_4\n")
+                ["fragment"],
+            1.0
+        );
+    }
+
+    #[test]
+    fn a_stage_whose_lines_are_not_definitions_is_left_out_not_zero() {
+        // A print form the reader does not know: the statistic goes missing, so the weighted
+        // model is refused instead of pricing every rsqrt as an FMA.
+        let dump = "shader: MESA_SHADER_FRAGMENT\n\tr5 <- frsq r4\n\tr6 <- ffma r5, r5, r5\n";
+        assert!(sfu_ops_per_stage(dump).is_empty());
+        // Teeth: one readable definition is enough for a count, zero included.
+        let dump = "shader: MESA_SHADER_FRAGMENT\n\t32 %6 = ffma %5, %5, %5\n";
+        assert_eq!(sfu_ops_per_stage(dump)["fragment"], 0.0);
+        assert_eq!(
+            nir_definition("\tcon 32x4 %12 = fmul %3, %4"),
+            Some((4.0, "fmul"))
+        );
+        assert_eq!(
+            nir_definition("\tvec4 32 ssa_12 = fmul ssa_3, ssa_4"),
+            Some((4.0, "fmul"))
+        );
+        assert_eq!(
+            nir_definition("\tdecl_var shader_in INTERP_MODE_SMOOTH vec3 n = 1"),
+            None
+        );
     }
 
     #[test]
