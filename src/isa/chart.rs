@@ -9,13 +9,19 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use std::fmt::Write as _;
+
 use super::report::IsaReport;
+use super::throughput::Unit;
 use crate::compare::Metric;
 use crate::error::{Error, Result};
 use crate::output::chart::{both, plot_err, svg};
 
-/// Errors below this sit on the floor of the log axis (exact methods have 0).
-const ERROR_FLOOR: f64 = 1e-7;
+/// The error axis: from 1e-9 (exact methods, with 0, sit on this floor) to 1, as the report's
+/// own charts ([`crate::output::chart::ERROR_CEILING_DECADE`]); an error above 1 is drawn on the
+/// top edge as a triangle, its value in the legend.
+const ERROR_FLOOR: f64 = 1e-9;
+const ERROR_CEILING: f64 = 1.0;
 
 /// Per method, the worst (p99, max) absolute error over the summary.json files of `dirs`;
 /// methods with a non-finite error are left out (they cannot sit on a log axis).
@@ -54,92 +60,190 @@ pub fn errors(dirs: &[std::path::PathBuf]) -> Result<BTreeMap<String, (f64, f64)
     Ok(out)
 }
 
-/// A chart point: (method, inverse throughput, p99, max, on the front).
-type Point = (String, f64, f64, f64, bool);
+/// A method on one family's chart.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    pub method: String,
+    /// The family's ranking statistic of the timed draw's fragment program.
+    pub cost: f64,
+    /// The worst p99 and max absolute error over the compare folders.
+    pub p99: f64,
+    pub max: f64,
+    /// No cheaper method has a lower p99.
+    pub front: bool,
+    /// The unit that bounds the program in the family's throughput model, where it names one.
+    pub bound: Option<Unit>,
+}
 
-/// The points of one family, with the Pareto front on p99 marked.
+impl Point {
+    /// An error as drawn: within [floor, ceiling]; whether it lies above the ceiling.
+    fn shown(e: f64) -> (f64, bool) {
+        (e.clamp(ERROR_FLOOR, ERROR_CEILING), e > ERROR_CEILING)
+    }
+
+    /// The legend's line: its number, name, cost and bound unit, and any error off the axis.
+    fn legend(&self, n: usize, unit: &str) -> String {
+        let mut l = format!("{n:>2} {} {} {unit}", self.method, fmt_cost(self.cost));
+        if let Some(b) = self.bound {
+            let _ = write!(l, ", {} bound", b.name());
+        }
+        for (what, e) in [("p99", self.p99), ("max", self.max)] {
+            if Point::shown(e).1 {
+                let _ = write!(l, "; {what} {e:.1e} above 1");
+            }
+        }
+        l
+    }
+}
+
+fn fmt_cost(c: f64) -> String {
+    if c.fract() == 0.0 && c.abs() < 1e9 {
+        format!("{c:.0}")
+    } else {
+        format!("{c:.3}")
+    }
+}
+
+/// The points of one family, sorted by cost, with the Pareto front on p99 marked.
 pub fn points(report: &IsaReport, family: &str, err: &BTreeMap<String, (f64, f64)>) -> Vec<Point> {
+    let ranking = report.family(family).and_then(|f| f.ranking());
     let mut pts: Vec<Point> = err
         .iter()
         .filter_map(|(m, &(p99, max))| {
-            let it = report.ranking_value(family, m)?;
-            Some((m.clone(), it, p99, max, false))
+            let cost = report.ranking_value(family, m)?;
+            let bound = ranking
+                .as_ref()
+                .and_then(|r| report.row(family, m, &r.stage, &r.kind))
+                .and_then(|row| row.bound_unit);
+            Some(Point {
+                method: m.clone(),
+                cost,
+                p99,
+                max,
+                front: false,
+                bound,
+            })
         })
         .collect();
     mark_front(&mut pts);
     pts
 }
 
-/// Sorts by cost (then p99) and marks the Pareto front on p99: a point is on it when every
-/// cheaper point has a higher p99.
+/// Sorts by cost (then p99, then name) and marks the Pareto front on p99: a point is on it
+/// when every cheaper point has a higher p99.
 fn mark_front(pts: &mut [Point]) {
-    pts.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
+    pts.sort_by(|a, b| {
+        a.cost
+            .total_cmp(&b.cost)
+            .then(a.p99.total_cmp(&b.p99))
+            .then(a.method.cmp(&b.method))
+    });
     let mut best = f64::INFINITY;
     for p in pts.iter_mut() {
-        p.4 = p.2 < best;
-        best = best.min(p.2);
+        p.front = p.p99 < best;
+        best = best.min(p.p99);
     }
 }
+
+/// The chart's width share of the drawing; the legend takes the rest.
+const PLOT_SHARE: f64 = 0.62;
 
 fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     family: &str,
-    axis: &str,
+    axis: (&str, &str),
     pts: &[Point],
 ) -> Result<()> {
     area.fill(&WHITE).map_err(plot_err)?;
-    // room on the right for the last point's label (no text clipped)
-    let x1 = pts.iter().map(|p| p.1).fold(1.0, f64::max) * 1.3;
-    let y1 = pts
-        .iter()
-        .map(|p| p.3.max(ERROR_FLOOR))
-        .fold(1e-3, f64::max)
-        * 3.0;
-    let mut chart = ChartBuilder::on(area)
+    let (w, _) = area.dim_in_pixel();
+    let (plot, legend) = area.split_horizontally((f64::from(w) * PLOT_SHARE) as u32);
+    // room on the right for the last point's number (no text clipped)
+    let x1 = pts.iter().map(|p| p.cost).fold(1.0, f64::max) * 1.1;
+    let mut chart = ChartBuilder::on(&plot)
         .caption(
-            format!("{family}: error vs static cost (not a timing); filled: Pareto front"),
+            format!("{family}: error vs static cost (not a timing)"),
             ("sans-serif", 16),
         )
-        .margin(16)
+        .margin(12)
         .x_label_area_size(44)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..x1, (ERROR_FLOOR / 2.0..y1).log_scale())
+        .y_label_area_size(64)
+        .build_cartesian_2d(
+            0.0..x1,
+            (ERROR_FLOOR / 2.0..ERROR_CEILING * 1.5).log_scale(),
+        )
         .map_err(plot_err)?;
     chart
         .configure_mesh()
-        .x_desc(axis)
-        .y_desc("abs error (p99 circle, max cross)")
+        .x_desc(format!("{} ({})", axis.0, axis.1))
+        .y_desc("abs error: p99 circle, max cross (1e-9 = exact)")
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(plot_err)?;
     let front: Vec<(f64, f64)> = pts
         .iter()
-        .filter(|p| p.4)
-        .map(|p| (p.1, p.2.max(ERROR_FLOOR)))
+        .filter(|p| p.front)
+        .map(|p| (p.cost, Point::shown(p.p99).0))
         .collect();
     chart
         .draw_series(LineSeries::new(front, RED.stroke_width(1)))
         .map_err(plot_err)?;
-    for p in pts {
-        let (x, p99, max) = (p.1, p.2.max(ERROR_FLOOR), p.3.max(ERROR_FLOOR));
-        let style = if p.4 {
-            RED.filled()
+    for (i, p) in pts.iter().enumerate() {
+        let ((p99, p99_off), (max, max_off)) = (Point::shown(p.p99), Point::shown(p.max));
+        let colour = if p.front { RED } else { BLUE };
+        let style = if p.front {
+            colour.filled()
         } else {
-            BLUE.stroke_width(1)
+            colour.stroke_width(1)
         };
-        chart
-            .draw_series([Circle::new((x, p99), 4, style)])
-            .map_err(plot_err)?;
-        chart
-            .draw_series([Cross::new((x, max), 4, BLACK.mix(0.5))])
-            .map_err(plot_err)?;
-        // Labels on the front and phong_exact only: 35 names on one panel overlap.
-        if !(p.4 || p.0 == crate::method::PHONG_EXACT) {
-            continue;
+        if p99_off {
+            chart
+                .draw_series([TriangleMarker::new((p.cost, p99), 6, colour.filled())])
+                .map_err(plot_err)?;
+        } else {
+            chart
+                .draw_series([Circle::new((p.cost, p99), 4, style)])
+                .map_err(plot_err)?;
+        }
+        if max_off {
+            chart
+                .draw_series([TriangleMarker::new(
+                    (p.cost, max),
+                    6,
+                    BLACK.mix(0.5).filled(),
+                )])
+                .map_err(plot_err)?;
+        } else {
+            chart
+                .draw_series([Cross::new((p.cost, max), 4, BLACK.mix(0.5))])
+                .map_err(plot_err)?;
         }
         chart
-            .draw_series([EmptyElement::at((x, p99))
-                + Text::new(p.0.clone(), (6, -12), ("sans-serif", 11).into_font())])
+            .draw_series([EmptyElement::at((p.cost, p99))
+                + Text::new(
+                    format!("{}", i + 1),
+                    (5, -11),
+                    ("sans-serif", 10).into_font(),
+                )])
+            .map_err(plot_err)?;
+    }
+    // The legend: every point by number, cheapest first; the front in red.
+    let font = ("sans-serif", 11).into_font();
+    let line = ((f64::from(area.dim_in_pixel().1) - 60.0) / pts.len().max(1) as f64).min(15.0);
+    legend
+        .draw(&Text::new(
+            "cost, bound unit; red: Pareto front; triangle: above 1".to_string(),
+            (4, 14),
+            font.clone(),
+        ))
+        .map_err(plot_err)?;
+    for (i, p) in pts.iter().enumerate() {
+        let colour = if p.front { RED } else { BLACK };
+        legend
+            .draw(&Text::new(
+                p.legend(i + 1, axis.1),
+                (4, 36 + (i as f64 * line) as i32),
+                font.clone().color(&colour),
+            ))
             .map_err(plot_err)?;
     }
     Ok(())
@@ -160,16 +264,17 @@ pub fn write(
     for f in report.supported() {
         let pts = points(report, f, err);
         let file = super::table::asm_dir(f);
-        let axis = report
+        let (key, unit) = report
             .family(f)
             .and_then(|s| s.ranking())
-            .map_or(String::from("static cost"), |r| {
-                format!("{} of the fragment shader ({})", r.key, r.unit)
+            .map_or((String::from("static cost"), String::new()), |r| {
+                (format!("{} of the fragment shader", r.key), r.unit)
             });
-        let draw_svg = |a: &DrawingArea<SVGBackend, Shift>| draw(a, f, &axis, &pts);
+        let axis = (key.as_str(), unit.as_str());
+        let draw_svg = |a: &DrawingArea<SVGBackend, Shift>| draw(a, f, axis, &pts);
         written.push(format!("charts/{file}.svg"));
         if png {
-            both(&dir, &file, &draw_svg, &|a| draw(a, f, &axis, &pts))?;
+            both(&dir, &file, &draw_svg, &|a| draw(a, f, axis, &pts))?;
             written.push(format!("charts/{file}.png"));
         } else {
             svg(&dir, &file, &draw_svg)?;
@@ -180,16 +285,81 @@ pub fn write(
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
+    fn pt(method: &str, cost: f64, p99: f64, max: f64) -> Point {
+        Point {
+            method: method.into(),
+            cost,
+            p99,
+            max,
+            front: false,
+            bound: None,
+        }
+    }
+
     #[test]
     fn the_front_keeps_only_what_no_cheaper_method_beats() {
-        // (name, cost, p99): b is dearer and worse than a, c is dearer and better.
+        // b is dearer and worse than a, c is dearer and better.
         let mut pts = vec![
-            ("c".to_string(), 30.0, 1e-4, 1e-4, false),
-            ("b".to_string(), 20.0, 5e-2, 5e-2, true),
-            ("a".to_string(), 10.0, 1e-2, 1e-2, false),
+            pt("c", 30.0, 1e-4, 1e-4),
+            pt("b", 20.0, 5e-2, 5e-2),
+            pt("a", 10.0, 1e-2, 1e-2),
         ];
-        super::mark_front(&mut pts);
-        let front: Vec<&str> = pts.iter().filter(|p| p.4).map(|p| p.0.as_str()).collect();
+        mark_front(&mut pts);
+        let front: Vec<&str> = pts
+            .iter()
+            .filter(|p| p.front)
+            .map(|p| p.method.as_str())
+            .collect();
         assert_eq!(front, ["a", "c"]);
+    }
+
+    /// The chart of `pts` as SVG text.
+    fn svg_of(pts: &[Point]) -> String {
+        crate::output::heatmap::register_font().unwrap();
+        let mut svg = String::new();
+        {
+            let root =
+                SVGBackend::with_string(&mut svg, crate::output::chart::SIZE).into_drawing_area();
+            draw(&root, "amd:navi21", ("inverse_throughput", "cycles"), pts).unwrap();
+            root.present().unwrap();
+        }
+        svg
+    }
+
+    #[test]
+    fn every_point_is_named_and_an_error_above_one_is_marked_on_the_edge() {
+        let mut pts = vec![
+            pt("phong_exact", 40.0, 0.0, 0.0),
+            pt("lyon_taylor", 30.0, 3e-3, 2e-2),
+            pt("runaway", 20.0, 2e9, 3e9),
+        ];
+        pts[1].bound = Some(Unit::LoadStore);
+        mark_front(&mut pts);
+        let svg = svg_of(&pts);
+        for name in ["phong_exact", "lyon_taylor", "runaway"] {
+            assert!(svg.contains(name), "{name} not named");
+        }
+        assert!(
+            svg.contains("load_store bound"),
+            "the bound unit is not shown"
+        );
+        assert!(
+            svg.contains("p99 2.0e9 above 1"),
+            "the off-scale p99 is not in the legend"
+        );
+        // The axis stops at 1: no tick label of 1e9.
+        assert!(!svg.contains("\n1e1\n"), "the axis runs past 1");
+        assert!(svg.contains("\n1e0\n"), "the axis does not reach 1");
+        // Teeth: without the runaway method nothing is above 1.
+        // (The legend's heading says what a triangle means: one "above 1" more.)
+        assert_eq!(svg.matches("above 1").count(), 3);
+        let tame: Vec<Point> = pts
+            .iter()
+            .filter(|p| p.method != "runaway")
+            .cloned()
+            .collect();
+        assert_eq!(svg_of(&tame).matches("above 1").count(), 1);
     }
 }

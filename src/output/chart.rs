@@ -7,6 +7,12 @@ use plotters::prelude::*;
 use crate::error::{Error, Result};
 use crate::output::heatmap::{self, Figure};
 
+/// The largest error an axis shows: 1 (an error above it is wrong, not a degree of accuracy;
+/// such a point is drawn on the top edge, marked, its value in the legend).
+pub const ERROR_CEILING_DECADE: i32 = 0;
+/// The smallest: 1e-9 (below, float32's rounding; drawn on the bottom edge, marked).
+pub const ERROR_FLOOR_DECADE: i32 = -9;
+
 /// The size of every chart, pixels.
 pub const SIZE: (u32, u32) = (960, 640);
 

@@ -404,11 +404,7 @@ impl Chart {
     }
 }
 
-/// The largest error an axis shows: 1 (an error above it is wrong, not a degree of accuracy;
-/// such a point is drawn on the top edge, marked, its value in the legend).
-pub const ERROR_CEILING_DECADE: i32 = 0;
-/// The smallest: 1e-9 (below, float32's rounding; drawn on the bottom edge, marked).
-pub const ERROR_FLOOR_DECADE: i32 = -9;
+pub use crate::output::chart::{ERROR_CEILING_DECADE, ERROR_FLOOR_DECADE};
 
 /// The decades of an error axis: those covering the finite positive values of `ys`, clamped
 /// to [1e-9, 1] (at least one decade).
