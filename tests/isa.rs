@@ -39,11 +39,11 @@ fn inverse_throughput(r: &IsaReport, family: &str, method: &str, stage: &str, ki
 #[test]
 fn identical_runs_and_the_phong_order_on_every_family() {
     let methods = ["gouraud", "phong_unnormalized", "phong_exact"];
-    let opts = options(&methods, &isa::DEFAULT_FAMILIES);
+    let opts = options(&methods, &isa::vendor::amd::DEFAULT_CHIPS);
     let a = isa_run(&opts);
     let b = isa_run(&opts);
     // A bare chip is AMD's; the rows carry the family's one spelling.
-    let families: Vec<String> = isa::DEFAULT_FAMILIES
+    let families: Vec<String> = isa::vendor::amd::DEFAULT_CHIPS
         .iter()
         .map(|f| format!("amd:{f}"))
         .collect();

@@ -46,16 +46,6 @@ pub use request::{ChildReport, ChildRequest, Compiled};
 pub use table::Row;
 pub use vendor::{Family, Vendor};
 
-/// The families compiled by default: a spread Mesa 22.3.6 accepts, oldest first (GCN1, GCN4,
-/// GCN5, RDNA1, RDNA2, RDNA3).
-pub const DEFAULT_FAMILIES: [&str; 6] = [
-    "tahiti",
-    "polaris10",
-    "vega10",
-    "navi10",
-    "navi21",
-    "gfx1100",
-];
 /// The isolated kernel's two evaluation counts: the cost of one evaluation is the difference.
 /// Both >= 2 so that both programs sum their results the same way (`REPEAT == 1` stores the
 /// colour alone), and small enough that NIR unrolls both loops fully (a loop left rolled would
@@ -129,23 +119,6 @@ pub enum ChildOutcome {
     Failed(String),
     /// The vendor's route is not set up (why); no child was started.
     NotSetUp(String),
-}
-
-/// The environment of a child compiling for `family` with the ICD `driver_files`: set before
-/// the child's Vulkan loader starts, never in this process (tests run as threads, and the
-/// others use lavapipe).
-pub fn child_env(family: &str, driver_files: &std::path::Path) -> Vec<(String, String)> {
-    vec![
-        ("RADV_FORCE_FAMILY".into(), family.into()),
-        ("VK_DRIVER_FILES".into(), driver_files.display().to_string()),
-        // The loader's older name for the same setting (loaders before 1.3.207).
-        (
-            "VK_ICD_FILENAMES".into(),
-            driver_files.display().to_string(),
-        ),
-        ("NODEVICE_SELECT".into(), "1".into()),
-        ("MESA_SHADER_CACHE_DISABLE".into(), "true".into()),
-    ]
 }
 
 /// Runs one child for `family` (the protocol of [`crate::child`], its request and reply under

@@ -58,10 +58,12 @@ pub struct Row {
     pub bound_unit: Option<Unit>,
 }
 
-/// What the figures are, for readers of isa.json.
-pub const MODEL_NOTE: &str = "ACO's static model on RADV's null device (Mesa): latency = issue \
-plus stall cycles, inverse_throughput = estimated busy cycles to execute one wave; loops \
-weighted x8, divergent branches 0.75. Use them to rank programs; they are not timings.";
+/// What the figures are, for readers of isa.json: each family's own compiler model, named and
+/// described in words by its route (`families[].ranking`).
+pub const MODEL_NOTE: &str = "Each family's static model of its compiler, run without the GPU \
+(families[].ranking names the statistic that ranks the programs and says in words what it \
+models: ACO's inverse throughput, brw's cycles, a bound pipe's cycles, a weighted issue count). \
+Use them to rank programs; they are not timings.";
 
 /// A driver statistic name as a snake_case key.
 pub fn key(name: &str) -> String {

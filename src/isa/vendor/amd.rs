@@ -15,6 +15,17 @@ pub struct Amd;
 /// ([`crate::gpu::icd`]).
 pub const LIBRARY: &str = "libvulkan_radeon.so";
 
+/// The chips compiled by default: a spread Mesa 22.3.6 accepts, oldest first (GCN1, GCN4,
+/// GCN5, RDNA1, RDNA2, RDNA3).
+pub const DEFAULT_CHIPS: [&str; 6] = [
+    "tahiti",
+    "polaris10",
+    "vega10",
+    "navi10",
+    "navi21",
+    "gfx1100",
+];
+
 /// Chips RADV knows under another name in newer Mesa releases: (the name of Mesa 22.3, the
 /// name of Mesa 25). A family id keeps the name the user wrote; the driver is given its own
 /// (../shared/TOOLCHAIN.md "RADV null device": 25.0.7 rejects gfx1100, use navi31).
@@ -25,6 +36,23 @@ pub const RENAMED: [(&str, &str); 5] = [
     ("gfx1103_r1", "phoenix"),
     ("gfx1103_r2", "phoenix2"),
 ];
+
+/// The environment of a child compiling for `chip` with the ICD `driver_files`: set before
+/// the child's Vulkan loader starts, never in this process (tests run as threads, and the
+/// others use lavapipe).
+fn child_env(chip: &str, driver_files: &Path) -> Vec<(String, String)> {
+    vec![
+        ("RADV_FORCE_FAMILY".into(), chip.into()),
+        ("VK_DRIVER_FILES".into(), driver_files.display().to_string()),
+        // The loader's older name for the same setting (loaders before 1.3.207).
+        (
+            "VK_ICD_FILENAMES".into(),
+            driver_files.display().to_string(),
+        ),
+        ("NODEVICE_SELECT".into(), "1".into()),
+        ("MESA_SHADER_CACHE_DISABLE".into(), "true".into()),
+    ]
+}
 
 /// Whether a dotted version ("1.4.305") is at least `(major, minor)`.
 pub fn version_at_least(version: &str, want: (u32, u32)) -> bool {
@@ -46,7 +74,7 @@ impl Vendor for Amd {
     }
 
     fn default_chips(&self) -> &'static [&'static str] {
-        &crate::isa::DEFAULT_FAMILIES
+        &DEFAULT_CHIPS
     }
 
     /// The names of Mesa's `ac_get_family_name` (src/amd/common/amd_family.c) that
@@ -177,7 +205,7 @@ impl Vendor for Amd {
         setup: &Setup,
         _driver_files: Option<&Path>,
     ) -> Result<Vec<(String, String)>, String> {
-        Ok(crate::isa::child_env(chip, Path::new(setup.get("ICD")?)))
+        Ok(child_env(chip, Path::new(setup.get("ICD")?)))
     }
 
     fn driver_chips(&self, chip: &str, setup: &Setup) -> Vec<String> {
