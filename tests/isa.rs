@@ -57,7 +57,7 @@ fn identical_runs_and_the_phong_order_on_every_family() {
         assert_eq!(x.statistics, y.statistics, "{} {}", x.family, x.method);
         assert_eq!(x.hash, y.hash, "{} {}", x.family, x.method);
         assert!(x.statistics.values().all(|v| v.is_finite()));
-        for k in isa::table::REQUIRED {
+        for k in isa::vendor::amd::STATISTICS {
             assert!(
                 x.statistics.contains_key(k),
                 "{} {}: no {k}",

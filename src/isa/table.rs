@@ -15,18 +15,6 @@ use crate::error::{Error, Result};
 use crate::gpu::vk::{Executable, StatValue};
 use crate::method::PHONG_EXACT;
 
-/// The statistics every row must carry (the schema requires them).
-pub const REQUIRED: [&str; 8] = [
-    "instructions",
-    "code_size",
-    "vgprs",
-    "sgprs",
-    "spilled_vgprs",
-    "spilled_sgprs",
-    "latency",
-    "inverse_throughput",
-];
-
 /// A statistic as the driver names and describes it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StatName {
