@@ -29,6 +29,7 @@ pub mod op_count;
 pub mod rank;
 pub mod report;
 pub mod request;
+pub mod schema;
 pub mod stderr;
 pub mod store;
 pub mod table;

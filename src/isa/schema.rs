@@ -1,0 +1,86 @@
+//! The per-vendor rules of docs/isa.schema.json, generated from the registered routes: each
+//! route's [`Vendor::required_statistics`] is what its rows must carry. A new route is its
+//! file and its line in [`super::vendor::VENDORS`]; its schema rule follows from them (a test
+//! compares the file with [`vendor_rules`], and `SHADELAB_BLESS=1` writes it).
+use super::vendor::{Vendor, VENDORS};
+
+/// The line that opens the rules in docs/isa.schema.json, and the one that closes them.
+pub const OPEN: &str = "        \"allOf\": [\n";
+pub const CLOSE: &str = "\n        ]\n";
+
+/// The rule of one vendor: a row whose family starts with its prefix requires its statistics.
+fn rule(v: &dyn Vendor) -> String {
+    let required: Vec<String> = v
+        .required_statistics()
+        .iter()
+        .map(|k| format!("\"{k}\""))
+        .collect();
+    format!(
+        "          {{ \"if\": {{ \"properties\": {{ \"family\": {{ \"pattern\": \"^{}:\" }} }} }},\n            \
+         \"then\": {{ \"properties\": {{ \"statistics\": {{ \"required\": [{}] }} }} }} }}",
+        v.prefix(),
+        required.join(", ")
+    )
+}
+
+/// The text between [`OPEN`] and [`CLOSE`]: every route's rule, in the routes' order.
+pub fn vendor_rules_of(vendors: &[&dyn Vendor]) -> String {
+    vendors
+        .iter()
+        .map(|v| rule(*v))
+        .collect::<Vec<_>>()
+        .join(",\n")
+}
+
+/// [`vendor_rules_of`] the registered routes.
+pub fn vendor_rules() -> String {
+    vendor_rules_of(&VENDORS)
+}
+
+/// `schema` (the file's text) with its rules replaced by `rules`; `None` when the file has no
+/// rules block.
+pub fn with_rules(schema: &str, rules: &str) -> Option<String> {
+    let start = schema.find(OPEN)? + OPEN.len();
+    let end = start + schema[start..].find(CLOSE)?;
+    Some(format!("{}{rules}{}", &schema[..start], &schema[end..]))
+}
+
+/// The rules block of `schema`, as text.
+pub fn rules_in(schema: &str) -> Option<&str> {
+    let start = schema.find(OPEN)? + OPEN.len();
+    let end = start + schema[start..].find(CLOSE)?;
+    Some(&schema[start..end])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_route_has_a_rule_with_its_statistics_and_the_text_is_json() {
+        let rules = vendor_rules();
+        let v: serde_json::Value = serde_json::from_str(&format!("[{rules}]")).unwrap();
+        assert_eq!(v.as_array().unwrap().len(), VENDORS.len());
+        for (r, vendor) in v.as_array().unwrap().iter().zip(VENDORS) {
+            assert_eq!(
+                r["if"]["properties"]["family"]["pattern"],
+                format!("^{}:", vendor.prefix())
+            );
+            assert_eq!(
+                r["then"]["properties"]["statistics"]["required"],
+                serde_json::json!(vendor.required_statistics())
+            );
+        }
+        // Teeth: one route fewer is other text.
+        assert_ne!(vendor_rules_of(&VENDORS[..VENDORS.len() - 1]), rules);
+    }
+
+    #[test]
+    fn the_rules_block_is_replaced_in_place() {
+        let schema = format!("{{\n{OPEN}          old{CLOSE}}}\n");
+        assert_eq!(rules_in(&schema), Some("          old"));
+        let new = with_rules(&schema, "          new").unwrap();
+        assert_eq!(new, format!("{{\n{OPEN}          new{CLOSE}}}\n"));
+        assert_eq!(with_rules("{}", "x"), None);
+    }
+}
