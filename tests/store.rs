@@ -16,6 +16,21 @@ use crate::support::{bin, read_json};
 
 /// Methods with a draw and an isolated kernel each, small enough for every family in seconds.
 const METHODS: [&str; 2] = ["gouraud", "phong_exact"];
+/// The entries one family's run leaves: the whole request's and one per method.
+const ENTRIES_PER_FAMILY: usize = 1 + METHODS.len();
+
+/// The path of the entry of the whole request (all of [`METHODS`]) in `s`.
+fn whole_entry(s: &Store) -> PathBuf {
+    s.entries()
+        .unwrap()
+        .into_iter()
+        .map(|e| e.path)
+        .find(|p| {
+            let e = store::decode(&std::fs::read(p).unwrap()).unwrap();
+            e.material.request["methods"].as_array().map(Vec::len) == Some(METHODS.len())
+        })
+        .expect("the whole request's entry")
+}
 
 fn options(families: &[String], store: Option<Store>) -> IsaOptions {
     IsaOptions {
@@ -125,8 +140,10 @@ fn figures_from_the_store_equal_fresh_ones_on_every_family() {
     let mut e = entries
         .into_iter()
         .find(|e| {
-            e.reply()
-                .is_some_and(|r| r.compiled.iter().any(|c| !c.executables.is_empty()))
+            // The whole request's entry: the one the run reads first.
+            e.material.request["methods"].as_array().map(Vec::len) == Some(METHODS.len())
+                && e.reply()
+                    .is_some_and(|r| r.compiled.iter().any(|c| !c.executables.is_empty()))
         })
         .expect("an entry with executables");
     let reply = e.reply_mut().unwrap();
@@ -145,6 +162,73 @@ fn figures_from_the_store_equal_fresh_ones_on_every_family() {
     assert!(
         same_figures(&fresh, &doctored).is_err(),
         "a changed statistic went unnoticed"
+    );
+}
+
+/// A request that shares methods with stored ones compiles only its new methods: the others
+/// are read from their own entries, and the whole equals a fresh compile of it. A request of
+/// stored methods alone starts no child. Teeth: a doctored method entry shows in the merged
+/// figures.
+#[test]
+fn a_request_sharing_methods_compiles_only_the_new_ones() {
+    let fams = ["amd:navi21".to_string()];
+    if !families_ready(
+        "store::a_request_sharing_methods_compiles_only_the_new_ones",
+        &["amd:navi21"],
+        "SHADELAB_REQUIRE_VENDORS",
+    ) {
+        return;
+    }
+    let with = |names: &[&str], store: Option<Store>| IsaOptions {
+        methods: names.iter().map(|m| method::find(m).unwrap()).collect(),
+        ..options(&fams, store)
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let s = Store::at(dir.path());
+    isa_run(&options(&fams, Some(s.clone())));
+    assert_eq!(s.entries().unwrap().len(), ENTRIES_PER_FAMILY);
+    // One method more: compiled (that method alone), stored as its own entry and the whole.
+    let three = ["gouraud", "phong_exact", "flat"];
+    let grown = isa_run(&with(&three, Some(s.clone())));
+    assert_eq!(
+        sources(&grown),
+        vec![(fams[0].clone(), Some(Source::Compiled))]
+    );
+    assert_eq!(s.entries().unwrap().len(), ENTRIES_PER_FAMILY + 2);
+    let fresh = isa_run(&with(&three, None));
+    same_figures(&fresh, &grown).unwrap();
+    // Stored methods in another combination: read, no child, the fresh figures.
+    let two = ["phong_exact", "flat"];
+    let read = isa_run(&with(&two, Some(s.clone())));
+    assert_eq!(
+        sources(&read),
+        vec![(fams[0].clone(), Some(Source::FromStore))]
+    );
+    same_figures(&isa_run(&with(&two, None)), &read).unwrap();
+    // Teeth: flat's own entry doctored (well formed) is what the merged run reads.
+    let mut e = s
+        .verify()
+        .unwrap()
+        .0
+        .into_iter()
+        .find(|e| e.material.request["methods"] == serde_json::json!(["flat"]))
+        .expect("flat's entry");
+    for x in e
+        .reply_mut()
+        .unwrap()
+        .compiled
+        .iter_mut()
+        .flat_map(|c| c.executables.iter_mut())
+    {
+        for st in &mut x.statistics {
+            st.value = StatValue::Float(st.value.as_f64() + 1000.0);
+        }
+    }
+    std::fs::write(s.path_of(&e.material.key()), store::encode(&e).unwrap()).unwrap();
+    let doctored = isa_run(&with(&["flat", "gouraud"], Some(s)));
+    assert!(
+        same_figures(&isa_run(&with(&["flat", "gouraud"], None)), &doctored).is_err(),
+        "the merged run did not read the method entries"
     );
 }
 
@@ -169,7 +253,11 @@ fn a_corrupt_entry_is_detected_and_compiled_again() {
         sources(&hit),
         vec![(fams[0].clone(), Some(Source::FromStore))]
     );
-    let entry = s.entries().unwrap().pop().expect("one entry").path;
+    // Every entry of the run damaged alike (the whole request's and each method's: an intact
+    // one would be read instead of compiling).
+    let entries: Vec<PathBuf> = s.entries().unwrap().into_iter().map(|e| e.path).collect();
+    assert_eq!(entries.len(), ENTRIES_PER_FAMILY);
+    assert!(whole_entry(&s).exists());
     for damage in [
         |b: &mut Vec<u8>| {
             let i = b.len() - 10;
@@ -177,9 +265,11 @@ fn a_corrupt_entry_is_detected_and_compiled_again() {
         },
         |b: &mut Vec<u8>| b.truncate(b.len() / 2),
     ] {
-        let mut bytes = std::fs::read(&entry).unwrap();
-        damage(&mut bytes);
-        std::fs::write(&entry, &bytes).unwrap();
+        for entry in &entries {
+            let mut bytes = std::fs::read(entry).unwrap();
+            damage(&mut bytes);
+            std::fs::write(entry, &bytes).unwrap();
+        }
         let again = isa_run(&options(&fams, Some(s.clone())));
         assert_eq!(
             sources(&again),
@@ -187,7 +277,7 @@ fn a_corrupt_entry_is_detected_and_compiled_again() {
         );
         same_figures(&fresh, &again).unwrap();
         let (sound, removed) = s.verify().unwrap();
-        assert_eq!((sound.len(), removed.len()), (1, 0));
+        assert_eq!((sound.len(), removed.len()), (ENTRIES_PER_FAMILY, 0));
     }
 }
 
@@ -227,7 +317,7 @@ fn a_changed_compiler_identity_misses() {
     assert_ne!(first.families[0].compiler_id, third.families[0].compiler_id);
     let rows = |r: &IsaReport| serde_json::to_value(&r.results).unwrap();
     assert_eq!(rows(&first), rows(&third));
-    assert_eq!(s.entries().unwrap().len(), 2);
+    assert_eq!(s.entries().unwrap().len(), 2 * ENTRIES_PER_FAMILY);
     // The system's manifest is another environment: another identity as well.
     let system_run = isa_run(&IsaOptions {
         driver_files: None,
@@ -300,7 +390,7 @@ fn two_processes_filling_the_store_at_once_leave_it_whole() {
     let s = Store::at(&store_dir);
     let (sound, removed) = s.verify().unwrap();
     assert!(removed.is_empty(), "{removed:?}");
-    assert_eq!(sound.len(), fams.len());
+    assert_eq!(sound.len(), fams.len() * ENTRIES_PER_FAMILY);
     let names: Vec<String> = std::fs::read_dir(&store_dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -326,7 +416,7 @@ fn two_processes_filling_the_store_at_once_leave_it_whole() {
         .wait_with_output()
         .unwrap();
     assert!(o.status.success());
-    assert_eq!(s.entries().unwrap().len(), fams.len());
+    assert_eq!(s.entries().unwrap().len(), fams.len() * ENTRIES_PER_FAMILY);
     let (code, out, _) = {
         let o = bin()
             .args(["cache", "--verify"])
@@ -341,10 +431,16 @@ fn two_processes_filling_the_store_at_once_leave_it_whole() {
     };
     assert_eq!(code, Some(0));
     assert!(
-        out.contains(&format!("{} sound, 0 removed", fams.len())),
+        out.contains(&format!(
+            "{} sound, 0 removed",
+            fams.len() * ENTRIES_PER_FAMILY
+        )),
         "{out}"
     );
-    assert!(out.contains("amd:navi21: 1"), "{out}");
+    assert!(
+        out.contains(&format!("amd:navi21: {ENTRIES_PER_FAMILY}")),
+        "{out}"
+    );
 }
 
 /// A child's own refusal (float16 on a chip without float16 arithmetic) is stored and read

@@ -26,6 +26,7 @@ pub mod files;
 pub mod gl_child;
 pub mod identity;
 pub mod op_count;
+pub mod per_method;
 pub mod rank;
 pub mod report;
 pub mod request;
@@ -153,6 +154,9 @@ fn run_child_with(
         draws_only,
     };
     let method_files = crate::method::user::paths_of(&opts.methods);
+    // Per method entries as well as the whole request's (requests with probes: the whole's
+    // only): the methods already stored are read, a child compiles the others.
+    let per_method = req.probes.is_empty() && req.methods.len() > 1;
     let mut attempts = Vec::new();
     for name in &names {
         let env = match family.vendor.child_env(name, &setup, driver_files) {
@@ -170,9 +174,18 @@ fn run_child_with(
             compiler_id: identity.digest(),
             source,
         };
-        let material = opts.store.as_ref().and_then(|_| {
-            store::KeyMaterial::new(&opts.exe, &req, &method_files, name, identity.clone()).ok()
-        });
+        let key_of = |r: &ChildRequest| {
+            let files = crate::method::user::paths_of(
+                &opts
+                    .methods
+                    .iter()
+                    .copied()
+                    .filter(|m| r.methods.iter().any(|n| n == m.name))
+                    .collect::<Vec<_>>(),
+            );
+            store::KeyMaterial::new(&opts.exe, r, &files, name, identity.clone()).ok()
+        };
+        let material = opts.store.as_ref().and_then(|_| key_of(&req));
         // Any of the driver's names stored: no child (a first name the driver refuses would
         // cost a child before the second one's hit).
         if let (Some(s), Some(m)) = (&opts.store, &material) {
@@ -184,29 +197,89 @@ fn run_child_with(
                 None => {}
             }
         }
-        attempts.push((name, env, material, provenance(store::Source::Compiled)));
+        // Each method's own entry: (method, its key, its stored reply if any).
+        let mut parts: Vec<(String, Option<store::KeyMaterial>, Option<ChildReport>)> = Vec::new();
+        if let (Some(s), true) = (&opts.store, per_method) {
+            for m in &req.methods {
+                let key = key_of(&per_method::sub_request(&req, std::slice::from_ref(m)));
+                let hit = key.as_ref().and_then(|k| match s.get(k) {
+                    Some(store::Stored::Compiled(r)) => Some(r),
+                    _ => None,
+                });
+                parts.push((m.clone(), key, hit));
+            }
+            if parts.iter().all(|p| p.2.is_some()) {
+                let whole = per_method::merge(parts.into_iter().filter_map(|p| p.2).collect());
+                if let Some(r) = whole {
+                    return ChildOutcome::Compiled(r, provenance(store::Source::FromStore));
+                }
+                parts = Vec::new();
+            }
+        }
+        attempts.push((
+            name,
+            env,
+            material,
+            parts,
+            provenance(store::Source::Compiled),
+        ));
     }
     let mut refused = Vec::new();
     let n = attempts.len();
-    for (i, (name, env, material, provenance)) in attempts.into_iter().enumerate() {
+    for (i, (name, env, material, parts, provenance)) in attempts.into_iter().enumerate() {
+        // The methods no entry holds: the child compiles those alone.
+        let missing: Vec<String> = parts
+            .iter()
+            .filter(|p| p.2.is_none())
+            .map(|p| p.0.clone())
+            .collect();
+        let asked = if parts.is_empty() {
+            req.clone()
+        } else {
+            per_method::sub_request(&req, &missing)
+        };
         let spawn = crate::child::Spawn {
             exe: opts.exe.clone(),
             driver_env: env,
-            method_files: method_files.clone(),
+            method_files: if parts.is_empty() {
+                method_files.clone()
+            } else {
+                crate::method::user::paths_of(
+                    &opts
+                        .methods
+                        .iter()
+                        .copied()
+                        .filter(|m| missing.iter().any(|n| n == m.name))
+                        .collect::<Vec<_>>(),
+                )
+            },
             show_stderr: false,
         };
         // A reply, or the child's own refusal under this name (the final answer: not a name
         // the driver does not know with another to try), is stored under this name's key.
-        let keep = |stored: store::Stored| {
-            if let (Some(s), Some(m)) = (&opts.store, &material) {
+        let keep = |m: &Option<store::KeyMaterial>, stored: store::Stored| {
+            if let (Some(s), Some(m)) = (&opts.store, m) {
                 if let Err(e) = s.put(m, stored) {
                     log::warn!("compile store: {}: not stored ({e})", family.id());
                 }
             }
         };
-        match crate::child::call(&spawn, &req, dir, &table::asm_dir(&family.id())) {
+        match crate::child::call(&spawn, &asked, dir, &table::asm_dir(&family.id())) {
             Ok(r) => {
-                keep(store::Stored::Compiled(r.clone()));
+                let r = if parts.is_empty() {
+                    r
+                } else {
+                    match complete(r, &missing, parts, &keep) {
+                        Some(whole) => whole,
+                        None => {
+                            return ChildOutcome::Failed(format!(
+                                "{}: the child's reply does not hold the methods asked",
+                                family.id()
+                            ))
+                        }
+                    }
+                };
+                keep(&material, store::Stored::Compiled(r.clone()));
                 return ChildOutcome::Compiled(r, provenance);
             }
             Err(f) if i + 1 < n && family.vendor.unknown_chip(&f.why) => {
@@ -220,13 +293,38 @@ fn run_child_with(
                     refused.join("; ")
                 };
                 if f.replied {
-                    keep(store::Stored::Refused(why.clone()));
+                    keep(&material, store::Stored::Refused(why.clone()));
                 }
                 return ChildOutcome::Failed(why);
             }
         }
     }
     ChildOutcome::Failed(refused.join("; "))
+}
+
+/// The whole reply from the child's reply `r` for the `missing` methods and the stored
+/// `parts` (method, key, stored reply) in the request's order; each newly compiled method is
+/// stored under its own key. `None` when `r` cannot be cut per method.
+fn complete(
+    r: ChildReport,
+    missing: &[String],
+    parts: Vec<(String, Option<store::KeyMaterial>, Option<ChildReport>)>,
+    keep: &dyn Fn(&Option<store::KeyMaterial>, store::Stored),
+) -> Option<ChildReport> {
+    let mut fresh = per_method::split(&r, missing)?.into_iter();
+    let mut whole = Vec::new();
+    for (_, key, stored) in parts {
+        let part = match stored {
+            Some(p) => p,
+            None => {
+                let p = fresh.next()?;
+                keep(&key, store::Stored::Compiled(p.clone()));
+                p
+            }
+        };
+        whole.push(part);
+    }
+    per_method::merge(whole)
 }
 
 /// The families of `ids` (family ids, or bare AMD chip names), in order; an unknown vendor

@@ -29,7 +29,7 @@ use super::request::{ChildReport, ChildRequest};
 use crate::error::{Error, Result};
 
 /// Version of the entries' layout and of what goes into a key: a change of either is a miss.
-pub const STORE_SCHEMA: u32 = 1;
+pub const STORE_SCHEMA: u32 = 2;
 /// The first bytes of every entry.
 const MAGIC: &str = "shadelab-store";
 /// The file name ending of an entry.
