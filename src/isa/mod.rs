@@ -175,14 +175,7 @@ fn run_child_with(
             source,
         };
         let key_of = |r: &ChildRequest| {
-            let files = crate::method::user::paths_of(
-                &opts
-                    .methods
-                    .iter()
-                    .copied()
-                    .filter(|m| r.methods.iter().any(|n| n == m.name))
-                    .collect::<Vec<_>>(),
-            );
+            let files = files_of(opts, &r.methods);
             store::KeyMaterial::new(&opts.exe, r, &files, name, identity.clone()).ok()
         };
         let material = opts.store.as_ref().and_then(|_| key_of(&req));
@@ -197,25 +190,15 @@ fn run_child_with(
                 None => {}
             }
         }
-        // Each method's own entry: (method, its key, its stored reply if any).
-        let mut parts: Vec<(String, Option<store::KeyMaterial>, Option<ChildReport>)> = Vec::new();
-        if let (Some(s), true) = (&opts.store, per_method) {
-            for m in &req.methods {
-                let key = key_of(&per_method::sub_request(&req, std::slice::from_ref(m)));
-                let hit = key.as_ref().and_then(|k| match s.get(k) {
-                    Some(store::Stored::Compiled(r)) => Some(r),
-                    _ => None,
-                });
-                parts.push((m.clone(), key, hit));
-            }
-            if parts.iter().all(|p| p.2.is_some()) {
-                let whole = per_method::merge(parts.into_iter().filter_map(|p| p.2).collect());
-                if let Some(r) = whole {
-                    return ChildOutcome::Compiled(r, provenance(store::Source::FromStore));
+        let parts = match (&opts.store, per_method) {
+            (Some(s), true) => match stored_parts(s, &req, &key_of) {
+                Ok(whole) => {
+                    return ChildOutcome::Compiled(whole, provenance(store::Source::FromStore))
                 }
-                parts = Vec::new();
-            }
-        }
+                Err(parts) => parts,
+            },
+            _ => Vec::new(),
+        };
         attempts.push((
             name,
             env,
@@ -224,6 +207,29 @@ fn run_child_with(
             provenance(store::Source::Compiled),
         ));
     }
+    compile(opts, family, dir, &req, &method_files, attempts)
+}
+
+/// One try of a family under one of the driver's names: its environment, the whole request's
+/// key, the methods' [`Part`]s (none: the whole request) and the provenance of a compile now.
+type Attempt<'a> = (
+    &'a String,
+    Vec<(String, String)>,
+    Option<store::KeyMaterial>,
+    Vec<Part>,
+    Provenance,
+);
+
+/// Starts a child for each of `attempts` in turn until one replies (or refuses for good): the
+/// whole request, or the methods no entry holds; what it replies is stored.
+fn compile(
+    opts: &IsaOptions,
+    family: &Family,
+    dir: &std::path::Path,
+    req: &ChildRequest,
+    method_files: &[PathBuf],
+    attempts: Vec<Attempt>,
+) -> ChildOutcome {
     let mut refused = Vec::new();
     let n = attempts.len();
     for (i, (name, env, material, parts, provenance)) in attempts.into_iter().enumerate() {
@@ -236,22 +242,15 @@ fn run_child_with(
         let asked = if parts.is_empty() {
             req.clone()
         } else {
-            per_method::sub_request(&req, &missing)
+            per_method::sub_request(req, &missing)
         };
         let spawn = crate::child::Spawn {
             exe: opts.exe.clone(),
             driver_env: env,
             method_files: if parts.is_empty() {
-                method_files.clone()
+                method_files.to_vec()
             } else {
-                crate::method::user::paths_of(
-                    &opts
-                        .methods
-                        .iter()
-                        .copied()
-                        .filter(|m| missing.iter().any(|n| n == m.name))
-                        .collect::<Vec<_>>(),
-                )
+                files_of(opts, &missing)
             },
             show_stderr: false,
         };
@@ -302,13 +301,53 @@ fn run_child_with(
     ChildOutcome::Failed(refused.join("; "))
 }
 
+/// A method's own entry: the method, its key, its stored reply if any.
+type Part = (String, Option<store::KeyMaterial>, Option<ChildReport>);
+
+/// The user's method files among `names`.
+fn files_of(opts: &IsaOptions, names: &[String]) -> Vec<PathBuf> {
+    crate::method::user::paths_of(
+        &opts
+            .methods
+            .iter()
+            .copied()
+            .filter(|m| names.iter().any(|n| n == m.name))
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// The whole reply of `req` from its methods' entries in `s` when every method has one; else
+/// each method's [`Part`] (key and entry, if any).
+fn stored_parts(
+    s: &store::Store,
+    req: &ChildRequest,
+    key_of: &dyn Fn(&ChildRequest) -> Option<store::KeyMaterial>,
+) -> std::result::Result<ChildReport, Vec<Part>> {
+    let mut parts: Vec<Part> = Vec::new();
+    for m in &req.methods {
+        let key = key_of(&per_method::sub_request(req, std::slice::from_ref(m)));
+        let hit = key.as_ref().and_then(|k| match s.get(k) {
+            Some(store::Stored::Compiled(r)) => Some(r),
+            _ => None,
+        });
+        parts.push((m.clone(), key, hit));
+    }
+    if parts.iter().all(|p| p.2.is_some()) {
+        let whole = per_method::merge(parts.iter().filter_map(|p| p.2.clone()).collect());
+        if let Some(r) = whole {
+            return Ok(r);
+        }
+    }
+    Err(parts)
+}
+
 /// The whole reply from the child's reply `r` for the `missing` methods and the stored
 /// `parts` (method, key, stored reply) in the request's order; each newly compiled method is
 /// stored under its own key. `None` when `r` cannot be cut per method.
 fn complete(
     r: ChildReport,
     missing: &[String],
-    parts: Vec<(String, Option<store::KeyMaterial>, Option<ChildReport>)>,
+    parts: Vec<Part>,
     keep: &dyn Fn(&Option<store::KeyMaterial>, store::Stored),
 ) -> Option<ChildReport> {
     let mut fresh = per_method::split(&r, missing)?.into_iter();
