@@ -458,20 +458,27 @@ fn ash_only_in_gpu_vk_and_clap_only_in_cli() {
 }
 
 /// The reference's identity lives in the method table: its name is spelled as a string only
-/// there (its row) and in the constant every other file uses (`method::PHONG_EXACT`); the
+/// there (the constant every other file uses, `method::PHONG_EXACT`, which names its row); the
 /// other references' (unnormalised, slerp, vertex-lit) only in their rows
-/// (`method::phong_unnormalized()` and the like find them by their properties).
+/// (`method::phong_unnormalized()` and the like find them by their properties), and so are the
+/// names of the rows production code once picked by name (newton_raphson, flat).
 #[test]
-fn the_reference_is_named_in_two_production_files() {
+fn the_reference_is_named_in_the_method_table_alone() {
     let mut named = production_files_naming(&source_tree(), "\"phong_exact\"");
     named.sort();
-    assert_eq!(named, ["method/mod.rs", "method/table.rs"]);
+    assert_eq!(named, ["method/table.rs"]);
     // the other references, found by their properties, are spelled in their rows alone
-    for name in ["phong_unnormalized", "slerp", "gouraud"] {
+    for name in [
+        "phong_unnormalized",
+        "slerp",
+        "gouraud",
+        "newton_raphson",
+        "flat",
+    ] {
         let named = production_files_naming(&source_tree(), &format!("\"{name}\""));
         assert_eq!(named, ["method/table.rs"], "{name}");
     }
-    // Teeth: a third file spelling it is found; a test item spelling it is not.
+    // Teeth: a second file spelling it is found; a test item spelling it is not.
     let t = tree(&[
         ("bench/x.rs", "let r = \"phong_exact\";\n"),
         (

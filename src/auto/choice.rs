@@ -311,7 +311,7 @@ mod tests {
     fn order() -> Vec<&'static crate::method::Method> {
         let m = |n| crate::method::find(n).unwrap();
         vec![
-            m("gouraud"),
+            crate::method::vertex_lit_reference(),
             m("newton_raphson"),
             crate::method::phong_exact(),
         ]

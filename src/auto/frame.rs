@@ -100,12 +100,14 @@ mod tests {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/torus.toml");
         let scene = crate::scene::load_scene(&path).unwrap();
         let inputs = SceneInputs::new(&scene, crate::method::Geometry::Mesh);
-        let order: Vec<(&'static crate::method::Method, f64)> = ["gouraud", "newton_raphson"]
-            .iter()
-            .map(|n| crate::method::find(n).unwrap())
-            .chain([crate::method::phong_exact()])
-            .zip([0.1, 1.0, 1.0])
-            .collect();
+        let order: Vec<(&'static crate::method::Method, f64)> = [
+            crate::method::vertex_lit_reference(),
+            crate::method::find("newton_raphson").unwrap(),
+            crate::method::phong_exact(),
+        ]
+        .into_iter()
+        .zip([0.1, 1.0, 1.0])
+        .collect();
         let spec = AutoSpec::new(crate::auto::ErrorBudget::DEFAULT, &order);
         let summary = |keep: bool, name: &str| {
             let (mut pick, mut s) = crate::auto::choose_summarised(&inputs, &spec, Cache::Bypass);

@@ -577,7 +577,9 @@ mod tests {
         assert_eq!(got.len(), 2);
         assert_eq!((got[0].wall_ms, got[0].timestamp_ms), (2.0, Some(1.5)));
         assert_eq!(got[1].timestamp_ms, None);
-        assert!(back.samples_of("gouraud").is_empty());
+        assert!(back
+            .samples_of(crate::method::vertex_lit_reference().name)
+            .is_empty());
         assert!(serde_json::from_str::<RunFigures>("{}").is_err());
     }
 }

@@ -3,7 +3,138 @@ use std::process::ExitCode;
 
 use super::*;
 use crate::error::{Error, Result};
+
+// `shadelab bench` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct BenchCmd {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// Comma-separated method identifiers, or `all`.
+    #[arg(long, default_value = "all", value_parser = super::checks::method_list)]
+    methods: String,
+    /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
+    /// --runs 1, 7 with more runs; src/bench/schedule.rs; at most 100000).
+    #[arg(long, value_parser = count::<1, 100_000>)]
+    repeat: Option<usize>,
+    /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,
+    /// warm-up and rounds); the verdicts come from the interval across runs, against
+    /// phong_exact_control's spread (default 5; 1: one run in this process; the software
+    /// engine: 1; at most 100).
+    #[arg(long, value_name = "N", value_parser = count::<1, 100>)]
+    runs: Option<usize>,
+    /// Discarded submissions per program (the first includes lavapipe's shader JIT; default 3;
+    /// at most 1000).
+    #[arg(long, value_parser = count::<0, 1000>)]
+    warmup: Option<usize>,
+    /// The compare metric on the Pareto chart's y axis (a summary.json name).
+    #[arg(long, default_value_t = crate::compare::Metric::P99AbsError, value_parser = crate::compare::Metric::parse)]
+    error_metric: crate::compare::Metric,
+    /// Also time phong_exact's program under a second name (a precision control).
+    #[arg(long)]
+    control: bool,
+    /// Also sweep image size (128..2048) or triangle count (~100..~1,000,000); repeatable.
+    /// Each sweep point takes 20 to 40 timed draws per program (--repeat, clamped).
+    #[arg(long, value_enum)]
+    sweep: Vec<SweepArg>,
+    /// After --repeat rounds, add rounds until every paired ratio interval (to phong_exact
+    /// and to the floor) is within +-PCT percent of its median, or --max-time is reached.
+    #[arg(long, value_name = "PCT", value_parser = checks::percent)]
+    until_ci: Option<f64>,
+    /// Time cap of --until-ci: seconds of timed rounds (default 300; at most a day).
+    #[arg(long, value_name = "SECONDS", value_parser = checks::seconds)]
+    max_time: Option<f64>,
+    /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
+    /// (0: render on the submitting thread). Recorded in bench.json. With --engine
+    /// software: the software engine's threads (default: all cores; at most 1024).
+    #[arg(long, value_name = "N", value_parser = count_u32::<0, 1024>)]
+    threads: Option<u32>,
+    /// Compare with the bench.json of an earlier run (not paired: the runs were not
+    /// interleaved). Written to bench.json `baseline` and printed.
+    #[arg(long, value_name = "OLD/bench.json")]
+    baseline: Option<PathBuf>,
+    /// With --baseline: exit 1 when a program's 95% interval lies above the baseline's by
+    /// more than PCT percent (or cannot be compared), naming each.
+    #[arg(long, value_name = "PCT", requires = "baseline", value_parser = checks::percent)]
+    fail_slower: Option<f64>,
+    /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
+    /// 1, 16, 64 times per invocation; 0: skip it)
+    /// (default: 21 with --runs 1, 5 per run with more runs; at most 10000).
+    #[arg(long, value_name = "N", value_parser = count::<0, 10_000>)]
+    isolated_rounds: Option<usize>,
+    #[command(flatten)]
+    pub(super) error_budget: BudgetArgs,
+    #[command(flatten)]
+    precision: PrecisionArgs,
+    /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),
+    /// drawn as a curve on the Pareto chart; `none` for no curve.
+    #[arg(
+        long,
+        value_name = "E,E,...",
+        default_value = "1/1024,1/255,4/255,16/255",
+        value_parser = ErrorBudget::parse_list
+    )]
+    // Fully qualified: one value (a list), not a repeatable option.
+    auto_curve: ::std::vec::Vec<ErrorBudget>,
+    /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
+    /// paired ratios are judged beside the software ones in claims.md.
+    #[arg(long, value_name = "DIR/bench.json")]
+    vulkan_bench: Option<PathBuf>,
+    /// With --engine software: also draw every method with lavapipe in the same rounds,
+    /// so the Vulkan verdicts of claims.md and software / lavapipe are paired per round.
+    #[arg(long, conflicts_with = "vulkan_bench")]
+    vulkan_paired: bool,
+    /// The claims' per-GPU-family static cost from this isa.json of `shadelab isa` instead of
+    /// compiling it now (by default bench compiles its methods on every GPU family set up).
+    #[arg(long, value_name = "FILE.json", conflicts_with = "no_isa")]
+    isa: Option<PathBuf>,
+    /// No per-GPU-family static cost in the claims.
+    #[arg(long)]
+    no_isa: bool,
+    /// No software-engine column in the speed claims (by default the Vulkan bench times the
+    /// claims' programs in the software engine after its rounds, into DIR/software/).
+    #[arg(long)]
+    no_software: bool,
+}
+
+/// `--sweep` of `bench`.
+#[derive(ValueEnum, Debug, Clone, Copy)]
+enum SweepArg {
+    Size,
+    Triangles,
+}
+
+impl From<SweepArg> for crate::bench::Sweep {
+    fn from(a: SweepArg) -> Self {
+        match a {
+            SweepArg::Size => Self::Size,
+            SweepArg::Triangles => Self::Triangles,
+        }
+    }
+}
+
 impl BenchCmd {
+    /// What bench reads and writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            marker: Some("bench.json"),
+            dir: Some(("--out", &self.out)),
+            inputs: self
+                .scene
+                .files()
+                .into_iter()
+                .chain(self.baseline.as_deref())
+                .chain(self.isa.as_deref())
+                .chain(self.vulkan_bench.as_deref())
+                .collect(),
+            ..Default::default()
+        }
+    }
+
     /// What the command line gave of the schedule.
     fn given(&self) -> crate::bench::schedule::Given {
         crate::bench::schedule::Given {

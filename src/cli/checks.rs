@@ -132,7 +132,7 @@ fn same(a: &Path, b: &Path) -> bool {
 }
 
 /// The folder holding `file` (`.` for a bare name).
-fn folder_of(file: &Path) -> &Path {
+pub(super) fn folder_of(file: &Path) -> &Path {
     match file.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -201,90 +201,14 @@ pub(super) fn check_outputs(io: &Io, method_files: &[PathBuf]) -> Result<()> {
 /// The outputs and inputs of `command` ([`Io`]).
 pub(super) fn io_of(command: &Command) -> Io<'_> {
     match command {
-        Command::Render {
-            scene,
-            out,
-            float,
-            normals,
-            ..
-        } => Io {
-            files: [
-                ("--out", Some(out)),
-                ("--float", float.as_ref()),
-                ("--normals", normals.as_ref()),
-            ]
-            .into_iter()
-            .filter_map(|(f, p)| Some((f, p?.as_path())))
-            .collect(),
-            inputs: scene_inputs(scene),
-            ..Io::default()
-        },
-        Command::Compare { scene, out, .. } => Io {
-            marker: Some("summary.json"),
-            dir: Some(("--out", out)),
-            inputs: scene_inputs(scene),
-            ..Io::default()
-        },
-        Command::Bench(b) => Io {
-            marker: Some("bench.json"),
-            dir: Some(("--out", &b.out)),
-            inputs: scene_inputs(&b.scene)
-                .into_iter()
-                .chain(b.baseline.as_deref())
-                .chain(b.isa.as_deref())
-                .chain(b.vulkan_bench.as_deref())
-                .collect(),
-            ..Io::default()
-        },
-        Command::Skips(k) => Io {
-            marker: Some("skips.json"),
-            dir: Some(("--out", &k.out)),
-            inputs: scene_inputs(&k.scene),
-            ..Io::default()
-        },
-        Command::Stress { out, replay, .. } => Io {
-            marker: Some("stress.json"),
-            dir: out.as_deref().map(|o| ("--out", o)),
-            inputs: replay.iter().map(PathBuf::as_path).collect(),
-            ..Io::default()
-        },
-        Command::Mesh { out, shipped, .. } => Io {
-            files: out.iter().map(|o| ("--out", o.as_path())).collect(),
-            dir: shipped.as_deref().map(|d| ("--shipped", d)),
-            ..Io::default()
-        },
-        Command::Demo { scenes, out, .. } => Io {
-            dir: Some(("--out", out)),
-            input_dirs: vec![scenes],
-            ..Io::default()
-        },
-        Command::Report {
-            scenes,
-            scene,
-            mesh,
-            models,
-            out,
-            tuned,
-            ..
-        } => Io {
-            dir: Some(("--out", out)),
-            marker: Some("index.html"),
-            inputs: [scene, mesh, tuned]
-                .into_iter()
-                .filter_map(|p| p.as_deref())
-                .collect(),
-            // the folders of --scene and --mesh hold the report's inputs too
-            input_dirs: [scenes, models]
-                .into_iter()
-                .filter_map(|p| p.as_deref())
-                .chain(
-                    [scene, mesh]
-                        .into_iter()
-                        .filter_map(|p| p.as_deref().map(folder_of)),
-                )
-                .collect(),
-            ..Io::default()
-        },
+        Command::Render(a) => a.io(),
+        Command::Compare(a) => a.io(),
+        Command::Bench(b) => b.io(),
+        Command::Skips(k) => k.io(),
+        Command::Stress(a) => a.io(),
+        Command::Mesh(a) => a.io(),
+        Command::Demo(a) => a.io(),
+        Command::Report(a) => a.io(),
         Command::Tune(a) => a.io(),
         Command::Isa(a) => a.io(),
         Command::Prove(a) => a.io(),
@@ -308,15 +232,6 @@ pub(super) fn not_the_mesh(
     check_outputs(&io, &[])
 }
 
-/// The scene or mesh file of a command.
-fn scene_inputs(s: &super::SceneArgs) -> Vec<&Path> {
-    s.scene
-        .iter()
-        .chain(s.mesh.iter())
-        .map(PathBuf::as_path)
-        .collect()
-}
-
 /// What every command does before it runs: no output replaces an input ([`check_paths`]);
 /// the method files registered (before anything resolves a method set or starts a thread or a
 /// child), a tuned file's line proven again before its code is compiled; the temporary
@@ -327,7 +242,7 @@ pub(super) fn before_running(cli: &super::Cli) -> Result<()> {
     let marker = check_paths(cli)?;
     crate::tune::check::check_files(&cli.method_file)?;
     crate::gpu::shaders::register_user(&cli.method_file)?;
-    if !matches!(cli.command, Command::Child { .. }) {
+    if !matches!(cli.command, Command::Child(_)) {
         crate::cleanup::sweep_temp_dir();
     }
     if let Some(m) = &marker {

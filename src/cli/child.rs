@@ -1,11 +1,20 @@
 //! `shadelab child REQUEST.json` (hidden): one job of a parent shadelab process, by the
 //! protocol of [`crate::child`]: a bench run (`bench_run`) or one GPU family of `isa`
 //! (`isa_family`). The reply goes to the file the request names.
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+use clap::Args;
 
 use crate::child::{self, Job};
 use crate::error::{Error, Result};
+
+// `shadelab child` (hidden; its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct ChildArgs {
+    #[arg(value_name = "REQUEST.json")]
+    pub(super) request: PathBuf,
+}
 
 pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
     let env = child::read(file)?;

@@ -1,39 +1,91 @@
 //! `shadelab compare`: every method against the f64 exact-Phong truth.
-use std::path::Path;
 use std::process::ExitCode;
 
 use super::*;
 use crate::compare::{self, Bound};
 use crate::error::{Error, Result};
 
-/// The raw `--fail-above` and `--fail-below` arguments.
-pub(super) struct Limits<'a> {
-    pub above: &'a [String],
-    pub below: &'a [String],
-    /// `--precision` (carried here to keep one argument list).
-    pub precision: PrecisionArgs,
+// `shadelab compare` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct CompareArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// Comma-separated method identifiers, or `all`.
+    #[arg(long, default_value = "all", value_parser = super::checks::method_list)]
+    methods: String,
+    /// Output directory (summary.json, summary.csv, reference.png, <method>/*.png).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Exit 1 when any method's METRIC (a summary.json name, lower is better) is above VALUE;
+    /// repeatable. A method with NaN/Inf pixels fails every limit on an error metric.
+    #[arg(long = "fail-above", value_name = "METRIC=VALUE")]
+    fail_above: Vec<String>,
+    /// Exit 1 when any method's METRIC (higher is better: psnr_db) is below VALUE; repeatable.
+    #[arg(long = "fail-below", value_name = "METRIC=VALUE")]
+    fail_below: Vec<String>,
+    /// Heatmap scales: `fixed` (shared by all methods) or `auto` (per image).
+    #[arg(long, value_enum, default_value = "fixed")]
+    scale: ScaleArg,
+    /// Linear luminance error above which a pixel counts in pixels_above_threshold
+    /// (default 1/255 of linear luminance; not an sRGB 8-bit step).
+    #[arg(long, default_value_t = 1.0 / 255.0, value_parser = parse_threshold)]
+    threshold: f64,
+    #[command(flatten)]
+    pub(super) error_budget: BudgetArgs,
+    #[command(flatten)]
+    precision: PrecisionArgs,
 }
 
-#[allow(clippy::too_many_arguments)] // one argument per parsed group of compare's flags
-pub(super) fn cmd_compare(
-    scene_args: &SceneArgs,
-    dev: &DeviceArgs,
-    list: &str,
-    out: &Path,
-    limits: &Limits,
-    scale: compare::ScaleMode,
-    threshold: f64,
-    budget: &super::BudgetArgs,
-) -> Result<ExitCode> {
-    let limits_precision = limits.precision;
+/// `--scale` of `compare`.
+#[derive(ValueEnum, Debug, Clone, Copy)]
+enum ScaleArg {
+    Fixed,
+    Auto,
+}
+
+impl From<ScaleArg> for crate::compare::ScaleMode {
+    fn from(a: ScaleArg) -> Self {
+        match a {
+            ScaleArg::Fixed => Self::Fixed,
+            ScaleArg::Auto => Self::Auto,
+        }
+    }
+}
+
+impl CompareArgs {
+    /// What compare reads and writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            marker: Some("summary.json"),
+            dir: Some(("--out", &self.out)),
+            inputs: self.scene.files(),
+            ..Default::default()
+        }
+    }
+}
+
+pub(super) fn cmd_compare(a: &CompareArgs) -> Result<ExitCode> {
+    let CompareArgs {
+        scene: scene_args,
+        device: dev,
+        methods: list,
+        out,
+        fail_above,
+        fail_below,
+        scale,
+        threshold,
+        error_budget: budget,
+        precision: limits_precision,
+    } = a;
+    let (out, scale, threshold) = (out.as_path(), compare::ScaleMode::from(*scale), *threshold);
     limits_precision.check_engine(dev)?;
-    let limits = limits
-        .above
+    let limits = fail_above
         .iter()
         .map(|s| compare::parse_limit(s, Bound::Above))
         .chain(
-            limits
-                .below
+            fail_below
                 .iter()
                 .map(|s| compare::parse_limit(s, Bound::Below)),
         )

@@ -1,7 +1,16 @@
 //! `shadelab list`: the method table as text or JSON.
 use std::process::ExitCode;
 
+use clap::Args;
+
 use crate::error::{Error, Result};
+
+// `shadelab list` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct ListArgs {
+    #[arg(long)]
+    pub(super) json: bool,
+}
 
 /// The table, then the user methods of `--method-file` (which have no software form, but for
 /// the tuned files of `shadelab tune`).

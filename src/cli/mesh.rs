@@ -2,14 +2,45 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::Args;
+
 use crate::error::{Error, Result};
 use crate::geometry;
-pub(super) fn cmd_mesh(
+
+// `shadelab mesh` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct MeshArgs {
+    /// Generator: uv_sphere, icosphere, torus or cube.
+    #[arg(required_unless_present = "shipped")]
     generator: Option<String>,
-    params: &[String],
+    /// Generator parameters as key=value.
+    params: Vec<String>,
+    /// Output OBJ file.
+    #[arg(long, value_name = "FILE.obj", required_unless_present = "shipped")]
     out: Option<PathBuf>,
+    /// Write every shipped mesh into DIR instead.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["generator", "out"])]
     shipped: Option<PathBuf>,
-) -> Result<ExitCode> {
+}
+
+impl MeshArgs {
+    /// What mesh writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            files: self.out.iter().map(|o| ("--out", o.as_path())).collect(),
+            dir: self.shipped.as_deref().map(|d| ("--shipped", d)),
+            ..Default::default()
+        }
+    }
+}
+
+pub(super) fn cmd_mesh(a: MeshArgs) -> Result<ExitCode> {
+    let MeshArgs {
+        generator,
+        params,
+        out,
+        shipped,
+    } = a;
     if let Some(dir) = shipped {
         for p in geometry::write_shipped(&dir)? {
             log::info!("wrote {}", p.display());
@@ -21,7 +52,7 @@ pub(super) fn cmd_mesh(
             "give a generator and --out FILE.obj, or --shipped DIR".into(),
         ));
     };
-    let g = geometry::parse_generator_args(&name, params)?;
+    let g = geometry::parse_generator_args(&name, &params)?;
     let m = g.build()?;
     geometry::write_obj(&m, &out)?;
     log::info!("wrote {} ({} triangles)", out.display(), m.triangle_count());

@@ -32,7 +32,7 @@ use self::plan::cmd_plan;
 use self::prove::cmd_prove;
 use self::render::cmd_render;
 use self::shaders::cmd_shaders;
-use self::skips::{cmd_skips, SkipsCmd};
+use self::skips::cmd_skips;
 use self::stress::cmd_stress;
 use self::verify::cmd_verify;
 use std::path::PathBuf;
@@ -200,38 +200,6 @@ enum EngineArg {
     Software,
 }
 
-/// `--scale` of `compare`.
-#[derive(ValueEnum, Debug, Clone, Copy)]
-enum ScaleArg {
-    Fixed,
-    Auto,
-}
-
-impl From<ScaleArg> for crate::compare::ScaleMode {
-    fn from(a: ScaleArg) -> Self {
-        match a {
-            ScaleArg::Fixed => Self::Fixed,
-            ScaleArg::Auto => Self::Auto,
-        }
-    }
-}
-
-/// `--sweep` of `bench`.
-#[derive(ValueEnum, Debug, Clone, Copy)]
-enum SweepArg {
-    Size,
-    Triangles,
-}
-
-impl From<SweepArg> for crate::bench::Sweep {
-    fn from(a: SweepArg) -> Self {
-        match a {
-            SweepArg::Size => Self::Size,
-            SweepArg::Triangles => Self::Triangles,
-        }
-    }
-}
-
 #[derive(ValueEnum, Debug, Clone, Copy)]
 enum InterpArg {
     ScreenLinear,
@@ -242,103 +210,16 @@ enum InterpArg {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render one method to an 8-bit PNG (and optionally the float images as .npy).
-    Render {
-        #[command(flatten)]
-        scene: SceneArgs,
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// Method identifier (see `shadelab list`), or `auto` (per triangle the cheapest method
-        /// within --error-budget).
-        #[arg(long, default_value = crate::method::PHONG_EXACT)]
-        method: String,
-        /// Output PNG (sRGB, alpha 0 on the background).
-        #[arg(long, value_name = "FILE.png")]
-        out: PathBuf,
-        /// Also write the linear float colour as .npy, shape (H, W, 4), float32.
-        #[arg(long, value_name = "FILE.npy")]
-        float: Option<PathBuf>,
-        /// Also write the shading normal as .npy, shape (H, W, 4), float32 (w 1 where defined).
-        #[arg(long, value_name = "FILE.npy")]
-        normals: Option<PathBuf>,
-        #[command(flatten)]
-        error_budget: BudgetArgs,
-        #[command(flatten)]
-        precision: PrecisionArgs,
-    },
+    Render(self::render::RenderArgs),
     /// Check GPU methods against their own formula evaluated in f64 at the rasterizer's weights.
-    Verify {
-        #[command(flatten)]
-        scene: SceneArgs,
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "all", value_parser = checks::method_list)]
-        methods: String,
-        /// Judge every method against this method's f64 formula instead of its own (teeth checks).
-        #[arg(long, value_name = "METHOD")]
-        against: Option<String>,
-        /// Precision of the programs: f16 judges them by the float16 bound (u = 2^-11) and,
-        /// on Vulkan, against the software engine's float16 twin.
-        #[arg(long, default_value = "f32", value_parser = parse_precision())]
-        precision: crate::method::Precision,
-    },
+    Verify(self::verify::VerifyArgs),
     /// Compare methods against the f64 exact-Phong truth: statistics, heatmaps, JSON/CSV.
-    Compare {
-        #[command(flatten)]
-        scene: SceneArgs,
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "all", value_parser = checks::method_list)]
-        methods: String,
-        /// Output directory (summary.json, summary.csv, reference.png, <method>/*.png).
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// Exit 1 when any method's METRIC (a summary.json name, lower is better) is above VALUE;
-        /// repeatable. A method with NaN/Inf pixels fails every limit on an error metric.
-        #[arg(long = "fail-above", value_name = "METRIC=VALUE")]
-        fail_above: Vec<String>,
-        /// Exit 1 when any method's METRIC (higher is better: psnr_db) is below VALUE; repeatable.
-        #[arg(long = "fail-below", value_name = "METRIC=VALUE")]
-        fail_below: Vec<String>,
-        /// Heatmap scales: `fixed` (shared by all methods) or `auto` (per image).
-        #[arg(long, value_enum, default_value = "fixed")]
-        scale: ScaleArg,
-        /// Linear luminance error above which a pixel counts in pixels_above_threshold
-        /// (default 1/255 of linear luminance; not an sRGB 8-bit step).
-        #[arg(long, default_value_t = 1.0 / 255.0, value_parser = parse_threshold)]
-        threshold: f64,
-        #[command(flatten)]
-        error_budget: BudgetArgs,
-        #[command(flatten)]
-        precision: PrecisionArgs,
-    },
+    Compare(self::compare::CompareArgs),
     /// Run time against error: validated timing, Pareto chart, the papers' claims, sweeps.
-    Bench(BenchCmd),
+    Bench(self::bench::BenchCmd),
     /// Sweep each method over its input domain (angle, elevation, light, shininess, span,
     /// length, shape) on the device and in f64; worst cases, validity maps, the validity claims.
-    Stress {
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// Comma-separated method identifiers, or `all`.
-        #[arg(long, default_value = "all", value_parser = checks::method_list)]
-        methods: String,
-        /// Output directory (stress.json, charts, validity/<method>.png, cases/<method>.json).
-        #[arg(long, value_name = "DIR", required_unless_present = "replay")]
-        out: Option<PathBuf>,
-        /// Evaluate one case again (a cases/<method>.json, or a worst_case of stress.json).
-        #[arg(long, value_name = "CASE.json", conflicts_with = "out")]
-        replay: Option<PathBuf>,
-        /// Max abs colour error (linear) within which a case is valid.
-        #[arg(long, default_value_t = 1.0 / 255.0, value_parser = parse_threshold)]
-        threshold: f64,
-        /// Local-search rounds around each method's worst case (0: grid only; at most 1000).
-        #[arg(long, default_value_t = 8, value_parser = count::<0, 1000>)]
-        refine: usize,
-        /// (`--replay` takes the precision recorded in the case file.)
-        #[command(flatten)]
-        precision: PrecisionArgs,
-    },
+    Stress(self::stress::StressArgs),
     /// Proven upper bounds of each covered method's normal-space and colour errors, and its
     /// largest valid angle, over two declared domains (interval branch-and-bound): any triangle
     /// (three vertex normals pairwise within --max-angle) and stress's edge geometry (N2 the
@@ -353,119 +234,25 @@ enum Command {
     /// What skipping saves on one scene: phong_exact timed in the same interleaved rounds with
     /// nothing skipped, back-face culling, no normal target, a depth pre-pass, front-to-back
     /// order, and `auto`; fragment invocations and paired frame-time ratios.
-    Skips(SkipsCmd),
+    Skips(self::skips::SkipsCmd),
     /// What a scene needs: topology (culling), the spread of its vertex normals against each
     /// method's measured validity range, triangle sizes and facing, lighting, what is skipped.
-    Plan {
-        #[command(flatten)]
-        scene: SceneArgs,
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// JSON instead of text.
-        #[arg(long)]
-        json: bool,
-        /// Also choose per triangle the cheapest method whose f64 error stays within this
-        /// budget (the largest colour error, linear, max over the channels; a number or a
-        /// fraction like 4/255), as `auto` would, and count them.
-        #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
-        error_budget: Option<ErrorBudget>,
-    },
+    Plan(self::plan::PlanArgs),
     /// What each method compiles to on the GPU families of every vendor set up (each vendor's
     /// compiler behind a null device or Mesa's drm-shims: statistics, disassembly; no GPU).
     Isa(self::isa::IsaArgs),
     /// List the methods (`--json` for machines).
-    List {
-        #[arg(long)]
-        json: bool,
-    },
+    List(self::list::ListArgs),
     /// Generate a procedural mesh as OBJ, or regenerate the shipped meshes of scenes/.
-    Mesh {
-        /// Generator: uv_sphere, icosphere, torus or cube.
-        #[arg(required_unless_present = "shipped")]
-        generator: Option<String>,
-        /// Generator parameters as key=value.
-        params: Vec<String>,
-        /// Output OBJ file.
-        #[arg(long, value_name = "FILE.obj", required_unless_present = "shipped")]
-        out: Option<PathBuf>,
-        /// Write every shipped mesh into DIR instead.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["generator", "out"])]
-        shipped: Option<PathBuf>,
-    },
+    Mesh(self::mesh::MeshArgs),
     /// Compile glsl/ into spirv/ with shaderc (`--check`: only verify spirv/ is fresh).
-    Shaders {
-        #[arg(long)]
-        check: bool,
-        #[arg(long, default_value = "glsl")]
-        glsl: PathBuf,
-        #[arg(long, default_value = "spirv")]
-        spirv: PathBuf,
-    },
+    Shaders(self::shaders::ShadersArgs),
     /// The quick start's report: `report --scenes scenes --out out/report` (what `make demo`
     /// runs), from a checkout of the repository.
-    Demo {
-        /// The scene files (*.toml) of this folder.
-        #[arg(long, default_value = "scenes")]
-        scenes: PathBuf,
-        /// Output directory of the report.
-        #[arg(long, default_value = "out/report")]
-        out: PathBuf,
-        #[command(flatten)]
-        device: DeviceArgs,
-        #[command(flatten)]
-        store: StoreArgs,
-    },
+    Demo(self::demo::DemoArgs),
     /// The main job: compare, bench and stress on the given scenes, written as one offline
     /// HTML report (OUT/index.html, its path printed on stdout).
-    #[command(group(ArgGroup::new("source").required(true).multiple(true).args(["scenes", "scene", "mesh", "models"])))]
-    Report {
-        /// Every scene file (*.toml) of DIR.
-        #[arg(long, value_name = "DIR")]
-        scenes: Option<PathBuf>,
-        /// One scene file (TOML).
-        #[arg(long, value_name = "FILE")]
-        scene: Option<PathBuf>,
-        /// One mesh file, .obj, .gltf, .glb or .ply (camera fitted, default light and material).
-        #[arg(long, value_name = "FILE")]
-        mesh: Option<PathBuf>,
-        /// Every mesh file (.obj, .gltf, .glb, .ply) of DIR as one more scene each (camera fitted),
-        /// alone or added to --scenes / --scene / --mesh; the answer covers them.
-        #[arg(long, value_name = "DIR")]
-        models: Option<PathBuf>,
-        /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
-        /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
-        /// run in this process; default 5).
-        #[arg(long, value_name = "N", value_parser = count::<1, 100>)]
-        runs: Option<usize>,
-        /// Output directory (index.html and everything it shows).
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// Comma-separated method identifiers, or `all` (phong_exact and phong_unnormalized,
-        /// the references of bench's ratios, are always included).
-        #[arg(long, default_value = "all", value_parser = checks::method_list)]
-        methods: String,
-        /// Image size of every scene (the default keeps the page of the shipped scenes under
-        /// 50 MB).
-        #[arg(long, value_name = "WxH", value_parser = parse_size, default_value = "256x256")]
-        size: (u32, u32),
-        /// Interpolation of the varyings, overriding the scenes'.
-        #[arg(long, value_enum)]
-        interpolation: Option<InterpArg>,
-        /// Bench's long setting (40 timed draws after 3 warm-ups; stress refined 8 rounds)
-        /// instead of the short one (10 after 2; 2 rounds), and the static cost's disassembly
-        /// and isolated kernels (DIR/isa/asm/: tens of MB).
-        #[arg(long)]
-        full: bool,
-        /// The tune.json of `shadelab tune`: its winners show in the answer's cells ("a tuned
-        /// approximation beats exact normalisation here") and in its words (copied to
-        /// DIR/tune/tune.json).
-        #[arg(long, value_name = "FILE.json")]
-        tuned: Option<PathBuf>,
-        #[command(flatten)]
-        device: DeviceArgs,
-        #[command(flatten)]
-        store: StoreArgs,
-    },
+    Report(self::report::ReportArgs),
     /// Compare every mesh file of a corpus, or one shard K/N of it (CI matrix, Slurm job
     /// array): per-mesh results, a manifest, the static GPU cost once (docs/corpus.md).
     Corpus(self::corpus::CorpusArgs),
@@ -479,107 +266,7 @@ enum Command {
     Devices,
     /// Internal: one job of a parent shadelab process (src/child.rs), from its request file.
     #[command(hide = true)]
-    Child {
-        #[arg(value_name = "REQUEST.json")]
-        request: PathBuf,
-    },
-}
-
-// `shadelab bench` (its help is the variant's doc comment).
-#[derive(Args, Debug)]
-struct BenchCmd {
-    #[command(flatten)]
-    scene: SceneArgs,
-    #[command(flatten)]
-    device: DeviceArgs,
-    /// Comma-separated method identifiers, or `all`.
-    #[arg(long, default_value = "all", value_parser = checks::method_list)]
-    methods: String,
-    /// Output directory (bench.json, bench.csv, pareto.svg/png, claims.json/md).
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-    /// Timed submissions per program (interleaved rounds) in each run (default: 40 with
-    /// --runs 1, 7 with more runs; src/bench/schedule.rs; at most 100000).
-    #[arg(long, value_parser = count::<1, 100_000>)]
-    repeat: Option<usize>,
-    /// Independent measurement runs, each in a fresh process (its own Vulkan device, JIT,
-    /// warm-up and rounds); the verdicts come from the interval across runs, against
-    /// phong_exact_control's spread (default 5; 1: one run in this process; the software
-    /// engine: 1; at most 100).
-    #[arg(long, value_name = "N", value_parser = count::<1, 100>)]
-    runs: Option<usize>,
-    /// Discarded submissions per program (the first includes lavapipe's shader JIT; default 3;
-    /// at most 1000).
-    #[arg(long, value_parser = count::<0, 1000>)]
-    warmup: Option<usize>,
-    /// The compare metric on the Pareto chart's y axis (a summary.json name).
-    #[arg(long, default_value_t = crate::compare::Metric::P99AbsError, value_parser = crate::compare::Metric::parse)]
-    error_metric: crate::compare::Metric,
-    /// Also time phong_exact's program under a second name (a precision control).
-    #[arg(long)]
-    control: bool,
-    /// Also sweep image size (128..2048) or triangle count (~100..~1,000,000); repeatable.
-    /// Each sweep point takes 20 to 40 timed draws per program (--repeat, clamped).
-    #[arg(long, value_enum)]
-    sweep: Vec<SweepArg>,
-    /// After --repeat rounds, add rounds until every paired ratio interval (to phong_exact
-    /// and to the floor) is within +-PCT percent of its median, or --max-time is reached.
-    #[arg(long, value_name = "PCT", value_parser = checks::percent)]
-    until_ci: Option<f64>,
-    /// Time cap of --until-ci: seconds of timed rounds (default 300; at most a day).
-    #[arg(long, value_name = "SECONDS", value_parser = checks::seconds)]
-    max_time: Option<f64>,
-    /// lavapipe's thread count: sets LP_NUM_THREADS before the Vulkan instance is created
-    /// (0: render on the submitting thread). Recorded in bench.json. With --engine
-    /// software: the software engine's threads (default: all cores; at most 1024).
-    #[arg(long, value_name = "N", value_parser = count_u32::<0, 1024>)]
-    threads: Option<u32>,
-    /// Compare with the bench.json of an earlier run (not paired: the runs were not
-    /// interleaved). Written to bench.json `baseline` and printed.
-    #[arg(long, value_name = "OLD/bench.json")]
-    baseline: Option<PathBuf>,
-    /// With --baseline: exit 1 when a program's 95% interval lies above the baseline's by
-    /// more than PCT percent (or cannot be compared), naming each.
-    #[arg(long, value_name = "PCT", requires = "baseline", value_parser = checks::percent)]
-    fail_slower: Option<f64>,
-    /// Rounds of the isolated cost of each formula (a compute kernel evaluating it K = 0,
-    /// 1, 16, 64 times per invocation; 0: skip it)
-    /// (default: 21 with --runs 1, 5 per run with more runs; at most 10000).
-    #[arg(long, value_name = "N", value_parser = count::<0, 10_000>)]
-    isolated_rounds: Option<usize>,
-    #[command(flatten)]
-    error_budget: BudgetArgs,
-    #[command(flatten)]
-    precision: PrecisionArgs,
-    /// With `auto` in --methods: also time `auto` at these budgets (named `auto_<k>_255`, `auto_1_<k>`),
-    /// drawn as a curve on the Pareto chart; `none` for no curve.
-    #[arg(
-        long,
-        value_name = "E,E,...",
-        default_value = "1/1024,1/255,4/255,16/255",
-        value_parser = ErrorBudget::parse_list
-    )]
-    // Fully qualified: one value (a list), not a repeatable option.
-    auto_curve: ::std::vec::Vec<ErrorBudget>,
-    /// With --engine software: the bench.json of a Vulkan run (same scene and size), whose
-    /// paired ratios are judged beside the software ones in claims.md.
-    #[arg(long, value_name = "DIR/bench.json")]
-    vulkan_bench: Option<PathBuf>,
-    /// With --engine software: also draw every method with lavapipe in the same rounds,
-    /// so the Vulkan verdicts of claims.md and software / lavapipe are paired per round.
-    #[arg(long, conflicts_with = "vulkan_bench")]
-    vulkan_paired: bool,
-    /// The claims' per-GPU-family static cost from this isa.json of `shadelab isa` instead of
-    /// compiling it now (by default bench compiles its methods on every GPU family set up).
-    #[arg(long, value_name = "FILE.json", conflicts_with = "no_isa")]
-    isa: Option<PathBuf>,
-    /// No per-GPU-family static cost in the claims.
-    #[arg(long)]
-    no_isa: bool,
-    /// No software-engine column in the speed claims (by default the Vulkan bench times the
-    /// claims' programs in the software engine after its rounds, into DIR/software/).
-    #[arg(long)]
-    no_software: bool,
+    Child(self::child::ChildArgs),
 }
 
 /// Parses the command line and runs it. Errors are printed once by the caller.
@@ -591,103 +278,21 @@ pub fn run() -> Result<ExitCode> {
         store.apply();
     }
     match cli.command {
-        Command::Compare {
-            scene,
-            device,
-            methods,
-            out,
-            fail_above,
-            fail_below,
-            scale,
-            threshold,
-            error_budget,
-            precision,
-        } => {
-            let limits = self::compare::Limits {
-                above: &fail_above,
-                below: &fail_below,
-                precision,
-            };
-            cmd_compare(
-                &scene,
-                &device,
-                &methods,
-                &out,
-                &limits,
-                scale.into(),
-                threshold,
-                &error_budget,
-            )
-        }
-        Command::Render {
-            scene,
-            device,
-            method,
-            out,
-            float,
-            normals,
-            error_budget,
-            precision,
-        } => cmd_render(
-            &scene,
-            &(device, precision),
-            &method,
-            &out,
-            float.as_deref(),
-            normals.as_deref(),
-            &error_budget,
-        ),
-        Command::Verify {
-            scene,
-            device,
-            methods,
-            against,
-            precision,
-        } => cmd_verify(&scene, &device, &methods, against.as_deref(), precision),
+        Command::Render(a) => cmd_render(&a),
+        Command::Verify(a) => cmd_verify(&a),
+        Command::Compare(a) => cmd_compare(&a),
         Command::Bench(b) => cmd_bench(b),
-        Command::Stress {
-            device,
-            methods,
-            out,
-            replay,
-            threshold,
-            refine,
-            precision,
-        } => {
-            let opts = crate::stress::StressOptions {
-                threshold,
-                refine_rounds: refine,
-                progress: true,
-                precision: precision.precision,
-            };
-            cmd_stress(&device, &methods, out.as_deref(), replay.as_deref(), &opts)
-        }
-        Command::Plan {
-            scene,
-            device,
-            json,
-            error_budget,
-        } => cmd_plan(&scene, &device, json, error_budget),
-        Command::Skips(k) => cmd_skips(k),
-        Command::Isa(args) => self::isa::cmd_isa(args),
-        Command::Child { request } => self::child::cmd_child(&request),
+        Command::Stress(a) => cmd_stress(&a),
         Command::Prove(a) => cmd_prove(&a),
         Command::Tune(a) => self::tune::cmd_tune(&a),
-        Command::List { json } => cmd_list(json),
-        Command::Mesh {
-            generator,
-            params,
-            out,
-            shipped,
-        } => cmd_mesh(generator, &params, out, shipped),
-        Command::Shaders { check, glsl, spirv } => cmd_shaders(check, &glsl, &spirv),
-        Command::Demo {
-            scenes,
-            out,
-            device,
-            ..
-        } => cmd_demo(&scenes, &out, &device),
-        c @ Command::Report { .. } => report::run_report(c),
+        Command::Skips(k) => cmd_skips(k),
+        Command::Plan(a) => cmd_plan(&a),
+        Command::Isa(args) => self::isa::cmd_isa(args),
+        Command::List(a) => cmd_list(a.json),
+        Command::Mesh(a) => cmd_mesh(a),
+        Command::Shaders(a) => cmd_shaders(&a),
+        Command::Demo(a) => cmd_demo(&a),
+        Command::Report(a) => report::run_report(a),
         Command::Corpus(a) => self::corpus::cmd_corpus(a),
         Command::Merge(a) => self::merge::cmd_merge(a),
         Command::Cache(a) => self::cache::cmd_cache(&a),
@@ -697,6 +302,7 @@ pub fn run() -> Result<ExitCode> {
             }
             Ok(ExitCode::SUCCESS)
         }
+        Command::Child(a) => self::child::cmd_child(&a.request),
     }
 }
 
@@ -704,14 +310,14 @@ impl Command {
     /// The `--no-cache` of a command that compiles for GPU families.
     fn store_args(&self) -> Option<&StoreArgs> {
         match self {
-            Command::Render { error_budget, .. } | Command::Compare { error_budget, .. } => {
-                Some(&error_budget.store)
-            }
+            Command::Render(a) => Some(&a.error_budget.store),
+            Command::Compare(a) => Some(&a.error_budget.store),
             Command::Bench(b) => Some(&b.error_budget.store),
             Command::Isa(a) => Some(&a.store),
             Command::Tune(a) => Some(&a.store),
             Command::Corpus(a) => Some(&a.store),
-            Command::Demo { store, .. } | Command::Report { store, .. } => Some(store),
+            Command::Demo(a) => Some(&a.store),
+            Command::Report(a) => Some(&a.store),
             _ => None,
         }
     }
@@ -734,6 +340,17 @@ impl SceneArgs {
                 CullArg::None => scene::Cull::None,
             }),
         }
+    }
+}
+
+impl SceneArgs {
+    /// The scene or mesh file it names (an input of the command).
+    fn files(&self) -> Vec<&std::path::Path> {
+        self.scene
+            .iter()
+            .chain(self.mesh.iter())
+            .map(PathBuf::as_path)
+            .collect()
     }
 }
 

@@ -4,12 +4,25 @@ use std::process::ExitCode;
 use super::*;
 use crate::error::Result;
 
-pub(super) fn cmd_plan(
-    scene_args: &SceneArgs,
-    dev: &DeviceArgs,
+// `shadelab plan` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct PlanArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// JSON instead of text.
+    #[arg(long)]
     json: bool,
-    budget: Option<crate::auto::ErrorBudget>,
-) -> Result<ExitCode> {
+    /// Also choose per triangle the cheapest method whose f64 error stays within this
+    /// budget (the largest colour error, linear, max over the channels; a number or a
+    /// fraction like 4/255), as `auto` would, and count them.
+    #[arg(long, value_name = "E", value_parser = ErrorBudget::parse)]
+    error_budget: Option<ErrorBudget>,
+}
+
+pub(super) fn cmd_plan(a: &PlanArgs) -> Result<ExitCode> {
+    let (scene_args, dev, json, budget) = (&a.scene, &a.device, a.json, a.error_budget);
     let scene = load_scene(scene_args)?;
     let p = match budget {
         None => crate::plan::plan(&scene),

@@ -7,15 +7,63 @@ use crate::error::Result;
 use crate::gpu::Shading;
 use crate::method::{self};
 use crate::output;
-pub(super) fn cmd_render(
-    scene_args: &SceneArgs,
-    (dev, precision): &(DeviceArgs, PrecisionArgs),
-    method: &str,
-    out: &Path,
-    float: Option<&Path>,
-    normals: Option<&Path>,
-    error_budget: &super::BudgetArgs,
-) -> Result<ExitCode> {
+
+// `shadelab render` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct RenderArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// Method identifier (see `shadelab list`), or `auto` (per triangle the cheapest method
+    /// within --error-budget).
+    #[arg(long, default_value = crate::method::PHONG_EXACT)]
+    method: String,
+    /// Output PNG (sRGB, alpha 0 on the background).
+    #[arg(long, value_name = "FILE.png")]
+    out: PathBuf,
+    /// Also write the linear float colour as .npy, shape (H, W, 4), float32.
+    #[arg(long, value_name = "FILE.npy")]
+    float: Option<PathBuf>,
+    /// Also write the shading normal as .npy, shape (H, W, 4), float32 (w 1 where defined).
+    #[arg(long, value_name = "FILE.npy")]
+    normals: Option<PathBuf>,
+    #[command(flatten)]
+    pub(super) error_budget: BudgetArgs,
+    #[command(flatten)]
+    precision: PrecisionArgs,
+}
+
+impl RenderArgs {
+    /// What render writes and reads ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            files: [
+                ("--out", Some(&self.out)),
+                ("--float", self.float.as_ref()),
+                ("--normals", self.normals.as_ref()),
+            ]
+            .into_iter()
+            .filter_map(|(f, p)| Some((f, p?.as_path())))
+            .collect(),
+            inputs: self.scene.files(),
+            ..Default::default()
+        }
+    }
+}
+
+pub(super) fn cmd_render(a: &RenderArgs) -> Result<ExitCode> {
+    let RenderArgs {
+        scene: scene_args,
+        device: dev,
+        method,
+        out,
+        float,
+        normals,
+        error_budget,
+        precision,
+    } = a;
+    let (out, float, normals) = (out.as_path(), float.as_deref(), normals.as_deref());
     precision.check_engine(dev)?;
     if method == "auto" {
         if precision.precision != crate::method::Precision::F32 {

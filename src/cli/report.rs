@@ -98,9 +98,88 @@ fn inputs(src: &Sources) -> Result<Vec<(PathBuf, bool)>> {
     Ok(v)
 }
 
+// `shadelab report` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+#[command(group(ArgGroup::new("source").required(true).multiple(true).args(["scenes", "scene", "mesh", "models"])))]
+pub(super) struct ReportArgs {
+    /// Every scene file (*.toml) of DIR.
+    #[arg(long, value_name = "DIR")]
+    scenes: Option<PathBuf>,
+    /// One scene file (TOML).
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// One mesh file, .obj, .gltf, .glb or .ply (camera fitted, default light and material).
+    #[arg(long, value_name = "FILE")]
+    mesh: Option<PathBuf>,
+    /// Every mesh file (.obj, .gltf, .glb, .ply) of DIR as one more scene each (camera fitted),
+    /// alone or added to --scenes / --scene / --mesh; the answer covers them.
+    #[arg(long, value_name = "DIR")]
+    models: Option<PathBuf>,
+    /// Bench runs per scene, each a fresh process of this binary (`bench --runs`): the
+    /// frame-time and isolated-cost verdicts come from the interval across runs (1: one
+    /// run in this process; default 5).
+    #[arg(long, value_name = "N", value_parser = count::<1, 100>)]
+    runs: Option<usize>,
+    /// Output directory (index.html and everything it shows).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Comma-separated method identifiers, or `all` (phong_exact and phong_unnormalized,
+    /// the references of bench's ratios, are always included).
+    #[arg(long, default_value = "all", value_parser = super::checks::method_list)]
+    methods: String,
+    /// Image size of every scene (the default keeps the page of the shipped scenes under
+    /// 50 MB).
+    #[arg(long, value_name = "WxH", value_parser = parse_size, default_value = "256x256")]
+    size: (u32, u32),
+    /// Interpolation of the varyings, overriding the scenes'.
+    #[arg(long, value_enum)]
+    interpolation: Option<InterpArg>,
+    /// Bench's long setting (40 timed draws after 3 warm-ups; stress refined 8 rounds)
+    /// instead of the short one (10 after 2; 2 rounds), and the static cost's disassembly
+    /// and isolated kernels (DIR/isa/asm/: tens of MB).
+    #[arg(long)]
+    full: bool,
+    /// The tune.json of `shadelab tune`: its winners show in the answer's cells ("a tuned
+    /// approximation beats exact normalisation here") and in its words (copied to
+    /// DIR/tune/tune.json).
+    #[arg(long, value_name = "FILE.json")]
+    tuned: Option<PathBuf>,
+    #[command(flatten)]
+    device: DeviceArgs,
+    #[command(flatten)]
+    pub(super) store: StoreArgs,
+}
+
+impl ReportArgs {
+    /// What report writes and reads ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        let folder_of = super::checks::folder_of;
+        let (scene, mesh) = (&self.scene, &self.mesh);
+        super::checks::Io {
+            dir: Some(("--out", &self.out)),
+            marker: Some("index.html"),
+            inputs: [scene, mesh, &self.tuned]
+                .into_iter()
+                .filter_map(|p| p.as_deref())
+                .collect(),
+            // the folders of --scene and --mesh hold the report's inputs too
+            input_dirs: [&self.scenes, &self.models]
+                .into_iter()
+                .filter_map(|p| p.as_deref())
+                .chain(
+                    [scene, mesh]
+                        .into_iter()
+                        .filter_map(|p| p.as_deref().map(folder_of)),
+                )
+                .collect(),
+            ..Default::default()
+        }
+    }
+}
+
 /// `shadelab report`: its arguments to [`cmd_report`].
-pub(super) fn run_report(c: Command) -> Result<ExitCode> {
-    let Command::Report {
+pub(super) fn run_report(a: ReportArgs) -> Result<ExitCode> {
+    let ReportArgs {
         scenes,
         scene,
         mesh,
@@ -114,12 +193,7 @@ pub(super) fn run_report(c: Command) -> Result<ExitCode> {
         tuned,
         device,
         ..
-    } = c
-    else {
-        return Err(Error::Internal(
-            "run_report called with another command".into(),
-        ));
-    };
+    } = a;
     let src = Sources {
         scenes: scenes.as_deref(),
         scene: scene.as_deref(),

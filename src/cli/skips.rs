@@ -8,12 +8,12 @@ use crate::error::{Error, Result};
 #[derive(Args, Debug)]
 pub(super) struct SkipsCmd {
     #[command(flatten)]
-    pub(super) scene: SceneArgs,
+    scene: SceneArgs,
     #[command(flatten)]
     device: DeviceArgs,
     /// Output directory (skips.json, skips.md).
     #[arg(long, value_name = "DIR")]
-    pub(super) out: PathBuf,
+    out: PathBuf,
     /// Interleaved rounds (each draws every row once; at most 100000).
     #[arg(long, default_value_t = 30, value_parser = count::<1, 100_000>)]
     repeat: usize,
@@ -22,6 +22,18 @@ pub(super) struct SkipsCmd {
     warmup: usize,
     #[command(flatten)]
     error_budget: BudgetArgs,
+}
+
+impl SkipsCmd {
+    /// What skips reads and writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            marker: Some("skips.json"),
+            dir: Some(("--out", &self.out)),
+            inputs: self.scene.files(),
+            ..Default::default()
+        }
+    }
 }
 
 pub(super) fn cmd_skips(k: SkipsCmd) -> Result<ExitCode> {

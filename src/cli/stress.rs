@@ -1,22 +1,57 @@
 //! `shadelab stress`: runs [`crate::stress::run`] and writes its outputs, or replays one case.
-use std::path::Path;
 use std::process::ExitCode;
 
 use super::*;
 use crate::error::Result;
 use crate::stress::{self, StressOptions};
 
-pub(super) fn cmd_stress(
-    dev: &DeviceArgs,
-    list: &str,
-    out: Option<&Path>,
-    replay: Option<&Path>,
-    opts: &StressOptions,
-) -> Result<ExitCode> {
-    PrecisionArgs {
-        precision: opts.precision,
+// `shadelab stress` (its help is the variant's doc comment).
+#[derive(Args, Debug)]
+pub(super) struct StressArgs {
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// Comma-separated method identifiers, or `all`.
+    #[arg(long, default_value = "all", value_parser = super::checks::method_list)]
+    methods: String,
+    /// Output directory (stress.json, charts, validity/<method>.png, cases/<method>.json).
+    #[arg(long, value_name = "DIR", required_unless_present = "replay")]
+    out: Option<PathBuf>,
+    /// Evaluate one case again (a cases/<method>.json, or a worst_case of stress.json).
+    #[arg(long, value_name = "CASE.json", conflicts_with = "out")]
+    replay: Option<PathBuf>,
+    /// Max abs colour error (linear) within which a case is valid.
+    #[arg(long, default_value_t = 1.0 / 255.0, value_parser = parse_threshold)]
+    threshold: f64,
+    /// Local-search rounds around each method's worst case (0: grid only; at most 1000).
+    #[arg(long, default_value_t = 8, value_parser = count::<0, 1000>)]
+    refine: usize,
+    /// (`--replay` takes the precision recorded in the case file.)
+    #[command(flatten)]
+    precision: PrecisionArgs,
+}
+
+impl StressArgs {
+    /// What stress reads and writes ([`super::checks::check_paths`]).
+    pub(super) fn io(&self) -> super::checks::Io<'_> {
+        super::checks::Io {
+            marker: Some("stress.json"),
+            dir: self.out.as_deref().map(|o| ("--out", o)),
+            inputs: self.replay.iter().map(PathBuf::as_path).collect(),
+            ..Default::default()
+        }
     }
-    .check_engine(dev)?;
+}
+
+pub(super) fn cmd_stress(a: &StressArgs) -> Result<ExitCode> {
+    let opts = &StressOptions {
+        threshold: a.threshold,
+        refine_rounds: a.refine,
+        progress: true,
+        precision: a.precision.precision,
+    };
+    let (dev, list) = (&a.device, a.methods.as_str());
+    let (out, replay) = (a.out.as_deref(), a.replay.as_deref());
+    a.precision.check_engine(dev)?;
     let ctx = renderer(dev)?.context().clone();
     if let Some(path) = replay {
         let recorded = stress::replay::load(path)?;

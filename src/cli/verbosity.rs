@@ -21,7 +21,7 @@ impl Verbosity {
     /// (its own steps are on its progress bar); every other command shows its progress.
     pub(super) fn init(self, command: &Command) {
         let base = match command {
-            Command::Report { .. } | Command::Demo { .. } => log::LevelFilter::Warn,
+            Command::Report(_) | Command::Demo(_) => log::LevelFilter::Warn,
             _ => log::LevelFilter::Info,
         };
         crate::output::terminal::init(crate::output::terminal::level(

@@ -281,18 +281,24 @@ mod tests {
 
     #[test]
     fn ratios_are_to_phong_exact_and_skip_a_zero_base() {
-        let mut rows = vec![row("gouraud", 16.0), row(PHONG_EXACT, 64.0)];
+        let mut rows = vec![
+            row(crate::method::vertex_lit_reference().name, 16.0),
+            row(PHONG_EXACT, 64.0),
+        ];
         fill_ratios(&mut rows);
         assert_eq!(rows[0].ratio_to_phong_exact["inverse_throughput"], 0.25);
         assert_eq!(rows[1].ratio_to_phong_exact["inverse_throughput"], 1.0);
         // Teeth: a zero base gives no ratio (never inf or NaN).
-        let mut rows = vec![row("gouraud", 16.0), row(PHONG_EXACT, 0.0)];
+        let mut rows = vec![
+            row(crate::method::vertex_lit_reference().name, 16.0),
+            row(PHONG_EXACT, 0.0),
+        ];
         fill_ratios(&mut rows);
         assert!(rows[0].ratio_to_phong_exact.is_empty());
         // Another family's phong_exact is not a base.
         let mut other = row(PHONG_EXACT, 8.0);
         other.family = "polaris10".into();
-        let mut rows = vec![row("gouraud", 16.0), other];
+        let mut rows = vec![row(crate::method::vertex_lit_reference().name, 16.0), other];
         fill_ratios(&mut rows);
         assert!(rows[0].ratio_to_phong_exact.is_empty());
     }

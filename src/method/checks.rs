@@ -639,7 +639,7 @@ mod tests {
     fn a_claim_judged_elsewhere_says_where_by_its_kind() {
         let how = |name, i| judged(name, i).how;
         assert!(how("gouraud", 0).contains("`shadelab bench` times it"));
-        assert!(how("phong_exact", 0).contains("counts the SPIR-V"));
+        assert!(how(crate::method::PHONG_EXACT, 0).contains("counts the SPIR-V"));
         assert!(how("slerp", 0).contains("isolated cost"));
         assert!(how("dichotomy_poly1", 1).contains("`shadelab stress` judges it"));
         assert!(how("dichotomy_poly1", 2).contains("2.5x against dichotomy_exact"));

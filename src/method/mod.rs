@@ -23,7 +23,7 @@ mod worst;
 
 pub use kernel::{Form, InvRoot, Kernel, Scale, SpanKernel};
 pub use precision::Precision;
-pub use table::METHODS;
+pub use table::{METHODS, PHONG_EXACT};
 pub use twins::*;
 pub use user::all;
 
@@ -195,10 +195,6 @@ pub enum Property {
     /// beside phong_exact by bench's sweeps ([`vertex_lit_reference`]).
     VertexLitReference,
 }
-
-/// The identifier of the exact reference, [`Property::ExactReference`]. Use this constant, never
-/// the literal, so the reference is named in one place.
-pub const PHONG_EXACT: &str = "phong_exact";
 
 /// The exact reference's row.
 pub fn phong_exact() -> &'static Method {

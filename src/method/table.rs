@@ -7,6 +7,11 @@ use crate::method::formulas::{self, self as f};
 use crate::method::kernel::formula;
 const N: &[Input] = &[Input::InterpolatedNormal];
 
+/// The identifier of the exact reference, [`Property::ExactReference`]: its row's name. Use this
+/// constant, never the literal, so the reference is named in one place (a constant, not
+/// [`phong_exact`]`().name`, because clap's defaults and the claims' `than` need one).
+pub const PHONG_EXACT: &str = "phong_exact";
+
 /// Every method, in presentation order.
 pub static METHODS: &[Method] = &[
     Method {
@@ -45,7 +50,7 @@ pub static METHODS: &[Method] = &[
         glsl: "methods/gouraud.glsl",
     },
     Method {
-        name: "phong_exact",
+        name: PHONG_EXACT,
         description: "Phong with exact normalization N/|N|: the reference",
         citation: "Phong 1975; docs/formulas.md#exact-phong",
         inputs: N,

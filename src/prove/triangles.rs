@@ -178,7 +178,13 @@ fn random_triangles_stay_within_the_triangle_bounds_and_exceed_the_edge_bounds()
                 worst_colour = worst_colour.max(c);
             }
             // the teeth: methods whose error grows as |N| falls break the edge's bounds
-            if ["newton_raphson", "phong_unnormalized", "lyon_taylor"].contains(&m.name) {
+            if [
+                "newton_raphson",
+                method::phong_unnormalized().name,
+                "lyon_taylor",
+            ]
+            .contains(&m.name)
+            {
                 assert!(
                     worst_length > edge_length * 1.2 && worst_colour > edge_colour,
                     "{} {theta}: {worst_length} vs edge {edge_length}, {worst_colour} vs \

@@ -267,11 +267,12 @@ mod tests {
 
     #[test]
     fn the_table_reads_each_familys_own_ranking_statistic() {
-        let methods: Vec<&'static Method> = ["phong_exact", "phong_unnormalized"]
-            .iter()
-            .map(|n| crate::method::find(n).unwrap())
-            .collect();
-        let costs = [("phong_exact", 332.0), ("phong_unnormalized", 249.0)];
+        let (exact, floor) = (
+            crate::method::phong_exact(),
+            crate::method::phong_unnormalized(),
+        );
+        let methods: Vec<&'static Method> = vec![exact, floor];
+        let costs = [(exact.name, 332.0), (floor.name, 249.0)];
         let intel = table(&report("intel:tgl", "cycle_count", &costs), &methods);
         assert!(intel.contains("<td><b>0.75</b></td>"), "{intel}");
         // A per-pipe model's bound unit is named beside the ratio; a single-pipe one is not.

@@ -291,7 +291,7 @@ mod tests {
     fn paper_formulas_are_the_tables() {
         assert!((paper("romanyuk_poly").k(0.75f64) - 1.154875).abs() < 1e-12);
         assert_eq!(paper("newton_raphson").k(0.5), 1.25);
-        assert_eq!(paper("phong_unnormalized").k(0.3), 1.0);
+        assert_eq!(paper(crate::method::phong_unnormalized().name).k(0.3), 1.0);
         let s = crate::method::formulas::s_mikami_linear(0.8f64);
         assert_eq!(paper("mikami_linear").k(0.8f64), 1.0 / s);
         use crate::method::interval::Interval;
@@ -313,7 +313,7 @@ mod tests {
         assert_eq!(
             names,
             [
-                "phong_unnormalized",
+                crate::method::phong_unnormalized().name,
                 "newton_raphson",
                 "lyon_taylor",
                 "lyon_shift",

@@ -305,7 +305,7 @@ mod tests {
         );
         let exact = row(Candidate::reference(), domain, &[]);
         assert!(exact.bounds[0].within(1.0 / 255.0), "{:?}", exact.bounds[0]);
-        let m = model(&[("m4", 1.1), ("phong_exact", 1.0)]);
+        let m = model(&[("m4", 1.1), (crate::method::PHONG_EXACT, 1.0)]);
         let a = answer(&[exact, m4], &m, 1.0 / 255.0);
         assert!(a.cheapest.is_none(), "{a:?}");
         assert_eq!(a.closest.unwrap().candidate, "m4");
