@@ -13,7 +13,7 @@
 //! it.
 use std::path::{Path, PathBuf};
 
-use shadelab::isa::vendor::{default_family_ids, VENDORS};
+use shadelab::isa::route::{default_family_ids, VENDORS};
 use shadelab::method::METHODS;
 use shadelab::report::formulas::anchors;
 

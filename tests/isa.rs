@@ -39,11 +39,11 @@ fn inverse_throughput(r: &IsaReport, family: &str, method: &str, stage: &str, ki
 #[test]
 fn identical_runs_and_the_phong_order_on_every_family() {
     let methods = ["gouraud", "phong_unnormalized", "phong_exact"];
-    let opts = options(&methods, &isa::vendor::amd::DEFAULT_CHIPS);
+    let opts = options(&methods, &isa::route::amd::DEFAULT_CHIPS);
     let a = isa_run(&opts);
     let b = isa_run(&opts);
     // A bare chip is AMD's; the rows carry the family's one spelling.
-    let families: Vec<String> = isa::vendor::amd::DEFAULT_CHIPS
+    let families: Vec<String> = isa::route::amd::DEFAULT_CHIPS
         .iter()
         .map(|f| format!("amd:{f}"))
         .collect();
@@ -57,7 +57,7 @@ fn identical_runs_and_the_phong_order_on_every_family() {
         assert_eq!(x.statistics, y.statistics, "{} {}", x.family, x.method);
         assert_eq!(x.hash, y.hash, "{} {}", x.family, x.method);
         assert!(x.statistics.values().all(|v| v.is_finite()));
-        for k in isa::vendor::amd::STATISTICS {
+        for k in isa::route::amd::STATISTICS {
             assert!(
                 x.statistics.contains_key(k),
                 "{} {}: no {k}",
@@ -548,7 +548,7 @@ fn vendors_ready(test: &str, families: &[&str]) -> bool {
 /// environment variable `require` is 1 (CI sets it).
 pub(crate) fn families_ready(test: &str, families: &[&str], require: &str) -> bool {
     for f in families {
-        let (vendor, chip) = isa::vendor::resolve(f).unwrap();
+        let (vendor, chip) = isa::route::resolve(f).unwrap();
         if let Err(why) = vendor.setup_for(&chip, None) {
             let msg = format!(
                 "{test}: {f} is not set up ({why}); run {}",
@@ -726,7 +726,7 @@ fn the_schema_requires_each_vendors_statistics() {
     let rules = schema["properties"]["results"]["items"]["allOf"]
         .as_array()
         .unwrap();
-    assert_eq!(rules.len(), isa::vendor::VENDORS.len());
+    assert_eq!(rules.len(), isa::route::VENDORS.len());
 }
 
 /// DIR/isa.json checked against docs/isa.schema.json (every error named), and the validator for

@@ -704,7 +704,7 @@ fn no_distribution_or_architecture_is_spelt() {
             "    println!(\"cargo:rustc-link-search=native=/usr/lib/x86_64-linux-gnu\");\n",
         ),
         (
-            "isa/vendor/mod.rs",
+            "isa/route/mod.rs",
             "let egl = \"/usr/lib64/libEGL.so.1\";\n",
         ),
         ("gpu/icd.rs", "//! Mesa 22.3 names radeon_icd.x86_64.json\n"),

@@ -89,10 +89,10 @@ fn same_figures(a: &IsaReport, b: &IsaReport) -> Result<(), String> {
 /// Every default family whose route is set up; the others each get a `SKIPPED` line (or fail
 /// under SHADELAB_REQUIRE_VENDORS=1 / SHADELAB_REQUIRE_COMPILERS=1).
 fn set_up_families(test: &str) -> Vec<String> {
-    isa::vendor::default_family_ids()
+    isa::route::default_family_ids()
         .into_iter()
         .filter(|f| {
-            let (vendor, chip) = isa::vendor::resolve(f).unwrap();
+            let (vendor, chip) = isa::route::resolve(f).unwrap();
             let require = if vendor.setup_command_for(&chip).contains("make compilers") {
                 "SHADELAB_REQUIRE_COMPILERS"
             } else {
@@ -292,7 +292,7 @@ fn a_changed_compiler_identity_misses() {
     ) {
         return;
     }
-    let (amd, _) = isa::vendor::resolve("amd:navi21").unwrap();
+    let (amd, _) = isa::route::resolve("amd:navi21").unwrap();
     let system = amd.setup(None).unwrap();
     let manifest = PathBuf::from(system.get("ICD").unwrap());
     let dir = tempfile::tempdir().unwrap();

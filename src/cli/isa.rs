@@ -1,6 +1,6 @@
 //! `shadelab isa`: the methods compiled for GPU generations of several vendors without their
 //! GPUs (AMD through RADV's null device, Intel, NVIDIA and AMD TeraScale through Mesa's
-//! drm-shims); see [`crate::isa`] and its vendor seam [`crate::isa::vendor`]. The hidden `--child REQUEST` runs one
+//! drm-shims); see [`crate::isa`] and its vendor seam [`crate::isa::route`]. The hidden `--child REQUEST` runs one
 //! family inside the process the parent started with the driver selected in its environment.
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -85,7 +85,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
         methods.insert(0, exact);
     }
     let families: Vec<String> = if args.families.trim() == "all" {
-        isa::vendor::default_family_ids()
+        isa::route::default_family_ids()
     } else {
         args.families
             .split(',')

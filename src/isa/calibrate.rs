@@ -482,7 +482,7 @@ pub fn run(
     let opts = IsaOptions {
         methods,
         families: if families.is_empty() {
-            super::vendor::default_family_ids()
+            super::route::default_family_ids()
         } else {
             families
         },

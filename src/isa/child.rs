@@ -15,7 +15,7 @@ use crate::gpu::vk::{
     Executable, ShaderModule,
 };
 use crate::gpu::{Renderer, Shading};
-use crate::isa::vendor::{Api, Vendor};
+use crate::isa::route::{Api, Vendor};
 use crate::method::{self, Method};
 
 /// Keeps only the disassembly among the representations (ACO's "Assembly"; NIR and ACO IR are
@@ -32,10 +32,10 @@ fn keep_disassembly(mut exes: Vec<Executable>) -> Vec<Executable> {
 }
 
 /// Compiles everything `req` asks for on the device the environment selects (the parent sets
-/// it: [`super::vendor::Vendor::child_env`]), through the vendor's API; a device that is not
+/// it: [`super::route::Vendor::child_env`]), through the vendor's API; a device that is not
 /// the family asked for (a software fallback) is refused, an error.
 pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
-    let (vendor, chip) = super::vendor::resolve(&req.family).map_err(Error::Usage)?;
+    let (vendor, chip) = super::route::resolve(&req.family).map_err(Error::Usage)?;
     match vendor.api() {
         Api::Vulkan { device } => compile_vulkan(req, vendor, &chip, device),
         Api::OpenGl | Api::OpenGlEs => super::gl_child::compile(req, vendor, &chip),

@@ -18,7 +18,7 @@ pub struct Compiled {
 
 /// The statistic that ranks programs on `family` (its key in a row's `statistics`, its stage
 /// and kind) and what it is, as the family's vendor declares it.
-pub fn ranking(r: &IsaReport, family: &str) -> Option<(super::vendor::Ranking, Measure)> {
+pub fn ranking(r: &IsaReport, family: &str) -> Option<(super::route::Ranking, Measure)> {
     let k = r.family(family)?.ranking()?;
     let measure = Measure {
         statistic: k.meaning.clone(),
@@ -123,7 +123,7 @@ impl CostSource for StaticCost {
     /// Every vendor's default families, float32 then float16 programs (a family whose driver
     /// does not compile float16 is left out when that is known without a child).
     fn on_demand_ids(&self) -> Vec<CostModelId> {
-        let families = super::families(&super::vendor::default_family_ids()).unwrap_or_default();
+        let families = super::families(&super::route::default_family_ids()).unwrap_or_default();
         Precision::ALL
             .iter()
             .flat_map(|&p| {
@@ -182,7 +182,7 @@ impl CostSource for StaticCost {
 /// `isa:FAMILY:f16` id, FAMILY a family id or a bare AMD chip ([`CostModelId::gpu_family`]);
 /// `None` for anything else.
 fn family_of(id: &CostModelId) -> Option<(String, Precision)> {
-    let (vendor, chip) = super::vendor::resolve(&id.gpu_family()?).ok()?;
+    let (vendor, chip) = super::route::resolve(&id.gpu_family()?).ok()?;
     Some((format!("{}:{chip}", vendor.prefix()), id.precision()))
 }
 
@@ -208,7 +208,7 @@ mod tests {
         }
         let ids = StaticCost.on_demand_ids();
         assert!(
-            ids.len() > crate::isa::vendor::amd::DEFAULT_CHIPS.len(),
+            ids.len() > crate::isa::route::amd::DEFAULT_CHIPS.len(),
             "{ids:?}"
         );
         assert!(ids.iter().all(|i| family_of(i).is_some()), "{ids:?}");

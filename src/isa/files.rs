@@ -51,7 +51,7 @@ fn columns(r: &IsaReport) -> Vec<&'static str> {
         .filter_map(|f| Some(f.resolve()?.0.prefix()))
         .collect();
     let mut out: Vec<&'static str> = Vec::new();
-    for v in super::vendor::VENDORS {
+    for v in super::route::VENDORS {
         if present.contains(&v.prefix()) {
             for k in v.required_statistics() {
                 if !out.contains(k) {
@@ -150,7 +150,7 @@ mod tests {
 
     #[test]
     fn the_csv_columns_are_the_statistics_of_the_reports_vendors() {
-        let amd = super::super::vendor::amd::STATISTICS;
+        let amd = super::super::route::amd::STATISTICS;
         let r = report(&["amd:navi21"], &[("inverse_throughput", 40.0)]);
         assert_eq!(columns(&r), amd);
         let h = header(&r);

@@ -11,8 +11,8 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use super::request::{ChildReport, ChildRequest, Compiled};
+use super::route::{Api, Vendor};
 use super::throughput;
-use super::vendor::{Api, Vendor};
 use crate::error::{Error, Result};
 use crate::gpu::gl::{glsl, GlApi, GlContext, GlInfo, GlStage};
 use crate::gpu::shaders;

@@ -1,5 +1,5 @@
 //! Who compiles a family, as data that changes whenever the compiler could: the route's
-//! driver and API ([`super::vendor::Compiler`]), the environment the route gives its child
+//! driver and API ([`super::route::Compiler`]), the environment the route gives its child
 //! (driver selection, preloaded shim, chip variable), and a build id of every file that
 //! environment loads: size and modification time of the shims, the Vulkan ICD manifests and
 //! the driver libraries they name, an OpenGL route's `<dri>_dri.so`, EGL and spirv-cross.
@@ -60,7 +60,7 @@ pub struct CompilerIdentity {
 impl CompilerIdentity {
     /// The identity of the compiler `driver` (through `api`) run with the child environment
     /// `env`, which loads `files` (the route's
-    /// [`Vendor::compiler_files`](super::vendor::Vendor::compiler_files)).
+    /// [`Vendor::compiler_files`](super::route::Vendor::compiler_files)).
     pub fn new(
         driver: &str,
         api: &str,
@@ -91,7 +91,7 @@ impl CompilerIdentity {
 /// Vulkan ICD manifest names, and for an OpenGL route (`MESA_LOADER_DRIVER_OVERRIDE`) the
 /// `<dri>_dri.so` it forces, EGL and, for an OpenGL route (`opengl`: our SPIR-V translated to
 /// GLSL), spirv-cross. The default of
-/// [`Vendor::compiler_files`](super::vendor::Vendor::compiler_files).
+/// [`Vendor::compiler_files`](super::route::Vendor::compiler_files).
 pub fn files_of_env(env: &[(String, String)], opengl: bool) -> Vec<FileStamp> {
     let mut out = Vec::new();
     for (_, value) in env {

@@ -30,12 +30,12 @@ pub mod per_method;
 pub mod rank;
 pub mod report;
 pub mod request;
+pub mod route;
 pub mod schema;
 pub mod stderr;
 pub mod store;
 pub mod table;
 pub mod throughput;
-pub mod vendor;
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -45,8 +45,8 @@ use crate::error::{Error, Result};
 use crate::method::Method;
 pub use report::{FamilyStatus, IsaReport};
 pub use request::{ChildReport, ChildRequest, Compiled};
+pub use route::{Family, Vendor};
 pub use table::Row;
-pub use vendor::{Family, Vendor};
 
 /// The isolated kernel's two evaluation counts: the cost of one evaluation is the difference.
 /// Both >= 2 so that both programs sum their results the same way (`REPEAT == 1` stores the
@@ -94,7 +94,7 @@ impl IsaOptions {
         }
         IsaOptions {
             methods: ms,
-            families: vendor::default_family_ids(),
+            families: route::default_family_ids(),
             driver_files: None,
             scene: None,
             exe,
@@ -371,8 +371,8 @@ fn complete(
 pub fn families(ids: &[String]) -> Result<Vec<Family>> {
     ids.iter()
         .map(|id| {
-            let (vendor, chip) = vendor::resolve(id).map_err(Error::Usage)?;
-            vendor::check_chip(vendor, &chip).map_err(Error::Usage)?;
+            let (vendor, chip) = route::resolve(id).map_err(Error::Usage)?;
+            route::check_chip(vendor, &chip).map_err(Error::Usage)?;
             // Chips live as long as the run: a family is a small, fixed set of names, leaked
             // once per process (the CLI and tests make a handful).
             let chip: &'static str = Box::leak(chip.into_boxed_str());

@@ -8,8 +8,8 @@ use serde::{Deserialize, Serialize};
 
 use super::op_count::{op_count, OpCountVerdict};
 use super::rank::Correlation;
+use super::route::{self, Compiler, Family, Ranking};
 use super::table::{family_rows, fill_ratios, find_row, mesa_version, Row, StatName, MODEL_NOTE};
-use super::vendor::{self, Compiler, Family, Ranking};
 use super::{ChildOutcome, IsaOptions, Precision, KERNEL_COUNTS};
 use crate::error::Result;
 
@@ -213,13 +213,13 @@ pub fn report(
 
 impl FamilyStatus {
     /// The family's vendor and chip, from `id` (or `family` in an older isa.json).
-    pub fn resolve(&self) -> Option<(&'static dyn vendor::Vendor, String)> {
+    pub fn resolve(&self) -> Option<(&'static dyn route::Vendor, String)> {
         let id = if self.id.is_empty() {
             &self.family
         } else {
             &self.id
         };
-        vendor::resolve(id).ok()
+        route::resolve(id).ok()
     }
 
     /// The statistic that ranks this family's programs.

@@ -1,8 +1,8 @@
 //! The per-vendor rules of docs/isa.schema.json, generated from the registered routes: each
 //! route's [`Vendor::required_statistics`] is what its rows must carry. A new route is its
-//! file and its line in [`super::vendor::VENDORS`]; its schema rule follows from them (a test
+//! file and its line in [`super::route::VENDORS`]; its schema rule follows from them (a test
 //! compares the file with [`vendor_rules`], and `SHADELAB_BLESS=1` writes it).
-use super::vendor::{Vendor, VENDORS};
+use super::route::{Vendor, VENDORS};
 
 /// The line that opens the rules in docs/isa.schema.json, and the one that closes them.
 pub const OPEN: &str = "        \"allOf\": [\n";

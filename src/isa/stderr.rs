@@ -1,5 +1,5 @@
 //! The compiler statistics a Vulkan driver prints on stderr, caught in an `isa` child
-//! ([`super::vendor::Vendor::statistics_on_stderr`]: asahi's Honeykrisp, whose pipeline
+//! ([`super::route::Vendor::statistics_on_stderr`]: asahi's Honeykrisp, whose pipeline
 //! statistics are a code size and a register count while `AGX_MESA_DEBUG=shaderdb` prints the
 //! compiler's cycle model, one "SHADER-DB: <label> - <stage> shader: ..." line per program).
 //! [`capture`] points file descriptor 2 at a temporary file while one compile runs, then puts
@@ -10,7 +10,7 @@ use std::os::fd::AsRawFd;
 
 use crate::error::{Error, Result};
 use crate::gpu::vk::{Executable, StatValue, Statistic};
-use crate::isa::vendor::Vendor;
+use crate::isa::route::Vendor;
 
 /// The process's standard output.
 const STDOUT: i32 = 1;
@@ -116,7 +116,7 @@ pub fn merge(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::isa::vendor::apple::Apple;
+    use crate::isa::route::apple::Apple;
 
     fn exe(stage: &str) -> Executable {
         Executable {

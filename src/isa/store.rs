@@ -64,7 +64,7 @@ pub fn default_dir() -> Option<PathBuf> {
     if let Some(d) = std::env::var_os(ENV_DIR).filter(|v| !v.is_empty()) {
         return Some(PathBuf::from(d));
     }
-    Some(super::vendor::cache_dir()?.parent()?.join("store"))
+    Some(super::route::cache_dir()?.parent()?.join("store"))
 }
 
 /// The store this process uses, `None` when it is off ([`enabled`]) or there is no cache

@@ -4,7 +4,7 @@
 //! Where the compiler has a cycle model of its own (ACO's inverse throughput, brw's cycle
 //! estimate, panfrost's per-pipe cycles on Bifrost and Valhall, agx's F/SCIB and IC units,
 //! vc4's estimated cycles, v3d's instructions and stalls, ir3's instructions with its scheduling
-//! NOPs and sync stalls) the model is that figure; a vendor's [`super::vendor::Vendor::model`]
+//! NOPs and sync stalls) the model is that figure; a vendor's [`super::route::Vendor::model`]
 //! reads it out of a row's statistics. Where the compiler only counts (nouveau), the model is a
 //! weighted issue count: every instruction one issue slot at the FMA rate, each
 //! special-function operation ([`SFU_OPS`]) at the architecture's FMA:SFU throughput ratio of

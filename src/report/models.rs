@@ -5,14 +5,14 @@ use crate::cost::{CostKind, CostModel, CostModelId, IdKind};
 use crate::method::Precision;
 
 /// A cost model's vendor (or source) as a key and as a person names it: a GPU family's vendor
-/// by the name its route gives ([`crate::isa::vendor::Vendor::name`]: `isa:intel:tgl` is
+/// by the name its route gives ([`crate::isa::route::Vendor::name`]: `isa:intel:tgl` is
 /// Intel's), a bare chip's a GPU's, lavapipe's timings lavapipe's, any other model its own.
 pub fn vendor_of(id: &CostModelId) -> (String, String) {
     match id.kind() {
         IdKind::Isa {
             vendor: Some(v), ..
         } => {
-            let shown = crate::isa::vendor::VENDORS
+            let shown = crate::isa::route::VENDORS
                 .iter()
                 .find(|x| x.prefix() == v)
                 .map_or(v.as_str(), |x| x.name());

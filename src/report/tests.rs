@@ -531,7 +531,7 @@ fn cost_models_name_their_vendor_as_a_person_does() {
         assert_eq!(vendor_of(id), (key.to_string(), shown.to_string()), "{id}");
     }
     // every vendor of isa is named by its own name, none by its id
-    for v in crate::isa::vendor::VENDORS {
+    for v in crate::isa::route::VENDORS {
         let id = format!("isa:{}:{}", v.prefix(), v.default_chips()[0]);
         assert_eq!(vendor_of(&id).1, v.name(), "{id}");
     }
