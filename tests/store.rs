@@ -19,16 +19,18 @@ const METHODS: [&str; 2] = ["gouraud", "phong_exact"];
 /// The entries one family's run leaves: the whole request's and one per method.
 const ENTRIES_PER_FAMILY: usize = 1 + METHODS.len();
 
-/// The path of the entry of the whole request (all of [`METHODS`]) in `s`.
+/// Whether `e` is the entry of the whole request (all of [`METHODS`]), not a method's.
+fn is_whole(e: &store::Entry) -> bool {
+    e.material.request["methods"].as_array().map(Vec::len) == Some(METHODS.len())
+}
+
+/// The path of the entry of the whole request in `s`.
 fn whole_entry(s: &Store) -> PathBuf {
     s.entries()
         .unwrap()
         .into_iter()
         .map(|e| e.path)
-        .find(|p| {
-            let e = store::decode(&std::fs::read(p).unwrap()).unwrap();
-            e.material.request["methods"].as_array().map(Vec::len) == Some(METHODS.len())
-        })
+        .find(|p| is_whole(&store::decode(&std::fs::read(p).unwrap()).unwrap()))
         .expect("the whole request's entry")
 }
 
@@ -141,7 +143,7 @@ fn figures_from_the_store_equal_fresh_ones_on_every_family() {
         .into_iter()
         .find(|e| {
             // The whole request's entry: the one the run reads first.
-            e.material.request["methods"].as_array().map(Vec::len) == Some(METHODS.len())
+            is_whole(e)
                 && e.reply()
                     .is_some_and(|r| r.compiled.iter().any(|c| !c.executables.is_empty()))
         })

@@ -153,7 +153,7 @@ fn run_child_with(
         precision: opts.precision,
         draws_only,
     };
-    let method_files = crate::method::user::paths_of(&opts.methods);
+    let method_files = files_of(opts, &req.methods);
     // Per method entries as well as the whole request's (requests with probes: the whole's
     // only): the methods already stored are read, a child compiles the others.
     let per_method = req.probes.is_empty() && req.methods.len() > 1;

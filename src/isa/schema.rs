@@ -37,19 +37,21 @@ pub fn vendor_rules() -> String {
     vendor_rules_of(&VENDORS)
 }
 
-/// `schema` (the file's text) with its rules replaced by `rules`; `None` when the file has no
-/// rules block.
-pub fn with_rules(schema: &str, rules: &str) -> Option<String> {
+/// Where the rules of `schema` (the file's text) lie: between [`OPEN`] and [`CLOSE`].
+fn span(schema: &str) -> Option<std::ops::Range<usize>> {
     let start = schema.find(OPEN)? + OPEN.len();
-    let end = start + schema[start..].find(CLOSE)?;
-    Some(format!("{}{rules}{}", &schema[..start], &schema[end..]))
+    Some(start..start + schema[start..].find(CLOSE)?)
+}
+
+/// `schema` with its rules replaced by `rules`; `None` when the file has no rules block.
+pub fn with_rules(schema: &str, rules: &str) -> Option<String> {
+    let r = span(schema)?;
+    Some(format!("{}{rules}{}", &schema[..r.start], &schema[r.end..]))
 }
 
 /// The rules block of `schema`, as text.
 pub fn rules_in(schema: &str) -> Option<&str> {
-    let start = schema.find(OPEN)? + OPEN.len();
-    let end = start + schema[start..].find(CLOSE)?;
-    Some(&schema[start..end])
+    Some(&schema[span(schema)?])
 }
 
 #[cfg(test)]
