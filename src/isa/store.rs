@@ -15,8 +15,9 @@
 //! every read: a corrupt, truncated or foreign entry is reported, removed and compiled again,
 //! never used. Only replies are stored (a child's own refusal too: float16 on a chip without it);
 //! everything derived from them (rows, ratios, rankings) is computed after the store, as for a
-//! fresh reply. A child that died or gave no reply is not stored: it is asked again. The store is bounded ([`DEFAULT_MAX_BYTES`]): after each
-//! write the least recently used entries (modification time, refreshed on every hit) go first.
+//! fresh reply. A child that died or gave no reply is not stored: it is asked again. The store is bounded ([`DEFAULT_MAX_BYTES`]): when a
+//! write takes it over, the least recently used entries (modification time, refreshed on every
+//! hit) go first, down to nine tenths of the bound.
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::SystemTime;
@@ -322,14 +323,42 @@ impl Store {
     }
 
     /// Stores `stored` under `m` (atomically: written whole, then renamed), then keeps the
-    /// store under [`DEFAULT_MAX_BYTES`].
+    /// store under [`DEFAULT_MAX_BYTES`] ([`Store::keep_bounded`]).
     pub fn put(&self, m: &KeyMaterial, stored: Stored) -> Result<()> {
         let bytes = encode(&Entry {
             material: m.clone(),
             stored,
         })?;
         crate::output::write_bytes_atomic(&self.path_of(&m.key()), &bytes)?;
-        self.prune_to(DEFAULT_MAX_BYTES)?;
+        self.keep_bounded(bytes.len() as u64, DEFAULT_MAX_BYTES)
+    }
+
+    /// After a write of `written` bytes: the store's size as this process counts it (the folder
+    /// listed once, then what this process wrote added), and when that passes `max_bytes`, the
+    /// least recently used entries removed down to nine tenths of it (and the count made
+    /// again). Listing the folder after every write made a report's thousands of writes
+    /// quadratic in the store's entries.
+    fn keep_bounded(&self, written: u64, max_bytes: u64) -> Result<()> {
+        static COUNTED: std::sync::Mutex<Vec<(PathBuf, u64)>> = std::sync::Mutex::new(Vec::new());
+        let mut counted = COUNTED.lock().unwrap_or_else(|e| e.into_inner());
+        let total = match counted.iter_mut().find(|(dir, _)| *dir == self.dir) {
+            Some((_, bytes)) => {
+                *bytes += written;
+                *bytes
+            }
+            None => {
+                let bytes = self.entries()?.iter().map(|e| e.size).sum();
+                counted.push((self.dir.clone(), bytes));
+                bytes
+            }
+        };
+        if total > max_bytes {
+            self.prune_to(max_bytes / 10 * 9)?;
+            let bytes = self.entries()?.iter().map(|e| e.size).sum();
+            if let Some((_, b)) = counted.iter_mut().find(|(dir, _)| *dir == self.dir) {
+                *b = bytes;
+            }
+        }
         Ok(())
     }
 
@@ -521,6 +550,39 @@ mod tests {
         assert!(s.get(&a).is_none() && s.get(&b).is_some());
         assert_eq!(s.prune_to(0).unwrap().0, 1);
         assert!(s.entries().unwrap().is_empty());
+    }
+
+    /// The bound is kept from a count made once per process: writes below it list nothing,
+    /// a write past it removes the least recently used entries down to nine tenths of it.
+    #[test]
+    fn writes_past_the_bound_remove_the_oldest_down_to_nine_tenths() {
+        let dir = tempfile::tempdir().unwrap();
+        let s = Store::at(dir.path());
+        let now = SystemTime::now();
+        for i in 0..5u64 {
+            let path = s.path_of(&format!("k{i}"));
+            std::fs::write(&path, [b'x'; 100]).unwrap();
+            let f = std::fs::OpenOptions::new()
+                .append(true)
+                .open(&path)
+                .unwrap();
+            f.set_modified(now - std::time::Duration::from_secs(100 - i))
+                .unwrap();
+        }
+        let names = |s: &Store| -> Vec<String> {
+            let mut v: Vec<String> = (s.entries().unwrap().iter())
+                .map(|e| e.path.file_name().unwrap().to_string_lossy().into_owned())
+                .collect();
+            v.sort();
+            v
+        };
+        // 500 bytes under a bound of 500: nothing goes
+        s.keep_bounded(0, 500).unwrap();
+        assert_eq!(names(&s).len(), 5);
+        // one more entry of 100 bytes written (600 > 500): down to 450, the two oldest go
+        std::fs::write(s.path_of("k5"), [b'x'; 100]).unwrap();
+        s.keep_bounded(100, 500).unwrap();
+        assert_eq!(names(&s), ["k2.entry", "k3.entry", "k4.entry", "k5.entry"]);
     }
 
     #[test]
