@@ -681,6 +681,31 @@ fn report_models_adds_every_obj_of_a_folder() {
     let answer = read_json(out.join("answer.json"));
     // The most triangles first: the icosphere before the 12-triangle cube.
     assert_eq!(answer["scenes"], serde_json::json!(["ball", "box"]));
+    for id in ["ball", "box"] {
+        // bench's error metrics are the scene's compare statistics (taken, not drawn again),
+        // without the compare's image files
+        let bench = read_json(out.join(format!("scenes/{id}/bench/bench.json")));
+        let summary = read_json(out.join(format!("scenes/{id}/compare/summary.json")));
+        for row in bench["methods"].as_array().unwrap() {
+            let mut compared = (summary["methods"].as_array().unwrap().iter())
+                .find(|r| r["name"] == row["name"])
+                .unwrap_or_else(|| panic!("{id}: no compare row for {}", row["name"]))
+                .clone();
+            assert!(
+                !compared["files"].as_array().unwrap().is_empty(),
+                "{compared}"
+            );
+            compared["files"] = serde_json::json!([]);
+            assert_eq!(row["error"], compared, "{id}");
+        }
+        // the clock is checked once, with the first scene, and said so in the later ones
+        let reason = bench["clock"]["reason"].as_str().unwrap();
+        assert_eq!(
+            reason.starts_with("checked once for this report, with scene ball: "),
+            id == "box",
+            "{id}: {reason}"
+        );
+    }
     let empty = dir.path().join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let (code, _, stderr) = run(&[

@@ -84,3 +84,25 @@ pub fn check_clock(renderer: &Renderer, scene: &Scene) -> Result<ClockCheck> {
         }
     })
 }
+
+/// The clock check `known` (made before on this device: the report's, with its first scene),
+/// else one made now; `job` names who says so on stderr.
+pub fn known_or_checked(
+    renderer: &Renderer,
+    scene: &Scene,
+    known: Option<&ClockCheck>,
+    job: &str,
+) -> Result<ClockCheck> {
+    if let Some(known) = known {
+        log::info!(
+            "{job}: clock = {} (checked before: {})",
+            known.clock,
+            known.reason
+        );
+        return Ok(known.clone());
+    }
+    log::info!("{job}: checking the clock at sizes {SIZES:?}");
+    let clock = check_clock(renderer, scene)?;
+    log::info!("{job}: clock = {} ({})", clock.clock, clock.reason);
+    Ok(clock)
+}

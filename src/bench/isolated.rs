@@ -257,7 +257,10 @@ fn compile(
                     .zip(&out)
                     .map(|(c, o)| {
                         // A user method has no twin: its difference from exact Phong.
-                        let twin = m.twin().unwrap_or(crate::method::phong_exact());
+                        let twin = match m.twin() {
+                            Some(twin) => twin,
+                            None => crate::method::phong_exact(),
+                        };
                         let f = twin.eval_f64(&c.fragment, &c.lighting);
                         (0..3)
                             .map(|i| (f64::from(o.color[i]) - f.color[i]).abs())
@@ -318,7 +321,14 @@ pub fn measure(
         Some(seed) => Order::seeded(list.len(), seed, control.map(|c| (e, c))),
         None => Order::fixed(list.len()),
     };
+    let started = std::time::Instant::now();
     let (timed, k1_diff) = compile(ctx, &list, &order, &cases, &gpu, opts.precision, progress)?;
+    log::debug!(
+        "isolated cost: {} kernels compiled and checked in {:.2} s",
+        list.len() * REPEATS.len(),
+        started.elapsed().as_secs_f64()
+    );
+    let started = std::time::Instant::now();
     // times[method][k] over rounds, seconds
     let mut times = vec![vec![Vec::new(); REPEATS.len()]; list.len()];
     for round in 0..opts.warmup + opts.rounds {
@@ -336,6 +346,12 @@ pub fn measure(
             }
         }
     }
+    log::debug!(
+        "isolated cost: {} warm-up and {} timed rounds in {:.2} s",
+        opts.warmup,
+        opts.rounds,
+        started.elapsed().as_secs_f64()
+    );
     let ks: Vec<f64> = REPEATS.iter().map(|&k| f64::from(k)).collect();
     let n = opts.invocations as f64;
     let slopes: Vec<Vec<f64>> = times

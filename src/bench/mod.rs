@@ -28,6 +28,7 @@ pub mod speed_claims;
 pub mod sweep;
 #[cfg(test)]
 mod tests;
+mod untimed;
 
 pub use clock::*;
 pub use programs::floor_name;
@@ -35,6 +36,7 @@ use programs::{programs, Program, What};
 pub use report::*;
 pub use rounds::{RoundsReport, RoundsSchedule, Stop};
 pub use runs::Runs;
+use untimed::untimed;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -42,7 +44,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::analysis::stats::{median_ci, pareto_front_paired, Estimate, RatioEstimate};
-use crate::compare::{self, CompareOptions};
+use crate::compare;
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{self, OpCounts};
 use crate::gpu::{DrawList, Prepared, Renderer, TimedDraws};
@@ -111,6 +113,15 @@ pub struct BenchOptions {
     /// The cost models of the speed claims' columns (the CLI and the report give
     /// [`crate::costs::builtin`]; none by default).
     pub costs: crate::cost::Registry,
+    /// The scene's compare statistics when the caller has them (the report compared the scene
+    /// just before): the error metrics are taken from them instead of drawing every method
+    /// again. Used only when they are of this scene's size and precision and hold a row for
+    /// every program ([`untimed::compared_covers`]); else compared here.
+    pub compared: Option<compare::Summary>,
+    /// A clock check made before on this device (the report checks once, with its first
+    /// scene's bench, and every later bench and skips of the report uses it); `None`: checked
+    /// here.
+    pub clock: Option<ClockCheck>,
 }
 
 impl Default for BenchOptions {
@@ -133,6 +144,8 @@ impl Default for BenchOptions {
             static_cost: speed_claims::StaticCostSource::Skip,
             software_column: false,
             costs: crate::cost::Registry::new(),
+            compared: None,
+            clock: None,
         }
     }
 }
@@ -211,12 +224,7 @@ fn setup(
             reason: "chosen by the parent run's clock check".into(),
             points: Vec::new(),
         },
-        _ => {
-            log::info!("bench: checking the clock at sizes {SIZES:?}");
-            let clock = check_clock(renderer, scene)?;
-            log::info!("bench: clock = {} ({})", clock.clock, clock.reason);
-            clock
-        }
+        _ => known_or_checked(renderer, scene, opts.clock.as_ref(), "bench")?,
     };
 
     let prepared = renderer.prepare(scene, &all)?;
@@ -484,31 +492,6 @@ fn preflight(
     let heap = Some(renderer.context().heap_bytes()).filter(|&h| h > 0);
     let need = crate::memory::compare(methods);
     crate::memory::check(&need, scene.width, scene.height, heap)
-}
-
-/// What the timing leaves out: every program's fragment invocations (untimed, one
-/// submission each) and compare's error metrics.
-fn untimed(
-    renderer: &Renderer,
-    scene: &Scene,
-    all: &[&'static Method],
-    out: &Path,
-    opts: &BenchOptions,
-    programs: &[Program],
-) -> Result<(Vec<Option<u64>>, compare::Summary)> {
-    log::info!("bench: fragment invocations (untimed, one submission per program)");
-    let invocations = programs
-        .iter()
-        .map(|p| renderer.fragment_invocations_list(&p.list()))
-        .collect::<Result<Vec<_>>>()?;
-    log::info!("bench: error metrics (compare, without images)");
-    let copts = CompareOptions {
-        images: false,
-        auto: opts.auto.clone(),
-        ..CompareOptions::default()
-    };
-    let summary = compare::compare(renderer, scene, all, out, &copts)?;
-    Ok((invocations, summary))
 }
 
 /// The isolated cost of every method row, measured in this process.

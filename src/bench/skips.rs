@@ -12,7 +12,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::rounds::{round_values, Rounds};
-use super::{check_clock, estimate, ClockCheck, Speed};
+use super::{estimate, ClockCheck, Speed};
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
 use crate::error::{Error, Result};
 use crate::gpu::{
@@ -175,6 +175,8 @@ pub struct SkipOptions {
     pub warmup: usize,
     pub auto: crate::auto::AutoSpec,
     pub command_line: Vec<String>,
+    /// A clock check made before on this device (the report's); `None`: checked here.
+    pub clock: Option<ClockCheck>,
 }
 
 /// The triangle order nearest first by the depth (z/w) of each triangle's centroid in clip
@@ -211,9 +213,7 @@ pub fn skips(
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let exact = method::phong_exact();
-    log::info!("skips: checking the clock");
-    let clock = check_clock(renderer, scene)?;
-    log::info!("skips: clock = {} ({})", clock.clock, clock.reason);
+    let clock = super::known_or_checked(renderer, scene, opts.clock.as_ref(), "skips")?;
 
     let mut no_cull = scene.clone();
     no_cull.cull = Cull::None;

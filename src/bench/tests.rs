@@ -697,3 +697,64 @@ fn the_mikami_bound_says_the_len2_range_it_saw() {
     let mk = c.iter().find(|c| c.claim.contains("1.5 %")).unwrap();
     assert!(!mk.measured.contains("never reaches"), "{}", mk.measured);
 }
+
+/// The report hands bench the scene's compare: bench takes its error metrics from it only when
+/// it is that scene's, at its size and precision, with every judged row; otherwise it compares
+/// again.
+#[test]
+fn a_compare_is_reused_only_for_its_own_scene_size_precision_and_rows() {
+    use crate::method::Precision;
+    let ctx = crate::gpu::vk::Context::new(&crate::gpu::vk::ContextDesc::default())
+        .expect("lavapipe context");
+    let renderer = crate::gpu::Renderer::new(ctx);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/icosphere.toml");
+    let mut scene = crate::scene::load_scene(&path).unwrap();
+    (scene.width, scene.height) = (24, 24);
+    let methods = [
+        crate::method::phong_exact(),
+        crate::method::phong_unnormalized(),
+    ];
+    let opts = crate::compare::CompareOptions {
+        images: false,
+        ..crate::compare::CompareOptions::default()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let summary = crate::compare::compare(&renderer, &scene, &methods, dir.path(), &opts).unwrap();
+    let judged: Vec<&str> = methods.iter().map(|m| m.name).collect();
+    assert!(super::untimed::compared_covers(
+        &summary,
+        Precision::F32,
+        &scene,
+        &judged
+    ));
+    // teeth: another size, precision, scene or a row it lacks
+    let mut larger = scene.clone();
+    larger.width = 32;
+    assert!(!super::untimed::compared_covers(
+        &summary,
+        Precision::F32,
+        &larger,
+        &judged
+    ));
+    assert!(!super::untimed::compared_covers(
+        &summary,
+        Precision::F16,
+        &scene,
+        &judged
+    ));
+    let mut other = scene.clone();
+    other.name = "another scene".into();
+    assert!(!super::untimed::compared_covers(
+        &summary,
+        Precision::F32,
+        &other,
+        &judged
+    ));
+    let more = [judged[0], judged[1], "gouraud"];
+    assert!(!super::untimed::compared_covers(
+        &summary,
+        Precision::F32,
+        &scene,
+        &more
+    ));
+}

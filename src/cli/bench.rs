@@ -215,6 +215,8 @@ pub(super) fn cmd_bench(b: BenchCmd) -> Result<ExitCode> {
         static_cost,
         software_column: !b.no_software,
         costs: crate::costs::builtin(),
+        compared: None,
+        clock: None,
     };
     let (dev, out) = (&b.device, b.out.as_path());
     b.precision.check_engine(dev)?;

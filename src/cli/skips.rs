@@ -49,6 +49,7 @@ pub(super) fn cmd_skips(k: SkipsCmd) -> Result<ExitCode> {
         warmup: k.warmup,
         auto: auto_spec(&r, &k.error_budget)?,
         command_line: std::env::args().collect(),
+        clock: None,
     };
     let report = crate::bench::skips::skips(&r, &scene, &k.out, &opts)?;
     print!("{}", report.markdown());

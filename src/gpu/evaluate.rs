@@ -129,7 +129,9 @@ impl Kernel {
         } else {
             None
         };
-        let mut k = Kernel {
+        // The pipeline is created at the first batch's size (a pipeline per size: created here
+        // at one work group's size, the first batch would compile a second one).
+        Ok(Kernel {
             ctx: ctx.clone(),
             repeat,
             pipeline: None,
@@ -138,9 +140,7 @@ impl Kernel {
             results: Buffer::new(ctx, storage(0))?,
             lut,
             capacity: 0,
-        };
-        k.reserve(GROUP)?;
-        Ok(k)
+        })
     }
 
     /// Makes room for `n` cases: new buffers, descriptor set and pipeline when it grows (the
@@ -199,7 +199,10 @@ impl Kernel {
 impl Kernel {
     /// What the driver compiled this kernel's compute pipeline into (a context made by
     /// [`Context::for_executables`]; `shadelab isa`).
-    pub fn executables(&self) -> Result<Vec<crate::gpu::vk::Executable>> {
+    pub fn executables(&mut self) -> Result<Vec<crate::gpu::vk::Executable>> {
+        if self.pipeline.is_none() {
+            self.reserve(GROUP)?;
+        }
         let (pipeline, _) = self
             .pipeline
             .as_ref()

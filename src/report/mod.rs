@@ -119,6 +119,20 @@ pub struct SceneResult {
     pub software_dir: String,
 }
 
+impl SceneResult {
+    /// This (first) scene's clock check as the later scenes' bench and skips take it, saying
+    /// where it was made.
+    fn clock_for_later_scenes(&self) -> crate::bench::ClockCheck {
+        crate::bench::ClockCheck {
+            reason: format!(
+                "checked once for this report, with scene {}: {}",
+                self.id, self.bench.clock.reason
+            ),
+            ..self.bench.clock.clone()
+        }
+    }
+}
+
 /// What the page says about the run itself.
 #[derive(Debug, Clone)]
 pub struct RunInfo {
@@ -293,6 +307,9 @@ struct SceneRun<'a> {
     /// [`crate::bench::schedule::Schedule::later_scene`]).
     schedule: crate::bench::schedule::Schedule,
     auto: &'a crate::auto::AutoSpec,
+    /// The clock check of the report's first scene (its bench's): a property of the device and
+    /// driver, checked once and used by every later bench and skips.
+    clock: Option<crate::bench::ClockCheck>,
     bar: &'a indicatif::ProgressBar,
     opts: &'a ReportOptions,
 }
@@ -352,6 +369,8 @@ impl SceneRun<'_> {
             command_line: std::env::args().collect(),
             runs: self.bench_runs(s),
             costs: self.opts.costs.clone(),
+            compared: Some(summary.clone()),
+            clock: self.clock.clone(),
             ..BenchOptions::default()
         };
         // What the jobs log goes above the bar (output::terminal); the bar is not suspended
@@ -367,6 +386,7 @@ impl SceneRun<'_> {
             warmup,
             auto: self.auto.clone(),
             command_line: std::env::args().collect(),
+            clock: Some(bench.clock.clone()),
         };
         let skips = crate::bench::skips::skips(
             self.renderer,
@@ -491,42 +511,7 @@ pub fn run(
         )));
     }
     let bar = progress(opts, scenes.len());
-    let mut scenes = scenes.to_vec();
-    front::order_scenes(&mut scenes);
-    // `auto`'s candidates for the skips rows, by isolated cost: measured once for all scenes.
-    let auto = crate::auto::AutoSpec::new(
-        crate::auto::ErrorBudget::DEFAULT,
-        &crate::plan::auto_order(renderer.context())?,
-    );
-    // The float16 programs' errors (compare, statistics only) for the float16 cost models.
-    let half = Renderer::new(renderer.context().clone())
-        .with_precision(crate::method::Precision::F16)
-        .ok();
-    let mut results: Vec<SceneResult> = Vec::new();
-    for s in &scenes {
-        let taken: Vec<String> = results.iter().map(|r| r.id.clone()).collect();
-        let stem = s
-            .source
-            .file_stem()
-            .map(|x| x.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let id = scene_id(&stem, &taken);
-        let run = SceneRun {
-            renderer,
-            half: half.as_ref(),
-            methods: &methods,
-            out,
-            schedule: if results.is_empty() {
-                schedule.clone()
-            } else {
-                schedule.later_scene()
-            },
-            auto: &auto,
-            bar: &bar,
-            opts,
-        };
-        results.push(run.scene(s, id)?);
-    }
+    let results = measure_scenes(renderer, scenes, &methods, out, opts, &bar)?;
     step(&bar, opts.progress, "stress".to_string());
     let sopts = StressOptions {
         refine_rounds: schedule.stress_refine,
@@ -587,4 +572,55 @@ pub fn run(
         seconds: start.elapsed().as_secs_f64(),
         answer: data.answer,
     })
+}
+
+/// Every scene's compare (float32 and float16), bench, skips and software engine, in the
+/// page's order (only the first scene measures the isolated cost and checks the clock).
+fn measure_scenes(
+    renderer: &Renderer,
+    scenes: &[ReportScene],
+    methods: &[&'static Method],
+    out: &Path,
+    opts: &ReportOptions,
+    bar: &indicatif::ProgressBar,
+) -> Result<Vec<SceneResult>> {
+    let schedule = &opts.schedule;
+    let mut scenes = scenes.to_vec();
+    front::order_scenes(&mut scenes);
+    // `auto`'s candidates for the skips rows, by isolated cost: measured once for all scenes.
+    let auto = crate::auto::AutoSpec::new(
+        crate::auto::ErrorBudget::DEFAULT,
+        &crate::plan::auto_order(renderer.context())?,
+    );
+    // The float16 programs' errors (compare, statistics only) for the float16 cost models.
+    let half = Renderer::new(renderer.context().clone())
+        .with_precision(crate::method::Precision::F16)
+        .ok();
+    let mut results: Vec<SceneResult> = Vec::new();
+    for s in &scenes {
+        let taken: Vec<String> = results.iter().map(|r| r.id.clone()).collect();
+        let stem = s
+            .source
+            .file_stem()
+            .map(|x| x.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let id = scene_id(&stem, &taken);
+        let run = SceneRun {
+            renderer,
+            half: half.as_ref(),
+            methods,
+            out,
+            schedule: if results.is_empty() {
+                schedule.clone()
+            } else {
+                schedule.later_scene()
+            },
+            auto: &auto,
+            clock: results.first().map(SceneResult::clock_for_later_scenes),
+            bar,
+            opts,
+        };
+        results.push(run.scene(s, id)?);
+    }
+    Ok(results)
 }

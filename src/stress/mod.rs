@@ -157,7 +157,11 @@ fn finite_or_none(x: f64) -> Option<f64> {
 /// (`--method-file`) exact Phong, whose figures are then reported as absent
 /// ([`MethodStress::own_formula`] `no twin`): the device is judged against exact Phong either way.
 fn f64_formula(m: &Method) -> &Method {
-    m.twin().unwrap_or(crate::method::phong_exact())
+    // phong_exact is found by name: only when there is no twin.
+    match m.twin() {
+        Some(twin) => twin,
+        None => crate::method::phong_exact(),
+    }
 }
 
 /// What the "own formula" column says of a method without an f64 twin.
@@ -285,32 +289,37 @@ fn evaluate(
         Some(k) => Some(k.run(gpu)?.iter().map(Output::from_device).collect()),
         None => None,
     };
+    // Found once: a twin is found by name.
+    let formula = f64_formula(m);
+    let twin = par_map(cases.len(), |i| {
+        let c = &cases[i];
+        let r = formula.eval_f64(&c.fragment, &c.lighting);
+        Output {
+            color: r.color.to_array(),
+            normal: r.normal.map(|n| n.to_array()),
+        }
+    })?;
+    Ok((dev, twin))
+}
+
+/// `f` of every index below `n`, in order, computed on every core (the f64 formulas and the
+/// errors of stress's hundreds of thousands of cases).
+fn par_map<U: Send>(n: usize, f: impl Fn(usize) -> U + Sync) -> Result<Vec<U>> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = cases.len().div_ceil(threads).max(1);
-    let twin = std::thread::scope(|s| {
-        let handles: Vec<_> = cases
-            .chunks(chunk)
-            .map(|part| {
-                s.spawn(move || {
-                    part.iter()
-                        .map(|c| {
-                            let r = f64_formula(m).eval_f64(&c.fragment, &c.lighting);
-                            Output {
-                                color: r.color.to_array(),
-                                normal: r.normal.map(|n| n.to_array()),
-                            }
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
+    let chunk = n.div_ceil(threads).max(1);
+    let f = &f;
+    let parts = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..n)
+            .step_by(chunk)
+            .map(|from| s.spawn(move || (from..(from + chunk).min(n)).map(f).collect::<Vec<U>>()))
             .collect();
         handles
             .into_iter()
             .map(|h| h.join())
             .collect::<std::result::Result<Vec<_>, _>>()
     })
-    .map_err(|_| Error::Internal("an f64 worker panicked during stress".into()))?;
-    Ok((dev, twin.into_iter().flatten().collect()))
+    .map_err(|_| Error::Internal("a stress worker panicked".into()))?;
+    Ok(parts.into_iter().flatten().collect())
 }
 
 /// In a float16 run, the largest valid angle of the float32 program on the same grid (the
@@ -410,19 +419,13 @@ pub fn stress_method(
     let (dev, twin) = evaluate(kernel.as_mut(), m, &grid.cases, &grid.gpu)?;
     let valid_f32 = valid_angle_f32(ctx, m, grid, opts)?;
     let applies: Vec<bool> = grid.kinds.iter().map(|&k| sweeps::applies(m, k)).collect();
-    let dev_err: Option<Vec<Errors>> = dev.as_ref().map(|d| {
-        grid.cases
-            .iter()
-            .zip(d)
-            .map(|(c, o)| errors(c, o.color(), o.normal()))
-            .collect()
-    });
-    let f64_err: Vec<Errors> = grid
-        .cases
-        .iter()
-        .zip(&twin)
-        .map(|(c, o)| errors(c, o.color(), o.normal()))
-        .collect();
+    let errors_of = |out: &[Output]| {
+        par_map(grid.cases.len(), |i| {
+            errors(&grid.cases[i], out[i].color(), out[i].normal())
+        })
+    };
+    let dev_err: Option<Vec<Errors>> = dev.as_deref().map(errors_of).transpose()?;
+    let f64_err: Vec<Errors> = errors_of(&twin)?;
     // The measure of a case: the device's error, or the twin's without a device program.
     let primary = dev_err.as_ref().unwrap_or(&f64_err);
 
