@@ -5,21 +5,27 @@
 #   2. `shadelab tune --mesh M` twice on the same mesh (default scenes/torus.obj), the second
 #      into another folder;
 #   3. `shadelab report --scenes scenes --out R` twice (the second with the store the first
-#      filled; `make demo`'s report), unless --no-report.
+#      filled; `make demo`'s report), unless --no-report, each followed by where its time went
+#      (the seconds of each step of its progress lines, summed over the scenes).
+# Mesa's own shader cache (lavapipe's compiled shaders) is a folder of the run too, empty at the
+# start (MESA_SHADER_CACHE_DIR), so a first run is cold in both caches.
 # Per step: wall seconds (the command alone) and the load average before it (the machine is
 # shared: state the load with the figure). Exits 1 when a warm run compiled any family
 # (isa.json's `source` is not from_store everywhere).
 # A route rebuilt between two runs (`make compilers` re-installing its files) is another
 # compiler identity: its families are compiled again, and the script says which.
-# Usage: scripts/store_bench.sh [--no-isa] [--no-report] [MESH]   (builds the release binary first)
+# Usage: scripts/store_bench.sh [--no-isa] [--no-tune] [--no-report] [MESH]
+#   (builds the release binary first)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 report=1
 isa=1
+tune=1
 while [[ "${1:-}" == --no-* ]]; do
   case "$1" in
     --no-report) report=0 ;;
     --no-isa) isa=0 ;;
+    --no-tune) tune=0 ;;
     *) echo "unknown option $1"; exit 2 ;;
   esac
   shift
@@ -30,6 +36,7 @@ bin=target/release/shadelab
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export SHADELAB_STORE="$tmp/store"
+export MESA_SHADER_CACHE_DIR="$tmp/mesa"
 unset SHADELAB_NO_CACHE
 echo "$(nproc) cores; $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); store $SHADELAB_STORE"
 
@@ -63,11 +70,29 @@ for p in f32 f16; do
   timed "isa-$p-warm" $bin isa --precision $p --out "$tmp/isa-$p-warm"
   all_from_store "$tmp/isa-$p-warm" || { echo "isa $p warm compiled a family"; exit 1; }
 done
-timed tune-first $bin tune --mesh "$mesh" --error-budget 1/255 --out "$tmp/tune1"
-timed tune-second $bin tune --mesh "$mesh" --error-budget 1/255 --out "$tmp/tune2"
+if [[ $tune == 1 ]]; then
+  timed tune-first $bin tune --mesh "$mesh" --error-budget 1/255 --out "$tmp/tune1"
+  timed tune-second $bin tune --mesh "$mesh" --error-budget 1/255 --out "$tmp/tune2"
+fi
+
+# steps NAME: the seconds of each step of report NAME's progress lines (`report: [N s] scene:
+# step`), summed over its scenes, from its log.
+steps() {
+  python3 - "$tmp/$1.log" <<'PY'
+import re, sys
+marks = [(int(m[1]), m[2]) for m in re.finditer(r"^report: \[(\d+) s\] (?:[^:\n]+: )?(.+)$",
+                                              open(sys.argv[1]).read(), re.M)]
+total = {}
+for (t, step), (t_next, _) in zip(marks, marks[1:]):
+    total[step] = total.get(step, 0) + t_next - t
+print("  " + ", ".join(f"{step} {s} s" for step, s in sorted(total.items(), key=lambda x: -x[1])))
+PY
+}
 if [[ $report == 1 ]]; then
-  timed report-first $bin report --scenes scenes --out "$tmp/report1"
-  timed report-second $bin report --scenes scenes --out "$tmp/report2"
+  timed report-first $bin report --scenes scenes --out "$tmp/report1" -v
+  steps report-first
+  timed report-second $bin report --scenes scenes --out "$tmp/report2" -v
+  steps report-second
   all_from_store "$tmp/report2/isa" || { echo "the second report compiled a family"; exit 1; }
 fi
 echo "store: $($bin cache | tail -1)"
