@@ -15,7 +15,7 @@
 //! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), [`gpu::gl`] (the only user of EGL and OpenGL), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
 //! | data | [`scene`], [`frame`] | scene file, camera, the f64 -> f32 inputs of a draw; read-back images |
 //! | definitions | [`method`], [`geometry`] | the method table, f64 formulas and twins; meshes |
-//! | base | [`output`], [`error`], [`child`], [`cleanup`], [`memory`] | atomic files, PNG/NPY, figures, provenance; the error type; the protocol of shadelab's child processes (one typed request, one typed reply); what a run leaves behind (temporary files and children removed on exit, on SIGINT/SIGTERM, and by the next run after a SIGKILL); the memory a job needs at an image size, checked before allocating |
+//! | base | [`output`], [`error`], [`child`], [`cleanup`], [`memory`], [`parallel`] | atomic files, PNG/NPY, figures, provenance; the error type; the protocol of shadelab's child processes (one typed request, one typed reply); what a run leaves behind (temporary files and children removed on exit, on SIGINT/SIGTERM, and by the next run after a SIGKILL); the memory a job needs at an image size, checked before allocating; work split over every core |
 //!
 //! # Data flow
 //! scene file -> [`scene::Scene`] -> [`scene::SceneInputs`] (f64, rounded to f32 once) ->
@@ -63,6 +63,7 @@ pub mod isa;
 pub mod memory;
 pub mod method;
 pub mod output;
+pub mod parallel;
 pub mod plan;
 pub mod prove;
 pub mod report;

@@ -21,7 +21,7 @@ const LAYERS: &[&[&str]] = &[
     &["scene", "frame"],
     &["method", "geometry"],
     &[
-        "output", "error", "child", "cleanup", "memory", "testutil", "lib",
+        "output", "error", "child", "cleanup", "memory", "parallel", "testutil", "lib",
     ],
 ];
 

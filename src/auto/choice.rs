@@ -115,8 +115,6 @@ pub fn choose(
     let lighting = inputs.lighting();
     let weights = sample_weights();
     let tris = inputs.triangle_count();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = tris.div_ceil(threads).max(1);
     let licence = licences(order);
     let pick = |t: usize| -> usize {
         let s = samples(inputs, &lighting, &weights, t);
@@ -126,23 +124,8 @@ pub fn choose(
             .position(|(m, l)| licensed(*l, inputs, t) && passes(m, &lighting, &s, budget))
             .unwrap_or(order.len() - 1)
     };
-    std::thread::scope(|s| {
-        let handles: Vec<_> = (0..tris)
-            .step_by(chunk)
-            .map(|start| {
-                let pick = &pick;
-                s.spawn(move || {
-                    (start..(start + chunk).min(tris))
-                        .map(pick)
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_default())
-            .collect()
-    })
+    // A worker that panicked (a bug) gives no choice at all.
+    crate::parallel::map_indices(tris, pick).unwrap_or_default()
 }
 
 /// Where a choice came from: computed now, or found in the cache of this process or on disk.

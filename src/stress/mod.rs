@@ -289,7 +289,7 @@ fn evaluate(
         Some(k) => Some(k.run(gpu)?.iter().map(Output::from_device).collect()),
         None => None,
     };
-    // Found once: a twin is found by name.
+    // Once per method, not per case (phong_exact is found by name).
     let formula = f64_formula(m);
     let twin = par_map(cases.len(), |i| {
         let c = &cases[i];
@@ -302,24 +302,11 @@ fn evaluate(
     Ok((dev, twin))
 }
 
-/// `f` of every index below `n`, in order, computed on every core (the f64 formulas and the
-/// errors of stress's hundreds of thousands of cases).
+/// `f` of every index below `n`, in order, on every core (the f64 formulas and the errors of
+/// stress's hundreds of thousands of cases).
 fn par_map<U: Send>(n: usize, f: impl Fn(usize) -> U + Sync) -> Result<Vec<U>> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = n.div_ceil(threads).max(1);
-    let f = &f;
-    let parts = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..n)
-            .step_by(chunk)
-            .map(|from| s.spawn(move || (from..(from + chunk).min(n)).map(f).collect::<Vec<U>>()))
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join())
-            .collect::<std::result::Result<Vec<_>, _>>()
-    })
-    .map_err(|_| Error::Internal("a stress worker panicked".into()))?;
-    Ok(parts.into_iter().flatten().collect())
+    crate::parallel::map_indices(n, f)
+        .map_err(|_| Error::Internal("a stress worker panicked".into()))
 }
 
 /// In a float16 run, the largest valid angle of the float32 program on the same grid (the
