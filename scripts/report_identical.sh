@@ -12,13 +12,26 @@
 # What a clock measured, and what is decided from it (bench's ratios and speed words, speed
 # claims' verdicts, the answer's cells under lavapipe's and the software engine's cost models,
 # the charts of timings), differs from one run to the next of the same binary. Such a
-# difference is left out only where the runs of OLD differ in the same row too: the same list
-# element of a JSON file (a method's row, a claim, a cell), the same row of a text file (a
-# table row, list item, paragraph, line), a binary file that differs between them. Everything
-# the OLD runs agree on must be identical in NEW: compare's statistics and images, stress,
-# plan, the budget checks, every row without a timing. More runs of OLD sharpen what counts
-# as timing: any folder WORK_DIR/old-again* is read as one. Prints "identical" and exits 0, or
-# prints every difference and exits 1 (2 on a usage error or a run that failed).
+# difference is left out where it is, by rule, decided from a clock:
+# - a row that names a clock-measured cost model (one whose `kind` in OLD's answer.json is
+#   "interval": lavapipe's frame time and isolated cost, the software engine): its answer
+#   cells, its figures, the per-scene answers that list it; in a text file, a table row naming
+#   its id or title;
+# - the answer's counts over every cell (answer.json's `summary.common` and
+#   `summary.differing`), which count the clock-measured cells too;
+# - a chart (SVG) whose runs of OLD differ: a chart of timings, every label placed by them;
+# - prose (a heading, paragraph or list item, not a table row) of a section (HTML <section>,
+#   Markdown `# ` heading) with table rows the runs of OLD differ in: its words count them;
+# - where a choice came from (skips.json's `auto.source`: computed now, or read from the cache
+#   that the run before wrote);
+# and where the runs of OLD differ in the same row too: the same list element of a JSON file
+# (a method's row, a claim), the same row of a text file (a table row, list item, paragraph,
+# line), a binary file that differs between them. Everything else must be identical in NEW:
+# compare's statistics and images, stress, plan, the budget checks, every static cost and its
+# answer cells, every row without a timing. More runs of OLD sharpen what counts as timing:
+# any folder WORK_DIR/old-again* is read as one. Prints "identical" and exits 0, or prints
+# every difference and exits 1 (2 on a usage error or a run that failed). SHOW_MASKED=1 also
+# prints each text difference left out, and the rule that left it out.
 #
 # Usage: scripts/report_identical.sh OLD_BINARY NEW_BINARY [WORK_DIR]
 #        scripts/report_identical.sh --diff-only WORK_DIR  (compare the outputs of an earlier run)
@@ -27,7 +40,7 @@
 # Example: scripts/report_identical.sh /tmp/shadelab-firstrun target/release/shadelab
 set -eu
 if [ $# -lt 2 ]; then
-    sed -n '2,28p' "$0" >&2
+    sed -n '2,40p' "$0" >&2
     exit 2
 fi
 cd "$(dirname "$0")/.."
@@ -84,6 +97,19 @@ for d in [OLD, NEW] + AGAINS:
         sys.exit(2)
 TEXT = (".html", ".md", ".csv", ".svg", ".css", ".js", ".txt")
 
+# The clock-measured cost models (kind "interval" in OLD's answer): their ids and titles.
+try:
+    _models = json.load(open(os.path.join(OLD, "answer.json")))["cost_models"]
+except (OSError, KeyError, ValueError) as e:
+    print(f"{OLD}/answer.json: no cost models to tell the clock-measured ones by ({e})")
+    sys.exit(2)
+MEASURED = {m["name"] for m in _models if m.get("kind") == "interval"}
+MEASURED_WORDS = sorted(MEASURED | {m["title"] for m in _models if m["name"] in MEASURED})
+# answer.json's counts over every cell, the clock-measured ones too
+AGGREGATES = [("summary", "common"), ("summary", "differing")]
+# where a result came from, not what it is (a cache the run before wrote)
+PROVENANCE = [("auto", "source")]
+
 
 def files(root):
     out = set()
@@ -103,12 +129,25 @@ def timing_key(k):
     )
 
 
-def strip(x):
+def strip(x, path=()):
     if isinstance(x, dict):
-        return {k: strip(v) for k, v in x.items() if not timing_key(k)}
+        return {
+            k: strip(v, path + (k,))
+            for k, v in x.items()
+            if not timing_key(k) and path + (k,) not in PROVENANCE
+        }
     if isinstance(x, list):
-        return [strip(v) for v in x]
+        return [strip(v, path + (i,)) for i, v in enumerate(x)]
     return x
+
+
+def names_measured(x):
+    """Whether a JSON value names a clock-measured cost model anywhere in it."""
+    if isinstance(x, dict):
+        return any(names_measured(v) for v in x.values())
+    if isinstance(x, list):
+        return any(names_measured(v) for v in x)
+    return isinstance(x, str) and x in MEASURED
 
 
 def json_diff(a, b, path, out):
@@ -137,6 +176,16 @@ def row_of(path):
     if ints:
         return path[: ints[-1] + 1]
     return path[:-1] if len(path) > 1 else path
+
+
+def at_value(x, path):
+    """The value at `path` of `x`, or None."""
+    for p in path:
+        try:
+            x = x[p]
+        except (KeyError, IndexError, TypeError):
+            return None
+    return x
 
 
 def shown(path):
@@ -203,9 +252,11 @@ def indices(blocks):
 ROW = re.compile(r"<(tr|li|p|h[1-6]|figure|details|summary|section|table|ul|ol)[\s>]")
 
 
-def rows(segs):
+def rows(segs, markup=True):
     """Each segment's row: the index of the segment opening it ([`ROW`]; a line of a text
-    file without tags is its own row)."""
+    file without tags, and every line of a Markdown or CSV file, is its own row)."""
+    if not markup:
+        return list(range(len(segs)))
     out, row = [], 0
     for i, t in enumerate(segs):
         if ROW.match(t) or not t.startswith("<"):
@@ -214,9 +265,41 @@ def rows(segs):
     return out
 
 
-def widen(noisy, segs):
+SECTION = re.compile(r"<section[\s>]|# ")
+PROSE = re.compile(r"<(li|p|h[1-6]|figcaption|summary)[\s>]")
+
+
+def sections(segs):
+    """Each segment's section: the index of the segment opening it (an HTML <section>, a
+    Markdown heading of the first level); 0 before the first."""
+    out, sec = [], 0
+    for i, t in enumerate(segs):
+        if SECTION.match(t):
+            sec = i
+        out.append(sec)
+    return out
+
+
+def prose(segs, markup):
+    """The segments of prose: in a page, those of a row opened by a heading, paragraph or list
+    item (not a table row); in Markdown, every line that is not a table row."""
+    if not markup:
+        return {i for i, t in enumerate(segs) if not t.lstrip().startswith("|")}
+    r = rows(segs, markup)
+    return {i for i in range(len(segs)) if PROSE.match(segs[r[i]])}
+
+
+def names_measured_text(segs, idx, words):
+    """Whether the table rows (not prose: `words`) of segments `idx` name a clock-measured cost
+    model (id or title)."""
+    return any(
+        w in segs[i] for i in idx if i < len(segs) and i not in words for w in MEASURED_WORDS
+    )
+
+
+def widen(noisy, segs, markup):
     """`noisy` segments widened to their whole rows."""
-    r = rows(segs)
+    r = rows(segs, markup)
     hit = {r[i] for i in noisy if i < len(segs)}
     return {i for i in range(len(segs)) if r[i] in hit} | noisy
 
@@ -240,7 +323,13 @@ for rel in sorted(fo & fn):
         diffs = []
         json_diff(o, n, (), diffs)
         for d in diffs:
-            if any(q[: len(d)] == d or d[: len(q)] == q for q in noisy):
+            row = row_of(d)
+            if (
+                any(q[: len(d)] == d or d[: len(q)] == q for q in noisy)
+                or names_measured(at_value(o, row))
+                or names_measured(at_value(n, row))
+                or (rel == "answer.json" and any(d[: len(a)] == a for a in AGGREGATES))
+            ):
                 masked += 1
             else:
                 problems.append(f"{rel}: {shown(d)}: OLD {at(o, d)}, NEW {at(n, d)}")
@@ -260,14 +349,35 @@ for rel in sorted(fo & fn):
     noisy = set()
     for pa in pas:
         noisy |= indices(changed(to, segments(open(pa, "rb").read(), markup)))
-    noisy = widen(noisy, to)
+    noisy = widen(noisy, to, markup)
     timed = {to[i] for i in noisy}
+    sec = sections(to)
+    words, words_new = prose(to, markup), prose(tn, markup)
+    # sections with rows of a table (not prose) that the runs of OLD differ in
+    noisy_sections = {sec[i] for i in noisy if i < len(to) and i not in words}
+    r_old, r_new = rows(to, markup), rows(tn, markup)
+    members_old, members_new = {}, {}
+    for m, r in ((members_old, r_old), (members_new, r_new)):
+        for j, k in enumerate(r):
+            m.setdefault(k, []).append(j)
     for i1, i2, j1, j2 in changed(to, tn):
+        touched = indices([(i1, i2, j1, j2)])
+        rows_old = {j for i in touched if i < len(to) for j in members_old[r_old[i]]}
+        rows_new = {j for i in range(j1, j2) for j in members_new[r_new[i]]}
         # OLD's segments all timing-dependent; or a run of NEW's segments that OLD has among
         # its timing-dependent rows, moved by the diff's alignment across one of them
         moved = i2 == i1 and all(t in timed for t in tn[j1:j2])
-        if indices([(i1, i2, j1, j2)]) <= noisy or moved:
+        chart = rel.endswith(".svg") and noisy
+        aggregate = all(i in words and sec[i] in noisy_sections for i in touched if i < len(to))
+        measured = names_measured_text(to, rows_old, words) or names_measured_text(
+            tn, rows_new, words_new
+        )
+        if touched <= noisy or moved or chart or aggregate or measured:
             masked += 1
+            if os.environ.get("SHOW_MASKED"):
+                why = [w for w, c in (("noisy", touched <= noisy), ("moved", moved), ("chart", chart),
+                       ("aggregate", aggregate), ("measured", measured)) if c]
+                print(f"masked {rel}: segment {i1} ({','.join(why)}): {' '.join(to[i1:i2])[:120]!r}")
             continue
         problems.append(
             f"{rel}: segment {i1}: OLD {' '.join(to[i1:i2])[:160]!r}, NEW {' '.join(tn[j1:j2])[:160]!r}"
@@ -276,6 +386,6 @@ if problems:
     print("\n".join(problems))
     print(f"{len(problems)} differences in {len(fo | fn)} files ({masked} left out as run times)")
     sys.exit(1)
-print(f"identical: {len(fo & fn)} files ({masked} differences left out as run times: the two "
-      "runs of OLD differ there too)")
+print(f"identical: {len(fo & fn)} files ({masked} differences left out as run times: decided "
+      "from a clock by rule, or where the runs of OLD differ too)")
 EOF
