@@ -36,9 +36,16 @@ fn keep_disassembly(mut exes: Vec<Executable>) -> Vec<Executable> {
 /// the family asked for (a software fallback) is refused, an error.
 pub fn compile(req: &ChildRequest) -> Result<ChildReport> {
     let (vendor, chip) = super::route::resolve(&req.family).map_err(Error::Usage)?;
+    compile_on(vendor, &chip, req)
+}
+
+/// [`compile`] on `vendor`'s `chip`: through the Mesa driver its [`Api`] names, or its own
+/// compiler ([`Api::Own`]).
+fn compile_on(vendor: &dyn Vendor, chip: &str, req: &ChildRequest) -> Result<ChildReport> {
     match vendor.api() {
-        Api::Vulkan { device } => compile_vulkan(req, vendor, &chip, device),
-        Api::OpenGl | Api::OpenGlEs => super::gl_child::compile(req, vendor, &chip),
+        Api::Vulkan { device } => compile_vulkan(req, vendor, chip, device),
+        Api::OpenGl | Api::OpenGlEs => super::gl_child::compile(req, vendor, chip),
+        Api::Own => vendor.compile_own(req, chip),
     }
 }
 
@@ -154,4 +161,164 @@ fn probe(ctx: &std::sync::Arc<Context>, path: &Path) -> Result<Compiled> {
         repeat: None,
         executables: pipeline.executables()?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::vk::{StatValue, Statistic};
+    use crate::isa::route::{Compiler, Ranking, Setup};
+    use crate::method::Precision;
+    use crate::scene::Interpolation;
+
+    /// A route outside Mesa: Khronos' SPIR-V as the "compiler", its instruction count the
+    /// statistic. Nothing of it is in [`crate::isa::route`]'s code: the seam is all it needs.
+    struct SpirvWords;
+
+    fn instructions(words: &[u8]) -> u64 {
+        let word = |i: usize| u32::from_le_bytes(words[4 * i..4 * i + 4].try_into().unwrap());
+        let (mut i, mut n) = (5, 0);
+        while 4 * i < words.len() {
+            i += (word(i) >> 16).max(1) as usize;
+            n += 1;
+        }
+        n
+    }
+
+    impl Vendor for SpirvWords {
+        fn prefix(&self) -> &'static str {
+            "spirv"
+        }
+        fn name(&self) -> &'static str {
+            "SPIR-V"
+        }
+        fn default_chips(&self) -> &'static [&'static str] {
+            &["words"]
+        }
+        fn known_chips(&self) -> Vec<&'static str> {
+            vec!["words"]
+        }
+        fn api(&self) -> Api {
+            Api::Own
+        }
+        fn compiler(&self) -> Compiler {
+            Compiler {
+                driver: "none (the SPIR-V itself)".into(),
+                api: "own".into(),
+                mesa_version: None,
+                production: false,
+                note: "a test route".into(),
+            }
+        }
+        fn ranking(&self) -> Ranking {
+            Ranking {
+                key: "instructions".into(),
+                stage: "fragment".into(),
+                kind: "draw".into(),
+                unit: "instructions".into(),
+                meaning: "SPIR-V instructions".into(),
+            }
+        }
+        fn required_statistics(&self) -> &'static [&'static str] {
+            &["instructions"]
+        }
+        fn float16(&self, _chip: &str) -> Option<bool> {
+            Some(false)
+        }
+        fn setup(&self, _: Option<&Path>) -> std::result::Result<Setup, String> {
+            Ok(Setup::default())
+        }
+        fn setup_command(&self) -> &'static str {
+            "nothing"
+        }
+        fn child_env(
+            &self,
+            _: &str,
+            _: &Setup,
+            _: Option<&Path>,
+        ) -> std::result::Result<Vec<(String, String)>, String> {
+            Ok(Vec::new())
+        }
+        fn check_device(&self, _: &str, _: &str) -> std::result::Result<(), String> {
+            Ok(())
+        }
+        fn compile_own(&self, req: &ChildRequest, chip: &str) -> Result<ChildReport> {
+            let mut compiled = Vec::new();
+            for name in &req.methods {
+                let m = method::find(name)?;
+                let program = crate::gpu::shaders::program_name_in(
+                    m.name,
+                    Interpolation::ScreenLinear,
+                    req.precision,
+                );
+                let spirv = crate::gpu::shaders::embedded(&program, "frag")?;
+                compiled.push(Compiled {
+                    method: m.name.to_string(),
+                    program,
+                    kind: "draw".into(),
+                    repeat: None,
+                    executables: vec![Executable {
+                        name: "fragment".into(),
+                        description: String::new(),
+                        stage: "fragment".into(),
+                        subgroup_size: 1,
+                        statistics: vec![Statistic {
+                            name: "instructions".into(),
+                            description: "SPIR-V instructions".into(),
+                            value: StatValue::Uint(instructions(spirv)),
+                        }],
+                        representations: Vec::new(),
+                    }],
+                });
+            }
+            Ok(ChildReport {
+                family: format!("spirv:{chip}"),
+                device_name: chip.into(),
+                driver_name: "none".into(),
+                driver_info: String::new(),
+                api_version: String::new(),
+                compiled,
+                elapsed_ms: 0.0,
+                float16: Some(false),
+                skipped: Vec::new(),
+            })
+        }
+    }
+
+    fn request(methods: &[&str]) -> ChildRequest {
+        ChildRequest {
+            family: "spirv:words".into(),
+            methods: methods.iter().map(|m| m.to_string()).collect(),
+            scene: None,
+            kernel_counts: [1, 2],
+            probes: Vec::new(),
+            precision: Precision::F32,
+            draws_only: true,
+        }
+    }
+
+    fn count(r: &ChildReport, method: &str) -> f64 {
+        let c = r.compiled.iter().find(|c| c.method == method).unwrap();
+        c.executables[0].statistics[0].value.as_f64()
+    }
+
+    #[test]
+    fn a_route_outside_mesa_compiles_through_its_own_compiler() {
+        let names = [crate::method::PHONG_EXACT, "newton_raphson"];
+        let r = compile_on(&SpirvWords, "words", &request(&names)).unwrap();
+        assert_eq!(r.compiled.len(), 2);
+        // the figures are the programs' own: newton_raphson's program is longer
+        assert!(count(&r, "newton_raphson") > count(&r, crate::method::PHONG_EXACT));
+        assert!(count(&r, crate::method::PHONG_EXACT) > 10.0);
+    }
+
+    /// A Mesa route has no compiler of its own: asking it is an error, not an empty reply.
+    #[test]
+    fn a_mesa_route_has_no_compiler_of_its_own() {
+        let amd = &crate::isa::route::amd::Amd;
+        let e = amd
+            .compile_own(&request(&["gouraud"]), "navi21")
+            .unwrap_err();
+        assert!(e.to_string().contains("no compiler of its own"), "{e}");
+    }
 }

@@ -3,7 +3,8 @@
 //! [`apple`];
 //! the routes built by `make compilers` share [`mesa_build`]) and registered in [`VENDORS`]. A
 //! vendor says which families it compiles, how a child compiles them (Vulkan pipeline
-//! executable statistics, or OpenGL's shader-db statistics through KHR_debug: [`Api`]), the
+//! executable statistics, OpenGL's shader-db statistics through KHR_debug, or a compiler of
+//! the route's own outside Mesa: [`Api`]), the
 //! child's environment (driver selection, the preloaded drm-shim, the chip variable), which
 //! statistic ranks its programs and what it means ([`Ranking`]), who compiled them
 //! ([`Compiler`]), how to tell that the route is set up and the command that sets it up.
@@ -30,6 +31,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::gpu::vk::Executable;
+use crate::isa::request::{ChildReport, ChildRequest};
 use crate::isa::throughput;
 
 /// Every vendor `shadelab isa` knows, in the order of its reports.
@@ -56,6 +58,11 @@ pub enum Api {
     /// As [`Api::OpenGl`] in the newest OpenGL ES context the driver offers (GLSL ES; float16
     /// as `mediump` where the driver computes mediump in 16 bits).
     OpenGlEs,
+    /// The route's own compiler, outside Mesa's drivers (an offline compiler it runs on each
+    /// program's SPIR-V, a library it loads): the child calls [`Vendor::compile_own`]. Such a
+    /// route is its file and one line in [`VENDORS`], like any other; it names the files of
+    /// its compiler in [`Vendor::compiler_files`] (the compile store's key).
+    Own,
 }
 
 /// The statistic that ranks a family's programs: the key in a row's `statistics`, read from
@@ -185,6 +192,16 @@ pub trait Vendor: Sync {
     /// with the driver's own names, or `None` for a message that holds none.
     fn parse_debug_message(&self, _message: &str) -> Option<(String, Vec<(String, f64)>)> {
         None
+    }
+    /// Compiles everything `req` asks for on `chip` with the route's own compiler, in the child
+    /// process that [`Vendor::child_env`] set up: the routes whose [`Api`] is [`Api::Own`].
+    /// The others compile through their Mesa driver and leave it: an error.
+    fn compile_own(&self, _req: &ChildRequest, _chip: &str) -> crate::error::Result<ChildReport> {
+        Err(crate::error::Error::Usage(format!(
+            "{}: this route compiles through a Mesa driver ({:?}), it has no compiler of its own",
+            self.name(),
+            self.api()
+        )))
     }
     /// Whether a Vulkan driver prints the compiler's own statistics on stderr (a line per
     /// program, read by [`Vendor::parse_debug_message`]) beyond the few its pipeline
