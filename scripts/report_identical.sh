@@ -15,8 +15,12 @@
 # difference is left out where it is, by rule, decided from a clock:
 # - a row that names a clock-measured cost model (one whose `kind` in OLD's answer.json is
 #   "interval": lavapipe's frame time and isolated cost, the software engine): its answer
-#   cells, its figures, the per-scene answers that list it; in a text file, a table row naming
-#   its id or title;
+#   cells, its figures, the per-scene answers that list it, whatever lies in an object that
+#   has it as a value (skips' grouping by lavapipe's isolated cost); in a text file, a table
+#   row naming its id or title;
+# - a clock check (any `clock` object: which clock tracks the draw is itself measured);
+# - a list whose elements are the same in another order, in an object that names a
+#   clock-measured cost model (auto's candidates, ordered by lavapipe's isolated cost);
 # - the answer's counts over every cell (answer.json's `summary.common` and
 #   `summary.differing`), which count the clock-measured cells too;
 # - a chart (SVG) whose runs of OLD differ: a chart of timings, every label placed by them;
@@ -139,6 +143,36 @@ def strip(x, path=()):
     if isinstance(x, list):
         return [strip(v, path + (i,)) for i, v in enumerate(x)]
     return x
+
+
+def under_measured(x, path):
+    """Whether an object on `path` (the file's root down to the value) names a clock-measured
+    cost model as one of its own values (skips' grouping by lavapipe's isolated cost), or the
+    path runs through a clock check (`clock`: which clock tracks the draw is measured)."""
+    for k, p in enumerate(path):
+        if p == "clock":
+            return True
+        v = at_value(x, path[:k])
+        if isinstance(v, dict) and any(isinstance(w, str) and w in MEASURED for w in v.values()):
+            return True
+    return False
+
+
+def reordered_by_measure(o, n, path):
+    """Whether the difference at `path` is only a new order of the list holding it (the same
+    elements), in an object that names a clock-measured cost model somewhere inside it (auto's
+    candidates, cheapest first by lavapipe's isolated cost)."""
+    ints = [i for i, p in enumerate(path) if isinstance(p, int)]
+    if not ints:
+        return False
+    lp = path[: ints[0]]
+    lo, ln = at_value(o, lp), at_value(n, lp)
+    if not (isinstance(lo, list) and isinstance(ln, list)):
+        return False
+    key = lambda v: json.dumps(v, sort_keys=True)
+    if sorted(map(key, lo)) != sorted(map(key, ln)):
+        return False
+    return any(names_measured(at_value(o, lp[:k])) for k in range(1, len(lp)))
 
 
 def names_measured(x):
@@ -328,6 +362,9 @@ for rel in sorted(fo & fn):
                 any(q[: len(d)] == d or d[: len(q)] == q for q in noisy)
                 or names_measured(at_value(o, row))
                 or names_measured(at_value(n, row))
+                or under_measured(o, d)
+                or under_measured(n, d)
+                or reordered_by_measure(o, n, d)
                 or (rel == "answer.json" and any(d[: len(a)] == a for a in AGGREGATES))
             ):
                 masked += 1
