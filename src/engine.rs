@@ -21,13 +21,42 @@ pub enum Engine<'a> {
     Software { threads: usize },
 }
 
-impl Engine<'_> {
-    /// The engine's name in outputs (`engine` of summary.json and bench.json).
-    pub fn name(&self) -> &'static str {
+/// Which engine drew a result: `engine` of summary.json and bench.json, spelt `vulkan` or
+/// `software`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EngineKind {
+    Vulkan,
+    Software,
+}
+
+impl EngineKind {
+    pub fn as_str(self) -> &'static str {
         match self {
-            Engine::Vulkan(_) => "vulkan",
-            Engine::Software { .. } => "software",
+            EngineKind::Vulkan => "vulkan",
+            EngineKind::Software => "software",
         }
+    }
+}
+
+impl std::fmt::Display for EngineKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl Engine<'_> {
+    /// Which engine this is.
+    pub fn kind(&self) -> EngineKind {
+        match self {
+            Engine::Vulkan(_) => EngineKind::Vulkan,
+            Engine::Software { .. } => EngineKind::Software,
+        }
+    }
+
+    /// The engine's name in outputs and messages ([`EngineKind`]).
+    pub fn name(&self) -> &'static str {
+        self.kind().as_str()
     }
 
     /// Where a result came from: the Vulkan device, or the software engine on this CPU (no

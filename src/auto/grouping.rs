@@ -201,7 +201,7 @@ pub struct FrameCheck {
     /// `bench --runs N` draws what its parent measured, so every run times the same draw).
     pub source: String,
     /// What was timed: the whole submission of each draw, wall clock.
-    pub clock: String,
+    pub clock: crate::gpu::Clock,
     /// Rounds with a finite ratio, and rounds without one (counted, never sorted in).
     pub rounds: usize,
     pub non_finite: usize,
@@ -225,7 +225,7 @@ impl FrameCheck {
         let finite = r.rounds > 0 && r.ci95_low.is_finite() && r.ci95_high.is_finite();
         FrameCheck {
             source: "measured now".into(),
-            clock: "wall".into(),
+            clock: crate::gpu::Clock::Wall,
             rounds: r.rounds,
             non_finite: r.non_finite,
             ratio_median: Some(r.median).filter(|v| v.is_finite()),
@@ -240,7 +240,7 @@ impl FrameCheck {
     pub fn given(grouped: bool, predicted_saving: f64) -> Self {
         FrameCheck {
             source: "the parent run's".into(),
-            clock: "wall".into(),
+            clock: crate::gpu::Clock::Wall,
             rounds: 0,
             non_finite: 0,
             ratio_median: None,

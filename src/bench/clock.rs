@@ -21,8 +21,7 @@ pub struct ClockPoint {
 /// Which clock the run uses, and why.
 #[derive(Debug, Clone, Serialize)]
 pub struct ClockCheck {
-    /// `timestamp` or `wall`.
-    pub clock: String,
+    pub clock: Clock,
     pub reason: String,
     pub points: Vec<ClockPoint>,
 }
@@ -69,7 +68,7 @@ pub fn check_clock(renderer: &Renderer, scene: &Scene) -> Result<ClockCheck> {
         .collect();
     Ok(if bad.is_empty() {
         ClockCheck {
-            clock: "timestamp".into(),
+            clock: Clock::Timestamp,
             reason: format!(
                 "the timestamp interval tracks the submit-to-fence wall clock at every size (within {:.0} % or {CLOCK_SLACK_MS} ms)",
                 CLOCK_TOLERANCE * 100.0
@@ -78,7 +77,7 @@ pub fn check_clock(renderer: &Renderer, scene: &Scene) -> Result<ClockCheck> {
         }
     } else {
         ClockCheck {
-            clock: "wall".into(),
+            clock: Clock::Wall,
             reason: format!("timestamps do not track the wall clock on this driver ({}); timing with the wall clock", bad.join("; ")),
             points,
         }

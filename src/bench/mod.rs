@@ -47,7 +47,7 @@ use crate::analysis::stats::{median_ci, pareto_front_paired, Estimate, RatioEsti
 use crate::compare;
 use crate::error::{Error, Result};
 use crate::gpu::spirv::{self, OpCounts};
-use crate::gpu::{DrawList, Prepared, Renderer, TimedDraws};
+use crate::gpu::{Clock, DrawList, Prepared, Renderer, TimedDraws};
 use crate::method::{self, Method};
 use crate::output::provenance::cpu_model;
 use crate::scene::Scene;
@@ -167,15 +167,15 @@ fn interleaved(
 /// timestamp medians.
 pub(crate) fn estimate(
     samples: &[crate::gpu::Sample],
-    clock: &str,
-) -> (Estimate, &'static str, f64, Option<f64>) {
+    clock: Clock,
+) -> (Estimate, Clock, f64, Option<f64>) {
     let wall: Vec<f64> = samples.iter().map(|s| s.wall_ms).collect();
     let ts: Vec<f64> = samples.iter().filter_map(|s| s.timestamp_ms).collect();
     let w = median_ci(&wall);
     let t = (!ts.is_empty()).then(|| median_ci(&ts));
     let (chosen, used) = match t {
-        Some(t) if clock == "timestamp" => (t, "timestamp"),
-        _ => (w, "wall"),
+        Some(t) if clock == Clock::Timestamp => (t, Clock::Timestamp),
+        _ => (w, Clock::Wall),
     };
     (chosen, used, w.median, t.map(|t| t.median))
 }
@@ -220,7 +220,7 @@ fn setup(
     }
     let clock = match &opts.runs {
         Runs::Child(run) => ClockCheck {
-            clock: run.clock.clone(),
+            clock: run.clock,
             reason: "chosen by the parent run's clock check".into(),
             points: Vec::new(),
         },
@@ -269,7 +269,7 @@ pub fn measure_run(
     };
     let s = setup(renderer, scene, methods_, opts)?;
     let programs = programs(&s.prepared, &s.all, Some(s.exact), &s.autos);
-    let (samples, rounds) = time_rounds(renderer, &programs, &s.clock.clock, opts)?;
+    let (samples, rounds) = time_rounds(renderer, &programs, s.clock.clock, opts)?;
     let methods: Vec<&'static Method> = s.all.clone();
     let isolated = isolated_costs(renderer, &methods, opts)?;
     Ok(runs::RunFigures {
@@ -325,7 +325,7 @@ fn timed(
     RoundsReport,
     Vec<runs::RunFigures>,
 )> {
-    let clock = s.clock.clock.as_str();
+    let clock = s.clock.clock;
     let Runs::Many(launcher) = &opts.runs else {
         let (samples, report) = time_rounds(renderer, programs, clock, opts)?;
         return Ok((samples, report, Vec::new()));
@@ -386,7 +386,7 @@ pub fn bench(
     let (samples, rounds_report, run_figures) = timed(renderer, &programs, &s, opts)?;
     let values: Vec<Vec<f64>> = samples
         .iter()
-        .map(|s| round_values(s, &clock.clock))
+        .map(|s| round_values(s, clock.clock))
         .collect();
     let (to_phong, to_floor) = ratios(&values, phong, &floors);
     let (invocations, summary) = untimed(renderer, scene, all, out, opts, &programs)?;
@@ -395,13 +395,13 @@ pub fn bench(
         scene,
         &programs,
         &samples,
-        &clock.clock,
+        clock.clock,
         (&to_phong, &to_floor),
         &summary,
         &invocations,
     )?;
     let runs_report =
-        (!run_figures.is_empty()).then(|| runs::apply(&mut rows, &run_figures, &clock.clock));
+        (!run_figures.is_empty()).then(|| runs::apply(&mut rows, &run_figures, clock.clock));
     let (mut floors_rows, method_rows, method_values) = split_floors(rows, &programs, values);
     let floor = floors_rows.remove(0);
     let mut rows = method_rows;
@@ -516,7 +516,7 @@ fn rows_of(
     scene: &Scene,
     programs: &[Program],
     samples: &[Vec<crate::gpu::Sample>],
-    clock: &str,
+    clock: Clock,
     (to_phong, to_floor): (&[RatioEstimate], &[RatioEstimate]),
     summary: &compare::Summary,
     invocations: &[Option<u64>],
@@ -602,7 +602,7 @@ fn timing_row(
     renderer: &Renderer,
     p: &Program,
     samples: &[crate::gpu::Sample],
-    clock: &str,
+    clock: Clock,
     (rp, rf): (&RatioEstimate, &RatioEstimate),
     summary: &compare::Summary,
 ) -> Result<MethodTiming> {
@@ -727,7 +727,7 @@ fn check_options(opts: &BenchOptions) -> Result<()> {
 fn time_rounds(
     renderer: &Renderer,
     programs: &[Program],
-    clock: &str,
+    clock: Clock,
     opts: &BenchOptions,
 ) -> Result<(Vec<Vec<crate::gpu::Sample>>, RoundsReport)> {
     let lists: Vec<DrawList> = programs.iter().map(Program::list).collect();

@@ -67,7 +67,7 @@ pub struct MethodTiming {
     pub ci95_high_ms: f64,
     pub samples: usize,
     /// The clock the median comes from (`timestamp` or `wall`).
-    pub clock: String,
+    pub clock: crate::gpu::Clock,
     pub wall_median_ms: f64,
     pub timestamp_median_ms: Option<f64>,
     /// Covered pixels, counted in the method's own image.
@@ -333,7 +333,7 @@ pub fn write(out: &Path, r: &BenchReport) -> Result<()> {
                 format!("{:e}", m.ci95_low_ms),
                 format!("{:e}", m.ci95_high_ms),
                 m.samples.to_string(),
-                m.clock.clone(),
+                m.clock.to_string(),
                 format!("{:e}", m.wall_median_ms),
                 o(m.timestamp_median_ms),
                 m.covered_pixels.to_string(),

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
 use crate::error::{Error, Result};
-use crate::gpu::{Sample, TimedDraws};
+use crate::gpu::{Clock, Sample, TimedDraws};
 
 /// Programs that can be timed one at a time, in any order: lavapipe's recorded draws, or the
 /// software engine's renders ([`super::software`]).
@@ -98,14 +98,8 @@ pub fn round_order(n: usize, round: usize) -> Vec<usize> {
 /// The per-round times of one program on `clock` (`timestamp` or `wall`); a round without a
 /// timestamp on the timestamp clock is NaN, so that the ratios count it as non-finite instead
 /// of mixing clocks.
-pub(crate) fn round_values(samples: &[Sample], clock: &str) -> Vec<f64> {
-    samples
-        .iter()
-        .map(|s| match clock {
-            "timestamp" => s.timestamp_ms.unwrap_or(f64::NAN),
-            _ => s.wall_ms,
-        })
-        .collect()
+pub(crate) fn round_values(samples: &[Sample], clock: Clock) -> Vec<f64> {
+    samples.iter().map(|s| clock.of(s)).collect()
 }
 
 /// Every program's paired ratio to program `phong` and to its own floor (`floors[i]`).

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::{median_ci, paired_ratio};
 use crate::error::{Error, Result};
-use crate::gpu::{DeviceSpec, Sample};
+use crate::gpu::{Clock, DeviceSpec, Sample};
 use crate::scene::SceneSource;
 
 use super::isolated::{Comparison, Interval, IsolatedCost};
@@ -58,7 +58,7 @@ pub enum Runs {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunContext {
     /// The clock the parent's check chose (`timestamp` or `wall`).
-    pub clock: String,
+    pub clock: Clock,
     /// The order in which it compiles and times the isolated-cost kernels.
     pub seed: u64,
     /// `auto`'s frame-check decisions (spec name, grouped).
@@ -184,7 +184,7 @@ pub fn run_all(
     launcher: &Launcher,
     opts: &super::BenchOptions,
     methods: &[&'static crate::method::Method],
-    clock: &str,
+    clock: Clock,
     frame: &[(String, bool)],
 ) -> Result<Vec<RunFigures>> {
     let dir =
@@ -206,7 +206,7 @@ pub fn run_all(
             methods: methods.iter().map(|m| m.name.to_string()).collect(),
             schedule: opts.schedule.clone(),
             context: RunContext {
-                clock: clock.to_string(),
+                clock,
                 seed: base + k as u64,
                 frame: frame.to_vec(),
             },
@@ -379,7 +379,7 @@ impl RunsReport {
 /// Fills every row's `run_figures`, `runs` and `isolated_runs` from the runs' figures, and
 /// makes the row's paired ratio, its verdict and its isolated-cost ratio those across runs (so
 /// the claims, the chart and the table judge by them); returns the runs' report.
-pub(crate) fn apply(rows: &mut [MethodTiming], figures: &[RunFigures], clock: &str) -> RunsReport {
+pub(crate) fn apply(rows: &mut [MethodTiming], figures: &[RunFigures], clock: Clock) -> RunsReport {
     for (k, f) in figures.iter().enumerate() {
         let phong = round_values(&f.samples_of(crate::method::PHONG_EXACT), clock);
         for r in rows.iter_mut() {

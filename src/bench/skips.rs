@@ -16,7 +16,7 @@ use super::{estimate, ClockCheck, Speed};
 use crate::analysis::stats::{paired_ratio, RatioEstimate};
 use crate::error::{Error, Result};
 use crate::gpu::{
-    DrawList, GpuScene, Renderer, Sample, Shading, TIMING_NORMAL_TARGET, TIMING_PREPASS,
+    Clock, DrawList, GpuScene, Renderer, Sample, Shading, TIMING_NORMAL_TARGET, TIMING_PREPASS,
 };
 use crate::method;
 use crate::output::provenance::Provenance;
@@ -258,7 +258,7 @@ pub fn skips(
         .iter()
         .position(|v| *v == default_variant(culls, false))
         .ok_or_else(|| Error::Internal("skips: the default draw is not among the rows".into()))?;
-    let (samples, values) = time_lists(renderer, &lists, &names, scene, opts, &clock.clock)?;
+    let (samples, values) = time_lists(renderer, &lists, &names, scene, opts, clock.clock)?;
     let rounds_done = samples.first().map_or(0, Vec::len);
 
     let mut rows = Vec::new();
@@ -269,7 +269,7 @@ pub fn skips(
         } else {
             renderer.render(list.gpu, Shading::Method(exact), false)?.0
         };
-        let (e, ..) = estimate(&samples[i], &clock.clock);
+        let (e, ..) = estimate(&samples[i], clock.clock);
         let to_none = paired_ratio(&values[i], &values[0]);
         let to_default = paired_ratio(&values[i], &values[default_row]);
         rows.push(SkipRow {
@@ -320,7 +320,7 @@ fn time_lists(
     names: &[String],
     scene: &Scene,
     opts: &SkipOptions,
-    clock: &str,
+    clock: Clock,
 ) -> Result<(Vec<Vec<Sample>>, PerRound)> {
     log::info!(
         "skips: timing {} draws of {} ({}) in the same interleaved rounds: {} warm-up \

@@ -1,5 +1,6 @@
 //! Tests of the bench statistics and claims.
 use crate::analysis::stats::*;
+use crate::gpu::Clock;
 
 #[test]
 fn median_ci_matches_the_order_statistics_table() {
@@ -195,21 +196,21 @@ fn wall_clock_fallback_is_labelled_wall() {
         timestamp_ms,
     };
     let no_ts: Vec<_> = (0..9).map(|i| sample(10.0 + i as f64, None)).collect();
-    let (e, clock, wall, ts) = super::estimate(&no_ts, "timestamp");
-    assert_eq!((clock, ts), ("wall", None));
+    let (e, clock, wall, ts) = super::estimate(&no_ts, Clock::Timestamp);
+    assert_eq!((clock, ts), (Clock::Wall, None));
     assert_eq!(e.median, wall);
     let with_ts: Vec<_> = (0..9).map(|i| sample(10.0, Some(5.0 + i as f64))).collect();
-    let (e, clock, _, ts) = super::estimate(&with_ts, "timestamp");
-    assert_eq!((clock, Some(e.median)), ("timestamp", ts));
-    assert_eq!(super::estimate(&with_ts, "wall").1, "wall");
+    let (e, clock, _, ts) = super::estimate(&with_ts, Clock::Timestamp);
+    assert_eq!((clock, Some(e.median)), (Clock::Timestamp, ts));
+    assert_eq!(super::estimate(&with_ts, Clock::Wall).1, Clock::Wall);
     // Paired values on the timestamp clock: a round without a timestamp is NaN (counted by
     // the ratios), never its wall time.
     let mixed = [sample(10.0, Some(4.0)), sample(10.0, None)];
-    let v = super::rounds::round_values(&mixed, "timestamp");
+    let v = super::rounds::round_values(&mixed, Clock::Timestamp);
     assert_eq!(v[0], 4.0);
     assert!(v[1].is_nan());
     assert_eq!(
-        super::rounds::round_values(&mixed, "wall"),
+        super::rounds::round_values(&mixed, Clock::Wall),
         vec![10.0, 10.0]
     );
 }
@@ -233,7 +234,7 @@ fn row(name: &str, median: f64, ratio: (f64, f64, f64)) -> MethodTiming {
         ci95_low_ms: median * 0.9,
         ci95_high_ms: median * 1.1,
         samples: 20,
-        clock: "timestamp".into(),
+        clock: crate::gpu::Clock::Timestamp,
         wall_median_ms: median,
         timestamp_median_ms: Some(median),
         covered_pixels: 1000,

@@ -61,7 +61,7 @@ pub(crate) fn compared_covers(
     scene: &Scene,
     judged: &[&str],
 ) -> bool {
-    summary.engine == "vulkan"
+    summary.engine == crate::engine::EngineKind::Vulkan
         && summary.precision == precision
         && (summary.width, summary.height) == (scene.width, scene.height)
         && (&summary.scene, &summary.scene_source) == (&scene.name, &scene.mesh.source)

@@ -586,7 +586,7 @@ pub fn compare_with(
     let summary = Summary {
         schema_version: SCHEMA_VERSION,
         provenance: engine.provenance(),
-        engine: engine.name().to_string(),
+        engine: engine.kind(),
         precision: match engine {
             Engine::Vulkan(r) => r.precision(),
             Engine::Software { .. } => crate::method::Precision::F32,

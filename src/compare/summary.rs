@@ -314,11 +314,11 @@ pub struct Timing {
 pub struct Summary {
     pub schema_version: u32,
     pub provenance: Provenance,
-    /// Which renderer drew the frames: `vulkan` or `software` ([`super::Engine::name`]); a
+    /// Which renderer drew the frames: `vulkan` or `software`; a
     /// summary written before the field existed was drawn by Vulkan.
     #[serde(default = "vulkan")]
-    pub engine: String,
-    /// The precision the method programs computed in (`f32`, `f16`; issue 23); absent in a
+    pub engine: crate::engine::EngineKind,
+    /// The precision the method programs computed in (`f32`, `f16`); absent in a
     /// summary written before the field existed: f32.
     #[serde(default)]
     pub precision: crate::method::Precision,
@@ -346,8 +346,8 @@ pub struct Summary {
     pub auto_curve: Vec<crate::auto::AutoSummary>,
 }
 
-fn vulkan() -> String {
-    "vulkan".into()
+fn vulkan() -> crate::engine::EngineKind {
+    crate::engine::EngineKind::Vulkan
 }
 
 /// The reference's name in outputs.

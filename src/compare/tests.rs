@@ -386,7 +386,7 @@ fn summary_of(methods: Vec<MethodReport>) -> Summary {
             llvm_version: None,
             method_files: Vec::new(),
         },
-        engine: "vulkan".into(),
+        engine: crate::engine::EngineKind::Vulkan,
         precision: crate::method::Precision::F32,
         scene: String::new(),
         scene_source: String::new(),

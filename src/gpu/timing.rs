@@ -6,6 +6,40 @@ use crate::error::{Error, Result};
 use crate::gpu::vk::queries::timestamp_delta_ns;
 use crate::gpu::vk::{DepthMode, GraphicsPipeline, OneShot, QueryPool, Recorded};
 
+/// Which clock a time is read from; spelt `timestamp` or `wall` in every output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Clock {
+    /// The timestamp queries around the draw on the device's queue.
+    Timestamp,
+    /// The host's submit-to-fence wall clock.
+    Wall,
+}
+
+impl Clock {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Clock::Timestamp => "timestamp",
+            Clock::Wall => "wall",
+        }
+    }
+
+    /// A sample's time on this clock: NaN for a timestamp the sample lacks (counted as
+    /// non-finite, never mixed with the other clock).
+    pub fn of(self, s: &Sample) -> f64 {
+        match self {
+            Clock::Timestamp => s.timestamp_ms.unwrap_or(f64::NAN),
+            Clock::Wall => s.wall_ms,
+        }
+    }
+}
+
+impl std::fmt::Display for Clock {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// One timed submission: the submit-to-fence wall time and the timestamp interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {

@@ -345,7 +345,7 @@ pub(super) fn scene_section(s: &SceneResult, dims: Dims) -> String {
          after {} warm-ups ({} clock), constant-colour floor {} ms. Click a column to sort.</p>",
         b.repeat,
         b.warmup,
-        esc(&b.clock.clock),
+        esc(b.clock.clock.as_str()),
         esc(&number(Some(b.floor.median_ms)).1)
     );
     h += &metric_table(s);

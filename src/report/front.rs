@@ -16,7 +16,7 @@ use super::ReportData;
 use crate::bench::cost::TimedScene;
 use crate::bench::software::cost::SoftwareScene;
 use crate::compare::Metric;
-use crate::cost::{CostModel, Evidence, Registry};
+use crate::cost::{CostModel, CostModelId, Evidence, Registry};
 use crate::method::Precision;
 
 /// The id of a method's row in a scene's metric table (the bench figures of the cost models).
@@ -147,12 +147,12 @@ pub fn missing_models(d: &ReportData) -> Vec<super::summary::Missing> {
             .iter()
             .filter(|f| !f.supported)
             .map(|f| Missing {
-                cost_model: format!("isa:{}", f.id),
+                cost_model: CostModelId::isa(&f.id, Precision::F32),
                 why: f.status.clone(),
             })
             .collect(),
         Err(why) => vec![Missing {
-            cost_model: "isa".into(),
+            cost_model: CostModelId::of("isa"),
             why: format!("no static cost model: {why}"),
         }],
     }

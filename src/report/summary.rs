@@ -87,7 +87,7 @@ pub struct Summary {
 /// A cost model the answer lacks: its id (`isa:amd:navi21`) and why it is missing.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Missing {
-    pub cost_model: String,
+    pub cost_model: CostModelId,
     pub why: String,
 }
 
@@ -100,8 +100,8 @@ pub fn missing_sentence(missing: &[Missing]) -> Option<String> {
     let mut groups: Vec<(&str, Vec<&str>)> = Vec::new();
     for m in missing {
         match groups.iter_mut().find(|(w, _)| *w == m.why) {
-            Some((_, ids)) => ids.push(&m.cost_model),
-            None => groups.push((&m.why, vec![&m.cost_model])),
+            Some((_, ids)) => ids.push(m.cost_model.as_str()),
+            None => groups.push((&m.why, vec![m.cost_model.as_str()])),
         }
     }
     let parts: Vec<String> = groups
@@ -396,7 +396,7 @@ mod tests {
     #[test]
     fn lost_cost_models_are_named_with_their_reason() {
         let m = |id: &str, why: &str| Missing {
-            cost_model: id.into(),
+            cost_model: CostModelId::parse(id).unwrap(),
             why: why.into(),
         };
         let amd = "not set up: no Vulkan ICD manifest names libvulkan_radeon.so";

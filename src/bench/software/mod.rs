@@ -20,7 +20,7 @@ use super::{RoundsReport, RoundsSchedule, RATIO_INTERVAL};
 use crate::analysis::stats::{median_ci, paired_ratio, RatioEstimate};
 use crate::engine::Engine;
 use crate::error::{Error, Result};
-use crate::gpu::Sample;
+use crate::gpu::{Clock, Sample};
 use crate::method::{self, Method};
 use crate::output;
 use crate::output::provenance::{cpu_model, Provenance};
@@ -302,7 +302,10 @@ fn time(
 
 /// Every program's per-round wall times.
 fn values_all(samples: &[Vec<Sample>]) -> Vec<Vec<f64>> {
-    samples.iter().map(|s| round_values(s, "wall")).collect()
+    samples
+        .iter()
+        .map(|s| round_values(s, Clock::Wall))
+        .collect()
 }
 
 /// The scene's inputs, one per geometry of `all`.
