@@ -21,13 +21,14 @@
 # - a clock check (any `clock` object: which clock tracks the draw is itself measured);
 # - a list whose elements are the same in another order, in an object that names a
 #   clock-measured cost model (auto's candidates, ordered by lavapipe's isolated cost);
-# - the answer's counts over every cell (answer.json's `summary.common` and
-#   `summary.differing`), which count the clock-measured cells too;
+# - the answer's counts and words over every cell (answer.json's `summary.common`,
+#   `summary.differing` and `summary.sentences`), which count the clock-measured cells too;
 # - a chart (SVG) whose runs of OLD differ: a chart of timings, every label placed by them;
 # - prose (a heading, paragraph or list item, not a table row) of a section (HTML <section>,
 #   Markdown `# ` heading) with table rows the runs of OLD differ in: its words count them;
-# - where a choice came from (skips.json's `auto.source`: computed now, or read from the cache
-#   that the run before wrote);
+# - where a result came from (skips.json's `auto.source`: computed now, or read from the cache
+#   that the run before wrote; isa.json's `families[].source` and the page's "Compiled in this
+#   run": compiled now or read from the compile store);
 # and where the runs of OLD differ in the same row too: the same list element of a JSON file
 # (a method's row, a claim), the same row of a text file (a table row, list item, paragraph,
 # line), a binary file that differs between them. Everything else must be identical in NEW:
@@ -44,7 +45,7 @@
 # Example: scripts/report_identical.sh /tmp/shadelab-firstrun target/release/shadelab
 set -eu
 if [ $# -lt 2 ]; then
-    sed -n '2,40p' "$0" >&2
+    sed -n '2,45p' "$0" >&2
     exit 2
 fi
 cd "$(dirname "$0")/.."
@@ -109,10 +110,12 @@ except (OSError, KeyError, ValueError) as e:
     sys.exit(2)
 MEASURED = {m["name"] for m in _models if m.get("kind") == "interval"}
 MEASURED_WORDS = sorted(MEASURED | {m["title"] for m in _models if m["name"] in MEASURED})
-# answer.json's counts over every cell, the clock-measured ones too
-AGGREGATES = [("summary", "common"), ("summary", "differing")]
-# where a result came from, not what it is (a cache the run before wrote)
-PROVENANCE = [("auto", "source")]
+# answer.json's counts and words over every cell, the clock-measured ones too
+AGGREGATES = [("summary", "common"), ("summary", "differing"), ("summary", "sentences")]
+# where a result came from, not what it is (a cache the run before wrote, the compile store):
+# paths, None standing for any list index
+PROVENANCE = [("auto", "source"), ("families", None, "source")]
+PROVENANCE_TEXT = re.compile(r"Compiled in this run: \d+ famil")
 
 
 def files(root):
@@ -133,12 +136,19 @@ def timing_key(k):
     )
 
 
+def provenance(path):
+    return any(
+        len(p) == len(path) and all(q is None or q == r for q, r in zip(p, path))
+        for p in PROVENANCE
+    )
+
+
 def strip(x, path=()):
     if isinstance(x, dict):
         return {
             k: strip(v, path + (k,))
             for k, v in x.items()
-            if not timing_key(k) and path + (k,) not in PROVENANCE
+            if not timing_key(k) and not provenance(path + (k,))
         }
     if isinstance(x, list):
         return [strip(v, path + (i,)) for i, v in enumerate(x)]
@@ -202,13 +212,16 @@ def json_diff(a, b, path, out):
         out.append(path)
 
 
-def row_of(path):
+def row_of(path, root=None):
     """The row a timing-dependent value belongs to: the list element it lies in (a method's
-    row, a claim, a cell, a figure), else the object holding it. Its other fields are decided
-    from the same measurement (a speed word, a verdict, a reason)."""
+    row, a claim, a cell, a figure), else the list itself (one whose length differs), else the
+    object holding it. Its other fields are decided from the same measurement (a speed word, a
+    verdict, a reason)."""
     ints = [i for i, p in enumerate(path) if isinstance(p, int)]
     if ints:
         return path[: ints[-1] + 1]
+    if root is not None and isinstance(at_value(root, path), list):
+        return path
     return path[:-1] if len(path) > 1 else path
 
 
@@ -353,21 +366,31 @@ for rel in sorted(fo & fn):
         noisy = []
         for pa in pas:
             json_diff(o, strip(json.load(open(pa))), (), noisy)
-        noisy = [row_of(q) for q in noisy]
+        noisy = [row_of(q, o) for q in noisy]
         diffs = []
         json_diff(o, n, (), diffs)
         for d in diffs:
-            row = row_of(d)
+            row = row_of(d, o)
+            # the innermost object that is a list element (an answer of a per-scene group)
+            obj = next(
+                (d[: k + 1] for k in reversed(range(len(d)))
+                 if isinstance(d[k], int) and isinstance(at_value(o, d[: k + 1]), dict)),
+                row,
+            )
             if (
                 any(q[: len(d)] == d or d[: len(q)] == q for q in noisy)
                 or names_measured(at_value(o, row))
                 or names_measured(at_value(n, row))
+                or names_measured(at_value(o, obj))
+                or names_measured(at_value(n, obj))
                 or under_measured(o, d)
                 or under_measured(n, d)
                 or reordered_by_measure(o, n, d)
                 or (rel == "answer.json" and any(d[: len(a)] == a for a in AGGREGATES))
             ):
                 masked += 1
+                if os.environ.get("SHOW_MASKED"):
+                    print(f"masked {rel}: {shown(d)}")
             else:
                 problems.append(f"{rel}: {shown(d)}: OLD {at(o, d)}, NEW {at(n, d)}")
         continue
@@ -409,11 +432,15 @@ for rel in sorted(fo & fn):
         measured = names_measured_text(to, rows_old, words) or names_measured_text(
             tn, rows_new, words_new
         )
-        if touched <= noisy or moved or chart or aggregate or measured:
+        # where the figures came from: compiled now or read from the compile store
+        stored = any(PROVENANCE_TEXT.search(to[i]) for i in rows_old) or any(
+            PROVENANCE_TEXT.search(tn[i]) for i in rows_new
+        )
+        if touched <= noisy or moved or chart or aggregate or measured or stored:
             masked += 1
             if os.environ.get("SHOW_MASKED"):
                 why = [w for w, c in (("noisy", touched <= noisy), ("moved", moved), ("chart", chart),
-                       ("aggregate", aggregate), ("measured", measured)) if c]
+                       ("aggregate", aggregate), ("measured", measured), ("stored", stored)) if c]
                 print(f"masked {rel}: segment {i1} ({','.join(why)}): {' '.join(to[i1:i2])[:120]!r}")
             continue
         problems.append(
