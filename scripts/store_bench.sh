@@ -3,7 +3,9 @@
 # own (SHADELAB_STORE in a temporary folder, so the user's store is neither read nor changed),
 #   1. `shadelab isa --out I` in float32 and float16, each cold (empty store) then warm;
 #   2. `shadelab tune --mesh M` twice on the same mesh (default scenes/torus.obj), the second
-#      into another folder;
+#      into another folder, then on another mesh (OTHER, default scenes/sphere_coarse.obj: its
+#      candidates are new programs, its baselines come from the store), then on M again with
+#      the store off (`--no-cache`: what a first run costs without the store);
 #   3. `shadelab report --scenes scenes --out R` twice (the second with the store the first
 #      filled; `make demo`'s report), unless --no-report, each followed by where its time went
 #      (the seconds of each step of its progress lines, summed over the scenes).
@@ -14,7 +16,7 @@
 # (isa.json's `source` is not from_store everywhere).
 # A route rebuilt between two runs (`make compilers` re-installing its files) is another
 # compiler identity: its families are compiled again, and the script says which.
-# Usage: scripts/store_bench.sh [--no-isa] [--no-tune] [--no-report] [MESH]
+# Usage: scripts/store_bench.sh [--no-isa] [--no-tune] [--no-report] [MESH [OTHER]]
 #   (builds the release binary first)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,6 +33,7 @@ while [[ "${1:-}" == --no-* ]]; do
   shift
 done
 mesh="${1:-scenes/torus.obj}"
+other="${2:-scenes/sphere_coarse.obj}"
 cargo build --release --locked --quiet
 bin=target/release/shadelab
 tmp=$(mktemp -d)
@@ -73,6 +76,8 @@ done
 if [[ $tune == 1 ]]; then
   timed tune-first $bin tune --mesh "$mesh" --error-budget 1/255 --out "$tmp/tune1"
   timed tune-second $bin tune --mesh "$mesh" --error-budget 1/255 --out "$tmp/tune2"
+  timed tune-other-mesh $bin tune --mesh "$other" --error-budget 1/255 --out "$tmp/tune3"
+  timed tune-no-store $bin tune --mesh "$mesh" --error-budget 1/255 --out "$tmp/tune4" --no-cache
 fi
 
 # steps NAME: the seconds of each step of report NAME's progress lines (`report: [N s] scene:
