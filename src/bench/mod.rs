@@ -623,7 +623,7 @@ fn timing_row(
         ci95_low_ms: e.ci95_low,
         ci95_high_ms: e.ci95_high,
         samples: e.samples,
-        clock: used_clock.into(),
+        clock: used_clock,
         wall_median_ms: wall,
         timestamp_median_ms: ts,
         covered_pixels: covered,
