@@ -139,9 +139,12 @@ impl CostSource for StaticCost {
         family_of(id).is_some()
     }
 
-    /// Compiles `methods` for the family now (one child); a family the driver does not compile
-    /// is a usage error: the user asked for that model. The model comes back under the
-    /// family's id (`isa:navi21` asked, `isa:amd:navi21` answered).
+    /// Compiles `methods` for the family now (one child), their timed draws alone where the
+    /// family's model is ranked by the draw's fragment program (every route's
+    /// [`super::route::Ranking`] today): the isolated kernels `isa` also compiles would be
+    /// compiled and dropped. A family the driver
+    /// does not compile is a usage error: the user asked for that model. The model comes back
+    /// under the family's id (`isa:navi21` asked, `isa:amd:navi21` answered).
     fn measure(
         &self,
         id: &CostModelId,
@@ -156,7 +159,11 @@ impl CostSource for StaticCost {
             families: vec![family.clone()],
             ..IsaOptions::every_family(methods, precision, exe)
         };
-        let report = super::run(&opts, &|_| {}).map_err(|e| match e {
+        // the draws alone when the family is ranked by its draw (every route today)
+        let draws_only = super::route::resolve(&family)
+            .map(|(vendor, _)| vendor.ranking().kind == "draw")
+            .unwrap_or(false);
+        let report = super::run_with(&opts, draws_only, &|_| {}).map_err(|e| match e {
             // an unknown chip, say: named with the model asked for
             Error::Usage(m) => Error::Usage(format!("--cost-model {id}: {m}")),
             other => other,
