@@ -290,10 +290,20 @@ fn isa_compiles_float16_programs_where_the_family_has_float16() {
         .unwrap();
     assert!(polaris.status.contains("float16"), "{}", polaris.status);
     let row16 = r16
-        .row("amd:vega10", "phong_exact", "fragment", "draw")
+        .row(
+            "amd:vega10",
+            "phong_exact",
+            "fragment",
+            shadelab::isa::RowKind::Draw,
+        )
         .unwrap();
     let row32 = r32
-        .row("amd:vega10", "phong_exact", "fragment", "draw")
+        .row(
+            "amd:vega10",
+            "phong_exact",
+            "fragment",
+            shadelab::isa::RowKind::Draw,
+        )
         .unwrap();
     assert!(row16.program.contains(".f16."), "{}", row16.program);
     assert_ne!(

@@ -5,7 +5,7 @@
 //! test. Small method lists keep it to a few seconds.
 use std::path::PathBuf;
 
-use shadelab::isa::{self, IsaOptions, IsaReport, Precision};
+use shadelab::isa::{self, IsaOptions, IsaReport, Precision, RowKind};
 use shadelab::method;
 
 use crate::support::{read_json, run, schema_validator};
@@ -27,7 +27,13 @@ fn isa_run(opts: &IsaOptions) -> IsaReport {
     isa::run(opts, &|_| {}).expect("isa run")
 }
 
-fn inverse_throughput(r: &IsaReport, family: &str, method: &str, stage: &str, kind: &str) -> f64 {
+fn inverse_throughput(
+    r: &IsaReport,
+    family: &str,
+    method: &str,
+    stage: &str,
+    kind: RowKind,
+) -> f64 {
     let row = r
         .row(family, method, stage, kind)
         .unwrap_or_else(|| panic!("no {kind} {stage} row of {method} on {family}"));
@@ -68,7 +74,10 @@ fn identical_runs_and_the_phong_order_on_every_family() {
     }
     assert_eq!(a.results.len(), b.results.len());
     for f in &families {
-        for (stage, kind) in [("fragment", "draw"), ("compute", "evaluation")] {
+        for (stage, kind) in [
+            ("fragment", RowKind::Draw),
+            ("compute", RowKind::Evaluation),
+        ] {
             let it: Vec<f64> = methods
                 .iter()
                 .map(|m| inverse_throughput(&a, f, m, stage, kind))
@@ -81,7 +90,7 @@ fn identical_runs_and_the_phong_order_on_every_family() {
                 it[2]
             );
         }
-        let exact = a.row(f, "phong_exact", "fragment", "draw").unwrap();
+        let exact = a.row(f, "phong_exact", "fragment", RowKind::Draw).unwrap();
         assert_eq!(exact.ratio_to_phong_exact["inverse_throughput"], 1.0);
     }
     // The files, and isa.json against its schema.
@@ -178,7 +187,7 @@ fn sixteen_dependent_multiplications_cost_more() {
     ];
     let r = isa_run(&opts);
     for f in ["amd:polaris10", "amd:navi21"] {
-        let stat = |m: &str, k: &str| r.row(f, m, "compute", "probe").unwrap().statistics[k];
+        let stat = |m: &str, k: &str| r.row(f, m, "compute", RowKind::Probe).unwrap().statistics[k];
         for k in ["instructions", "inverse_throughput", "latency"] {
             // The same program compiles to the same cost: the comparison below is not vacuous.
             assert_eq!(stat("base", k), stat("base_again", k), "{f} {k}");
@@ -401,7 +410,7 @@ fn isa_with_compare_and_bench_then_bench_with_isa() {
                 "amd:navi21",
                 m.as_str().unwrap(),
                 "fragment",
-                "draw",
+                RowKind::Draw,
             )
         };
         let ratio = it(&c["num"]) / it(&c["den"]);
@@ -514,7 +523,7 @@ pub(crate) fn assert_references_in_order(r: &IsaReport, f: &isa::FamilyStatus, w
     // figure are equal: the part they share bounds both (Mali's load/store).
     let shared_bound = |a: usize, b: usize| {
         let unit = |m: &str| {
-            r.row(&f.family, m, "fragment", "draw")
+            r.row(&f.family, m, "fragment", RowKind::Draw)
                 .and_then(|row| row.bound_unit)
         };
         use isa::throughput::Unit;
@@ -607,7 +616,7 @@ fn every_method_compiles_on_every_vendor_family() {
     }
     // Intel: every width's figures, the dispatched one's unprefixed, and the assembly.
     let tgl = r
-        .row("intel:tgl", "phong_exact", "fragment", "draw")
+        .row("intel:tgl", "phong_exact", "fragment", RowKind::Draw)
         .unwrap();
     let w = tgl.statistics["dispatch_width"];
     assert!(w == 8.0 || w == 16.0 || w == 32.0, "{w}");

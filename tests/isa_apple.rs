@@ -53,7 +53,7 @@ fn every_method_in(precision: Precision) -> IsaReport {
             .is_some_and(|d| d.contains("(G13G ")));
         for m in &all {
             let row = r
-                .row(&f.family, m, "fragment", "draw")
+                .row(&f.family, m, "fragment", shadelab::isa::RowKind::Draw)
                 .unwrap_or_else(|| panic!("{} {m}: no fragment row", f.id));
             let s = &row.statistics;
             // gouraud's and trueform's fragment programs only pass the interpolated colour on:
@@ -100,10 +100,15 @@ fn every_method_compiles_on_g13_in_float32_and_float16() {
     // The float16 programs are other programs: 16-bit arithmetic (hfma, hmul) changes the
     // cycle figures of at least phong_exact's fragment program.
     let stat = |r: &IsaReport| {
-        r.row("apple:g13", "phong_exact", "fragment", "draw")
-            .unwrap()
-            .statistics
-            .clone()
+        r.row(
+            "apple:g13",
+            "phong_exact",
+            "fragment",
+            shadelab::isa::RowKind::Draw,
+        )
+        .unwrap()
+        .statistics
+        .clone()
     };
     assert_ne!(
         stat(&f32),

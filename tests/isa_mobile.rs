@@ -169,7 +169,9 @@ fn every_method_compiles_on_every_mobile_family() {
     let r = every_method_in(Precision::F32, &FAMILIES);
     // Mali's Bifrost and Valhall name the pipe that bounds their cycle estimate.
     for f in ["arm:g52", "arm:g610"] {
-        let row = r.row(f, "phong_exact", "fragment", "draw").unwrap();
+        let row = r
+            .row(f, "phong_exact", "fragment", shadelab::isa::RowKind::Draw)
+            .unwrap();
         let bound: Vec<&String> = row
             .statistics
             .keys()

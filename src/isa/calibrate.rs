@@ -448,7 +448,7 @@ fn step_cost(report: &IsaReport, family: &str, kernel: Kernel, key: &str) -> Opt
             family,
             &kernel.method(n),
             "fragment",
-            "draw",
+            crate::isa::request::RowKind::Draw,
         )
         .and_then(|r| r.statistics.get(key).copied())
     });

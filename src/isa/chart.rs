@@ -113,7 +113,7 @@ pub fn points(report: &IsaReport, family: &str, err: &BTreeMap<String, (f64, f64
             let cost = report.ranking_value(family, m)?;
             let bound = ranking
                 .as_ref()
-                .and_then(|r| report.row(family, m, &r.stage, &r.kind))
+                .and_then(|r| report.row(family, m, &r.stage, r.kind))
                 .and_then(|row| row.bound_unit);
             Some(Point {
                 method: m.clone(),

@@ -3,6 +3,7 @@
 //! child only). It builds the timed draw's pipelines and the isolated kernels on that device,
 //! reads back what the compiler made of them and prints one [`ChildReport`] as JSON on stdout.
 //! Nothing is ever submitted: the null device compiles, it cannot execute.
+use crate::isa::request::CompiledKind;
 use std::path::Path;
 use std::time::Instant;
 
@@ -97,7 +98,7 @@ fn compile_vulkan(
             compiled.push(Compiled {
                 method: m.name.to_string(),
                 program,
-                kind: "draw".into(),
+                kind: CompiledKind::Draw,
                 repeat: None,
                 executables: keep(exes),
             });
@@ -112,7 +113,7 @@ fn compile_vulkan(
                 compiled.push(Compiled {
                     method: m.name.to_string(),
                     program: program.clone(),
-                    kind: "kernel".into(),
+                    kind: CompiledKind::Kernel,
                     repeat: Some(k),
                     executables: keep(exes),
                 });
@@ -157,7 +158,7 @@ fn probe(ctx: &std::sync::Arc<Context>, path: &Path) -> Result<Compiled> {
     Ok(Compiled {
         method: name.trim_end_matches(".spv").to_string(),
         program: name,
-        kind: "probe".into(),
+        kind: CompiledKind::Probe,
         repeat: None,
         executables: pipeline.executables()?,
     })
@@ -214,7 +215,7 @@ mod tests {
             Ranking {
                 key: "instructions".into(),
                 stage: "fragment".into(),
-                kind: "draw".into(),
+                kind: crate::isa::request::RowKind::Draw,
                 unit: "instructions".into(),
                 meaning: "SPIR-V instructions".into(),
             }
@@ -255,7 +256,7 @@ mod tests {
                 compiled.push(Compiled {
                     method: m.name.to_string(),
                     program,
-                    kind: "draw".into(),
+                    kind: CompiledKind::Draw,
                     repeat: None,
                     executables: vec![Executable {
                         name: "fragment".into(),

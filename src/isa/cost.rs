@@ -161,7 +161,7 @@ impl CostSource for StaticCost {
         };
         // the draws alone when the family is ranked by its draw (every route today)
         let draws_only = super::route::resolve(&family)
-            .map(|(vendor, _)| vendor.ranking().kind == "draw")
+            .map(|(vendor, _)| vendor.ranking().kind == super::request::RowKind::Draw)
             .unwrap_or(false);
         let report = super::run_with(&opts, draws_only, &|_| {}).map_err(|e| match e {
             // an unknown chip, say: named with the model asked for

@@ -7,6 +7,7 @@
 //! only on OpenGL ES drivers whose `mediump` is 16-bit (GLSL ES spells float16 `mediump`:
 //! [`glsl::es_precision`]); the OpenGL drivers here have no float16 arithmetic. No
 //! disassembly: the drivers send none.
+use crate::isa::request::CompiledKind;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -81,7 +82,7 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
                 method: m.name.to_string(),
                 executables,
                 program,
-                kind: "draw".into(),
+                kind: CompiledKind::Draw,
                 repeat: None,
             }),
             // ESSL 1.00 cannot express some programs (array constructors, gl_VertexID, storage
@@ -112,7 +113,7 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
                     &sfu,
                 ),
                 program: program.clone(),
-                kind: "kernel".into(),
+                kind: CompiledKind::Kernel,
                 repeat: Some(k),
             });
         }

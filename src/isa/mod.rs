@@ -44,7 +44,7 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::method::Method;
 pub use report::{FamilyStatus, IsaReport};
-pub use request::{ChildReport, ChildRequest, Compiled};
+pub use request::{ChildReport, ChildRequest, Compiled, CompiledKind, RowKind};
 pub use route::{Family, Vendor};
 pub use table::Row;
 

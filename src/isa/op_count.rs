@@ -4,6 +4,7 @@
 //! (the same shader without the normalisation) has not, counted per operation class in the
 //! disassembly, and what it adds to ACO's inverse throughput. [`super::report`] judges it on
 //! every family it compiled; bench's speed claims (src/bench/speed_claims.rs) read the verdicts.
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
@@ -138,7 +139,7 @@ pub fn op_count(
             continue;
         };
         let it = |m| {
-            find_row(rows, f, m, "fragment", "draw")
+            find_row(rows, f, m, "fragment", RowKind::Draw)
                 .and_then(|r| r.statistics.get("inverse_throughput").copied())
         };
         let (Some(a), Some(b)) = (it(crate::method::PHONG_EXACT), it(unnormalized)) else {

@@ -62,13 +62,13 @@ pub fn merge(parts: Vec<ChildReport>) -> Option<ChildReport> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::isa::request::Compiled;
+    use crate::isa::request::{Compiled, CompiledKind};
 
-    fn row(method: &str, kind: &str) -> Compiled {
+    fn row(method: &str, kind: CompiledKind) -> Compiled {
         Compiled {
             method: method.into(),
             program: method.into(),
-            kind: kind.into(),
+            kind,
             repeat: None,
             executables: Vec::new(),
         }
@@ -93,10 +93,10 @@ mod tests {
         let methods: Vec<String> = ["phong_exact", "flat", "gouraud"].map(String::from).into();
         let whole = reply(
             vec![
-                row("phong_exact", "draw"),
-                row("phong_exact", "kernel"),
-                row("flat", "draw"),
-                row("gouraud", "draw"),
+                row("phong_exact", CompiledKind::Draw),
+                row("phong_exact", CompiledKind::Kernel),
+                row("flat", CompiledKind::Draw),
+                row("gouraud", CompiledKind::Draw),
             ],
             &["gouraud: no gl_VertexID"],
         );
@@ -122,7 +122,10 @@ mod tests {
     #[test]
     fn a_reply_with_a_probe_is_not_cut() {
         let whole = reply(
-            vec![row("phong_exact", "draw"), row("probe_a", "probe")],
+            vec![
+                row("phong_exact", CompiledKind::Draw),
+                row("probe_a", CompiledKind::Probe),
+            ],
             &[],
         );
         assert!(split(&whole, &["phong_exact".to_string()]).is_none());

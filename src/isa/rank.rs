@@ -1,6 +1,7 @@
 //! How the static cost agrees with other measures: Spearman's rank correlation between a
 //! family's ranking statistic (AMD: inverse throughput) of one kernel evaluation and
 //! lavapipe's isolated cost (bench.json), per family.
+use crate::isa::request::RowKind;
 use serde::{Deserialize, Serialize};
 
 use super::table::{find_row, Row};
@@ -32,7 +33,7 @@ pub fn against_bench(
             let (a, b): (Vec<f64>, Vec<f64>) = isolated
                 .iter()
                 .filter_map(|&(m, ns)| {
-                    let row = find_row(rows, f, m, "compute", "evaluation")?;
+                    let row = find_row(rows, f, m, "compute", RowKind::Evaluation)?;
                     Some((*row.statistics.get(key)?, ns))
                 })
                 .unzip();

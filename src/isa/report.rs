@@ -2,6 +2,7 @@
 //! compiled it, with who compiled and the statistic that ranks its programs
 //! ([`FamilyStatus`]), the rows of [`super::table`], and what was judged on them: the op-count
 //! claim ([`super::op_count`]) and the rank correlation with lavapipe ([`super::rank`]).
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
@@ -247,7 +248,7 @@ impl IsaReport {
     /// draw: ACO's inverse throughput, Intel's cycles, nouveau's instructions, ...).
     pub fn ranking_value(&self, family: &str, method: &str) -> Option<f64> {
         let r = self.family(family)?.ranking()?;
-        self.row(family, method, &r.stage, &r.kind)?
+        self.row(family, method, &r.stage, r.kind)?
             .statistics
             .get(&r.key)
             .copied()
@@ -256,14 +257,14 @@ impl IsaReport {
     /// `method`'s ranking figure over phong_exact's, same family.
     pub fn ranking_ratio(&self, family: &str, method: &str) -> Option<f64> {
         let r = self.family(family)?.ranking()?;
-        self.row(family, method, &r.stage, &r.kind)?
+        self.row(family, method, &r.stage, r.kind)?
             .ratio_to_phong_exact
             .get(&r.key)
             .copied()
     }
 
     /// The row of (family, method, stage, kind), if any.
-    pub fn row(&self, family: &str, method: &str, stage: &str, kind: &str) -> Option<&Row> {
+    pub fn row(&self, family: &str, method: &str, stage: &str, kind: RowKind) -> Option<&Row> {
         find_row(&self.results, family, method, stage, kind)
     }
 
@@ -296,7 +297,7 @@ impl IsaReport {
         let fams = self.supported();
         let mut methods: Vec<&str> = Vec::new();
         for r in &self.results {
-            if r.kind != "probe" && !methods.contains(&r.method.as_str()) {
+            if r.kind != RowKind::Probe && !methods.contains(&r.method.as_str()) {
                 methods.push(&r.method);
             }
         }
@@ -321,8 +322,8 @@ impl IsaReport {
                     .family(f)
                     .and_then(FamilyStatus::ranking)
                     .map_or(String::new(), |r| r.key);
-                let a = cell(self.row(f, m, "fragment", "draw"), &key);
-                let b = cell(self.row(f, m, "compute", "evaluation"), &key);
+                let a = cell(self.row(f, m, "fragment", RowKind::Draw), &key);
+                let b = cell(self.row(f, m, "compute", RowKind::Evaluation), &key);
                 s += &format!(" {:>17}", format!("{a}|{b}"));
             }
             s += "\n";

@@ -42,14 +42,55 @@ pub struct ChildRequest {
     pub draws_only: bool,
 }
 
+/// What a child compiled: spelt `draw`, `kernel` or `probe` in its reply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CompiledKind {
+    /// The timed draw's pipeline.
+    Draw,
+    /// An isolated kernel (glsl/evaluate.comp) at one evaluation count.
+    Kernel,
+    /// A program given as is (`isa --probe`).
+    Probe,
+}
+
+/// What a row of isa's figures is: spelt `draw`, `evaluation` or `probe` in isa.json and
+/// isa.csv.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RowKind {
+    /// The timed draw's pipeline.
+    Draw,
+    /// One evaluation of the isolated kernel (its statistics at the higher count minus the
+    /// lower).
+    Evaluation,
+    /// A program given as is.
+    Probe,
+}
+
+impl RowKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RowKind::Draw => "draw",
+            RowKind::Evaluation => "evaluation",
+            RowKind::Probe => "probe",
+        }
+    }
+}
+
+impl std::fmt::Display for RowKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// One compiled program.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Compiled {
     pub method: String,
     /// SPIR-V program name (spirv/<program>.<stage>.spv), or the probe's file name.
     pub program: String,
-    /// "draw" (the timed draw's pipeline), "kernel" (glsl/evaluate.comp) or "probe".
-    pub kind: String,
+    pub kind: CompiledKind,
     /// The kernel's evaluation count (`REPEAT`); `None` for draws and probes.
     pub repeat: Option<u32>,
     pub executables: Vec<Executable>,

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::request::ChildReport;
+use super::request::{ChildReport, CompiledKind, RowKind};
 use super::throughput::Unit;
 use super::Precision;
 use crate::error::{Error, Result};
@@ -30,9 +30,7 @@ pub struct Row {
     pub method: String,
     /// "fragment", "vertex" or "compute".
     pub stage: String,
-    /// "draw": the timed draw's pipeline; "evaluation": one evaluation of the isolated kernel
-    /// (its statistics at the higher count minus the lower); "probe": a program given as is.
-    pub kind: String,
+    pub kind: RowKind,
     pub program: String,
     pub statistics: BTreeMap<String, f64>,
     /// This row's statistic over phong_exact's (same family, stage and kind); absent where
@@ -138,7 +136,11 @@ pub(super) fn family_rows(
                 family: key.to_string(),
                 method: c.method.clone(),
                 stage: e.stage.clone(),
-                kind: if c.kind == "probe" { "probe" } else { "draw" }.into(),
+                kind: if c.kind == CompiledKind::Probe {
+                    RowKind::Probe
+                } else {
+                    RowKind::Draw
+                },
                 program: c.program.clone(),
                 statistics,
                 ratio_to_phong_exact: BTreeMap::new(),
@@ -167,7 +169,7 @@ pub(super) fn family_rows(
             program: crate::gpu::shaders::evaluate_program_in(&method, r_precision(r)),
             method,
             stage: hi.stage.clone(),
-            kind: "evaluation".into(),
+            kind: RowKind::Evaluation,
             statistics,
             ratio_to_phong_exact: BTreeMap::new(),
             hash: ha.into_iter().chain(hb).collect(),
@@ -193,7 +195,7 @@ pub fn find_row<'a>(
     family: &str,
     method: &str,
     stage: &str,
-    kind: &str,
+    kind: RowKind,
 ) -> Option<&'a Row> {
     rows.iter()
         .find(|r| r.family == family && r.method == method && r.stage == stage && r.kind == kind)
@@ -201,14 +203,14 @@ pub fn find_row<'a>(
 
 /// Fills each row's ratio to phong_exact's row of the same family, stage and kind.
 pub fn fill_ratios(rows: &mut [Row]) {
-    let bases: Vec<(String, String, String, BTreeMap<String, f64>)> = rows
+    let bases: Vec<(String, String, RowKind, BTreeMap<String, f64>)> = rows
         .iter()
         .filter(|r| r.method == PHONG_EXACT)
         .map(|r| {
             (
                 r.family.clone(),
                 r.stage.clone(),
-                r.kind.clone(),
+                r.kind,
                 r.statistics.clone(),
             )
         })
@@ -270,7 +272,7 @@ mod tests {
             family: "navi21".into(),
             method: method.into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             program: method.into(),
             statistics: [("inverse_throughput".to_string(), it)].into(),
             ratio_to_phong_exact: BTreeMap::new(),

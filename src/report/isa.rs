@@ -215,10 +215,16 @@ fn table(r: &IsaReport, methods: &[&'static Method]) -> String {
         for f in &fams {
             let ratio = r.ranking_ratio(f, m.name).filter(|v| v.is_finite());
             // The unit that bounds the program, where the model has more than one.
-            let bound = crate::isa::table::find_row(&r.results, f, m.name, "fragment", "draw")
-                .and_then(|row| row.bound_unit)
-                .filter(|u| *u != crate::isa::throughput::Unit::Issue)
-                .map_or(String::new(), |u| format!(" <small>{}</small>", u.name()));
+            let bound = crate::isa::table::find_row(
+                &r.results,
+                f,
+                m.name,
+                "fragment",
+                crate::isa::request::RowKind::Draw,
+            )
+            .and_then(|row| row.bound_unit)
+            .filter(|u| *u != crate::isa::throughput::Unit::Issue)
+            .map_or(String::new(), |u| format!(" <small>{}</small>", u.name()));
             let _ = match ratio {
                 Some(v) if v < 1.0 => write!(h, "<td><b>{v:.2}</b>{bound}</td>"),
                 Some(v) => write!(h, "<td>{v:.2}{bound}</td>"),

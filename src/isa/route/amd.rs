@@ -4,6 +4,7 @@
 //! (`libvulkan_radeon.so`) among the loader's ICD manifests; another RADV build is chosen with
 //! `--driver-files`. Its rows keep the bare chip name (`navi21`) as their family key, and the
 //! name the user wrote where RADV renamed a chip ([`RENAMED`]).
+use crate::isa::request::RowKind;
 use std::path::Path;
 
 use super::{Api, Compiler, Ranking, Setup, Vendor};
@@ -170,7 +171,7 @@ impl Vendor for Amd {
         Ranking {
             key: "inverse_throughput".into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "cycles per wave".into(),
             meaning: "ACO inverse throughput: estimated busy cycles to execute one wave \
                       (fragment shaders compile as wave64); a static model, not a timing"

@@ -23,6 +23,7 @@
 //!
 //! Mesa's compiler is the production driver of Linux on Apple silicon (Asahi Linux); macOS
 //! and iOS ship Apple's own compiler.
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -79,7 +80,7 @@ impl Vendor for Apple {
         Ranking {
             key: "alu".into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "cycles".into(),
             meaning: "the AGX compiler's cycle model for G13G: the estimated cycles of the \
                       bound unit, the larger of F/SCIB (float and integer ALU) and IC \

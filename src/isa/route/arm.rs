@@ -9,6 +9,7 @@
 //! float16 is `mediump` in GLSL ES, which panfrost computes in 16 bits on Bifrost and Valhall.
 //! The compilers are Mesa's own for Mali; Arm's driver, which phones and boards ship, has
 //! another (Arm's Mali Offline Compiler is its static analyser).
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -115,7 +116,7 @@ impl Vendor for Arm {
         Ranking {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "cycles".into(),
             meaning: "Bifrost and Valhall: panfrost's cycles of the bound pipe (Valhall: FMA, \
                       CVT, SFU at a quarter of the FMA rate, varying, texture, load/store; \

@@ -8,6 +8,7 @@
 //! draw): instructions, threads, uniforms, temporaries, and on V3D stalls and
 //! NOPs, on VC4 estimated cycles. Neither chip computes float16: their `mediump` is float32.
 //! These are Broadcom's production Linux drivers (Raspberry Pi OS ships them).
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -54,7 +55,7 @@ impl Vendor for Broadcom {
         Ranking {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "cycles".into(),
             meaning: "the compiler's cycles of one QPU thread (one instruction issued a \
                       cycle): VC4's scheduler estimate (`estimated_cycles`, a special function \

@@ -18,6 +18,7 @@
 //! enough (the "Variable Pixel Dispatch" table of the PRM cited there). So a draw's pixels run
 //! at the widest kept width: its figures are the row's unprefixed statistics, with
 //! `dispatch_width`; every width's are kept as `simd<W>_<statistic>`.
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -84,7 +85,7 @@ impl Vendor for Intel {
         Ranking {
             key: "cycle_count".into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "cycles per thread".into(),
             meaning: "brw's cycle estimate of one thread at the SIMD width the driver dispatches \
                       (the widest it kept: `dispatch_width`); a static model, not a timing"

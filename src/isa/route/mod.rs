@@ -71,7 +71,7 @@ pub enum Api {
 pub struct Ranking {
     pub key: String,
     pub stage: String,
-    pub kind: String,
+    pub kind: crate::isa::request::RowKind,
     /// "cycles per wave", "cycles per thread", "instructions", "ALU instruction groups".
     pub unit: String,
     /// What the figure is, e.g. "ACO inverse throughput, cycles per wave".

@@ -3,6 +3,7 @@
 //! surfaceless; the statistics are nouveau's shader-db line, delivered as a KHR_debug message
 //! when a program is compiled ("type: 4, local: 0, shared: 0, gpr: 13, inst: 38, bytes: 304,
 //! cached: 0"). The compiler is Mesa's own codegen for NVIDIA hardware, not NVIDIA's.
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -62,7 +63,7 @@ impl Vendor for Nouveau {
         Ranking {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "FMA issue slots".into(),
             meaning: "weighted issue count: nouveau's instruction count with each \
                       special-function operation (MUFU: rcp, rsq, exp2, log2, sin, cos) at the \

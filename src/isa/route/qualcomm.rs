@@ -4,6 +4,7 @@
 //! with VK_KHR_pipeline_executable_properties' statistics (instruction count with ir3's
 //! scheduling NOPs, registers, waves per core, sync stalls, per-category counts) and ir3's
 //! disassembly. The compiler is Mesa's own for Adreno hardware; the phones ship Qualcomm's.
+use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -73,7 +74,7 @@ impl Vendor for Qualcomm {
         Ranking {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "issue cycles".into(),
             meaning: "ir3's issue cycles: its instruction count, the NOPs its scheduler \
                       inserts to cover latency included, plus its estimated cycles stalled on \

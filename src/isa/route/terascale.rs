@@ -3,6 +3,7 @@
 //! through EGL surfaceless; the statistics are r600's shader-db line, delivered as a KHR_debug
 //! message ("FS shader: 110 dw, 17 gprs, 17 alu_groups, 0 loops, 3 cf, 1 stack"). The
 //! compiler is Mesa's r600 back-end, not AMD's (Catalyst, discontinued for these chips).
+use crate::isa::request::RowKind;
 use std::path::Path;
 
 use super::{Api, Compiler, Ranking, Setup, Vendor};
@@ -57,7 +58,7 @@ impl Vendor for TeraScale {
         Ranking {
             key: "alu_groups".into(),
             stage: "fragment".into(),
-            kind: "draw".into(),
+            kind: RowKind::Draw,
             unit: "ALU issue cycles".into(),
             meaning: "r600's VLIW ALU instruction groups of the compiled program: one group \
                       issues a cycle, whatever it holds (up to 5 operations on Evergreen, a \
