@@ -19,6 +19,7 @@
 #   has it as a value (skips' grouping by lavapipe's isolated cost); in a text file, a table
 #   row naming its id or title;
 # - a clock check (any `clock` object: which clock tracks the draw is itself measured);
+# - bench.json's `pareto_front` (the methods on the front of run time against error);
 # - a list whose elements are the same in another order, in an object that names a
 #   clock-measured cost model (auto's candidates, ordered by lavapipe's isolated cost);
 # - the answer's counts and words over every cell (answer.json's `summary.common`,
@@ -45,7 +46,7 @@
 # Example: scripts/report_identical.sh /tmp/shadelab-firstrun target/release/shadelab
 set -eu
 if [ $# -lt 2 ]; then
-    sed -n '2,45p' "$0" >&2
+    sed -n '2,46p' "$0" >&2
     exit 2
 fi
 cd "$(dirname "$0")/.."
@@ -116,6 +117,8 @@ AGGREGATES = [("summary", "common"), ("summary", "differing"), ("summary", "sent
 # paths, None standing for any list index
 PROVENANCE = [("auto", "source"), ("families", None, "source")]
 PROVENANCE_TEXT = re.compile(r"Compiled in this run: \d+ famil")
+# decided by run times in a file of measurements: (file name, path)
+TIMED = [("bench.json", ("pareto_front",))]
 
 
 def files(root):
@@ -387,6 +390,7 @@ for rel in sorted(fo & fn):
                 or under_measured(n, d)
                 or reordered_by_measure(o, n, d)
                 or (rel == "answer.json" and any(d[: len(a)] == a for a in AGGREGATES))
+                or any(rel.endswith(f) and d[: len(t)] == t for f, t in TIMED)
             ):
                 masked += 1
                 if os.environ.get("SHOW_MASKED"):
