@@ -37,7 +37,7 @@
 # answer cells, every row without a timing. More runs of OLD sharpen what counts as timing:
 # any folder WORK_DIR/old-again* is read as one. Prints "identical" and exits 0, or prints
 # every difference and exits 1 (2 on a usage error or a run that failed). SHOW_MASKED=1 also
-# prints each text difference left out, and the rule that left it out.
+# prints each difference left out, and the rules that left it out.
 #
 # Usage: scripts/report_identical.sh OLD_BINARY NEW_BINARY [WORK_DIR]
 #        scripts/report_identical.sh --diff-only WORK_DIR  (compare the outputs of an earlier run)
@@ -215,7 +215,7 @@ def json_diff(a, b, path, out):
         out.append(path)
 
 
-def row_of(path, root=None):
+def row_of(path, root):
     """The row a timing-dependent value belongs to: the list element it lies in (a method's
     row, a claim, a cell, a figure), else the list itself (one whose length differs), else the
     object holding it. Its other fields are decided from the same measurement (a speed word, a
@@ -223,18 +223,21 @@ def row_of(path, root=None):
     ints = [i for i, p in enumerate(path) if isinstance(p, int)]
     if ints:
         return path[: ints[-1] + 1]
-    if root is not None and isinstance(at_value(root, path), list):
+    if isinstance(at_value(root, path), list):
         return path
     return path[:-1] if len(path) > 1 else path
 
 
-def at_value(x, path):
-    """The value at `path` of `x`, or None."""
+MISSING = object()
+
+
+def at_value(x, path, missing=None):
+    """The value at `path` of `x`, or `missing`."""
     for p in path:
         try:
             x = x[p]
         except (KeyError, IndexError, TypeError):
-            return None
+            return missing
     return x
 
 
@@ -243,12 +246,11 @@ def shown(path):
 
 
 def at(x, path):
-    for p in path:
-        try:
-            x = x[p]
-        except (KeyError, IndexError, TypeError):
-            return "<none>"
-    s = json.dumps(x)
+    """The value at `path` of `x` as JSON, cut to a line, or `<none>`."""
+    v = at_value(x, path, MISSING)
+    if v is MISSING:
+        return "<none>"
+    s = json.dumps(v)
     return s if len(s) < 160 else s[:157] + "..."
 
 
@@ -302,7 +304,7 @@ def indices(blocks):
 ROW = re.compile(r"<(tr|li|p|h[1-6]|figure|details|summary|section|table|ul|ol)[\s>]")
 
 
-def rows(segs, markup=True):
+def rows(segs, markup):
     """Each segment's row: the index of the segment opening it ([`ROW`]; a line of a text
     file without tags, and every line of a Markdown or CSV file, is its own row)."""
     if not markup:
@@ -355,6 +357,26 @@ def widen(noisy, segs, markup):
 
 
 problems, masked = [], 0
+
+
+SHOW = bool(os.environ.get("SHOW_MASKED"))
+
+
+def left_out(rel, where, reasons):
+    """Counts a difference left out when any of `reasons` (name, test: a function) holds;
+    whether it was. The tests run in turn up to the first that holds, every one under
+    SHOW_MASKED, which prints those that hold."""
+    global masked
+    if SHOW:
+        why = [w for w, test in reasons if test()]
+        if why:
+            print(f"masked {rel}: {where} ({','.join(why)})")
+    else:
+        why = any(test() for _, test in reasons)
+    masked += bool(why)
+    return bool(why)
+
+
 fo, fn = files(OLD), files(NEW)
 fa = [files(a) for a in AGAINS]
 for rel in sorted((fo | fn) - (fo & fn)):
@@ -373,38 +395,31 @@ for rel in sorted(fo & fn):
         diffs = []
         json_diff(o, n, (), diffs)
         for d in diffs:
-            row = row_of(d, o)
-            # the innermost object that is a list element (an answer of a per-scene group)
+            # the innermost object that is a list element (an answer of a per-scene group),
+            # else the row (it holds the row's value in either case)
             obj = next(
                 (d[: k + 1] for k in reversed(range(len(d)))
                  if isinstance(d[k], int) and isinstance(at_value(o, d[: k + 1]), dict)),
-                row,
+                row_of(d, o),
             )
-            if (
-                any(q[: len(d)] == d or d[: len(q)] == q for q in noisy)
-                or names_measured(at_value(o, row))
-                or names_measured(at_value(n, row))
-                or names_measured(at_value(o, obj))
-                or names_measured(at_value(n, obj))
-                or under_measured(o, d)
-                or under_measured(n, d)
-                or reordered_by_measure(o, n, d)
-                or (rel == "answer.json" and any(d[: len(a)] == a for a in AGGREGATES))
-                or any(rel.endswith(f) and d[: len(t)] == t for f, t in TIMED)
-            ):
-                masked += 1
-                if os.environ.get("SHOW_MASKED"):
-                    print(f"masked {rel}: {shown(d)}")
-            else:
+            if not left_out(rel, shown(d), (
+                ("noisy", lambda: any(q[: len(d)] == d or d[: len(q)] == q for q in noisy)),
+                ("measured", lambda: names_measured(at_value(o, obj))
+                 or names_measured(at_value(n, obj)) or under_measured(o, d)
+                 or under_measured(n, d)),
+                ("reordered", lambda: reordered_by_measure(o, n, d)),
+                ("aggregate", lambda: rel == "answer.json"
+                 and any(d[: len(a)] == a for a in AGGREGATES)),
+                ("timed", lambda: any(rel.endswith(f) and d[: len(t)] == t for f, t in TIMED)),
+            )):
                 problems.append(f"{rel}: {shown(d)}: OLD {at(o, d)}, NEW {at(n, d)}")
         continue
     bo, bn = open(po, "rb").read(), open(pn, "rb").read()
     if not rel.endswith(TEXT):
-        if bo != bn:
-            if any(open(pa, "rb").read() != bo for pa in pas):
-                masked += 1
-            else:
-                problems.append(f"{rel}: differs (byte for byte)")
+        if bo != bn and not left_out(
+            rel, "bytes", (("noisy", lambda: any(open(pa, "rb").read() != bo for pa in pas)),)
+        ):
+            problems.append(f"{rel}: differs (byte for byte)")
         continue
     markup = rel.endswith((".html", ".svg"))
     to, tn = segments(bo, markup), segments(bn, markup)
@@ -440,12 +455,11 @@ for rel in sorted(fo & fn):
         stored = any(PROVENANCE_TEXT.search(to[i]) for i in rows_old) or any(
             PROVENANCE_TEXT.search(tn[i]) for i in rows_new
         )
-        if touched <= noisy or moved or chart or aggregate or measured or stored:
-            masked += 1
-            if os.environ.get("SHOW_MASKED"):
-                why = [w for w, c in (("noisy", touched <= noisy), ("moved", moved), ("chart", chart),
-                       ("aggregate", aggregate), ("measured", measured), ("stored", stored)) if c]
-                print(f"masked {rel}: segment {i1} ({','.join(why)}): {' '.join(to[i1:i2])[:120]!r}")
+        if left_out(rel, f"segment {i1} {' '.join(to[i1:i2])[:120]!r}", (
+            ("noisy", lambda: touched <= noisy), ("moved", lambda: moved),
+            ("chart", lambda: chart), ("aggregate", lambda: aggregate),
+            ("measured", lambda: measured), ("stored", lambda: stored),
+        )):
             continue
         problems.append(
             f"{rel}: segment {i1}: OLD {' '.join(to[i1:i2])[:160]!r}, NEW {' '.join(tn[j1:j2])[:160]!r}"

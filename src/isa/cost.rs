@@ -142,9 +142,9 @@ impl CostSource for StaticCost {
     /// Compiles `methods` for the family now (one child), their timed draws alone where the
     /// family's model is ranked by the draw's fragment program (every route's
     /// [`super::route::Ranking`] today): the isolated kernels `isa` also compiles would be
-    /// compiled and dropped. A family the driver
-    /// does not compile is a usage error: the user asked for that model. The model comes back
-    /// under the family's id (`isa:navi21` asked, `isa:amd:navi21` answered).
+    /// compiled and dropped. A family the driver does not compile is a usage error: the user
+    /// asked for that model. The model comes back under the family's id (`isa:navi21` asked,
+    /// `isa:amd:navi21` answered).
     fn measure(
         &self,
         id: &CostModelId,
@@ -159,7 +159,6 @@ impl CostSource for StaticCost {
             families: vec![family.clone()],
             ..IsaOptions::every_family(methods, precision, exe)
         };
-        // the draws alone when the family is ranked by its draw (every route today)
         let draws_only = super::route::resolve(&family)
             .map(|(vendor, _)| vendor.ranking().kind == super::request::RowKind::Draw)
             .unwrap_or(false);
