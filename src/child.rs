@@ -58,8 +58,18 @@ fn default_log_level() -> String {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(tag = "status", rename_all = "snake_case")]
 pub enum Reply<R> {
-    Done { reply: R },
-    Failed { error: String },
+    Done {
+        reply: R,
+    },
+    /// The job ran and failed: its own answer to this request (a chip without float16).
+    Failed {
+        error: String,
+    },
+    /// The child refused the request's inputs before its job ran (a method file that does not
+    /// load): nothing of the job, the driver's or the compiler's, was tried.
+    Refused {
+        error: String,
+    },
 }
 
 /// How a parent starts a child.
@@ -86,6 +96,9 @@ pub struct Failure {
     /// is refused again), as opposed to a child that died, could not start or wrote no
     /// readable reply.
     pub replied: bool,
+    /// Whether the child refused the request's inputs before its job ran ([`Reply::Refused`]):
+    /// what failed is the input, never the driver.
+    pub refused_input: bool,
 }
 
 impl std::fmt::Display for Failure {
@@ -115,6 +128,7 @@ pub fn call<J: Job>(
         why,
         request: path.clone(),
         replied: false,
+        refused_input: false,
     };
     let reply = dir.join(format!("{name}.reply.json"));
     let envelope = Envelope {
@@ -157,6 +171,10 @@ pub fn call<J: Job>(
             Ok(Reply::Done { reply }) => Ok(reply),
             Ok(Reply::Failed { error }) => Err(Failure {
                 replied: true,
+                ..failure(error)
+            }),
+            Ok(Reply::Refused { error }) => Err(Failure {
+                refused_input: true,
                 ..failure(error)
             }),
             Err(e) => Err(failure(format!("its reply is not readable: {e}"))),
@@ -218,6 +236,16 @@ pub fn read(path: &Path) -> Result<Envelope<serde_json::Value>> {
 
 /// The child's side: decodes the request of `env` as job `J`, runs `work` on it and writes
 /// the reply (its error too, as the reply: the parent reports it).
+/// Answers the request of `env` with [`Reply::Refused`]: its inputs (`error`) were refused
+/// before its job ran.
+pub fn refuse<T>(env: &Envelope<T>, error: &Error) -> Result<()> {
+    let reply = serde_json::to_vec(&Reply::<()>::Refused {
+        error: error.to_string(),
+    })
+    .map_err(|e| Error::output("the child's reply", e))?;
+    crate::output::write_bytes_atomic(&env.reply, &reply)
+}
+
 pub fn serve<J: Job>(
     env: Envelope<serde_json::Value>,
     work: impl FnOnce(J) -> Result<J::Reply>,

@@ -826,3 +826,172 @@ fn unclear_messages_are_clear() {
     );
     assert!(err.contains("3.4028235e38"), "{err}");
 }
+
+// --- Wrong figures at exit 0, misleading messages (the second round of probes) -------------
+
+/// An image with no covered pixel: summary.json's per-channel figures and the normal's 99th
+/// percentile are null (they read 0.0), and a limit on one says that there is no value and
+/// why (it said "= 0.000000e0 > 1e0").
+#[test]
+fn an_image_with_no_covered_pixel_reports_null_and_the_gate_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let (away, out) = (dir.path().join("away.toml"), dir.path().join("c"));
+    std::fs::write(
+        &away,
+        format!(
+            "[mesh]\nobj = \"{}\"\n[camera]\neye = [0.0, 0.0, 3.0]\ntarget = [0.0, 0.0, 6.0]\n",
+            root().join("scenes/cube.obj").display()
+        ),
+    )
+    .unwrap();
+    let (code, _, err) = go(&[
+        "compare",
+        "--scene",
+        s(&away),
+        "--size",
+        "16x16",
+        "--methods",
+        "phong_exact",
+        "--fail-above",
+        "p99_normal_angle_deg=1",
+        "--out",
+        s(&out),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("p99_normal_angle_deg has no value") && err.contains("no pixel measured"),
+        "{err}"
+    );
+    assert!(!err.contains("0.000000e0"), "{err}");
+    let m = &read_json(out.join("summary.json"))["methods"][0];
+    assert_eq!(m["covered_pixels"], 0);
+    for c in m["channels"].as_array().unwrap() {
+        for k in ["mean_abs_error", "max_abs_error", "rmse"] {
+            assert!(c[k].is_null(), "{k}: {m}");
+        }
+    }
+    assert!(m["p99_normal_angle_deg"].is_null(), "{m}");
+}
+
+/// A method NaN at every pixel fails, and the reason says so: "non-finite at N of N pixels",
+/// not "the method covers none of the reference's pixels".
+#[test]
+fn a_method_nan_everywhere_is_said_to_be_non_finite_at_every_pixel() {
+    let dir = tempfile::tempdir().unwrap();
+    let nan = dir.path().join("nan_everywhere.glsl");
+    std::fs::write(
+        &nan,
+        "// shadelab-inputs: interpolated_normal\nreal3 methodNormal() {\n    real3 n = R3(vNormal);\n    return n * sqrt(R(-1.0) - dot(n, n));\n}\n",
+    )
+    .unwrap();
+    let out = dir.path().join("c");
+    let (code, _, err) = go(&[
+        "--method-file",
+        s(&nan),
+        "compare",
+        "--scene",
+        "scenes/sphere_coarse.toml",
+        "--size",
+        "32x32",
+        "--methods",
+        "nan_everywhere",
+        "--fail-above",
+        "max_abs_error=1",
+        "--out",
+        s(&out),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    let m = &read_json(out.join("summary.json"))["methods"][0];
+    let n = m["non_finite_pixels"].as_u64().unwrap();
+    assert!(n > 0 && m["covered_pixels"] == 0, "{m}");
+    assert!(
+        err.contains(&format!("non-finite at {n} of {n} pixels")),
+        "{err}"
+    );
+    assert!(!err.contains("covers none"), "{err}");
+}
+
+/// A family named twice is compiled and reported once, with a note (two identical columns).
+#[test]
+fn a_family_named_twice_is_reported_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("isa");
+    let store = dir.path().join("store");
+    let (code, _, err) = run_limited(
+        &[
+            "isa",
+            "--families",
+            "amd:navi21,AMD:navi21",
+            "--methods",
+            "phong_exact",
+            "--out",
+            s(&out),
+        ],
+        &[("SHADELAB_STORE", s(&store))],
+        Duration::from_secs(120),
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("names amd:navi21 more than once"), "{err}");
+    let isa = read_json(out.join("isa.json"));
+    let families: Vec<&str> = isa["families"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["family"].as_str().unwrap())
+        .collect();
+    assert_eq!(families, ["amd:navi21"]);
+}
+
+/// A compile store whose bad entries cannot be removed (a folder where an entry would be,
+/// which even root cannot unlink; a read-only store the common case): `cache --verify` said
+/// "removed" and exited 0, `cache --prune` said "removed 0 entries". Now each says what is
+/// still there and exits 2. And an entry that never ends (a link to /dev/zero) or blocks (a
+/// FIFO) is refused at once and removed, never read.
+#[test]
+fn a_store_entry_that_cannot_be_removed_is_said_to_be_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = dir.path().join("store");
+    std::fs::create_dir(&store).unwrap();
+    let stuck = store.join(format!("{}.entry", "f".repeat(64)));
+    std::fs::create_dir(&stuck).unwrap();
+    std::fs::write(stuck.join("inside"), b"x").unwrap();
+    let zero = store.join(format!("{}.entry", "e".repeat(64)));
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    let fifo = store.join(format!("{}.entry", "d".repeat(64)));
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let env = [("SHADELAB_STORE", s(&store))];
+    let limit = Duration::from_secs(30);
+    let (code, out, err) = run_limited(&["cache", "--verify"], &env, limit);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        out.contains(&format!("NOT removed {}", stuck.display()))
+            && out.contains("0 sound, 2 removed, 1 could not be removed")
+            && err.contains("could not be removed"),
+        "{out}{err}"
+    );
+    assert!(
+        out.contains("a symbolic link") && out.contains("a FIFO"),
+        "{out}"
+    );
+    assert!(stuck.exists() && zero.symlink_metadata().is_err() && !fifo.exists());
+    let (code, out, err) = run_limited(&["cache", "--prune"], &env, limit);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        out.contains("removed 0 entries") && out.contains("1 could not be removed"),
+        "{out}"
+    );
+    assert!(
+        err.contains(&format!("could not remove {}", stuck.display())),
+        "{err}"
+    );
+    // teeth: once it can go, it goes and the commands succeed
+    std::fs::remove_dir_all(&stuck).unwrap();
+    std::fs::write(&stuck, b"junk").unwrap();
+    let (code, out, err) = run_limited(&["cache", "--verify"], &env, limit);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("0 sound, 1 removed\n"), "{out}");
+}

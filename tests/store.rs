@@ -138,7 +138,7 @@ fn figures_from_the_store_equal_fresh_ones_on_every_family() {
     same_figures(&fresh, &read).unwrap();
     same_figures(&fresh, &filled).unwrap();
     // Teeth: a doctored but well-formed entry is read, and its figures are not fresh ones.
-    let entries = s.verify().unwrap().0;
+    let entries = s.verify().unwrap().sound;
     let mut e = entries
         .into_iter()
         .find(|e| {
@@ -211,7 +211,7 @@ fn a_request_sharing_methods_compiles_only_the_new_ones() {
     let mut e = s
         .verify()
         .unwrap()
-        .0
+        .sound
         .into_iter()
         .find(|e| e.material.request["methods"] == serde_json::json!(["flat"]))
         .expect("flat's entry");
@@ -278,7 +278,8 @@ fn a_corrupt_entry_is_detected_and_compiled_again() {
             vec![(fams[0].clone(), Some(Source::Compiled))]
         );
         same_figures(&fresh, &again).unwrap();
-        let (sound, removed) = s.verify().unwrap();
+        let v = s.verify().unwrap();
+        let (sound, removed) = (v.sound, v.removed);
         assert_eq!((sound.len(), removed.len()), (ENTRIES_PER_FAMILY, 0));
     }
 }
@@ -390,7 +391,8 @@ fn two_processes_filling_the_store_at_once_leave_it_whole() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
     let s = Store::at(&store_dir);
-    let (sound, removed) = s.verify().unwrap();
+    let v = s.verify().unwrap();
+    let (sound, removed) = (v.sound, v.removed);
     assert!(removed.is_empty(), "{removed:?}");
     assert_eq!(sound.len(), fams.len() * ENTRIES_PER_FAMILY);
     let names: Vec<String> = std::fs::read_dir(&store_dir)
@@ -470,7 +472,7 @@ fn a_refusal_is_stored_and_read_back() {
         "{:#?}",
         first.families
     );
-    let mut entries = s.verify().unwrap().0;
+    let mut entries = s.verify().unwrap().sound;
     assert_eq!(entries.len(), 1);
     let mut e = entries.pop().unwrap();
     let store::Stored::Refused(why) = &e.stored else {

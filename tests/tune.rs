@@ -526,3 +526,73 @@ fn tune_reads_the_former_budget_flag_with_a_deprecation_warning() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cannot be used with"), "{err}");
 }
+
+/// A planar mesh (every vertex at z = 0, normals computed: every vertex normal equal) lost every
+/// GPU cost model: its degree-3 and -4 fits on the zero-width domain were handed over unproven,
+/// every family's child refused them, and each model read "not supported by this driver".
+/// Now the domain gets the fits it supports, every model is measured, and the answer says in
+/// words that no normalisation is needed.
+#[test]
+fn tune_on_a_planar_mesh_measures_every_model_and_says_no_normalisation_is_needed() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("planar.obj");
+    let n = 6;
+    let mut text = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            text += &format!(
+                "v {} {} 0\n",
+                i as f64 / n as f64 - 0.5,
+                j as f64 / n as f64 - 0.5
+            );
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            let (b, c) = (a + 1, a + n + 1);
+            text += &format!("f {a} {b} {}\nf {a} {} {c}\n", c + 1, c + 1);
+        }
+    }
+    std::fs::write(&obj, text).unwrap();
+    let out = dir.path().join("t");
+    let (r, stdout) = tune_ok(
+        &[
+            "--mesh",
+            obj.to_str().unwrap(),
+            "--cost-model",
+            "isa:amd:navi21",
+        ],
+        &out,
+    );
+    assert_schema(&r, "docs/tune.schema.json", "", "note");
+    let note = r["note"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no note: {stdout}"));
+    assert!(note.contains("no normalisation is needed"), "{note}");
+    assert!(
+        stdout.contains("answer: no normalisation is needed"),
+        "{stdout}"
+    );
+    for a in r["cost_models"].as_array().unwrap() {
+        assert!(a["error"].is_null(), "a model lost: {a}");
+    }
+    let skipped: Vec<&str> = r["skipped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    assert!(
+        skipped.iter().any(|s| s.starts_with("planar_minimax3")),
+        "{skipped:?}"
+    );
+    // every candidate with a file is proven (a bound below 1), and is costed
+    for c in candidates(&r) {
+        if c["file"].is_string() {
+            let b = f32_bound(c)["length_error"].as_f64().unwrap();
+            assert!(b < 1.0, "{c}");
+            assert!(!c["costs"].as_array().unwrap().is_empty(), "{c}");
+        }
+    }
+}

@@ -517,8 +517,12 @@ impl PixelErrors {
 
     /// The nearest-rank percentile `p` of the normal angle errors: `percentile(&mut
     /// self.angles(), p)` bit for bit (the same values; the scan's [`RankHistogram`] of them
-    /// and one pass over the map instead of a copy). 0 without any angle.
+    /// and one pass over the map instead of a copy). NaN without any angle: an empty set has
+    /// no percentile (null in JSON; a limit on it fails and says why).
     pub fn angle_percentile(&self, p: f64) -> f64 {
+        if self.ranks.angle.is_empty() {
+            return f64::NAN;
+        }
         let angles = (self.angle.iter().zip(&self.has_angle))
             .filter(|(_, &h)| h)
             .map(|(&a, _)| a);
@@ -663,7 +667,17 @@ pub(crate) fn channel_stats(v: &ChannelSums, non_finite: bool) -> ChannelStats {
             rmse: inf,
         };
     }
-    let n = v.n.max(1) as f64;
+    // No measured pixel: an empty set has no mean, maximum or RMS (NaN, null in JSON), never
+    // the 0 of an exact match.
+    if v.n == 0 {
+        let nan = f64::NAN;
+        return ChannelStats {
+            mean_abs_error: nan,
+            max_abs_error: nan,
+            rmse: nan,
+        };
+    }
+    let n = v.n as f64;
     ChannelStats {
         mean_abs_error: v.sum_abs / n,
         max_abs_error: v.max_abs,

@@ -52,31 +52,59 @@ pub(super) fn cmd_cache(a: &CacheArgs) -> Result<ExitCode> {
         )
     })?;
     let s = Store::at(&dir);
+    // Entries that were to go and are still there (a read-only store): said, and exit 2.
+    let mut kept = 0;
+    let mut say_kept = |list: &[(std::path::PathBuf, String)]| {
+        for (p, e) in list {
+            eprintln!("shadelab: could not remove {}: {e}", p.display());
+        }
+        kept += list.len();
+    };
     if a.prune {
-        let (n, freed) = s.prune_to(0)?;
-        println!("{}: removed {n} entries ({})", dir.display(), mb(freed));
-    } else if let Some(max) = a.max_size {
-        let (n, freed) = s.prune_to(max)?;
+        let done = s.prune_to(0)?;
+        say_kept(&done.kept);
         println!(
-            "{}: removed {n} least recently used entries ({}) to stay under {}",
+            "{}: removed {} entries ({}){}",
             dir.display(),
-            mb(freed),
-            mb(max)
+            done.removed,
+            mb(done.freed),
+            not_removed(done.kept.len())
+        );
+    } else if let Some(max) = a.max_size {
+        let done = s.prune_to(max)?;
+        say_kept(&done.kept);
+        println!(
+            "{}: removed {} least recently used entries ({}) to stay under {}{}",
+            dir.display(),
+            done.removed,
+            mb(done.freed),
+            mb(max),
+            not_removed(done.kept.len())
         );
     }
     if a.verify {
-        let (sound, removed) = s.verify()?;
-        for (p, why) in &removed {
+        let v = s.verify()?;
+        for (p, why) in &v.removed {
             println!("removed {}: {why}", p.display());
         }
+        for (p, why, e) in &v.kept {
+            println!("not an entry, NOT removed {}: {why}", p.display());
+            eprintln!("shadelab: could not remove {}: {e}", p.display());
+        }
+        kept += v.kept.len();
         let mut per: BTreeMap<String, usize> = BTreeMap::new();
-        for e in &sound {
+        for e in &v.sound {
             *per.entry(e.material.family().to_string()).or_default() += 1;
         }
         for (family, n) in &per {
             println!("  {family}: {n}");
         }
-        println!("{} sound, {} removed", sound.len(), removed.len());
+        println!(
+            "{} sound, {} removed{}",
+            v.sound.len(),
+            v.removed.len(),
+            not_removed(v.kept.len())
+        );
     }
     let entries = s.entries()?;
     let total: u64 = entries.iter().map(|e| e.size).sum();
@@ -86,7 +114,25 @@ pub(super) fn cmd_cache(a: &CacheArgs) -> Result<ExitCode> {
         entries.len(),
         mb(total)
     );
+    if kept > 0 {
+        return Err(Error::Output {
+            what: format!("the compile store {}", dir.display()),
+            message: format!(
+                "{kept} entries could not be removed (is it read-only?): make the folder \
+                 writable, or point SHADELAB_STORE at another"
+            ),
+        });
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// ", N could not be removed" when N > 0.
+fn not_removed(n: usize) -> String {
+    if n == 0 {
+        String::new()
+    } else {
+        format!(", {n} could not be removed")
+    }
 }
 
 #[cfg(test)]

@@ -87,23 +87,59 @@ pub(super) fn method_list(s: &str) -> std::result::Result<String, String> {
 
 /// The methods of a list (or `all`), each once: a name given twice is measured once, with a
 /// note.
+/// `all` stands for every method wherever it appears in the list (`all,all` or
+/// `phong_exact,all`), so it is one name among the others, never an unknown method.
 pub(super) fn select_methods(list: &str) -> Result<Vec<&'static Method>> {
     if list == "all" {
         return Ok(method::all());
     }
     let mut out: Vec<&'static Method> = Vec::new();
+    let mut all_named = false;
     for s in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        let m = method::find(s)?;
-        if out.iter().any(|o| o.name == m.name) {
-            eprintln!(
-                "shadelab: note: --methods names {} more than once; it is measured once",
-                m.name
-            );
+        let named = if s == "all" {
+            if std::mem::replace(&mut all_named, true) {
+                eprintln!("shadelab: note: --methods names all more than once");
+            }
+            method::all()
         } else {
-            out.push(m);
+            vec![method::find(s)?]
+        };
+        for m in named {
+            if !out.iter().any(|o| o.name == m.name) {
+                out.push(m);
+            } else if s != "all" {
+                eprintln!(
+                    "shadelab: note: --methods names {} more than once; it is measured once",
+                    m.name
+                );
+            }
         }
     }
     Ok(out)
+}
+
+/// `--families` of `isa`: the ids of a comma-separated list, lower case, each once (a family
+/// named twice is compiled and reported once, with a note, as `--methods` does); `all` is
+/// `None` (every family set up).
+pub(super) fn family_list(list: &str) -> Option<Vec<String>> {
+    if list.trim() == "all" {
+        return None;
+    }
+    let mut out: Vec<String> = Vec::new();
+    for f in list.split(',').map(|s| s.trim().to_lowercase()) {
+        if f.is_empty() {
+            continue;
+        }
+        if out.contains(&f) {
+            eprintln!(
+                "shadelab: note: --families names {f} more than once; it is compiled and \
+                 reported once"
+            );
+        } else {
+            out.push(f);
+        }
+    }
+    Some(out)
 }
 
 /// What a command writes and reads, for [`check_paths`].
@@ -262,6 +298,27 @@ pub(super) fn check_paths(cli: &super::Cli) -> Result<Option<PathBuf>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `all` is one name of the list wherever it stands (`--methods all,all` said 'unknown
+    /// method "all"'), and a family named twice is one family (`isa --families
+    /// amd:navi21,amd:navi21` gave two identical columns).
+    #[test]
+    fn all_and_a_name_given_twice_select_each_method_once() {
+        let names =
+            |l: &str| -> Vec<&str> { select_methods(l).unwrap().iter().map(|m| m.name).collect() };
+        let every: Vec<&str> = method::all().iter().map(|m| m.name).collect();
+        assert_eq!(names("all,all"), every);
+        assert_eq!(names(" all , all "), every);
+        let mut gouraud_first = vec!["gouraud"];
+        gouraud_first.extend(every.iter().filter(|n| **n != "gouraud"));
+        assert_eq!(names("gouraud,all"), gouraud_first);
+        assert!(select_methods("all,nonsense").is_err());
+        assert_eq!(
+            family_list("amd:navi21, AMD:navi21,intel:tgl"),
+            Some(vec!["amd:navi21".to_string(), "intel:tgl".to_string()])
+        );
+        assert_eq!(family_list(" all "), None);
+    }
 
     #[test]
     fn counts_are_bounded_and_say_their_bound() {

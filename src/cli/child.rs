@@ -24,8 +24,14 @@ pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
     }
     // Before anything resolves a method set: the parent's method files (a tuned one proven
     // again, as the parent did).
-    crate::tune::check::check_files(&env.method_files)?;
-    crate::gpu::shaders::register_user(&env.method_files)?;
+    // A file that does not load is the request's input refused, said as such (not a driver
+    // that failed).
+    let loaded = crate::tune::check::check_files(&env.method_files)
+        .and_then(|()| crate::gpu::shaders::register_user(&env.method_files));
+    if let Err(e) = loaded {
+        child::refuse(&env, &e)?;
+        return Err(e);
+    }
     match env.job.as_str() {
         crate::bench::runs::RunRequest::NAME => child::serve(env, bench_run)?,
         crate::isa::ChildRequest::NAME => child::serve(env, |r: crate::isa::ChildRequest| {

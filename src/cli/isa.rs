@@ -84,15 +84,8 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
     if !methods.iter().any(|m| m.name == exact.name) {
         methods.insert(0, exact);
     }
-    let families: Vec<String> = if args.families.trim() == "all" {
-        isa::route::default_family_ids()
-    } else {
-        args.families
-            .split(',')
-            .map(|s| s.trim().to_lowercase())
-            .filter(|s| !s.is_empty())
-            .collect()
-    };
+    let families =
+        super::checks::family_list(&args.families).unwrap_or_else(isa::route::default_family_ids);
     let exe = std::env::current_exe()
         .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
     let opts = IsaOptions {
@@ -159,15 +152,7 @@ pub(super) fn cmd_isa(args: IsaArgs) -> Result<ExitCode> {
 
 /// `isa --calibrate`: the kernels on the families, calibration.json, a line per check.
 fn calibrate(args: IsaArgs) -> Result<ExitCode> {
-    let families: Vec<String> = if args.families.trim() == "all" {
-        Vec::new()
-    } else {
-        args.families
-            .split(',')
-            .map(|s| s.trim().to_lowercase())
-            .filter(|s| !s.is_empty())
-            .collect()
-    };
+    let families = super::checks::family_list(&args.families).unwrap_or_default();
     let exe = std::env::current_exe()
         .map_err(|e| Error::Device(format!("cannot find shadelab's own binary: {e}")))?;
     let cal = isa::calibrate::run(exe, families, &args.out, &|line| log::info!("{line}"))?;

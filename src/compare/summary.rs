@@ -562,23 +562,36 @@ impl std::fmt::Display for Exceeded {
             Bound::Above => (">", &self.limit),
             Bound::Below => ("<", &self.limit),
         };
-        write!(
-            f,
-            "{} {} = {:.6e} {op} {:e}",
-            self.method, l.metric, self.value, l.value
-        )?;
+        let (m, name) = (&self.method, &l.metric);
         if self.non_finite_pixels > 0 {
-            write!(f, " ({} non-finite pixels)", self.non_finite_pixels)?;
+            let at = non_finite_at(self.non_finite_pixels, self.measured_pixels);
+            return write!(
+                f,
+                "{m} {name} = {:.6e} {op} {:e} ({at})",
+                self.value, l.value
+            );
         }
         if self.measured_pixels == 0 {
-            write!(
+            // an empty set has no figure: no value to print, and no limit can be met
+            return write!(
                 f,
-                " (no pixel measured: the method covers none of the reference's pixels, so no \
-                 limit can be met)"
-            )?;
+                "{m} {name} has no value (limit {op} {:e} not met): no pixel measured, the \
+                 method covers none of the reference's pixels",
+                l.value
+            );
         }
-        Ok(())
+        write!(f, "{m} {name} = {:.6e} {op} {:e}", self.value, l.value)
     }
+}
+
+/// "non-finite at N of M pixels": a method's `non_finite` pixels among the pixels it and the
+/// reference cover outside ill-conditioned slivers (its `measured` finite ones and the
+/// non-finite ones), the reason every error figure of it is infinite.
+pub fn non_finite_at(non_finite: usize, measured: usize) -> String {
+    format!(
+        "non-finite at {non_finite} of {} pixels",
+        non_finite + measured
+    )
 }
 
 /// Every (method, limit) the method does not meet: a value strictly above its `--fail-above`

@@ -371,6 +371,53 @@ fn a_method_that_measures_no_pixel_reports_no_error_and_fails_every_limit() {
     }
 }
 
+/// An image with no covered pixel (a mesh out of view): the empty set's figures are null, the
+/// per-channel ones and the normal's percentile too (they read 0.0, an exact match, and
+/// `--fail-above p99_normal_angle_deg=1` said "= 0.000000e0 > 1e0"); the gate names the reason.
+#[test]
+fn an_image_with_no_covered_pixel_has_no_figure_and_the_gate_says_why() {
+    let (mut frame, mut truth) = synthetic(&[[0.4; 3]; 3], DVec3::splat(0.4), &[false; 3]);
+    frame.color.iter_mut().for_each(|c| c[3] = 0.0);
+    truth.pixels.iter_mut().for_each(|p| *p = None);
+    let r = report(&frame, &truth);
+    assert_eq!((r.covered_pixels, r.coverage_mismatch_pixels), (0, 0));
+    for c in &r.channels {
+        assert!(
+            c.mean_abs_error.is_nan() && c.max_abs_error.is_nan() && c.rmse.is_nan(),
+            "{c:?}"
+        );
+    }
+    assert!(r.p99_normal_angle_deg.unwrap().is_nan());
+    // null in summary.json, not 0
+    let json = serde_json::to_value(&r).unwrap();
+    assert!(json["channels"][0]["mean_abs_error"].is_null(), "{json}");
+    assert!(json["p99_normal_angle_deg"].is_null(), "{json}");
+    let s = summary_of(vec![r]);
+    let l = parse_limit("p99_normal_angle_deg=1", Bound::Above).unwrap();
+    let over = exceeded(&s, &[l]);
+    assert_eq!(over.len(), 1);
+    let said = over[0].to_string();
+    assert!(
+        said.contains("p99_normal_angle_deg has no value") && said.contains("no pixel measured"),
+        "{said}"
+    );
+    assert!(!said.contains("0.000000e0"), "{said}");
+}
+
+/// A method NaN at every pixel covers them all, each NaN: the gate says "non-finite at 3 of 3
+/// pixels", not that it covers none of the reference's pixels.
+#[test]
+fn a_method_nan_at_every_pixel_is_said_to_be_non_finite_there() {
+    let (frame, truth) = synthetic(&[[f32::NAN; 3]; 3], DVec3::splat(0.4), &[false; 3]);
+    let r = report(&frame, &truth);
+    assert_eq!((r.covered_pixels, r.non_finite_pixels), (0, 3));
+    let s = summary_of(vec![r]);
+    let l = parse_limit("max_abs_error=1", Bound::Above).unwrap();
+    let said = exceeded(&s, &[l])[0].to_string();
+    assert!(said.contains("non-finite at 3 of 3 pixels"), "{said}");
+    assert!(!said.contains("covers none"), "{said}");
+}
+
 fn summary_of(methods: Vec<MethodReport>) -> Summary {
     Summary {
         schema_version: SCHEMA_VERSION,

@@ -119,6 +119,9 @@ pub enum ChildOutcome {
     Compiled(ChildReport, Provenance),
     /// Not supported by this driver: what happened (signal, exit code, stderr tail).
     Failed(String),
+    /// The child refused the request's inputs before compiling (a method file that does not
+    /// load): nothing was asked of the driver.
+    Refused(String),
     /// The vendor's route is not set up (why); no child was started.
     NotSetUp(String),
 }
@@ -281,6 +284,7 @@ fn compile(
                 keep(&material, store::Stored::Compiled(r.clone()));
                 return ChildOutcome::Compiled(r, provenance);
             }
+            Err(f) if f.refused_input => return ChildOutcome::Refused(f.why),
             Err(f) if i + 1 < n && family.vendor.unknown_chip(&f.why) => {
                 refused.push(format!("`{name}`: {}", f.why));
             }
@@ -418,6 +422,7 @@ pub fn run_with(
                         format!("{id}: {} in {:.0} ms", r.device_name, r.elapsed_ms)
                     }
                     ChildOutcome::Failed(why) => format!("{id}: not supported ({why})"),
+                    ChildOutcome::Refused(why) => format!("{id}: input refused ({why})"),
                     ChildOutcome::NotSetUp(why) => format!(
                         "{id}: not set up ({why}); run {}",
                         family.vendor.setup_command_for(family.chip)

@@ -177,6 +177,11 @@ pub fn report(
                 false,
                 format!("not supported by this driver: {why}"),
             )),
+            ChildOutcome::Refused(why) => families.push(status(
+                &family,
+                false,
+                format!("not compiled: the request's input was refused before compiling: {why}"),
+            )),
             ChildOutcome::NotSetUp(why) => {
                 let command = family.vendor.setup_command_for(family.chip);
                 let mut f = status(&family, false, format!("not set up: {why}; run {command}"));

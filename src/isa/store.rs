@@ -236,14 +236,18 @@ pub fn encode(entry: &Entry) -> Result<Vec<u8>> {
     Ok(out)
 }
 
-/// The entry of `bytes`, or what is wrong with them.
-pub fn decode(bytes: &[u8]) -> std::result::Result<Entry, String> {
-    let nl = bytes
-        .iter()
-        .position(|&b| b == b'\n')
-        .ok_or("no header line")?;
-    let header = std::str::from_utf8(&bytes[..nl]).map_err(|_| "a header that is not text")?;
-    let body = &bytes[nl + 1..];
+/// The longest header line an entry has (the magic, the schema, 64 hex digits and a length,
+/// with room to spare): more bytes without a newline is no entry.
+const MAX_HEADER: usize = 160;
+/// The largest entry read (256 MiB, an eighth of [`DEFAULT_MAX_BYTES`]; a report's largest
+/// reply, every method with its disassembly on one family, is a few MB): a larger file is not
+/// read, whatever its header says.
+pub const MAX_ENTRY_BYTES: u64 = DEFAULT_MAX_BYTES / 8;
+
+/// The header line of an entry (without its newline): the checksum and length of the body it
+/// announces, or what is wrong with it.
+fn decode_header(header: &[u8]) -> std::result::Result<(&str, u64), String> {
+    let header = std::str::from_utf8(header).map_err(|_| "a header that is not text")?;
     let parts: Vec<&str> = header.split(' ').collect();
     let [magic, schema, sum, len] = parts[..] else {
         return Err(format!(
@@ -255,7 +259,22 @@ pub fn decode(bytes: &[u8]) -> std::result::Result<Entry, String> {
             "header `{header}`: not an entry of store schema {STORE_SCHEMA}"
         ));
     }
-    if len.parse::<usize>().ok() != Some(body.len()) {
+    let len = len
+        .parse::<u64>()
+        .map_err(|_| format!("header `{header}`: its length is not a number"))?;
+    Ok((sum, len))
+}
+
+/// The entry of `bytes`, or what is wrong with them.
+pub fn decode(bytes: &[u8]) -> std::result::Result<Entry, String> {
+    let nl = bytes
+        .iter()
+        .take(MAX_HEADER + 1)
+        .position(|&b| b == b'\n')
+        .ok_or("no header line")?;
+    let (sum, len) = decode_header(&bytes[..nl])?;
+    let body = &bytes[nl + 1..];
+    if len != body.len() as u64 {
         return Err(format!(
             "truncated: the header says {len} bytes, the body has {}",
             body.len()
@@ -267,6 +286,103 @@ pub fn decode(bytes: &[u8]) -> std::result::Result<Entry, String> {
     serde_json::from_slice(body).map_err(|e| format!("its body is not an entry: {e}"))
 }
 
+/// The bytes of the entry file at `path`, read only when it can be one: a regular file (not a
+/// link, a device, a FIFO or a folder: a link to /dev/zero was read until the kernel killed
+/// the process) of at most [`MAX_ENTRY_BYTES`], whose header is read first and whose length is
+/// the one the header announces. `Ok(None)`: no such file (another process removed it).
+/// `Err`: why the file is no entry, without reading more of it.
+pub fn read_entry(path: &Path) -> std::result::Result<Option<Vec<u8>>, String> {
+    use std::io::Read;
+    use std::os::unix::fs::OpenOptionsExt;
+    let meta = match std::fs::symlink_metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(format!("cannot be read: {e}")),
+    };
+    let regular = |m: &std::fs::Metadata| -> std::result::Result<(), String> {
+        if !m.file_type().is_file() {
+            return Err(format!(
+                "not a regular file ({}): an entry is one, written by shadelab",
+                kind_of(m.file_type())
+            ));
+        }
+        if m.len() > MAX_ENTRY_BYTES {
+            return Err(format!(
+                "{} bytes, more than an entry may hold ({MAX_ENTRY_BYTES})",
+                m.len()
+            ));
+        }
+        Ok(())
+    };
+    regular(&meta)?;
+    // O_NOFOLLOW and O_NONBLOCK: what is opened is what was checked, and a FIFO put there
+    // meanwhile does not block the open; the opened file is checked again.
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK)
+        .open(path);
+    let mut file = match file {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(format!("cannot be opened: {e}")),
+    };
+    let meta = file
+        .metadata()
+        .map_err(|e| format!("cannot be read: {e}"))?;
+    regular(&meta)?;
+    let mut head = Vec::with_capacity(MAX_HEADER + 1);
+    (&mut file)
+        .take(MAX_HEADER as u64 + 1)
+        .read_to_end(&mut head)
+        .map_err(|e| format!("cannot be read: {e}"))?;
+    let nl = head
+        .iter()
+        .position(|&b| b == b'\n')
+        .ok_or("no header line")?;
+    let (_, len) = decode_header(&head[..nl])?;
+    let whole = nl as u64 + 1 + len;
+    if whole != meta.len() {
+        return Err(format!(
+            "truncated: the header says {len} bytes, the body has {}",
+            meta.len().saturating_sub(nl as u64 + 1)
+        ));
+    }
+    let mut bytes = head;
+    bytes.reserve(whole as usize - bytes.len());
+    file.take(whole - bytes.len() as u64)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot be read: {e}"))?;
+    Ok(Some(bytes))
+}
+
+/// What a file that is not a regular one is, in words.
+fn kind_of(t: std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if t.is_symlink() {
+        "a symbolic link"
+    } else if t.is_dir() {
+        "a folder"
+    } else if t.is_fifo() {
+        "a FIFO"
+    } else if t.is_char_device() || t.is_block_device() {
+        "a device"
+    } else if t.is_socket() {
+        "a socket"
+    } else {
+        "not a file"
+    }
+}
+
+/// Removes the entry file at `path`: `Ok` when it is gone (or another process removed it
+/// first), else why it is still there (a read-only store).
+fn remove_entry(path: &Path) -> std::result::Result<(), String> {
+    match std::fs::remove_file(path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 /// One entry as `shadelab cache` lists it.
 #[derive(Debug, Clone)]
 pub struct EntryFile {
@@ -276,8 +392,28 @@ pub struct EntryFile {
     pub used: SystemTime,
 }
 
-/// What [`Store::verify`] found: the sound entries, and each removed entry's path with why.
-pub type Verified = (Vec<Entry>, Vec<(PathBuf, String)>);
+/// What [`Store::verify`] found.
+#[derive(Debug, Default)]
+pub struct Verified {
+    /// The entries that decode, under their own key.
+    pub sound: Vec<Entry>,
+    /// Each entry that did not, removed: its path and why.
+    pub removed: Vec<(PathBuf, String)>,
+    /// Each entry that did not and could not be removed (a read-only store): its path, why it
+    /// is no entry, and why it is still there.
+    pub kept: Vec<(PathBuf, String, String)>,
+}
+
+/// What [`Store::prune_to`] did.
+#[derive(Debug, Default)]
+pub struct Pruned {
+    /// Entries removed, and their bytes.
+    pub removed: usize,
+    pub freed: u64,
+    /// Each entry that was to go and could not be removed (a read-only store): its path and
+    /// why.
+    pub kept: Vec<(PathBuf, String)>,
+}
 
 /// A store in a folder.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -304,21 +440,24 @@ impl Store {
     /// is warned about, removed, and a miss; a hit refreshes the entry's time (LRU).
     pub fn get(&self, m: &KeyMaterial) -> Option<Stored> {
         let path = self.path_of(&m.key());
-        let bytes = std::fs::read(&path).ok()?;
-        let why = match decode(&bytes) {
-            Ok(e) if e.material == *m => {
+        let why = match read_entry(&path).map(|b| b.map(|b| decode(&b))) {
+            Ok(None) => return None,
+            Ok(Some(Ok(e))) if e.material == *m => {
                 touch(&path);
                 return Some(e.stored);
             }
-            Ok(_) => "its key material is another compile's".to_string(),
-            Err(why) => why,
+            Ok(Some(Ok(_))) => "its key material is another compile's".to_string(),
+            Ok(Some(Err(why))) | Err(why) => why,
+        };
+        let what = match remove_entry(&path) {
+            Ok(()) => "removed".to_string(),
+            Err(e) => format!("could not be removed ({e}), left as it is"),
         };
         log::warn!(
-            "compile store: {} ({}): {why}; removed, compiling again",
+            "compile store: {} ({}): {why}; {what}; compiling again",
             path.display(),
             m.family()
         );
-        let _ = std::fs::remove_file(&path);
         None
     }
 
@@ -398,46 +537,51 @@ impl Store {
     /// Removes the least recently used entries until the store holds at most `max_bytes`;
     /// returns (entries removed, bytes freed). An entry another process removed first counts
     /// as removed by neither.
-    pub fn prune_to(&self, max_bytes: u64) -> Result<(usize, u64)> {
+    pub fn prune_to(&self, max_bytes: u64) -> Result<Pruned> {
         let entries = self.entries()?;
         let mut total: u64 = entries.iter().map(|e| e.size).sum();
-        let (mut n, mut freed) = (0, 0);
+        let mut done = Pruned::default();
         for e in entries {
             if total <= max_bytes {
                 break;
             }
             total -= e.size;
-            if std::fs::remove_file(&e.path).is_ok() {
-                n += 1;
-                freed += e.size;
+            match std::fs::remove_file(&e.path) {
+                Ok(()) => {
+                    done.removed += 1;
+                    done.freed += e.size;
+                }
+                Err(x) if x.kind() == std::io::ErrorKind::NotFound => {}
+                Err(x) => done.kept.push((e.path, x.to_string())),
             }
         }
-        Ok((n, freed))
+        Ok(done)
     }
 
-    /// Reads every entry and removes those that do not decode; returns the sound entries and
-    /// the paths removed with why.
+    /// Reads every entry and removes those that do not decode ([`Verified`]: the sound
+    /// entries, those removed and those that could not be).
     pub fn verify(&self) -> Result<Verified> {
-        let mut sound = Vec::new();
-        let mut removed = Vec::new();
+        let mut v = Verified::default();
         for e in self.entries()? {
-            let Ok(bytes) = std::fs::read(&e.path) else {
-                continue; // removed by another process meanwhile
-            };
             let name_ok = |x: &Entry| {
                 e.path.file_name().and_then(|n| n.to_str())
                     == Some(&format!("{}{SUFFIX}", x.material.key()))
             };
-            match decode(&bytes) {
-                Ok(x) if name_ok(&x) => sound.push(x),
-                Ok(_) => removed.push((e.path, "stored under another key".into())),
-                Err(why) => removed.push((e.path, why)),
+            let why = match read_entry(&e.path).map(|b| b.map(|b| decode(&b))) {
+                Ok(None) => continue, // removed by another process meanwhile
+                Ok(Some(Ok(x))) if name_ok(&x) => {
+                    v.sound.push(x);
+                    continue;
+                }
+                Ok(Some(Ok(_))) => "stored under another key".to_string(),
+                Ok(Some(Err(why))) | Err(why) => why,
+            };
+            match remove_entry(&e.path) {
+                Ok(()) => v.removed.push((e.path, why)),
+                Err(kept) => v.kept.push((e.path, why, kept)),
             }
         }
-        for (p, _) in &removed {
-            let _ = std::fs::remove_file(p);
-        }
-        Ok((sound, removed))
+        Ok(v)
     }
 }
 
@@ -519,6 +663,87 @@ mod tests {
         assert!(!p.exists());
     }
 
+    /// An entry that never ends is not read: a link to /dev/zero took `isa` to 22.9 GB until
+    /// the kernel killed it. A link, a FIFO (which would block the read) or a folder is no
+    /// entry, nor a file past [`MAX_ENTRY_BYTES`] or one longer than its header says: each is
+    /// refused from its metadata and header, at once, and removed.
+    #[test]
+    fn an_entry_that_is_no_regular_file_is_refused_before_it_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let s = Store::at(dir.path());
+        let m = material("amd:navi21");
+        let p = s.path_of(&m.key());
+        let refused = |what: &str, want: &str| {
+            let start = std::time::Instant::now();
+            let why = read_entry(&p).unwrap_err();
+            assert!(why.contains(want), "{what}: {why}");
+            assert!(s.get(&m).is_none(), "{what}");
+            assert!(std::fs::symlink_metadata(&p).is_err(), "{what} left behind");
+            assert!(
+                start.elapsed().as_secs() < 5,
+                "{what}: {:?}",
+                start.elapsed()
+            );
+        };
+        std::os::unix::fs::symlink("/dev/zero", &p).unwrap();
+        refused("a link to /dev/zero", "a symbolic link");
+        // a link to a sound entry is no entry either: what is read is what was checked
+        s.put(&material("amd:tahiti"), Stored::Refused("x".into()))
+            .unwrap();
+        std::os::unix::fs::symlink(s.path_of(&material("amd:tahiti").key()), &p).unwrap();
+        refused("a link to an entry", "a symbolic link");
+        let c = std::ffi::CString::new(p.to_str().unwrap()).unwrap();
+        // SAFETY: a valid NUL-terminated path; mkfifo only creates the node.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        refused("a FIFO", "a FIFO");
+        // more bytes than the header announces (a body padded with zeros): not read past them
+        s.put(&m, Stored::Refused("x".into())).unwrap();
+        let mut bytes = std::fs::read(&p).unwrap();
+        bytes.extend_from_slice(&[0; 4096]);
+        std::fs::write(&p, &bytes).unwrap();
+        refused("a padded entry", "truncated: the header says");
+        // past the bound, whatever the header says (a sparse file: no disk used)
+        std::fs::File::create(&p)
+            .unwrap()
+            .set_len(MAX_ENTRY_BYTES + 1)
+            .unwrap();
+        refused("a huge file", "more than an entry may hold");
+        // a header line that never ends
+        std::fs::write(&p, vec![b'x'; 10_000]).unwrap();
+        refused("no header line", "no header line");
+        // and a sound entry still reads
+        s.put(&m, Stored::Refused("x".into())).unwrap();
+        assert!(s.get(&m).is_some());
+    }
+
+    /// An entry that cannot be removed (here a folder where an entry would be, which even root
+    /// cannot `unlink`; a read-only store is the common case) is said to be still there:
+    /// `verify` and `prune_to` listed it as removed, or said nothing.
+    #[test]
+    fn an_entry_that_cannot_be_removed_is_said_to_be_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let s = Store::at(dir.path());
+        s.put(&material("amd:navi21"), Stored::Refused("x".into()))
+            .unwrap();
+        let stuck = dir.path().join(format!("{}{SUFFIX}", "f".repeat(64)));
+        std::fs::create_dir(&stuck).unwrap();
+        std::fs::write(stuck.join("inside"), b"x").unwrap();
+        let v = s.verify().unwrap();
+        assert_eq!((v.sound.len(), v.removed.len(), v.kept.len()), (1, 0, 1));
+        assert_eq!(v.kept[0].0, stuck);
+        assert!(v.kept[0].1.contains("a folder"), "{:?}", v.kept);
+        // the store's own entry goes, the folder stays and is said to
+        let done = s.prune_to(0).unwrap();
+        assert_eq!((done.removed, done.kept.len()), (1, 1));
+        assert!(stuck.exists());
+        // teeth: a removable bad entry is removed, not kept
+        std::fs::remove_dir_all(&stuck).unwrap();
+        std::fs::write(&stuck, b"junk").unwrap();
+        let v = s.verify().unwrap();
+        assert_eq!((v.removed.len(), v.kept.len()), (1, 0));
+        assert!(!stuck.exists());
+    }
+
     #[test]
     fn another_compiler_is_another_key() {
         let a = material("amd:navi21");
@@ -559,9 +784,9 @@ mod tests {
         // a hit makes `b` the most recently used
         assert!(s.get(&b).is_some());
         let one = s.entries().unwrap()[0].size;
-        assert_eq!(s.prune_to(one + one / 2).unwrap().0, 1);
+        assert_eq!(s.prune_to(one + one / 2).unwrap().removed, 1);
         assert!(s.get(&a).is_none() && s.get(&b).is_some());
-        assert_eq!(s.prune_to(0).unwrap().0, 1);
+        assert_eq!(s.prune_to(0).unwrap().removed, 1);
         assert!(s.entries().unwrap().is_empty());
     }
 

@@ -364,6 +364,13 @@ fn read(path: &Path) -> Result<(Vec<u8>, String, Parsed)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let text =
         String::from_utf8(bytes.clone()).map_err(|_| usage(path, "is not UTF-8 text".into()))?;
+    // A UTF-8 byte-order mark (as some Windows editors write) is not text of the file: the
+    // declaration is still line 1, and the compiler never sees the mark. The checksum stays
+    // that of the bytes.
+    let text = match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
+    };
     let parsed = parse(path, &text)?;
     if let Some(other) = registered().iter().find(|u| u.name == parsed.name) {
         return Err(usage(
@@ -418,6 +425,33 @@ pub fn add(u: &'static UserMethod) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A method file that starts with a UTF-8 byte-order mark reads as the same file without
+    /// it (it said "no `// shadelab-inputs:` line in the first 20 lines" of line 1's
+    /// declaration), and the text handed to the compiler has no mark.
+    #[test]
+    fn a_byte_order_mark_before_the_declaration_is_not_part_of_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "// shadelab-inputs: interpolated_normal\nreal3 methodNormal() { return normalize(interpolatedNormal()); }\n";
+        let plain = dir.path().join("bom_plain.glsl");
+        let bom = dir.path().join("bom_marked.glsl");
+        std::fs::write(&plain, text).unwrap();
+        std::fs::write(&bom, [b"\xEF\xBB\xBF".as_slice(), text.as_bytes()].concat()).unwrap();
+        let (_, plain_text, plain_parsed) = read(&plain).unwrap();
+        let (bytes, bom_text, bom_parsed) = read(&bom).unwrap();
+        assert_eq!(bom_text, plain_text);
+        assert!(!bom_text.starts_with('\u{feff}'));
+        assert_eq!(bom_parsed.declaration_line, 1);
+        assert_eq!(
+            (bom_parsed.inputs, bom_parsed.has_normal),
+            (plain_parsed.inputs, plain_parsed.has_normal)
+        );
+        assert_eq!(
+            bytes.len(),
+            text.len() + 3,
+            "the checksum is of the file's bytes"
+        );
+    }
 
     fn p(name: &str) -> PathBuf {
         PathBuf::from(format!("/x/{name}"))

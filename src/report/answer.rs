@@ -122,20 +122,18 @@ pub fn check(
         if c.evidence.is_empty() {
             c.evidence = e.evidence.clone();
         }
-        if e.covered_pixels == 0 {
-            c.worst = None;
-            fail(&mut c, s, format!("no covered pixel on {s}"));
-            continue;
-        }
+        // non-finite first: a method NaN at every pixel covers them all, each NaN
         if e.non_finite_pixels > 0 {
             c.worst = None;
             c.worst_scene = s.clone();
             c.evidence = e.evidence.clone();
-            fail(
-                &mut c,
-                s,
-                format!("{} non-finite pixels on {s}", e.non_finite_pixels),
-            );
+            let at = crate::compare::non_finite_at(e.non_finite_pixels, e.covered_pixels);
+            fail(&mut c, s, format!("{at} on {s}"));
+            continue;
+        }
+        if e.covered_pixels == 0 {
+            c.worst = None;
+            fail(&mut c, s, format!("no covered pixel on {s}"));
             continue;
         }
         match e.metrics.get(&b.metric).copied().flatten() {

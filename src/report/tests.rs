@@ -306,6 +306,28 @@ mod answer_rule {
                 "{what}"
             );
         }
+        // NaN at every pixel (none measured, all non-finite): said as such, not "no covered
+        // pixel"
+        let mut errs = errors();
+        let e = errs
+            .iter_mut()
+            .find(|e| e.method == "faster" && e.scene == "b")
+            .unwrap();
+        (e.non_finite_pixels, e.covered_pixels) = (e.covered_pixels, 0);
+        let n = e.non_finite_pixels;
+        let a = answer(&scenes(), &names(), &errs, vec![model(figures())]);
+        let k = a
+            .checks
+            .iter()
+            .find(|k| k.method == "faster" && k.budget.id() == "max_4_255")
+            .unwrap();
+        assert!(
+            !k.meets
+                && k.why
+                    .contains(&format!("non-finite at {n} of {n} pixels on b")),
+            "{k:?}"
+        );
+        assert!(!k.why.contains("no covered pixel"), "{k:?}");
         let mut errs = errors();
         errs.retain(|e| !(e.method == "faster" && e.scene == "a"));
         let a = answer(&scenes(), &names(), &errs, vec![model(figures())]);

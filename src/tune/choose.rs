@@ -20,8 +20,13 @@ pub struct Row {
     /// The real formula's largest length error over the covered pixels' z (sampled; null
     /// without pixels).
     pub sampled_length_error: Option<f64>,
-    /// Its method file, relative to the output folder (null for a paper's: the table's).
+    /// Its method file, relative to the output folder (null for a paper's: the table's, and
+    /// for a candidate not costed).
     pub file: Option<String>,
+    /// Why the candidate was measured by no cost model (its program not proven on the
+    /// domain); absent when it was costed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_costed: Option<String>,
     /// Per cost model: its ratio to phong_exact and the verdict of "cheaper".
     pub costs: Vec<RowCost>,
 }
@@ -234,6 +239,7 @@ mod tests {
             candidate: c,
             bounds: vec![b],
             file: None,
+            not_costed: None,
             costs: Vec::new(),
         }
     }

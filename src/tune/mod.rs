@@ -126,6 +126,10 @@ pub struct TuneReport {
     pub candidates: Vec<Row>,
     /// Candidates that could not be fitted, and why.
     pub skipped: Vec<String>,
+    /// The answer in words where the domain makes the question moot: every interpolated
+    /// normal is of unit length to float32's rounding, so no normalisation is needed
+    /// ([`moot`]); null otherwise.
+    pub note: Option<String>,
     pub cost_models: Vec<Answer>,
     pub classes: Vec<classes::Class>,
     /// How `auto` draws the classes' files (docs/tune.md).
@@ -156,25 +160,73 @@ pub fn form_id(prefix: &str, family: Family, d: usize, steps: u32) -> String {
     }
 }
 
+/// float32's unit roundoff, 2^-24: a fit whose relative error is below it is as accurate as
+/// float32 can hold 1/sqrt(z).
+const F32_UNIT_ROUNDOFF: f64 = 1.0 / (1u64 << 24) as f64;
+
 /// Every form fitted on [lo, hi] (lo at least 1e-3: 1/sqrt(z) has no relative fit at 0), then
 /// the papers and phong_exact; the forms that cannot be fitted, with why.
+///
+/// A domain supports the degrees up to the first whose minimax fit is within float32's
+/// rounding ([`F32_UNIT_ROUNDOFF`]): past it a polynomial (a minimax one, or a Newton seed) can
+/// be no more accurate in float32, and on a narrow domain its coefficients grow as the inverse
+/// powers of the width (a planar mesh, z in [0.999999, 1.0000004]: colour errors of 4e115
+/// were proven for degree 3), so those forms are listed as not fitted, with why.
 pub fn fit_all(prefix: &str, lo: f64, hi: f64) -> (Vec<Candidate>, Vec<String>) {
     let lo = lo.max(1e-3).min(hi - 1e-9);
     let (mut out, mut skipped) = (Vec::new(), Vec::new());
+    // the lowest minimax degree within float32's rounding, and its error
+    let mut enough: Option<(usize, f64)> = None;
     for (family, d, steps) in FORMS {
         let id = form_id(prefix, family, d, steps);
+        if let Some((e, err)) = enough.filter(|&(e, _)| d > e) {
+            skipped.push(format!(
+                "{id}: the degree-{e} minimax fit is already within float32's rounding on z \
+                 in [{lo:.9}, {hi:.9}] (relative error {err:.2e} <= 2^-24): a higher degree \
+                 cannot be more accurate in float32, and its coefficients would only be \
+                 ill-conditioned on a domain this narrow"
+            ));
+            continue;
+        }
         let c = match family {
             Family::Newton => Candidate::newton(id.clone(), d, steps, lo, hi),
             _ => Candidate::minimax(id.clone(), d, lo, hi),
         };
         match c {
-            Ok(c) => out.push(c),
+            Ok(c) => {
+                let err = c.remez.as_ref().map(|r| r.upper);
+                if let (Family::Minimax, None, Some(err)) = (family, enough, err) {
+                    if err <= F32_UNIT_ROUNDOFF {
+                        enough = Some((d, err));
+                    }
+                }
+                out.push(c)
+            }
             Err(why) => skipped.push(format!("{id}: {why}")),
         }
     }
     out.extend(candidate::papers());
     out.push(Candidate::reference());
     (out, skipped)
+}
+
+/// How far from 1 (2^-21, four float32 ulps of 1 above it, eight below) an interpolated
+/// normal's z = N.N may be for the normal to count as of unit length to float32's rounding.
+const UNIT_TO_ROUNDING: f64 = 1.0 / (1u64 << 21) as f64;
+
+/// The answer in words when every interpolated normal is of unit length to float32's rounding
+/// (its smallest and largest z = N.N before the inputs' widening, `z_lo` and `z_hi`, within
+/// [`UNIT_TO_ROUNDING`] of 1: a planar mesh, or one whose vertex normals are all equal): then
+/// no normalisation is needed and phong_unnormalized is exact there. None otherwise.
+pub fn moot(z_lo: f64, z_hi: f64) -> Option<String> {
+    ((1.0 - z_lo).abs() <= UNIT_TO_ROUNDING && (z_hi - 1.0).abs() <= UNIT_TO_ROUNDING).then(|| {
+        format!(
+            "no normalisation is needed here: every interpolated normal is of unit length to \
+             float32's rounding (N.N in [{z_lo:.9}, {z_hi:.9}], within 2^-21 of 1: its vertex \
+             normals are equal or nearly so), so phong_unnormalized is exact on this mesh and \
+             costs least of the methods that shade with the normal"
+        )
+    })
 }
 
 /// An identifier made of `name`: lower case, runs of other characters one `_`, starting with
@@ -321,6 +373,7 @@ pub fn prove_all(
             sampled_length_error: pixels
                 .map(|zs| proof::sampled_length_error(&c, zs.iter().copied())),
             file: None,
+            not_costed: None,
             costs: Vec::new(),
             candidate: c,
         })
@@ -351,7 +404,11 @@ fn file_header(r: &Row, name: &str, budget: f64) -> Vec<String> {
 }
 
 /// Writes the tuned candidates' method files (proven on `domain`) into `out`/methods/ and
-/// registers them as tuned rows (compiled now).
+/// registers them as tuned rows (compiled now). A candidate whose float32 program is not
+/// proven on `domain` (its length error not bounded below 1, as every loader checks again:
+/// [`check::verify`]) gets no file and is costed nowhere: it is marked `not_costed` with why,
+/// so it costs that candidate alone, never a cost model that would be handed a file its
+/// compiler's child refuses.
 fn write_and_register(
     rows: &mut [Row],
     name: &str,
@@ -359,19 +416,52 @@ fn write_and_register(
     domain: Interval,
     out: &Path,
 ) -> Result<()> {
+    let paths = write_files(rows, name, budget, domain, out)?;
+    crate::gpu::shaders::register_user(&paths)
+}
+
+/// The files of [`write_and_register`], written and checked as every loader checks them (what
+/// passes here loads in every child), not registered: their paths.
+fn write_files(
+    rows: &mut [Row],
+    name: &str,
+    budget: f64,
+    domain: Interval,
+    out: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
     let dir = out.join("methods");
     std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
     let mut paths = Vec::new();
     for r in rows.iter_mut() {
         let header = file_header(r, name, budget);
-        if let Some(text) = method_file::glsl(&r.candidate, &header, [domain.lo, domain.hi]) {
+        let on = [domain.lo, domain.hi];
+        if let Some(why) = method_file::tuned(&r.candidate, on).and_then(|t| unproven(&t)) {
+            r.not_costed = Some(why);
+            continue;
+        }
+        if let Some(text) = method_file::glsl(&r.candidate, &header, on) {
             let p = dir.join(format!("{}.glsl", r.candidate.id));
             crate::output::write_bytes_atomic(&p, text.as_bytes())?;
             r.file = Some(format!("methods/{}.glsl", r.candidate.id));
             paths.push(p);
         }
     }
-    crate::gpu::shaders::register_user(&paths)
+    check::check_files(&paths)?;
+    Ok(paths)
+}
+
+/// Why a tuned form is not proven on its line's domain (the loaders' rule, [`check::verify`]),
+/// or None when it is.
+fn unproven(t: &crate::method::tuned::Tuned) -> Option<String> {
+    let [lo, hi] = t.domain;
+    match t.length_error {
+        Some(b) if b < 1.0 => None,
+        b => Some(format!(
+            "not costed: its float32 program is not proven on z in [{lo:.9}, {hi:.9}] (its \
+             length error there is bounded by {} only; a method file needs a bound below 1)",
+            b.map_or("nothing finite".to_string(), |b| format!("{b:.3e}"))
+        )),
+    }
 }
 
 /// Writes each class answer that is a fitted form as a method file proven on the class's
@@ -522,7 +612,7 @@ pub fn run(
     let mut methods = vec![method::phong_exact()];
     for r in rows
         .iter()
-        .filter(|r| r.candidate.family != Family::Reference)
+        .filter(|r| r.candidate.family != Family::Reference && r.not_costed.is_none())
     {
         methods.push(method::find(&r.candidate.id)?);
     }
@@ -565,6 +655,10 @@ pub fn run(
     write_class_files(&mut classes, &prefix, &name, budget, out)?;
     timings.classes_s = t.elapsed().as_secs_f64();
     let papers = refit::all().map_err(|e| Error::Internal(format!("tune: re-fit: {e}")))?;
+    let note = match &dom.mesh {
+        Some(m) => moot(m.z_min, m.largest_normal_length * m.largest_normal_length),
+        None => moot(z.lo, z.hi),
+    };
     timings.total_s = start.elapsed().as_secs_f64();
     Ok(TuneReport {
         schema_version: SCHEMA_VERSION,
@@ -575,10 +669,98 @@ pub fn run(
         lights,
         candidates: rows,
         skipped,
+        note,
         cost_models: answers,
         classes,
         auto: classes::AUTO_NEEDS,
         papers,
         timings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A planar mesh's domain (z in [0.999999444, 1.000000444], what tune found on one) gets the
+    /// fits it supports: degree 1 is within float32's rounding there, so degrees 2 to 4 and the
+    /// Newton seed of degree 2 are not fitted, each with why (their coefficients, ill-conditioned,
+    /// gave proven colour errors of 4e115). Teeth: a wide domain fits every form.
+    #[test]
+    fn a_narrow_domain_gets_the_degrees_it_supports() {
+        let ids = |c: &[Candidate]| -> Vec<String> {
+            c.iter()
+                .filter(|c| c.degree.is_some())
+                .map(|c| c.id.clone())
+                .collect()
+        };
+        let (c, skipped) = fit_all("p", 0.999999444, 1.000000444);
+        assert_eq!(
+            ids(&c),
+            [
+                "p_minimax0",
+                "p_minimax1",
+                "p_newton1_seed0",
+                "p_newton1_seed1",
+                "p_newton2_seed0",
+                "p_newton2_seed1"
+            ]
+        );
+        assert_eq!(skipped.len(), 4, "{skipped:?}");
+        for (s, id) in
+            skipped
+                .iter()
+                .zip(["p_minimax2", "p_minimax3", "p_minimax4", "p_newton1_seed2"])
+        {
+            assert!(
+                s.starts_with(id) && s.contains("within float32's rounding"),
+                "{s}"
+            );
+        }
+        let (c, skipped) = fit_all("p", 0.5, 1.0);
+        assert_eq!(ids(&c).len(), FORMS.len(), "{skipped:?}");
+        assert!(skipped.is_empty(), "{skipped:?}");
+    }
+
+    /// A form whose float32 program is not proven on its domain gets no method file and is
+    /// costed nowhere, with the reason; a proven one gets its file (teeth).
+    #[test]
+    fn a_candidate_not_proven_gets_no_file_and_says_why() {
+        let z = Interval::new(0.999999444, 1.000000444);
+        let good = Candidate::minimax("p_minimax1".into(), 1, z.lo, z.hi).unwrap();
+        // coefficients of the size an ill-conditioned fit on this width gives
+        let bad = Candidate {
+            id: "p_minimax3".into(),
+            degree: Some(3),
+            coeffs: vec![1e20, -3e20, 3e20, -1e20]
+                .iter()
+                .map(|&c: &f64| f64::from(c as f32))
+                .collect(),
+            ..good.clone()
+        };
+        let lights = lights_of(&Material::default(), vec![[1.0; 3]]);
+        let mut rows = prove_all(vec![good, bad], z, &lights, None, &ProofEffort::default());
+        let dir = tempfile::tempdir().unwrap();
+        write_files(&mut rows, "p", 1.0 / 255.0, z, dir.path()).unwrap();
+        assert_eq!(rows[0].file.as_deref(), Some("methods/p_minimax1.glsl"));
+        assert!(rows[0].not_costed.is_none());
+        assert!(rows[1].file.is_none());
+        let why = rows[1].not_costed.as_deref().unwrap();
+        assert!(
+            why.contains("not proven on z in") && why.contains("bounded by"),
+            "{why}"
+        );
+        assert!(!dir.path().join("methods/p_minimax3.glsl").exists());
+    }
+
+    /// The answer says no normalisation is needed only where every interpolated normal is of
+    /// unit length to float32's rounding.
+    #[test]
+    fn no_normalisation_is_needed_only_at_unit_length() {
+        let note = moot(0.999999944, 0.999999944).unwrap();
+        assert!(note.contains("phong_unnormalized is exact"), "{note}");
+        assert!(moot(1.0 - 1e-6, 1.0).is_none());
+        assert!(moot(0.8, 1.0).is_none());
+        assert!(moot(1.0, 1.0 + 1e-6).is_none());
+    }
 }

@@ -95,7 +95,15 @@ pub fn table(r: &TuneReport) -> String {
             num(row.sampled_length_error)
         );
     }
+    for row in &r.candidates {
+        if let Some(why) = &row.not_costed {
+            s += &format!("{}: {why}\n", row.candidate.id);
+        }
+    }
     s += &cost_table(r);
+    if let Some(note) = &r.note {
+        s += &format!("answer: {note}\n");
+    }
     s += "per cost model (cheapest proven within the budget and cheaper than phong_exact):\n";
     for a in &r.cost_models {
         s += &format!("  {}: {}\n", a.model, a.statement);
