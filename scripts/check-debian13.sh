@@ -131,6 +131,8 @@ cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
 host_ca="${SSL_CERT_FILE:-/etc/ssl/certs/ca-certificates.crt}"
 ca_env=()
 if [ -f "$host_ca" ]; then
+  # a minbase root has no /etc/ssl until ca-certificates is installed in it
+  mkdir -p "$root/etc/ssl"
   cp "$host_ca" "$root/etc/ssl/host-ca-certificates.crt"
   ca_env=(CARGO_HTTP_CAINFO=/etc/ssl/host-ca-certificates.crt
     SSL_CERT_FILE=/etc/ssl/host-ca-certificates.crt CURL_CA_BUNDLE=/etc/ssl/host-ca-certificates.crt)
