@@ -75,6 +75,20 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
+/// A scene file in `dir` whose camera looks away from the shipped cube: no pixel covered.
+fn looking_away(dir: &Path) -> PathBuf {
+    let away = dir.join("away.toml");
+    std::fs::write(
+        &away,
+        format!(
+            "[mesh]\nobj = \"{}\"\n[camera]\neye = [0.0, 0.0, 3.0]\ntarget = [0.0, 0.0, 6.0]\n",
+            root().join("scenes/cube.obj").display()
+        ),
+    )
+    .unwrap();
+    away
+}
+
 /// Every file below `dir` whose name starts with `.shadelab-` (a temporary file).
 fn temporaries(dir: &Path) -> Vec<PathBuf> {
     let mut found = Vec::new();
@@ -784,15 +798,7 @@ fn unclear_messages_are_clear() {
         .collect();
     assert_eq!(names, ["gouraud"]);
     // a camera that looks away from the mesh: no pixel covered, no FLIP
-    let away = dir.path().join("away.toml");
-    std::fs::write(
-        &away,
-        format!(
-            "[mesh]\nobj = \"{}\"\n[camera]\neye = [0.0, 0.0, 3.0]\ntarget = [0.0, 0.0, 6.0]\n",
-            root().join("scenes/cube.obj").display()
-        ),
-    )
-    .unwrap();
+    let away = looking_away(dir.path());
     let (code, stdout, err) = go(&[
         "compare",
         "--scene",
@@ -835,15 +841,7 @@ fn unclear_messages_are_clear() {
 #[test]
 fn an_image_with_no_covered_pixel_reports_null_and_the_gate_says_why() {
     let dir = tempfile::tempdir().unwrap();
-    let (away, out) = (dir.path().join("away.toml"), dir.path().join("c"));
-    std::fs::write(
-        &away,
-        format!(
-            "[mesh]\nobj = \"{}\"\n[camera]\neye = [0.0, 0.0, 3.0]\ntarget = [0.0, 0.0, 6.0]\n",
-            root().join("scenes/cube.obj").display()
-        ),
-    )
-    .unwrap();
+    let (away, out) = (looking_away(dir.path()), dir.path().join("c"));
     let (code, _, err) = go(&[
         "compare",
         "--scene",
