@@ -389,9 +389,9 @@ fn vertices(
                 .map_err(|e| format!("{at}: NORMAL: {e}"))?;
             if n.len() != positions.len() {
                 return Err(format!(
-                    "{at}: NORMAL accessor {na} has {} elements, POSITION accessor {pa} {}: they must match",
-                    n.len(),
-                    positions.len()
+                    "{at}: POSITION accessor {pa} has {} but NORMAL accessor {na} has {}: they must match (a vertex has one of each); the file is damaged, re-export it",
+                    plural(positions.len(), "element", "elements"),
+                    n.len()
                 ));
             }
             Some(n)

@@ -1,7 +1,9 @@
 //! Tests of the geometry module, one file per topic: OBJ loading, validation and fitting
-//! ([`loading`]), normals given and computed ([`normals`]), the procedural generators and the
-//! shipped meshes ([`generators`]), OBJ writing ([`writing`]); the helpers they share are here.
+//! ([`loading`]), glTF documents built in the test ([`gltf`]), normals given and computed
+//! ([`normals`]), the procedural generators and the shipped meshes ([`generators`]), OBJ
+//! writing ([`writing`]); the helpers they share are here.
 mod generators;
+mod gltf;
 mod loading;
 mod normals;
 mod writing;

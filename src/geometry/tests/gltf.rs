@@ -1,0 +1,139 @@
+//! glTF reading: documents built here (one mesh, its buffer in a data URI, a file beside the
+//! `.gltf` or a `.glb`'s BIN chunk) under node transforms, URIs and containers that must be
+//! read, or refused with a message naming the object and the rule.
+use super::*;
+use base64::Engine as _;
+use serde_json::{json, Value};
+
+/// A document of one indexed triangle mesh (mesh 0, primitive 0): accessor 0 its positions,
+/// 1 its indices, 2 its normals when given. `nodes` and `scenes` are the document's.
+struct Doc {
+    positions: Vec<[f32; 3]>,
+    normals: Option<Vec<[f32; 3]>>,
+    indices: Vec<u32>,
+    nodes: Value,
+    scenes: Value,
+}
+
+impl Doc {
+    /// `mesh`'s triangles, unindexed (corner k is vertex k), without normals, in a scene of one
+    /// node placing it untransformed.
+    fn of(mesh: &Mesh) -> Doc {
+        Doc {
+            positions: mesh.positions.clone(),
+            normals: None,
+            indices: (0..mesh.positions.len() as u32).collect(),
+            nodes: json!([{ "mesh": 0 }]),
+            scenes: json!([{ "nodes": [0] }]),
+        }
+    }
+
+    /// A unit right triangle in z = 0 with normals +z.
+    fn triangle() -> Doc {
+        Doc {
+            positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            normals: Some(vec![[0.0, 0.0, 1.0]; 3]),
+            indices: vec![0, 1, 2],
+            nodes: json!([{ "mesh": 0 }]),
+            scenes: json!([{ "nodes": [0] }]),
+        }
+    }
+
+    /// The buffer's bytes: positions, indices, normals.
+    fn bin(&self) -> Vec<u8> {
+        let mut b: Vec<u8> = Vec::new();
+        b.extend(
+            self.positions
+                .iter()
+                .flatten()
+                .flat_map(|c| c.to_le_bytes()),
+        );
+        b.extend(self.indices.iter().flat_map(|i| i.to_le_bytes()));
+        b.extend(
+            self.normals
+                .iter()
+                .flatten()
+                .flatten()
+                .flat_map(|c| c.to_le_bytes()),
+        );
+        b
+    }
+
+    /// The JSON document; `buffer` is buffer 0's object without its `byteLength`.
+    fn json(&self, buffer: Value) -> Value {
+        let np = self.positions.len() * 12;
+        let ni = self.indices.len() * 4;
+        let mut views = vec![
+            json!({ "buffer": 0, "byteOffset": 0, "byteLength": np }),
+            json!({ "buffer": 0, "byteOffset": np, "byteLength": ni }),
+        ];
+        let mut accessors = vec![
+            json!({ "bufferView": 0, "componentType": 5126, "count": self.positions.len(), "type": "VEC3" }),
+            json!({ "bufferView": 1, "componentType": 5125, "count": self.indices.len(), "type": "SCALAR" }),
+        ];
+        let mut attributes = json!({ "POSITION": 0 });
+        if let Some(n) = &self.normals {
+            views.push(json!({ "buffer": 0, "byteOffset": np + ni, "byteLength": n.len() * 12 }));
+            accessors.push(
+                json!({ "bufferView": 2, "componentType": 5126, "count": n.len(), "type": "VEC3" }),
+            );
+            attributes["NORMAL"] = json!(2);
+        }
+        let mut buffer = buffer;
+        buffer["byteLength"] = json!(self.bin().len());
+        json!({
+            "asset": { "version": "2.0" },
+            "buffers": [buffer],
+            "bufferViews": views,
+            "accessors": accessors,
+            "meshes": [{ "primitives": [{ "attributes": attributes, "indices": 1 }] }],
+            "nodes": self.nodes,
+            "scenes": self.scenes,
+        })
+    }
+
+    /// The `.gltf` text with the buffer in a data URI.
+    fn gltf(&self) -> String {
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(self.bin())
+        );
+        self.json(json!({ "uri": uri })).to_string()
+    }
+
+    /// The `.glb` bytes (glTF 2.0 section 4.4): header, JSON chunk, BIN chunk, each chunk
+    /// padded to 4 bytes.
+    fn glb(&self) -> Vec<u8> {
+        let mut js = self.json(json!({})).to_string().into_bytes();
+        js.resize(js.len().div_ceil(4) * 4, b' ');
+        let mut bin = self.bin();
+        bin.resize(bin.len().div_ceil(4) * 4, 0);
+        let mut out = b"glTF".to_vec();
+        out.extend(2u32.to_le_bytes());
+        out.extend((12 + 8 + js.len() + 8 + bin.len()).to_le_bytes()[..4].iter());
+        out.extend((js.len() as u32).to_le_bytes());
+        out.extend(b"JSON");
+        out.extend(js);
+        out.extend((bin.len() as u32).to_le_bytes());
+        out.extend(b"BIN\0");
+        out.extend(bin);
+        out
+    }
+}
+
+/// Reads a glTF document from bytes; buffer files are never read.
+fn read(bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
+    let none = |_: &Path| Err(std::io::Error::from(std::io::ErrorKind::NotFound));
+    crate::geometry::gltf::parse_gltf(Path::new("m.gltf"), bytes, &none)
+}
+
+#[test]
+fn a_normal_count_unlike_the_position_count_names_both_accessors_and_counts() {
+    let mut doc = Doc::triangle();
+    doc.normals = Some(vec![[0.0, 0.0, 1.0]; 2]);
+    assert_input_err(
+        read(doc.gltf().as_bytes()),
+        None,
+        "mesh 0 primitive 0: POSITION accessor 0 has 3 elements but NORMAL accessor 2 has 2: they must match",
+    );
+}
