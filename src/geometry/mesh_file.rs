@@ -73,12 +73,14 @@ impl Format {
     }
 
     /// The format the first bytes prove: a `.glb`'s magic `glTF` (glTF 2.0 section 4.4.2) or
-    /// PLY's first line `ply` (Turk's PLY description: "ply" then an end of line). OBJ and a
-    /// `.gltf`'s JSON have no magic.
+    /// PLY's first line `ply` (Turk's PLY description: "ply" then an end of line; a UTF-8
+    /// byte-order mark before it skipped, as the PLY reader does). OBJ and a `.gltf`'s JSON
+    /// have no magic.
     pub fn of_magic(bytes: &[u8]) -> Option<Format> {
+        let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
         if bytes.starts_with(b"glTF") {
             Some(Format::Gltf)
-        } else if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
+        } else if text.starts_with(b"ply\n") || text.starts_with(b"ply\r\n") {
             Some(Format::Ply)
         } else {
             None
