@@ -106,30 +106,43 @@ fn container(bytes: &[u8]) -> std::result::Result<Container<'_>, String> {
     if length > bytes.len() {
         return Err(cut(&format!("its header says {length} bytes")));
     }
-    let body = &bytes[..length.max(12)];
-    let chunk =
-        |at: usize, kind: &[u8; 4], name: &str| -> std::result::Result<Option<&[u8]>, String> {
-            if at >= body.len() {
-                return Ok(None);
-            }
-            let len = u32_at(at)
-                .filter(|_| at + 8 <= body.len())
-                .ok_or_else(|| cut(&format!("its {name} chunk header is incomplete")))?
-                as usize;
-            if &body[at + 4..at + 8] != kind {
-                return Err(format!(
-                    "the .glb's chunk at byte {at} is {:?}, expected {name}",
-                    String::from_utf8_lossy(&body[at + 4..at + 8])
-                ));
-            }
-            body.get(at + 8..at + 8 + len)
-                .map(Some)
-                .ok_or_else(|| cut(&format!("its {name} chunk says {len} bytes")))
-        };
-    let json = chunk(12, b"JSON", "JSON")?.ok_or_else(|| cut("no JSON chunk"))?;
+    // The chunks are read from the whole file, so that a length field short of them (in a
+    // file that holds them whole) is named as what it is, not as a file cut short.
+    let chunk = |at: usize,
+                 kind: &[u8; 4],
+                 name: &str|
+     -> std::result::Result<Option<(&[u8], usize)>, String> {
+        if at >= bytes.len() || (at >= length && bytes.get(at + 4..at + 8) != Some(kind)) {
+            return Ok(None);
+        }
+        let len = u32_at(at)
+            .filter(|_| at + 8 <= bytes.len())
+            .ok_or_else(|| cut(&format!("its {name} chunk header is incomplete")))?
+            as usize;
+        if &bytes[at + 4..at + 8] != kind {
+            return Err(format!(
+                "the .glb's chunk at byte {at} is {:?}, expected {name}",
+                String::from_utf8_lossy(&bytes[at + 4..at + 8])
+            ));
+        }
+        let end = at + 8 + len;
+        bytes
+            .get(at + 8..end)
+            .map(|c| Some((c, end)))
+            .ok_or_else(|| cut(&format!("its {name} chunk says {len} bytes")))
+    };
+    let (json, json_end) = chunk(12, b"JSON", "JSON")?.ok_or_else(|| cut("no JSON chunk"))?;
     // Chunks are padded to 4 bytes (section 4.4.3.1).
     let bin_at = 12 + 8 + json.len().div_ceil(4) * 4;
-    let blob = chunk(bin_at, b"BIN\0", "BIN")?;
+    let bin = chunk(bin_at, b"BIN\0", "BIN")?;
+    let need = bin.map_or(json_end, |(_, end)| end);
+    if need > length {
+        return Err(format!(
+            "the .glb's header says {length} bytes but its chunks need {need}: the length field is wrong (the file holds its chunks whole, {} bytes); re-export the file",
+            bytes.len()
+        ));
+    }
+    let blob = bin.map(|(b, _)| b);
     Ok(Container {
         json,
         blob,

@@ -137,3 +137,58 @@ fn a_normal_count_unlike_the_position_count_names_both_accessors_and_counts() {
         "mesh 0 primitive 0: POSITION accessor 0 has 3 elements but NORMAL accessor 2 has 2: they must match",
     );
 }
+
+/// A whole `.glb` whose header's length field is smaller than its chunks was "truncated: the
+/// file was cut short"; it says the field is wrong. A file really cut short still says so.
+#[test]
+fn a_glb_length_field_short_of_its_chunks_is_named_wrong_not_truncated() {
+    let glb = Doc::triangle().glb();
+    assert!(read(&glb).is_ok());
+    let with_length = |n: u32| {
+        let mut b = glb.clone();
+        b[8..12].copy_from_slice(&n.to_le_bytes());
+        b
+    };
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let all = glb.len();
+    // Inside the JSON chunk; at the JSON chunk's end, leaving the BIN chunk out; at 0.
+    for n in [40, 12 + 8 + json_len, 0] {
+        assert_input_err(
+            read(&with_length(n as u32)),
+            None,
+            &format!(
+                ".glb's header says {n} bytes but its chunks need {all}: the length field is wrong"
+            ),
+        );
+    }
+    // Cut short with the header unchanged; cut inside the BIN chunk's header or its data
+    // with the length field rewritten to match the cut file.
+    let bin_at = 12 + 8 + json_len;
+    let cases: [(Vec<u8>, &str); 4] = [
+        (glb[..all - 8].to_vec(), "truncated .glb: its header says"),
+        (
+            b"glTF\x02\x00\x00\x00\x10\x00\x00\x00".to_vec(),
+            "truncated .glb",
+        ),
+        (
+            glb[..bin_at + 4].to_vec(),
+            "truncated .glb: its BIN chunk header is incomplete",
+        ),
+        (
+            glb[..all - 8].to_vec(),
+            "truncated .glb: its BIN chunk says",
+        ),
+    ];
+    for (k, (mut b, needle)) in cases.into_iter().enumerate() {
+        if k >= 2 {
+            let n = b.len() as u32;
+            b[8..12].copy_from_slice(&n.to_le_bytes());
+        }
+        let e = read(&b).unwrap_err().to_string();
+        assert!(
+            e.contains(needle) && e.contains("cut short"),
+            "{needle}: {e}"
+        );
+        assert!(!e.contains("length field"), "{e}");
+    }
+}
