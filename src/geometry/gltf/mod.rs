@@ -18,6 +18,7 @@
 //! Every problem is an [`Error::Input`] naming the file and the object (mesh, primitive,
 //! accessor, buffer, node), with what to do.
 mod accessor;
+mod document;
 mod nodes;
 
 use std::path::Path;
@@ -155,7 +156,7 @@ fn container(bytes: &[u8]) -> std::result::Result<Container<'_>, String> {
 pub fn parse_gltf(path: &Path, bytes: &[u8], read: ReadFile) -> Result<(Mesh, LoadReport)> {
     let err = |msg: String| Error::input(path, None, msg);
     let c = container(bytes).map_err(err)?;
-    let root: json::Root = json::deserialize::from_slice(c.json).map_err(|e| {
+    let root: json::Root = document::parse(c.json).map_err(|e| {
         if let Some(v) = asset_version(c.json).filter(|v| !v.starts_with("2.")) {
             return err(format!(
                 "a glTF {v} file; shadelab reads glTF 2.0: convert it first (e.g. import and export it in Blender)"

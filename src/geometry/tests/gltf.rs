@@ -192,3 +192,78 @@ fn a_glb_length_field_short_of_its_chunks_is_named_wrong_not_truncated() {
         assert!(!e.contains("length field"), "{e}");
     }
 }
+
+/// `extras` may be any JSON value (glTF 2.0 section 3.12, "Application-specific data"; the
+/// schema's `extras` has no type), not only an object: each was "not a glTF 2.0 document".
+#[test]
+fn extras_of_every_json_type_are_accepted_wherever_extras_may_be() {
+    let doc = Doc::triangle();
+    let (want, _) = read(doc.gltf().as_bytes()).unwrap();
+    for extras in [
+        json!(1.5),
+        json!("a note"),
+        json!([1, "two", null]),
+        json!(null),
+        json!(true),
+        json!({ "k": [] }),
+    ] {
+        let mut v: Value = serde_json::from_str(&doc.gltf()).unwrap();
+        v["extras"] = extras.clone();
+        v["asset"]["extras"] = extras.clone();
+        for list in [
+            "buffers",
+            "bufferViews",
+            "accessors",
+            "meshes",
+            "nodes",
+            "scenes",
+        ] {
+            for o in v[list].as_array_mut().unwrap() {
+                o["extras"] = extras.clone();
+            }
+        }
+        v["meshes"][0]["primitives"][0]["extras"] = extras.clone();
+        let (got, _) = read(v.to_string().as_bytes()).unwrap_or_else(|e| panic!("{extras}: {e}"));
+        assert_eq!(got.positions, want.positions, "{extras}");
+    }
+}
+
+/// A scene's `nodes` is optional (glTF 2.0 section 5.26: not in the required list); a scene
+/// `{}` was "not a glTF 2.0 document: missing field `nodes`". The scene drawn is chosen as
+/// before (the default, else the first): an empty one has no geometry and says so, another
+/// one is drawn, and an error elsewhere in the file keeps its line.
+#[test]
+fn a_scene_without_nodes_is_a_scene_that_places_nothing() {
+    let mut doc = Doc::triangle();
+    doc.scenes = json!([{}]);
+    assert_input_err(
+        read(doc.gltf().as_bytes()),
+        None,
+        "no triangles: scene 0 places no mesh with triangle primitives",
+    );
+    doc.scenes = json!([{ "name": "empty", "extras": 3 }, { "nodes": [0] }]);
+    let mut v: Value = serde_json::from_str(&doc.gltf()).unwrap();
+    v["scene"] = json!(1);
+    let (mesh, report) = read(v.to_string().as_bytes()).unwrap();
+    assert_eq!(mesh.triangle_count(), 1);
+    assert_eq!(report.input.scene.unwrap().scene.index, 1);
+    // Pretty-printed, with an accessor whose count is a string: the error's line is that
+    // accessor's line of the file.
+    v["accessors"][1]["count"] = json!("three");
+    let text = serde_json::to_string_pretty(&v).unwrap();
+    let line = 1 + text[..text.find("\"count\": \"three\"").unwrap()]
+        .matches('\n')
+        .count();
+    match read(text.as_bytes()) {
+        Err(Error::Input {
+            line: Some(l),
+            message,
+            ..
+        }) => {
+            assert!(message.contains("not a glTF 2.0 document"), "{message}");
+            assert!(!message.contains("nodes"), "{message}");
+            assert_eq!(l, line, "the error's line and the accessor's");
+        }
+        other => panic!("{other:?}"),
+    }
+}
