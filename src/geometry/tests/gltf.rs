@@ -2,6 +2,7 @@
 //! `.gltf` or a `.glb`'s BIN chunk) under node transforms, URIs and containers that must be
 //! read, or refused with a message naming the object and the rule.
 use super::*;
+use crate::geometry::input::BUFFER_RULE;
 use base64::Engine as _;
 use serde_json::{json, Value};
 
@@ -266,4 +267,121 @@ fn a_scene_without_nodes_is_a_scene_that_places_nothing() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// A folder tree for the buffer URI rule: `root/outside.bin` (a good buffer, outside), and
+/// `root/a/b/` the `.gltf`'s folder with `sub/inside.bin` (a good buffer, inside).
+struct Tree {
+    _dir: tempfile::TempDir,
+    root: PathBuf,
+    folder: PathBuf,
+    doc: Doc,
+}
+
+impl Tree {
+    fn new() -> Tree {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path().canonicalize().unwrap();
+        let folder = root.join("a/b");
+        std::fs::create_dir_all(folder.join("sub")).unwrap();
+        let doc = Doc::triangle();
+        std::fs::write(root.join("outside.bin"), doc.bin()).unwrap();
+        std::fs::write(folder.join("sub/inside.bin"), doc.bin()).unwrap();
+        Tree {
+            _dir: dir,
+            root,
+            folder,
+            doc,
+        }
+    }
+
+    /// Loads `m.gltf` of the folder, its buffer at `uri`, from another thread: `None` when it
+    /// takes more than 10 s (a read that blocks).
+    fn load(&self, uri: &str) -> Option<Result<(Mesh, LoadReport)>> {
+        let path = self.folder.join("m.gltf");
+        std::fs::write(&path, self.doc.json(json!({ "uri": uri })).to_string()).unwrap();
+        let (send, recv) = std::sync::mpsc::channel();
+        std::thread::spawn(move || send.send(load_mesh(&path)));
+        recv.recv_timeout(std::time::Duration::from_secs(10)).ok()
+    }
+
+    #[track_caller]
+    fn refused(&self, uri: &str, needles: &[&str]) {
+        let e = match self.load(uri) {
+            None => panic!("{uri}: still reading after 10 s"),
+            Some(Ok(_)) => panic!("{uri}: read"),
+            Some(Err(e)) => e.to_string(),
+        };
+        for n in needles
+            .iter()
+            .chain(&[format!("{uri:?}").as_str(), BUFFER_RULE])
+        {
+            assert!(e.contains(n), "{uri}: {n:?} not in: {e}");
+        }
+    }
+}
+
+/// The rule (docs/scenes.md): a buffer is read from a regular file inside the `.gltf`'s folder
+/// (or a folder under it), its URI taken after %-decoding and its links resolved. Each of
+/// these was read (the last as "the data is cut short": /etc/passwd).
+#[test]
+fn a_buffer_uri_outside_the_gltf_folder_is_refused() {
+    let t = Tree::new();
+    for uri in [
+        "sub/inside.bin",
+        "%73ub/inside.bin",
+        "./sub/../sub/inside.bin",
+    ] {
+        let (mesh, _) = t
+            .load(uri)
+            .unwrap()
+            .unwrap_or_else(|e| panic!("{uri}: {e}"));
+        assert_eq!(mesh.triangle_count(), 1);
+    }
+    let outside = "leads outside the .gltf's folder";
+    t.refused("../../outside.bin", &[outside]);
+    t.refused("sub/../../../outside.bin", &[outside]);
+    t.refused(
+        "..%2F..%2Foutside.bin",
+        &[outside, "\"../../outside.bin\" once %-decoded"],
+    );
+    t.refused("%2E%2E/%2e%2e/outside.bin", &[outside]);
+    t.refused("../../../../../../etc/passwd", &[outside]);
+    let abs = t.root.join("outside.bin").display().to_string();
+    t.refused(&abs, &["an absolute path"]);
+    t.refused(&format!("file://{abs}"), &["a file: URI"]);
+    t.refused(&format!("file:{abs}"), &["a file: URI"]);
+    // A link beside the .gltf to a file outside, and a link to a folder outside.
+    std::os::unix::fs::symlink(t.root.join("outside.bin"), t.folder.join("link.bin")).unwrap();
+    std::os::unix::fs::symlink(&t.root, t.folder.join("up")).unwrap();
+    t.refused(
+        "link.bin",
+        &[&format!("resolves to {abs}, outside the .gltf's folder")],
+    );
+    t.refused(
+        "up/outside.bin",
+        &[&format!("resolves to {abs}, outside the .gltf's folder")],
+    );
+    // A link inside the folder to a file inside it is read.
+    std::os::unix::fs::symlink("sub/inside.bin", t.folder.join("in.bin")).unwrap();
+    assert!(t.load("in.bin").unwrap().is_ok());
+}
+
+/// A FIFO blocked the read for ever (a directory and a device were refused, a FIFO was not);
+/// anything but a regular file is refused before it is read, link or not.
+#[test]
+fn a_buffer_uri_naming_anything_but_a_regular_file_is_refused_without_blocking() {
+    let t = Tree::new();
+    let fifo = std::ffi::CString::new(t.folder.join("fifo.bin").to_str().unwrap()).unwrap();
+    // SAFETY: a valid NUL-terminated path; mkfifo only creates the file.
+    assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o600) }, 0);
+    std::os::unix::fs::symlink("fifo.bin", t.folder.join("to-fifo.bin")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", t.folder.join("zero.bin")).unwrap();
+    t.refused("fifo.bin", &["a FIFO, not a regular file"]);
+    t.refused("to-fifo.bin", &["a FIFO, not a regular file"]);
+    t.refused("sub", &["a folder, not a regular file"]);
+    t.refused(
+        "zero.bin",
+        &["resolves to /dev/zero, outside the .gltf's folder"],
+    );
 }
