@@ -19,6 +19,8 @@ struct Face {
 #[derive(Debug, Default)]
 struct Parsed {
     positions: Vec<[f32; 3]>,
+    /// `positions` widened to f64 (exactly), for [`soup`].
+    wide: Vec<DVec3>,
     normals: Vec<[f32; 3]>,
     texcoord_count: usize,
     faces: Vec<Face>,
@@ -287,7 +289,7 @@ impl Parsed {
     /// The lists the corners index, smoothed per `v` index (the module doc of [`soup`]).
     fn lists(&self) -> soup::Lists<'_> {
         soup::Lists {
-            positions: &self.positions,
+            positions: &self.wide,
             normals: &self.normals,
             smooth_as: None,
         }
@@ -339,6 +341,7 @@ impl Parsed {
             writeln!(self.tobj_text, "v {} {} {}", args[0], args[1], args[2]).ok();
         }
         self.positions.push(xyz);
+        self.wide.push(dvec(xyz));
         Ok(())
     }
 

@@ -18,6 +18,7 @@
 //! binary one): a header that lies is refused before it can size anything.
 use std::path::Path;
 
+use glam::DVec3;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{
     ElementDef, Encoding as PlyEncoding, Header, Property, PropertyAccess, PropertyType, ScalarType,
@@ -447,9 +448,13 @@ fn build(
                 .into(),
         ));
     }
-    let weld = soup::weld(&positions);
+    let wide: Vec<DVec3> = positions
+        .iter()
+        .map(|p| DVec3::from(p.map(f64::from)))
+        .collect();
+    let weld = soup::weld(&wide);
     let lists = soup::Lists {
-        positions: &positions,
+        positions: &wide,
         normals: &normals,
         smooth_as: Some(&weld),
     };

@@ -3,7 +3,9 @@
 //!
 //! What is drawn: the default scene (else the first; a file without scenes draws each mesh once,
 //! untransformed), every primitive of every mesh its nodes place, at the node's world
-//! transform; normals by the inverse transpose ([`nodes::normal_matrix`]), renormalised.
+//! transform, in f64 until the fit to the unit sphere (so that it cancels a translation of
+//! the file's whatever its size: [`Soup`]); normals by the inverse transpose
+//! ([`nodes::normal_matrix`]), renormalised.
 //! Triangles, strips and fans are read (strips and fans as glTF 2.0 section 3.7.2.1 orders
 //! them); points and lines are left out with a note. Positions and normals may be floats or,
 //! with `KHR_mesh_quantization`, (normalized) integers. A primitive without normals gets smooth
@@ -24,16 +26,16 @@ mod nodes;
 use std::path::Path;
 
 use ::gltf::json;
-use glam::{DMat4, DVec3};
+use glam::DVec3;
 use json::mesh::{Mode, Semantic};
 use json::validation::Checked;
 
 use super::mesh_file::{Encoding, Format, MeshInput, Named, NormalSource, Part, ReadFile};
 use super::soup::{self, plural, Corner};
-use super::{LoadReport, Mesh};
+use super::{LoadReport, Mesh, MAX_COORDINATE};
 use crate::error::{Error, Result};
 use accessor::Buffers;
-use nodes::Placement;
+use nodes::{Placement, World};
 
 /// Most triangles a file may draw (4,194,304): 60 times the largest shared model (the Stanford
 /// bunny, 69,451), and a bound that keeps a small file placing a large mesh many times from
@@ -200,10 +202,16 @@ fn asset_version(json: &[u8]) -> Option<String> {
     v.get("asset")?.get("version")?.as_str().map(str::to_owned)
 }
 
-/// The corners of every primitive read so far, in world space.
+/// The corners of every primitive read so far: positions in world space less `origin`, in
+/// f64 until the fit.
 #[derive(Default)]
 struct Soup {
-    positions: Vec<[f32; 3]>,
+    /// The first placement's translation (its two parts, [`nodes::World`]): subtracted from
+    /// every world position, so that a single placement's vertices are its linear part times
+    /// the model positions, whatever its translation, and the others keep their offsets from
+    /// it.
+    origin: Option<(DVec3, DVec3)>,
+    positions: Vec<DVec3>,
     normals: Vec<[f32; 3]>,
     triangles: Vec<[Corner; 3]>,
 }
@@ -476,24 +484,32 @@ fn vertices(
     Ok(Vertices { positions, normals })
 }
 
-/// Appends a primitive to the soup at `world` (positions in f64, rounded once; normals by the
-/// normal matrix; a mirroring transform reverses each triangle to keep its winding).
-fn place(soup: &mut Soup, v: Vertices, tris: &[[u32; 3]], world: Option<&DMat4>) {
+/// Appends a primitive to the soup at `world` (positions in f64 relative to the soup's origin,
+/// rounded to f32 once, by the fit; normals by the normal matrix; a mirroring transform
+/// reverses each triangle to keep its winding).
+fn place(soup: &mut Soup, v: Vertices, tris: &[[u32; 3]], world: Option<&World>) {
     let base = soup.positions.len();
     let nbase = soup.normals.len();
     let has_normals = v.normals.is_some();
+    let (t, r) = world.map_or((DVec3::ZERO, DVec3::ZERO), |w| (w.translation, w.residual));
+    let (ot, or) = *soup.origin.get_or_insert((t, r));
+    // Exact for the first placement (zero); for others their offset from it, its large parts
+    // cancelling first.
+    let offset = (t - ot) + (r - or);
+    let model = v.positions.iter().map(|p| DVec3::from(p.map(f64::from)));
     match world {
-        None => {
-            soup.positions.extend(&v.positions);
+        // Untransformed at the origin: the file's positions as they are (-0 kept).
+        None if offset == DVec3::ZERO => {
+            soup.positions.extend(model);
             soup.normals.extend(v.normals.iter().flatten());
         }
-        Some(m) => {
-            let nm = nodes::normal_matrix(m);
-            soup.positions.extend(v.positions.iter().map(|p| {
-                m.transform_point3(DVec3::from(p.map(f64::from)))
-                    .as_vec3()
-                    .to_array()
-            }));
+        None => {
+            soup.positions.extend(model.map(|p| p + offset));
+            soup.normals.extend(v.normals.iter().flatten());
+        }
+        Some(w) => {
+            let nm = nodes::normal_matrix(&w.linear);
+            soup.positions.extend(model.map(|p| w.linear * p + offset));
             soup.normals.extend(v.normals.iter().flatten().map(|n| {
                 let t = nm * DVec3::from(n.map(f64::from));
                 // A normal the transform collapses stays zero: computed instead (soup).
@@ -506,7 +522,7 @@ fn place(soup: &mut Soup, v: Vertices, tris: &[[u32; 3]], world: Option<&DMat4>)
             }));
         }
     }
-    let mirror = world.is_some_and(nodes::mirrors);
+    let mirror = world.is_some_and(|w| nodes::mirrors(&w.linear));
     for t in tris {
         let t = if mirror { [t[0], t[2], t[1]] } else { *t };
         soup.triangles.push(t.map(|i| Corner {
@@ -525,12 +541,19 @@ fn finish(
     encoding: Encoding,
     mut notes: Vec<String>,
 ) -> Result<(Mesh, LoadReport)> {
-    // A transformed position that is not finite overflowed f32 (a huge scale).
-    if soup.positions.iter().flatten().any(|c| !c.is_finite()) {
+    // Node scales multiplied along a chain can take positions past what the fit computes in.
+    if let Some(p) = soup
+        .positions
+        .iter()
+        .find(|p| !(p.abs().max_element() <= MAX_COORDINATE))
+    {
         return Err(Error::input(
             path,
             None,
-            "a node's transform takes positions past the f32 range: fix the node's scale",
+            format!(
+                "a node's transform takes a position to {:?}, past {MAX_COORDINATE:e} (the nodes' scales multiplied along their chain): fix the nodes' scales",
+                p.to_array()
+            ),
         ));
     }
     let weld = soup::weld(&soup.positions);

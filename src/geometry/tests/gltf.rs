@@ -385,3 +385,76 @@ fn a_buffer_uri_naming_anything_but_a_regular_file_is_refused_without_blocking()
         &["resolves to /dev/zero, outside the .gltf's folder"],
     );
 }
+
+/// Largest componentwise difference of two lists of the same length.
+fn max_diff(a: &[[f32; 3]], b: &[[f32; 3]]) -> f32 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .flat_map(|(x, y)| (0..3).map(move |k| (x[k] - y[k]).abs()))
+        .fold(0.0, f32::max)
+}
+
+/// The fit to the unit sphere cancels any translation and uniform scale, so a node far from
+/// the origin draws the untranslated mesh. World positions were rounded to f32 before the fit:
+/// 1e5 moved every vertex by up to 1/128 of the sphere's size, 1e7 dropped most triangles as
+/// zero-area, 1e30 left one point. The world transform is now composed and the soup fitted in
+/// f64 (translations summed exactly), rounded to f32 once.
+#[test]
+fn a_far_node_translation_or_a_large_scale_gives_the_untranslated_fitted_mesh() {
+    // 144 triangles, no normals in the file (computed from the world positions).
+    let sphere = Generator::UvSphere {
+        segments: 12,
+        rings: 7,
+    }
+    .build()
+    .unwrap();
+    let mut doc = Doc::of(&sphere);
+    let (want, report) = read(doc.gltf().as_bytes()).unwrap();
+    assert_eq!((report.triangles, report.dropped_zero_area), (144, 0));
+    // One f32 step at 1 (the fitted radius): each of the two roundings, in f64 and to f32.
+    let tol = f32::EPSILON;
+    let check = |doc: &Doc, what: &str, want: &Mesh| {
+        let (got, r) = read(doc.gltf().as_bytes()).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_eq!(
+            (r.triangles, r.dropped_zero_area),
+            (144, 0),
+            "{what}: {r:?}"
+        );
+        let (dp, dn) = (
+            max_diff(&got.positions, &want.positions),
+            max_diff(&got.normals, &want.normals),
+        );
+        assert!(
+            dp <= tol && dn <= tol,
+            "{what}: positions {dp}, normals {dn}"
+        );
+    };
+    for node in [
+        json!({ "translation": [1e5, -2e5, 3e5] }),
+        json!({ "translation": [1e7, 1e7, -1e7] }),
+        json!({ "translation": [1e30, 0, -1e30] }),
+        json!({ "scale": [1e30, 1e30, 1e30] }),
+        json!({ "scale": [1e-30, 1e-30, 1e-30], "translation": [1e20, 0, 0] }),
+        json!({ "matrix": [1e20, 0, 0, 0, 0, 1e20, 0, 0, 0, 0, 1e20, 0, 3e37, 1e30, 5, 1] }),
+    ] {
+        let mut n = node.clone();
+        n["mesh"] = json!(0);
+        doc.nodes = json!([n]);
+        check(&doc, &node.to_string(), &want);
+    }
+    // Two children of a node 1e30 away, 3 apart: the same as without the parent's translation
+    // (each child's offset survives the parent's, a sum f64 alone would round away).
+    doc.nodes = json!([
+        { "children": [1, 2] },
+        { "mesh": 0 },
+        { "mesh": 0, "translation": [3, 0, 0] },
+    ]);
+    let (near, r) = read(doc.gltf().as_bytes()).unwrap();
+    assert_eq!(r.triangles, 288);
+    doc.nodes[0]["translation"] = json!([1e30, -1e30, 1e30]);
+    let (far, r) = read(doc.gltf().as_bytes()).unwrap();
+    assert_eq!((r.triangles, r.dropped_zero_area), (288, 0), "{r:?}");
+    let dp = max_diff(&far.positions, &near.positions);
+    assert!(dp <= tol, "children of a far node: positions {dp}");
+}
