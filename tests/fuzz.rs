@@ -556,7 +556,8 @@ impl UriTree {
         let path = self.folder.join("m.gltf");
         std::fs::write(&path, gltf_with_uri(uri)).unwrap();
         let (send, recv) = std::sync::mpsc::channel();
-        std::thread::spawn(move || send.send(geometry::load_mesh(&path)));
+        // A reply after the deadline has no one to go to: dropped.
+        std::thread::spawn(move || drop(send.send(geometry::load_mesh(&path))));
         recv.recv_timeout(Duration::from_secs(10))
             .unwrap_or_else(|_| panic!("{uri}: still reading after 10 s"))
     }

@@ -545,7 +545,7 @@ fn finish(
     if let Some(p) = soup
         .positions
         .iter()
-        .find(|p| !(p.abs().max_element() <= MAX_COORDINATE))
+        .find(|p| !p.is_finite() || p.abs().max_element() > MAX_COORDINATE)
     {
         return Err(Error::input(
             path,

@@ -301,7 +301,8 @@ impl Tree {
         let path = self.folder.join("m.gltf");
         std::fs::write(&path, self.doc.json(json!({ "uri": uri })).to_string()).unwrap();
         let (send, recv) = std::sync::mpsc::channel();
-        std::thread::spawn(move || send.send(load_mesh(&path)));
+        // A reply after the deadline has no one to go to: dropped.
+        std::thread::spawn(move || drop(send.send(load_mesh(&path))));
         recv.recv_timeout(std::time::Duration::from_secs(10)).ok()
     }
 
