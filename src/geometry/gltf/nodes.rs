@@ -47,7 +47,7 @@ impl World {
     }
 }
 
-/// `a + b` and the exact error of its rounding, componentwise (Knuth's TwoSum: no branch,
+/// `a + b` and the exact error of its rounding, componentwise (Knuth's TwoSum: no comparison,
 /// exact for finite sums that do not overflow).
 fn two_sum(a: DVec3, b: DVec3) -> (DVec3, DVec3) {
     let s = a + b;
