@@ -4,7 +4,10 @@
 # Prints per target and in total: inputs tried, time, panics, inputs over 1 s or over the
 # allocation limit, and the slowest input. Exits non-zero on any of those failures; failing
 # inputs are saved under target/tmp/fuzz/ (keep each as a regression file in
-# tests/data/fuzz/TARGET/ once the reader is fixed).
+# tests/data/fuzz/TARGET/ once the reader is fixed). A fuzzed .gltf never reaches the disk: its
+# buffer files read as one fixed buffer, and asking for one outside the input's folder fails the
+# input; the buffer URI rule on the disk (links, FIFOs, devices) has deterministic tests in
+# tests/fuzz.rs that every `cargo test` runs.
 #
 #   scripts/fuzz.sh [INPUTS]        e.g. scripts/fuzz.sh 5000000
 #   SHADELAB_FUZZ_SEED=N            another random sequence (default 10)

@@ -87,7 +87,8 @@ pub const TARGETS: &[Target] = &[
 /// The name inputs get in error messages.
 const FUZZ_PATH: &str = "fuzz/input";
 
-/// An `Error::Input` about the input itself names a line inside it (or none).
+/// An `Error::Input` about the input itself names a line inside it (or none). Lines end at
+/// "\r\n", "\n" or a lone "\r" (the OBJ reader counts a lone CR, the others never count more).
 fn check_error_line(e: &Error, text: &[u8]) {
     if let Error::Input {
         path,
@@ -96,7 +97,9 @@ fn check_error_line(e: &Error, text: &[u8]) {
     } = e
     {
         if path == Path::new(FUZZ_PATH) {
-            let lines = text.split(|&b| b == b'\n').count();
+            let crlf = text.windows(2).filter(|w| w == b"\r\n").count();
+            let ends = text.iter().filter(|&&b| b == b'\n' || b == b'\r').count();
+            let lines = ends - crlf + 1;
             assert!(
                 (1..=lines).contains(line),
                 "error names line {line} of a {lines}-line input: {e}"
@@ -136,11 +139,20 @@ fn fuzz_obj(bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
-/// glTF: `.gltf` JSON or `.glb` bytes. A buffer file the input names is never read (a fuzzed
-/// input must not reach the disk): it is missing, which the reader reports as an error.
+/// glTF: `.gltf` JSON or `.glb` bytes. A buffer file the input names is never read from the
+/// disk (a fuzzed input must not reach it): every file inside the input's folder reads as
+/// [`fuzz_buffer`], and the reader asking for one outside it breaks the buffer URI rule
+/// ([`geometry::input::BUFFER_RULE`]).
 fn fuzz_gltf(bytes: &[u8]) -> Result<()> {
-    let missing = |_: &Path| Err(std::io::Error::from(std::io::ErrorKind::NotFound));
-    let (mesh, report) = geometry::gltf::parse_gltf(Path::new(FUZZ_PATH), bytes, &missing)
+    let read = |p: &Path| {
+        assert!(
+            inside_fuzz_folder(p),
+            "the glTF reader asked for {}, outside the input's folder",
+            p.display()
+        );
+        Ok(fuzz_buffer())
+    };
+    let (mesh, report) = geometry::gltf::parse_gltf(Path::new(FUZZ_PATH), bytes, &read)
         .inspect_err(|e| check_error_line(e, bytes))?;
     check_mesh(&mesh);
     assert_eq!(report.triangles, mesh.triangle_count());
@@ -151,6 +163,38 @@ fn fuzz_gltf(bytes: &[u8]) -> Result<()> {
         "{report:?}"
     );
     Ok(())
+}
+
+/// What every buffer file inside a fuzzed `.gltf`'s folder holds: a triangle's positions
+/// (0, 0, 0), (1, 0, 0), (0, 1, 0), its normals (0, 0, 1) and its u16 indices 0, 1, 2, padded to
+/// 80 bytes, as tests/data/fuzz/gltf/buffer-uri-seed.gltf describes.
+fn fuzz_buffer() -> Vec<u8> {
+    let floats = [
+        0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1., 0., 0., 1f32,
+    ];
+    let mut b: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    b.extend([0u16, 1, 2, 0].iter().flat_map(|i| i.to_le_bytes()));
+    b
+}
+
+/// Whether `p` lies inside the folder of [`FUZZ_PATH`] as written: no `..` climbing above it,
+/// not absolute (the reader must refuse those before reading; links are the disk reader's).
+fn inside_fuzz_folder(p: &Path) -> bool {
+    use std::path::Component;
+    let folder = Path::new(FUZZ_PATH).parent().expect("a folder");
+    let Ok(rel) = p.strip_prefix(folder) else {
+        return false;
+    };
+    let mut depth = 0usize;
+    for c in rel.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth > 0 => depth -= 1,
+            _ => return false,
+        }
+    }
+    true
 }
 
 fn fuzz_ply(bytes: &[u8]) -> Result<()> {
@@ -358,6 +402,218 @@ fn kept_failing_inputs_stay_fixed() {
             );
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The glTF buffer URI rule, over chosen and random URIs: in memory and on the disk.
+// ---------------------------------------------------------------------------------------------
+/// Pieces random buffer URIs are made of: traversal (plain and %-encoded), separators, schemes,
+/// bad escapes, and the names of [`UriTree`]'s files (a link out, a FIFO, /dev/zero, a folder).
+const URI_PIECES: &[&str] = &[
+    "..",
+    ".",
+    "%2E%2E",
+    "%2e%2E",
+    ".%2E",
+    "%2E.",
+    "%2e",
+    "a",
+    "sub",
+    "buffer.bin",
+    "outside.bin",
+    "link.bin",
+    "up",
+    "fifo.bin",
+    "zero.bin",
+    "/",
+    "//",
+    "%2F",
+    "%2f",
+    "%5C",
+    "\\",
+    "%",
+    "%zz",
+    "%00",
+    "file:",
+    "file://",
+    "data:",
+    "C:",
+    "~",
+    " ",
+    "%20",
+    "\u{e9}",
+];
+
+/// URIs that leave the `.gltf`'s folder or name what is not a regular file, in every form.
+const ESCAPING_URIS: &[&str] = &[
+    "../buffer.bin",
+    "../../outside.bin",
+    "sub/../../outside.bin",
+    "..%2Foutside.bin",
+    "..%2F..%2Foutside.bin",
+    "%2E%2E/outside.bin",
+    "%2e%2e%2foutside.bin",
+    "../../../../../../etc/passwd",
+    "/etc/passwd",
+    "%2Fetc%2Fpasswd",
+    "file:///etc/passwd",
+    "file:../outside.bin",
+];
+
+/// `n` URIs of 1 to 8 [`URI_PIECES`], from `seed`.
+fn random_uris(seed: u64, n: usize) -> Vec<String> {
+    let mut rng = fastrand::Rng::with_seed(seed);
+    (0..n)
+        .map(|_| {
+            (0..rng.usize(1..=8))
+                .map(|_| URI_PIECES[rng.usize(0..URI_PIECES.len())])
+                .collect()
+        })
+        .collect()
+}
+
+/// tests/data/fuzz/gltf/buffer-uri-seed.gltf with its buffer at `uri`.
+fn gltf_with_uri(uri: &str) -> Vec<u8> {
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz/gltf/buffer-uri-seed.gltf");
+    let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    doc["buffers"][0]["uri"] = uri.into();
+    doc.to_string().into_bytes()
+}
+
+/// In memory: whatever the URI, the reader is only asked for files inside the input's folder
+/// (as written), and every form of escape is refused naming the rule.
+#[test]
+fn gltf_buffer_uris_never_reach_outside_the_folder() {
+    let asked = std::cell::RefCell::new(Vec::new());
+    let read = |p: &Path| {
+        asked.borrow_mut().push(p.to_path_buf());
+        Ok(fuzz_buffer())
+    };
+    let parse =
+        |uri: &str| geometry::gltf::parse_gltf(Path::new(FUZZ_PATH), &gltf_with_uri(uri), &read);
+    for uri in ESCAPING_URIS {
+        let e = parse(uri).expect_err(uri).to_string();
+        assert!(e.contains(geometry::input::BUFFER_RULE), "{uri}: {e}");
+    }
+    assert!(asked.borrow().is_empty(), "{:?}", asked.borrow());
+    for uri in [
+        "buffer.bin",
+        "sub/../buffer.bin",
+        "sub%2F..%2Fbuffer.bin",
+        "./a/buffer.bin",
+    ] {
+        parse(uri).unwrap_or_else(|e| panic!("{uri}: {e}"));
+    }
+    let mut accepted = 0;
+    for uri in random_uris(7, 5000) {
+        accepted += usize::from(parse(&uri).is_ok());
+    }
+    let outside: Vec<_> = asked
+        .borrow()
+        .iter()
+        .filter(|p| !inside_fuzz_folder(p))
+        .cloned()
+        .collect();
+    assert!(outside.is_empty(), "read outside the folder: {outside:?}");
+    // The random URIs reach the reader often enough for the check to mean something.
+    assert!(accepted > 100, "only {accepted} of 5000 random URIs read");
+}
+
+/// The folder a `.gltf` on the disk names its buffer in: `root/f/m.gltf` beside `buffer.bin`
+/// and `sub/buffer.bin` (good buffers), a link to `root/outside.bin` (a good buffer, outside)
+/// and one to `root`, a FIFO, a link to /dev/zero.
+struct UriTree {
+    _dir: tempfile::TempDir,
+    folder: PathBuf,
+}
+
+impl UriTree {
+    fn new() -> UriTree {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path().canonicalize().unwrap();
+        let folder = root.join("f");
+        std::fs::create_dir_all(folder.join("sub")).unwrap();
+        for p in [
+            root.join("outside.bin"),
+            folder.join("buffer.bin"),
+            folder.join("sub/buffer.bin"),
+        ] {
+            std::fs::write(p, fuzz_buffer()).unwrap();
+        }
+        std::os::unix::fs::symlink(root.join("outside.bin"), folder.join("link.bin")).unwrap();
+        std::os::unix::fs::symlink(&root, folder.join("up")).unwrap();
+        std::os::unix::fs::symlink("/dev/zero", folder.join("zero.bin")).unwrap();
+        let fifo = std::ffi::CString::new(folder.join("fifo.bin").to_str().unwrap()).unwrap();
+        // SAFETY: a valid NUL-terminated path; mkfifo only creates the file.
+        assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o600) }, 0);
+        UriTree { _dir: dir, folder }
+    }
+
+    /// load_mesh of the folder's `m.gltf` with its buffer at `uri`, from another thread; a
+    /// failure when it takes more than 10 s (a read that blocks).
+    fn load(&self, uri: &str) -> Result<(Mesh, LoadReport)> {
+        let path = self.folder.join("m.gltf");
+        std::fs::write(&path, gltf_with_uri(uri)).unwrap();
+        let (send, recv) = std::sync::mpsc::channel();
+        // A reply after the deadline has no one to go to: dropped.
+        std::thread::spawn(move || drop(send.send(geometry::load_mesh(&path))));
+        recv.recv_timeout(Duration::from_secs(10))
+            .unwrap_or_else(|_| panic!("{uri}: still reading after 10 s"))
+    }
+}
+
+/// On the disk: the chosen escapes and special files are refused naming the rule, none
+/// blocks, and a random URI is read only when it names a regular file inside the folder once
+/// %-decoded and its links resolved.
+#[test]
+fn gltf_buffer_uris_on_the_disk_read_only_regular_files_inside_the_folder() {
+    let t = UriTree::new();
+    let special = [
+        "link.bin",
+        "up/outside.bin",
+        "fifo.bin",
+        "zero.bin",
+        "sub",
+        ".",
+    ];
+    for uri in ESCAPING_URIS.iter().chain(&special) {
+        let e = t
+            .load(uri)
+            .err()
+            .unwrap_or_else(|| panic!("{uri}: read"))
+            .to_string();
+        assert!(e.contains(geometry::input::BUFFER_RULE), "{uri}: {e}");
+    }
+    let inside = t.folder.canonicalize().unwrap();
+    for uri in random_uris(11, 1500) {
+        if t.load(&uri).is_ok() {
+            let decoded = percent_decoded(&uri);
+            let real = t.folder.join(&decoded).canonicalize().unwrap();
+            assert!(
+                real.starts_with(&inside) && std::fs::metadata(&real).unwrap().is_file(),
+                "{uri:?} read {}",
+                real.display()
+            );
+        }
+    }
+}
+
+/// `%XX` escapes of `s` decoded (the URIs the disk test read decode cleanly).
+fn percent_decoded(s: &str) -> String {
+    let b = s.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' {
+            out.push(u8::from_str_radix(&s[i + 1..i + 3], 16).unwrap());
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).unwrap()
 }
 
 // ---------------------------------------------------------------------------------------------

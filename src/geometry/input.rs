@@ -9,8 +9,8 @@
 use std::path::{Path, PathBuf};
 
 pub use super::mesh_file::{
-    supported_list, DrawnScene, Encoding, Format, MeshInput, Named, NormalSource, Part, ReadFile,
-    SceneChoice,
+    read_inside, supported_list, DrawnScene, Encoding, Format, MeshInput, Named, NormalSource,
+    Part, ReadFile, Refused, SceneChoice, BUFFER_RULE,
 };
 use super::{LoadReport, Mesh};
 use crate::error::{Error, Result};
@@ -18,12 +18,15 @@ use crate::error::{Error, Result};
 /// Reads a mesh file of any [`Format`] into a fitted triangle soup ([`super::fit_unit`]), with
 /// the report of what was read and drawn.
 ///
+/// A glTF's buffer files are read by [`read_inside`] the file's folder ([`BUFFER_RULE`]).
+///
 /// Errors: a missing or unreadable file is [`Error::Io`]; anything wrong in it is
 /// [`Error::Input`] naming the file and, where the format has them, the line (OBJ, PLY's ASCII
 /// part) or the object (glTF: mesh, primitive, accessor, buffer; PLY: element).
 pub fn load_mesh(path: &Path) -> Result<(Mesh, LoadReport)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse_mesh(path, &bytes, &|p| std::fs::read(p))
+    let folder = path.parent().unwrap_or(Path::new(""));
+    parse_mesh(path, &bytes, &|p| read_inside(folder, p))
 }
 
 /// [`load_mesh`] on bytes already read: `path` names the file in messages and gives the

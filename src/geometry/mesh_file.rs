@@ -73,12 +73,14 @@ impl Format {
     }
 
     /// The format the first bytes prove: a `.glb`'s magic `glTF` (glTF 2.0 section 4.4.2) or
-    /// PLY's first line `ply` (Turk's PLY description: "ply" then an end of line). OBJ and a
-    /// `.gltf`'s JSON have no magic.
+    /// PLY's first line `ply` (Turk's PLY description: "ply" then an end of line; a UTF-8
+    /// byte-order mark before it skipped, as the PLY reader does). OBJ and a `.gltf`'s JSON
+    /// have no magic.
     pub fn of_magic(bytes: &[u8]) -> Option<Format> {
+        let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
         if bytes.starts_with(b"glTF") {
             Some(Format::Gltf)
-        } else if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
+        } else if text.starts_with(b"ply\n") || text.starts_with(b"ply\r\n") {
             Some(Format::Ply)
         } else {
             None
@@ -123,6 +125,94 @@ pub fn supported_list() -> String {
 /// Reads a file a mesh refers to (a glTF buffer): given its path, resolved against the mesh
 /// file's folder.
 pub type ReadFile<'a> = &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>;
+
+/// Where a glTF buffer may come from, for messages and docs/scenes.md.
+pub const BUFFER_RULE: &str = "shadelab reads a buffer from a data URI, a .glb's BIN chunk or a regular file inside the .gltf's folder (or a folder under it), named by a relative path that stays inside once %-decoded and with its links resolved";
+
+/// Why [`read_inside`] refused a file that exists: the reason, for the reader's message (the
+/// `std::io::Error` it travels in has kind `PermissionDenied`).
+#[derive(Debug)]
+pub struct Refused(pub String);
+
+impl std::fmt::Display for Refused {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Refused {}
+
+/// The bytes of `file` (a glTF buffer's path, already joined to `folder`, the `.gltf`'s folder),
+/// read only when it is a regular file inside `folder` once every link is resolved
+/// ([`BUFFER_RULE`]): a link out of the folder, a FIFO, a device or a folder is refused as
+/// [`Refused`], before it is opened. The file is opened without following a last link and
+/// without blocking (`O_NOFOLLOW | O_NONBLOCK`) and checked again once open, so a file swapped
+/// for a FIFO between the check and the open cannot block the read either.
+pub fn read_inside(folder: &Path, file: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::Read as _;
+    let refuse =
+        |why: String| std::io::Error::new(std::io::ErrorKind::PermissionDenied, Refused(why));
+    let folder = if folder.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        folder
+    };
+    let folder = folder.canonicalize()?;
+    let real = file.canonicalize()?;
+    if !real.starts_with(&folder) {
+        return Err(refuse(format!(
+            "resolves to {}, outside the .gltf's folder {}",
+            real.display(),
+            folder.display()
+        )));
+    }
+    let not_regular = |m: &std::fs::Metadata| -> Option<String> {
+        let what = kind_of(&m.file_type())?;
+        Some(format!("is {what}, not a regular file"))
+    };
+    if let Some(why) = not_regular(&std::fs::metadata(&real)?) {
+        return Err(refuse(why));
+    }
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    let mut f = options.open(&real)?;
+    if let Some(why) = not_regular(&f.metadata()?) {
+        return Err(refuse(why));
+    }
+    let mut bytes = Vec::new();
+    f.read_to_end(&mut bytes)?;
+    Ok(bytes)
+}
+
+/// What a file that is not a regular file is, for messages; `None` for a regular file.
+fn kind_of(t: &std::fs::FileType) -> Option<&'static str> {
+    if t.is_file() {
+        return None;
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        if t.is_fifo() {
+            return Some("a FIFO");
+        }
+        if t.is_char_device() || t.is_block_device() {
+            return Some("a device");
+        }
+        if t.is_socket() {
+            return Some("a socket");
+        }
+    }
+    Some(if t.is_dir() {
+        "a folder"
+    } else {
+        "a special file"
+    })
+}
 
 /// A numbered object of a file (a glTF scene, node or mesh): its index and, if the file gives
 /// one, its name.

@@ -125,25 +125,42 @@ fn dvec(a: [f32; 3]) -> DVec3 {
 /// An empty mesh is left alone; a mesh whose positions all coincide (radius 0) is only moved
 /// to the origin, since no scale makes a point into a unit sphere.
 pub fn fit_unit(mesh: &mut Mesh) {
-    if mesh.positions.is_empty() {
-        return;
-    }
-    let (lo, hi) = mesh.bounds();
-    let centre = (dvec(lo) + dvec(hi)) * 0.5;
-    let radius = mesh
-        .positions
+    let wide: Vec<DVec3> = mesh.positions.iter().map(|&p| dvec(p)).collect();
+    mesh.positions = fit(&wide);
+}
+
+/// [`fit_unit`] of f64 positions, rounded to f32 once, after the fit: the readers' soup is
+/// f64 until here, so that the fit cancels a translation or scale of the file's (a glTF node
+/// 1e30 away) instead of f32 rounding it into the shape. For f32 positions (widened exactly)
+/// the same bits as fitting them in place. Finite positions whose squares stay inside f64
+/// (the readers' bound, [`MAX_COORDINATE`]) give finite results.
+pub(crate) fn fit(positions: &[DVec3]) -> Vec<[f32; 3]> {
+    let Some(&first) = positions.first() else {
+        return Vec::new();
+    };
+    let (lo, hi) = positions
         .iter()
-        .map(|&p| (dvec(p) - centre).length())
+        .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let centre = (lo + hi) * 0.5;
+    let radius = positions
+        .iter()
+        .map(|&p| (p - centre).length())
         .fold(0.0, f64::max);
     let scale = if radius > 0.0 && radius.is_finite() {
         1.0 / radius
     } else {
         1.0
     };
-    for p in &mut mesh.positions {
-        *p = ((dvec(*p) - centre) * scale).as_vec3().to_array();
-    }
+    positions
+        .iter()
+        .map(|&p| ((p - centre) * scale).as_vec3().to_array())
+        .collect()
 }
+
+/// The largest coordinate magnitude a reader hands to the fit (1e150): squared lengths
+/// ([`is_zero_area`], the fit's radius) stay inside f64 (1.8e308). f32 positions are far
+/// below it; a glTF chain of node scales can pass it, and is refused.
+pub(crate) const MAX_COORDINATE: f64 = 1e150;
 
 // ---------------------------------------------------------------------------------------------
 // OBJ writing

@@ -19,6 +19,8 @@ struct Face {
 #[derive(Debug, Default)]
 struct Parsed {
     positions: Vec<[f32; 3]>,
+    /// `positions` widened to f64 (exactly), for [`soup`].
+    wide: Vec<DVec3>,
     normals: Vec<[f32; 3]>,
     texcoord_count: usize,
     faces: Vec<Face>,
@@ -45,6 +47,8 @@ struct Parsed {
 /// - The result is fitted with [`fit_unit`].
 /// - `l` and `p` elements, groups, materials and smoothing groups are ignored; texture
 ///   coordinates and vertex colours are validated, then ignored.
+/// - Lines end at "\r\n", "\n" or a lone "\r" (old Mac OS files); a statement whose line ends
+///   with `\` (outside a comment) continues on the next line.
 ///
 /// Errors: a missing or unreadable file is [`Error::Io`]; malformed statements, indices out of
 /// range (positive, zero or relative), non-finite coordinates and faces with fewer than 3
@@ -189,21 +193,65 @@ fn resolve_index(
         Ok(r as usize)
     }
 }
+/// The lines of `text`, each ended by "\r\n", "\n" or a lone "\r" (the line end of old Mac OS
+/// files, where `str::lines` sees one line), without its end.
+fn physical_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = text;
+    std::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
+        let (line, next) = match rest.find(['\r', '\n']) {
+            Some(i) if rest[i..].starts_with("\r\n") => (&rest[..i], &rest[i + 2..]),
+            Some(i) => (&rest[..i], &rest[i + 1..]),
+            None => (rest, ""),
+        };
+        rest = next;
+        Some(line)
+    })
+}
+
+/// Calls `each` with every statement of `text` and the 1-based line it starts on: comments
+/// (`#` to the end of the line) removed, and a line whose remaining content ends with `\`
+/// joined to the next (the OBJ line continuation; a `\` inside a comment continues nothing).
+/// A file ending inside a continued statement gives that statement as it is.
+fn for_each_statement(text: &str, mut each: impl FnMut(usize, &str) -> Result<()>) -> Result<()> {
+    let mut pending: Option<(usize, String)> = None;
+    for (i, raw) in physical_lines(text).enumerate() {
+        // OBJ comments run from '#' to the end of the line; tobj only knows whole-line ones.
+        let content = raw.split_once('#').map_or(raw, |(c, _)| c);
+        let (start, joined) = match pending.take() {
+            Some((start, mut acc)) => {
+                acc.push(' ');
+                acc.push_str(content);
+                (start, std::borrow::Cow::Owned(acc))
+            }
+            None => (i + 1, std::borrow::Cow::Borrowed(content)),
+        };
+        if let Some(head) = joined.trim_end().strip_suffix('\\') {
+            pending = Some((start, head.to_string()));
+            continue;
+        }
+        each(start, &joined)?;
+    }
+    match pending {
+        Some((start, acc)) => each(start, &acc),
+        None => Ok(()),
+    }
+}
+
 /// The validation pass: checks every statement, collects positions, normals and faces, and
-/// writes the normalized copy for tobj. Errors carry the 1-based line.
+/// writes the normalized copy for tobj. Errors carry the 1-based line a statement starts on.
 fn validate_obj(path: &Path, text: &str) -> Result<Parsed> {
     let mut p = Parsed {
         tobj_text: String::with_capacity(text.len()),
         ..Parsed::default()
     };
-    for (i, raw) in text.lines().enumerate() {
-        let line = i + 1;
+    for_each_statement(text, |line, content| {
         let err = |msg: String| Error::input(path, Some(line), msg);
-        // OBJ comments run from '#' to the end of the line; tobj only knows whole-line ones.
-        let content = raw.split_once('#').map_or(raw, |(c, _)| c);
         let mut words = content.split_whitespace();
         let Some(keyword) = words.next() else {
-            continue;
+            return Ok(());
         };
         let args: Vec<&str> = words.collect();
         match keyword {
@@ -230,7 +278,8 @@ fn validate_obj(path: &Path, text: &str) -> Result<Parsed> {
                 p.first_unknown.get_or_insert((line, k.to_string()));
             }
         }
-    }
+        Ok(())
+    })?;
     Ok(p)
 }
 
@@ -240,7 +289,7 @@ impl Parsed {
     /// The lists the corners index, smoothed per `v` index (the module doc of [`soup`]).
     fn lists(&self) -> soup::Lists<'_> {
         soup::Lists {
-            positions: &self.positions,
+            positions: &self.wide,
             normals: &self.normals,
             smooth_as: None,
         }
@@ -292,6 +341,7 @@ impl Parsed {
             writeln!(self.tobj_text, "v {} {} {}", args[0], args[1], args[2]).ok();
         }
         self.positions.push(xyz);
+        self.wide.push(dvec(xyz));
         Ok(())
     }
 

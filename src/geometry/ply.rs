@@ -3,9 +3,14 @@
 //!
 //! Read: the `vertex` element's `x y z` and, when all three are there, `nx ny nz`; the `face`
 //! element's `vertex_indices` (or `vertex_index`) lists, triangulated as fans like the OBJ
-//! reader's polygons. Every other element and property is skipped, with a note. A file without
-//! normals gets smooth normals as an OBJ without normals does ([`super::soup`]), smoothed across
-//! vertices at the same position, and the report says so.
+//! reader's polygons; the `tristrips` element's `vertex_indices` lists (as range-scanner tools
+//! write them: strips separated by -1), triangle i of a strip `s` being (s[i], s[i+1], s[i+2])
+//! for even i and (s[i+1], s[i], s[i+2]) for odd i, so that all keep the winding of the first
+//! (the order of OpenGL's triangle strips); a strip's triangles that repeat a vertex (the joins
+//! of strips written as one) draw nothing and are left out. Index lists must hold integers.
+//! Every other element and property is skipped, with a note. A file without normals gets smooth
+//! normals as an OBJ without normals does ([`super::soup`]), smoothed across vertices at the
+//! same position, and the report says so. A UTF-8 byte-order mark before `ply` is skipped.
 //!
 //! Elements are read one at a time, so an error names the element, its index and, in ASCII,
 //! the file's line. Before any element is read, each count the header declares is checked
@@ -13,6 +18,7 @@
 //! binary one): a header that lies is refused before it can size anything.
 use std::path::Path;
 
+use glam::DVec3;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{
     ElementDef, Encoding as PlyEncoding, Header, Property, PropertyAccess, PropertyType, ScalarType,
@@ -118,6 +124,8 @@ struct Cursor<'b> {
 pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
     let err = |line: Option<usize>, msg: String| Error::input(path, line, msg);
     let parser = Parser::<Item>::new();
+    // A byte-order mark is no part of the magic `ply` line (editors on Windows write one).
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let mut rest = bytes;
     let header = parser.read_header(&mut rest).map_err(|e| {
         err(
@@ -130,6 +138,7 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
         .filter(|&&b| b == b'\n')
         .count();
     check_counts(&header, rest).map_err(|m| err(None, m))?;
+    check_index_lists(&header).map_err(|m| err(None, m))?;
     let mut cur = Cursor {
         rest,
         line: header_lines + 1,
@@ -137,6 +146,7 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut normals: Vec<[f32; 3]> = Vec::new();
     let mut faces: Vec<Vec<i64>> = Vec::new();
+    let mut strips: Vec<Vec<i64>> = Vec::new();
     let mut skipped = Vec::new();
     let has_normals = header.elements.get("vertex").is_some_and(|v| {
         ["nx", "ny", "nz"]
@@ -144,7 +154,7 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
             .all(|n| v.properties.contains_key(*n))
     });
     for (name, def) in &header.elements {
-        let wanted = matches!(name.as_str(), "vertex" | "face");
+        let wanted = matches!(name.as_str(), "vertex" | "face" | "tristrips");
         if !wanted && def.count > 0 {
             skipped.push(format!("{name} ({})", def.count));
         }
@@ -162,14 +172,80 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<(Mesh, LoadReport)> {
                     positions.push(p);
                     normals.extend(n);
                 }
-                "face" => faces.push(item.list.ok_or_else(|| {
-                    err(at(), format!("face element {i} has no vertex_indices list"))
-                })?),
+                "face" | "tristrips" => {
+                    // check_index_lists made sure every element of these has its list.
+                    let list = item.list.ok_or_else(|| {
+                        err(
+                            at(),
+                            format!("{name} element {i} has no vertex_indices list"),
+                        )
+                    })?;
+                    if name == "face" {
+                        faces.push(list);
+                    } else {
+                        strips.push(list);
+                    }
+                }
                 _ => {}
             }
         }
     }
-    build(path, &header, positions, normals, faces, skipped)
+    build(path, &header, positions, normals, (faces, strips), skipped)
+}
+
+/// The elements whose `vertex_indices` (or `vertex_index`) lists are read.
+const INDEXED: [&str; 2] = ["face", "tristrips"];
+
+/// Refuses a `face` or `tristrips` element without an integer index list: a missing one, a
+/// scalar, or a list of float or double (which ply-rs would read, and which no index is).
+fn check_index_lists(header: &Header) -> std::result::Result<(), String> {
+    for name in INDEXED {
+        let Some(def) = header.elements.get(name) else {
+            continue;
+        };
+        let prop = ["vertex_indices", "vertex_index"]
+            .iter()
+            .find_map(|p| def.properties.get(*p).map(|d| (*p, d)));
+        let Some((prop, d)) = prop else {
+            if def.count == 0 {
+                continue;
+            }
+            return Err(format!(
+                "the `{name}` element has no `vertex_indices` (or `vertex_index`) property: write each {name}'s vertices as `property list uchar int vertex_indices`"
+            ));
+        };
+        let fix = "vertex indices must be a list of integers (e.g. `property list uchar int vertex_indices`)";
+        match &d.data_type {
+            PropertyType::List(_, t @ (ScalarType::Float | ScalarType::Double)) => {
+                return Err(format!(
+                    "the `{name}` element's `{prop}` is a list of {}: {fix}",
+                    type_name(t)
+                ))
+            }
+            PropertyType::Scalar(t) => {
+                return Err(format!(
+                    "the `{name}` element's `{prop}` is a single {}, not a list: {fix}",
+                    type_name(t)
+                ))
+            }
+            PropertyType::List(..) => {}
+        }
+    }
+    Ok(())
+}
+
+/// A scalar type as the PLY header spells it.
+fn type_name(t: &ScalarType) -> &'static str {
+    match t {
+        ScalarType::Char => "char",
+        ScalarType::UChar => "uchar",
+        ScalarType::Short => "short",
+        ScalarType::UShort => "ushort",
+        ScalarType::Int => "int",
+        ScalarType::UInt => "uint",
+        ScalarType::Float => "float",
+        ScalarType::Double => "double",
+    }
 }
 
 /// Refuses element counts the rest of the file cannot hold (module doc).
@@ -301,52 +377,84 @@ fn vertex(
     Ok((p, n))
 }
 
-/// Triangulates the faces as fans (the OBJ reader's order) and builds the mesh.
+/// Triangulates the faces as fans (the OBJ reader's order) and the strips (module doc), then
+/// builds the mesh. `lists` are the `face` and the `tristrips` elements' index lists.
 fn build(
     path: &Path,
     header: &Header,
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
-    faces: Vec<Vec<i64>>,
+    lists: (Vec<Vec<i64>>, Vec<Vec<i64>>),
     skipped: Vec<String>,
 ) -> Result<(Mesh, LoadReport)> {
     let err = |msg: String| Error::input(path, None, msg);
+    let (faces, strips) = lists;
     let mut tris: Vec<[Corner; 3]> = Vec::new();
     let mut polygons = false;
-    let mut short = 0;
+    let (mut short, mut short_strips) = (0, 0);
     let has_normals = !normals.is_empty();
-    for (f, list) in faces.iter().enumerate() {
-        if let Some(&bad) = list
+    let c = |i: i64| Corner {
+        position: i as usize,
+        normal: has_normals.then_some(i as usize),
+    };
+    // -1 separates strips; any other index must name a vertex.
+    let check = |name: &str, e: usize, list: &[i64], restart: Option<i64>| {
+        match list
             .iter()
-            .find(|&&i| i < 0 || i as u64 >= positions.len() as u64)
+            .find(|&&i| Some(i) != restart && (i < 0 || i as u64 >= positions.len() as u64))
         {
-            return Err(err(format!(
-                "face element {f}: vertex index {bad} is past the {} vertices: the file is damaged; re-export it",
-                positions.len()
-            )));
+            Some(bad) => Err(err(format!(
+                "{name} element {e}: vertex index {bad} is past the {} vertices{}: the file is damaged; re-export it",
+                positions.len(),
+                if restart.is_some() { " (-1 separates strips)" } else { "" }
+            ))),
+            None => Ok(()),
         }
+    };
+    for (f, list) in faces.iter().enumerate() {
+        check("face", f, list, None)?;
         if list.len() < 3 {
             short += 1;
             continue;
         }
         polygons |= list.len() > 3;
-        let c = |k: usize| Corner {
-            position: list[k] as usize,
-            normal: has_normals.then_some(list[k] as usize),
-        };
         for k in 0..list.len() - 2 {
-            tris.push([c(0), c(k + 1), c(k + 2)]);
+            tris.push([c(list[0]), c(list[k + 1]), c(list[k + 2])]);
+        }
+    }
+    for (e, list) in strips.iter().enumerate() {
+        check("tristrips", e, list, Some(-1))?;
+        for s in list.split(|&i| i == -1).filter(|s| !s.is_empty()) {
+            if s.len() < 3 {
+                short_strips += 1;
+            }
+            for i in 0..s.len().saturating_sub(2) {
+                let t = if i % 2 == 0 {
+                    [s[i], s[i + 1], s[i + 2]]
+                } else {
+                    [s[i + 1], s[i], s[i + 2]]
+                };
+                // A join: no triangle drawn (not a zero-area face of the mesh).
+                if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                    continue;
+                }
+                tris.push(t.map(c));
+            }
         }
     }
     if tris.is_empty() {
         return Err(err(
-            "no triangles: the file has no `face` element with 3 or more vertices (a point cloud?)"
+            "no triangles: the file has no `face` element with 3 or more vertices and no `tristrips` element (a point cloud?)"
                 .into(),
         ));
     }
-    let weld = soup::weld(&positions);
+    let wide: Vec<DVec3> = positions
+        .iter()
+        .map(|p| DVec3::from(p.map(f64::from)))
+        .collect();
+    let weld = soup::weld(&wide);
     let lists = soup::Lists {
-        positions: &positions,
+        positions: &wide,
         normals: &normals,
         smooth_as: Some(&weld),
     };
@@ -361,6 +469,12 @@ fn build(
         warnings.push(format!(
             "left out {} with fewer than 3 vertices",
             plural(short, "face", "faces")
+        ));
+    }
+    if short_strips > 0 {
+        warnings.push(format!(
+            "left out {} with fewer than 3 vertices",
+            plural(short_strips, "triangle strip", "triangle strips")
         ));
     }
     if !skipped.is_empty() {

@@ -13,7 +13,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{dvec, fit_unit, is_zero_area, Mesh};
+use super::{dvec, fit, fit_unit, is_zero_area, Mesh};
 use crate::error::{Error, Result};
 
 /// One triangle corner: an index into the position list and, where the file gave one, into the
@@ -27,7 +27,8 @@ pub(crate) struct Corner {
 /// Positions and normals a reader found; [`Corner`]s index them.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Lists<'a> {
-    pub positions: &'a [[f32; 3]],
+    /// In f64 until the fit (glTF world positions; OBJ and PLY widen their f32 ones exactly).
+    pub positions: &'a [DVec3],
     pub normals: &'a [[f32; 3]],
     /// The smoothing index of each position ([`weld`]); `None`: the position index itself.
     pub smooth_as: Option<&'a [usize]>,
@@ -70,7 +71,7 @@ pub(crate) fn assemble(path: &Path, lists: Lists, tris: &[[Corner; 3]]) -> Resul
     let kept: Vec<[Corner; 3]> = tris
         .iter()
         .filter(|tri| {
-            let [a, b, c] = tri.map(|k| dvec(lists.positions[k.position]));
+            let [a, b, c] = tri.map(|k| lists.positions[k.position]);
             !is_zero_area(a, b, c)
         })
         .copied()
@@ -85,7 +86,8 @@ pub(crate) fn assemble(path: &Path, lists: Lists, tris: &[[Corner; 3]]) -> Resul
             ),
         ));
     }
-    let (mut mesh, counts) = corner_normals(path, lists, &kept);
+    let (wide, mut mesh, counts) = corner_normals(path, lists, &kept);
+    mesh.positions = fit(&wide);
     let dropped = tris.len() - kept.len() + fit_dropping_collapsed(path, &mut mesh, tris.len())?;
     Ok(Assembled {
         mesh,
@@ -110,7 +112,7 @@ fn smooth_normals(lists: Lists, kept: &[[Corner; 3]]) -> (Vec<DVec3>, Vec<f64>) 
         acc = vec![DVec3::ZERO; lists.positions.len()];
         weight = vec![0f64; lists.positions.len()];
         for tri in kept {
-            let p = tri.map(|k| dvec(lists.positions[k.position]));
+            let p = tri.map(|k| lists.positions[k.position]);
             let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
             for j in 0..3 {
                 let e1 = p[(j + 1) % 3] - p[j];
@@ -126,11 +128,15 @@ fn smooth_normals(lists: Lists, kept: &[[Corner; 3]]) -> (Vec<DVec3>, Vec<f64>) 
     (acc, weight)
 }
 
-/// The triangle soup of `kept`: positions, and each corner's normal, given (normalised; a
-/// zero-length one counts as missing) or computed smooth: the angle-weighted sum of the face
-/// normals around the same position index; where those cancel out (two-sided sheets), the
-/// corner's own face normal.
-fn corner_normals(path: &Path, lists: Lists, kept: &[[Corner; 3]]) -> (Mesh, NormalCounts) {
+/// The triangle soup of `kept`: its corners' positions (f64, not yet fitted; the mesh's own
+/// are left empty), and each corner's normal, given (normalised; a zero-length one counts as
+/// missing) or computed smooth: the angle-weighted sum of the face normals around the same
+/// position index; where those cancel out (two-sided sheets), the corner's own face normal.
+fn corner_normals(
+    path: &Path,
+    lists: Lists,
+    kept: &[[Corner; 3]],
+) -> (Vec<DVec3>, Mesh, NormalCounts) {
     let mut counts = NormalCounts::default();
     let given = |c: &Corner, zero_given: &mut usize| -> Option<DVec3> {
         let n = dvec(lists.normals[c.normal?]);
@@ -146,7 +152,7 @@ fn corner_normals(path: &Path, lists: Lists, kept: &[[Corner; 3]]) -> (Mesh, Nor
     let mut positions = Vec::with_capacity(kept.len() * 3);
     let mut normals = Vec::with_capacity(kept.len() * 3);
     for tri in kept {
-        let p = tri.map(|k| dvec(lists.positions[k.position]));
+        let p = tri.map(|k| lists.positions[k.position]);
         for c in tri {
             positions.push(lists.positions[c.position]);
             let n = match given(c, &mut counts.zero_given) {
@@ -174,15 +180,16 @@ fn corner_normals(path: &Path, lists: Lists, kept: &[[Corner; 3]]) -> (Mesh, Nor
         }
     }
     let mesh = Mesh {
-        positions,
+        positions: Vec::new(),
         normals,
         source: path.display().to_string(),
     };
-    (mesh, counts)
+    (positions, mesh, counts)
 }
 
-/// Fits `mesh` to the unit sphere, dropping the triangles the fit collapses; returns how many.
-/// `triangles` (the file's count) is for the message when none is left.
+/// Drops the triangles of `mesh` (fitted from f64 by [`fit`]) that the fit's rounding to f32
+/// collapsed, refitting what is left; returns how many. `triangles` (the file's count) is for
+/// the message when none is left.
 fn fit_dropping_collapsed(path: &Path, mesh: &mut Mesh, triangles: usize) -> Result<usize> {
     // Fitting rounds to f32 in the fitted frame: beside a far-away vertex, a triangle with an
     // area in the file's coordinates can collapse (found by the fuzz harness: one cube vertex
@@ -190,7 +197,6 @@ fn fit_dropping_collapsed(path: &Path, mesh: &mut Mesh, triangles: usize) -> Res
     // was dropped, so other meshes keep their bits. Each round drops at least one triangle;
     // the bound keeps an adversarial file linear.
     let mut dropped = 0;
-    fit_unit(mesh);
     for _ in 0..4 {
         let collapsed = drop_zero_area(mesh);
         if collapsed == 0 {
@@ -273,11 +279,14 @@ pub(crate) fn common_notes(dropped: usize, counts: &NormalCounts) -> Vec<String>
 /// The smoothing index of each position: equal positions (the same coordinates, -0 and +0
 /// alike) share the index of the first of them (for the glTF and PLY readers, module doc).
 /// The count of distinct positions is the largest index + 1.
-pub(crate) fn weld(positions: &[[f32; 3]]) -> Vec<usize> {
-    let mut first: HashMap<[u32; 3], usize> = HashMap::with_capacity(positions.len());
+pub(crate) fn weld(positions: &[DVec3]) -> Vec<usize> {
+    let mut first: HashMap<[u64; 3], usize> = HashMap::with_capacity(positions.len());
     positions
         .iter()
         .enumerate()
-        .map(|(i, p)| *first.entry(p.map(|c| (c + 0.0).to_bits())).or_insert(i))
+        .map(|(i, p)| {
+            let key = p.to_array().map(|c| (c + 0.0).to_bits());
+            *first.entry(key).or_insert(i)
+        })
         .collect()
 }

@@ -127,6 +127,12 @@ const INSERTS: &[&str] = &[
     "v 0 0 0\n",
     "f 1 2 3\n",
     "vn 0 0 1\n",
+    // glTF buffer URIs: traversal, %-encoded traversal, absolute paths, schemes.
+    "../",
+    "..%2F",
+    "%2E%2E/",
+    "/dev/zero",
+    "file:",
 ];
 
 /// Where an input came from, for reports.

@@ -1,14 +1,14 @@
 //! glTF buffers and accessors: each buffer read once when first used (the `.glb`'s BIN chunk, a
-//! data URI or a file beside the `.gltf`), each accessor read with every byte range checked
+//! data URI or a regular file inside the `.gltf`'s folder: [`BUFFER_RULE`]), each accessor read with every byte range checked
 //! before anything is allocated from a number in the file (glTF 2.0 sections 3.6.2 and 5.1).
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use ::gltf::json;
 use base64::Engine as _;
 use json::accessor::{ComponentType, Type};
 use json::validation::Checked;
 
-use crate::geometry::mesh_file::ReadFile;
+use crate::geometry::mesh_file::{ReadFile, Refused, BUFFER_RULE};
 
 /// The buffers of a file, each loaded on first use.
 pub(super) struct Buffers<'a> {
@@ -85,7 +85,10 @@ impl<'a> Buffers<'a> {
     }
 
     /// A buffer's bytes from its URI: a base64 data URI, or a relative file path
-    /// (percent-encoded, RFC 3986 section 2.1) resolved against the `.gltf`'s folder.
+    /// (percent-encoded, RFC 3986 section 2.1) resolved against the `.gltf`'s folder, which
+    /// it must not leave ([`BUFFER_RULE`]: checked here on the decoded path, before anything is
+    /// read; links and the kind of file are the `read` function's to check, as
+    /// [`crate::geometry::input::read_inside`] does).
     fn fetch(&self, what: &str, uri: &str) -> Result<Vec<u8>, String> {
         if let Some(rest) = uri.strip_prefix("data:") {
             let Some((_, payload)) = rest.split_once(";base64,") else {
@@ -97,24 +100,45 @@ impl<'a> Buffers<'a> {
                 .decode(payload)
                 .map_err(|e| format!("{what}: its data URI is not valid base64 ({e})"));
         }
-        let has_scheme = uri.split_once(':').is_some_and(|(s, _)| {
+        let scheme = uri.split_once(':').map(|(s, _)| s).filter(|s| {
             s.len() > 1
                 && s.chars()
                     .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
         });
         let rel = percent_decode(uri)
             .ok_or_else(|| format!("{what}: its uri {uri:?} has a bad %-escape"))?;
-        if has_scheme || Path::new(&rel).is_absolute() {
-            return Err(format!(
-                "{what}: its uri {uri:?} is not a relative file path; shadelab reads buffers from files beside the .gltf, from data URIs or from a .glb"
-            ));
+        let decoded = if rel == uri {
+            String::new()
+        } else {
+            format!(" ({rel:?} once %-decoded)")
+        };
+        let copy = "; copy the file into the .gltf's folder and name it there";
+        let refused =
+            |why: &str| format!("{what}: its uri {uri:?}{decoded} {why}: {BUFFER_RULE}{copy}");
+        if let Some(s) = scheme {
+            return Err(refused(&format!("is a {s}: URI, not a relative file path")));
+        }
+        if Path::new(&rel).is_absolute() {
+            return Err(refused("is an absolute path, not a relative one"));
+        }
+        if leaves_its_folder(Path::new(&rel)) {
+            return Err(refused("leads outside the .gltf's folder (through `..`)"));
         }
         let file = self.dir.join(&rel);
-        (self.read)(&file).map_err(|e| {
-            format!(
+        (self.read)(&file).map_err(|e| match e.get_ref().and_then(|r| r.downcast_ref::<Refused>()) {
+            Some(why) => format!(
+                "{what}: its uri {uri:?} names {}, which {why}: {BUFFER_RULE}{}",
+                file.display(),
+                if why.0.contains("outside") {
+                    copy
+                } else {
+                    "; give a regular file"
+                }
+            ),
+            None => format!(
                 "{what}: cannot read its file {} ({e}): keep the .bin files beside the .gltf, or use the .glb",
                 file.display()
-            )
+            ),
         })
     }
 
@@ -412,6 +436,22 @@ impl Elements<'_> {
             ComponentType::U32 | ComponentType::F32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
         }
     }
+}
+
+/// Whether the relative path `rel` climbs above the folder it starts in: more `..` than the
+/// names before them (`a/../b` stays, `a/../../b` leaves), as written, before any link.
+fn leaves_its_folder(rel: &Path) -> bool {
+    let mut depth = 0usize;
+    for c in rel.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth == 0 => return true,
+            Component::ParentDir => depth -= 1,
+            Component::RootDir | Component::Prefix(_) => return true,
+        }
+    }
+    false
 }
 
 /// `%XX` escapes decoded (RFC 3986 section 2.1); `None` for a malformed escape or a result

@@ -3,7 +3,9 @@
 //!
 //! What is drawn: the default scene (else the first; a file without scenes draws each mesh once,
 //! untransformed), every primitive of every mesh its nodes place, at the node's world
-//! transform; normals by the inverse transpose ([`nodes::normal_matrix`]), renormalised.
+//! transform, in f64 until the fit to the unit sphere (so that it cancels a translation of
+//! the file's whatever its size: [`Soup`]); normals by the inverse transpose
+//! ([`nodes::normal_matrix`]), renormalised.
 //! Triangles, strips and fans are read (strips and fans as glTF 2.0 section 3.7.2.1 orders
 //! them); points and lines are left out with a note. Positions and normals may be floats or,
 //! with `KHR_mesh_quantization`, (normalized) integers. A primitive without normals gets smooth
@@ -18,21 +20,22 @@
 //! Every problem is an [`Error::Input`] naming the file and the object (mesh, primitive,
 //! accessor, buffer, node), with what to do.
 mod accessor;
+mod document;
 mod nodes;
 
 use std::path::Path;
 
 use ::gltf::json;
-use glam::{DMat4, DVec3};
+use glam::DVec3;
 use json::mesh::{Mode, Semantic};
 use json::validation::Checked;
 
 use super::mesh_file::{Encoding, Format, MeshInput, Named, NormalSource, Part, ReadFile};
 use super::soup::{self, plural, Corner};
-use super::{LoadReport, Mesh};
+use super::{LoadReport, Mesh, MAX_COORDINATE};
 use crate::error::{Error, Result};
 use accessor::Buffers;
-use nodes::Placement;
+use nodes::{Placement, World};
 
 /// Most triangles a file may draw (4,194,304): 60 times the largest shared model (the Stanford
 /// bunny, 69,451), and a bound that keeps a small file placing a large mesh many times from
@@ -106,30 +109,43 @@ fn container(bytes: &[u8]) -> std::result::Result<Container<'_>, String> {
     if length > bytes.len() {
         return Err(cut(&format!("its header says {length} bytes")));
     }
-    let body = &bytes[..length.max(12)];
-    let chunk =
-        |at: usize, kind: &[u8; 4], name: &str| -> std::result::Result<Option<&[u8]>, String> {
-            if at >= body.len() {
-                return Ok(None);
-            }
-            let len = u32_at(at)
-                .filter(|_| at + 8 <= body.len())
-                .ok_or_else(|| cut(&format!("its {name} chunk header is incomplete")))?
-                as usize;
-            if &body[at + 4..at + 8] != kind {
-                return Err(format!(
-                    "the .glb's chunk at byte {at} is {:?}, expected {name}",
-                    String::from_utf8_lossy(&body[at + 4..at + 8])
-                ));
-            }
-            body.get(at + 8..at + 8 + len)
-                .map(Some)
-                .ok_or_else(|| cut(&format!("its {name} chunk says {len} bytes")))
-        };
-    let json = chunk(12, b"JSON", "JSON")?.ok_or_else(|| cut("no JSON chunk"))?;
+    // The chunks are read from the whole file, so that a length field short of them (in a
+    // file that holds them whole) is named as what it is, not as a file cut short.
+    let chunk = |at: usize,
+                 kind: &[u8; 4],
+                 name: &str|
+     -> std::result::Result<Option<(&[u8], usize)>, String> {
+        if at >= bytes.len() || (at >= length && bytes.get(at + 4..at + 8) != Some(kind)) {
+            return Ok(None);
+        }
+        let len = u32_at(at)
+            .filter(|_| at + 8 <= bytes.len())
+            .ok_or_else(|| cut(&format!("its {name} chunk header is incomplete")))?
+            as usize;
+        if &bytes[at + 4..at + 8] != kind {
+            return Err(format!(
+                "the .glb's chunk at byte {at} is {:?}, expected {name}",
+                String::from_utf8_lossy(&bytes[at + 4..at + 8])
+            ));
+        }
+        let end = at + 8 + len;
+        bytes
+            .get(at + 8..end)
+            .map(|c| Some((c, end)))
+            .ok_or_else(|| cut(&format!("its {name} chunk says {len} bytes")))
+    };
+    let (json, json_end) = chunk(12, b"JSON", "JSON")?.ok_or_else(|| cut("no JSON chunk"))?;
     // Chunks are padded to 4 bytes (section 4.4.3.1).
     let bin_at = 12 + 8 + json.len().div_ceil(4) * 4;
-    let blob = chunk(bin_at, b"BIN\0", "BIN")?;
+    let bin = chunk(bin_at, b"BIN\0", "BIN")?;
+    let need = bin.map_or(json_end, |(_, end)| end);
+    if need > length {
+        return Err(format!(
+            "the .glb's header says {length} bytes but its chunks need {need}: the length field is wrong (the file holds its chunks whole, {} bytes); re-export the file",
+            bytes.len()
+        ));
+    }
+    let blob = bin.map(|(b, _)| b);
     Ok(Container {
         json,
         blob,
@@ -142,7 +158,7 @@ fn container(bytes: &[u8]) -> std::result::Result<Container<'_>, String> {
 pub fn parse_gltf(path: &Path, bytes: &[u8], read: ReadFile) -> Result<(Mesh, LoadReport)> {
     let err = |msg: String| Error::input(path, None, msg);
     let c = container(bytes).map_err(err)?;
-    let root: json::Root = json::deserialize::from_slice(c.json).map_err(|e| {
+    let root: json::Root = document::parse(c.json).map_err(|e| {
         if let Some(v) = asset_version(c.json).filter(|v| !v.starts_with("2.")) {
             return err(format!(
                 "a glTF {v} file; shadelab reads glTF 2.0: convert it first (e.g. import and export it in Blender)"
@@ -186,10 +202,16 @@ fn asset_version(json: &[u8]) -> Option<String> {
     v.get("asset")?.get("version")?.as_str().map(str::to_owned)
 }
 
-/// The corners of every primitive read so far, in world space.
+/// The corners of every primitive read so far: positions in world space less `origin`, in
+/// f64 until the fit.
 #[derive(Default)]
 struct Soup {
-    positions: Vec<[f32; 3]>,
+    /// The first placement's translation (its two parts, [`nodes::World`]): subtracted from
+    /// every world position, so that a single placement's vertices are its linear part times
+    /// the model positions, whatever its translation, and the others keep their offsets from
+    /// it.
+    origin: Option<(DVec3, DVec3)>,
+    positions: Vec<DVec3>,
     normals: Vec<[f32; 3]>,
     triangles: Vec<[Corner; 3]>,
 }
@@ -389,9 +411,9 @@ fn vertices(
                 .map_err(|e| format!("{at}: NORMAL: {e}"))?;
             if n.len() != positions.len() {
                 return Err(format!(
-                    "{at}: NORMAL accessor {na} has {} elements, POSITION accessor {pa} {}: they must match",
-                    n.len(),
-                    positions.len()
+                    "{at}: POSITION accessor {pa} has {} but NORMAL accessor {na} has {}: they must match (a vertex has one of each); the file is damaged, re-export it",
+                    plural(positions.len(), "element", "elements"),
+                    n.len()
                 ));
             }
             Some(n)
@@ -462,24 +484,32 @@ fn vertices(
     Ok(Vertices { positions, normals })
 }
 
-/// Appends a primitive to the soup at `world` (positions in f64, rounded once; normals by the
-/// normal matrix; a mirroring transform reverses each triangle to keep its winding).
-fn place(soup: &mut Soup, v: Vertices, tris: &[[u32; 3]], world: Option<&DMat4>) {
+/// Appends a primitive to the soup at `world` (positions in f64 relative to the soup's origin,
+/// rounded to f32 once, by the fit; normals by the normal matrix; a mirroring transform
+/// reverses each triangle to keep its winding).
+fn place(soup: &mut Soup, v: Vertices, tris: &[[u32; 3]], world: Option<&World>) {
     let base = soup.positions.len();
     let nbase = soup.normals.len();
     let has_normals = v.normals.is_some();
+    let (t, r) = world.map_or((DVec3::ZERO, DVec3::ZERO), |w| (w.translation, w.residual));
+    let (ot, or) = *soup.origin.get_or_insert((t, r));
+    // Exact for the first placement (zero); for others their offset from it, its large parts
+    // cancelling first.
+    let offset = (t - ot) + (r - or);
+    let model = v.positions.iter().map(|p| DVec3::from(p.map(f64::from)));
     match world {
-        None => {
-            soup.positions.extend(&v.positions);
+        // Untransformed at the origin: the file's positions as they are (-0 kept).
+        None if offset == DVec3::ZERO => {
+            soup.positions.extend(model);
             soup.normals.extend(v.normals.iter().flatten());
         }
-        Some(m) => {
-            let nm = nodes::normal_matrix(m);
-            soup.positions.extend(v.positions.iter().map(|p| {
-                m.transform_point3(DVec3::from(p.map(f64::from)))
-                    .as_vec3()
-                    .to_array()
-            }));
+        None => {
+            soup.positions.extend(model.map(|p| p + offset));
+            soup.normals.extend(v.normals.iter().flatten());
+        }
+        Some(w) => {
+            let nm = nodes::normal_matrix(&w.linear);
+            soup.positions.extend(model.map(|p| w.linear * p + offset));
             soup.normals.extend(v.normals.iter().flatten().map(|n| {
                 let t = nm * DVec3::from(n.map(f64::from));
                 // A normal the transform collapses stays zero: computed instead (soup).
@@ -492,7 +522,7 @@ fn place(soup: &mut Soup, v: Vertices, tris: &[[u32; 3]], world: Option<&DMat4>)
             }));
         }
     }
-    let mirror = world.is_some_and(nodes::mirrors);
+    let mirror = world.is_some_and(|w| nodes::mirrors(&w.linear));
     for t in tris {
         let t = if mirror { [t[0], t[2], t[1]] } else { *t };
         soup.triangles.push(t.map(|i| Corner {
@@ -511,12 +541,19 @@ fn finish(
     encoding: Encoding,
     mut notes: Vec<String>,
 ) -> Result<(Mesh, LoadReport)> {
-    // A transformed position that is not finite overflowed f32 (a huge scale).
-    if soup.positions.iter().flatten().any(|c| !c.is_finite()) {
+    // Node scales multiplied along a chain can take positions past what the fit computes in.
+    if let Some(p) = soup
+        .positions
+        .iter()
+        .find(|p| !p.is_finite() || p.abs().max_element() > MAX_COORDINATE)
+    {
         return Err(Error::input(
             path,
             None,
-            "a node's transform takes positions past the f32 range: fix the node's scale",
+            format!(
+                "a node's transform takes a position to {:?}, past {MAX_COORDINATE:e} (the nodes' scales multiplied along their chain): fix the nodes' scales",
+                p.to_array()
+            ),
         ));
     }
     let weld = soup::weld(&soup.positions);

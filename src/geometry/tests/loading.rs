@@ -311,3 +311,54 @@ fn binary_and_other_formats_are_named() {
         );
     }
 }
+
+/// Old Mac OS files end their lines with a lone CR (the cube's 6 faces were "no faces": the
+/// whole file one line), and OBJ continues a statement on the next line after a `\`
+/// (Wavefront's appendix B1), which gave "face has 2 vertices". Both are the plain file's mesh,
+/// and errors keep the line a statement starts on.
+#[test]
+fn lone_cr_line_ends_and_backslash_continuations_give_the_plain_files_mesh() {
+    let (plain, _) = load_text(UNIT_CUBE).unwrap();
+    let cr = UNIT_CUBE.replace('\n', "\r");
+    // A vertex and a face continued over lines (one with a comment after the `\`), and a
+    // comment ending in `\`, which continues nothing (the comment runs to the end of its line).
+    let continued = UNIT_CUBE
+        .replacen("v 1 1 0\n", "v 1 \\\n1 0\n", 1)
+        .replacen("f 1 4 3 2\n", "f 1 \\ # first corner\n4 \\\n  3 2\n", 1)
+        .replacen("v 0 0 0\n", "# saved in C:\\models\\\nv 0 0 0\n", 1);
+    for (what, text) in [
+        ("lone CR", cr.clone()),
+        ("continued", continued.clone()),
+        ("continued, CRLF", continued.replace('\n', "\r\n")),
+        ("continued, lone CR", continued.replace('\n', "\r")),
+    ] {
+        let (mesh, report) = load_text(&text).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_eq!(mesh.positions, plain.positions, "{what}");
+        assert_eq!(mesh.normals, plain.normals, "{what}");
+        assert_eq!(report.triangles, 12, "{what}");
+    }
+    // Lines are counted at every line end, a lone CR included; a statement's error is at the
+    // line it starts on, and the lines after a continued one keep their numbers.
+    let cases: &[(&str, usize, &str)] = &[
+        (
+            "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 4\r",
+            4,
+            "face index 4 is past",
+        ),
+        (
+            "v 0 0 0\r\rv 1 0 0\r\nv 0 1 0\nf 1 2 4\n",
+            5,
+            "face index 4 is past",
+        ),
+        (
+            "v 0 0 0\nv 1 \\\n0 0\nv 0 1 0\nf 1 2 4\n",
+            5,
+            "face index 4 is past",
+        ),
+        ("v 0 0 0\nv 1 0 0\nf 1 \\\n2\n", 3, "face has 2 vertices"),
+        ("v 0 0 0\rv 1 x \\\r0\r", 2, "vertex coordinate 2 is `x`"),
+    ];
+    for (text, line, needle) in cases {
+        assert_input_err(load_text(text), Some(*line), needle);
+    }
+}

@@ -1,9 +1,12 @@
 //! Tests of the geometry module, one file per topic: OBJ loading, validation and fitting
-//! ([`loading`]), normals given and computed ([`normals`]), the procedural generators and the
-//! shipped meshes ([`generators`]), OBJ writing ([`writing`]); the helpers they share are here.
+//! ([`loading`]), glTF documents built in the test ([`gltf`]), normals given and computed
+//! ([`normals`]), PLY files written in the test ([`ply`]), the procedural generators and the shipped meshes ([`generators`]), OBJ
+//! writing ([`writing`]); the helpers they share are here.
 mod generators;
+mod gltf;
 mod loading;
 mod normals;
+mod ply;
 mod writing;
 
 use std::collections::BTreeMap;
