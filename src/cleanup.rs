@@ -11,9 +11,12 @@
 //! - on SIGKILL nothing of the run can act: its children die with it (each is started with
 //!   `PR_SET_PDEATHSIG` = SIGKILL, [`die_with_parent`]), and the next run removes what it left
 //!   ([`sweep_temp_dir`] at start, [`sweep_once`] in each folder it writes): every temporary
-//!   name carries the pid of its run (`.shadelab-<pid>-<n>.tmp`,
-//!   `$TMPDIR/shadelab-<job>-<pid>-<n>/`), and one whose run is gone (no such process, or a
-//!   process started after the file was last written: a reused pid) is removed.
+//!   name carries its run's pid and start time in clock ticks after boot
+//!   (`.shadelab-<pid>.<ticks>-<n>.tmp`, `$TMPDIR/shadelab-<job>-<pid>.<ticks>-<n>/`), and one
+//!   whose run is gone (no such process, or a process of another start: a reused pid) is
+//!   removed. The start is the kernel's own count, never compared with a wall clock: a clock
+//!   stepped while a run goes on (a virtual machine resumed, NTP) does not make it look gone.
+//!   A name without the start (written by an older shadelab) is judged by its file's time.
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -46,6 +49,16 @@ fn next_name() -> u64 {
     NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
+/// This run in a temporary name: `<pid>.<ticks>` (its start, [`start_ticks`]), or `<pid>`
+/// alone where /proc cannot tell the start.
+fn owner() -> String {
+    let pid = std::process::id();
+    match start_ticks(pid) {
+        Some(t) => format!("{pid}.{t}"),
+        None => pid.to_string(),
+    }
+}
+
 /// A temporary file of this run, registered until it is renamed into place or dropped
 /// (removed).
 pub struct TempFile {
@@ -54,17 +67,13 @@ pub struct TempFile {
 }
 
 impl TempFile {
-    /// Creates `.shadelab-<pid>-<n>.tmp` in `dir`. The creation and the registration happen
+    /// Creates `.shadelab-<pid>.<ticks>-<n>.tmp` in `dir`. The creation and the registration happen
     /// under the registry's lock, so a signal's cleanup (which holds it until the process
     /// exits) never misses a file created at the same moment.
     pub fn create_in(dir: &Path) -> std::io::Result<TempFile> {
         let mut temps = lock(&TEMPS);
         loop {
-            let path = dir.join(format!(
-                "{FILE_PREFIX}{}-{}.tmp",
-                std::process::id(),
-                next_name()
-            ));
+            let path = dir.join(format!("{FILE_PREFIX}{}-{}.tmp", owner(), next_name()));
             match std::fs::OpenOptions::new()
                 .write(true)
                 .create_new(true)
@@ -125,16 +134,12 @@ pub struct TempDir {
 }
 
 impl TempDir {
-    /// Creates `$TMPDIR/shadelab-<job>-<pid>-<n>/`.
+    /// Creates `$TMPDIR/shadelab-<job>-<pid>.<ticks>-<n>/`.
     pub fn new(job: &str) -> std::io::Result<TempDir> {
         let base = std::env::temp_dir();
         let mut temps = lock(&TEMPS);
         loop {
-            let path = base.join(format!(
-                "{DIR_PREFIX}{job}-{}-{}",
-                std::process::id(),
-                next_name()
-            ));
+            let path = base.join(format!("{DIR_PREFIX}{job}-{}-{}", owner(), next_name()));
             match std::fs::create_dir(&path) {
                 Ok(()) => {
                     temps.push(path.clone());
@@ -296,18 +301,23 @@ fn on_signal(sig: libc::c_int) -> ! {
     unsafe { libc::_exit(code) }
 }
 
-/// When `pid` started, from /proc (None where it cannot be read).
-fn started(pid: u32) -> Option<SystemTime> {
+/// When `pid` started, in clock ticks after boot (/proc/PID/stat's field 22, proc(5)); None
+/// where it cannot be read. The kernel's count: no wall clock enters it.
+fn start_ticks(pid: u32) -> Option<u64> {
     let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
-    // Field 22 (starttime, clock ticks after boot); the fields after the command's ')' start
-    // at field 3 (proc(5)).
-    let ticks: u64 = stat
-        .rsplit_once(')')?
+    // The fields after the command's ')' start at field 3.
+    stat.rsplit_once(')')?
         .1
         .split_whitespace()
         .nth(19)?
         .parse()
-        .ok()?;
+        .ok()
+}
+
+/// When `pid` started, as a wall-clock time (boot time plus [`start_ticks`]); only for names
+/// without the start, whose file's time is all there is to compare.
+fn started(pid: u32) -> Option<SystemTime> {
+    let ticks = start_ticks(pid)?;
     let boot: u64 = std::fs::read_to_string("/proc/stat")
         .ok()?
         .lines()
@@ -322,27 +332,57 @@ fn started(pid: u32) -> Option<SystemTime> {
     )
 }
 
-/// Whether the run of process `pid` may still own a file last written at `modified`: the
-/// process exists, and did not start after the file was written (a reused pid).
-fn owner_alive(pid: u32, modified: SystemTime) -> bool {
+fn exists(pid: u32) -> bool {
     // SAFETY: signal 0 only asks whether the process exists.
-    let exists = unsafe { libc::kill(pid as libc::pid_t, 0) } == 0
-        || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM);
-    // the start time has a clock tick's resolution and the boot time a second's
-    exists && started(pid).is_none_or(|s| s <= modified + Duration::from_secs(2))
+    let sent = unsafe { libc::kill(pid as libc::pid_t, 0) };
+    sent == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
 }
 
-/// The pid in a temporary name: `.shadelab-<pid>-<n>.tmp` or `shadelab-<job>-<pid>-<n>`.
-fn pid_of(name: &str) -> Option<u32> {
+/// Whether the run of process `pid` may still own a file last written at `modified`: the
+/// process exists, and did not start after the file was written (a reused pid). For names
+/// without the start only: a clock stepped since the file was written misjudges it.
+fn owner_alive(pid: u32, modified: SystemTime) -> bool {
+    // the start time has a clock tick's resolution and the boot time a second's
+    exists(pid) && started(pid).is_none_or(|s| s <= modified + Duration::from_secs(2))
+}
+
+/// A temporary name's run: its pid and, in names that carry it, its start in clock ticks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Owner {
+    pid: u32,
+    start: Option<u64>,
+}
+
+impl Owner {
+    /// Whether the run may still own a file last written at `modified`: the process of the
+    /// name's pid exists with the name's start (or, for a name without it, [`owner_alive`]).
+    fn alive(self, modified: SystemTime) -> bool {
+        match self.start {
+            Some(t) => exists(self.pid) && start_ticks(self.pid).is_none_or(|s| s == t),
+            None => owner_alive(self.pid, modified),
+        }
+    }
+}
+
+/// The run in a temporary name: `.shadelab-<pid>[.<ticks>]-<n>.tmp` or
+/// `shadelab-<job>-<pid>[.<ticks>]-<n>`.
+fn owner_of(name: &str) -> Option<Owner> {
     let rest = if let Some(r) = name.strip_prefix(FILE_PREFIX) {
         r.strip_suffix(".tmp")?
     } else {
         let r = name.strip_prefix(DIR_PREFIX)?;
         r.split_once('-')?.1
     };
-    let (pid, n) = rest.split_once('-')?;
+    let (who, n) = rest.split_once('-')?;
     n.parse::<u64>().ok()?;
-    pid.parse().ok()
+    let (pid, start) = match who.split_once('.') {
+        Some((pid, t)) => (pid, Some(t.parse().ok()?)),
+        None => (who, None),
+    };
+    Some(Owner {
+        pid: pid.parse().ok()?,
+        start,
+    })
 }
 
 /// Removes from `dir` the temporary files (or, in the system's temporary folder, folders) of
@@ -355,12 +395,12 @@ pub fn sweep(dir: &Path) -> usize {
     let mut removed = 0;
     for e in entries.flatten() {
         let name = e.file_name();
-        let Some(pid) = name.to_str().and_then(pid_of) else {
+        let Some(owner) = name.to_str().and_then(owner_of) else {
             continue;
         };
         let Ok(meta) = e.metadata() else { continue };
         let modified = meta.modified().unwrap_or(SystemTime::UNIX_EPOCH);
-        if pid == std::process::id() || owner_alive(pid, modified) {
+        if owner.pid == std::process::id() || owner.alive(modified) {
             continue;
         }
         let path = e.path();
@@ -432,6 +472,13 @@ mod tests {
         pid
     }
 
+    /// Sets `path`'s modification time to 1970 (as a wall clock stepped forward would make
+    /// every file look).
+    fn filetime_epoch(path: &Path) {
+        let f = std::fs::File::options().write(true).open(path).unwrap();
+        f.set_modified(SystemTime::UNIX_EPOCH).unwrap();
+    }
+
     /// Temporary names carry their run's pid; a sweep removes those of runs that are gone and
     /// keeps this run's, a live run's, kept folders and every other file.
     #[test]
@@ -447,7 +494,9 @@ mod tests {
             .to_str()
             .unwrap()
             .to_string();
-        assert_eq!(pid_of(&name), Some(std::process::id()), "{name}");
+        let me = owner_of(&name).unwrap();
+        assert_eq!(me.pid, std::process::id(), "{name}");
+        assert_eq!(me.start, start_ticks(me.pid), "{name}");
         let stale = d.join(format!(".shadelab-{dead}-7.tmp"));
         std::fs::write(&stale, vec![0u8; 1000]).unwrap();
         let stale_dir = d.join(format!("shadelab-isa-{dead}-3"));
@@ -468,6 +517,22 @@ mod tests {
         assert!(owner_alive(1, SystemTime::now()));
         assert!(!owner_alive(1, SystemTime::UNIX_EPOCH));
         assert!(!owner_alive(dead, SystemTime::now()));
+        // A name with the start: alive whatever the file's time (a clock stepped since), and
+        // gone for another start of the same pid (reused) or no process.
+        let one = start_ticks(1).unwrap();
+        let at = |start| Owner { pid: 1, start: Some(start) };
+        assert!(at(one).alive(SystemTime::UNIX_EPOCH));
+        assert!(!at(one + 1).alive(SystemTime::now()));
+        let gone = Owner { pid: dead, start: Some(one) };
+        assert!(!gone.alive(SystemTime::now()));
+        let reused = d.join(format!("shadelab-isa-1.{}-5", one + 1));
+        std::fs::create_dir(&reused).unwrap();
+        let owned = d.join(format!(".shadelab-1.{one}-6.tmp"));
+        std::fs::write(&owned, "").unwrap();
+        filetime_epoch(&owned);
+        assert_eq!(sweep(d), 1, "the reused pid's folder only");
+        assert!(!reused.exists() && owned.exists());
+        std::fs::remove_file(&owned).unwrap();
         drop(mine);
         assert_eq!(std::fs::read_dir(d).unwrap().count(), 3, "dropped: removed");
     }
