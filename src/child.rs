@@ -99,6 +99,9 @@ pub struct Failure {
     /// Whether the child refused the request's inputs before its job ran ([`Reply::Refused`]):
     /// what failed is the input, never the driver.
     pub refused_input: bool,
+    /// Whether the parent stopped it (a worker past its deadline or memory cap,
+    /// [`crate::workers::Limits`]): what failed is the time or memory it took, not the job.
+    pub stopped: bool,
 }
 
 impl std::fmt::Display for Failure {
@@ -129,20 +132,10 @@ pub fn call<J: Job>(
         request: path.clone(),
         replied: false,
         refused_input: false,
+        stopped: false,
     };
     let reply = dir.join(format!("{name}.reply.json"));
-    let envelope = Envelope {
-        schema_version: SCHEMA_VERSION,
-        job: J::NAME.into(),
-        reply: reply.clone(),
-        driver_env: spawn.driver_env.clone(),
-        method_files: spawn.method_files.clone(),
-        log_level: log::max_level().to_string(),
-        request,
-    };
-    let bytes = serde_json::to_vec_pretty(&envelope)
-        .map_err(|e| failure(format!("cannot encode the request: {e}")))?;
-    crate::output::write_bytes_atomic(&path, &bytes).map_err(|e| failure(e.to_string()))?;
+    write_request(spawn, request, &path, &reply).map_err(|e| failure(e.to_string()))?;
     let _ = std::fs::remove_file(&reply);
     let mut cmd = Command::new(&spawn.exe);
     crate::cleanup::die_with_parent(&mut cmd);
@@ -183,15 +176,37 @@ pub fn call<J: Job>(
     }
 }
 
-/// "killed by signal 8 (SIGFPE)" or "exit code 2", then the last lines of stderr (or where
-/// they went).
-fn ended(status: std::process::ExitStatus, stderr: &[u8], shown: bool) -> String {
+/// Writes the request file of `request` for `spawn` at `path` (its reply to go to `reply`):
+/// what `shadelab child FILE` runs.
+pub fn write_request<J: Job>(spawn: &Spawn, request: &J, path: &Path, reply: &Path) -> Result<()> {
+    let envelope = Envelope {
+        schema_version: SCHEMA_VERSION,
+        job: J::NAME.into(),
+        reply: reply.to_path_buf(),
+        driver_env: spawn.driver_env.clone(),
+        method_files: spawn.method_files.clone(),
+        log_level: log::max_level().to_string(),
+        request,
+    };
+    let bytes = serde_json::to_vec_pretty(&envelope)
+        .map_err(|e| Error::output(path.display().to_string(), format!("cannot encode: {e}")))?;
+    crate::output::write_bytes_atomic(path, &bytes)
+}
+
+/// "no reply, killed by signal 8 (SIGFPE)" or "no reply, exit code 2".
+pub fn how_it_ended(status: std::process::ExitStatus) -> String {
     use std::os::unix::process::ExitStatusExt;
-    let how = match (status.code(), status.signal()) {
+    match (status.code(), status.signal()) {
         (Some(c), _) => format!("no reply, exit code {c}"),
         (None, Some(s)) => format!("no reply, killed by signal {s}{}", signal_name(s)),
         (None, None) => format!("no reply, {status}"),
-    };
+    }
+}
+
+/// "killed by signal 8 (SIGFPE)" or "exit code 2", then the last lines of stderr (or where
+/// they went).
+fn ended(status: std::process::ExitStatus, stderr: &[u8], shown: bool) -> String {
+    let how = how_it_ended(status);
     if shown {
         return format!("{how}; its messages are above");
     }

@@ -520,10 +520,16 @@ mod tests {
         // A name with the start: alive whatever the file's time (a clock stepped since), and
         // gone for another start of the same pid (reused) or no process.
         let one = start_ticks(1).unwrap();
-        let at = |start| Owner { pid: 1, start: Some(start) };
+        let at = |start| Owner {
+            pid: 1,
+            start: Some(start),
+        };
         assert!(at(one).alive(SystemTime::UNIX_EPOCH));
         assert!(!at(one + 1).alive(SystemTime::now()));
-        let gone = Owner { pid: dead, start: Some(one) };
+        let gone = Owner {
+            pid: dead,
+            start: Some(one),
+        };
         assert!(!gone.alive(SystemTime::now()));
         let reused = d.join(format!("shadelab-isa-1.{}-5", one + 1));
         std::fs::create_dir(&reused).unwrap();

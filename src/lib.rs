@@ -75,5 +75,6 @@ mod testutil;
 pub mod truth;
 pub mod tune;
 pub mod verify;
+pub mod workers;
 
 pub use error::{Error, Result};

@@ -516,7 +516,7 @@ fn outputs_never_replace_inputs() {
 }
 
 /// The processes whose parent is `pid` (from /proc).
-fn children_of(pid: u32) -> Vec<u32> {
+pub(crate) fn children_of(pid: u32) -> Vec<u32> {
     let mut out = Vec::new();
     for e in std::fs::read_dir("/proc").unwrap().flatten() {
         let Some(p) = e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()) else {
@@ -537,7 +537,7 @@ fn children_of(pid: u32) -> Vec<u32> {
 }
 
 /// Whether process `pid` still runs (not gone, not a zombie).
-fn running(pid: u32) -> bool {
+pub(crate) fn running(pid: u32) -> bool {
     std::fs::read_to_string(format!("/proc/{pid}/stat"))
         .ok()
         .and_then(|s| {
@@ -547,7 +547,7 @@ fn running(pid: u32) -> bool {
         .is_some_and(|zombie| !zombie)
 }
 
-fn cmdline(pid: u32) -> String {
+pub(crate) fn cmdline(pid: u32) -> String {
     std::fs::read(format!("/proc/{pid}/cmdline"))
         .map(|b| String::from_utf8_lossy(&b).replace('\0', " "))
         .unwrap_or_default()
@@ -583,12 +583,12 @@ fn a_killed_report_leaves_no_process_and_its_files_go_with_the_next_run() {
         .spawn()
         .unwrap();
     let pid = report.id();
-    // the static cost: a child compiling a GPU family (`shadelab child .../shadelab-isa-...`)
+    // the static cost: a child compiling a GPU family (`shadelab child --worker`)
     let start = Instant::now();
     let children = loop {
         let kids: Vec<u32> = children_of(pid)
             .into_iter()
-            .filter(|&c| cmdline(c).contains("shadelab-isa-"))
+            .filter(|&c| cmdline(c).contains(" child "))
             .collect();
         if !kids.is_empty() {
             break kids;

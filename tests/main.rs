@@ -74,4 +74,5 @@ mod store;
 mod stress;
 mod support;
 mod tune;
+mod workers;
 mod yours;

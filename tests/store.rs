@@ -62,7 +62,7 @@ fn sources(r: &IsaReport) -> Vec<(String, Option<Source>)> {
 
 /// Whether two reports hold the same figures: rows (statistics, hashes, ratios), each
 /// family's status, driver and statistics' names, the disassembly.
-fn same_figures(a: &IsaReport, b: &IsaReport) -> Result<(), String> {
+pub(crate) fn same_figures(a: &IsaReport, b: &IsaReport) -> Result<(), String> {
     let rows = |r: &IsaReport| serde_json::to_value(&r.results).unwrap();
     if rows(a) != rows(b) {
         return Err("the rows differ".into());
@@ -90,7 +90,7 @@ fn same_figures(a: &IsaReport, b: &IsaReport) -> Result<(), String> {
 
 /// Every default family whose route is set up; the others each get a `SKIPPED` line (or fail
 /// under SHADELAB_REQUIRE_VENDORS=1 / SHADELAB_REQUIRE_COMPILERS=1).
-fn set_up_families(test: &str) -> Vec<String> {
+pub(crate) fn set_up_families(test: &str) -> Vec<String> {
     isa::route::default_family_ids()
         .into_iter()
         .filter(|f| {

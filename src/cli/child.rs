@@ -12,8 +12,38 @@ use crate::error::{Error, Result};
 // `shadelab child` (hidden; its help is the variant's doc comment).
 #[derive(Args, Debug)]
 pub(super) struct ChildArgs {
-    #[arg(value_name = "REQUEST.json")]
-    pub(super) request: PathBuf,
+    #[arg(value_name = "REQUEST.json", required_unless_present = "worker")]
+    pub(super) request: Option<PathBuf>,
+    /// Serve requests from stdin, one per line, until it closes: a compiler worker
+    /// (src/workers/).
+    #[arg(long, conflicts_with = "request")]
+    pub(super) worker: bool,
+}
+
+pub(super) fn cmd(args: &ChildArgs) -> Result<ExitCode> {
+    match &args.request {
+        Some(file) if !args.worker => cmd_child(file),
+        _ => {
+            crate::workers::serve::serve(&worker_job)?;
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+/// A worker's job `name` on `request`.
+fn worker_job(name: &str, request: serde_json::Value) -> Result<serde_json::Value> {
+    match name {
+        crate::isa::ChildRequest::NAME => {
+            let r: crate::isa::ChildRequest = serde_json::from_value(request)
+                .map_err(|e| Error::Usage(format!("worker {name}: not its request: {e}")))?;
+            let report = crate::isa::child::compile(&r)?;
+            serde_json::to_value(report).map_err(|e| Error::output("the worker's reply", e))
+        }
+        other => Err(Error::Usage(format!(
+            "unknown worker job {other:?} (a worker serves {})",
+            crate::isa::ChildRequest::NAME
+        ))),
+    }
 }
 
 pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
@@ -26,8 +56,15 @@ pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
     // again, as the parent did).
     // A file that does not load is the request's input refused, said as such (not a driver
     // that failed).
+    let start = std::time::Instant::now();
     let loaded = crate::tune::check::check_files(&env.method_files)
         .and_then(|()| crate::gpu::shaders::register_user(&env.method_files));
+    log::debug!(
+        "child {}: {} method files checked and compiled in {:.0} ms",
+        env.job,
+        env.method_files.len(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
     if let Err(e) = loaded {
         child::refuse(&env, &e)?;
         return Err(e);

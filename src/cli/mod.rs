@@ -302,7 +302,7 @@ pub fn run() -> Result<ExitCode> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Child(a) => self::child::cmd_child(&a.request),
+        Command::Child(a) => self::child::cmd(&a),
     }
 }
 

@@ -298,10 +298,50 @@ fn compile_program(
     Ok(out)
 }
 
-/// SPIR-V compiled at run time (user methods, issue 28): (file name, bytes), found by
+/// SPIR-V compiled at run time (user methods): (method, file name, bytes), found by
 /// [`embedded`] after the files built into the binary.
-static RUNTIME_SPIRV: std::sync::RwLock<Vec<(String, &'static [u8])>> =
+static RUNTIME_SPIRV: std::sync::RwLock<Vec<(String, String, &'static [u8])>> =
     std::sync::RwLock::new(Vec::new());
+
+/// A user method's programs as [`compile_user`] made them: what a parent hands its compiler
+/// workers ([`crate::workers`]) so that no worker compiles the GLSL again.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RuntimePrograms {
+    /// (file name, SPIR-V): `<program>.<stage>.spv`.
+    pub files: Vec<(String, crate::workers::Bytes)>,
+    /// Why the method has no float16 programs (shaderc's first message line), if it has none.
+    pub no_f16: Option<String>,
+}
+
+/// The programs [`compile_user`] registered for user method `method`.
+pub fn runtime_programs(method: &str) -> Result<RuntimePrograms> {
+    let reg = RUNTIME_SPIRV.read().map_err(|_| poisoned())?;
+    let files = reg
+        .iter()
+        .filter(|(m, _, _)| m == method)
+        .map(|(_, f, b)| (f.clone(), crate::workers::Bytes(b.to_vec())))
+        .collect();
+    let no = RUNTIME_NO_F16.read().map_err(|_| poisoned())?;
+    let no_f16 = no.iter().find(|(m, _)| m == method).map(|(_, w)| w.clone());
+    Ok(RuntimePrograms { files, no_f16 })
+}
+
+/// Registers `programs` as user method `method`'s, in place of any it had: a worker's copy of
+/// what its parent compiled ([`runtime_programs`]).
+pub fn adopt_programs(method: &str, programs: &RuntimePrograms) -> Result<()> {
+    let mut reg = RUNTIME_SPIRV.write().map_err(|_| poisoned())?;
+    reg.retain(|(m, _, _)| m != method);
+    for (file, bytes) in &programs.files {
+        let bytes: &'static [u8] = Box::leak(bytes.0.clone().into_boxed_slice());
+        reg.push((method.to_string(), file.clone(), bytes));
+    }
+    let mut no = RUNTIME_NO_F16.write().map_err(|_| poisoned())?;
+    no.retain(|(m, _)| m != method);
+    if let Some(why) = &programs.no_f16 {
+        no.push((method.to_string(), why.clone()));
+    }
+    Ok(())
+}
 
 /// Reads, checks, compiles and registers user method files (`--method-file`; a folder means
 /// every .glsl file below it, [`crate::method::user::expand`]; a path already registered is
@@ -391,7 +431,11 @@ pub fn compile_user(u: &crate::method::user::UserMethod) -> Result<()> {
     compiled.extend(half);
     let mut reg = RUNTIME_SPIRV.write().map_err(|_| poisoned())?;
     for (name, bytes) in compiled {
-        reg.push((name, Box::leak(bytes.into_boxed_slice())));
+        reg.push((
+            u.name.to_string(),
+            name,
+            Box::leak(bytes.into_boxed_slice()),
+        ));
     }
     Ok(())
 }
@@ -548,7 +592,7 @@ pub fn embedded(program: &str, stage: &str) -> Result<&'static [u8]> {
         RUNTIME_SPIRV
             .read()
             .ok()
-            .and_then(|r| r.iter().find(|(n, _)| *n == file).map(|(_, b)| *b))
+            .and_then(|r| r.iter().find(|(_, n, _)| *n == file).map(|(_, _, b)| *b))
     };
     EMBEDDED_SPIRV
         .iter()

@@ -63,6 +63,12 @@ fn compile_vulkan(
         validate: false,
     })?;
     let info = ctx.info().clone();
+    log::debug!(
+        "{}: {} created in {:.0} ms",
+        req.family,
+        info.name,
+        start.elapsed().as_secs_f64() * 1e3
+    );
     vendor
         .check_device(chip, &info.name)
         .map_err(|why| Error::Device(format!("{}: {why}", req.family)))?;

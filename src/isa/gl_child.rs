@@ -41,6 +41,12 @@ pub fn compile(req: &ChildRequest, vendor: &dyn Vendor, chip: &str) -> Result<Ch
     }
     let ctx = GlContext::surfaceless_api(if es { GlApi::Es } else { GlApi::Core43 })?;
     let info = ctx.info().clone();
+    log::debug!(
+        "{}: {} created in {:.0} ms",
+        req.family,
+        info.renderer,
+        start.elapsed().as_secs_f64() * 1e3
+    );
     vendor
         .check_device(chip, &info.renderer)
         .map_err(|why| Error::Device(format!("{}: {why}", req.family)))?;

@@ -122,6 +122,9 @@ pub enum ChildOutcome {
     /// The child refused the request's inputs before compiling (a method file that does not
     /// load): nothing was asked of the driver.
     Refused(String),
+    /// The family's compiler worker was stopped while it compiled (past its deadline or
+    /// memory cap, or killed from outside: [`crate::workers`]); not the driver's answer.
+    Stopped(String),
     /// The vendor's route is not set up (why); no child was started.
     NotSetUp(String),
 }
@@ -255,7 +258,7 @@ fn compile(
             } else {
                 files_of(opts, &missing)
             },
-            show_stderr: false,
+            show_stderr: log::log_enabled!(log::Level::Debug),
         };
         // A reply, or the child's own refusal under this name (the final answer: not a name
         // the driver does not know with another to try), is stored under this name's key.
@@ -266,7 +269,7 @@ fn compile(
                 }
             }
         };
-        match crate::child::call(&spawn, &asked, dir, &table::asm_dir(&family.id())) {
+        match crate::workers::call(&spawn, &asked, dir, &table::asm_dir(&family.id())) {
             Ok(r) => {
                 let r = if parts.is_empty() {
                     r
@@ -285,6 +288,7 @@ fn compile(
                 return ChildOutcome::Compiled(r, provenance);
             }
             Err(f) if f.refused_input => return ChildOutcome::Refused(f.why),
+            Err(f) if f.stopped => return ChildOutcome::Stopped(f.why),
             Err(f) if i + 1 < n && family.vendor.unknown_chip(&f.why) => {
                 refused.push(format!("`{name}`: {}", f.why));
             }
@@ -423,6 +427,7 @@ pub fn run_with(
                     }
                     ChildOutcome::Failed(why) => format!("{id}: not supported ({why})"),
                     ChildOutcome::Refused(why) => format!("{id}: input refused ({why})"),
+                    ChildOutcome::Stopped(why) => format!("{id}: compiler worker stopped ({why})"),
                     ChildOutcome::NotSetUp(why) => format!(
                         "{id}: not set up ({why}); run {}",
                         family.vendor.setup_command_for(family.chip)

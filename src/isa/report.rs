@@ -177,6 +177,11 @@ pub fn report(
                 false,
                 format!("not supported by this driver: {why}"),
             )),
+            ChildOutcome::Stopped(why) => families.push(status(
+                &family,
+                false,
+                format!("not compiled: its compiler worker was stopped: {why}"),
+            )),
             ChildOutcome::Refused(why) => families.push(status(
                 &family,
                 false,

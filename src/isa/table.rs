@@ -121,10 +121,16 @@ pub(super) fn family_rows(
             }
             let suffix = c.repeat.map(|k| format!(".repeat{k}")).unwrap_or_default();
             for rep in &e.representations {
-                asm.push((
-                    format!("asm/{dir}/{}.{}{suffix}.s", c.method, e.stage),
-                    rep.text.clone(),
-                ));
+                // A second executable of the same stage (Turnip's binning-pass vertex shader
+                // beside the vertex shader) gets `.2` before `.s`: one file each.
+                let base = format!("asm/{dir}/{}.{}{suffix}", c.method, e.stage);
+                let mut path = format!("{base}.s");
+                let mut n = 1;
+                while asm.iter().any(|(p, _): &(String, String)| *p == path) {
+                    n += 1;
+                    path = format!("{base}.{n}.s");
+                }
+                asm.push((path, rep.text.clone()));
             }
             if let Some(k) = c.repeat {
                 kernels.entry(c.method.clone()).or_default().push((k, e));

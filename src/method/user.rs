@@ -295,6 +295,18 @@ pub fn is_registered(abs: &Path) -> bool {
 /// yet: its programs are compiled first, by [`crate::gpu::shaders::register_user`]).
 pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
     let (bytes, text, parsed) = read(path)?;
+    let sha256 = sha256_hex(&bytes);
+    prepare_text(path, &sha256, text, parsed)
+}
+
+/// The row of the file at `path` whose bytes hash to `sha256`, from its `text` and
+/// declaration.
+fn prepare_text(
+    path: &Path,
+    sha256: &str,
+    text: String,
+    parsed: Parsed,
+) -> Result<(&'static UserMethod, Parsed)> {
     let path_str = leak(path.display().to_string());
     if let Some(tuned) = super::tuned::Tuned::of_text(&text) {
         let tuned = tuned.map_err(|why| usage(path, why))?;
@@ -310,7 +322,7 @@ pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
         }
         let method = tuned.clone().row(leak(parsed.name.clone()), path_str);
         let tuned: &'static super::tuned::Tuned = Box::leak(Box::new(tuned));
-        let u = user_method(method, path_str, &bytes, text, &parsed, Some(tuned));
+        let u = user_method(method, path_str, sha256, text, &parsed, Some(tuned));
         return Ok((u, parsed));
     }
     let method: &'static Method = Box::leak(Box::new(Method {
@@ -329,7 +341,7 @@ pub fn prepare(path: &Path) -> Result<(&'static UserMethod, Parsed)> {
         kernel: Kernel::None,
     }));
     Ok((
-        user_method(method, path_str, &bytes, text, &parsed, None),
+        user_method(method, path_str, sha256, text, &parsed, None),
         parsed,
     ))
 }
@@ -354,7 +366,7 @@ pub fn prepare_row(path: &Path, row: &'static Method) -> Result<(&'static UserMe
     }
     let path_str = leak(path.display().to_string());
     Ok((
-        user_method(row, path_str, &bytes, text, &parsed, None),
+        user_method(row, path_str, &sha256_hex(&bytes), text, &parsed, None),
         parsed,
     ))
 }
@@ -384,10 +396,17 @@ fn read(path: &Path) -> Result<(Vec<u8>, String, Parsed)> {
     Ok((bytes, text, parsed))
 }
 
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
 fn user_method(
     method: &'static Method,
     path: &'static str,
-    bytes: &[u8],
+    sha256: &str,
     source: String,
     parsed: &Parsed,
     tuned: Option<&'static super::tuned::Tuned>,
@@ -396,14 +415,27 @@ fn user_method(
         method,
         name: method.name,
         path: path.to_string(),
-        sha256: Sha256::digest(bytes)
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect(),
+        sha256: sha256.to_string(),
         source,
         declaration_line: parsed.declaration_line,
         tuned,
     }))
+}
+
+/// Registers the file at the absolute path `path` from what a parent read and checked of it
+/// (its text, without a byte-order mark, and the SHA-256 of its bytes), in place of a method of
+/// the same id: a compiler worker's copy of its parent's method ([`crate::workers`]), whose
+/// programs come with it. Its declaration and tuned line are read again (no file is read, no
+/// proof run, nothing compiled).
+pub fn adopt(path: &Path, sha256: &str, text: &str) -> Result<&'static UserMethod> {
+    let parsed = parse(path, text)?;
+    let (u, _) = prepare_text(path, sha256, text.to_string(), parsed)?;
+    let mut reg = REGISTRY
+        .write()
+        .map_err(|_| Error::Internal("the user-method registry is poisoned".into()))?;
+    reg.retain(|r| r.name != u.name);
+    reg.push(u);
+    Ok(u)
 }
 
 /// Registers a prepared method whose programs compiled: [`all`] and [`super::find`] see it from

@@ -732,7 +732,7 @@ mod tests {
         let bad = Candidate {
             id: "p_minimax3".into(),
             degree: Some(3),
-            coeffs: vec![1e20, -3e20, 3e20, -1e20]
+            coeffs: [1e20, -3e20, 3e20, -1e20_f64]
                 .iter()
                 .map(|&c: &f64| f64::from(c as f32))
                 .collect(),
