@@ -13,10 +13,31 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+use base64::Engine;
 use serde::de::DeserializeOwned;
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::error::{Error, Result};
+
+/// Bytes, written in JSON as standard base64 (RFC 4648): SPIR-V in a frame.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Bytes(pub Vec<u8>);
+
+impl Serialize for Bytes {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(&base64::engine::general_purpose::STANDARD.encode(&self.0))
+    }
+}
+
+impl<'de> Deserialize<'de> for Bytes {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Bytes, D::Error> {
+        let text = String::deserialize(d)?;
+        base64::engine::general_purpose::STANDARD
+            .decode(text.as_bytes())
+            .map(Bytes)
+            .map_err(serde::de::Error::custom)
+    }
+}
 
 /// Version of the request and reply files.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -331,6 +352,16 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("schema version"));
+    }
+
+    /// Bytes go through JSON as base64 unchanged; text that is not base64 is refused.
+    #[test]
+    fn bytes_round_trip_through_json_as_base64() {
+        let b = Bytes((0..=255u8).collect());
+        let json = serde_json::to_string(&b).unwrap();
+        assert!(json.starts_with("\"AAECAwQF"), "{json}");
+        assert_eq!(serde_json::from_str::<Bytes>(&json).unwrap(), b);
+        assert!(serde_json::from_str::<Bytes>("\"not base64!\"").is_err());
     }
 
     /// A child that dies without a reply is reported with how it ended and its request.

@@ -16,7 +16,7 @@ const LAYERS: &[&[&str]] = &[
     &[
         "compare", "bench", "verify", "stress", "plan", "isa", "prove", "costs", "tune",
     ],
-    &["analysis", "truth", "cases", "cost", "auto"],
+    &["analysis", "truth", "cases", "cost", "auto", "workers"],
     &["gpu", "software", "engine"],
     &["scene", "frame"],
     &["method", "geometry"],

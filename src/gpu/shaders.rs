@@ -308,7 +308,7 @@ static RUNTIME_SPIRV: std::sync::RwLock<Vec<(String, String, &'static [u8])>> =
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RuntimePrograms {
     /// (file name, SPIR-V): `<program>.<stage>.spv`.
-    pub files: Vec<(String, crate::workers::Bytes)>,
+    pub files: Vec<(String, crate::child::Bytes)>,
     /// Why the method has no float16 programs (shaderc's first message line), if it has none.
     pub no_f16: Option<String>,
 }
@@ -319,7 +319,7 @@ pub fn runtime_programs(method: &str) -> Result<RuntimePrograms> {
     let files = reg
         .iter()
         .filter(|(m, _, _)| m == method)
-        .map(|(_, f, b)| (f.clone(), crate::workers::Bytes(b.to_vec())))
+        .map(|(_, f, b)| (f.clone(), crate::child::Bytes(b.to_vec())))
         .collect();
     let no = RUNTIME_NO_F16.read().map_err(|_| poisoned())?;
     let no_f16 = no.iter().find(|(m, _)| m == method).map(|(_, w)| w.clone());

@@ -27,6 +27,11 @@ pub struct Row {
     /// domain); absent when it was costed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_costed: Option<String>,
+    /// The precisions in which it is not proven within the budget on the mesh's domain nor
+    /// (its form) on any class's: no model of those precisions costed it, for none could
+    /// answer with it. Absent when empty.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub outside_budget_in: Vec<Precision>,
     /// Per cost model: its ratio to phong_exact and the verdict of "cheaper".
     pub costs: Vec<RowCost>,
 }
@@ -240,6 +245,7 @@ mod tests {
             bounds: vec![b],
             file: None,
             not_costed: None,
+            outside_budget_in: Vec::new(),
             costs: Vec::new(),
         }
     }

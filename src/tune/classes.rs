@@ -59,16 +59,9 @@ pub struct Class {
     pub answers: Vec<ClassAnswer>,
 }
 
-/// The classes of `md` that hold triangles, each answered for every model of `models` with
-/// the costs of the mesh's `rows`.
-pub fn of_mesh(
-    md: &MeshDomain,
-    rows: &[Row],
-    models: &[CostModel],
-    lights: &Lights,
-    budget: f64,
-    b: &ProofEffort,
-) -> Vec<Class> {
+/// The classes of `md` that hold triangles, each with its forms fitted and proven on its own
+/// domain, not answered yet ([`Fitted::answer`]).
+pub fn fit(md: &MeshDomain, lights: &Lights, b: &ProofEffort) -> Vec<Fitted> {
     let mut out = Vec::new();
     for (i, &from) in CLASS_EDGES.iter().enumerate() {
         let to = CLASS_EDGES.get(i + 1).copied().unwrap_or(f64::INFINITY);
@@ -90,22 +83,46 @@ pub fn of_mesh(
             .count();
         let dom = widened(z_min, md.largest_normal_length);
         let (cands, _) = super::fit_all("class", dom.lo, dom.hi);
-        let class_rows = super::prove_all(cands, dom, lights, None, b);
-        let answers = models
-            .iter()
-            .map(|m| answer(&class_rows, rows, m, budget))
-            .collect();
-        out.push(Class {
-            z_from: from,
-            z_to: to.min(1.0),
-            triangles: tris.len(),
-            pixels,
-            z_min,
-            domain: [dom.lo, dom.hi],
-            answers,
+        let rows = super::prove_all(cands, dom, lights, None, b);
+        out.push(Fitted {
+            class: Class {
+                z_from: from,
+                z_to: to.min(1.0),
+                triangles: tris.len(),
+                pixels,
+                z_min,
+                domain: [dom.lo, dom.hi],
+                answers: Vec::new(),
+            },
+            rows,
         });
     }
     out
+}
+
+/// A class with its forms proven on its domain.
+#[derive(Debug, Clone)]
+pub struct Fitted {
+    pub class: Class,
+    pub rows: Vec<Row>,
+}
+
+impl Fitted {
+    /// Whether the form `label` is proven within `budget` in `precision` on this class.
+    pub fn within(&self, label: &str, precision: crate::method::Precision, budget: f64) -> bool {
+        self.rows.iter().any(|r| {
+            r.candidate.label() == label && r.bound(precision).is_some_and(|b| b.within(budget))
+        })
+    }
+
+    /// The class answered for every model of `models` with the costs of the mesh's `rows`.
+    pub fn answer(mut self, rows: &[Row], models: &[CostModel], budget: f64) -> Class {
+        self.class.answers = models
+            .iter()
+            .map(|m| answer(&self.rows, rows, m, budget))
+            .collect();
+        self.class
+    }
 }
 
 /// The cheapest form of `class_rows` proven within the budget whose mesh-level row (same

@@ -374,6 +374,7 @@ pub fn prove_all(
                 .map(|zs| proof::sampled_length_error(&c, zs.iter().copied())),
             file: None,
             not_costed: None,
+            outside_budget_in: Vec::new(),
             costs: Vec::new(),
             candidate: c,
         })
@@ -448,6 +449,121 @@ fn write_files(
     }
     check::check_files(&paths)?;
     Ok(paths)
+}
+
+/// Costs the candidates of `rows` that can change an answer ([`mark_outside_budget`]) on
+/// every cost model of `opts` (each model the candidates of its precision): the answer per
+/// model and the models measured.
+fn cost_all(
+    registry: &Registry,
+    opts: &TuneOptions,
+    ev: &Evidence,
+    rows: &mut [Row],
+    fitted: &[classes::Fitted],
+    budget: f64,
+) -> Result<(Vec<Answer>, Vec<CostModel>)> {
+    let ids = if opts.cost_models.is_empty() {
+        registry.on_demand_ids()
+    } else {
+        opts.cost_models.clone()
+    };
+    let precisions: Vec<Precision> = [Precision::F32, Precision::F16]
+        .into_iter()
+        .filter(|p| ids.iter().any(|id| id.precision() == *p))
+        .collect();
+    mark_outside_budget(rows, fitted, &precisions, budget);
+    let mut by_precision = Vec::new();
+    for p in [Precision::F32, Precision::F16] {
+        let mut methods = vec![method::phong_exact()];
+        for r in rows.iter().filter(|r| costed_in(r, p)) {
+            methods.push(method::find(&r.candidate.id)?);
+        }
+        by_precision.push((p, methods));
+    }
+    let methods_of = |id: &CostModelId| {
+        by_precision
+            .iter()
+            .find(|(p, _)| *p == id.precision())
+            .map(|(_, m)| m.clone())
+            .unwrap_or_default()
+    };
+    let measured = measure_all(registry, &ids, &methods_of, ev, opts.progress);
+    let models: Vec<CostModel> = measured
+        .iter()
+        .filter_map(|(_, m)| m.as_ref().ok().cloned())
+        .collect();
+    for r in rows.iter_mut() {
+        r.costs = models
+            .iter()
+            .map(|m| {
+                let f = m.figure(&r.candidate.id);
+                RowCost {
+                    model: m.id.clone(),
+                    ratio: f.and_then(|f| f.ratio),
+                    verdict: f.map_or(crate::method::Verdict::NotChecked, |f| f.verdict),
+                }
+            })
+            .collect();
+    }
+    let answers = measured
+        .iter()
+        .map(|(id, m)| match m {
+            Ok(m) => choose::answer(rows, m, budget),
+            Err(e) => choose::unmeasured(id, e),
+        })
+        .collect();
+    Ok((answers, models))
+}
+
+/// Whether row `r` is costed by the models of precision `p`: a candidate (a paper's method
+/// or one with a method file) not marked outside the budget in `p`.
+fn costed_in(r: &Row, p: Precision) -> bool {
+    r.candidate.family != Family::Reference
+        && r.not_costed.is_none()
+        && !r.outside_budget_in.contains(&p)
+}
+
+/// Marks the candidates that cannot change an answer in a precision of `precisions`: not
+/// proven within `budget` there, on the mesh's domain nor (its form) on any class's of
+/// `fitted` (the class answers take the mesh file's cost of a form). Such a candidate is costed
+/// by no model of that precision (`outside_budget_in`); one outside in every precision is not
+/// costed at all (`not_costed`), compiled nowhere.
+fn mark_outside_budget(
+    rows: &mut [Row],
+    fitted: &[classes::Fitted],
+    precisions: &[Precision],
+    budget: f64,
+) {
+    for r in rows.iter_mut() {
+        if r.candidate.family == Family::Reference || r.not_costed.is_some() {
+            continue;
+        }
+        let label = r.candidate.label();
+        let outside: Vec<Precision> = precisions
+            .iter()
+            .copied()
+            .filter(|&p| {
+                !r.bound(p).is_some_and(|b| b.within(budget))
+                    && !fitted.iter().any(|c| c.within(&label, p, budget))
+            })
+            .collect();
+        if !precisions.is_empty() && outside.len() == precisions.len() {
+            let bounds: Vec<String> = precisions
+                .iter()
+                .map(|&p| {
+                    let b = r.bound(p).and_then(|b| b.colour);
+                    format!("{} in {p}", choose::num(b))
+                })
+                .collect();
+            r.not_costed = Some(format!(
+                "not costed: outside the budget: its proven colour error ({}) exceeds {} on \
+                 the mesh's domain and its form's on every class's, so no answer can name it",
+                bounds.join(", "),
+                choose::num(Some(budget))
+            ));
+        }
+        r.outside_budget_in = outside;
+    }
 }
 
 /// Why a tuned form is not proven on its line's domain (the loaders' rule, [`check::verify`]),
@@ -532,13 +648,15 @@ fn write_class_files(
 fn measure_all(
     registry: &Registry,
     ids: &[CostModelId],
-    methods: &[&'static Method],
+    methods: &(dyn Fn(&CostModelId) -> Vec<&'static Method> + Sync),
     ev: &Evidence,
     progress: bool,
 ) -> Vec<(CostModelId, std::result::Result<CostModel, String>)> {
     let one = |id: &CostModelId| {
         let t = Instant::now();
-        let r = registry.measure(id, methods, ev).map_err(|e| e.to_string());
+        let r = registry
+            .measure(id, &methods(id), ev)
+            .map_err(|e| e.to_string());
         if progress {
             log::info!("tune: {id} measured in {:.1} s", t.elapsed().as_secs_f64());
         }
@@ -608,52 +726,23 @@ pub fn run(
     let budget = opts.budget.get();
     write_and_register(&mut rows, &name, budget, z, out)?;
     timings.files_s = t.elapsed().as_secs_f64();
+    // The classes' forms, proven first: a form within the budget on a class is costed.
     let t = Instant::now();
-    let mut methods = vec![method::phong_exact()];
-    for r in rows
-        .iter()
-        .filter(|r| r.candidate.family != Family::Reference && r.not_costed.is_none())
-    {
-        methods.push(method::find(&r.candidate.id)?);
-    }
-    let ids = if opts.cost_models.is_empty() {
-        registry.on_demand_ids()
-    } else {
-        opts.cost_models.clone()
-    };
-    let measured = measure_all(registry, &ids, &methods, ev, opts.progress);
-    let models: Vec<CostModel> = measured
-        .iter()
-        .filter_map(|(_, m)| m.as_ref().ok().cloned())
-        .collect();
-    for r in &mut rows {
-        r.costs = models
-            .iter()
-            .map(|m| {
-                let f = m.figure(&r.candidate.id);
-                RowCost {
-                    model: m.id.clone(),
-                    ratio: f.and_then(|f| f.ratio),
-                    verdict: f.map_or(crate::method::Verdict::NotChecked, |f| f.verdict),
-                }
-            })
-            .collect();
-    }
-    let answers = measured
-        .iter()
-        .map(|(id, m)| match m {
-            Ok(m) => choose::answer(&rows, m, budget),
-            Err(e) => choose::unmeasured(id, e),
-        })
-        .collect();
-    timings.costs_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let mut classes = match &dom.mesh {
-        Some(md) => classes::of_mesh(md, &rows, &models, &lights, budget, &opts.proof),
+    let fitted = match &dom.mesh {
+        Some(md) => classes::fit(md, &lights, &opts.proof),
         None => Vec::new(),
     };
+    let fit_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let (answers, models) = cost_all(registry, opts, ev, &mut rows, &fitted, budget)?;
+    timings.costs_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let mut classes: Vec<classes::Class> = fitted
+        .into_iter()
+        .map(|f| f.answer(&rows, &models, budget))
+        .collect();
     write_class_files(&mut classes, &prefix, &name, budget, out)?;
-    timings.classes_s = t.elapsed().as_secs_f64();
+    timings.classes_s = fit_s + t.elapsed().as_secs_f64();
     let papers = refit::all().map_err(|e| Error::Internal(format!("tune: re-fit: {e}")))?;
     let note = match &dom.mesh {
         Some(m) => moot(m.z_min, m.largest_normal_length * m.largest_normal_length),
@@ -686,6 +775,77 @@ mod tests {
     /// fits it supports: degree 1 is within float32's rounding there, so degrees 2 to 4 and the
     /// Newton seed of degree 2 are not fitted, each with why (their coefficients, ill-conditioned,
     /// gave proven colour errors of 4e115). Teeth: a wide domain fits every form.
+    /// A candidate proven within the budget (mesh-wide, or its form on a class) is costed; one
+    /// outside it in every precision is marked "not costed: outside the budget" and costed
+    /// nowhere. Teeth: the budget set just below a costed candidate's bound puts it outside.
+    #[test]
+    fn only_candidates_within_the_budget_are_costed() {
+        let z = Interval::new(0.8, 1.0000005);
+        let lights = lights_of(&Material::default(), vec![[1.0; 3]]);
+        let (cands, _) = fit_all("b", z.lo, z.hi);
+        let mut rows = prove_all(cands, z, &lights, None, &ProofEffort::default());
+        for r in &mut rows {
+            r.file = Some(format!("methods/{}.glsl", r.candidate.id));
+        }
+        let colour = |r: &Row| r.bound(Precision::F32).and_then(|b| b.colour);
+        let mut bounds: Vec<f64> = rows.iter().filter_map(colour).collect();
+        bounds.sort_by(f64::total_cmp);
+        // a budget between the bounds: some candidates within, some outside
+        let budget = bounds[bounds.len() / 2];
+        let f32_only = [Precision::F32];
+        let marked = |budget: f64, fitted: &[classes::Fitted]| {
+            let mut rs = rows.clone();
+            mark_outside_budget(&mut rs, fitted, &f32_only, budget);
+            rs
+        };
+        let rs = marked(budget, &[]);
+        for r in rs
+            .iter()
+            .filter(|r| r.candidate.family != Family::Reference)
+        {
+            let within = colour(r).is_some_and(|c| c <= budget);
+            assert_eq!(costed_in(r, Precision::F32), within, "{}", r.candidate.id);
+            if !within {
+                let why = r.not_costed.as_deref().unwrap();
+                assert!(why.starts_with("not costed: outside the budget"), "{why}");
+            }
+        }
+        assert!(rs.iter().any(|r| r.not_costed.is_some()));
+        assert!(rs.iter().any(|r| costed_in(r, Precision::F32)));
+        // teeth: just below a costed candidate's bound, it is outside
+        let edge = rows.iter().position(|r| colour(r) == Some(budget)).unwrap();
+        let below = marked(budget * (1.0 - 1e-9), &[]);
+        assert!(costed_in(&marked(budget, &[])[edge], Precision::F32));
+        assert!(!costed_in(&below[edge], Precision::F32));
+        // a class on which the form is within the budget keeps it costed
+        let class = classes::Fitted {
+            class: classes::Class {
+                z_from: 0.99,
+                z_to: 1.0,
+                triangles: 1,
+                pixels: 1,
+                z_min: 0.99,
+                domain: [0.99, 1.0000005],
+                answers: Vec::new(),
+            },
+            rows: rows
+                .iter()
+                .map(|r| {
+                    let mut c = r.clone();
+                    for b in &mut c.bounds {
+                        b.colour = Some(0.0);
+                    }
+                    c
+                })
+                .collect(),
+        };
+        let kept = marked(budget * (1.0 - 1e-9), std::slice::from_ref(&class));
+        assert!(kept
+            .iter()
+            .filter(|r| r.candidate.family != Family::Reference)
+            .all(|r| costed_in(r, Precision::F32)));
+    }
+
     #[test]
     fn a_narrow_domain_gets_the_degrees_it_supports() {
         let ids = |c: &[Candidate]| -> Vec<String> {

@@ -29,7 +29,6 @@ use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
-pub use protocol::Bytes;
 use protocol::{CheckedFile, Frame, MethodVersion};
 
 use crate::child::{Failure, Job, Reply, Spawn};
@@ -301,55 +300,66 @@ impl Pool {
                 return Err(failure(format!("the worker took no request ({e}); {how}")));
             }
             w.sent.extend(methods.iter().map(|c| c.sha256.clone()));
-            return match self.wait(&mut w) {
-                Waited::Reply(text) => {
-                    w.served += 1;
-                    let reply = protocol::decode::<Reply<J::Reply>>(&text, "the worker's reply");
-                    self.put_back(w);
-                    match reply {
-                        Ok(Reply::Done { reply }) => Ok(reply),
-                        Ok(Reply::Failed { error }) => Err(Failure {
-                            replied: true,
-                            ..failure(error)
-                        }),
-                        Ok(Reply::Refused { error }) => Err(Failure {
-                            refused_input: true,
-                            ..failure(error)
-                        }),
-                        Err(e) => Err(failure(e.to_string())),
-                    }
+            let waited = self.wait(&mut w);
+            return self.finish::<J>(w, waited, &failure);
+        }
+    }
+
+    /// The request's end: `w` back among the idle on a reply, stopped otherwise.
+    fn finish<J: Job>(
+        &self,
+        mut w: Worker,
+        waited: Waited,
+        failure: &dyn Fn(String) -> Failure,
+    ) -> std::result::Result<J::Reply, Failure> {
+        match waited {
+            Waited::Reply(text) => {
+                w.served += 1;
+                let reply = protocol::decode::<Reply<J::Reply>>(&text, "the worker's reply");
+                self.put_back(w);
+                match reply {
+                    Ok(Reply::Done { reply }) => Ok(reply),
+                    Ok(Reply::Failed { error }) => Err(Failure {
+                        replied: true,
+                        ..failure(error)
+                    }),
+                    Ok(Reply::Refused { error }) => Err(Failure {
+                        refused_input: true,
+                        ..failure(error)
+                    }),
+                    Err(e) => Err(failure(e.to_string())),
                 }
-                Waited::Ended(why) => {
-                    let tail = w.tail();
-                    let status = w.stop();
-                    let how = ended(status, &tail);
-                    let how = if why.is_empty() {
-                        how
-                    } else {
-                        format!("{how} (its reply pipe: {why})")
-                    };
-                    // SIGKILL comes from outside (a user, the OOM killer), never a driver.
-                    let killed = std::os::unix::process::ExitStatusExt::signal(&status)
-                        == Some(libc::SIGKILL);
-                    Err(Failure {
-                        stopped: killed,
-                        ..failure(how)
-                    })
-                }
-                Waited::Stopped(why) => {
-                    let tail = w.tail();
-                    w.stop();
-                    let tail = if tail.is_empty() {
-                        String::new()
-                    } else {
-                        format!("; stderr: {tail}")
-                    };
-                    Err(Failure {
-                        stopped: true,
-                        ..failure(format!("{why}: the worker was stopped{tail}"))
-                    })
-                }
-            };
+            }
+            Waited::Ended(why) => {
+                let tail = w.tail();
+                let status = w.stop();
+                let how = ended(status, &tail);
+                let how = if why.is_empty() {
+                    how
+                } else {
+                    format!("{how} (its reply pipe: {why})")
+                };
+                // SIGKILL comes from outside (a user, the OOM killer), never a driver.
+                let killed =
+                    std::os::unix::process::ExitStatusExt::signal(&status) == Some(libc::SIGKILL);
+                Err(Failure {
+                    stopped: killed,
+                    ..failure(how)
+                })
+            }
+            Waited::Stopped(why) => {
+                let tail = w.tail();
+                w.stop();
+                let tail = if tail.is_empty() {
+                    String::new()
+                } else {
+                    format!("; stderr: {tail}")
+                };
+                Err(Failure {
+                    stopped: true,
+                    ..failure(format!("{why}: the worker was stopped{tail}"))
+                })
+            }
         }
     }
 
@@ -522,26 +532,21 @@ fn ended(status: std::process::ExitStatus, tail: &str) -> String {
     }
 }
 
-/// The user method files among `paths` as this process checked and compiled them; a file
-/// not registered yet is checked and registered here first (once per run).
+/// The user method files among `paths` as this process checked and compiled them (every
+/// method a request names is registered before: [`crate::method::find`] found it).
 fn checked(paths: &[PathBuf]) -> crate::error::Result<Vec<CheckedFile>> {
     if paths.is_empty() {
         return Ok(Vec::new());
     }
-    let files = crate::method::user::expand(paths)?;
     let mut out = Vec::new();
-    for f in &files {
+    for f in &crate::method::user::expand(paths)? {
         let abs = std::path::absolute(f).map_err(|e| crate::error::Error::io(f, e))?;
-        let u = match registered_at(&abs) {
-            Some(u) => u,
-            None => {
-                crate::tune::check::check_files(std::slice::from_ref(&abs))?;
-                crate::gpu::shaders::register_user(std::slice::from_ref(&abs))?;
-                registered_at(&abs).ok_or_else(|| {
-                    crate::error::Error::Internal(format!("{} was not registered", abs.display()))
-                })?
-            }
-        };
+        let u = registered_at(&abs).ok_or_else(|| {
+            crate::error::Error::Internal(format!(
+                "{}: a request names a method file this process did not register",
+                abs.display()
+            ))
+        })?;
         out.push(CheckedFile::of(u)?);
     }
     Ok(out)

@@ -4,32 +4,11 @@
 //! them ([`CheckedFile`]), each sent once per worker and named by its SHA-256 after that.
 use std::path::PathBuf;
 
-use base64::Engine;
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::gpu::shaders::RuntimePrograms;
 use crate::method::user::UserMethod;
-
-/// Bytes, written in JSON as standard base64 (RFC 4648): SPIR-V in a frame.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Bytes(pub Vec<u8>);
-
-impl Serialize for Bytes {
-    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_str(&base64::engine::general_purpose::STANDARD.encode(&self.0))
-    }
-}
-
-impl<'de> Deserialize<'de> for Bytes {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Bytes, D::Error> {
-        let text = String::deserialize(d)?;
-        base64::engine::general_purpose::STANDARD
-            .decode(text.as_bytes())
-            .map(Bytes)
-            .map_err(serde::de::Error::custom)
-    }
-}
 
 /// A user method file as its parent read, checked (a tuned file's proof) and compiled it: what
 /// a worker registers in place of reading the file ([`CheckedFile::adopt`]).
@@ -91,19 +70,4 @@ pub struct Frame<T> {
 /// Reads one line of JSON as a `T`, naming `what` in the error.
 pub fn decode<T: serde::de::DeserializeOwned>(line: &str, what: &str) -> Result<T> {
     serde_json::from_str(line).map_err(|e| Error::Usage(format!("{what}: not readable: {e}")))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Bytes go through JSON as base64 unchanged; text that is not base64 is refused.
-    #[test]
-    fn bytes_round_trip_through_json_as_base64() {
-        let b = Bytes((0..=255u8).collect());
-        let json = serde_json::to_string(&b).unwrap();
-        assert!(json.starts_with("\"AAECAwQF"), "{json}");
-        assert_eq!(serde_json::from_str::<Bytes>(&json).unwrap(), b);
-        assert!(serde_json::from_str::<Bytes>("\"not base64!\"").is_err());
-    }
 }
