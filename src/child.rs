@@ -125,6 +125,42 @@ pub struct Failure {
     pub stopped: bool,
 }
 
+impl Failure {
+    /// A failure of job `job` whose request file is `request`: the child did not reply
+    /// (the flags say otherwise where it did).
+    pub fn new(job: &'static str, why: String, request: PathBuf) -> Failure {
+        Failure {
+            job,
+            why,
+            request,
+            replied: false,
+            refused_input: false,
+            stopped: false,
+        }
+    }
+}
+
+impl<R> Reply<R> {
+    /// The reply as a result: a failure (by `failure`) flagged as the child's own answer
+    /// ([`Reply::Failed`]) or as its inputs refused ([`Reply::Refused`]).
+    pub fn into_result(
+        self,
+        failure: &dyn Fn(String) -> Failure,
+    ) -> std::result::Result<R, Failure> {
+        match self {
+            Reply::Done { reply } => Ok(reply),
+            Reply::Failed { error } => Err(Failure {
+                replied: true,
+                ..failure(error)
+            }),
+            Reply::Refused { error } => Err(Failure {
+                refused_input: true,
+                ..failure(error)
+            }),
+        }
+    }
+}
+
 impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
@@ -147,14 +183,7 @@ pub fn call<J: Job>(
     name: &str,
 ) -> std::result::Result<J::Reply, Failure> {
     let path = dir.join(format!("{name}.request.json"));
-    let failure = |why: String| Failure {
-        job: J::NAME,
-        why,
-        request: path.clone(),
-        replied: false,
-        refused_input: false,
-        stopped: false,
-    };
+    let failure = |why: String| Failure::new(J::NAME, why, path.clone());
     let reply = dir.join(format!("{name}.reply.json"));
     write_request(spawn, request, &path, &reply).map_err(|e| failure(e.to_string()))?;
     let _ = std::fs::remove_file(&reply);
@@ -182,15 +211,7 @@ pub fn call<J: Job>(
         .map_err(|e| failure(format!("waiting for {}: {e}", spawn.exe.display())))?;
     match std::fs::read(&reply) {
         Ok(b) => match serde_json::from_slice::<Reply<J::Reply>>(&b) {
-            Ok(Reply::Done { reply }) => Ok(reply),
-            Ok(Reply::Failed { error }) => Err(Failure {
-                replied: true,
-                ..failure(error)
-            }),
-            Ok(Reply::Refused { error }) => Err(Failure {
-                refused_input: true,
-                ..failure(error)
-            }),
+            Ok(r) => r.into_result(&failure),
             Err(e) => Err(failure(format!("its reply is not readable: {e}"))),
         },
         Err(_) => Err(failure(ended(out.status, &out.stderr, spawn.show_stderr))),

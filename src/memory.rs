@@ -69,9 +69,15 @@ pub fn available() -> Option<u64> {
         return parse_bytes(&v);
     }
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    proc_bytes(&text, "MemAvailable:")
+}
+
+/// The value of the line starting with `key` (`MemAvailable:`, `VmRSS:`) of a /proc file in
+/// kB (/proc/meminfo, /proc/PID/status, proc(5)), as bytes.
+pub fn proc_bytes(text: &str, key: &str) -> Option<u64> {
     let kb: u64 = text
         .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))?
+        .find_map(|l| l.strip_prefix(key))?
         .trim()
         .trim_end_matches("kB")
         .trim()

@@ -516,7 +516,7 @@ fn outputs_never_replace_inputs() {
 }
 
 /// The processes whose parent is `pid` (from /proc).
-pub(crate) fn children_of(pid: u32) -> Vec<u32> {
+fn children_of(pid: u32) -> Vec<u32> {
     let mut out = Vec::new();
     for e in std::fs::read_dir("/proc").unwrap().flatten() {
         let Some(p) = e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()) else {
@@ -547,10 +547,53 @@ pub(crate) fn running(pid: u32) -> bool {
         .is_some_and(|zombie| !zombie)
 }
 
-pub(crate) fn cmdline(pid: u32) -> String {
+fn cmdline(pid: u32) -> String {
     std::fs::read(format!("/proc/{pid}/cmdline"))
         .map(|b| String::from_utf8_lossy(&b).replace('\0', " "))
         .unwrap_or_default()
+}
+
+/// The children of `parent` whose command line contains `pattern`, as soon as there is one;
+/// fails when `parent` ends first or none comes within `within`.
+pub(crate) fn children_seen(
+    parent: &mut std::process::Child,
+    pattern: &str,
+    within: Duration,
+) -> Vec<u32> {
+    let start = Instant::now();
+    loop {
+        let kids: Vec<u32> = children_of(parent.id())
+            .into_iter()
+            .filter(|&c| cmdline(c).contains(pattern))
+            .collect();
+        if !kids.is_empty() {
+            return kids;
+        }
+        assert!(
+            parent.try_wait().unwrap().is_none(),
+            "the parent ended before a child {pattern:?} was seen"
+        );
+        assert!(
+            start.elapsed() < within,
+            "no child {pattern:?} in {within:?}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// Kills `parent` (SIGKILL) and fails when any of `children` still runs 0.2 s later.
+pub(crate) fn kill_and_check_children_gone(parent: &mut std::process::Child, children: &[u32]) {
+    parent.kill().unwrap();
+    parent.wait().unwrap();
+    // Children that die with their parent are gone at once; an orphan goes on compiling its
+    // family (0.1 to 1 s), so 0.2 s tells them apart (the contract allows a second).
+    std::thread::sleep(Duration::from_millis(200));
+    let alive: Vec<String> = children
+        .iter()
+        .filter(|&&c| running(c))
+        .map(|&c| format!("{c}: {}", cmdline(c)))
+        .collect();
+    assert!(alive.is_empty(), "still running 0.2 s later: {alive:?}");
 }
 
 /// Probe 9 and "Done when": kill -9 of `report` during its static-cost phase left its
@@ -584,36 +627,8 @@ fn a_killed_report_leaves_no_process_and_its_files_go_with_the_next_run() {
         .unwrap();
     let pid = report.id();
     // the static cost: a child compiling a GPU family (`shadelab child --worker`)
-    let start = Instant::now();
-    let children = loop {
-        let kids: Vec<u32> = children_of(pid)
-            .into_iter()
-            .filter(|&c| cmdline(c).contains(" child "))
-            .collect();
-        if !kids.is_empty() {
-            break kids;
-        }
-        assert!(
-            report.try_wait().unwrap().is_none(),
-            "the report ended before its static cost was seen"
-        );
-        assert!(
-            start.elapsed() < Duration::from_secs(300),
-            "no static cost in 300 s"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    report.kill().unwrap();
-    report.wait().unwrap();
-    // Children that die with their parent are gone at once; an orphan goes on compiling its
-    // family (0.1 to 1 s), so 0.2 s tells them apart (the contract allows a second).
-    std::thread::sleep(Duration::from_millis(200));
-    let alive: Vec<String> = children
-        .iter()
-        .filter(|&&c| running(c))
-        .map(|&c| format!("{c}: {}", cmdline(c)))
-        .collect();
-    assert!(alive.is_empty(), "still running 0.2 s later: {alive:?}");
+    let children = children_seen(&mut report, " child ", Duration::from_secs(300));
+    kill_and_check_children_gone(&mut report, &children);
     // what the killed run left: its request/reply folder, and a temporary file in its output
     let left = |d: &Path| -> Vec<String> {
         std::fs::read_dir(d)

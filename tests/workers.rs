@@ -10,7 +10,7 @@ use shadelab::child::Spawn;
 use shadelab::isa::{self, ChildRequest, IsaReport, Precision};
 use shadelab::workers::{Limits, Pool};
 
-use crate::hostile::{children_of, cmdline, running};
+use crate::hostile::{children_seen, kill_and_check_children_gone, running};
 use crate::isa::families_ready;
 use crate::store::{same_figures, set_up_families};
 
@@ -93,7 +93,7 @@ fn workers_give_a_fresh_childs_figures_on_every_family() {
     );
 }
 
-/// The request and the worker environment of `family` (AMD's first driver name).
+/// The request and the worker environment of `family` (under the driver's first name for the chip).
 fn family_request(family: &str, methods: &[&str]) -> (Spawn, ChildRequest) {
     let f = isa::families(&[family.to_string()]).unwrap()[0];
     let setup = f.vendor.setup_for(f.chip, None).unwrap();
@@ -265,33 +265,6 @@ fn a_killed_isa_leaves_no_worker_running() {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    let pid = isa.id();
-    let start = Instant::now();
-    let workers = loop {
-        let w: Vec<u32> = children_of(pid)
-            .into_iter()
-            .filter(|&c| cmdline(c).contains("child --worker"))
-            .collect();
-        if !w.is_empty() {
-            break w;
-        }
-        assert!(
-            isa.try_wait().unwrap().is_none(),
-            "isa ended before a worker was seen"
-        );
-        assert!(
-            start.elapsed() < Duration::from_secs(120),
-            "no worker in 120 s"
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    isa.kill().unwrap();
-    isa.wait().unwrap();
-    std::thread::sleep(Duration::from_millis(200));
-    let alive: Vec<String> = workers
-        .iter()
-        .filter(|&&w| running(w))
-        .map(|&w| format!("{w}: {}", cmdline(w)))
-        .collect();
-    assert!(alive.is_empty(), "still running 0.2 s later: {alive:?}");
+    let workers = children_seen(&mut isa, "child --worker", Duration::from_secs(120));
+    kill_and_check_children_gone(&mut isa, &workers);
 }

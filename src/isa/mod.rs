@@ -6,8 +6,8 @@
 //! disassembly, OpenGL routes the compiler's shader-db line (../shared/TOOLCHAIN.md "RADV null
 //! device", "Other vendors' production-path compilers").
 //!
-//! Each family is compiled in a child process of its own ([`child`], started through
-//! [`crate::child`]'s protocol: `shadelab child REQUEST`), two at a time, with the vendor's
+//! Each family is compiled by a compiler worker of its own ([`child`], a long-lived child of
+//! [`crate::workers`] speaking [`crate::child`]'s jobs), one per core at a time, with the vendor's
 //! environment (driver selection, preloaded shim, chip variable) set before the driver loads:
 //! a family the driver refuses or crashes on (Mesa 22.3.6 dies of SIGFPE on navi24; nouveau
 //! falls back to llvmpipe on Ampere) is reported as not supported, a vendor that is not set up
@@ -53,8 +53,6 @@ pub use table::Row;
 /// colour alone), and small enough that NIR unrolls both loops fully (a loop left rolled would
 /// count once, weighted x8, whatever its trip count).
 pub const KERNEL_COUNTS: [u32; 2] = [2, 3];
-/// Children compiling at a time (the project's machines have two cores).
-pub const PARALLEL_CHILDREN: usize = 2;
 
 pub use crate::method::Precision;
 
@@ -389,7 +387,8 @@ pub fn families(ids: &[String]) -> Result<Vec<Family>> {
         .collect()
 }
 
-/// Compiles every family (children [`PARALLEL_CHILDREN`] at a time) and builds the report.
+/// Compiles every family (as many at a time as [`crate::workers::parallel`]) and builds the
+/// report.
 pub fn run(opts: &IsaOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<IsaReport> {
     run_with(opts, false, progress)
 }
@@ -412,7 +411,7 @@ pub fn run_with(
         Mutex::new(families.iter().copied().enumerate().rev().collect());
     let done: Mutex<Vec<(usize, ChildOutcome)>> = Mutex::new(Vec::new());
     std::thread::scope(|s| {
-        for _ in 0..PARALLEL_CHILDREN.min(families.len()) {
+        for _ in 0..crate::workers::parallel().min(families.len()) {
             s.spawn(|| loop {
                 let next = queue.lock().ok().and_then(|mut q| q.pop());
                 let Some((i, family)) = next else { break };

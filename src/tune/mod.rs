@@ -644,7 +644,7 @@ fn write_class_files(
 }
 
 /// Measures every model of `ids` on `methods`: the timed ones (lavapipe's) first and alone,
-/// the others (compilers started as children) two at a time.
+/// the others (through the compiler workers) as many at a time as [`crate::workers::parallel`].
 fn measure_all(
     registry: &Registry,
     ids: &[CostModelId],
@@ -668,7 +668,7 @@ fn measure_all(
     let queue = std::sync::Mutex::new(rest.iter().rev().copied().collect::<Vec<_>>());
     let done = std::sync::Mutex::new(Vec::new());
     std::thread::scope(|s| {
-        for _ in 0..2 {
+        for _ in 0..crate::workers::parallel() {
             s.spawn(|| {
                 while let Some(id) = queue.lock().ok().and_then(|mut q| q.pop()) {
                     let r = one(id);

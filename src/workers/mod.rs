@@ -65,6 +65,12 @@ impl Default for Limits {
     }
 }
 
+/// Requests compiling at once: one per core ([`Limits::parallel`]); what the jobs that feed the
+/// workers start as many threads for.
+pub fn parallel() -> usize {
+    global().limits.parallel.max(1)
+}
+
 /// Whether requests go to workers (the default) or to one child each
 /// (`SHADELAB_NO_WORKERS=1`).
 pub fn enabled() -> bool {
@@ -141,15 +147,7 @@ impl Worker {
 /// Resident memory of process `pid`, bytes (/proc/PID/status `VmRSS`, proc(5)).
 fn resident_bytes(pid: u32) -> Option<u64> {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let kb: u64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
-    Some(kb * 1024)
+    crate::memory::proc_bytes(&status, "VmRSS:")
 }
 
 /// A command for the spawner thread, and where its child goes.
@@ -235,14 +233,7 @@ impl Pool {
         name: &str,
     ) -> std::result::Result<J::Reply, Failure> {
         let path = dir.join(format!("{name}.request.json"));
-        let failure = |why: String| Failure {
-            job: J::NAME,
-            why,
-            request: path.clone(),
-            replied: false,
-            refused_input: false,
-            stopped: false,
-        };
+        let failure = |why: String| Failure::new(J::NAME, why, path.clone());
         crate::child::write_request(
             spawn,
             request,
@@ -317,18 +308,9 @@ impl Pool {
                 w.served += 1;
                 let reply = protocol::decode::<Reply<J::Reply>>(&text, "the worker's reply");
                 self.put_back(w);
-                match reply {
-                    Ok(Reply::Done { reply }) => Ok(reply),
-                    Ok(Reply::Failed { error }) => Err(Failure {
-                        replied: true,
-                        ..failure(error)
-                    }),
-                    Ok(Reply::Refused { error }) => Err(Failure {
-                        refused_input: true,
-                        ..failure(error)
-                    }),
-                    Err(e) => Err(failure(e.to_string())),
-                }
+                reply
+                    .map_err(|e| failure(e.to_string()))
+                    .and_then(|r| r.into_result(failure))
             }
             Waited::Ended(why) => {
                 let tail = w.tail();
@@ -350,14 +332,9 @@ impl Pool {
             Waited::Stopped(why) => {
                 let tail = w.tail();
                 w.stop();
-                let tail = if tail.is_empty() {
-                    String::new()
-                } else {
-                    format!("; stderr: {tail}")
-                };
                 Err(Failure {
                     stopped: true,
-                    ..failure(format!("{why}: the worker was stopped{tail}"))
+                    ..failure(with_tail(format!("{why}: the worker was stopped"), &tail))
                 })
             }
         }
@@ -524,11 +501,15 @@ impl Drop for Permit<'_> {
 /// How a worker that gave no reply ended: "no reply, killed by signal 9 (SIGKILL)", then its
 /// stderr's last lines.
 fn ended(status: std::process::ExitStatus, tail: &str) -> String {
-    let how = crate::child::how_it_ended(status);
+    with_tail(crate::child::how_it_ended(status), tail)
+}
+
+/// `what`, then "; stderr: " and the worker's last lines of stderr when it wrote any.
+fn with_tail(what: String, tail: &str) -> String {
     if tail.is_empty() {
-        how
+        what
     } else {
-        format!("{how}; stderr: {tail}")
+        format!("{what}; stderr: {tail}")
     }
 }
 
