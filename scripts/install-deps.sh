@@ -8,7 +8,8 @@
 #              pkg-config, ca-certificates (cargo fetches crates over TLS), libshaderc-dev + glslang-dev + spirv-tools (the shader compiler's
 #              libraries, which build.rs finds and links)
 #   tests    : vulkan-validationlayers (Khronos validation), spirv-tools (spirv-val),
-#              chromium (headless: the HTML report's browser test),
+#              chromium (headless: the HTML report's browser test), chromium-driver
+#              (chromedriver: the explorer's page driven through WebDriver),
 #              slurm-wlm + munge (a single-node Slurm on localhost: the corpus job-array test)
 #   intel    : what scripts/setup-vendors.sh needs to build Mesa's Intel noop drm-shim from
 #              the release's Mesa source (meson, ninja, mako, yaml, bison, flex, libdrm/expat/zlib
@@ -57,7 +58,7 @@ for set in "${@:-run build test}"; do
       run) want+=(libvulkan1 mesa-vulkan-drivers) ;;
       build) want+=(gcc g++ make git pkg-config ca-certificates libshaderc-dev glslang-dev
                     spirv-tools) ;;
-      test) want+=(vulkan-validationlayers spirv-tools chromium slurm-wlm munge) ;;
+      test) want+=(vulkan-validationlayers spirv-tools chromium chromium-driver slurm-wlm munge) ;;
       intel) want+=(meson ninja-build python3-mako python3-yaml bison flex libdrm-dev
                     libexpat1-dev zlib1g-dev pkg-config dpkg-dev xz-utils ca-certificates) ;;
       compilers) want+=(ninja-build python3-mako python3-yaml python3-pip bison flex gcc g++
@@ -87,6 +88,7 @@ role() {
     spirv-tools) echo "SPIRV-Tools' static libraries and spirv-val" ;;
     vulkan-validationlayers) echo "the Khronos validation layer (VK_LAYER_KHRONOS_validation)" ;;
     chromium) echo "a headless Chromium (chromium on PATH)" ;;
+    chromium-driver) echo "chromedriver (WebDriver for Chromium)" ;;
     slurm-wlm) echo "Slurm's slurmctld, slurmd, sbatch" ;;
     munge) echo "munged (Slurm's authentication)" ;;
     python3-mako | python3-yaml | python3-pip) echo "Python's ${1#python3-} module" ;;
@@ -146,6 +148,7 @@ present() {
     spirv-tools) has_cmd spirv-val && has_lib libSPIRV-Tools.a ;;
     vulkan-validationlayers) has_manifest explicit_layer.d VK_LAYER_KHRONOS_validation ;;
     chromium) has_cmd chromium || has_cmd chromium-browser ;;
+    chromium-driver) has_cmd chromedriver ;;
     slurm-wlm) has_cmd slurmctld && has_cmd slurmd ;;
     munge) has_cmd munged ;;
     python3-mako) has_py mako ;;

@@ -9,7 +9,7 @@
 //! | layer | modules | owns |
 //! |---|---|---|
 //! | command line | [`cli`] | clap types, one file per command, exit codes |
-//! | report | [`report`], [`corpus`] | the main job: compare, bench and stress per scene, one offline HTML page; a mesh corpus in shards, merged |
+//! | report | [`report`], [`corpus`], [`explore`] | the main job: compare, bench and stress per scene, one offline HTML page; a mesh corpus in shards, merged; a local page where a method is edited and its error and cost follow |
 //! | jobs | [`compare`], [`bench`], [`verify`], [`stress`], [`plan`], [`isa`], [`prove`], [`costs`], [`tune`] | a run over methods: statistics, heatmaps, timing, claims; GPU against its own f64 twin; sweeps of each method's input domain; the programs compiled for the GPU families of every vendor without the GPUs (RADV's null device, Mesa's drm-shims; a vendor per file in [`isa::route`]); proven error bounds by interval branch-and-bound; the inverse square root tuned to a mesh, proven and costed |
 //! | judgement | [`analysis`], [`truth`], [`cases`], [`cost`], [`auto`] | per-pixel error (one definition), statistics; f64 truth and bound; the cases of the sweeps, shared by the jobs that sweep; cost models (one type family, their sources' interface and registry, the verdict rules); `auto`'s budget, candidates and per-triangle choice |
 //! | device | [`gpu`], [`software`], [`engine`] | [`gpu::vk`] (the only user of `ash`), [`gpu::gl`] (the only user of EGL and OpenGL), shaders, SPIR-V, renderer, timed draws; the software scanline engine (same frames, each method in its incremental span form); the choice between the two, shared by the jobs that render |
@@ -56,6 +56,7 @@ pub mod cost;
 pub mod costs;
 pub mod engine;
 pub mod error;
+pub mod explore;
 pub mod frame;
 pub mod geometry;
 pub mod gpu;

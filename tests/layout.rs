@@ -12,7 +12,7 @@ mod rings;
 /// within a layer, dependencies must not form a cycle.
 const LAYERS: &[&[&str]] = &[
     &["main", "cli"],
-    &["report", "corpus"],
+    &["report", "corpus", "explore"],
     &[
         "compare", "bench", "verify", "stress", "plan", "isa", "prove", "costs", "tune",
     ],

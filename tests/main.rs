@@ -37,6 +37,9 @@
 //!   compare within their proven bounds, a form's cost independent of its coefficients.
 //! - `yours`: `--method-file` (issue 28): the examples of docs/examples/methods/ through compare,
 //!   stress, isa and report; the bit trick's error against its known figure; the refusals.
+//! - `explore`: `shadelab explore`'s API with a real HTTP client (its figures are compare's and
+//!   isa's, a broken GLSL's line, an upload, the guard, superseding, a hung render, kill -9) and
+//!   its page in headless Chromium.
 //! - `one_row`: a test-only method, its GLSL file and one row (issue 38), through verify on both
 //!   engines, stress, prove, list and the report's answer.
 //! - `inputs`: glTF 2.0 and PLY beside OBJ: hand-checked node transforms, every encoding the
@@ -54,6 +57,8 @@ mod compare;
 mod corpus;
 mod costs;
 mod docs;
+mod explore;
+mod explore_page;
 mod float16;
 mod fuzz;
 mod gpu;

@@ -39,9 +39,16 @@ fn worker_job(name: &str, request: serde_json::Value) -> Result<serde_json::Valu
             let report = crate::isa::child::compile(&r)?;
             serde_json::to_value(report).map_err(|e| Error::output("the worker's reply", e))
         }
+        crate::explore::render::RenderRequest::NAME => {
+            let r: crate::explore::render::RenderRequest = serde_json::from_value(request)
+                .map_err(|e| Error::Usage(format!("worker {name}: not its request: {e}")))?;
+            let reply = crate::explore::render::render(&r)?;
+            serde_json::to_value(reply).map_err(|e| Error::output("the worker's reply", e))
+        }
         other => Err(Error::Usage(format!(
-            "unknown worker job {other:?} (a worker serves {})",
-            crate::isa::ChildRequest::NAME
+            "unknown worker job {other:?} (a worker serves {} and {})",
+            crate::isa::ChildRequest::NAME,
+            crate::explore::render::RenderRequest::NAME
         ))),
     }
 }
@@ -74,6 +81,11 @@ pub(super) fn cmd_child(file: &Path) -> Result<ExitCode> {
         crate::isa::ChildRequest::NAME => child::serve(env, |r: crate::isa::ChildRequest| {
             crate::isa::child::compile(&r)
         })?,
+        crate::explore::render::RenderRequest::NAME => {
+            child::serve(env, |r: crate::explore::render::RenderRequest| {
+                crate::explore::render::render(&r)
+            })?
+        }
         other => {
             return Err(Error::Usage(format!(
                 "{}: unknown child job {other:?} (expected bench_run or isa_family)",

@@ -7,6 +7,7 @@ mod child;
 mod compare;
 mod corpus;
 mod demo;
+mod explore;
 mod isa;
 mod list;
 mod merge;
@@ -262,6 +263,9 @@ enum Command {
     /// The compile store of the GPU families' static cost: its folder, entries and size;
     /// checks (--verify) and prunes (--prune, --max-size) it (docs/isa.md "Compile store").
     Cache(self::cache::CacheArgs),
+    /// A local page where a method is picked or edited and its error map and its cost on every
+    /// GPU family follow while you type (docs/explore.md); prints its URL, serves until Ctrl-C.
+    Explore(self::explore::ExploreArgs),
     /// List the Vulkan devices the loader reports.
     Devices,
     /// Internal: one job of a parent shadelab process (src/child.rs), from its request file.
@@ -296,6 +300,7 @@ pub fn run() -> Result<ExitCode> {
         Command::Corpus(a) => self::corpus::cmd_corpus(a),
         Command::Merge(a) => self::merge::cmd_merge(a),
         Command::Cache(a) => self::cache::cmd_cache(&a),
+        Command::Explore(a) => self::explore::cmd_explore(&a),
         Command::Devices => {
             for d in Context::list_devices()? {
                 println!("{d}");

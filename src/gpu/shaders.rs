@@ -609,6 +609,24 @@ pub fn embedded(program: &str, stage: &str) -> Result<&'static [u8]> {
         })
 }
 
+/// `m`'s GLSL as a method file (docs/your-method.md): a user method's text, or a built-in
+/// method's glsl/methods/ source with its `// shadelab-inputs:` line first (what `explore`
+/// offers to edit). `None` for a row without a source of its own.
+pub fn method_file_text(m: &crate::method::Method) -> Option<String> {
+    use crate::method::user;
+    if let Some(u) = user::of(m) {
+        return Some(u.source.clone());
+    }
+    let file = m.glsl.strip_prefix("methods/")?;
+    let (_, text) = EMBEDDED_METHOD_GLSL.iter().find(|(n, _)| *n == file)?;
+    let inputs: Vec<&str> = m.inputs.iter().map(|i| user::input_name(*i)).collect();
+    Some(format!(
+        "{} {}\n{text}",
+        user::INPUTS_MARKER,
+        inputs.join(", ")
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

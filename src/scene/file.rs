@@ -16,9 +16,14 @@ use crate::geometry::{fit_unit, load_mesh, Generator, LoadReport, Mesh};
 /// screen-linear interpolation. Named after the file stem. Errors are [`load_mesh`]'s.
 pub fn scene_for_mesh(path: &Path) -> Result<Scene> {
     let (mesh, report) = load_mesh(path)?;
+    Ok(scene_for_loaded(file_stem(path), mesh, report))
+}
+
+/// [`scene_for_mesh`] of a mesh already read (an upload to `explore`, never on the disk).
+pub fn scene_for_loaded(name: String, mesh: Mesh, report: LoadReport) -> Scene {
     let (width, height) = (DEFAULT_IMAGE_SIZE, DEFAULT_IMAGE_SIZE);
-    Ok(Scene {
-        name: file_stem(path),
+    Scene {
+        name,
         mesh,
         mesh_report: Some(report),
         camera: fit_camera(DEFAULT_FOV_Y_DEG, width as f64 / height as f64),
@@ -28,7 +33,7 @@ pub fn scene_for_mesh(path: &Path) -> Result<Scene> {
         height,
         interpolation: Interpolation::default(),
         cull: Cull::default(),
-    })
+    }
 }
 
 fn file_stem(path: &Path) -> String {

@@ -92,10 +92,19 @@ pub fn call<J: Job>(
     }
 }
 
+/// The limits [`global`] is made with ([`configure`]; [`Limits::default`] otherwise).
+static GLOBAL_LIMITS: OnceLock<Limits> = OnceLock::new();
+
 /// This process's pool.
 pub fn global() -> &'static Pool {
     static POOL: OnceLock<Pool> = OnceLock::new();
-    POOL.get_or_init(|| Pool::new(Limits::default()))
+    POOL.get_or_init(|| Pool::new(GLOBAL_LIMITS.get().copied().unwrap_or_default()))
+}
+
+/// Sets the limits of this process's pool (a server's shorter deadline), before its first use
+/// (a pool already made keeps its limits); false when configured before.
+pub fn configure(limits: Limits) -> bool {
+    GLOBAL_LIMITS.set(limits).is_ok()
 }
 
 /// What tells two workers apart: the binary and the driver's environment.
