@@ -1104,7 +1104,7 @@ async function init() {
   bindEvents();
   buildStatsRows();
   try {
-    const r = await fetch(API + 'session', { credentials: 'same-origin' });
+    const r = await fetch(API + 'choices', { credentials: 'same-origin' });
     if (!r.ok) throw await errorOf(r);
     st.session = await r.json();
   } catch (e) {
