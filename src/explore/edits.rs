@@ -91,10 +91,9 @@ impl Edits {
             .and_then(|()| crate::gpu::shaders::register_user(&paths));
         match registered {
             Ok(()) => {
-                let name: &'static str =
-                    crate::method::find(&name).map_err(Refused::Internal)?.name;
-                known.insert(sha, Ok(name));
-                crate::method::find(name).map_err(Refused::Internal)
+                let m = crate::method::find(&name).map_err(Refused::Internal)?;
+                known.insert(sha, Ok(m.name));
+                Ok(m)
             }
             Err(Error::Usage(message)) | Err(Error::Shader(message)) => {
                 let errors = by_line(&path, &message);
