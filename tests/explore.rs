@@ -229,8 +229,11 @@ fn a_cost_is_isas_ratio_for_a_method_and_an_edit() {
     ) {
         return;
     }
-    let s = Server::start(&[]);
     let dir = tempfile::tempdir().unwrap();
+    // a method given by `--method-file` is offered by name, as any of the table's
+    let theirs = dir.path().join("theirs.glsl");
+    std::fs::write(&theirs, source("    return n * inversesqrt(dot(n, n));")).unwrap();
+    let s = Server::start(&["--method-file", theirs.to_str().unwrap()]);
     let edit =
         source("    real z = dot(n, n);\n    return n * (R(0.5) * (R(3.0) - z)) * R(1.0001);");
     let file = dir.path().join("mine.glsl");
@@ -239,6 +242,7 @@ fn a_cost_is_isas_ratio_for_a_method_and_an_edit() {
         ("newton_raphson", json!({"name": "newton_raphson"}), "f32"),
         ("newton_raphson", json!({"name": "newton_raphson"}), "f16"),
         ("mine", json!({"source": edit}), "f32"),
+        ("theirs", json!({"name": "theirs"}), "f32"),
     ] {
         let (status, lines) = s.post(
             "/api/v1/cost",
@@ -264,8 +268,16 @@ fn a_cost_is_isas_ratio_for_a_method_and_an_edit() {
             out.to_str().unwrap(),
         ];
         let f = file.to_str().unwrap();
-        if method == "mine" {
-            args.splice(0..0, ["--method-file", f]);
+        let t = theirs.to_str().unwrap();
+        match method {
+            "mine" => drop(args.splice(0..0, ["--method-file", f])),
+            "theirs" => {
+                // the command line the page shows names the file where it is
+                let shown = last["isa"].as_str().unwrap();
+                assert!(shown.contains(&format!("--method-file {t} ")), "{shown}");
+                drop(args.splice(0..0, ["--method-file", t]));
+            }
+            _ => {}
         }
         let (code, _, err) = crate::support::run(&args);
         assert_eq!(code, 0, "{err}");

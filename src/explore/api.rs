@@ -435,14 +435,18 @@ fn verdict(r: &MethodReport, budget: ErrorBudget) -> Value {
     json!({"limit": limit, "within": within, "why": why})
 }
 
-/// The option that makes a method known to a command, and its name.
-fn method_options(m: &Method) -> String {
+/// The option that makes a method known to a command, and its name: a `--method-file` method
+/// by the path it was given; an edit by the name the page saves it under (`NAME.glsl`), since
+/// its copy lives in the server's temporary folder.
+fn method_options(s: &Server, m: &Method) -> String {
     match crate::method::user::of(m) {
         Some(u) => {
-            let file = std::path::Path::new(&u.path)
-                .file_name()
-                .map(|f| f.to_string_lossy().into_owned())
-                .unwrap_or_default();
+            let path = std::path::Path::new(&u.path);
+            let file = if path.starts_with(s.temp.path()) {
+                format!("{}.glsl", m.name)
+            } else {
+                path.display().to_string()
+            };
             format!("--method-file {file} --methods {}", m.name)
         }
         None => format!("--methods {}", m.name),
@@ -534,7 +538,7 @@ async fn render(State(s): State<Shared>, Json(b): Json<RenderBody>) -> Answer<Js
         "heatmap_png": b64(&r.heatmap_png),
         "compare": format!(
             "shadelab compare {scene_option} {} --size {size}x{size}{} --out OUT",
-            method_options(method),
+            method_options(&s, method),
             precision_option(precision)
         ),
         "worker_ms": r.elapsed_ms,
@@ -608,7 +612,7 @@ async fn cost_stream(State(s): State<Shared>, Json(b): Json<CostBody>) -> Answer
             "elapsed_ms": start.elapsed().as_secs_f64() * 1e3,
             "isa": format!(
                 "shadelab isa {}{} --out OUT",
-                method_options(method),
+                method_options(&s, method),
                 precision_option(precision)
             ),
         })));
