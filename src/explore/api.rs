@@ -257,14 +257,10 @@ fn method_json(m: &Method, stress: &std::collections::HashMap<String, f64>) -> V
 }
 
 async fn choices(State(s): State<Shared>) -> Json<Value> {
-    let edits = s.temp.path().join("edits");
     let methods: Vec<Value> = crate::method::all()
         .into_iter()
-        .filter(|m| {
-            // the server's own edits are the page's, not offered as methods
-            crate::method::user::of(m)
-                .is_none_or(|u| !std::path::Path::new(&u.path).starts_with(&edits))
-        })
+        // the server's own edits are the page's, not offered as methods
+        .filter(|m| !s.edits.holds(m))
         .map(|m| method_json(m, &s.stress_angles))
         .collect();
     let scenes: Vec<Value> = s
@@ -436,16 +432,16 @@ fn verdict(r: &MethodReport, budget: ErrorBudget) -> Value {
 }
 
 /// The option that makes a method known to a command, and its name: a `--method-file` method
-/// by the path it was given; an edit by the name the page saves it under (`NAME.glsl`), since
-/// its copy lives in the server's temporary folder.
+/// by the path it was given; an edit by its id's file name (`edit_<sha>.glsl`, which the page
+/// renames to the name it saves the file under), since its copy lives in the server's
+/// temporary folder.
 fn method_options(s: &Server, m: &Method) -> String {
     match crate::method::user::of(m) {
         Some(u) => {
-            let path = std::path::Path::new(&u.path);
-            let file = if path.starts_with(s.temp.path()) {
+            let file = if s.edits.holds(m) {
                 format!("{}.glsl", m.name)
             } else {
-                path.display().to_string()
+                u.path.clone()
             };
             format!("--method-file {file} --methods {}", m.name)
         }

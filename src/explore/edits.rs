@@ -46,6 +46,12 @@ pub struct Edits {
 }
 
 impl Edits {
+    /// Whether `m` is one of these edits (its file lies under their folder), not a method of
+    /// the table or of `--method-file`.
+    pub fn holds(&self, m: &crate::method::Method) -> bool {
+        crate::method::user::of(m).is_some_and(|u| Path::new(&u.path).starts_with(&self.dir))
+    }
+
     /// Edits written under `dir` (the server's temporary folder).
     pub fn new(dir: &Path) -> Result<Edits> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
