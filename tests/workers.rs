@@ -128,8 +128,9 @@ fn ready(test: &str) -> bool {
 }
 
 /// A worker that never answers (a program that sleeps, in a worker's place) is stopped at the
-/// deadline with a reason that says so, within a second of it; the pool then serves the next
-/// request.
+/// deadline with a reason that says so, within two seconds of it; the pool then serves the next
+/// request. The deadline (4 s) is the one both requests run under: the next one starts a cold
+/// worker, which took over a second on a loaded 2-core CI machine.
 #[test]
 fn a_worker_that_hangs_is_stopped_at_its_deadline_and_the_next_request_is_served() {
     if !ready("workers::a_worker_that_hangs_is_stopped_at_its_deadline") {
@@ -141,7 +142,7 @@ fn a_worker_that_hangs_is_stopped_at_its_deadline_and_the_next_request_is_served
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(&hang, std::fs::Permissions::from_mode(0o755)).unwrap();
     let pool = Pool::new(Limits {
-        deadline: Duration::from_secs(1),
+        deadline: Duration::from_secs(4),
         ..Limits::default()
     });
     let (spawn, req) = family_request(FAMILY, &["phong_exact"]);
@@ -154,10 +155,13 @@ fn a_worker_that_hangs_is_stopped_at_its_deadline_and_the_next_request_is_served
     let took = start.elapsed();
     assert!(f.stopped, "{f}");
     assert!(
-        f.why.contains("no reply in 1.0 s: the worker was stopped"),
+        f.why.contains("no reply in 4.0 s: the worker was stopped"),
         "{f}"
     );
-    assert!(took < Duration::from_secs(3), "{took:?}");
+    assert!(
+        (Duration::from_secs(4)..Duration::from_secs(6)).contains(&took),
+        "{took:?}"
+    );
     let r = pool.call(&spawn, &req, dir.path(), "next").unwrap();
     assert!(!r.compiled.is_empty());
     assert_eq!(pool.started(), 2);
