@@ -94,3 +94,56 @@ fn calibrate_refuses_the_method_options() {
     assert!(stderr.contains("--methods"), "{stderr}");
     assert!(!out.join("calibration.json").exists());
 }
+
+/// Every family set up prices every calibration step above zero (fused steps aside, each
+/// with its reason), and one FMA at one unit where the model counts FMAs. Teeth: Intel read
+/// in brw's latency estimate (`cycle_count`, the former ranking) fails, as a reciprocal
+/// comes out at or below nothing and an FMA at many cycles.
+#[test]
+fn every_family_prices_every_step_above_zero() {
+    let families =
+        crate::store::set_up_families("calibrate::every_family_prices_every_step_above_zero");
+    if families.is_empty() {
+        return;
+    }
+    let exe = std::path::PathBuf::from(env!("CARGO_BIN_EXE_shadelab"));
+    let report = calibrate::compile(exe, families.clone(), &|_| {}).unwrap();
+    let cal = calibrate::calibrate(&report, 0.0);
+    let compiled: Vec<&str> = cal
+        .families
+        .iter()
+        .filter(|f| f.supported)
+        .map(|f| f.family.as_str())
+        .collect();
+    assert_eq!(compiled, families, "{:#?}", cal.families);
+    for f in &cal.families {
+        assert_eq!(f.step.len(), calibrate::KERNELS.len(), "{}", f.family);
+        assert!(
+            calibrate::not_positive(f).is_empty(),
+            "{:?}",
+            calibrate::not_positive(f)
+        );
+        for r in &f.fused {
+            assert!(calibrate::fused(&f.family).any(|x| x.ratio == *r && !x.why.is_empty()));
+        }
+    }
+    // Teeth: brw's latency estimate as the model.
+    let intel: Vec<&String> = families
+        .iter()
+        .filter(|f| f.starts_with("intel:"))
+        .collect();
+    if intel.is_empty() {
+        return;
+    }
+    let latency = calibrate::calibrate_in(&report, 0.0, &|f| {
+        f.id.starts_with("intel:")
+            .then(|| "cycle_count".to_string())
+    });
+    let failing: Vec<&str> = latency
+        .families
+        .iter()
+        .filter(|f| f.family.starts_with("intel:") && !calibrate::not_positive(f).is_empty())
+        .map(|f| f.family.as_str())
+        .collect();
+    assert!(!failing.is_empty(), "{:#?}", latency.families);
+}

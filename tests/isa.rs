@@ -624,6 +624,15 @@ fn every_method_compiles_on_every_vendor_family() {
         tgl.statistics["cycle_count"],
         tgl.statistics[&format!("simd{w}_cycle_count")]
     );
+    // The ranking is the busier unit's FMAs per pixel at that width, not brw's latency.
+    let (fpu, em) = (tgl.statistics["fpu_fmas"], tgl.statistics["em_fmas"]);
+    assert_eq!(fpu, tgl.statistics[&format!("simd{w}_fpu_fmas")]);
+    assert_eq!(tgl.statistics["model_cycles"], fpu.max(em));
+    assert!(fpu > 0.0 && em > 0.0, "{fpu} {em}");
+    assert_ne!(
+        tgl.statistics["model_cycles"],
+        tgl.statistics["cycle_count"]
+    );
     assert!(tgl.statistics.contains_key("simd8_instruction_count"));
     let dir = tempfile::tempdir().unwrap();
     isa::files::write(dir.path(), &r).unwrap();

@@ -166,10 +166,10 @@ fn calibrate(args: IsaArgs) -> Result<ExitCode> {
         "family", "rsqrt", "rcp", "dot", "normalize"
     );
     for f in cal.families.iter().filter(|f| f.supported) {
-        let r = |k| {
-            f.model
-                .get(&k)
-                .map_or("-".to_string(), |v: &f64| format!("{v:.2}"))
+        let r = |k| match f.model.get(&k) {
+            _ if f.fused.contains(&k) => "fused".to_string(),
+            Some(v) => format!("{v:.2}"),
+            None => "-".to_string(),
         };
         use isa::calibrate::Ratio;
         let checks: Vec<String> = f
@@ -199,6 +199,9 @@ fn calibrate(args: IsaArgs) -> Result<ExitCode> {
             r(Ratio::Normalize),
             checks.join("; ")
         );
+    }
+    for line in cal.families.iter().flat_map(isa::calibrate::not_positive) {
+        log::warn!("isa --calibrate: {line}: this model cannot rank programs");
     }
     println!(
         "{} families ({} compiled) in {:.1} s; {}",

@@ -117,6 +117,16 @@ pub enum Ratio {
 pub const RATIOS: [Ratio; 4] = [Ratio::Rsqrt, Ratio::Rcp, Ratio::Dot, Ratio::Normalize];
 
 impl Ratio {
+    /// The kernel whose step gives the ratio.
+    pub fn kernel(self) -> Kernel {
+        match self {
+            Ratio::Rsqrt => Kernel::Rsqrt,
+            Ratio::Rcp => Kernel::Rcp,
+            Ratio::Dot => Kernel::Dot,
+            Ratio::Normalize => Kernel::Normalize,
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Ratio::Rsqrt => "rsqrt",
@@ -133,13 +143,12 @@ impl Ratio {
     /// costs nothing in the model, or the result is not finite.
     pub fn of(self, step: &BTreeMap<Kernel, f64>) -> Option<f64> {
         let fma = *step.get(&Kernel::Fma)?;
-        let (kernel, per_step, extra) = match self {
-            Ratio::Rsqrt => (Kernel::Rsqrt, 1.0, 0.0),
-            Ratio::Rcp => (Kernel::Rcp, 1.0, 1.0),
-            Ratio::Dot => (Kernel::Dot, 3.0, 0.0),
-            Ratio::Normalize => (Kernel::Normalize, 1.0, 0.0),
+        let (per_step, extra) = match self {
+            Ratio::Rsqrt | Ratio::Normalize => (1.0, 0.0),
+            Ratio::Rcp => (1.0, 1.0),
+            Ratio::Dot => (3.0, 0.0),
         };
-        let r = step.get(&kernel)? / fma / per_step - extra;
+        let r = step.get(&self.kernel())? / fma / per_step - extra;
         (fma > 0.0 && r.is_finite()).then_some(r)
     }
 }
@@ -344,11 +353,19 @@ pub struct FamilyCalibration {
     pub status: String,
     /// The ranking statistic the kernels were read in (docs/isa.md).
     pub statistic: Option<String>,
+    /// Its unit ("FP32 FMAs per pixel", "cycles per wave"): where it counts FMAs, the FMA
+    /// step must be one of it ([`not_positive`]).
+    #[serde(default)]
+    pub unit: Option<String>,
     /// The cost of one step of each kernel, in the statistic's unit.
     pub step: BTreeMap<Kernel, f64>,
     /// Each ratio the model gives (absent where it gives none: an FMA step that costs
     /// nothing, a kernel missing).
     pub model: BTreeMap<Ratio, f64>,
+    /// The ratios whose step the family's compiler fuses into its neighbours ([`FUSED`]):
+    /// zero or below by design, reported as fused.
+    #[serde(default)]
+    pub fused: Vec<Ratio>,
     pub checks: Vec<Check>,
 }
 
@@ -377,13 +394,26 @@ pub fn write_kernels(dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(paths)
 }
 
-/// Each family's calibration out of `report` (the kernels compiled as draws).
+/// Each family's calibration out of `report` (the kernels compiled as draws), read in each
+/// family's ranking statistic.
 pub fn calibrate(report: &IsaReport, elapsed_s: f64) -> Calibration {
+    calibrate_in(report, elapsed_s, &|f| {
+        f.ranking.as_ref().map(|r| r.key.clone())
+    })
+}
+
+/// [`calibrate`] read in the statistic `key_of` names for each family (another statistic
+/// than the ranking: what a test of [`not_positive`] feeds it to show it can fail).
+pub fn calibrate_in(
+    report: &IsaReport,
+    elapsed_s: f64,
+    key_of: &dyn Fn(&super::report::FamilyStatus) -> Option<String>,
+) -> Calibration {
     let families = report
         .families
         .iter()
         .map(|f| {
-            let key = f.ranking.as_ref().map(|r| r.key.clone());
+            let key = key_of(f);
             let step: BTreeMap<Kernel, f64> = match &key {
                 Some(key) if f.supported => KERNELS
                     .iter()
@@ -400,6 +430,8 @@ pub fn calibrate(report: &IsaReport, elapsed_s: f64) -> Calibration {
                 family: f.id.clone(),
                 supported: f.supported,
                 status: f.status.clone(),
+                unit: f.ranking.as_ref().map(|r| r.unit.clone()),
+                fused: fused(&f.id).map(|x| x.ratio).collect(),
                 statistic: key,
                 step,
                 model,
@@ -414,6 +446,74 @@ pub fn calibrate(report: &IsaReport, elapsed_s: f64) -> Calibration {
         families,
         elapsed_s,
     }
+}
+
+/// A step that a family's compiler fuses into the operations around it, so that its marginal
+/// cost in the family's model is zero by design, not by a model that prices latency.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fused {
+    pub family: &'static str,
+    pub ratio: Ratio,
+    /// Why, in the compiler's terms (docs/calibration.md says it too).
+    pub why: &'static str,
+}
+
+/// Every fused step.
+pub const FUSED: [Fused; 2] = [
+    Fused {
+        family: "arm:mali450",
+        ratio: Ratio::Rcp,
+        why: "lima's Utgard fragment processor issues a VLIW instruction with a scalar \
+              special-function slot beside the vector adder: the reciprocal shares the \
+              addition's instruction, so the step costs the addition alone",
+    },
+    Fused {
+        family: "arm:t860",
+        ratio: Ratio::Rcp,
+        why: "panfrost's Midgard bundles put the reciprocal on the special-function (LUT) \
+              unit in the same bundle as the addition: the step costs the addition alone",
+    },
+];
+
+/// The fused steps of `family`.
+pub fn fused(family: &str) -> impl Iterator<Item = &'static Fused> + '_ {
+    FUSED.iter().filter(move |f| f.family == family)
+}
+
+/// The units in which one FP32 FMA is one unit of the model: a family ranked in one of them
+/// must find its FMA step within 10% of one.
+pub const FMA_UNITS: [&str; 2] = [super::route::intel::UNIT, super::route::nouveau::UNIT];
+
+/// What makes `f`'s model unfit to rank programs, a line each (empty when nothing does): a
+/// kernel's step that costs nothing or less, a ratio that is zero or negative and not
+/// [`FUSED`], an FMA step that is not one unit of an FMA-counting model.
+pub fn not_positive(f: &FamilyCalibration) -> Vec<String> {
+    if !f.supported {
+        return Vec::new();
+    }
+    let mut lines = Vec::new();
+    for (k, v) in &f.step {
+        let fused_step = RATIOS
+            .iter()
+            .any(|r| r.kernel() == *k && f.fused.contains(r) && *k != Kernel::Fma);
+        if !(*v > 0.0) && !fused_step {
+            lines.push(format!("{}: the {} step costs {v}", f.family, k.name()));
+        }
+    }
+    for (r, v) in &f.model {
+        if !(*v > 0.0) && !f.fused.contains(r) {
+            lines.push(format!("{}: {} costs {v:.3} FMAs", f.family, r.name()));
+        }
+    }
+    if let (Some(unit), Some(fma)) = (&f.unit, f.step.get(&Kernel::Fma)) {
+        if FMA_UNITS.contains(&unit.as_str()) && !(0.9..=1.1).contains(fma) {
+            lines.push(format!(
+                "{}: an FMA step costs {fma:.3} in a model counted in {unit}",
+                f.family
+            ));
+        }
+    }
+    lines
 }
 
 /// The checks of `family`'s `model` ratios against [`MEASUREMENTS`].
@@ -456,15 +556,13 @@ fn step_cost(report: &IsaReport, family: &str, kernel: Kernel, key: &str) -> Opt
     per.is_finite().then_some(per)
 }
 
-/// Compiles the kernels on `families` (every default family when empty) with `exe`'s children
-/// and writes `out`/calibration.json; the calibration.
-pub fn run(
+/// Compiles the kernels on `families` (every default family when empty) with `exe`'s
+/// children: the report their calibration is read from. `progress` hears each family.
+pub fn compile(
     exe: PathBuf,
     families: Vec<String>,
-    out: &Path,
     progress: &(dyn Fn(&str) + Sync),
-) -> Result<Calibration> {
-    let start = std::time::Instant::now();
+) -> Result<IsaReport> {
     let dir = crate::cleanup::TempDir::new("calibrate")
         .map_err(|e| Error::io(std::env::temp_dir(), e))?;
     let paths = write_kernels(dir.path())?;
@@ -494,7 +592,19 @@ pub fn run(
         // the kernels are keyed by their content, so a second calibration reads them back
         store: super::store::default_store(),
     };
-    let report = super::run_with(&opts, true, progress)?;
+    super::run_with(&opts, true, progress)
+}
+
+/// Compiles the kernels on `families` (every default family when empty) with `exe`'s children
+/// and writes `out`/calibration.json; the calibration.
+pub fn run(
+    exe: PathBuf,
+    families: Vec<String>,
+    out: &Path,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Calibration> {
+    let start = std::time::Instant::now();
+    let report = compile(exe, families, progress)?;
     let cal = calibrate(&report, start.elapsed().as_secs_f64());
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let path = out.join("calibration.json");
@@ -560,5 +670,55 @@ mod tests {
         assert_eq!(Ratio::Dot.of(&s), Some(2.0));
         assert!(g.contains("#define METHOD_COLOR") && g.contains("shadelab-inputs:"));
         assert_eq!(Kernel::Dot.method(128), "calibration_dot_128");
+    }
+
+    fn family(name: &str, unit: &str, step: BTreeMap<Kernel, f64>) -> FamilyCalibration {
+        let model = RATIOS
+            .iter()
+            .filter_map(|&r| Some((r, r.of(&step)?)))
+            .collect();
+        FamilyCalibration {
+            family: name.into(),
+            supported: true,
+            status: "compiled".into(),
+            statistic: Some("model_cycles".into()),
+            unit: Some(unit.into()),
+            step,
+            model,
+            fused: fused(name).map(|f| f.ratio).collect(),
+            checks: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_model_that_prices_latency_is_not_positive() {
+        let unit = crate::isa::route::intel::UNIT;
+        // A throughput model: every step above zero, one FMA one unit.
+        assert!(not_positive(&family("intel:icl", unit, steps(1.0, 2.0, 2.0))).is_empty());
+        // Teeth: brw's latency estimate of icl (an FMA 44.25 cycles, a reciprocal with its
+        // addition 36): a negative reciprocal and an FMA that is not one unit.
+        let latency = not_positive(&family("intel:icl", unit, steps(44.25, 51.0, 36.0)));
+        assert_eq!(latency.len(), 2, "{latency:?}");
+        assert!(latency[0].contains("rcp costs -0.186"), "{latency:?}");
+        assert!(
+            latency[1].contains("an FMA step costs 44.250"),
+            "{latency:?}"
+        );
+        // A step that costs nothing fails too, in a model of any unit.
+        let free = not_positive(&family(
+            "amd:navi21",
+            "cycles per wave",
+            steps(4.0, 0.0, 8.0),
+        ));
+        assert_eq!(free.len(), 2, "{free:?}");
+        // A fused step is reported as fused, not as a failure; elsewhere the same figure fails.
+        assert!(not_positive(&family("arm:t860", "cycles", steps(1.0, 4.0, 1.0))).is_empty());
+        assert_eq!(
+            not_positive(&family("arm:g57", "cycles", steps(1.0, 4.0, 1.0))).len(),
+            1
+        );
+        assert!(FUSED
+            .iter()
+            .all(|f| f.why.len() > 40 && f.family.contains(':')));
     }
 }

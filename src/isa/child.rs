@@ -72,7 +72,7 @@ fn compile_vulkan(
     vendor
         .check_device(chip, &info.name)
         .map_err(|why| Error::Device(format!("{}: {why}", req.family)))?;
-    let keep = |exes| keep_disassembly(vendor.merge_executables(exes));
+    let keep = |exes| keep_disassembly(vendor.merge_executables(chip, exes));
     // A driver that prints its compiler's statistics on stderr: each compile caught alone.
     let caught = |program: &str, compile: &dyn Fn() -> Result<Vec<Executable>>| {
         if !vendor.statistics_on_stderr() {

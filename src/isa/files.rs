@@ -173,7 +173,7 @@ mod tests {
         let h = header(&r);
         assert!(h.contains(",inst,") && h.contains(",ratio_sfu_ops,"), "{h}");
         // Teeth: without an NVIDIA family, no NVIDIA column.
-        let r = report(&["intel:tgl"], &[("cycle_count", 300.0)]);
+        let r = report(&["intel:tgl"], &[("model_cycles", 30.0)]);
         assert!(!columns(&r).contains(&"sfu_ops"));
         assert!(!columns(&r).contains(&"inverse_throughput"));
     }

@@ -279,10 +279,10 @@ mod tests {
         );
         let methods: Vec<&'static Method> = vec![exact, floor];
         let costs = [(exact.name, 332.0), (floor.name, 249.0)];
-        let intel = table(&report("intel:tgl", "cycle_count", &costs), &methods);
+        let intel = table(&report("intel:tgl", "model_cycles", &costs), &methods);
         assert!(intel.contains("<td><b>0.75</b></td>"), "{intel}");
         // A per-pipe model's bound unit is named beside the ratio; a single-pipe one is not.
-        let mut mali = report("intel:tgl", "cycle_count", &costs);
+        let mut mali = report("intel:tgl", "model_cycles", &costs);
         mali.results[1].bound_unit = Some(crate::isa::throughput::Unit::LoadStore);
         let mali = table(&mali, &methods);
         assert!(
@@ -291,7 +291,7 @@ mod tests {
         );
         assert!(!intel.contains("<small>"), "{intel}");
         // Teeth: a statistic that is not the family's ranking one is no figure.
-        let other = table(&report("intel:tgl", "inverse_throughput", &costs), &methods);
+        let other = table(&report("intel:tgl", "cycle_count", &costs), &methods);
         assert!(
             !other.contains("0.75") && other.contains("<td>-</td>"),
             "{other}"

@@ -22,8 +22,12 @@ use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::{Api, Compiler, Ranking, Setup, Vendor};
+use super::{brw_issue, Api, Compiler, Ranking, Setup, Vendor};
 use crate::gpu::vk::{Executable, Representation, StatValue, Statistic};
+use crate::isa::throughput;
+
+/// The unit of the model: one SIMD-width FP32 FMA is one per pixel.
+pub const UNIT: &str = "FP32 FMAs per pixel";
 
 /// The route through ANV and brw.
 pub struct Intel;
@@ -83,20 +87,35 @@ impl Vendor for Intel {
 
     fn ranking(&self) -> Ranking {
         Ranking {
-            key: "cycle_count".into(),
+            key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: RowKind::Draw,
-            unit: "cycles per thread".into(),
-            meaning: "brw's cycle estimate of one thread at the SIMD width the driver dispatches \
-                      (the widest it kept: `dispatch_width`); a static model, not a timing"
+            unit: UNIT.into(),
+            meaning: "busy cycles of the EU's busier back-end unit (FPU `fpu_fmas` or extended \
+                      math `em_fmas`) at the SIMD width the driver dispatches (the widest it \
+                      kept: `dispatch_width`), each instruction at brw's own per-instruction \
+                      rate (brw_ir_performance.cpp), per pixel in FP32 FMAs; brw's latency \
+                      estimate of one thread alone is the statistic `cycle_count`; a static \
+                      model, not a timing"
                 .into(),
         }
+    }
+
+    /// The busier of the FPU and the EM unit ([`brw_issue`]).
+    fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
+        throughput::bound(&[
+            (throughput::Unit::Arithmetic, *stats.get("fpu_fmas")?),
+            (throughput::Unit::Sfu, *stats.get("em_fmas")?),
+        ])
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {
         &[
             "instruction_count",
             "cycle_count",
+            "fpu_fmas",
+            "em_fmas",
+            "model_cycles",
             "send_count",
             "spill_count",
             "fill_count",
@@ -185,8 +204,8 @@ impl Vendor for Intel {
         }
     }
 
-    fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
-        merge_simd(exes)
+    fn merge_executables(&self, chip: &str, exes: Vec<Executable>) -> Vec<Executable> {
+        merge_simd(chip, exes)
     }
 }
 
@@ -232,9 +251,10 @@ fn stat(name: String, value: f64) -> Statistic {
 }
 
 /// One executable per stage: every width's statistics as "SIMD<W> <name>" (with
-/// "GRF registers" from its assembly), the dispatched (widest) width's also under their own
-/// names with "Dispatch Width", and the widths' assemblies one after the other.
-pub fn merge_simd(exes: Vec<Executable>) -> Vec<Executable> {
+/// "GRF registers", "FPU FMAs" and "EM FMAs" from its assembly on `chip`: [`brw_issue`]), the
+/// dispatched (widest) width's also under their own names with "Dispatch Width", and the
+/// widths' assemblies one after the other.
+pub fn merge_simd(chip: &str, exes: Vec<Executable>) -> Vec<Executable> {
     let mut by_stage: BTreeMap<String, Vec<Executable>> = BTreeMap::new();
     let mut order = Vec::new();
     for e in exes {
@@ -274,6 +294,12 @@ pub fn merge_simd(exes: Vec<Executable>) -> Vec<Executable> {
                     description: "distinct general registers the assembly names".into(),
                     value: StatValue::Uint(u64::from(g)),
                 });
+            }
+            if !asm.is_empty() {
+                let busy = brw_issue::busy(&asm, chip);
+                let per_pixel = brw_issue::fma_cycles(w);
+                stats.push(stat("FPU FMAs".into(), busy.fpu / per_pixel));
+                stats.push(stat("EM FMAs".into(), busy.em / per_pixel));
             }
             for s in &stats {
                 let mut p = s.clone();
@@ -327,14 +353,17 @@ mod tests {
 
     #[test]
     fn widths_merge_into_one_row_with_the_widest_unprefixed() {
-        let merged = merge_simd(vec![
-            exe(
-                "SIMD16 fragment",
-                300,
-                "mad(16) g12<1>F g4<8,8,1>F g2<0,1,0>F",
-            ),
-            exe("SIMD8 fragment", 200, "mov(8) g3<1>F g7<8,8,1>F"),
-        ]);
+        let merged = merge_simd(
+            "tgl",
+            vec![
+                exe(
+                    "SIMD16 fragment",
+                    300,
+                    "mad(16) g12<1>F g4<8,8,1>F g2<0,1,0>F",
+                ),
+                exe("SIMD8 fragment", 200, "mov(8) g3<1>F g7<8,8,1>F"),
+            ],
+        );
         assert_eq!(merged.len(), 1);
         let get = |n: &str| {
             merged[0]
@@ -349,8 +378,12 @@ mod tests {
         assert_eq!(get("Dispatch Width"), Some(16.0));
         assert_eq!(get("SIMD8 GRF registers"), Some(2.0));
         assert_eq!(get("GRF registers"), Some(3.0));
+        // One SIMD16 mad is one FMA per pixel; the SIMD8 mov one too, at its own width.
+        assert_eq!(get("FPU FMAs"), Some(1.0));
+        assert_eq!(get("SIMD8 FPU FMAs"), Some(1.0));
+        assert_eq!(get("EM FMAs"), Some(0.0));
         // Teeth: with SIMD8 alone, SIMD8 is what runs.
-        let merged = merge_simd(vec![exe("SIMD8 fragment", 200, "mov(8) g3<1>F g7")]);
+        let merged = merge_simd("tgl", vec![exe("SIMD8 fragment", 200, "mov(8) g3<1>F g7")]);
         let c = merged[0]
             .statistics
             .iter()

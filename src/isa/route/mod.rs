@@ -19,6 +19,7 @@ pub mod amd;
 pub mod apple;
 pub mod arm;
 pub mod broadcom;
+pub mod brw_issue;
 pub mod intel;
 pub mod mesa_build;
 pub mod nouveau;
@@ -182,9 +183,10 @@ pub trait Vendor: Sync {
     /// Refuses a device that is not `chip` (a driver that does not know the chip may fall
     /// back to a software renderer silently): `Err(why)`.
     fn check_device(&self, chip: &str, device_name: &str) -> Result<(), String>;
-    /// The executables of one compiled program as rows should see them (Intel: one per SIMD
-    /// width merged into one per stage); unchanged by default.
-    fn merge_executables(&self, exes: Vec<Executable>) -> Vec<Executable> {
+    /// The executables of one compiled program on `chip` as rows should see them (Intel: one
+    /// per SIMD width merged into one per stage, with its throughput figures); unchanged by
+    /// default.
+    fn merge_executables(&self, _chip: &str, exes: Vec<Executable>) -> Vec<Executable> {
         exes
     }
     /// The statistics of one KHR_debug message of the OpenGL compiler (or, with

@@ -10,6 +10,9 @@ use std::path::Path;
 use super::{Api, Compiler, Ranking, Setup, Vendor};
 use crate::isa::throughput;
 
+/// The unit of the weighted issue count: one FP32 FMA is one.
+pub const UNIT: &str = "FMA issue slots";
+
 /// The route through nouveau's OpenGL driver.
 pub struct Nouveau;
 
@@ -64,7 +67,7 @@ impl Vendor for Nouveau {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: RowKind::Draw,
-            unit: "FMA issue slots".into(),
+            unit: UNIT.into(),
             meaning: "weighted issue count: nouveau's instruction count with each \
                       special-function operation (MUFU: rcp, rsq, exp2, log2, sin, cos) at the \
                       architecture's FP32:SFU throughput ratio of NVIDIA's CUDA guide (Fermi \

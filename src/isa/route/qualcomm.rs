@@ -75,21 +75,21 @@ impl Vendor for Qualcomm {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: RowKind::Draw,
-            unit: "issue cycles".into(),
-            meaning: "ir3's issue cycles: its instruction count, the NOPs its scheduler \
-                      inserts to cover latency included, plus its estimated cycles stalled on \
-                      (ss) (special-function and shared results) and (sy) (texture and memory \
-                      results); no published special-function rate for Adreno is used"
+            unit: "issued instructions".into(),
+            meaning: "ir3's issued instructions: its instruction count less the NOPs its \
+                      scheduler inserts to cover latency (ir3.c counts a NOP flag and a NOP \
+                      instruction in both), each one issue slot; a thread waiting on a \
+                      latency yields the ALU to other waves, so the NOPs and the estimated \
+                      (ss)/(sy) stall cycles are statistics, not cost; no published \
+                      special-function rate for Adreno is used"
                 .into(),
         }
     }
 
-    /// Instructions (NOPs included) plus the (ss) and (sy) stall cycles ir3 estimates.
+    /// Instructions less NOPs: the issue slots the program itself takes.
     fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
-        let cycles = stats.get("instruction_count")?
-            + stats.get("estimated_cycles_stalled_on_ss")?
-            + stats.get("estimated_cycles_stalled_on_sy")?;
-        cycles.is_finite().then_some(throughput::Model {
+        let cycles = stats.get("instruction_count")? - stats.get("nops_count")?;
+        (cycles.is_finite() && cycles >= 0.0).then_some(throughput::Model {
             cycles,
             bound: throughput::Unit::Issue,
         })
@@ -162,5 +162,21 @@ mod tests {
             .check_device("a630", "Turnip Adreno (TM) 640")
             .is_err());
         assert!(Qualcomm.check_device("a630", "llvmpipe (LLVM 15)").is_err());
+    }
+
+    #[test]
+    fn the_model_is_issued_instructions_without_nops_or_stalls() {
+        let stats: BTreeMap<String, f64> = [
+            ("instruction_count".to_string(), 59.0),
+            ("nops_count".to_string(), 16.0),
+            ("estimated_cycles_stalled_on_ss".to_string(), 40.0),
+        ]
+        .into();
+        let m = Qualcomm.model("a630", &stats).unwrap();
+        assert_eq!((m.cycles, m.bound), (43.0, throughput::Unit::Issue));
+        // Teeth: without the NOP count there is no model (never the count with its NOPs).
+        let mut no_nops = stats.clone();
+        no_nops.remove("nops_count");
+        assert!(Qualcomm.model("a630", &no_nops).is_none());
     }
 }
