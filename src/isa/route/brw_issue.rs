@@ -24,8 +24,9 @@
 //! stalls on every dependency, so a dependent chain costs its latency); the throughput model
 //! keeps only the busy cycles, which other threads cannot hide. Messages (`send`: varyings on
 //! Gen12+, render-target writes, loads) go to shared functions outside the EU and are counted
-//! apart (`send_count`); brw's loop weight (10 per nesting) is not applied, as the shaders
-//! here do not loop.
+//! apart (`send_count`). A loop's body counts 10 times per nesting level, brw's own
+//! `loop_weight` (the loops of the GEN assembly: a `while` whose JIP names a label before it);
+//! brw's discard weight (a half after a `halt` on Gen12 below SIMD32) is not applied.
 //!
 //! One SIMD-W FP32 FMA (`mad`) is `2 * ceil(4 W / 32)` FPU cycles for W pixels, so a figure
 //! in cycles over that is FP32 FMAs per pixel ([`fma_cycles`]): the unit of every family's
@@ -177,17 +178,44 @@ fn cost(mnemonic: &[&str], width: u32, operands: &[&str], gen9: bool) -> Cost {
     }
 }
 
+/// brw's weight of a loop body per nesting level (`loop_weight` of `calculate_performance`,
+/// brw_ir_performance.cpp).
+pub const LOOP_WEIGHT: f64 = 10.0;
+
 /// The busy cycles of a GEN assembly (one SIMD width's) on `chip`.
 pub fn busy(asm: &str, chip: &str) -> Busy {
     let gen9 = before_gen11(chip);
-    let mut b = Busy::default();
+    let mut costs = Vec::new();
+    let mut labels = std::collections::BTreeMap::new();
+    let mut loops = Vec::new();
     for line in asm.lines() {
+        if let Some(label) = line.trim().strip_suffix(':') {
+            if label.starts_with("LABEL") {
+                labels.insert(label.to_string(), costs.len());
+            }
+            continue;
+        }
         let Some((mnemonic, width, operands)) = instruction(line) else {
             continue;
         };
-        match cost(&mnemonic, width, &operands, gen9) {
-            Cost::Fpu(c) => b.fpu += c,
-            Cost::Em(c) => b.em += c,
+        if mnemonic[0] == "while" {
+            let target = operands
+                .iter()
+                .position(|w| *w == "JIP:")
+                .and_then(|i| operands.get(i + 1));
+            if let Some(&start) = target.and_then(|t| labels.get(*t)) {
+                loops.push(start..=costs.len());
+            }
+        }
+        costs.push(cost(&mnemonic, width, &operands, gen9));
+    }
+    let mut b = Busy::default();
+    for (i, c) in costs.into_iter().enumerate() {
+        let depth = loops.iter().filter(|l| l.contains(&i)).count();
+        let weight = LOOP_WEIGHT.powi(depth as i32);
+        match c {
+            Cost::Fpu(c) => b.fpu += c * weight,
+            Cost::Em(c) => b.em += c * weight,
             Cost::Send => b.sends += 1,
             Cost::None => {}
         }
@@ -271,5 +299,25 @@ endif(16)       JIP:  LABEL1                                    { align1 1H };
         // Teeth: a well-formed line is read, with its predicate.
         let (m, w, ops) = instruction("(+f0.0) sel.ge(8) g5<1>F g2<8,8,1>F 0x0F /* 0F */").unwrap();
         assert_eq!((m, w, ops.len()), (vec!["sel.ge"], 8, 3));
+    }
+
+    #[test]
+    fn a_loop_body_counts_ten_times_per_nesting() {
+        let asm = "\
+mov(8)          g2<1>F          0x0F  /* 0F */                  { align1 1Q };
+LABEL1:
+add(8)          g2<1>F          g2<8,8,1>F      g3<8,8,1>F      { align1 1Q };
+LABEL0:
+mul(8)          g4<1>F          g2<8,8,1>F      g3<8,8,1>F      { align1 1Q };
+while(8)        JIP:  LABEL0                                    { align1 1Q };
+while(8)        JIP:  LABEL1                                    { align1 1Q };
+mov(8)          g5<1>F          g4<8,8,1>F                      { align1 1Q };
+";
+        // mov 2, add 2 x 10, mul 2 x 100, mov 2.
+        assert_eq!(busy(asm, "tgl").fpu, 2.0 + 20.0 + 200.0 + 2.0);
+        // Teeth: a jump forward (an endif's JIP) is no loop.
+        let forward = "endif(8)        JIP:  LABEL0      { align1 1Q };\nLABEL0:\n\
+                       add(8)          g2<1>F          g2<8,8,1>F      g3<8,8,1>F      { align1 1Q };";
+        assert_eq!(busy(forward, "tgl").fpu, 2.0);
     }
 }
