@@ -778,3 +778,70 @@ pub(crate) fn assert_identical_runs(a: &IsaReport, b: &IsaReport) {
         assert!(x.statistics.values().all(|v| v.is_finite()));
     }
 }
+
+/// Every draw row of every family set up whose compiler reports registers carries them and
+/// the waves they allow (Mali's carry none: its shader-db lines have no register count), each
+/// finite and above zero; isa.json's schema requires them per vendor. Teeth: a Qualcomm or AMD
+/// draw row without its waves fails the schema.
+#[test]
+fn every_family_reports_registers_and_the_waves_they_allow() {
+    let families = crate::store::set_up_families(
+        "isa::every_family_reports_registers_and_the_waves_they_allow",
+    );
+    if families.is_empty() {
+        return;
+    }
+    let fams: Vec<&str> = families.iter().map(String::as_str).collect();
+    let opts = IsaOptions {
+        store: isa::store::default_store(),
+        ..options(&["gouraud", "phong_exact"], &fams)
+    };
+    let r = isa_run(&opts);
+    assert_eq!(r.supported(), fams, "{:#?}", r.families);
+    use isa::occupancy::{REGISTERS_KEY, WAVES_KEY};
+    for row in r.results.iter().filter(|x| x.kind == RowKind::Draw) {
+        let mali = row.family.starts_with("arm:");
+        let waves_stated =
+            !mali && !row.family.starts_with("terascale:") && row.family != "intel:ptl";
+        for (key, want) in [(REGISTERS_KEY, !mali), (WAVES_KEY, waves_stated)] {
+            let v = row.statistics.get(key);
+            assert_eq!(
+                v.is_some(),
+                want,
+                "{} {} {}: {key}",
+                row.family,
+                row.method,
+                row.stage
+            );
+            if let Some(v) = v {
+                assert!(
+                    v.is_finite() && *v > 0.0,
+                    "{} {}: {key} {v}",
+                    row.family,
+                    row.method
+                );
+            }
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    isa::files::write(dir.path(), &r).unwrap();
+    let (json, validator) = isa_json_against_its_schema(dir.path());
+    for vendor in ["qualcomm:", "amd:"] {
+        let Some(i) = r
+            .results
+            .iter()
+            .position(|x| x.family.starts_with(vendor) && x.kind == RowKind::Draw)
+        else {
+            continue;
+        };
+        let mut bad = json.clone();
+        bad["results"][i]["statistics"]
+            .as_object_mut()
+            .unwrap()
+            .remove(WAVES_KEY);
+        assert!(
+            !validator.is_valid(&bad),
+            "{vendor} row without its waves passes"
+        );
+    }
+}

@@ -2,6 +2,8 @@
 //! ranking statistic of the timed draw's fragment program over phong_exact's in the same
 //! precision (deterministic, no interval); on demand (`auto --cost-model isa:FAMILY`), the
 //! family compiled now by one child.
+use std::collections::BTreeMap;
+
 use super::{IsaOptions, IsaReport};
 use crate::cost::rule::static_cheaper;
 use crate::cost::{CostFigure, CostKind, CostModel, CostModelId, CostSource, Evidence, Measure};
@@ -25,6 +27,18 @@ pub fn ranking(r: &IsaReport, family: &str) -> Option<(super::route::Ranking, Me
         unit: k.unit.clone(),
     };
     Some((k, measure))
+}
+
+/// A figure's note: the family and precision of its program, and where it keeps fewer waves
+/// resident than phong_exact ([`super::occupancy`]), that ratio: its latency is hidden less
+/// well than the model, which prices throughput, assumes.
+fn note(fam: &str, precision: Precision, ratio_to_phong_exact: &BTreeMap<String, f64>) -> String {
+    let mut note = format!("{fam}, {} fragment program", precision.as_str());
+    if super::occupancy::fewer_waves(ratio_to_phong_exact) == Some(true) {
+        let w = ratio_to_phong_exact[super::occupancy::WAVES_KEY];
+        note += &format!("; fewer waves resident than phong_exact ({w:.2} of its)");
+    }
+    note
 }
 
 /// The models of one report: one per family the driver compiled.
@@ -53,7 +67,7 @@ fn models_of(r: &IsaReport, evidence: &str) -> Vec<CostModel> {
                         ci95_high: None,
                         verdict: static_cheaper(ratio),
                         evidence: evidence.into(),
-                        note: format!("{fam}, {} fragment program", r.precision.as_str()),
+                        note: note(fam, r.precision, &x.ratio_to_phong_exact),
                     }
                 })
                 .collect();

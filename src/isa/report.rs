@@ -121,11 +121,18 @@ fn status(family: &Family, supported: bool, status: String) -> FamilyStatus {
 }
 
 /// Adds `family`'s model figure to `statistics` (under the ranking key, when the compiler has
-/// no statistic of that name) and says which unit bounds the program.
+/// no statistic of that name) and, to a compiled program's (not an evaluation's differences),
+/// its occupancy ([`super::occupancy`]); says which unit bounds the program.
 fn apply_model(
     family: &Family,
     statistics: &mut BTreeMap<String, f64>,
+    kind: super::request::RowKind,
 ) -> Option<super::throughput::Unit> {
+    if kind != super::request::RowKind::Evaluation {
+        if let Some(o) = family.vendor.occupancy(family.chip, statistics) {
+            o.write(statistics);
+        }
+    }
     let model = family.vendor.model(family.chip, statistics)?;
     statistics
         .entry(family.vendor.ranking().key)
@@ -145,7 +152,8 @@ pub fn report(
     for (family, outcome) in outcomes {
         match outcome {
             ChildOutcome::Compiled(r, provenance) => {
-                let apply = |stats: &mut BTreeMap<String, f64>| apply_model(&family, stats);
+                let apply =
+                    |stats: &mut BTreeMap<String, f64>, kind| apply_model(&family, stats, kind);
                 let (rows, names, asm) = family_rows(&r, &family.id(), &apply)?;
                 results.extend(rows);
                 disassembly.extend(asm);

@@ -94,7 +94,7 @@ pub fn asm_dir(family_key: &str) -> String {
 
 /// Adds the family's model figure to a row's statistics and says which unit bounds the
 /// program ([`super::report`] makes it out of the family's vendor).
-pub(super) type ApplyModel<'a> = dyn Fn(&mut BTreeMap<String, f64>) -> Option<Unit> + 'a;
+pub(super) type ApplyModel<'a> = dyn Fn(&mut BTreeMap<String, f64>, RowKind) -> Option<Unit> + 'a;
 
 /// The rows and status of one compiled family, whose rows are keyed `key`; `model` adds each
 /// row's throughput model.
@@ -137,16 +137,17 @@ pub(super) fn family_rows(
                 continue;
             }
             let (mut statistics, hash) = stats(e);
-            let bound_unit = model(&mut statistics);
+            let kind = if c.kind == CompiledKind::Probe {
+                RowKind::Probe
+            } else {
+                RowKind::Draw
+            };
+            let bound_unit = model(&mut statistics, kind);
             rows.push(Row {
                 family: key.to_string(),
                 method: c.method.clone(),
                 stage: e.stage.clone(),
-                kind: if c.kind == CompiledKind::Probe {
-                    RowKind::Probe
-                } else {
-                    RowKind::Draw
-                },
+                kind,
                 program: c.program.clone(),
                 statistics,
                 ratio_to_phong_exact: BTreeMap::new(),
@@ -169,7 +170,7 @@ pub(super) fn family_rows(
             .iter()
             .filter_map(|(k, v)| a.get(k).map(|w| (k.clone(), (v - w) / per)))
             .collect();
-        let bound_unit = model(&mut statistics);
+        let bound_unit = model(&mut statistics, RowKind::Evaluation);
         rows.push(Row {
             family: key.to_string(),
             program: crate::gpu::shaders::evaluate_program_in(&method, r_precision(r)),

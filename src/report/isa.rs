@@ -202,7 +202,8 @@ fn compile(
 
 /// Per method (rows, the report's order) and family (columns): the fragment shader's ranking
 /// statistic over phong_exact's, with the bound unit where the family's model has several
-/// pipes; refused families named in a line below.
+/// pipes and "fewer waves" where the program keeps fewer waves resident than phong_exact's
+/// ([`crate::isa::occupancy`]); refused families named in a line below.
 fn table(r: &IsaReport, methods: &[&'static Method]) -> String {
     let fams = r.supported();
     let mut h = String::from("<table class=\"isa\"><thead><tr><th>method</th>");
@@ -214,17 +215,24 @@ fn table(r: &IsaReport, methods: &[&'static Method]) -> String {
         let _ = write!(h, "<tr><th>{}</th>", esc(m.name));
         for f in &fams {
             let ratio = r.ranking_ratio(f, m.name).filter(|v| v.is_finite());
-            // The unit that bounds the program, where the model has more than one.
-            let bound = crate::isa::table::find_row(
+            let row = crate::isa::table::find_row(
                 &r.results,
                 f,
                 m.name,
                 "fragment",
                 crate::isa::request::RowKind::Draw,
-            )
-            .and_then(|row| row.bound_unit)
-            .filter(|u| *u != crate::isa::throughput::Unit::Issue)
-            .map_or(String::new(), |u| format!(" <small>{}</small>", u.name()));
+            );
+            // The unit that bounds the program, where the model has more than one.
+            let mut bound = row
+                .and_then(|row| row.bound_unit)
+                .filter(|u| *u != crate::isa::throughput::Unit::Issue)
+                .map_or(String::new(), |u| format!(" <small>{}</small>", u.name()));
+            // Fewer waves resident than phong_exact's: its latency is hidden less well.
+            if row.and_then(|row| crate::isa::occupancy::fewer_waves(&row.ratio_to_phong_exact))
+                == Some(true)
+            {
+                bound += " <small class=\"occupancy\">fewer waves</small>";
+            }
             let _ = match ratio {
                 Some(v) if v < 1.0 => write!(h, "<td><b>{v:.2}</b>{bound}</td>"),
                 Some(v) => write!(h, "<td>{v:.2}{bound}</td>"),
@@ -290,6 +298,21 @@ mod tests {
             "{mali}"
         );
         assert!(!intel.contains("<small>"), "{intel}");
+        // A program that keeps fewer waves resident than phong_exact's says so; the same
+        // waves say nothing.
+        let mut waves = report("intel:tgl", "model_cycles", &costs);
+        for (row, w) in waves.results.iter_mut().zip([8.0, 4.0]) {
+            row.statistics
+                .insert(crate::isa::occupancy::WAVES_KEY.into(), w);
+        }
+        crate::isa::table::fill_ratios(&mut waves.results);
+        let fewer = table(&waves, &methods);
+        assert_eq!(fewer.matches("fewer waves").count(), 1, "{fewer}");
+        waves.results[1]
+            .statistics
+            .insert(crate::isa::occupancy::WAVES_KEY.into(), 8.0);
+        crate::isa::table::fill_ratios(&mut waves.results);
+        assert!(!table(&waves, &methods).contains("fewer waves"));
         // Teeth: a statistic that is not the family's ranking one is no figure.
         let other = table(&report("intel:tgl", "cycle_count", &costs), &methods);
         assert!(

@@ -5,6 +5,7 @@
 //! `--driver-files`. Its rows keep the bare chip name (`navi21`) as their family key, and the
 //! name the user wrote where RADV renamed a chip ([`RENAMED`]).
 use crate::isa::request::RowKind;
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{Api, Compiler, Ranking, Setup, Vendor};
@@ -177,6 +178,15 @@ impl Vendor for Amd {
                       (fragment shaders compile as wave64); a static model, not a timing"
                 .into(),
         }
+    }
+
+    fn occupancy(
+        &self,
+        _chip: &str,
+        stats: &BTreeMap<String, f64>,
+    ) -> Option<crate::isa::occupancy::Occupancy> {
+        // RADV computes the waves per SIMD from VGPRs, SGPRs and LDS.
+        crate::isa::occupancy::stated(stats, "vgprs", "subgroups_per_simd")
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {

@@ -99,6 +99,15 @@ impl Vendor for Apple {
         ])
     }
 
+    fn occupancy(
+        &self,
+        _chip: &str,
+        stats: &BTreeMap<String, f64>,
+    ) -> Option<crate::isa::occupancy::Occupancy> {
+        // agx states the threads per core its registers allow.
+        crate::isa::occupancy::stated(stats, "number_of_gprs", "threads")
+    }
+
     fn required_statistics(&self) -> &'static [&'static str] {
         &[
             "inst", "alu", "fscib", "ic", "bytes", "regs", "threads", "spills", "fills",

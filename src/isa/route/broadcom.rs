@@ -65,6 +65,15 @@ impl Vendor for Broadcom {
         }
     }
 
+    fn occupancy(
+        &self,
+        _chip: &str,
+        stats: &BTreeMap<String, f64>,
+    ) -> Option<crate::isa::occupancy::Occupancy> {
+        // vc4 and v3d choose the threads per QPU from the registers the program needs.
+        crate::isa::occupancy::stated(stats, "max_temps", "threads")
+    }
+
     fn required_statistics(&self) -> &'static [&'static str] {
         &["inst", "threads", "uniforms", "max_temps", "model_cycles"]
     }

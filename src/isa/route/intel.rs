@@ -109,6 +109,18 @@ impl Vendor for Intel {
         ])
     }
 
+    fn occupancy(
+        &self,
+        chip: &str,
+        stats: &BTreeMap<String, f64>,
+    ) -> Option<crate::isa::occupancy::Occupancy> {
+        // Threads per EU are fixed: each has its own register file.
+        Some(crate::isa::occupancy::Occupancy {
+            registers: *stats.get("grf_registers")?,
+            waves: crate::isa::occupancy::intel_threads(chip),
+        })
+    }
+
     fn required_statistics(&self) -> &'static [&'static str] {
         &[
             "instruction_count",

@@ -219,6 +219,16 @@ pub trait Vendor: Sync {
     fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
         throughput::issue(stats, &self.ranking().key)
     }
+    /// The registers a program of `chip` holds and the waves (threads, warps) they let the
+    /// family keep resident ([`crate::isa::occupancy`]), out of a draw row's `stats`; `None`
+    /// where the compiler reports no registers (by default).
+    fn occupancy(
+        &self,
+        _chip: &str,
+        _stats: &BTreeMap<String, f64>,
+    ) -> Option<crate::isa::occupancy::Occupancy> {
+        None
+    }
     /// Whether the OpenGL child counts the special-function operations of each program in the
     /// NIR Mesa hands the compiler (`MESA_GLSL=dump`, caught on stderr), as the statistic
     /// [`throughput::SFU_KEY`]: the input of a weighted model where the compiler only counts

@@ -78,6 +78,19 @@ impl Vendor for Nouveau {
         }
     }
 
+    fn occupancy(
+        &self,
+        chip: &str,
+        stats: &BTreeMap<String, f64>,
+    ) -> Option<crate::isa::occupancy::Occupancy> {
+        let gpr = *stats.get("gpr")?;
+        Some(crate::isa::occupancy::Occupancy {
+            registers: gpr,
+            waves: crate::isa::occupancy::nvidia_limits(chip)
+                .map(|l| crate::isa::occupancy::nvidia_warps(gpr, l)),
+        })
+    }
+
     fn required_statistics(&self) -> &'static [&'static str] {
         &[
             "inst",

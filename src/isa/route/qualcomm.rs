@@ -95,6 +95,15 @@ impl Vendor for Qualcomm {
         })
     }
 
+    fn occupancy(
+        &self,
+        _chip: &str,
+        stats: &BTreeMap<String, f64>,
+    ) -> Option<crate::isa::occupancy::Occupancy> {
+        // ir3 states the waves per core its register footprint allows.
+        crate::isa::occupancy::stated(stats, "registers_used", "max_waves_per_core")
+    }
+
     fn required_statistics(&self) -> &'static [&'static str] {
         &[
             "instruction_count",
