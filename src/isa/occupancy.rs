@@ -34,10 +34,15 @@ impl Occupancy {
     }
 }
 
-/// The occupancy stated by the compiler: registers and waves from two of its statistics.
-pub fn stated(stats: &BTreeMap<String, f64>, registers: &str, waves: &str) -> Option<Occupancy> {
+/// The occupancy stated by the compiler: registers and, where it states them, waves from its
+/// statistics.
+pub fn stated(
+    stats: &BTreeMap<String, f64>,
+    registers: &str,
+    waves: Option<&str>,
+) -> Option<Occupancy> {
     let r = *stats.get(registers)?;
-    let w = stats.get(waves).copied();
+    let w = waves.and_then(|w| stats.get(w)).copied();
     (r.is_finite() && w.is_none_or(f64::is_finite)).then_some(Occupancy {
         registers: r,
         waves: w,
@@ -132,7 +137,7 @@ mod tests {
     #[test]
     fn fewer_waves_is_a_ratio_below_one_and_stated_figures_are_read() {
         let mut stats = BTreeMap::from([("vgprs".to_string(), 24.0), ("w".to_string(), 10.0)]);
-        let o = stated(&stats, "vgprs", "w").unwrap();
+        let o = stated(&stats, "vgprs", Some("w")).unwrap();
         assert_eq!((o.registers, o.waves), (24.0, Some(10.0)));
         o.write(&mut stats);
         assert_eq!(stats[WAVES_KEY], 10.0);
@@ -145,9 +150,9 @@ mod tests {
             Some(false)
         );
         // Teeth: no registers, no occupancy; a non-finite figure, none either.
-        assert!(stated(&stats, "sgprs", "w").is_none());
+        assert!(stated(&stats, "sgprs", Some("w")).is_none());
         stats.insert("w".into(), f64::NAN);
-        assert!(stated(&stats, "vgprs", "w").is_none());
+        assert!(stated(&stats, "vgprs", Some("w")).is_none());
         assert_eq!(fewer_waves(&BTreeMap::new()), None);
         assert_eq!(intel_threads("tgl"), Some(7.0));
         assert_eq!(intel_threads("ptl"), None);

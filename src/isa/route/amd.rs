@@ -5,7 +5,6 @@
 //! `--driver-files`. Its rows keep the bare chip name (`navi21`) as their family key, and the
 //! name the user wrote where RADV renamed a chip ([`RENAMED`]).
 use crate::isa::request::RowKind;
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{Api, Compiler, Ranking, Setup, Vendor};
@@ -180,13 +179,9 @@ impl Vendor for Amd {
         }
     }
 
-    fn occupancy(
-        &self,
-        _chip: &str,
-        stats: &BTreeMap<String, f64>,
-    ) -> Option<crate::isa::occupancy::Occupancy> {
-        // RADV computes the waves per SIMD from VGPRs, SGPRs and LDS.
-        crate::isa::occupancy::stated(stats, "vgprs", "subgroups_per_simd")
+    /// RADV computes the waves per SIMD from VGPRs, SGPRs and LDS.
+    fn occupancy_statistics(&self) -> Option<(&'static str, Option<&'static str>)> {
+        Some(("vgprs", Some("subgroups_per_simd")))
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {

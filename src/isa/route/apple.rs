@@ -99,13 +99,9 @@ impl Vendor for Apple {
         ])
     }
 
-    fn occupancy(
-        &self,
-        _chip: &str,
-        stats: &BTreeMap<String, f64>,
-    ) -> Option<crate::isa::occupancy::Occupancy> {
-        // agx states the threads per core its registers allow.
-        crate::isa::occupancy::stated(stats, "number_of_gprs", "threads")
+    /// agx states the threads per core its registers allow.
+    fn occupancy_statistics(&self) -> Option<(&'static str, Option<&'static str>)> {
+        Some(("number_of_gprs", Some("threads")))
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {

@@ -65,13 +65,9 @@ impl Vendor for Broadcom {
         }
     }
 
-    fn occupancy(
-        &self,
-        _chip: &str,
-        stats: &BTreeMap<String, f64>,
-    ) -> Option<crate::isa::occupancy::Occupancy> {
-        // vc4 and v3d choose the threads per QPU from the registers the program needs.
-        crate::isa::occupancy::stated(stats, "max_temps", "threads")
+    /// vc4 and v3d choose the threads per QPU from the registers the program needs.
+    fn occupancy_statistics(&self) -> Option<(&'static str, Option<&'static str>)> {
+        Some(("max_temps", Some("threads")))
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {

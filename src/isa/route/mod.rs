@@ -219,15 +219,23 @@ pub trait Vendor: Sync {
     fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
         throughput::issue(stats, &self.ranking().key)
     }
+    /// The compiler's own statistics of a program's registers and of the waves (threads) they
+    /// allow, where it states both or the registers alone: what [`Vendor::occupancy`] reads by
+    /// default. None by default (no register statistic).
+    fn occupancy_statistics(&self) -> Option<(&'static str, Option<&'static str>)> {
+        None
+    }
     /// The registers a program of `chip` holds and the waves (threads, warps) they let the
     /// family keep resident ([`crate::isa::occupancy`]), out of a draw row's `stats`; `None`
-    /// where the compiler reports no registers (by default).
+    /// where the compiler reports no registers. By default the figures of
+    /// [`Vendor::occupancy_statistics`] as they stand.
     fn occupancy(
         &self,
         _chip: &str,
-        _stats: &BTreeMap<String, f64>,
+        stats: &BTreeMap<String, f64>,
     ) -> Option<crate::isa::occupancy::Occupancy> {
-        None
+        let (registers, waves) = self.occupancy_statistics()?;
+        crate::isa::occupancy::stated(stats, registers, waves)
     }
     /// Whether the OpenGL child counts the special-function operations of each program in the
     /// NIR Mesa hands the compiler (`MESA_GLSL=dump`, caught on stderr), as the statistic

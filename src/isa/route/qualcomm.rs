@@ -95,13 +95,9 @@ impl Vendor for Qualcomm {
         })
     }
 
-    fn occupancy(
-        &self,
-        _chip: &str,
-        stats: &BTreeMap<String, f64>,
-    ) -> Option<crate::isa::occupancy::Occupancy> {
-        // ir3 states the waves per core its register footprint allows.
-        crate::isa::occupancy::stated(stats, "registers_used", "max_waves_per_core")
+    /// ir3 states the waves per core its register footprint allows.
+    fn occupancy_statistics(&self) -> Option<(&'static str, Option<&'static str>)> {
+        Some(("registers_used", Some("max_waves_per_core")))
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {

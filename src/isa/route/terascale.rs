@@ -4,7 +4,6 @@
 //! message ("FS shader: 110 dw, 17 gprs, 17 alu_groups, 0 loops, 3 cf, 1 stack"). The
 //! compiler is Mesa's r600 back-end, not AMD's (Catalyst, discontinued for these chips).
 use crate::isa::request::RowKind;
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{Api, Compiler, Ranking, Setup, Vendor};
@@ -69,16 +68,9 @@ impl Vendor for TeraScale {
         }
     }
 
-    fn occupancy(
-        &self,
-        _chip: &str,
-        stats: &BTreeMap<String, f64>,
-    ) -> Option<crate::isa::occupancy::Occupancy> {
-        // No published register file size of r600 is used: registers only.
-        Some(crate::isa::occupancy::Occupancy {
-            registers: *stats.get("gprs")?,
-            waves: None,
-        })
+    /// Registers only: no published register file size of r600 is used.
+    fn occupancy_statistics(&self) -> Option<(&'static str, Option<&'static str>)> {
+        Some(("gprs", None))
     }
 
     fn required_statistics(&self) -> &'static [&'static str] {
