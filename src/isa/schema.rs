@@ -23,11 +23,30 @@ fn rule(v: &dyn Vendor) -> String {
     )
 }
 
-/// The text between [`OPEN`] and [`CLOSE`]: every route's rule, in the routes' order.
+/// The rule of a vendor's draw rows (its [`Vendor::required_draw_statistics`]), where it has
+/// one.
+fn draw_rule(v: &dyn Vendor) -> Option<String> {
+    let required: Vec<String> = v
+        .required_draw_statistics()
+        .iter()
+        .map(|k| format!("\"{k}\""))
+        .collect();
+    (!required.is_empty()).then(|| {
+        format!(
+            "          {{ \"if\": {{ \"properties\": {{ \"family\": {{ \"pattern\": \"^{}:\" }}, \"kind\": {{ \"const\": \"draw\" }} }} }},\n            \
+             \"then\": {{ \"properties\": {{ \"statistics\": {{ \"required\": [{}] }} }} }} }}",
+            v.prefix(),
+            required.join(", ")
+        )
+    })
+}
+
+/// The text between [`OPEN`] and [`CLOSE`]: every route's rule, then its draw rows' rule where
+/// it has one, in the routes' order.
 pub fn vendor_rules_of(vendors: &[&dyn Vendor]) -> String {
     vendors
         .iter()
-        .map(|v| rule(*v))
+        .flat_map(|v| std::iter::once(rule(*v)).chain(draw_rule(*v)))
         .collect::<Vec<_>>()
         .join(",\n")
 }
@@ -62,8 +81,9 @@ mod tests {
     fn each_route_has_a_rule_with_its_statistics_and_the_text_is_json() {
         let rules = vendor_rules();
         let v: serde_json::Value = serde_json::from_str(&format!("[{rules}]")).unwrap();
-        assert_eq!(v.as_array().unwrap().len(), VENDORS.len());
-        for (r, vendor) in v.as_array().unwrap().iter().zip(VENDORS) {
+        let mut rules_left = v.as_array().unwrap().iter();
+        for vendor in VENDORS {
+            let r = rules_left.next().unwrap();
             assert_eq!(
                 r["if"]["properties"]["family"]["pattern"],
                 format!("^{}:", vendor.prefix())
@@ -72,7 +92,28 @@ mod tests {
                 r["then"]["properties"]["statistics"]["required"],
                 serde_json::json!(vendor.required_statistics())
             );
+            // Then its draw rows' rule, where it has one.
+            if !vendor.required_draw_statistics().is_empty() {
+                let d = rules_left.next().unwrap();
+                assert_eq!(d["if"]["properties"]["kind"]["const"], "draw");
+                assert_eq!(
+                    d["then"]["properties"]["statistics"]["required"],
+                    serde_json::json!(vendor.required_draw_statistics())
+                );
+            }
         }
+        assert!(rules_left.next().is_none());
+        // Mali reports no registers: no draw rule; AMD's requires its waves.
+        assert!(super::super::route::arm::Arm
+            .required_draw_statistics()
+            .is_empty());
+        assert_eq!(
+            super::super::route::amd::Amd.required_draw_statistics(),
+            [
+                crate::isa::occupancy::REGISTERS_KEY,
+                crate::isa::occupancy::WAVES_KEY
+            ]
+        );
         // Teeth: one route fewer is other text.
         assert_ne!(vendor_rules_of(&VENDORS[..VENDORS.len() - 1]), rules);
     }

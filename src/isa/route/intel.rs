@@ -109,6 +109,11 @@ impl Vendor for Intel {
         ])
     }
 
+    /// Registers on every chip; the threads per EU are not known on Xe3.
+    fn required_draw_statistics(&self) -> &'static [&'static str] {
+        &[crate::isa::occupancy::REGISTERS_KEY]
+    }
+
     fn occupancy(
         &self,
         chip: &str,

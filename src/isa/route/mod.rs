@@ -219,6 +219,17 @@ pub trait Vendor: Sync {
     fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
         throughput::issue(stats, &self.ranking().key)
     }
+    /// The statistics every draw row of this vendor carries beyond
+    /// [`Vendor::required_statistics`] (an evaluation's differences do not): the occupancy of
+    /// [`Vendor::occupancy_statistics`] by default.
+    fn required_draw_statistics(&self) -> &'static [&'static str] {
+        use crate::isa::occupancy::{REGISTERS_KEY, WAVES_KEY};
+        match self.occupancy_statistics() {
+            Some((_, Some(_))) => &[REGISTERS_KEY, WAVES_KEY],
+            Some((_, None)) => &[REGISTERS_KEY],
+            None => &[],
+        }
+    }
     /// The compiler's own statistics of a program's registers and of the waves (threads) they
     /// allow, where it states both or the registers alone: what [`Vendor::occupancy`] reads by
     /// default. None by default (no register statistic).

@@ -78,6 +78,14 @@ impl Vendor for Nouveau {
         }
     }
 
+    /// Registers and warps on every chipset this route compiles (Fermi to Turing).
+    fn required_draw_statistics(&self) -> &'static [&'static str] {
+        &[
+            crate::isa::occupancy::REGISTERS_KEY,
+            crate::isa::occupancy::WAVES_KEY,
+        ]
+    }
+
     fn occupancy(
         &self,
         chip: &str,
