@@ -48,7 +48,8 @@ pub struct Row {
 /// described in words by its route (`families[].ranking`).
 pub const MODEL_NOTE: &str = "Each family's static model of its compiler, run without the GPU \
 (families[].ranking names the statistic that ranks the programs and says in words what it \
-models: ACO's inverse throughput, brw's cycles, a bound pipe's cycles, a weighted issue count). \
+models: ACO's inverse throughput, brw's busy cycles of the busier unit, a bound pipe's cycles, a \
+weighted issue count). \
 Use them to rank programs; they are not timings.";
 
 /// A driver statistic name as a snake_case key.

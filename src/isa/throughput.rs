@@ -1,11 +1,12 @@
 //! Throughput models: what ranks a family's programs when its compiler only counts, and the
 //! unit that bounds each program ([`Unit`], after the pipes Arm's offline compiler names).
 //!
-//! Where the compiler has a cycle model of its own (ACO's inverse throughput, brw's cycle
-//! estimate, panfrost's per-pipe cycles on Bifrost and Valhall, agx's F/SCIB and IC units,
-//! vc4's estimated cycles, v3d's instructions and stalls, ir3's instructions with its scheduling
-//! NOPs and sync stalls) the model is that figure; a vendor's [`super::route::Vendor::model`]
-//! reads it out of a row's statistics. Where the compiler only counts (nouveau), the model is a
+//! Where the compiler has a cycle model of its own (ACO's inverse throughput, panfrost's
+//! per-pipe cycles on Bifrost and Valhall, agx's F/SCIB and IC units, vc4's estimated cycles,
+//! v3d's instructions and stalls) the model is that figure; where it prices a thread's latency
+//! instead (brw's cycle estimate, ir3's scheduling NOPs and sync stalls) the model keeps the
+//! busy cycles alone (Intel's [`super::route::brw_issue`], Adreno's issued instructions); a
+//! vendor's [`super::route::Vendor::model`] reads it out of a row's statistics. Where the compiler only counts (nouveau), the model is a
 //! weighted issue count: every instruction one issue slot at the FMA rate, each
 //! special-function operation ([`SFU_OPS`]) at the architecture's FMA:SFU throughput ratio of
 //! a [`WeightTable`] (one per architecture, each citing its source).

@@ -88,9 +88,10 @@ pub fn section(run: &IsaRun, methods: &[&'static Method]) -> String {
         "<section id=\"isa\"><h2>Static cost on GPU families</h2><p>Each vendor's compiler \
          (<code>shadelab isa</code>: RADV's ACO on AMD, Mesa's drivers behind drm-shims \
          elsewhere) on the timed draw's fragment shader, its own ranking statistic (ACO's \
-         inverse throughput, Intel's cycle estimate, nouveau's instruction count, ...: \
+         inverse throughput, Intel's busier back-end unit, a weighted issue count, ...: \
          isa.json names each family's) over phong_exact's on the same family; bold: cheaper \
-         than exact normalisation. Deterministic figures, not timings: they rank programs \
+         than exact normalisation; \"fewer waves\": the program keeps fewer waves resident than \
+         phong_exact's. Deterministic figures, not timings: they rank programs \
          within a family, and families only by their ratios.</p>",
     );
     match &run.f32 {
