@@ -124,7 +124,9 @@ fn every_family_prices_every_step_above_zero() {
             calibrate::not_positive(f)
         );
         for r in &f.fused {
-            assert!(calibrate::fused(&f.family).any(|x| x.ratio == *r && !x.why.is_empty()));
+            assert!(calibrate::fused(&f.family)
+                .iter()
+                .any(|(x, why)| x == r && !why.is_empty()));
         }
     }
     // Teeth: brw's latency estimate as the model.

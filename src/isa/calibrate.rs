@@ -353,8 +353,8 @@ pub struct FamilyCalibration {
     pub status: String,
     /// The ranking statistic the kernels were read in (docs/isa.md).
     pub statistic: Option<String>,
-    /// Its unit ("FP32 FMAs per pixel", "cycles per wave"): where it counts FMAs, the FMA
-    /// step must be one of it ([`not_positive`]).
+    /// Its unit ("FP32 FMAs per pixel", "cycles per wave"); where the route counts FMAs, the
+    /// FMA step must be one of it ([`not_positive`]).
     #[serde(default)]
     pub unit: Option<String>,
     /// The cost of one step of each kernel, in the statistic's unit.
@@ -362,7 +362,7 @@ pub struct FamilyCalibration {
     /// Each ratio the model gives (absent where it gives none: an FMA step that costs
     /// nothing, a kernel missing).
     pub model: BTreeMap<Ratio, f64>,
-    /// The ratios whose step the family's compiler fuses into its neighbours ([`FUSED`]):
+    /// The ratios whose step the family's compiler fuses into its neighbours ([`fused`]):
     /// zero or below by design, reported as fused.
     #[serde(default)]
     pub fused: Vec<Ratio>,
@@ -431,7 +431,7 @@ pub fn calibrate_in(
                 supported: f.supported,
                 status: f.status.clone(),
                 unit: f.ranking.as_ref().map(|r| r.unit.clone()),
-                fused: fused(&f.id).map(|x| x.ratio).collect(),
+                fused: fused(&f.id).iter().map(|(r, _)| *r).collect(),
                 statistic: key,
                 step,
                 model,
@@ -448,54 +448,25 @@ pub fn calibrate_in(
     }
 }
 
-/// A step that a family's compiler fuses into the operations around it, so that its marginal
-/// cost in the family's model is zero by design, not by a model that prices latency.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Fused {
-    pub family: &'static str,
-    pub ratio: Ratio,
-    /// Why, in the compiler's terms (docs/calibration.md says it too).
-    pub why: &'static str,
+/// The steps `family`'s compiler fuses, each ratio with why ([`Vendor::fused_steps`]); none
+/// for an id no route knows.
+///
+/// [`Vendor::fused_steps`]: super::route::Vendor::fused_steps
+pub fn fused(family: &str) -> &'static [(Ratio, &'static str)] {
+    super::route::resolve(family).map_or(&[], |(v, chip)| v.fused_steps(&chip))
 }
-
-/// Every fused step.
-pub const FUSED: [Fused; 2] = [
-    Fused {
-        family: "arm:mali450",
-        ratio: Ratio::Rcp,
-        why: "lima's Utgard fragment processor issues a VLIW instruction with a scalar \
-              special-function slot beside the vector adder: the reciprocal shares the \
-              addition's instruction, so the step costs the addition alone",
-    },
-    Fused {
-        family: "arm:t860",
-        ratio: Ratio::Rcp,
-        why: "panfrost's Midgard bundles put the reciprocal on the special-function (LUT) \
-              unit in the same bundle as the addition: the step costs the addition alone",
-    },
-];
-
-/// The fused steps of `family`.
-pub fn fused(family: &str) -> impl Iterator<Item = &'static Fused> + '_ {
-    FUSED.iter().filter(move |f| f.family == family)
-}
-
-/// The units in which one FP32 FMA is one unit of the model: a family ranked in one of them
-/// must find its FMA step within 10% of one.
-pub const FMA_UNITS: [&str; 2] = [super::route::intel::UNIT, super::route::nouveau::UNIT];
 
 /// What makes `f`'s model unfit to rank programs, a line each (empty when nothing does): a
-/// kernel's step that costs nothing or less, a ratio that is zero or negative and not
-/// [`FUSED`], an FMA step that is not one unit of an FMA-counting model.
+/// kernel's step that costs nothing or less, a ratio that is zero or negative and not fused
+/// ([`fused`]), an FMA step that is not one unit of a model that counts FMAs
+/// ([`super::route::Vendor::counts_fmas`]).
 pub fn not_positive(f: &FamilyCalibration) -> Vec<String> {
     if !f.supported {
         return Vec::new();
     }
     let mut lines = Vec::new();
     for (k, v) in &f.step {
-        let fused_step = RATIOS
-            .iter()
-            .any(|r| r.kernel() == *k && f.fused.contains(r) && *k != Kernel::Fma);
+        let fused_step = f.fused.iter().any(|r| r.kernel() == *k);
         if !(*v > 0.0) && !fused_step {
             lines.push(format!("{}: the {} step costs {v}", f.family, k.name()));
         }
@@ -505,11 +476,13 @@ pub fn not_positive(f: &FamilyCalibration) -> Vec<String> {
             lines.push(format!("{}: {} costs {v:.3} FMAs", f.family, r.name()));
         }
     }
-    if let (Some(unit), Some(fma)) = (&f.unit, f.step.get(&Kernel::Fma)) {
-        if FMA_UNITS.contains(&unit.as_str()) && !(0.9..=1.1).contains(fma) {
+    let counts_fmas = super::route::resolve(&f.family).is_ok_and(|(v, _)| v.counts_fmas());
+    if let (true, Some(fma)) = (counts_fmas, f.step.get(&Kernel::Fma)) {
+        if !(0.9..=1.1).contains(fma) {
             lines.push(format!(
-                "{}: an FMA step costs {fma:.3} in a model counted in {unit}",
-                f.family
+                "{}: an FMA step costs {fma:.3} in a model counted in {}",
+                f.family,
+                f.unit.as_deref().unwrap_or("FMAs")
             ));
         }
     }
@@ -685,14 +658,14 @@ mod tests {
             unit: Some(unit.into()),
             step,
             model,
-            fused: fused(name).map(|f| f.ratio).collect(),
+            fused: fused(name).iter().map(|(r, _)| *r).collect(),
             checks: Vec::new(),
         }
     }
 
     #[test]
     fn a_model_that_prices_latency_is_not_positive() {
-        let unit = crate::isa::route::intel::UNIT;
+        let unit = "FP32 FMAs per pixel";
         // A throughput model: every step above zero, one FMA one unit.
         assert!(not_positive(&family("intel:icl", unit, steps(1.0, 2.0, 2.0))).is_empty());
         // Teeth: brw's latency estimate of icl (an FMA 44.25 cycles, a reciprocal with its
@@ -717,8 +690,11 @@ mod tests {
             not_positive(&family("arm:g57", "cycles", steps(1.0, 4.0, 1.0))).len(),
             1
         );
-        assert!(FUSED
-            .iter()
-            .all(|f| f.why.len() > 40 && f.family.contains(':')));
+        for family in ["arm:mali450", "arm:t860"] {
+            assert!(
+                fused(family).iter().all(|(_, why)| why.len() > 40),
+                "{family}"
+            );
+        }
     }
 }

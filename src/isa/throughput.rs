@@ -67,6 +67,11 @@ pub struct WeightTable {
     pub architecture: &'static str,
     /// One reciprocal, reciprocal square root, exp2, log2, sin or cos, in FMA issue slots.
     pub sfu: f64,
+    /// 32-bit registers per multiprocessor and the most warps resident on one
+    /// ([`CUDA_SPECIFICATIONS`]): the occupancy a program's registers allow
+    /// ([`super::occupancy::nvidia_warps`]).
+    pub registers_per_sm: f64,
+    pub max_warps: f64,
     /// Where `sfu` comes from: document, table, columns, URL.
     pub source: &'static str,
 }
@@ -83,59 +88,85 @@ const CUDA_GUIDE: &str = "NVIDIA CUDA C++ Programming Guide, Arithmetic Instruct
 \"Throughput of Native Arithmetic Instructions\" (https://docs.nvidia.com/cuda/\
 cuda-c-programming-guide/index.html#arithmetic-instructions)";
 
+/// CUDA C++ Programming Guide, "Technical Specifications per Compute Capability", rows
+/// "Number of 32-bit registers per multiprocessor" and "Maximum number of resident warps per
+/// multiprocessor": Fermi 32 K and 48, Kepler to Volta 64 K and 64, Turing 64 K and 32, Ampere
+/// GA10x 64 K and 48.
+pub const CUDA_SPECIFICATIONS: &str = "NVIDIA CUDA C++ Programming Guide, Technical \
+Specifications per Compute Capability (https://docs.nvidia.com/cuda/cuda-c-programming-guide/\
+index.html#features-and-technical-specifications-technical-specifications-per-compute-capability)";
+
 /// Fermi GF100/GF110, compute capability 2.0: 32 FP32 results and 4 SFU results per clock
 /// per multiprocessor ([`CUDA_GUIDE`]).
 pub const FERMI_CC20: WeightTable = WeightTable {
     architecture: "Fermi (compute capability 2.0)",
     sfu: 32.0 / 4.0,
+    registers_per_sm: 32768.0,
+    max_warps: 48.0,
     source: CUDA_GUIDE,
 };
 /// Fermi GF104 and later, compute capability 2.1: 48 FP32, 8 SFU ([`CUDA_GUIDE`]).
 pub const FERMI_CC21: WeightTable = WeightTable {
     architecture: "Fermi (compute capability 2.1)",
     sfu: 48.0 / 8.0,
+    registers_per_sm: 32768.0,
+    max_warps: 48.0,
     source: CUDA_GUIDE,
 };
 /// Kepler, compute capability 3.x: 192 FP32, 32 SFU ([`CUDA_GUIDE`]).
 pub const KEPLER: WeightTable = WeightTable {
     architecture: "Kepler (compute capability 3.x)",
     sfu: 192.0 / 32.0,
+    registers_per_sm: 65536.0,
+    max_warps: 64.0,
     source: CUDA_GUIDE,
 };
 /// Maxwell, compute capability 5.x: 128 FP32, 32 SFU ([`CUDA_GUIDE`]).
 pub const MAXWELL: WeightTable = WeightTable {
     architecture: "Maxwell (compute capability 5.x)",
     sfu: 128.0 / 32.0,
+    registers_per_sm: 65536.0,
+    max_warps: 64.0,
     source: CUDA_GUIDE,
 };
 /// Pascal GP100, compute capability 6.0: 64 FP32, 16 SFU ([`CUDA_GUIDE`]).
 pub const PASCAL_CC60: WeightTable = WeightTable {
     architecture: "Pascal (compute capability 6.0)",
     sfu: 64.0 / 16.0,
+    registers_per_sm: 65536.0,
+    max_warps: 64.0,
     source: CUDA_GUIDE,
 };
 /// Pascal GP102-GP108, compute capability 6.1: 128 FP32, 32 SFU ([`CUDA_GUIDE`]).
 pub const PASCAL_CC61: WeightTable = WeightTable {
     architecture: "Pascal (compute capability 6.1)",
     sfu: 128.0 / 32.0,
+    registers_per_sm: 65536.0,
+    max_warps: 64.0,
     source: CUDA_GUIDE,
 };
 /// Volta, compute capability 7.0: 64 FP32, 16 SFU ([`CUDA_GUIDE`]).
 pub const VOLTA: WeightTable = WeightTable {
     architecture: "Volta (compute capability 7.0)",
     sfu: 64.0 / 16.0,
+    registers_per_sm: 65536.0,
+    max_warps: 64.0,
     source: CUDA_GUIDE,
 };
 /// Turing, compute capability 7.5: 64 FP32, 16 SFU ([`CUDA_GUIDE`]).
 pub const TURING: WeightTable = WeightTable {
     architecture: "Turing (compute capability 7.5)",
     sfu: 64.0 / 16.0,
+    registers_per_sm: 65536.0,
+    max_warps: 32.0,
     source: CUDA_GUIDE,
 };
 /// Ampere GA10x, compute capability 8.6: 128 FP32, 16 SFU ([`CUDA_GUIDE`]).
 pub const AMPERE_CC86: WeightTable = WeightTable {
     architecture: "Ampere (compute capability 8.6)",
     sfu: 128.0 / 16.0,
+    registers_per_sm: 65536.0,
+    max_warps: 48.0,
     source: CUDA_GUIDE,
 };
 

@@ -127,6 +127,25 @@ impl Vendor for Arm {
         }
     }
 
+    /// Utgard's and Midgard's VLIW words issue the reciprocal beside the addition it carries.
+    fn fused_steps(&self, chip: &str) -> &'static [(crate::isa::calibrate::Ratio, &'static str)] {
+        use crate::isa::calibrate::Ratio;
+        match chip {
+            "mali450" => &[(
+                Ratio::Rcp,
+                "lima's Utgard fragment processor issues a VLIW instruction with a scalar \
+                 special-function slot beside the vector adder: the reciprocal shares the \
+                 addition's instruction, so the step costs the addition alone",
+            )],
+            "t860" => &[(
+                Ratio::Rcp,
+                "panfrost's Midgard bundles put the reciprocal on the special-function (LUT) \
+                 unit in the same bundle as the addition: the step costs the addition alone",
+            )],
+            _ => &[],
+        }
+    }
+
     fn required_statistics(&self) -> &'static [&'static str] {
         &["inst", "loops", "spills", "fills", "model_cycles"]
     }

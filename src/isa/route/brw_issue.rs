@@ -40,15 +40,6 @@ pub struct Busy {
     pub sends: u32,
 }
 
-/// Whether `chip` is Gen9 (Skylake to Comet Lake, Gemini Lake): before Gen11, 64-bit
-/// arithmetic runs at half rate in brw's table.
-pub fn before_gen11(chip: &str) -> bool {
-    matches!(
-        chip,
-        "skl" | "bxt" | "kbl" | "aml" | "cml" | "glk" | "whl" | "cfl"
-    )
-}
-
 /// One SIMD-`width` FP32 FMA's FPU cycles: the unit of the per-pixel figures.
 pub fn fma_cycles(width: u32) -> f64 {
     2.0 * f64::from((width * 4).div_ceil(32))
@@ -184,7 +175,8 @@ pub const LOOP_WEIGHT: f64 = 10.0;
 
 /// The busy cycles of a GEN assembly (one SIMD width's) on `chip`.
 pub fn busy(asm: &str, chip: &str) -> Busy {
-    let gen9 = before_gen11(chip);
+    // Before Gen11, 64-bit arithmetic runs at half rate in brw's table.
+    let gen9 = super::intel::Generation::of(chip) == Some(super::intel::Generation::Gen9);
     let mut costs = Vec::new();
     let mut labels = std::collections::BTreeMap::new();
     let mut loops = Vec::new();

@@ -26,11 +26,56 @@ use super::{brw_issue, Api, Compiler, Ranking, Setup, Vendor};
 use crate::gpu::vk::{Executable, Representation, StatValue, Statistic};
 use crate::isa::throughput;
 
-/// The unit of the model: one SIMD-width FP32 FMA is one per pixel.
-pub const UNIT: &str = "FP32 FMAs per pixel";
-
 /// The route through ANV and brw.
 pub struct Intel;
+
+/// An Intel chip's graphics architecture: what brw's rates ([`brw_issue`]) and the EU's
+/// threads depend on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Generation {
+    Gen9,
+    Gen11,
+    XeLp,
+    XeHpg,
+    XeLpg,
+    Xe2,
+    Xe3,
+}
+
+/// Intel's GPU Occupancy Calculator, `Threads_Per_EU` of each device
+/// (oneapi-src/oneAPI-samples, Tools/GPU-Occupancy-Calculator/index.html,
+/// https://github.com/oneapi-src/oneAPI-samples).
+pub const INTEL_OCCUPANCY: &str = "Intel GPU Occupancy Calculator, Threads_Per_EU \
+(oneapi-src/oneAPI-samples Tools/GPU-Occupancy-Calculator/index.html, \
+https://github.com/oneapi-src/oneAPI-samples)";
+
+impl Generation {
+    /// The architecture of a chip Intel's route knows ([`Vendor::known_chips`]); `None` for another
+    /// name.
+    pub fn of(chip: &str) -> Option<Generation> {
+        Some(match chip {
+            "skl" | "bxt" | "kbl" | "aml" | "cml" | "glk" | "whl" | "cfl" => Generation::Gen9,
+            "icl" | "ehl" | "jsl" => Generation::Gen11,
+            "tgl" | "rkl" | "dg1" | "sg1" | "adl" | "rpl" => Generation::XeLp,
+            "dg2" => Generation::XeHpg,
+            "mtl" => Generation::XeLpg,
+            "lnl" | "bmg" => Generation::Xe2,
+            "ptl" => Generation::Xe3,
+            _ => return None,
+        })
+    }
+
+    /// The hardware threads per EU ([`INTEL_OCCUPANCY`]), each with its own 128 registers, so
+    /// a program's registers do not change them: 7 on Gen9, Gen11 and Xe-LP, 8 on Xe-HPG,
+    /// Xe-LPG and Xe2; `None` on Xe3, whose register allocation varies per program.
+    pub fn threads_per_eu(self) -> Option<f64> {
+        match self {
+            Generation::Gen9 | Generation::Gen11 | Generation::XeLp => Some(7.0),
+            Generation::XeHpg | Generation::XeLpg | Generation::Xe2 => Some(8.0),
+            Generation::Xe3 => None,
+        }
+    }
+}
 
 /// ANV's driver library, whose ICD manifest is found by the loader's rules
 /// ([`crate::gpu::icd`]).
@@ -90,7 +135,7 @@ impl Vendor for Intel {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: RowKind::Draw,
-            unit: UNIT.into(),
+            unit: "FP32 FMAs per pixel".into(),
             meaning: "busy cycles of the EU's busier back-end unit (FPU `fpu_fmas` or extended \
                       math `em_fmas`) at the SIMD width the driver dispatches (the widest it \
                       kept: `dispatch_width`), each instruction at brw's own per-instruction \
@@ -99,6 +144,11 @@ impl Vendor for Intel {
                       model, not a timing"
                 .into(),
         }
+    }
+
+    /// One SIMD-width FP32 FMA is one per pixel.
+    fn counts_fmas(&self) -> bool {
+        true
     }
 
     /// The busier of the FPU and the EM unit ([`brw_issue`]).
@@ -122,7 +172,7 @@ impl Vendor for Intel {
         // Threads per EU are fixed: each has its own register file.
         Some(crate::isa::occupancy::Occupancy {
             registers: *stats.get("grf_registers")?,
-            waves: crate::isa::occupancy::intel_threads(chip),
+            waves: Generation::of(chip).and_then(Generation::threads_per_eu),
         })
     }
 
@@ -406,6 +456,27 @@ mod tests {
             .iter()
             .find(|s| s.name == "Cycle Count");
         assert_eq!(c.map(|s| s.value.as_f64()), Some(200.0));
+    }
+
+    #[test]
+    fn every_known_chip_has_its_generation() {
+        for chip in Intel.known_chips() {
+            assert!(Generation::of(chip).is_some(), "{chip}");
+        }
+        assert_eq!(
+            Generation::of("tgl").and_then(Generation::threads_per_eu),
+            Some(7.0)
+        );
+        assert_eq!(
+            Generation::of("dg2").and_then(Generation::threads_per_eu),
+            Some(8.0)
+        );
+        // Teeth: Xe3's threads are not known, nor is a name that is no chip's.
+        assert_eq!(
+            Generation::of("ptl").and_then(Generation::threads_per_eu),
+            None
+        );
+        assert!(Generation::of("g57").is_none());
     }
 
     #[test]

@@ -219,6 +219,18 @@ pub trait Vendor: Sync {
     fn model(&self, _chip: &str, stats: &BTreeMap<String, f64>) -> Option<throughput::Model> {
         throughput::issue(stats, &self.ranking().key)
     }
+    /// Whether one FP32 FMA is one unit of this route's model (its ranking counts FMAs): the
+    /// calibration then wants its FMA step within 10% of one
+    /// ([`crate::isa::calibrate::not_positive`]). No by default.
+    fn counts_fmas(&self) -> bool {
+        false
+    }
+    /// The calibration steps `chip`'s compiler fuses into the operations around them, so that
+    /// their marginal cost is zero by design, not by a model that prices latency: each ratio
+    /// with why, in the compiler's terms (docs/calibration.md says it too). None by default.
+    fn fused_steps(&self, _chip: &str) -> &'static [(crate::isa::calibrate::Ratio, &'static str)] {
+        &[]
+    }
     /// The statistics every draw row of this vendor carries beyond
     /// [`Vendor::required_statistics`] (an evaluation's differences do not): the occupancy of
     /// [`Vendor::occupancy_statistics`] by default.

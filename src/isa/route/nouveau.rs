@@ -10,9 +10,6 @@ use std::path::Path;
 use super::{Api, Compiler, Ranking, Setup, Vendor};
 use crate::isa::throughput;
 
-/// The unit of the weighted issue count: one FP32 FMA is one.
-pub const UNIT: &str = "FMA issue slots";
-
 /// The route through nouveau's OpenGL driver.
 pub struct Nouveau;
 
@@ -67,7 +64,7 @@ impl Vendor for Nouveau {
             key: throughput::MODEL_KEY.into(),
             stage: "fragment".into(),
             kind: RowKind::Draw,
-            unit: UNIT.into(),
+            unit: "FMA issue slots".into(),
             meaning: "weighted issue count: nouveau's instruction count with each \
                       special-function operation (MUFU: rcp, rsq, exp2, log2, sin, cos) at the \
                       architecture's FP32:SFU throughput ratio of NVIDIA's CUDA guide (Fermi \
@@ -76,6 +73,11 @@ impl Vendor for Nouveau {
                       prints no disassembly)"
                 .into(),
         }
+    }
+
+    /// The weighted issue count prices one FP32 FMA at one slot.
+    fn counts_fmas(&self) -> bool {
+        true
     }
 
     /// Registers and warps on every chipset this route compiles (Fermi to Turing).
@@ -94,8 +96,8 @@ impl Vendor for Nouveau {
         let gpr = *stats.get("gpr")?;
         Some(crate::isa::occupancy::Occupancy {
             registers: gpr,
-            waves: crate::isa::occupancy::nvidia_limits(chip)
-                .map(|l| crate::isa::occupancy::nvidia_warps(gpr, l)),
+            waves: throughput::nvidia_weights(chip)
+                .map(|w| crate::isa::occupancy::nvidia_warps(gpr, &w)),
         })
     }
 
