@@ -25,6 +25,7 @@ pub mod cost;
 pub mod files;
 pub mod gl_child;
 pub mod identity;
+pub mod kernel;
 pub mod occupancy;
 pub mod op_count;
 pub mod per_method;

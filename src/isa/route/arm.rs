@@ -128,8 +128,8 @@ impl Vendor for Arm {
     }
 
     /// Utgard's and Midgard's VLIW words issue the reciprocal beside the addition it carries.
-    fn fused_steps(&self, chip: &str) -> &'static [(crate::isa::calibrate::Ratio, &'static str)] {
-        use crate::isa::calibrate::Ratio;
+    fn fused_steps(&self, chip: &str) -> &'static [(crate::isa::kernel::Ratio, &'static str)] {
+        use crate::isa::kernel::Ratio;
         match chip {
             "mali450" => &[(
                 Ratio::Rcp,

@@ -32,6 +32,54 @@
 //! in cycles over that is FP32 FMAs per pixel ([`fma_cycles`]): the unit of every family's
 //! calibration.
 
+/// An Intel chip's graphics architecture: what brw's rates ([`busy`]) and the EU's
+/// threads depend on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Generation {
+    Gen9,
+    Gen11,
+    XeLp,
+    XeHpg,
+    XeLpg,
+    Xe2,
+    Xe3,
+}
+
+/// Intel's GPU Occupancy Calculator, `Threads_Per_EU` of each device
+/// (oneapi-src/oneAPI-samples, Tools/GPU-Occupancy-Calculator/index.html,
+/// https://github.com/oneapi-src/oneAPI-samples).
+pub const INTEL_OCCUPANCY: &str = "Intel GPU Occupancy Calculator, Threads_Per_EU \
+(oneapi-src/oneAPI-samples Tools/GPU-Occupancy-Calculator/index.html, \
+https://github.com/oneapi-src/oneAPI-samples)";
+
+impl Generation {
+    /// The architecture of a chip Intel's route knows ([`super::Vendor::known_chips`] of [`super::intel::Intel`]); `None` for another
+    /// name.
+    pub fn of(chip: &str) -> Option<Generation> {
+        Some(match chip {
+            "skl" | "bxt" | "kbl" | "aml" | "cml" | "glk" | "whl" | "cfl" => Generation::Gen9,
+            "icl" | "ehl" | "jsl" => Generation::Gen11,
+            "tgl" | "rkl" | "dg1" | "sg1" | "adl" | "rpl" => Generation::XeLp,
+            "dg2" => Generation::XeHpg,
+            "mtl" => Generation::XeLpg,
+            "lnl" | "bmg" => Generation::Xe2,
+            "ptl" => Generation::Xe3,
+            _ => return None,
+        })
+    }
+
+    /// The hardware threads per EU ([`INTEL_OCCUPANCY`]), each with its own 128 registers, so
+    /// a program's registers do not change them: 7 on Gen9, Gen11 and Xe-LP, 8 on Xe-HPG,
+    /// Xe-LPG and Xe2; `None` on Xe3, whose register allocation varies per program.
+    pub fn threads_per_eu(self) -> Option<f64> {
+        match self {
+            Generation::Gen9 | Generation::Gen11 | Generation::XeLp => Some(7.0),
+            Generation::XeHpg | Generation::XeLpg | Generation::Xe2 => Some(8.0),
+            Generation::Xe3 => None,
+        }
+    }
+}
+
 /// The busy cycles of one thread's instructions on the FPU and the EM unit, and the messages.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Busy {
@@ -176,7 +224,7 @@ pub const LOOP_WEIGHT: f64 = 10.0;
 /// The busy cycles of a GEN assembly (one SIMD width's) on `chip`.
 pub fn busy(asm: &str, chip: &str) -> Busy {
     // Before Gen11, 64-bit arithmetic runs at half rate in brw's table.
-    let gen9 = super::intel::Generation::of(chip) == Some(super::intel::Generation::Gen9);
+    let gen9 = Generation::of(chip) == Some(Generation::Gen9);
     let mut costs = Vec::new();
     let mut labels = std::collections::BTreeMap::new();
     let mut loops = Vec::new();

@@ -22,60 +22,13 @@ use crate::isa::request::RowKind;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::{brw_issue, Api, Compiler, Ranking, Setup, Vendor};
+use super::brw_issue::{self, Generation};
+use super::{Api, Compiler, Ranking, Setup, Vendor};
 use crate::gpu::vk::{Executable, Representation, StatValue, Statistic};
 use crate::isa::throughput;
 
 /// The route through ANV and brw.
 pub struct Intel;
-
-/// An Intel chip's graphics architecture: what brw's rates ([`brw_issue`]) and the EU's
-/// threads depend on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Generation {
-    Gen9,
-    Gen11,
-    XeLp,
-    XeHpg,
-    XeLpg,
-    Xe2,
-    Xe3,
-}
-
-/// Intel's GPU Occupancy Calculator, `Threads_Per_EU` of each device
-/// (oneapi-src/oneAPI-samples, Tools/GPU-Occupancy-Calculator/index.html,
-/// https://github.com/oneapi-src/oneAPI-samples).
-pub const INTEL_OCCUPANCY: &str = "Intel GPU Occupancy Calculator, Threads_Per_EU \
-(oneapi-src/oneAPI-samples Tools/GPU-Occupancy-Calculator/index.html, \
-https://github.com/oneapi-src/oneAPI-samples)";
-
-impl Generation {
-    /// The architecture of a chip Intel's route knows ([`Vendor::known_chips`]); `None` for another
-    /// name.
-    pub fn of(chip: &str) -> Option<Generation> {
-        Some(match chip {
-            "skl" | "bxt" | "kbl" | "aml" | "cml" | "glk" | "whl" | "cfl" => Generation::Gen9,
-            "icl" | "ehl" | "jsl" => Generation::Gen11,
-            "tgl" | "rkl" | "dg1" | "sg1" | "adl" | "rpl" => Generation::XeLp,
-            "dg2" => Generation::XeHpg,
-            "mtl" => Generation::XeLpg,
-            "lnl" | "bmg" => Generation::Xe2,
-            "ptl" => Generation::Xe3,
-            _ => return None,
-        })
-    }
-
-    /// The hardware threads per EU ([`INTEL_OCCUPANCY`]), each with its own 128 registers, so
-    /// a program's registers do not change them: 7 on Gen9, Gen11 and Xe-LP, 8 on Xe-HPG,
-    /// Xe-LPG and Xe2; `None` on Xe3, whose register allocation varies per program.
-    pub fn threads_per_eu(self) -> Option<f64> {
-        match self {
-            Generation::Gen9 | Generation::Gen11 | Generation::XeLp => Some(7.0),
-            Generation::XeHpg | Generation::XeLpg | Generation::Xe2 => Some(8.0),
-            Generation::Xe3 => None,
-        }
-    }
-}
 
 /// ANV's driver library, whose ICD manifest is found by the loader's rules
 /// ([`crate::gpu::icd`]).

@@ -228,7 +228,7 @@ pub trait Vendor: Sync {
     /// The calibration steps `chip`'s compiler fuses into the operations around them, so that
     /// their marginal cost is zero by design, not by a model that prices latency: each ratio
     /// with why, in the compiler's terms (docs/calibration.md says it too). None by default.
-    fn fused_steps(&self, _chip: &str) -> &'static [(crate::isa::calibrate::Ratio, &'static str)] {
+    fn fused_steps(&self, _chip: &str) -> &'static [(crate::isa::kernel::Ratio, &'static str)] {
         &[]
     }
     /// The statistics every draw row of this vendor carries beyond
